@@ -1,0 +1,60 @@
+// Delimited-text reader: comma, tab, semicolon or whitespace (auto-detected),
+// optional header line, '#' comment lines, preamble rows to skip, gzip input.
+// Parses in parallel; returns the selected columns as contiguous arrays.
+#pragma once
+#include <cstddef>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace cubecal::io {
+
+enum class Delimiter { comma, tab, semicolon, whitespace };
+
+struct TableOptions {
+  std::size_t skip_rows = 0;   // physical lines dropped before anything else
+  // Columns wanted, by header name or 1-based index ("gx", "3"). Empty: all
+  // columns. Resolved against the header when there is one; an unknown name
+  // is an InputError pointing at the header line.
+  std::vector<std::string> columns;
+  // Extra column (e.g. time or temperature) to read besides `columns`; empty
+  // for none. Same name/index rules.
+  std::vector<std::string> extra_columns;
+  unsigned threads = 0;        // 0: hardware concurrency
+};
+
+struct Table {
+  std::string file;
+  Delimiter delimiter = Delimiter::comma;
+  bool has_header = false;
+  std::vector<std::string> header;         // all header names (empty if none)
+  std::size_t total_columns = 0;           // fields per row in the file
+  std::vector<std::string> names;          // names of the selected columns
+  std::vector<std::size_t> indices;        // 0-based indices of selected columns
+  std::vector<std::vector<double>> data;   // data[c][row], selected columns
+  std::vector<std::string> extra_names;
+  std::vector<std::vector<double>> extra;  // extra[c][row]
+  std::size_t first_data_line = 0;         // 1-based line number of row 0
+  TableOptions options;                    // what was asked (for locate())
+  std::size_t rows() const noexcept { return data.empty() ? (extra.empty() ? 0 : extra[0].size()) : data[0].size(); }
+  std::size_t bytes = 0;                   // decompressed bytes parsed
+};
+
+// Reads a whole file. Every malformed field (non-numeric, NaN/Inf, empty),
+// wrong field count or empty file throws InputError with FILE:LINE:COL.
+Table read_table(const std::string& path, const TableOptions& opt = {});
+
+// Same, from text already in memory (used by tests and by gzip input).
+Table parse_table(std::string_view text, const std::string& file_label, const TableOptions& opt = {});
+
+struct Location {
+  std::size_t line = 0;    // 1-based physical line in the (decompressed) file
+  std::size_t column = 0;  // 1-based character column where the field starts
+};
+
+// Where data row `row`, field `field` (0-based index into the file's fields)
+// sits in the file. Re-reads the file: meant for error paths only, e.g. a
+// non-monotonic time stamp found after parsing.
+Location locate(const Table& t, std::size_t row, std::size_t field);
+
+}  // namespace cubecal::io

@@ -1,0 +1,55 @@
+// A uniformly sampled multi-channel record: the selected columns of a file,
+// scaled to physical units, with its sampling rate, checked for gaps, jitter
+// and non-monotonic time stamps.
+#pragma once
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "cubecal/io/delimited_reader.hpp"
+
+namespace cubecal::io {
+
+enum class GapPolicy { error, split };
+
+struct SeriesOptions {
+  TableOptions table;          // columns, skip_rows, threads
+  std::string time_col;        // name or 1-based index; empty: auto-detect by name
+  double rate_hz = 0.0;        // 0: infer from the time column
+  double lsb = 1.0;            // counts per unit: value / lsb
+  GapPolicy gaps = GapPolicy::error;
+  std::size_t min_samples = 3; // fewer samples (after splitting, the longest segment) is an error
+  double tolerance = 0.01;     // allowed |dt - period| / period
+};
+
+struct Segment {
+  std::size_t begin = 0;  // first row
+  std::size_t end = 0;    // one past the last row
+  std::size_t size() const noexcept { return end - begin; }
+};
+
+struct Series {
+  std::string file;
+  double rate_hz = 0.0;
+  double tau0 = 0.0;               // 1 / rate_hz
+  bool rate_from_time = false;     // rate inferred from the time column
+  std::string time_name;           // empty: no time column used
+  std::vector<std::string> names;  // channel names (header names, or "col3")
+  std::vector<std::vector<double>> channels;  // channels[c][i], in units (value / lsb)
+  std::vector<double> time;        // seconds, empty when no time column
+  std::vector<Segment> segments;   // contiguous pieces; one when there are no gaps
+  std::size_t irregular_intervals = 0;  // gaps/jitter split on (policy split)
+  bool gzip = false;
+  std::size_t bytes = 0;           // bytes parsed (after decompression)
+  std::size_t samples() const noexcept { return channels.empty() ? 0 : channels[0].size(); }
+};
+
+// Reads and checks a record. Throws InputError for every problem in the data
+// (location FILE:LINE:COL) and UsageError for contradictory options.
+Series read_series(const std::string& path, const SeriesOptions& opt);
+
+// Names that are taken as a time column when none is named: t, time, t_s,
+// time_s, timestamp, sec, seconds (case-insensitive).
+bool looks_like_time_column(const std::string& name);
+
+}  // namespace cubecal::io

@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# Installs the Debian packages cubecal needs to build, test and benchmark.
+# Only missing packages are installed; when everything is present this is a
+# quiet no-op that takes well under a second.
+set -euo pipefail
+
+PACKAGES=(
+  build-essential cmake pkg-config
+  libfmt-dev libcli11-dev nlohmann-json3-dev
+  libboost-math-dev zlib1g-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+  python3 gzip
+)
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  exit 0
+fi
+
+echo "install-deps: installing ${missing[*]}" >&2
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then
+  if command -v sudo >/dev/null 2>&1; then SUDO="sudo"; else
+    echo "install-deps: missing packages (${missing[*]}) and not root; install them with apt-get" >&2
+    exit 1
+  fi
+fi
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null

@@ -1,0 +1,174 @@
+// Power-law noise identification (Riley, "Handbook of Frequency Stability
+// Analysis", NIST SP 1065 sec. 5.6; Riley & Greenhall, EFTF 2004).
+//
+// Lag-1 ACF method: take the data at the averaging factor (phase decimated,
+// frequency averaged), remove the deterministic part, and difference until
+// delta = r1/(1+r1) < 0.25 or the maximum order (2 for Allan, 3 for
+// Hadamard statistics) is reached; then alpha = -round(2 delta) - 2d (+2 for
+// phase). Fewer than 30 points: Barnes' B1 ratio (N-sample over 2-sample
+// variance) against its expected value for each noise type, with the
+// MVAR/AVAR ratio R(n) separating white from flicker PM for the modified
+// statistics.
+#include "cubecal/core/noise_id.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+#include "cubecal/core/kernels.hpp"
+
+namespace cubecal {
+
+namespace {
+
+constexpr std::size_t kMinAcfPoints = 30;
+
+// Remove the least-squares polynomial of the given degree (0 or 1).
+void detrend(std::vector<double>& z, int degree) {
+  const std::size_t n = z.size();
+  if (n == 0) return;
+  double mean = 0.0;
+  for (double v : z) mean += v;
+  mean /= static_cast<double>(n);
+  if (degree == 0 || n < 3) {
+    for (double& v : z) v -= mean;
+    return;
+  }
+  const double tc = (static_cast<double>(n) - 1.0) / 2.0;
+  double sxy = 0.0, sxx = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double t = static_cast<double>(i) - tc;
+    sxy += t * (z[i] - mean);
+    sxx += t * t;
+  }
+  const double slope = sxy / sxx;
+  for (std::size_t i = 0; i < n; ++i) z[i] -= mean + slope * (static_cast<double>(i) - tc);
+}
+
+// Frequency averaged over m samples, from the phase record: (x[(k+1)m] - x[km]).
+// The 1/(m tau0) scale is left out; the ratios below do not depend on it.
+std::vector<double> averaged_frequency(std::span<const double> x, std::size_t m) {
+  const std::size_t count = (x.size() - 1) / m;
+  std::vector<double> y(count);
+  for (std::size_t k = 0; k < count; ++k) y[k] = x[(k + 1) * m] - x[k * m];
+  return y;
+}
+
+int clamp_alpha(int alpha, Stat stat) {
+  const int lowest = difference_order(stat) == 3 ? -4 : -2;
+  return std::clamp(alpha, lowest, 2);
+}
+
+// Expected B1 for N averaged frequency points and phase-noise exponent mu
+// (Howe, Beard, Greenhall, Riley, PTTI 2000, Table 3).
+double b1_expected(double N, int mu) {
+  switch (mu) {
+    case 2: return N * (N + 1.0) / 6.0;
+    case 1: return N / 2.0;
+    case 0: return N * std::log(N) / (2.0 * (N - 1.0) * std::log(2.0));
+    case -1: return 1.0;
+    case -2: return (N * N - 1.0) / (1.5 * N * (N - 1.0));
+    default: return N * (1.0 - std::pow(N, mu)) / (2.0 * (N - 1.0) * (1.0 - std::pow(2.0, mu)));
+  }
+}
+
+int alpha_from_mu(int mu) {
+  // mu = -alpha - 1 for -4 <= alpha <= 0; white and flicker PM share mu = -2.
+  return mu == -2 ? 2 : -mu - 1;
+}
+
+}  // namespace
+
+double lag1_autocorrelation(std::span<const double> z) noexcept {
+  const std::size_t n = z.size();
+  if (n < 2) return 0.0;
+  double mean = 0.0;
+  for (double v : z) mean += v;
+  mean /= static_cast<double>(n);
+  double num = 0.0, den = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double a = z[i] - mean;
+    den += a * a;
+    if (i + 1 < n) num += a * (z[i + 1] - mean);
+  }
+  return den > 0.0 ? num / den : 0.0;
+}
+
+NoiseId identify_noise(std::span<const double> x, std::size_t m, DataType original, Stat stat) {
+  NoiseId out;
+  if (m == 0 || x.size() < m + 1) return out;
+  const int dmax = difference_order(stat);
+
+  std::vector<double> z;
+  if (original == DataType::phase) {
+    for (std::size_t i = 0; i < x.size(); i += m) z.push_back(x[i]);
+  } else {
+    z = averaged_frequency(x, m);
+  }
+
+  if (z.size() >= kMinAcfPoints) {
+    detrend(z, original == DataType::phase ? 1 : 0);
+    int d = 0;
+    for (;;) {
+      const double r1 = lag1_autocorrelation(z);
+      const double delta = r1 / (1.0 + r1);
+      if (delta < 0.25 || d >= dmax) {
+        const int shift = original == DataType::phase ? 2 : 0;
+        out.alpha_est = -2.0 * (delta + d) + shift;
+        out.alpha = clamp_alpha(static_cast<int>(-std::lround(2.0 * delta)) - 2 * d + shift, stat);
+        out.method = NoiseId::Method::acf;
+        return out;
+      }
+      for (std::size_t i = 0; i + 1 < z.size(); ++i) z[i] = z[i + 1] - z[i];
+      z.pop_back();
+      ++d;
+    }
+  }
+
+  // B1 ratio on the averaged frequency.
+  const std::vector<double> y = averaged_frequency(x, m);
+  const std::size_t nf = y.size();
+  out.method = NoiseId::Method::b1;
+  if (nf < 2) return out;
+  double mean = 0.0;
+  for (double v : y) mean += v;
+  mean /= static_cast<double>(nf);
+  double svar = 0.0, avar2 = 0.0;
+  for (std::size_t i = 0; i < nf; ++i) svar += (y[i] - mean) * (y[i] - mean);
+  svar /= static_cast<double>(nf - 1);
+  for (std::size_t i = 0; i + 1 < nf; ++i) avar2 += (y[i + 1] - y[i]) * (y[i + 1] - y[i]);
+  avar2 /= 2.0 * static_cast<double>(nf - 1);
+  if (!(avar2 > 0.0)) return out;
+  const double b1 = svar / avar2;
+  const double N = static_cast<double>(nf);
+
+  int mu = -2;
+  for (int cand = 2; cand > -2; --cand) {
+    const double hi = b1_expected(N, cand);
+    const double lo = b1_expected(N, cand - 1);
+    const double boundary = cand == 2 ? 0.5 * (hi + lo) : std::sqrt(hi * lo);
+    if (b1 > boundary) {
+      mu = cand;
+      break;
+    }
+  }
+  out.alpha = clamp_alpha(alpha_from_mu(mu), stat);
+
+  if (mu == -2 && (stat == Stat::mdev || stat == Stat::tdev)) {
+    // R(n) = MVAR/AVAR: 1/m for white PM, 3.37/(1.04 + 3 ln(pi m)) for flicker PM.
+    const VarianceTerm mv = mvar(x, m, 1.0);
+    const VarianceTerm av = oavar(x, m, 1.0);
+    if (mv.n > 0 && av.n > 0 && av.var > 0.0) {
+      const double rn = mv.var / av.var;
+      const double md = static_cast<double>(m);
+      const double r_fpm = 3.37 / (1.04 + 3.0 * std::log(std::numbers::pi * md));
+      const double r_wpm = 1.0 / md;
+      out.alpha = rn > std::sqrt(r_fpm * r_wpm) ? 1 : 2;
+      out.method = NoiseId::Method::b1_rn;
+    }
+  }
+  return out;
+}
+
+}  // namespace cubecal

@@ -1,0 +1,231 @@
+// Whole-file access. Plain files are memory-mapped so that the parser threads
+// read the page cache directly (no copy, no read() buffer management); gzip
+// files are recognised by their magic bytes and inflated into one heap block,
+// since the parser needs the whole text in memory anyway.
+#include "cubecal/io/file_buffer.hpp"
+
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
+#include <zlib.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
+#include <limits>
+#include <new>
+#include <utility>
+
+#include "cubecal/io/error.hpp"
+
+namespace cubecal::io {
+
+namespace {
+
+// malloc'ed rather than new[]'ed so that growth can use realloc, which moves
+// large blocks by remapping pages instead of copying them.
+struct HeapBlock {
+  char* data = nullptr;
+  std::size_t size = 0;
+  std::size_t capacity = 0;
+
+  HeapBlock() = default;
+  HeapBlock(const HeapBlock&) = delete;
+  HeapBlock& operator=(const HeapBlock&) = delete;
+  ~HeapBlock() { std::free(data); }
+
+  void reserve(std::size_t n) {
+    if (n <= capacity) return;
+    auto* p = static_cast<char*>(std::realloc(data, n));
+    if (p == nullptr) throw std::bad_alloc();
+    data = p;
+    capacity = n;
+  }
+  void swap(HeapBlock& other) noexcept {
+    std::swap(data, other.data);
+    std::swap(size, other.size);
+    std::swap(capacity, other.capacity);
+  }
+  void shrink_to_fit() {
+    if (size == capacity || size == 0) return;
+    if (auto* p = static_cast<char*>(std::realloc(data, size))) {
+      data = p;
+      capacity = size;
+    }
+  }
+};
+
+class Fd {
+ public:
+  explicit Fd(int fd) : fd_(fd) {}
+  Fd(const Fd&) = delete;
+  Fd& operator=(const Fd&) = delete;
+  ~Fd() { ::close(fd_); }
+  int get() const { return fd_; }
+
+ private:
+  int fd_;
+};
+
+[[noreturn]] void throw_os_error(const std::string& path, const char* action, int err) {
+  throw InputError(path, 0, 0, std::string(action) + ": " + std::strerror(err));
+}
+
+bool is_gzip(std::string_view bytes) {
+  return bytes.size() >= 2 && static_cast<unsigned char>(bytes[0]) == 0x1f &&
+         static_cast<unsigned char>(bytes[1]) == 0x8b;
+}
+
+// Inflates every gzip member of `in` (gzip allows concatenated members, as
+// produced by `cat a.gz b.gz` or by parallel compressors).
+void inflate_gzip(const std::string& path, std::string_view in, HeapBlock& out) {
+  z_stream zs{};
+  // 16 + MAX_WBITS: gzip wrapper only; zlib checks the CRC-32 and length
+  // trailer of each member itself.
+  if (inflateInit2(&zs, 16 + MAX_WBITS) != Z_OK) throw std::bad_alloc();
+  struct Guard {
+    z_stream* zs;
+    ~Guard() { inflateEnd(zs); }
+  } guard{&zs};
+
+  // The trailer of the last member holds its size modulo 2^32: a good first
+  // guess for single-member files. Text compresses ~4-10x, hence the floor.
+  std::size_t isize = 0;
+  if (in.size() >= 4) {
+    for (std::size_t i = 1; i <= 4; ++i)
+      isize = (isize << 8) | static_cast<unsigned char>(in[in.size() - i]);  // little-endian field
+  }
+  out.reserve(std::max<std::size_t>({isize + 1, in.size() * 4, std::size_t{1} << 16}));
+
+  // zlib counts in uInt: feed and drain at most 1 GiB per call.
+  constexpr std::size_t kStep = std::size_t{1} << 30;
+  std::size_t consumed = 0;
+  for (;;) {
+    if (zs.avail_in == 0 && consumed < in.size()) {
+      const std::size_t n = std::min(kStep, in.size() - consumed);
+      zs.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(in.data() + consumed));
+      zs.avail_in = static_cast<uInt>(n);
+      consumed += n;
+    }
+    if (out.size == out.capacity) out.reserve(out.capacity * 2);
+    const std::size_t room = std::min(kStep, out.capacity - out.size);
+    zs.next_out = reinterpret_cast<Bytef*>(out.data + out.size);
+    zs.avail_out = static_cast<uInt>(room);
+
+    const int rc = inflate(&zs, Z_NO_FLUSH);
+    out.size += room - zs.avail_out;
+
+    if (rc == Z_STREAM_END) {
+      if (zs.avail_in == 0 && consumed == in.size()) return;
+      inflateReset(&zs);  // next member
+      continue;
+    }
+    if (rc == Z_OK) continue;
+    if (rc == Z_BUF_ERROR && zs.avail_out != 0 && zs.avail_in == 0 && consumed == in.size()) {
+      throw InputError(path, 0, 0,
+                       "truncated gzip stream: the data ends after " + std::to_string(out.size) +
+                           " inflated bytes",
+                       "the file is incomplete; copy or download it again");
+    }
+    if (rc == Z_BUF_ERROR) continue;  // output full: grown at the top of the loop
+    if (rc == Z_MEM_ERROR) throw std::bad_alloc();
+    throw InputError(path, 0, 0,
+                     std::string("corrupt gzip data: ") + (zs.msg != nullptr ? zs.msg : "inflate failed"),
+                     "the file is damaged; copy or download it again");
+  }
+}
+
+// Pipes and character devices cannot be mapped: read them to the end.
+void read_all(const std::string& path, int fd, HeapBlock& out) {
+  out.reserve(std::size_t{1} << 20);
+  for (;;) {
+    if (out.size == out.capacity) out.reserve(out.capacity * 2);
+    const ssize_t n = ::read(fd, out.data + out.size, out.capacity - out.size);
+    if (n == 0) return;
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      throw_os_error(path, "cannot read file", errno);
+    }
+    out.size += static_cast<std::size_t>(n);
+  }
+}
+
+}  // namespace
+
+struct FileBuffer::Impl {
+  void* map = nullptr;
+  std::size_t map_size = 0;
+  HeapBlock heap;
+  std::string_view text;
+
+  Impl() = default;
+  Impl(const Impl&) = delete;
+  Impl& operator=(const Impl&) = delete;
+  ~Impl() { unmap(); }
+
+  void unmap() {
+    if (map != nullptr) ::munmap(map, map_size);
+    map = nullptr;
+    map_size = 0;
+  }
+};
+
+FileBuffer FileBuffer::open(const std::string& path) {
+  FileBuffer fb;
+  fb.path_ = path;
+  fb.impl_ = std::make_unique<Impl>();
+  Impl& impl = *fb.impl_;
+
+  const int raw_fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (raw_fd < 0) throw_os_error(path, "cannot open file", errno);
+  const Fd fd(raw_fd);
+  struct stat st {};
+  if (::fstat(fd.get(), &st) != 0) throw_os_error(path, "cannot open file", errno);
+  if (S_ISDIR(st.st_mode)) throw_os_error(path, "cannot open file", EISDIR);
+
+  std::string_view raw;
+  if (S_ISREG(st.st_mode)) {
+    if (st.st_size > 0) {
+      impl.map_size = static_cast<std::size_t>(st.st_size);
+      impl.map = ::mmap(nullptr, impl.map_size, PROT_READ, MAP_PRIVATE, fd.get(), 0);
+      if (impl.map == MAP_FAILED) {
+        impl.map = nullptr;
+        throw_os_error(path, "cannot read file", errno);
+      }
+      raw = std::string_view(static_cast<const char*>(impl.map), impl.map_size);
+    }
+  } else {
+    read_all(path, fd.get(), impl.heap);
+    raw = std::string_view(impl.heap.data, impl.heap.size);
+  }
+
+  if (!is_gzip(raw)) {
+    // The parser threads each walk their own part of the file: ask the
+    // kernel to read ahead so they don't stall on page faults one by one.
+    if (impl.map != nullptr) ::madvise(impl.map, impl.map_size, MADV_WILLNEED);
+    impl.text = raw;
+    return fb;
+  }
+
+  fb.gzip_ = true;
+  HeapBlock inflated;
+  if (impl.map != nullptr) ::madvise(impl.map, impl.map_size, MADV_SEQUENTIAL);
+  inflate_gzip(path, raw, inflated);
+  inflated.shrink_to_fit();
+  impl.unmap();
+  impl.heap.swap(inflated);
+  impl.text = std::string_view(impl.heap.data, impl.heap.size);
+  return fb;
+}
+
+FileBuffer::FileBuffer(FileBuffer&&) noexcept = default;
+FileBuffer& FileBuffer::operator=(FileBuffer&&) noexcept = default;
+FileBuffer::~FileBuffer() = default;
+
+std::string_view FileBuffer::view() const noexcept {
+  return impl_ ? impl_->text : std::string_view{};
+}
+
+}  // namespace cubecal::io
