@@ -9,7 +9,7 @@ PACKAGES=(
   libfmt-dev libcli11-dev nlohmann-json3-dev
   libboost-math-dev zlib1g-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  python3 gzip
+  python3 gzip bc
 )
 
 missing=()

@@ -57,17 +57,12 @@ std::vector<double> load(const Input& in) {
 
 double rel(double a, double b) { return std::abs(a - b) / std::abs(b); }
 
-// Worst errors per table, printed at the end for the closing note.
+// Worst errors per table, printed for the validation notes.
 struct Summary {
   std::string table;
   double worst_dev = 0, worst_ci = 0, worst_ci_forced = 0;
   std::size_t rows = 0, ci_rows = 0, alpha_match = 0;
 };
-std::vector<Summary>& summaries() {
-  static std::vector<Summary> s;
-  return s;
-}
-
 class Stable32 : public ::testing::TestWithParam<Case> {};
 
 TEST_P(Stable32, MatchesTable) {

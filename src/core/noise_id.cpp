@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "cubecal/core/kernels.hpp"
+#include "simd.hpp"
 
 namespace cubecal {
 
@@ -24,26 +25,48 @@ namespace {
 
 constexpr std::size_t kMinAcfPoints = 30;
 
-// Remove the least-squares polynomial of the given degree (0 or 1).
-void detrend(std::vector<double>& z, int degree) {
-  const std::size_t n = z.size();
-  if (n == 0) return;
-  double mean = 0.0;
-  for (double v : z) mean += v;
-  mean /= static_cast<double>(n);
-  if (degree == 0 || n < 3) {
-    for (double& v : z) v -= mean;
-    return;
+// Running sums of one difference order of the sequence, enough for its
+// lag-1 autocorrelation with the mean removed.
+struct LagSums {
+  std::size_t n = 0;
+  double s1 = 0, s2 = 0, p = 0, first = 0, last = 0;
+  double r1() const {
+    if (n < 2) return 0.0;
+    const double nn = static_cast<double>(n);
+    const double mu = s1 / nn;
+    const double den = s2 - nn * mu * mu;
+    const double num = p - mu * (2.0 * s1 - first - last) + (nn - 1.0) * mu * mu;
+    return den > 0.0 ? num / den : 0.0;
   }
-  const double tc = (static_cast<double>(n) - 1.0) / 2.0;
-  double sxy = 0.0, sxx = 0.0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const double t = static_cast<double>(i) - tc;
-    sxy += t * (z[i] - mean);
-    sxx += t * t;
+};
+
+// Adds w[0..len) to the sums; independent partial sums let the loops run
+// vectorized (this runs on every averaging factor, over up to N points).
+CUBECAL_VECTOR_CLONES
+void accumulate(LagSums& s, const double* w, std::size_t len) {
+  if (len == 0) return;
+  if (s.n > 0) s.p += s.last * w[0];
+  else s.first = w[0];
+  double a1[4] = {0, 0, 0, 0}, a2[4] = {0, 0, 0, 0}, ap[4] = {0, 0, 0, 0};
+  std::size_t i = 0;
+  for (; i + 4 <= len; i += 4)
+    for (std::size_t j = 0; j < 4; ++j) {
+      a1[j] += w[i + j];
+      a2[j] += w[i + j] * w[i + j];
+    }
+  for (; i < len; ++i) {
+    a1[0] += w[i];
+    a2[0] += w[i] * w[i];
   }
-  const double slope = sxy / sxx;
-  for (std::size_t i = 0; i < n; ++i) z[i] -= mean + slope * (static_cast<double>(i) - tc);
+  i = 0;
+  for (; i + 5 <= len; i += 4)
+    for (std::size_t j = 0; j < 4; ++j) ap[j] += w[i + j] * w[i + j + 1];
+  for (; i + 1 < len; ++i) ap[0] += w[i] * w[i + 1];
+  s.s1 += (a1[0] + a1[1]) + (a1[2] + a1[3]);
+  s.s2 += (a2[0] + a2[1]) + (a2[2] + a2[3]);
+  s.p += (ap[0] + ap[1]) + (ap[2] + ap[3]);
+  s.last = w[len - 1];
+  s.n += len;
 }
 
 // Frequency averaged over m samples, from the phase record: (x[(k+1)m] - x[km]).
@@ -100,29 +123,64 @@ NoiseId identify_noise(std::span<const double> x, std::size_t m, DataType origin
   if (m == 0 || x.size() < m + 1) return out;
   const int dmax = difference_order(stat);
 
-  std::vector<double> z;
-  if (original == DataType::phase) {
-    for (std::size_t i = 0; i < x.size(); i += m) z.push_back(x[i]);
-  } else {
-    z = averaged_frequency(x, m);
-  }
+  // The data at this averaging factor: decimated phase, or frequency
+  // averaged over m samples (from phase differences).
+  const bool phase = original == DataType::phase;
+  const std::size_t count = phase ? (x.size() - 1) / m + 1 : (x.size() - 1) / m;
+  auto z = [&](std::size_t k) { return phase ? x[k * m] : x[(k + 1) * m] - x[k * m]; };
 
-  if (z.size() >= kMinAcfPoints) {
-    detrend(z, original == DataType::phase ? 1 : 0);
-    int d = 0;
-    for (;;) {
-      const double r1 = lag1_autocorrelation(z);
+  if (count >= kMinAcfPoints) {
+    // Phase: remove the least-squares line first (a frequency offset); the
+    // mean is removed inside the autocorrelation for every order.
+    double a = 0.0, b = 0.0;
+    if (phase) {
+      const double tc = (static_cast<double>(count) - 1.0) / 2.0;
+      double sz = 0.0, stz = 0.0, stt = 0.0;
+      for (std::size_t k = 0; k < count; ++k) {
+        const double t = static_cast<double>(k) - tc;
+        const double v = z(k);
+        sz += v;
+        stz += t * v;
+        stt += t * t;
+      }
+      a = sz / static_cast<double>(count);
+      b = stz / stt;
+      a -= b * tc;
+    }
+    // One pass accumulates the sums of every difference order 0..dmax,
+    // block by block. buf[d][0] carries the last value of the previous block.
+    constexpr std::size_t kBlock = 1024;
+    static_assert(kBlock > 3);
+    LagSums sums[4];
+    std::vector<double> storage(4 * (kBlock + 1), 0.0);
+    double* buf[4] = {storage.data(), storage.data() + (kBlock + 1),
+                      storage.data() + 2 * (kBlock + 1), storage.data() + 3 * (kBlock + 1)};
+    for (std::size_t k0 = 0; k0 < count; k0 += kBlock) {
+      const std::size_t len = std::min(kBlock, count - k0);
+      double* w0 = buf[0] + 1;
+      for (std::size_t j = 0; j < len; ++j)
+        w0[j] = z(k0 + j) - (a + b * static_cast<double>(k0 + j));
+      accumulate(sums[0], w0, len);
+      for (int d = 1; d <= dmax; ++d) {
+        const double* src = buf[d - 1];
+        double* dst = buf[d] + 1;
+        for (std::size_t j = 0; j < len; ++j) dst[j] = src[j + 1] - src[j];
+        // The d-th difference starts at index d of the sequence.
+        const std::size_t start = k0 == 0 ? static_cast<std::size_t>(d) : 0;
+        if (len > start) accumulate(sums[d], dst + start, len - start);
+      }
+      for (int d = 0; d <= dmax; ++d) buf[d][0] = buf[d][len];
+    }
+    for (int d = 0;; ++d) {
+      const double r1 = sums[d].r1();
       const double delta = r1 / (1.0 + r1);
       if (delta < 0.25 || d >= dmax) {
-        const int shift = original == DataType::phase ? 2 : 0;
+        const int shift = phase ? 2 : 0;
         out.alpha_est = -2.0 * (delta + d) + shift;
         out.alpha = clamp_alpha(static_cast<int>(-std::lround(2.0 * delta)) - 2 * d + shift, stat);
         out.method = NoiseId::Method::acf;
         return out;
       }
-      for (std::size_t i = 0; i + 1 < z.size(); ++i) z[i] = z[i + 1] - z[i];
-      z.pop_back();
-      ++d;
     }
   }
 

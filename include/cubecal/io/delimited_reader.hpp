@@ -33,6 +33,7 @@ struct Table {
   std::vector<std::size_t> indices;        // 0-based indices of selected columns
   std::vector<std::vector<double>> data;   // data[c][row], selected columns
   std::vector<std::string> extra_names;
+  std::vector<std::size_t> extra_indices;  // 0-based indices of the extra columns
   std::vector<std::vector<double>> extra;  // extra[c][row]
   std::size_t first_data_line = 0;         // 1-based line number of row 0
   TableOptions options;                    // what was asked (for locate())
@@ -46,6 +47,12 @@ Table read_table(const std::string& path, const TableOptions& opt = {});
 
 // Same, from text already in memory (used by tests and by gzip input).
 Table parse_table(std::string_view text, const std::string& file_label, const TableOptions& opt = {});
+
+// The layout of `text` without its data: delimiter, has_header, header,
+// total_columns, first_data_line and bytes are filled; the selection and the
+// data stay empty. Lets a caller choose columns by header name (e.g. find a
+// time column) before parsing the same text with parse_table().
+Table parse_layout(std::string_view text, const std::string& file_label, const TableOptions& opt = {});
 
 struct Location {
   std::size_t line = 0;    // 1-based physical line in the (decompressed) file

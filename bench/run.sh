@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# make bench: micro-benchmarks, then the end-to-end timing of the issue:
+# a 72 h x 10 Hz, 6-channel record through `cubecal dev --stat oadev --taus log:20`.
+set -euo pipefail
+BUILD=${1:-build}
+OUT=${BENCH_OUT:-bench-out}
+mkdir -p "$OUT"
+echo "== Google Benchmark: OADEV kernel vs streaming read (median of 5)"
+"$BUILD/bin/bench_oadev" --benchmark_repetitions=5 --benchmark_report_aggregates_only=true \
+  --benchmark_display_aggregates_only=true | grep -E "median|Benchmark|---"
+
+REC="$OUT/imu_72h_10hz_6ch.csv"
+if [ ! -s "$REC" ]; then
+  echo "== generating $REC"
+  "$BUILD/bin/make_record" "$REC" 72 10 6 1
+fi
+SIZE=$(stat -c %s "$REC")
+echo "== end to end: cubecal dev --stat oadev --taus log:20 on 6 channels ($((SIZE / 1000000)) MB)"
+times=()
+for i in 1 2 3 4 5; do
+  s=$(date +%s.%N)
+  "$BUILD/bin/cubecal" dev "$REC" --stat oadev --taus log:20 --format json > "$OUT/e2e.json"
+  e=$(date +%s.%N)
+  times+=("$(echo "$e - $s" | bc -l)")
+done
+printf '%s\n' "${times[@]}" | sort -g | awk '{a[NR]=$1} END {printf "  runs: "; for(i=1;i<=NR;i++) printf "%.3f ", a[i]; printf "\n  median: %.3f s (target <= 0.6 s)\n", a[int((NR+1)/2)]}'
+echo "== reader alone (dev --no-ci on 1 channel, small grid) for MB/s"
+times=()
+for i in 1 2 3 4 5; do
+  s=$(date +%s.%N)
+  "$BUILD/bin/cubecal" dev "$REC" --columns c1 --no-ci --taus 1 --format csv > /dev/null
+  e=$(date +%s.%N)
+  times+=("$(echo "$e - $s" | bc -l)")
+done
+printf '%s\n' "${times[@]}" | sort -g | awk -v size="$SIZE" '{a[NR]=$1} END {m=a[int((NR+1)/2)]; printf "  median %.3f s -> %.0f MB/s\n", m, size/m/1e6}'

@@ -1,0 +1,49 @@
+// `cubecal dev` as a library call: one statistic on every channel of a
+// record, over a tau grid, with confidence intervals. Channels, segments and
+// averaging factors run in parallel.
+#pragma once
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "cubecal/core/stability.hpp"
+#include "cubecal/core/tau_grid.hpp"
+#include "cubecal/io/series.hpp"
+
+namespace cubecal::pipeline {
+
+struct DevRequest {
+  Stat stat = Stat::oadev;
+  DataType type = DataType::freq;
+  TauGrid grid;                  // default octave
+  StabilityOptions options;      // ci, edf method, fixed alpha, intervals on/off
+  unsigned threads = 0;          // 0: all cores
+};
+
+struct DevChannel {
+  std::string name;
+  std::vector<StabilityPoint> points;
+};
+
+struct DevResult {
+  Stat stat = Stat::oadev;
+  DataType type = DataType::freq;
+  double rate_hz = 0.0;
+  double tau0 = 0.0;
+  std::size_t samples = 0;
+  std::size_t segments = 1;      // > 1 when the record was split at gaps
+  std::size_t segments_used = 1; // segments long enough for at least m = 1
+  std::vector<DevChannel> channels;
+};
+
+// Throws io::UsageError when no averaging factor of the grid fits the record
+// (the series is too short for the statistic).
+DevResult run_dev(const io::Series& series, const DevRequest& request);
+
+// The same on raw arrays (one contiguous segment each), for callers that
+// have their data in memory already.
+DevResult run_dev(const std::vector<std::string>& names,
+                  const std::vector<std::vector<double>>& channels, double rate_hz,
+                  const DevRequest& request);
+
+}  // namespace cubecal::pipeline

@@ -1,0 +1,111 @@
+// cubecal dev: the Allan family of deviations with confidence intervals.
+#include <fmt/format.h>
+
+#include <iostream>
+#include <optional>
+#include <stdexcept>
+
+#include "commands.hpp"
+#include "common_options.hpp"
+#include "cubecal/io/error.hpp"
+#include "cubecal/io/series.hpp"
+#include "cubecal/pipeline/dev_pipeline.hpp"
+#include "output.hpp"
+
+namespace cubecal::cli {
+
+namespace {
+
+struct DevOptions {
+  InputOptions input;
+  std::string stat = "oadev";
+  std::string type = "freq";
+  std::string taus = "octave";
+  double ci = 0.683;
+  std::string edf = "greenhall";
+  std::optional<int> alpha;
+  bool no_ci = false;
+  std::string format = "table";
+  std::string out;
+  bool force = false;
+};
+
+int run_dev_command(const DevOptions& o) {
+  pipeline::DevRequest req;
+  req.stat = *parse_stat(o.stat);
+  req.type = *parse_data_type(o.type);
+  try {
+    req.grid = parse_tau_grid(o.taus);
+  } catch (const std::invalid_argument& e) {
+    throw io::UsageError(std::string("--taus: ") + e.what());
+  }
+  if (!(o.ci > 0.0 && o.ci < 1.0)) throw io::UsageError("--ci must be between 0 and 1 (e.g. 0.683 or 0.95)");
+  req.options.ci = o.ci;
+  req.options.edf = o.edf == "simple" ? EdfMethod::simple : EdfMethod::greenhall;
+  req.options.alpha = o.alpha;
+  req.options.intervals = !o.no_ci;
+  req.threads = o.input.threads;
+
+  const io::Series series = io::read_series(o.input.file, to_series_options(o.input));
+  const pipeline::DevResult res = pipeline::run_dev(series, req);
+
+  DevContext ctx{o.input.file, o.ci, o.edf, !o.no_ci};
+  std::optional<OutputFile> file;
+  if (!o.out.empty()) file.emplace(o.out, o.force);
+  std::ostream& out = file ? file->stream() : std::cout;
+  if (res.segments > 1)
+    std::cerr << fmt::format("cubecal: note: {} gaps/jitter found; statistics computed per "
+                             "contiguous segment ({} segments) and combined\n",
+                             series.irregular_intervals, res.segments);
+  if (o.format == "json")
+    out << dev_to_json(res, ctx).dump(1) << '\n';
+  else if (o.format == "csv")
+    write_dev_csv(out, res, ctx);
+  else
+    write_dev_table(out, res, ctx);
+  if (file) {
+    file->commit();
+    std::cerr << "cubecal: wrote " << o.out << '\n';
+  }
+  return 0;
+}
+
+}  // namespace
+
+CLI::App* add_dev_command(CLI::App& app, Command& run) {
+  auto opt = std::make_shared<DevOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "dev", "Allan-family deviations (adev, oadev, mdev, tdev, hdev, ohdev, totdev) with "
+             "Stable32-compatible confidence intervals");
+  add_input_options(*cmd, opt->input);
+  cmd->add_option("--stat", opt->stat, "Statistic")
+      ->check(CLI::IsMember({"adev", "oadev", "mdev", "tdev", "hdev", "ohdev", "totdev"}))
+      ->capture_default_str();
+  cmd->add_option("--type", opt->type,
+                  "freq: rate-like samples (deg/s, fractional frequency); phase: their "
+                  "integral (angle, time error in s)")
+      ->check(CLI::IsMember({"freq", "phase"}))
+      ->capture_default_str();
+  cmd->add_option("--taus", opt->taus,
+                  "Tau grid: octave, decade, all, log:K (K per decade) or a list of seconds "
+                  "(1,10,100)")
+      ->capture_default_str();
+  cmd->add_option("--ci", opt->ci, "Confidence factor of the intervals")->capture_default_str();
+  cmd->add_option("--edf", opt->edf, "EDF: greenhall (as Stable32) or simple (SP 1065 Table 5)")
+      ->check(CLI::IsMember({"greenhall", "simple"}))
+      ->capture_default_str();
+  cmd->add_option("--alpha", opt->alpha,
+                  "Use this noise type (+2 WPM, +1 FPM, 0 WFM, -1 FFM, -2 RWFM) instead of "
+                  "identifying it")
+      ->check(CLI::Range(-4, 2));
+  cmd->add_flag("--no-ci", opt->no_ci, "Deviations only: skip noise identification and intervals");
+  cmd->add_option("--format", opt->format, "Output format")
+      ->check(CLI::IsMember({"table", "csv", "json"}))
+      ->capture_default_str();
+  cmd->add_option("--out", opt->out, "Write the result to this file instead of standard output");
+  cmd->add_flag("--force", opt->force, "Replace the --out file if it exists");
+  cmd->callback([opt, &run] { run = [opt] { return run_dev_command(*opt); }; });
+  return cmd;
+}
+
+}  // namespace cubecal::cli

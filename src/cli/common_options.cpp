@@ -1,0 +1,63 @@
+#include "common_options.hpp"
+
+#include <cmath>
+
+#include "cubecal/io/error.hpp"
+
+namespace cubecal::cli {
+
+std::vector<std::string> split_list(const std::string& s) {
+  std::vector<std::string> out;
+  std::size_t start = 0;
+  while (start <= s.size()) {
+    const auto comma = s.find(',', start);
+    std::string item = s.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    const auto b = item.find_first_not_of(" \t");
+    const auto e = item.find_last_not_of(" \t");
+    item = b == std::string::npos ? std::string() : item.substr(b, e - b + 1);
+    if (!item.empty()) out.push_back(item);
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return out;
+}
+
+void add_input_options(CLI::App& app, InputOptions& opt) {
+  app.add_option("file", opt.file, "Input file: delimited text (comma, tab, semicolon or "
+                                   "whitespace), optionally gzip-compressed")
+      ->required();
+  app.add_option("--columns", opt.columns,
+                 "Columns to analyse, by header name or 1-based index (gx,gy,gz or 2,3,4); "
+                 "default: every column except the time column");
+  app.add_option("--time-col", opt.time_col,
+                 "Time column (seconds), by name or index; default: a column named t, time, "
+                 "t_s, timestamp...");
+  app.add_option("--rate", opt.rate_hz, "Sampling rate in Hz (inferred from the time column "
+                                        "when not given)");
+  app.add_option("--skip-rows", opt.skip_rows, "Lines to skip before the header/data (preamble)");
+  app.add_option("--lsb", opt.lsb, "Counts per unit: values are divided by this (raw counts "
+                                   "to physical units)");
+  app.add_option("--gaps", opt.gaps, "What to do with time gaps or jitter beyond 1 % of the "
+                                     "period: error (default) or split (analyse contiguous "
+                                     "segments and combine)")
+      ->check(CLI::IsMember({"error", "split"}));
+  app.add_option("--threads", opt.threads, "Worker threads (default: all cores)");
+}
+
+io::SeriesOptions to_series_options(const InputOptions& opt) {
+  io::SeriesOptions s;
+  s.table.columns = split_list(opt.columns);
+  s.table.skip_rows = opt.skip_rows;
+  s.table.threads = opt.threads;
+  s.time_col = opt.time_col;
+  if (opt.rate_hz < 0.0 || !std::isfinite(opt.rate_hz))
+    throw io::UsageError("--rate must be a positive number of Hz");
+  s.rate_hz = opt.rate_hz;
+  if (!(opt.lsb > 0.0) || !std::isfinite(opt.lsb))
+    throw io::UsageError("--lsb must be a positive number of counts per unit");
+  s.lsb = opt.lsb;
+  s.gaps = opt.gaps == "split" ? io::GapPolicy::split : io::GapPolicy::error;
+  return s;
+}
+
+}  // namespace cubecal::cli

@@ -1,0 +1,29 @@
+// Input options shared by every subcommand that reads a record.
+#pragma once
+#include <CLI/CLI.hpp>
+#include <string>
+#include <vector>
+
+#include "cubecal/io/series.hpp"
+
+namespace cubecal::cli {
+
+struct InputOptions {
+  std::string file;
+  std::string columns;      // "gx,gy,gz" or "2,3,4"
+  std::string time_col;
+  double rate_hz = 0.0;
+  std::size_t skip_rows = 0;
+  double lsb = 1.0;
+  std::string gaps = "error";
+  unsigned threads = 0;
+};
+
+void add_input_options(CLI::App& app, InputOptions& opt);
+
+// Validated reader options; throws io::UsageError on contradictions.
+io::SeriesOptions to_series_options(const InputOptions& opt);
+
+std::vector<std::string> split_list(const std::string& s);
+
+}  // namespace cubecal::cli

@@ -1,0 +1,58 @@
+// cubecal — characterize, model, simulate and calibrate attitude sensors.
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <exception>
+#include <iostream>
+#include <string>
+
+#include "commands.hpp"
+#include "cubecal/io/error.hpp"
+
+namespace {
+
+constexpr int kExitBadInput = 2;
+constexpr int kExitInternal = 1;
+
+int fail(const std::string& msg, int code) {
+  std::fflush(stdout);
+  std::fprintf(stderr, "cubecal: error: %s\n", msg.c_str());
+  return code;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"cubecal: stability statistics, noise models and calibration for gyroscopes, "
+               "magnetometers, accelerometers and clocks"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "cubecal 0.1.0");
+  cubecal::cli::Command run;
+  cubecal::cli::add_dev_command(app, run);
+  cubecal::cli::add_demo_command(app, run);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::string where = app.get_subcommands().empty() ? std::string("cubecal --help")
+                                                      : "cubecal " + app.get_subcommands().front()->get_name() + " --help";
+    return fail(std::string(e.what()) + " (see " + where + ")", kExitBadInput);
+  }
+
+  try {
+    return run ? run() : 0;
+  } catch (const cubecal::io::InputError& e) {
+    return fail(e.what(), kExitBadInput);
+  } catch (const cubecal::io::UsageError& e) {
+    return fail(e.what(), kExitBadInput);
+  } catch (const std::bad_alloc&) {
+    return fail("out of memory (analyse fewer columns at once or a shorter record)", kExitInternal);
+  } catch (const std::exception& e) {
+    return fail(std::string("internal error: ") + e.what() + " (please report it)", kExitInternal);
+  }
+}

@@ -1,0 +1,128 @@
+#include "output.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "cubecal/io/error.hpp"
+
+namespace cubecal::cli {
+
+namespace {
+
+std::string g(double v) { return fmt::format("{:.6e}", v); }
+
+}  // namespace
+
+void write_dev_table(std::ostream& out, const pipeline::DevResult& r, const DevContext& ctx) {
+  for (std::size_t c = 0; c < r.channels.size(); ++c) {
+    const auto& ch = r.channels[c];
+    if (c > 0) out << '\n';
+    fmt::print(out, "{} — {} ({} data), {} samples at {} Hz", ch.name, to_string(r.stat),
+               to_string(r.type), r.samples, r.rate_hz);
+    if (r.segments > 1)
+      fmt::print(out, ", {} segments split at gaps ({} long enough)", r.segments, r.segments_used);
+    if (ctx.intervals)
+      fmt::print(out, "\n{:>8} {:>13} {:>9} {:>6} {:>9} {:>13} {:>13} {:>13}\n", "AF", "tau [s]",
+                 "n", "alpha", "edf", "min", to_string(r.stat), "max");
+    else
+      fmt::print(out, "\n{:>8} {:>13} {:>9} {:>13}\n", "AF", "tau [s]", "n", to_string(r.stat));
+    for (const auto& p : ch.points) {
+      if (ctx.intervals)
+        fmt::print(out, "{:>8} {:>13.6g} {:>9} {:>6} {:>9.4g} {:>13.5e} {:>13.5e} {:>13.5e}\n", p.m,
+                   p.tau, p.n, p.alpha, p.edf, p.lo, p.dev, p.hi);
+      else
+        fmt::print(out, "{:>8} {:>13.6g} {:>9} {:>13.5e}\n", p.m, p.tau, p.n, p.dev);
+    }
+  }
+  if (ctx.intervals)
+    fmt::print(out, "\nmin/max: {:.1f} % confidence interval, {} EDF, noise type alpha per tau\n",
+               100.0 * ctx.ci, ctx.edf_method);
+}
+
+void write_dev_csv(std::ostream& out, const pipeline::DevResult& r, const DevContext& ctx) {
+  out << "column,af,tau,n,alpha,edf,lo,dev,hi\n";
+  for (const auto& ch : r.channels)
+    for (const auto& p : ch.points)
+      fmt::print(out, "{},{},{},{},{},{},{},{},{}\n", ch.name, p.m, p.tau, p.n,
+                 ctx.intervals ? std::to_string(p.alpha) : "", ctx.intervals ? g(p.edf) : "",
+                 ctx.intervals ? g(p.lo) : "", g(p.dev), ctx.intervals ? g(p.hi) : "");
+}
+
+nlohmann::json dev_to_json(const pipeline::DevResult& r, const DevContext& ctx) {
+  nlohmann::json j;
+  j["stat"] = to_string(r.stat);
+  j["type"] = to_string(r.type);
+  j["rate_hz"] = r.rate_hz;
+  j["file"] = ctx.file;
+  j["samples"] = r.samples;
+  j["segments"] = r.segments;
+  j["ci"] = ctx.intervals ? nlohmann::json(ctx.ci) : nlohmann::json(nullptr);
+  j["edf_method"] = ctx.edf_method;
+  nlohmann::json cols = nlohmann::json::array();
+  for (const auto& ch : r.channels) {
+    nlohmann::json c;
+    c["name"] = ch.name;
+    std::vector<double> tau, dev, lo, hi, edf;
+    std::vector<std::size_t> n, af;
+    std::vector<int> alpha;
+    for (const auto& p : ch.points) {
+      af.push_back(p.m);
+      tau.push_back(p.tau);
+      dev.push_back(p.dev);
+      n.push_back(p.n);
+      lo.push_back(p.lo);
+      hi.push_back(p.hi);
+      edf.push_back(p.edf);
+      alpha.push_back(p.alpha);
+    }
+    c["af"] = af;
+    c["tau"] = tau;
+    c["dev"] = dev;
+    c["n"] = n;
+    if (ctx.intervals) {
+      c["lo"] = lo;
+      c["hi"] = hi;
+      c["edf"] = edf;
+      c["alpha"] = alpha;
+    }
+    cols.push_back(std::move(c));
+  }
+  j["columns"] = std::move(cols);
+  return j;
+}
+
+struct OutputFile::Impl {
+  std::ofstream out;
+};
+
+OutputFile::OutputFile(std::string path, bool force) : path_(std::move(path)), impl_(std::make_unique<Impl>()) {
+  namespace fs = std::filesystem;
+  if (fs::exists(path_) && !force)
+    throw io::UsageError(path_ + " already exists (choose another --out or add --force to replace it)");
+  tmp_ = path_ + ".partial";
+  impl_->out.open(tmp_, std::ios::binary | std::ios::trunc);
+  if (!impl_->out) throw io::UsageError("cannot write " + path_ + " (check the directory exists and is writable)");
+}
+
+OutputFile::~OutputFile() {
+  if (!tmp_.empty()) {
+    impl_->out.close();
+    std::error_code ec;
+    std::filesystem::remove(tmp_, ec);
+  }
+}
+
+std::ostream& OutputFile::stream() { return impl_->out; }
+
+void OutputFile::commit() {
+  impl_->out.close();
+  if (!impl_->out) throw io::UsageError("could not finish writing " + path_ + " (disk full?)");
+  std::filesystem::rename(tmp_, path_);
+  tmp_.clear();
+}
+
+}  // namespace cubecal::cli

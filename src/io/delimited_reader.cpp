@@ -1,0 +1,655 @@
+// Delimited-text reader.
+//
+// The file is read in two steps. A short sequential scan finds the layout
+// (preamble, comments, delimiter, header, field count) and resolves the
+// requested columns. The data rows are then split into one chunk per thread
+// at line boundaries; every thread first counts its lines so that the final
+// column arrays can be sized once, then parses its rows straight into its
+// own slice of those arrays. Only selected fields are converted; the others
+// are skipped but still counted. Error locations are computed lazily: a
+// chunk just remembers where its first fault is and the line number is
+// derived from the text (error path only).
+#include "cubecal/io/delimited_reader.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <exception>
+#include <optional>
+#include <string>
+#include <system_error>
+#include <thread>
+#include <utility>
+
+#include "cubecal/io/error.hpp"
+#include "cubecal/io/file_buffer.hpp"
+
+namespace cubecal::io {
+
+namespace {
+
+// Small files are not worth a thread: below this many bytes per chunk the
+// thread start-up costs more than it saves.
+constexpr std::size_t kMinChunkBytes = std::size_t{1} << 20;
+
+// Longest field text quoted in an error message.
+constexpr std::size_t kMaxQuoted = 40;
+
+// --------------------------------------------------------------------------
+// Lines and fields (shared by layout detection, the parser and locate()).
+
+bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\r'; }
+
+// One physical line without its terminator and without the blanks around it
+// (which also takes care of CRLF endings).
+struct Line {
+  const char* begin;
+  const char* end;
+  const char* next;  // start of the following line
+  bool is_content() const { return begin != end && *begin != '#'; }
+};
+
+Line next_line(const char* p, const char* end) {
+  const auto* nl = static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(end - p)));
+  const char* eol = nl != nullptr ? nl : end;
+  const char* next = nl != nullptr ? nl + 1 : end;
+  while (p < eol && is_blank(*p)) ++p;
+  while (eol > p && is_blank(eol[-1])) --eol;
+  return {p, eol, next};
+}
+
+char separator(Delimiter d) {
+  switch (d) {
+    case Delimiter::comma: return ',';
+    case Delimiter::tab: return '\t';
+    case Delimiter::semicolon: return ';';
+    case Delimiter::whitespace: break;
+  }
+  return ' ';
+}
+
+// Padding allowed around a field ("1, 2"): blanks that are not the separator.
+template <Delimiter D>
+bool is_pad(char c) {
+  if constexpr (D == Delimiter::tab) return c == ' ';
+  else return c == ' ' || c == '\t';
+}
+
+bool is_pad(Delimiter d, char c) { return c == ' ' || (c == '\t' && d != Delimiter::tab); }
+
+struct FieldSpan {
+  const char* begin;  // first character after padding: the column reported
+  const char* end;
+};
+
+// Splits a trimmed content line. The hot parser below implements the same
+// rules inline; this version is for headers and error paths.
+std::vector<FieldSpan> split_fields(const Line& line, Delimiter d) {
+  std::vector<FieldSpan> out;
+  const char* s = line.begin;
+  const char* e = line.end;
+  if (d == Delimiter::whitespace) {
+    while (s < e) {
+      const char* b = s;
+      while (s < e && *s != ' ' && *s != '\t') ++s;
+      out.push_back({b, s});
+      while (s < e && (*s == ' ' || *s == '\t')) ++s;
+    }
+    return out;
+  }
+  const char sep = separator(d);
+  for (;;) {
+    const auto* hit = static_cast<const char*>(std::memchr(s, sep, static_cast<std::size_t>(e - s)));
+    const char* stop = hit != nullptr ? hit : e;
+    const char* b = s;
+    while (b < stop && is_pad(d, *b)) ++b;
+    const char* fe = stop;
+    while (fe > b && is_pad(d, fe[-1])) --fe;
+    out.push_back({b, fe});
+    if (stop == e) break;
+    s = stop + 1;
+  }
+  return out;
+}
+
+// --------------------------------------------------------------------------
+// Numbers.
+
+enum class Fault { none, non_numeric, empty, not_finite, out_of_range, field_count };
+
+// Parses a number at `s` (no leading blanks). On success advances `s` past
+// it; the caller checks what follows. std::from_chars is locale-free and
+// exact (GCC 12 uses the fast_float algorithm); it rejects a leading '+',
+// which people and some loggers write, so that is stripped here.
+inline Fault parse_number(const char*& s, const char* e, double& v) {
+  const char* p = s;
+  if (p < e && *p == '+') {
+    ++p;
+    if (p < e && *p == '-') return Fault::non_numeric;
+  }
+  const auto [ptr, ec] = std::from_chars(p, e, v);
+  if (ec == std::errc::invalid_argument) return Fault::non_numeric;
+  if (ec == std::errc::result_out_of_range) return Fault::out_of_range;
+  if (!std::isfinite(v)) return Fault::not_finite;
+  s = ptr;
+  return Fault::none;
+}
+
+// Header detection: a field that no reading could take for a number (a
+// NaN, an empty or an overflowing field is a bad value, not a name).
+bool is_name(const FieldSpan& f) {
+  if (f.begin == f.end) return false;
+  const char* s = f.begin;
+  double v = 0;
+  const Fault fault = parse_number(s, f.end, v);
+  if (fault == Fault::non_numeric) return true;
+  return fault == Fault::none && s != f.end;
+}
+
+// --------------------------------------------------------------------------
+// Layout: everything before the first data row.
+
+struct Layout {
+  Delimiter delimiter = Delimiter::comma;
+  bool has_header = false;
+  std::vector<std::string> header;
+  std::size_t total_columns = 0;
+  std::size_t header_line = 0;      // 0 without header
+  std::size_t first_data_line = 0;  // 1-based
+  std::size_t body_offset = 0;      // byte offset of the first data row
+};
+
+// Spreadsheet programs start UTF-8 CSV files with a byte-order mark; it
+// would otherwise end up in the first column name.
+std::string_view strip_bom(std::string_view text) {
+  if (text.size() >= 3 && text.compare(0, 3, "\xEF\xBB\xBF") == 0) text.remove_prefix(3);
+  return text;
+}
+
+std::string header_name(const FieldSpan& f) {
+  std::string_view s(f.begin, static_cast<std::size_t>(f.end - f.begin));
+  if (s.size() >= 2 && s.front() == '"' && s.back() == '"') s = s.substr(1, s.size() - 2);
+  return std::string(s);
+}
+
+Delimiter detect_delimiter(const Line& line) {
+  const std::string_view s(line.begin, static_cast<std::size_t>(line.end - line.begin));
+  if (s.find(',') != std::string_view::npos) return Delimiter::comma;
+  if (s.find('\t') != std::string_view::npos) return Delimiter::tab;
+  if (s.find(';') != std::string_view::npos) return Delimiter::semicolon;
+  return Delimiter::whitespace;
+}
+
+[[noreturn]] void throw_no_rows(const std::string& file, std::string why) {
+  throw InputError(file, 0, 0, "no data rows: " + std::move(why),
+                   "check the file name and the number of preamble rows to skip");
+}
+
+Layout detect_layout(std::string_view text, const std::string& file, std::size_t skip_rows) {
+  const char* p = text.data();
+  const char* const end = p + text.size();
+  if (p == end) throw_no_rows(file, "the file is empty");
+
+  std::size_t line_no = 0;
+  for (; line_no < skip_rows; ++line_no) {
+    if (p == end) {
+      throw_no_rows(file, "the file has " + std::to_string(line_no) + " lines and " +
+                              std::to_string(skip_rows) + " are skipped");
+    }
+    p = next_line(p, end).next;
+  }
+
+  Layout lay;
+  Line first{};
+  for (;;) {
+    if (p == end) throw_no_rows(file, "only comments and blank lines");
+    first = next_line(p, end);
+    ++line_no;
+    p = first.next;
+    if (first.is_content()) break;
+  }
+
+  lay.delimiter = detect_delimiter(first);
+  const std::vector<FieldSpan> fields = split_fields(first, lay.delimiter);
+  lay.total_columns = fields.size();
+  lay.has_header = std::any_of(fields.begin(), fields.end(), is_name);
+  if (!lay.has_header) {
+    lay.first_data_line = line_no;
+    lay.body_offset = static_cast<std::size_t>(first.begin - text.data());
+    return lay;
+  }
+
+  lay.header_line = line_no;
+  for (const FieldSpan& f : fields) lay.header.push_back(header_name(f));
+  for (;;) {
+    if (p == end) {
+      throw_no_rows(file, "nothing after the header on line " + std::to_string(lay.header_line));
+    }
+    const Line line = next_line(p, end);
+    ++line_no;
+    if (line.is_content()) {
+      lay.first_data_line = line_no;
+      lay.body_offset = static_cast<std::size_t>(p - text.data());
+      return lay;
+    }
+    p = line.next;
+  }
+}
+
+// --------------------------------------------------------------------------
+// Column selection.
+
+bool iequals(std::string_view a, std::string_view b) {
+  return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) {
+           const auto lower = [](char c) { return (c >= 'A' && c <= 'Z') ? static_cast<char>(c - 'A' + 'a') : c; };
+           return lower(x) == lower(y);
+         });
+}
+
+std::string column_list(const std::vector<std::string>& header) {
+  constexpr std::size_t kMaxListed = 24;
+  std::string s;
+  for (std::size_t i = 0; i < header.size() && i < kMaxListed; ++i) {
+    if (i != 0) s += ", ";
+    s += header[i];
+  }
+  if (header.size() > kMaxListed) s += ", ...";
+  return s;
+}
+
+// Name (exact, then ignoring case) or 1-based index -> 0-based field index.
+std::size_t resolve_column(const std::string& spec, const Layout& lay, const std::string& file) {
+  const std::vector<std::string>& h = lay.header;
+  if (auto it = std::find(h.begin(), h.end(), spec); it != h.end()) {
+    return static_cast<std::size_t>(it - h.begin());
+  }
+  // An error about a column points at the header, or at the first data
+  // row (where the field count comes from) when there is none.
+  const std::size_t line = lay.has_header ? lay.header_line : lay.first_data_line;
+  const bool numeric = !spec.empty() && std::all_of(spec.begin(), spec.end(), [](char c) { return c >= '0' && c <= '9'; });
+  if (numeric) {
+    std::size_t k = 0;
+    const auto [ptr, ec] = std::from_chars(spec.data(), spec.data() + spec.size(), k);
+    if (ec == std::errc{} && ptr == spec.data() + spec.size() && k >= 1 && k <= lay.total_columns) return k - 1;
+    throw InputError(file, line, 1, "column index " + spec + " out of range",
+                     "the file has " + std::to_string(lay.total_columns) + " columns; use 1 to " +
+                         std::to_string(lay.total_columns));
+  }
+  if (!lay.has_header) {
+    throw InputError(file, line, 1, "column '" + spec + "' given by name but the file has no header line",
+                     "use 1-based column indices, 1 to " + std::to_string(lay.total_columns));
+  }
+  if (auto it = std::find_if(h.begin(), h.end(), [&](const std::string& n) { return iequals(n, spec); });
+      it != h.end()) {
+    return static_cast<std::size_t>(it - h.begin());
+  }
+  throw InputError(file, line, 1, "unknown column '" + spec + "'", "columns are: " + column_list(h));
+}
+
+std::string column_name(const Layout& lay, std::size_t index) {
+  return lay.has_header ? lay.header[index] : "col" + std::to_string(index + 1);
+}
+
+// --------------------------------------------------------------------------
+// Parallel parsing.
+
+struct ChunkResult {
+  std::size_t rows = 0;
+  Fault fault = Fault::none;
+  const char* where = nullptr;  // start of the offending field (or end of a short row)
+  std::size_t field = 0;        // 0-based field index of the fault
+};
+
+// Parses the rows in [p, end) into dst[field][row] (dst[field] is null for
+// fields not selected). Stops at the first fault.
+template <Delimiter D>
+void parse_chunk(const char* p, const char* end, std::size_t total_columns, double* const* dst,
+                 ChunkResult& r) {
+  constexpr bool ws = D == Delimiter::whitespace;
+  constexpr char sep = D == Delimiter::comma ? ',' : D == Delimiter::tab ? '\t' : ';';
+  const auto fail = [&r](Fault f, const char* where, std::size_t field) {
+    r.fault = f;
+    r.where = where;
+    r.field = field;
+  };
+
+  std::size_t row = 0;
+  while (p < end) {
+    const Line line = next_line(p, end);
+    p = line.next;
+    if (!line.is_content()) continue;
+
+    const char* s = line.begin;
+    const char* const e = line.end;
+    std::size_t f = 0;  // index of the current field = fields seen so far
+    for (;;) {
+      if constexpr (!ws) {
+        while (s < e && is_pad<D>(*s)) ++s;
+      }
+      if (f == total_columns) return fail(Fault::field_count, s, f);
+      if (double* out = dst[f]) {
+        if constexpr (!ws) {
+          if (s == e || *s == sep) return fail(Fault::empty, s, f);
+        }
+        const char* q = s;
+        double v;
+        if (const Fault fault = parse_number(q, e, v); fault != Fault::none) return fail(fault, s, f);
+        if constexpr (ws) {
+          if (q < e && *q != ' ' && *q != '\t') return fail(Fault::non_numeric, s, f);
+        } else {
+          while (q < e && is_pad<D>(*q)) ++q;
+          if (q < e && *q != sep) return fail(Fault::non_numeric, s, f);
+        }
+        out[row] = v;
+        s = q;
+      } else if constexpr (ws) {
+        while (s < e && *s != ' ' && *s != '\t') ++s;
+      } else {
+        while (s < e && *s != sep) ++s;
+      }
+      ++f;
+      if constexpr (ws) {
+        while (s < e && (*s == ' ' || *s == '\t')) ++s;
+        if (s == e) break;
+      } else {
+        if (s == e) break;
+        ++s;  // past the separator
+      }
+    }
+    if (f != total_columns) return fail(Fault::field_count, e, f);
+    ++row;
+  }
+  r.rows = row;
+}
+
+using ChunkParser = void (*)(const char*, const char*, std::size_t, double* const*, ChunkResult&);
+
+ChunkParser chunk_parser(Delimiter d) {
+  switch (d) {
+    case Delimiter::comma: return parse_chunk<Delimiter::comma>;
+    case Delimiter::tab: return parse_chunk<Delimiter::tab>;
+    case Delimiter::semicolon: return parse_chunk<Delimiter::semicolon>;
+    case Delimiter::whitespace: break;
+  }
+  return parse_chunk<Delimiter::whitespace>;
+}
+
+// Runs job(0..n-1), job(0) on the calling thread. Jobs must not throw.
+template <class Job>
+void run_parallel(std::size_t n, const Job& job) {
+  std::vector<std::jthread> pool;
+  pool.reserve(n - 1);
+  for (std::size_t k = 1; k < n; ++k) pool.emplace_back([&job, k] { job(k); });
+  job(0);
+}
+
+// Cuts [begin, end) into n pieces that each end just after a newline.
+std::vector<const char*> chunk_bounds(const char* begin, const char* end, std::size_t n) {
+  std::vector<const char*> b{begin};
+  const auto size = static_cast<std::size_t>(end - begin);
+  for (std::size_t k = 1; k < n; ++k) {
+    const char* target = std::max(begin + size / n * k, b.back());
+    const auto* nl = static_cast<const char*>(std::memchr(target, '\n', static_cast<std::size_t>(end - target)));
+    b.push_back(nl != nullptr ? nl + 1 : end);
+  }
+  b.push_back(end);
+  return b;
+}
+
+std::size_t count_newlines(const char* p, const char* end) {
+  std::size_t n = 0;
+  while (const auto* nl = static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(end - p)))) {
+    ++n;
+    p = nl + 1;
+  }
+  return n;
+}
+
+// --------------------------------------------------------------------------
+// Error reporting (cold).
+
+struct Position {
+  std::size_t line;
+  std::size_t column;
+  const char* line_begin;
+};
+
+// 1-based character column of `where` in the line starting at `line_begin`.
+// Columns count UTF-8 code points so that they match what an editor shows.
+std::size_t column_in_line(const char* line_begin, const char* where) {
+  std::size_t column = 1;
+  for (const char* c = line_begin; c < where; ++c) {
+    if ((static_cast<unsigned char>(*c) & 0xC0) != 0x80) ++column;
+  }
+  return column;
+}
+
+// 1-based line and column of `where` in `text`.
+Position position_of(std::string_view text, const char* where) {
+  Position pos{1, 1, text.data()};
+  for (const char* c = text.data(); c < where; ++c) {
+    if (*c == '\n') {
+      ++pos.line;
+      pos.line_begin = c + 1;
+    }
+  }
+  pos.column = column_in_line(pos.line_begin, where);
+  return pos;
+}
+
+std::string quoted_field(const char* b, const char* e) {
+  std::string s(b, std::min(static_cast<std::size_t>(e - b), kMaxQuoted));
+  if (static_cast<std::size_t>(e - b) > kMaxQuoted) s += "...";
+  return "'" + s + "'";
+}
+
+std::string column_label(const Layout& lay, std::size_t field) {
+  std::string s = "column " + std::to_string(field + 1);
+  if (lay.has_header) s += " '" + lay.header[field] + "'";
+  return s;
+}
+
+[[noreturn]] void throw_fault(std::string_view text, const std::string& file, const Layout& lay,
+                              const ChunkResult& r) {
+  const Position pos = position_of(text, r.where);
+  const char* const text_end = text.data() + text.size();
+  const Line line = next_line(pos.line_begin, text_end);
+
+  if (r.fault == Fault::field_count) {
+    const std::size_t found = split_fields(line, lay.delimiter).size();
+    const std::string expected = std::to_string(lay.total_columns);
+    throw InputError(file, pos.line, pos.column,
+                     "row has " + std::to_string(found) + " fields, expected " + expected,
+                     lay.has_header ? "header has " + expected
+                                    : "the first data row, line " + std::to_string(lay.first_data_line) +
+                                          ", has " + expected);
+  }
+
+  const std::vector<FieldSpan> fields = split_fields(line, lay.delimiter);
+  const FieldSpan field = r.field < fields.size() ? fields[r.field] : FieldSpan{r.where, r.where};
+  const std::string label = column_label(lay, r.field);
+  const std::string text_of_field = quoted_field(field.begin, field.end);
+
+  switch (r.fault) {
+    case Fault::empty:
+      throw InputError(file, pos.line, pos.column, "empty field in " + label, "fill or remove the row");
+    case Fault::not_finite: {
+      const char* c = field.begin;
+      while (c < field.end && (*c == '+' || *c == '-')) ++c;
+      if (c < field.end && (*c == 'n' || *c == 'N')) {
+        throw InputError(file, pos.line, pos.column, "NaN is not accepted in " + label,
+                         "missing samples must be removed or the record split");
+      }
+      throw InputError(file, pos.line, pos.column, "infinite value " + text_of_field + " in " + label,
+                       "remove the row or split the record there");
+    }
+    case Fault::out_of_range:
+      throw InputError(file, pos.line, pos.column, "value " + text_of_field + " out of range in " + label,
+                       "values must fit in a double; fix or remove the row");
+    default: break;
+  }
+
+  std::string hint = "fix the row, remove it or comment it out with '#'";
+  const std::string_view f(field.begin, static_cast<std::size_t>(field.end - field.begin));
+  if (lay.delimiter != Delimiter::comma && f.find(',') != std::string_view::npos) {
+    hint = "decimal commas are not accepted; write numbers with a '.'";
+  } else if (pos.line == lay.first_data_line) {
+    hint += "; a preamble before the header can be skipped with --skip-rows N";
+  }
+  throw InputError(file, pos.line, pos.column, "non-numeric field " + text_of_field + " in " + label, hint);
+}
+
+Table table_from_layout(const Layout& lay, const std::string& file, const TableOptions& opt,
+                        std::size_t bytes) {
+  Table t;
+  t.file = file;
+  t.delimiter = lay.delimiter;
+  t.has_header = lay.has_header;
+  t.header = lay.header;
+  t.total_columns = lay.total_columns;
+  t.first_data_line = lay.first_data_line;
+  t.options = opt;
+  t.bytes = bytes;
+  return t;
+}
+
+}  // namespace
+
+Table parse_layout(std::string_view text, const std::string& file_label, const TableOptions& opt) {
+  const std::string_view body = strip_bom(text);
+  return table_from_layout(detect_layout(body, file_label, opt.skip_rows), file_label, opt, text.size());
+}
+
+Table parse_table(std::string_view text, const std::string& file_label, const TableOptions& opt) {
+  const std::size_t bytes = text.size();
+  text = strip_bom(text);
+  const Layout lay = detect_layout(text, file_label, opt.skip_rows);
+  Table t = table_from_layout(lay, file_label, opt, bytes);
+
+  // Resolve the selection; a field asked for twice is parsed once.
+  std::vector<std::size_t>& extra_idx = t.extra_indices;
+  for (const std::string& spec : opt.extra_columns) extra_idx.push_back(resolve_column(spec, lay, file_label));
+  if (opt.columns.empty()) {
+    for (std::size_t i = 0; i < lay.total_columns; ++i) {
+      if (std::find(extra_idx.begin(), extra_idx.end(), i) == extra_idx.end()) t.indices.push_back(i);
+    }
+  } else {
+    for (const std::string& spec : opt.columns) t.indices.push_back(resolve_column(spec, lay, file_label));
+  }
+  for (std::size_t i : t.indices) t.names.push_back(column_name(lay, i));
+  for (std::size_t i : extra_idx) t.extra_names.push_back(column_name(lay, i));
+
+  constexpr std::size_t kNone = static_cast<std::size_t>(-1);
+  std::vector<std::size_t> slot(lay.total_columns, kNone);  // field -> parsed column
+  std::vector<std::size_t> parsed_fields;
+  for (const auto* list : {&t.indices, &extra_idx}) {
+    for (std::size_t i : *list) {
+      if (slot[i] == kNone) {
+        slot[i] = parsed_fields.size();
+        parsed_fields.push_back(i);
+      }
+    }
+  }
+
+  // Chunks: one per thread, but none smaller than kMinChunkBytes.
+  const char* const body = text.data() + lay.body_offset;
+  const char* const end = text.data() + text.size();
+  const std::size_t hw = opt.threads != 0 ? opt.threads : std::max(1u, std::thread::hardware_concurrency());
+  const std::size_t n_chunks =
+      std::clamp<std::size_t>(static_cast<std::size_t>(end - body) / kMinChunkBytes, 1, hw);
+  const std::vector<const char*> bounds = chunk_bounds(body, end, n_chunks);
+
+  // Every line may be a row: size the arrays for the line count, then
+  // squeeze out what comments and blank lines left unused.
+  std::vector<std::size_t> offset(n_chunks + 1, 0);
+  run_parallel(n_chunks, [&](std::size_t k) {
+    const std::size_t nl = count_newlines(bounds[k], bounds[k + 1]);
+    const bool unterminated = bounds[k + 1] > bounds[k] && bounds[k + 1][-1] != '\n';
+    offset[k + 1] = nl + (unterminated ? 1 : 0);
+  });
+  for (std::size_t k = 0; k < n_chunks; ++k) offset[k + 1] += offset[k];
+  // Zero-filling the fresh arrays is mostly page faults: share them out.
+  std::vector<std::vector<double>> columns(parsed_fields.size());
+  std::vector<std::exception_ptr> alloc_failure(n_chunks);
+  run_parallel(n_chunks, [&](std::size_t k) {
+    try {
+      for (std::size_t c = k; c < columns.size(); c += n_chunks) columns[c].resize(offset[n_chunks]);
+    } catch (...) {
+      alloc_failure[k] = std::current_exception();
+    }
+  });
+  for (const std::exception_ptr& e : alloc_failure) {
+    if (e) std::rethrow_exception(e);
+  }
+
+  const ChunkParser parser = chunk_parser(lay.delimiter);
+  std::vector<ChunkResult> results(n_chunks);
+  run_parallel(n_chunks, [&](std::size_t k) {
+    std::vector<double*> dst(lay.total_columns, nullptr);
+    for (std::size_t i = 0; i < lay.total_columns; ++i) {
+      if (slot[i] != kNone) dst[i] = columns[slot[i]].data() + offset[k];
+    }
+    parser(bounds[k], bounds[k + 1], lay.total_columns, dst.data(), results[k]);
+  });
+  for (const ChunkResult& r : results) {
+    if (r.fault != Fault::none) throw_fault(text, file_label, lay, r);
+  }
+
+  std::size_t rows = results[0].rows;
+  for (std::size_t k = 1; k < n_chunks; ++k) {
+    if (offset[k] != rows) {
+      for (auto& c : columns) {
+        std::memmove(c.data() + rows, c.data() + offset[k], results[k].rows * sizeof(double));
+      }
+    }
+    rows += results[k].rows;
+  }
+  for (auto& c : columns) c.resize(rows);
+
+  // Hand the parsed columns out; a field selected twice is copied.
+  std::vector<std::size_t> uses(columns.size(), 0);
+  for (const auto* list : {&t.indices, &extra_idx}) {
+    for (std::size_t i : *list) ++uses[slot[i]];
+  }
+  const auto take = [&](std::size_t field) -> std::vector<double> {
+    const std::size_t s = slot[field];
+    if (--uses[s] == 0) return std::move(columns[s]);
+    return columns[s];
+  };
+  for (std::size_t i : t.indices) t.data.push_back(take(i));
+  for (std::size_t i : extra_idx) t.extra.push_back(take(i));
+  return t;
+}
+
+Table read_table(const std::string& path, const TableOptions& opt) {
+  const FileBuffer buf = FileBuffer::open(path);
+  return parse_table(buf.view(), path, opt);
+}
+
+Location locate(const Table& t, std::size_t row, std::size_t field) {
+  // The file may have gone or changed since it was parsed; an unknown
+  // location only shortens the message, so that is not an error here.
+  std::optional<FileBuffer> buf;
+  try {
+    buf.emplace(FileBuffer::open(t.file));
+  } catch (const InputError&) {
+    return {};
+  }
+  const std::string_view text = strip_bom(buf->view());
+  const char* p = text.data();
+  const char* const end = p + text.size();
+  std::size_t line_no = 1;
+  for (; line_no < t.first_data_line && p < end; ++line_no) p = next_line(p, end).next;
+  for (std::size_t r = 0; p < end; ++line_no) {
+    const Line line = next_line(p, end);
+    if (line.is_content() && r++ == row) {
+      const std::vector<FieldSpan> fields = split_fields(line, t.delimiter);
+      return {line_no, field < fields.size() ? column_in_line(p, fields[field].begin) : 0};
+    }
+    p = line.next;
+  }
+  return {};
+}
+
+}  // namespace cubecal::io

@@ -1,0 +1,215 @@
+// A uniformly sampled record: columns from a delimited file, scaled to
+// units, with a sampling rate that is either given or inferred from a time
+// column. Allan-type statistics assume equal spacing, so every time stamp is
+// checked: a record with gaps or jitter is refused (or, on request, split
+// into contiguous pieces) instead of being silently analyzed.
+#include "cubecal/io/series.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <string_view>
+#include <utility>
+
+#include "cubecal/io/error.hpp"
+#include "cubecal/io/file_buffer.hpp"
+
+namespace cubecal::io {
+
+namespace {
+
+std::string to_text(double v, std::chars_format fmt, int precision) {
+  char buf[64];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v, fmt, precision);
+  return std::string(buf, r.ptr);
+}
+
+// Time stamps as the shortest text that reads back the same value, which is
+// normally how they are written in the file.
+std::string stamp(double v) {
+  char buf[64];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
+}
+
+// Durations with four significant digits, without switching to exponents
+// for long gaps.
+std::string duration(double v) {
+  const double mag = std::floor(std::log10(std::max(std::fabs(v), 1e-9)));
+  return to_text(v, std::chars_format::fixed, static_cast<int>(std::clamp(3.0 - mag, 0.0, 9.0)));
+}
+
+// The period is 1/median(dt): rounding noise in the last digits is not
+// worth showing.
+std::string period_text(double v) { return to_text(v, std::chars_format::general, 6); }
+
+void check_options(const SeriesOptions& opt) {
+  if (!(opt.lsb > 0.0) || !std::isfinite(opt.lsb)) {
+    throw UsageError("the LSB (counts per unit) must be a positive finite number, got " + stamp(opt.lsb));
+  }
+  if (!(opt.rate_hz >= 0.0) || !std::isfinite(opt.rate_hz)) {
+    throw UsageError("the sampling rate must be a positive finite number of Hz, got " + stamp(opt.rate_hz));
+  }
+  if (!(opt.tolerance >= 0.0) || !std::isfinite(opt.tolerance)) {
+    throw UsageError("the interval tolerance must be a non-negative fraction, got " + stamp(opt.tolerance));
+  }
+}
+
+[[noreturn]] void throw_too_short(const std::string& file, std::size_t n, std::size_t min, std::string hint) {
+  throw InputError(file, 0, 0,
+                   "series too short: " + std::to_string(n) + " samples, at least " + std::to_string(min) +
+                       " needed",
+                   std::move(hint));
+}
+
+double median(std::vector<double> v) {
+  const std::size_t mid = v.size() / 2;
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid), v.end());
+  if (v.size() % 2 != 0) return v[mid];
+  const double upper = v[mid];
+  return 0.5 * (upper + *std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid)));
+}
+
+// Which column holds the time, and whether its stamps define the timing.
+struct TimeChoice {
+  std::string spec;      // column to read; empty for none
+  bool timing = false;   // false: only kept out of the channels
+};
+
+TimeChoice choose_time_column(const SeriesOptions& opt, const Table& layout) {
+  if (!opt.time_col.empty()) return {opt.time_col, true};
+  const auto it = std::find_if(layout.header.begin(), layout.header.end(), looks_like_time_column);
+  if (it == layout.header.end()) {
+    if (opt.rate_hz == 0.0) throw UsageError("no sampling rate: give --rate HZ or --time-col NAME");
+    return {};
+  }
+  // A given rate overrides time stamps that were found by name only (e.g.
+  // PC clocks with jitter), but a time column is never a useful channel.
+  return {*it, opt.rate_hz == 0.0};
+}
+
+// Checks the time stamps against the period (given, or inferred from the
+// median interval) and cuts the record into segments.
+void check_timing(Series& s, const Table& t, std::size_t time_field, const SeriesOptions& opt) {
+  const std::vector<double>& time = s.time;
+  const auto fail_at = [&](std::size_t row, std::string problem, std::string hint) {
+    const Location loc = locate(t, row, time_field);
+    throw InputError(s.file, loc.line, loc.column, std::move(problem), std::move(hint));
+  };
+
+  for (std::size_t i = 1; i < time.size(); ++i) {
+    if (time[i] > time[i - 1]) continue;
+    fail_at(i, "time stamp " + stamp(time[i]) + " s is not after the previous one " + stamp(time[i - 1]) + " s",
+            time[i] == time[i - 1] ? "duplicated time stamp: remove the repeated row or fix the logger clock"
+                                   : "sort the file or fix the logger clock");
+  }
+
+  if (opt.rate_hz > 0.0) {
+    s.rate_hz = opt.rate_hz;
+    s.tau0 = 1.0 / opt.rate_hz;
+  } else {
+    if (time.size() < 2) {
+      throw InputError(s.file, 0, 0, "cannot infer the sampling rate from a single time stamp", "give --rate HZ");
+    }
+    // The median ignores gaps and outliers as long as most intervals are
+    // regular, which the checks below then require anyway.
+    std::vector<double> dt(time.size() - 1);
+    for (std::size_t i = 1; i < time.size(); ++i) dt[i - 1] = time[i] - time[i - 1];
+    s.tau0 = median(std::move(dt));
+    s.rate_hz = 1.0 / s.tau0;
+    s.rate_from_time = true;
+  }
+  const double period = s.tau0;
+
+  const std::string ignore_stamps = opt.time_col.empty() ? ", or give --rate HZ to ignore the time stamps" : "";
+  std::size_t begin = 0;
+  for (std::size_t i = 1; i < time.size(); ++i) {
+    const double dt = time[i] - time[i - 1];
+    if (std::fabs(dt - period) <= opt.tolerance * period) continue;
+    if (opt.gaps == GapPolicy::split) {
+      s.segments.push_back({begin, i});
+      begin = i;
+      ++s.irregular_intervals;
+      continue;
+    }
+    // A missing sample makes an interval of at least two periods; anything
+    // closer to one period is timing noise.
+    if (dt >= 1.5 * period) {
+      fail_at(i,
+              "gap of " + duration(dt) + " s (" + std::to_string(std::llround(dt / period)) + " periods of " +
+                  period_text(period) + " s) after t = " + stamp(time[i - 1]) + " s",
+              "use --gaps split to analyze the contiguous pieces");
+    } else {
+      fail_at(i,
+              "jitter: interval " + duration(dt) + " s differs from the period " + period_text(period) +
+                  " s by " + to_text(100.0 * std::fabs(dt - period) / period, std::chars_format::general, 3) +
+                  " %",
+              "use --gaps split to cut the record at irregular intervals" + ignore_stamps);
+    }
+  }
+  s.segments.push_back({begin, time.size()});
+}
+
+}  // namespace
+
+bool looks_like_time_column(const std::string& name) {
+  static constexpr std::string_view kNames[] = {"t", "time", "t_s", "time_s", "timestamp", "sec", "seconds"};
+  std::string lower = name;
+  for (char& c : lower) {
+    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
+  }
+  return std::find(std::begin(kNames), std::end(kNames), lower) != std::end(kNames);
+}
+
+Series read_series(const std::string& path, const SeriesOptions& opt) {
+  check_options(opt);
+  const FileBuffer buf = FileBuffer::open(path);
+  const Table layout = parse_layout(buf.view(), path, opt.table);
+  const TimeChoice time = choose_time_column(opt, layout);
+
+  // The time column is read as an extra column, which also keeps it out of
+  // the channels when all columns are wanted.
+  TableOptions topt = opt.table;
+  const std::size_t time_slot = topt.extra_columns.size();
+  if (!time.spec.empty()) topt.extra_columns.push_back(time.spec);
+  Table t = parse_table(buf.view(), path, topt);
+
+  Series s;
+  s.file = path;
+  s.gzip = buf.was_gzip();
+  s.bytes = t.bytes;
+  if (t.data.empty()) {
+    throw InputError(path, 0, 0, "no data columns besides the time column", "name the columns to analyze");
+  }
+  s.names = t.names;
+  s.channels = std::move(t.data);
+  const std::size_t n = s.samples();
+  if (n < opt.min_samples) throw_too_short(path, n, opt.min_samples, "a longer record is needed");
+
+  if (opt.lsb != 1.0) {
+    for (auto& c : s.channels) {
+      for (double& v : c) v /= opt.lsb;
+    }
+  }
+
+  if (!time.timing) {
+    s.rate_hz = opt.rate_hz;
+    s.tau0 = 1.0 / opt.rate_hz;
+    s.segments.push_back({0, n});
+    return s;
+  }
+
+  s.time_name = t.extra_names[time_slot];
+  s.time = std::move(t.extra[time_slot]);
+  check_timing(s, t, t.extra_indices[time_slot], opt);
+  const auto longest = std::max_element(s.segments.begin(), s.segments.end(),
+                                        [](const Segment& a, const Segment& b) { return a.size() < b.size(); });
+  if (longest->size() < opt.min_samples) {
+    throw_too_short(path, longest->size(), opt.min_samples,
+                    "longest of " + std::to_string(s.segments.size()) +
+                        " contiguous pieces; the record has too many gaps");
+  }
+  return s;
+}
+
+}  // namespace cubecal::io

@@ -1,0 +1,169 @@
+// Core statistics against closed forms and published reference values.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "cubecal/core/confidence.hpp"
+#include "cubecal/core/edf.hpp"
+#include "cubecal/core/kernels.hpp"
+#include "cubecal/core/noise_id.hpp"
+#include "cubecal/core/phase.hpp"
+#include "cubecal/core/stability.hpp"
+#include "cubecal/core/tau_grid.hpp"
+
+namespace cubecal {
+namespace {
+
+std::vector<double> white(std::size_t n, double sigma, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> g(0.0, sigma);
+  std::vector<double> v(n);
+  for (double& x : v) x = g(rng);
+  return v;
+}
+
+TEST(TauGrid, Octave) {
+  EXPECT_EQ(averaging_factors(parse_tau_grid("octave"), 100, 1.0),
+            (std::vector<std::size_t>{1, 2, 4, 8, 16, 32, 64}));
+}
+
+TEST(TauGrid, Decade) {
+  EXPECT_EQ(averaging_factors(parse_tau_grid("decade"), 450, 1.0),
+            (std::vector<std::size_t>{1, 2, 4, 10, 20, 40, 100, 200, 400}));
+}
+
+TEST(TauGrid, LogRemovesDuplicates) {
+  const auto ms = averaging_factors(parse_tau_grid("log:20"), 1000, 0.1);
+  ASSERT_FALSE(ms.empty());
+  EXPECT_EQ(ms.front(), 1u);
+  EXPECT_EQ(ms.back(), 1000u);
+  for (std::size_t i = 1; i < ms.size(); ++i) EXPECT_LT(ms[i - 1], ms[i]);
+  // 10^(j/20) for j = 0..60 rounds to 1,1,1,1,2,2,2,2,3,... : 20 per decade
+  // at most, fewer at the start where they collide.
+  EXPECT_LT(ms.size(), 61u);
+  EXPECT_GT(ms.size(), 40u);
+}
+
+TEST(TauGrid, ExplicitListInSeconds) {
+  const auto ms = averaging_factors(parse_tau_grid("0.1, 1,10,1e6"), 1000, 0.1);
+  EXPECT_EQ(ms, (std::vector<std::size_t>{1, 10, 100}));  // 1e6 s is beyond the record
+}
+
+TEST(TauGrid, RejectsGarbage) {
+  EXPECT_THROW(parse_tau_grid("log:x"), std::invalid_argument);
+  EXPECT_THROW(parse_tau_grid("1,-2"), std::invalid_argument);
+  EXPECT_THROW(parse_tau_grid(""), std::invalid_argument);
+}
+
+TEST(Kernels, RateRampGivesExactClosedForm) {
+  // y_i = R i tau0 (a linear frequency drift): AVAR = R^2 tau^2 / 2 at every m.
+  const double R = 3e-4, tau0 = 0.5;
+  std::vector<double> y(2000);
+  for (std::size_t i = 0; i < y.size(); ++i) y[i] = R * static_cast<double>(i) * tau0;
+  const auto x = freq_to_phase(y, tau0);
+  for (std::size_t m : {1u, 7u, 64u, 400u}) {
+    const double tau = static_cast<double>(m) * tau0;
+    EXPECT_NEAR(oavar(x, m, tau0).var / (R * R * tau * tau / 2.0), 1.0, 1e-9) << m;
+    EXPECT_NEAR(avar(x, m, tau0).var / (R * R * tau * tau / 2.0), 1.0, 1e-9) << m;
+  }
+}
+
+TEST(Kernels, HadamardRemovesLinearDrift) {
+  // A linear frequency drift is invisible to the Hadamard variance.
+  std::vector<double> y(1000);
+  for (std::size_t i = 0; i < y.size(); ++i) y[i] = 1e-3 * static_cast<double>(i);
+  const auto x = freq_to_phase(y, 1.0);
+  EXPECT_LT(ohvar(x, 10, 1.0).var, 1e-20);
+  EXPECT_LT(hvar(x, 10, 1.0).var, 1e-20);
+}
+
+TEST(Kernels, CountsMatchStable32) {
+  const auto x = freq_to_phase(white(1000, 1.0, 1), 1.0);  // N = 1001 phase points
+  EXPECT_EQ(avar(x, 10, 1.0).n, 99u);
+  EXPECT_EQ(oavar(x, 10, 1.0).n, 981u);
+  EXPECT_EQ(mvar(x, 10, 1.0).n, 972u);
+  EXPECT_EQ(hvar(x, 10, 1.0).n, 98u);
+  EXPECT_EQ(ohvar(x, 10, 1.0).n, 971u);
+  EXPECT_EQ(totvar(totvar_extend(x), 10, 1.0).n, 999u);
+  EXPECT_EQ(oavar(x, 501, 1.0).n, 0u);  // beyond the record
+}
+
+TEST(Kernels, WhiteFmWithinConfidenceIntervalOverSeeds) {
+  // White FM: AVAR = sigma^2 tau0 / tau exactly. Over 40 seeds the true value
+  // must fall inside the 68.3 % interval about 68 % of the time.
+  const double sigma = 0.02, tau0 = 0.1;
+  const std::size_t ms[] = {1, 10, 100};
+  int inside = 0, total = 0;
+  for (std::uint64_t seed = 1; seed <= 40; ++seed) {
+    const auto y = white(20000, sigma, seed);
+    const StabilityRecord rec(y, DataType::freq, tau0, Stat::oadev);
+    for (std::size_t m : ms) {
+      StabilityOptions o;
+      o.alpha = 0;  // known noise type
+      const auto p = rec.evaluate(m, o);
+      const double truth = sigma / std::sqrt(static_cast<double>(m));
+      inside += (p.lo <= truth && truth <= p.hi);
+      ++total;
+    }
+  }
+  // Binomial(120, 0.683): mean 82, sd 5.1; +-4 sd.
+  EXPECT_GT(inside, 61);
+  EXPECT_LT(inside, 103);
+}
+
+TEST(NoiseId, IdentifiesPureNoises) {
+  const auto wfm = white(5000, 1.0, 3);
+  // Random-walk FM: integrate white FM.
+  std::vector<double> rwfm(wfm.size());
+  double acc = 0.0;
+  for (std::size_t i = 0; i < wfm.size(); ++i) rwfm[i] = acc += wfm[i];
+  // White PM: white phase.
+  const auto wpm = white(5001, 1.0, 4);
+  const auto xw = freq_to_phase(wfm, 1.0);
+  const auto xr = freq_to_phase(rwfm, 1.0);
+  for (std::size_t m : {1u, 4u, 16u}) {
+    EXPECT_EQ(identify_noise(xw, m, DataType::freq, Stat::oadev).alpha, 0) << m;
+    EXPECT_EQ(identify_noise(xr, m, DataType::freq, Stat::oadev).alpha, -2) << m;
+    EXPECT_EQ(identify_noise(wpm, m, DataType::phase, Stat::oadev).alpha, 2) << m;
+  }
+}
+
+TEST(Edf, GreenhallMatchesStable32GpsVectors) {
+  // formulas.md 7.3: Stable32 OADEV of the GPS record, N = 241 218 phase points.
+  const std::size_t N = 241218;
+  EXPECT_NEAR(edf_greenhall(0, 2, 8192, N, true, false), 41.93, 0.01);
+  EXPECT_NEAR(edf_greenhall(0, 2, 16384, N, true, false), 19.87, 0.01);
+  EXPECT_NEAR(edf_greenhall(0, 2, 32768, N, true, false), 8.869, 0.001);
+  EXPECT_NEAR(edf_greenhall(1, 2, 1024, N, true, false), 2869.5, 0.1);
+  EXPECT_NEAR(edf_greenhall(2, 2, 1, N, true, false), 124054, 1);
+}
+
+TEST(Edf, SimpleFormulasOfSp1065) {
+  // formulas.md 7.4, N = 10 001 phase points.
+  EXPECT_NEAR(edf_simple(0, 1, 10001), 6665.8, 0.1);
+  EXPECT_NEAR(edf_simple(0, 100, 10001), 148.0, 0.05);
+  EXPECT_NEAR(edf_simple(-2, 10, 10001), 997.3, 0.05);
+  EXPECT_NEAR(edf_simple(-2, 1000, 10001), 7.40, 0.005);
+}
+
+TEST(Confidence, ChiSquaredFactors) {
+  // formulas.md 7.1, 68.27 % factors.
+  const struct {
+    double edf, lo, hi;
+  } ref[] = {{1, 0.7094, 4.9957}, {2, 0.7370, 2.4059}, {5, 0.7927, 1.5595},
+             {10, 0.8355, 1.3268}, {100, 0.9362, 1.0789}};
+  for (const auto& r : ref) {
+    const auto ci = chi2_interval(1.0, r.edf, 0.6827);
+    EXPECT_NEAR(ci.lo, r.lo, 2e-4) << r.edf;
+    EXPECT_NEAR(ci.hi, r.hi, 2e-4) << r.edf;
+  }
+  const auto c95 = chi2_interval(1.0, 10, 0.95);
+  EXPECT_NEAR(c95.lo, 0.6987, 2e-4);
+  EXPECT_NEAR(c95.hi, 1.7549, 2e-4);
+  EXPECT_EQ(chi2_interval(1.0, 0.0, 0.683).hi, 0.0);  // no EDF, no interval
+}
+
+}  // namespace
+}  // namespace cubecal
