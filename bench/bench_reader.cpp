@@ -77,3 +77,5 @@ BENCHMARK(BM_ReadAllColumns)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Use
 BENCHMARK(BM_ReadTwoColumns)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
+
+BENCHMARK_MAIN();

@@ -33,6 +33,9 @@ namespace {
 // thread start-up costs more than it saves.
 constexpr std::size_t kMinChunkBytes = std::size_t{1} << 20;
 
+// slot[] value of a field that is skipped.
+constexpr std::size_t kNotParsed = static_cast<std::size_t>(-1);
+
 // Longest field text quoted in an error message.
 constexpr std::size_t kMaxQuoted = 40;
 
@@ -213,7 +216,13 @@ Layout detect_layout(std::string_view text, const std::string& file, std::size_t
   lay.delimiter = detect_delimiter(first);
   const std::vector<FieldSpan> fields = split_fields(first, lay.delimiter);
   lay.total_columns = fields.size();
-  lay.has_header = std::any_of(fields.begin(), fields.end(), is_name);
+  // A header holds names only: a line mixing numbers and words is a data
+  // row with a bad field (reported there), not a header that would silently
+  // swallow the first sample.
+  const bool any_number = std::any_of(fields.begin(), fields.end(), [](const FieldSpan& f) {
+    return f.begin != f.end && !is_name(f);
+  });
+  lay.has_header = !any_number && std::any_of(fields.begin(), fields.end(), is_name);
   if (!lay.has_header) {
     lay.first_data_line = line_no;
     lay.body_offset = static_cast<std::size_t>(first.begin - text.data());
@@ -500,6 +509,72 @@ std::string column_label(const Layout& lay, std::size_t field) {
   throw InputError(file, pos.line, pos.column, "non-numeric field " + text_of_field + " in " + label, hint);
 }
 
+// Parses the data rows of `text` in parallel. slot[field] is the index of
+// the output column for that field, or kNotParsed.
+std::vector<std::vector<double>> parse_rows(std::string_view text, const std::string& file, const Layout& lay,
+                                            const std::vector<std::size_t>& slot, std::size_t n_columns,
+                                            unsigned threads) {
+  // Chunks: one per thread, but none smaller than kMinChunkBytes.
+  const char* const body = text.data() + lay.body_offset;
+  const char* const end = text.data() + text.size();
+  const std::size_t workers = threads != 0 ? threads : std::max(1u, std::thread::hardware_concurrency());
+  const std::size_t n_chunks =
+      std::clamp<std::size_t>(static_cast<std::size_t>(end - body) / kMinChunkBytes, 1, workers);
+  const std::vector<const char*> bounds = chunk_bounds(body, end, n_chunks);
+
+  // Every line may be a row: size the arrays for the line count, then
+  // squeeze out what comments and blank lines left unused.
+  std::vector<std::size_t> offset(n_chunks + 1, 0);
+  run_parallel(n_chunks, [&](std::size_t k) {
+    const std::size_t nl = count_newlines(bounds[k], bounds[k + 1]);
+    const bool unterminated = bounds[k + 1] > bounds[k] && bounds[k + 1][-1] != '\n';
+    offset[k + 1] = nl + (unterminated ? 1 : 0);
+  });
+  for (std::size_t k = 0; k < n_chunks; ++k) offset[k + 1] += offset[k];
+
+  // Zero-filling the fresh arrays is mostly page faults: share them out.
+  std::vector<std::vector<double>> columns(n_columns);
+  std::vector<std::exception_ptr> alloc_failure(n_chunks);
+  run_parallel(n_chunks, [&](std::size_t k) {
+    try {
+      for (std::size_t c = k; c < columns.size(); c += n_chunks) columns[c].resize(offset[n_chunks]);
+    } catch (...) {
+      alloc_failure[k] = std::current_exception();
+    }
+  });
+  for (const std::exception_ptr& e : alloc_failure) {
+    if (e) std::rethrow_exception(e);
+  }
+
+  // Per chunk and field: where row 0 of the chunk goes (null: skipped).
+  std::vector<std::vector<double*>> dst(n_chunks, std::vector<double*>(lay.total_columns, nullptr));
+  for (std::size_t k = 0; k < n_chunks; ++k) {
+    for (std::size_t i = 0; i < lay.total_columns; ++i) {
+      if (slot[i] != kNotParsed) dst[k][i] = columns[slot[i]].data() + offset[k];
+    }
+  }
+  const ChunkParser parser = chunk_parser(lay.delimiter);
+  std::vector<ChunkResult> results(n_chunks);
+  run_parallel(n_chunks, [&](std::size_t k) {
+    parser(bounds[k], bounds[k + 1], lay.total_columns, dst[k].data(), results[k]);
+  });
+  for (const ChunkResult& r : results) {
+    if (r.fault != Fault::none) throw_fault(text, file, lay, r);
+  }
+
+  std::size_t rows = results[0].rows;
+  for (std::size_t k = 1; k < n_chunks; ++k) {
+    if (offset[k] != rows) {
+      for (auto& c : columns) {
+        std::memmove(c.data() + rows, c.data() + offset[k], results[k].rows * sizeof(double));
+      }
+    }
+    rows += results[k].rows;
+  }
+  for (auto& c : columns) c.resize(rows);
+  return columns;
+}
+
 Table table_from_layout(const Layout& lay, const std::string& file, const TableOptions& opt,
                         std::size_t bytes) {
   Table t;
@@ -527,7 +602,6 @@ Table parse_table(std::string_view text, const std::string& file_label, const Ta
   const Layout lay = detect_layout(text, file_label, opt.skip_rows);
   Table t = table_from_layout(lay, file_label, opt, bytes);
 
-  // Resolve the selection; a field asked for twice is parsed once.
   std::vector<std::size_t>& extra_idx = t.extra_indices;
   for (const std::string& spec : opt.extra_columns) extra_idx.push_back(resolve_column(spec, lay, file_label));
   if (opt.columns.empty()) {
@@ -540,78 +614,19 @@ Table parse_table(std::string_view text, const std::string& file_label, const Ta
   for (std::size_t i : t.indices) t.names.push_back(column_name(lay, i));
   for (std::size_t i : extra_idx) t.extra_names.push_back(column_name(lay, i));
 
-  constexpr std::size_t kNone = static_cast<std::size_t>(-1);
-  std::vector<std::size_t> slot(lay.total_columns, kNone);  // field -> parsed column
-  std::vector<std::size_t> parsed_fields;
+  // A field asked for twice is parsed once and copied.
+  std::vector<std::size_t> slot(lay.total_columns, kNotParsed);
+  std::vector<std::size_t> uses;
   for (const auto* list : {&t.indices, &extra_idx}) {
     for (std::size_t i : *list) {
-      if (slot[i] == kNone) {
-        slot[i] = parsed_fields.size();
-        parsed_fields.push_back(i);
+      if (slot[i] == kNotParsed) {
+        slot[i] = uses.size();
+        uses.push_back(0);
       }
+      ++uses[slot[i]];
     }
   }
-
-  // Chunks: one per thread, but none smaller than kMinChunkBytes.
-  const char* const body = text.data() + lay.body_offset;
-  const char* const end = text.data() + text.size();
-  const std::size_t hw = opt.threads != 0 ? opt.threads : std::max(1u, std::thread::hardware_concurrency());
-  const std::size_t n_chunks =
-      std::clamp<std::size_t>(static_cast<std::size_t>(end - body) / kMinChunkBytes, 1, hw);
-  const std::vector<const char*> bounds = chunk_bounds(body, end, n_chunks);
-
-  // Every line may be a row: size the arrays for the line count, then
-  // squeeze out what comments and blank lines left unused.
-  std::vector<std::size_t> offset(n_chunks + 1, 0);
-  run_parallel(n_chunks, [&](std::size_t k) {
-    const std::size_t nl = count_newlines(bounds[k], bounds[k + 1]);
-    const bool unterminated = bounds[k + 1] > bounds[k] && bounds[k + 1][-1] != '\n';
-    offset[k + 1] = nl + (unterminated ? 1 : 0);
-  });
-  for (std::size_t k = 0; k < n_chunks; ++k) offset[k + 1] += offset[k];
-  // Zero-filling the fresh arrays is mostly page faults: share them out.
-  std::vector<std::vector<double>> columns(parsed_fields.size());
-  std::vector<std::exception_ptr> alloc_failure(n_chunks);
-  run_parallel(n_chunks, [&](std::size_t k) {
-    try {
-      for (std::size_t c = k; c < columns.size(); c += n_chunks) columns[c].resize(offset[n_chunks]);
-    } catch (...) {
-      alloc_failure[k] = std::current_exception();
-    }
-  });
-  for (const std::exception_ptr& e : alloc_failure) {
-    if (e) std::rethrow_exception(e);
-  }
-
-  const ChunkParser parser = chunk_parser(lay.delimiter);
-  std::vector<ChunkResult> results(n_chunks);
-  run_parallel(n_chunks, [&](std::size_t k) {
-    std::vector<double*> dst(lay.total_columns, nullptr);
-    for (std::size_t i = 0; i < lay.total_columns; ++i) {
-      if (slot[i] != kNone) dst[i] = columns[slot[i]].data() + offset[k];
-    }
-    parser(bounds[k], bounds[k + 1], lay.total_columns, dst.data(), results[k]);
-  });
-  for (const ChunkResult& r : results) {
-    if (r.fault != Fault::none) throw_fault(text, file_label, lay, r);
-  }
-
-  std::size_t rows = results[0].rows;
-  for (std::size_t k = 1; k < n_chunks; ++k) {
-    if (offset[k] != rows) {
-      for (auto& c : columns) {
-        std::memmove(c.data() + rows, c.data() + offset[k], results[k].rows * sizeof(double));
-      }
-    }
-    rows += results[k].rows;
-  }
-  for (auto& c : columns) c.resize(rows);
-
-  // Hand the parsed columns out; a field selected twice is copied.
-  std::vector<std::size_t> uses(columns.size(), 0);
-  for (const auto* list : {&t.indices, &extra_idx}) {
-    for (std::size_t i : *list) ++uses[slot[i]];
-  }
+  std::vector<std::vector<double>> columns = parse_rows(text, file_label, lay, slot, uses.size(), opt.threads);
   const auto take = [&](std::size_t field) -> std::vector<double> {
     const std::size_t s = slot[field];
     if (--uses[s] == 0) return std::move(columns[s]);

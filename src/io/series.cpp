@@ -115,8 +115,13 @@ void check_timing(Series& s, const Table& t, std::size_t time_field, const Serie
     // regular, which the checks below then require anyway.
     std::vector<double> dt(time.size() - 1);
     for (std::size_t i = 1; i < time.size(); ++i) dt[i - 1] = time[i] - time[i - 1];
-    s.tau0 = median(std::move(dt));
-    s.rate_hz = 1.0 / s.tau0;
+    // Time stamps printed with a few decimals make every interval differ from
+    // the period in the last bits (5.3 - 5.2 = 0.0999999999999996): keep nine
+    // significant digits of the rate, far below the 1 % interval tolerance.
+    const double raw = 1.0 / median(std::move(dt));
+    const double scale = std::pow(10.0, 8.0 - std::floor(std::log10(raw)));
+    s.rate_hz = std::round(raw * scale) / scale;
+    s.tau0 = 1.0 / s.rate_hz;
     s.rate_from_time = true;
   }
   const double period = s.tau0;

@@ -14,7 +14,8 @@ enum class Delimiter { comma, tab, semicolon, whitespace };
 struct TableOptions {
   std::size_t skip_rows = 0;   // physical lines dropped before anything else
   // Columns wanted, by header name or 1-based index ("gx", "3"). Empty: all
-  // columns. Resolved against the header when there is one; an unknown name
+  // columns except the extra ones. Resolved against the header when there is
+  // one (exact name, else index, else name ignoring case); an unknown name
   // is an InputError pointing at the header line.
   std::vector<std::string> columns;
   // Extra column (e.g. time or temperature) to read besides `columns`; empty
