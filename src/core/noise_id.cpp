@@ -47,24 +47,32 @@ void accumulate(LagSums& s, const double* w, std::size_t len) {
   if (len == 0) return;
   if (s.n > 0) s.p += s.last * w[0];
   else s.first = w[0];
-  double a1[4] = {0, 0, 0, 0}, a2[4] = {0, 0, 0, 0}, ap[4] = {0, 0, 0, 0};
+  // 16 lanes = four AVX2 registers per sum: enough independent chains to
+  // hide the add latency.
+  constexpr std::size_t L = 16;
+  double a1[L] = {}, a2[L] = {}, ap[L] = {};
   std::size_t i = 0;
-  for (; i + 4 <= len; i += 4)
-    for (std::size_t j = 0; j < 4; ++j) {
-      a1[j] += w[i + j];
-      a2[j] += w[i + j] * w[i + j];
+  for (; i + L + 1 <= len; i += L)
+    for (std::size_t j = 0; j < L; ++j) {
+      const double v = w[i + j];
+      a1[j] += v;
+      a2[j] += v * v;
+      ap[j] += v * w[i + j + 1];
     }
+  double t1 = 0, t2 = 0, tp = 0;
   for (; i < len; ++i) {
-    a1[0] += w[i];
-    a2[0] += w[i] * w[i];
+    t1 += w[i];
+    t2 += w[i] * w[i];
+    if (i + 1 < len) tp += w[i] * w[i + 1];
   }
-  i = 0;
-  for (; i + 5 <= len; i += 4)
-    for (std::size_t j = 0; j < 4; ++j) ap[j] += w[i + j] * w[i + j + 1];
-  for (; i + 1 < len; ++i) ap[0] += w[i] * w[i + 1];
-  s.s1 += (a1[0] + a1[1]) + (a1[2] + a1[3]);
-  s.s2 += (a2[0] + a2[1]) + (a2[2] + a2[3]);
-  s.p += (ap[0] + ap[1]) + (ap[2] + ap[3]);
+  for (std::size_t j = 0; j < L; ++j) {
+    t1 += a1[j];
+    t2 += a2[j];
+    tp += ap[j];
+  }
+  s.s1 += t1;
+  s.s2 += t2;
+  s.p += tp;
   s.last = w[len - 1];
   s.n += len;
 }
@@ -158,8 +166,15 @@ NoiseId identify_noise(std::span<const double> x, std::size_t m, DataType origin
     for (std::size_t k0 = 0; k0 < count; k0 += kBlock) {
       const std::size_t len = std::min(kBlock, count - k0);
       double* w0 = buf[0] + 1;
-      for (std::size_t j = 0; j < len; ++j)
-        w0[j] = z(k0 + j) - (a + b * static_cast<double>(k0 + j));
+      if (phase) {
+        for (std::size_t j = 0; j < len; ++j)
+          w0[j] = x[(k0 + j) * m] - (a + b * static_cast<double>(k0 + j));
+      } else if (m == 1) {
+        const double* xs = x.data() + k0;
+        for (std::size_t j = 0; j < len; ++j) w0[j] = xs[j + 1] - xs[j];
+      } else {
+        for (std::size_t j = 0; j < len; ++j) w0[j] = z(k0 + j);
+      }
       accumulate(sums[0], w0, len);
       for (int d = 1; d <= dmax; ++d) {
         const double* src = buf[d - 1];
