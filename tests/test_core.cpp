@@ -167,3 +167,36 @@ TEST(Confidence, ChiSquaredFactors) {
 
 }  // namespace
 }  // namespace cubecal
+
+namespace cubecal {
+namespace {
+
+TEST(Stability, ScaleInvariantOverTheDoubleRange) {
+  // Exact power-of-two scaling inside: 1e+150 and 1e-150 data give the same
+  // relative deviations as unit data, without overflow or underflow.
+  const auto y = white(5000, 1.0, 11);
+  const std::size_t ms[] = {1, 10, 100};
+  for (Stat st : {Stat::oadev, Stat::mdev, Stat::ohdev, Stat::totdev}) {
+    const auto ref = stability(y, DataType::freq, 1.0, st, ms);
+    for (double f : {1e150, 1e-150}) {
+      std::vector<double> z(y);
+      for (double& v : z) v *= f;
+      const auto got = stability(z, DataType::freq, 1.0, st, ms);
+      for (std::size_t k = 0; k < 3; ++k) {
+        EXPECT_NEAR(got[k].dev / (ref[k].dev * f), 1.0, 1e-12) << to_string(st) << " " << f;
+        EXPECT_EQ(got[k].alpha, ref[k].alpha);
+      }
+    }
+  }
+}
+
+TEST(Stability, RejectsNonFiniteSamples) {
+  std::vector<double> y(100, 1.0);
+  y[42] = std::nan("");
+  EXPECT_THROW(StabilityRecord(y, DataType::freq, 1.0, Stat::oadev), std::invalid_argument);
+  y[42] = HUGE_VAL;
+  EXPECT_THROW(StabilityRecord(y, DataType::phase, 1.0, Stat::oadev), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace cubecal

@@ -10,7 +10,8 @@ namespace cubecal {
 
 StabilityRecord::StabilityRecord(std::span<const double> data, DataType type, double tau0,
                                  Stat stat)
-    : x_(type == DataType::freq ? freq_to_phase(data, tau0) : normalize_phase(data)),
+    : scale_(power_of_two_scale(data)),
+      x_(type == DataType::freq ? freq_to_phase(data, tau0, scale_) : normalize_phase(data, scale_)),
       type_(type),
       tau0_(tau0),
       stat_(stat) {
@@ -37,7 +38,7 @@ StabilityPoint StabilityRecord::evaluate(std::size_t m, const StabilityOptions& 
   }
   p.n = v.n;
   if (v.n == 0) return p;
-  p.dev = std::sqrt(std::max(v.var, 0.0));
+  p.dev = std::sqrt(std::max(v.var, 0.0)) * scale_;
   if (stat_ == Stat::tdev) p.dev *= p.tau / std::sqrt(3.0);
   if (!opt.intervals) return p;
 

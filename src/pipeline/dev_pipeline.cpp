@@ -72,13 +72,23 @@ DevResult run(const std::vector<std::string>& names,
   for (std::size_t c = 0; c < channels.size(); ++c)
     for (std::size_t s = 0; s < segments.size(); ++s) pieces.push_back({c, nullptr});
   const std::size_t nseg = segments.size();
+  // Exceptions must not leave an OpenMP region: keep the first and rethrow.
+  std::vector<std::string> errors(pieces.size());
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
   for (std::size_t k = 0; k < pieces.size(); ++k) {
     const auto& seg = segments[k % nseg];
     const auto& ch = channels[pieces[k].channel];
     std::span<const double> data(ch.data() + seg.begin, seg.size());
-    pieces[k].record = std::make_unique<StabilityRecord>(data, req.type, res.tau0, req.stat);
+    try {
+      pieces[k].record = std::make_unique<StabilityRecord>(data, req.type, res.tau0, req.stat);
+    } catch (const std::exception& e) {
+      errors[k] = e.what();
+    }
   }
+  for (std::size_t k = 0; k < pieces.size(); ++k)
+    if (!errors[k].empty())
+      throw io::UsageError("column " + names[pieces[k].channel] + ": " + errors[k] +
+                           " (remove or repair it before the analysis)");
 
   std::size_t max_m = 0;
   res.segments_used = 0;

@@ -35,12 +35,17 @@ struct StabilityPoint {
 // statistic; evaluate() is const and safe to call from several threads.
 class StabilityRecord {
  public:
+  // Throws std::invalid_argument for a NaN or infinite sample. The data are
+  // scaled by an exact power of two internally, so values anywhere in the
+  // double range (1e-150 or 1e+150) give correct deviations.
   StabilityRecord(std::span<const double> data, DataType type, double tau0, Stat stat);
 
   std::size_t phase_points() const noexcept { return x_.size(); }
   double tau0() const noexcept { return tau0_; }
   DataType type() const noexcept { return type_; }
+  // Phase points, divided by scale().
   std::span<const double> phase() const noexcept { return x_; }
+  double scale() const noexcept { return scale_; }
   Stat stat() const noexcept { return stat_; }
   // Largest m Stable32 would evaluate on this record.
   std::size_t max_m() const noexcept;
@@ -50,6 +55,7 @@ class StabilityRecord {
   StabilityPoint evaluate(std::size_t m, const StabilityOptions& opt) const;
 
  private:
+  double scale_;
   std::vector<double> x_;
   DataType type_;
   double tau0_;
