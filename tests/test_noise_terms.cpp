@@ -1,1 +1,451 @@
-// placeholder: being written
+// Noise-term estimators against closed-form Allan curves (formulas.md 5.3)
+// and a seeded Monte-Carlo of white noise plus a random-walk bias.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <random>
+#include <vector>
+
+#include "cubecal/core/allan_curve.hpp"
+#include "cubecal/core/noise_terms.hpp"
+#include "cubecal/core/stability.hpp"
+#include "cubecal/core/tau_grid.hpp"
+#include "cubecal/core/types.hpp"
+
+namespace cubecal {
+namespace {
+
+// sqrt(2 ln 2 / pi), written out here rather than taken from the header.
+const double kFloor = std::sqrt(2.0 * std::numbers::ln2 / std::numbers::pi);
+
+// IEEE 952 terms in data units u and seconds.
+struct Terms {
+  double Q = 0.0, N = 0.0, B = 0.0, K = 0.0, R = 0.0;
+};
+
+double closed_form_avar(const Terms& t, double tau) {
+  return 3.0 * t.Q * t.Q / (tau * tau) + t.N * t.N / tau + (kFloor * t.B) * (kFloor * t.B) +
+         t.K * t.K * tau / 3.0 + t.R * t.R * tau * tau / 2.0;
+}
+
+// NIST SP 1065 simple EDF of overlapping AVAR for white FM, n_phase points.
+double edf_white_fm(double m, double n_phase) {
+  return (3.0 * (n_phase - 1.0) / (2.0 * m) - 2.0 * (n_phase - 2.0) / n_phase) * 4.0 * m * m /
+         (4.0 * m * m + 5.0);
+}
+
+// Averaging factors round(10^(j/K)), deduplicated, up to max_m.
+std::vector<double> log_factors(unsigned per_decade, double max_m) {
+  std::vector<double> ms;
+  for (unsigned j = 0;; ++j) {
+    const double m = std::round(std::pow(10.0, j / static_cast<double>(per_decade)));
+    if (m > max_m) break;
+    if (ms.empty() || m > ms.back()) ms.push_back(m);
+  }
+  return ms;
+}
+
+// A noise-free curve of `avar` on a log grid, with the interval a record of
+// `samples` points at tau0 would carry: lo/hi = dev (1 -/+ 1/sqrt(2 edf)).
+template <class F>
+AllanCurve synthetic_curve(F avar, double tau0, double samples, unsigned per_decade = 10) {
+  AllanCurve c;
+  const double n_phase = samples + 1.0;
+  for (const double m : log_factors(per_decade, samples / 4.0)) {
+    const double tau = m * tau0;
+    const double dev = std::sqrt(avar(tau));
+    const double edf = edf_white_fm(m, n_phase);
+    const double rel = 1.0 / std::sqrt(2.0 * edf);
+    c.tau.push_back(tau);
+    c.dev.push_back(dev);
+    c.lo.push_back(dev * (1.0 - rel));
+    c.hi.push_back(dev * (1.0 + rel));
+    c.edf.push_back(edf);
+  }
+  return c;
+}
+
+AllanCurve synthetic_curve(const Terms& t, double tau0 = 0.1, double samples = 2592208.0,
+                           unsigned per_decade = 10) {
+  return synthetic_curve([&](double tau) { return closed_form_avar(t, tau); }, tau0, samples,
+                         per_decade);
+}
+
+// Five terms, each dominating about a decade or more of 0.01 .. 1e5 s:
+// Q below 0.27 s, N to 29 s, B to 2900 s, K to 1.5e4 s, R beyond.
+constexpr Terms kFiveTerms{1.5e-3, 5e-3, 1.4e-3, 3e-5, 2e-7};
+
+std::size_t index_of_min(const std::vector<double>& v) {
+  return static_cast<std::size_t>(std::min_element(v.begin(), v.end()) - v.begin());
+}
+
+// ---------------------------------------------------------------------------
+
+TEST(AllanCurve, KeepsSupportedPositivePointsInTauOrder) {
+  std::vector<StabilityPoint> pts(5);
+  pts[0] = {4, 0.4, 2.0, 10, 1.5, 2.5, 8.0, 0};
+  pts[1] = {1, 0.1, 5.0, 40, 4.5, 5.5, 30.0, 0};
+  pts[2] = {8, 0.8, 0.0, 5, 0.0, 0.0, 0.0, 0};   // zero deviation
+  pts[3] = {16, 1.6, 1.0, 0, 0.0, 0.0, 0.0, 0};  // beyond the record
+  pts[4] = {2, 0.2, 3.0, 20, 2.5, 3.5, 15.0, 0};
+  const AllanCurve c = to_allan_curve(pts);
+  ASSERT_EQ(c.size(), 3u);
+  EXPECT_EQ(c.tau, (std::vector<double>{0.1, 0.2, 0.4}));
+  EXPECT_EQ(c.dev, (std::vector<double>{5.0, 3.0, 2.0}));
+  EXPECT_EQ(c.lo, (std::vector<double>{4.5, 2.5, 1.5}));
+  EXPECT_EQ(c.hi, (std::vector<double>{5.5, 3.5, 2.5}));
+  EXPECT_EQ(c.edf, (std::vector<double>{30.0, 15.0, 8.0}));
+}
+
+TEST(NoiseModel, AdevIsTheRootOfThePowerSeries) {
+  const std::array<double, 5> c{2.0, 3.0, 5.0, 7.0, 11.0};
+  const double tau = 2.0;
+  EXPECT_DOUBLE_EQ(noise_model_adev(c, tau),
+                   std::sqrt(2.0 / 4.0 + 3.0 / 2.0 + 5.0 + 7.0 * 2.0 + 11.0 * 4.0));
+  EXPECT_EQ(noise_model_adev(c, 0.0), 0.0);
+}
+
+// ---------------------------------------------------------------------------
+// Weighted NNLS fit
+
+void expect_exact_terms(const NoiseFit& f, const Terms& t, double rel) {
+  EXPECT_TRUE(f.Q.valid);
+  EXPECT_TRUE(f.N.valid);
+  EXPECT_TRUE(f.B.valid);
+  EXPECT_TRUE(f.K.valid);
+  EXPECT_TRUE(f.R.valid);
+  EXPECT_NEAR(f.Q.value, t.Q, rel * t.Q);
+  EXPECT_NEAR(f.N.value, t.N, rel * t.N);
+  EXPECT_NEAR(f.B.value, t.B, rel * t.B);
+  EXPECT_NEAR(f.K.value, t.K, rel * t.K);
+  EXPECT_NEAR(f.R.value, t.R, rel * t.R);
+}
+
+TEST(NoiseFit, RecoversFiveTermsExactlyOverSevenDecades) {
+  // tau from 0.01 s to 1e5 s: tau^2 spans 14 decades.
+  const AllanCurve c = synthetic_curve(kFiveTerms, 0.01, 4e7);
+  ASSERT_LT(c.tau.front(), 0.011);
+  ASSERT_GT(c.tau.back(), 9e4);
+  const NoiseFit f = fit_noise_terms(c);
+  expect_exact_terms(f, kFiveTerms, 1e-6);
+  EXPECT_LT(f.rms_rel_residual, 1e-9);
+  EXPECT_EQ(f.dof, c.size() - 5);
+  EXPECT_NEAR(f.c[1], kFiveTerms.N * kFiveTerms.N, 1e-6 * kFiveTerms.N * kFiveTerms.N);
+  for (std::size_t k = 0; k < 5; ++k) EXPECT_GT(f.c_sigma[k], 0.0);
+}
+
+TEST(NoiseFit, RecoversTermsFromTheIntervalOrWithoutWeights) {
+  AllanCurve from_ci = synthetic_curve(kFiveTerms);
+  std::fill(from_ci.edf.begin(), from_ci.edf.end(), 0.0);  // weights from lo/hi
+  expect_exact_terms(fit_noise_terms(from_ci), kFiveTerms, 1e-6);
+
+  AllanCurve bare = from_ci;  // no uncertainty at all: relative weights
+  std::fill(bare.lo.begin(), bare.lo.end(), 0.0);
+  std::fill(bare.hi.begin(), bare.hi.end(), 0.0);
+  expect_exact_terms(fit_noise_terms(bare), kFiveTerms, 1e-6);
+}
+
+TEST(NoiseFit, TermRangesFollowWhereEachTermDominates) {
+  const NoiseFit f = fit_noise_terms(synthetic_curve(kFiveTerms));
+  // N carries >= 25 % of the variance between the tau where 3Q^2/tau^2 is
+  // 3 N^2/tau (0.81 s ... by the closed form) and well past its crossing.
+  EXPECT_LT(f.Q.tau_hi, f.N.tau_hi);
+  EXPECT_LT(f.N.tau_lo, f.B.tau_lo);
+  EXPECT_LT(f.B.tau_hi, f.K.tau_hi);
+  EXPECT_LT(f.K.tau_lo, f.R.tau_lo);
+  // Each range contains the point where the term is the largest share.
+  EXPECT_LE(f.N.tau_lo, 1.0);
+  EXPECT_GE(f.N.tau_hi, 10.0);
+  EXPECT_LE(f.B.tau_lo, 300.0);
+  EXPECT_GE(f.B.tau_hi, 300.0);
+}
+
+TEST(NoiseFit, PureWhiteLeavesTheOtherTermsAtTheirBound) {
+  const Terms t{0.0, 4e-3, 0.0, 0.0, 0.0};
+  const NoiseFit f = fit_noise_terms(synthetic_curve(t));
+  ASSERT_TRUE(f.N.valid);
+  EXPECT_NEAR(f.N.value, t.N, 1e-9 * t.N);
+  // Round-off may free a coefficient at the 1e-16 level; it must not be
+  // visible in the model anywhere on the curve.
+  for (const double tau : {0.1, 1.0, 1e3, 6e4})
+    EXPECT_NEAR(noise_model_adev(f.c, tau), t.N / std::sqrt(tau), 1e-9 * t.N / std::sqrt(tau));
+}
+
+TEST(NoiseFit, NeverReturnsNegativeCoefficients) {
+  // Scattered curves whose unconstrained least squares wants negative C's:
+  // a white + flicker curve with large multiplicative noise, and curves
+  // with a single term.
+  std::mt19937_64 rng(12345);
+  std::normal_distribution<double> g(0.0, 1.0);
+  int negative_unconstrained_seen = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    const Terms t = trial % 3 == 0   ? Terms{0.0, 5e-3, 2e-4, 0.0, 0.0}
+                    : trial % 3 == 1 ? Terms{0.0, 0.0, 0.0, 1e-4, 0.0}
+                                     : Terms{1e-3, 0.0, 0.0, 0.0, 0.0};
+    AllanCurve c = synthetic_curve(t, 0.1, 1e5);
+    for (std::size_t i = 0; i < c.size(); ++i) {
+      const double f = std::exp(0.3 * g(rng));
+      c.dev[i] *= f;
+      c.lo[i] *= f;
+      c.hi[i] *= f;
+    }
+    const NoiseFit f = fit_noise_terms(c);
+    for (std::size_t k = 0; k < 5; ++k) {
+      EXPECT_GE(f.c[k], 0.0);
+      EXPECT_GE(f.c_sigma[k], 0.0);
+      EXPECT_TRUE(std::isfinite(f.c[k]) && std::isfinite(f.c_sigma[k]));
+    }
+    for (const TermEstimate* e : {&f.Q, &f.N, &f.B, &f.K, &f.R}) {
+      if (!e->valid) EXPECT_EQ(e->value, 0.0);
+      else EXPECT_GT(e->value, 0.0);
+    }
+    EXPECT_TRUE(f.N.valid || f.K.valid || f.Q.valid || f.B.valid || f.R.valid);
+    // The bound must have been active at least sometimes, or this test
+    // checks nothing: more than one term is never in the data.
+    const int free_terms = f.Q.valid + f.N.valid + f.B.valid + f.K.valid + f.R.valid;
+    if (free_terms < 5) ++negative_unconstrained_seen;
+  }
+  EXPECT_GT(negative_unconstrained_seen, 100);
+}
+
+TEST(NoiseFit, EmptyCurveGivesNothing) {
+  const NoiseFit f = fit_noise_terms(AllanCurve{});
+  EXPECT_FALSE(f.N.valid);
+  EXPECT_EQ(f.dof, 0u);
+}
+
+// ---------------------------------------------------------------------------
+// Slope read-offs
+
+TEST(ReadOff, PureWhiteGivesNExactlyAndNoMinimum) {
+  const Terms t{0.0, 5e-3, 0.0, 0.0, 0.0};
+  const AllanCurve c = synthetic_curve(t);
+  const SlopeReadOffs r = read_off_noise_terms(c);
+  ASSERT_TRUE(r.N.valid);
+  EXPECT_NEAR(r.N.value, t.N, 1e-12 * t.N);
+  EXPECT_EQ(r.N.tau_lo, c.tau.front());
+  EXPECT_EQ(r.N.tau_hi, c.tau.back());
+  EXPECT_FALSE(r.Q.valid);
+  EXPECT_FALSE(r.K.valid);
+  EXPECT_FALSE(r.R.valid);
+  // Still falling at the last point: bias instability not reached.
+  EXPECT_FALSE(r.B.valid);
+  EXPECT_EQ(r.tau_min, c.tau.back());
+  EXPECT_EQ(r.sigma_min, c.dev.back());
+}
+
+TEST(ReadOff, WhitePlusRateRandomWalkVCurve) {
+  const Terms t{0.0, 5e-3, 0.0, 1e-4, 0.0};
+  const AllanCurve c = synthetic_curve(t);
+  const SlopeReadOffs r = read_off_noise_terms(c);
+  ASSERT_TRUE(r.N.valid);
+  EXPECT_NEAR(r.N.value, t.N, 0.01 * t.N);
+  EXPECT_GE(r.N.value, t.N);  // the tangent line lies below the curve
+  EXPECT_EQ(r.N.tau_lo, c.tau.front());
+  ASSERT_TRUE(r.K.valid);
+  EXPECT_NEAR(r.K.value, t.K, 0.01 * t.K);
+  EXPECT_EQ(r.K.tau_hi, c.tau.back());
+  EXPECT_LT(r.N.tau_hi, r.K.tau_lo);
+  EXPECT_FALSE(r.Q.valid);
+  EXPECT_FALSE(r.R.valid);
+  // The pointwise uncertainty is the interval's relative half-width.
+  const auto i_n = static_cast<std::size_t>(
+      std::find(c.tau.begin(), c.tau.end(), r.N.tau_lo) - c.tau.begin());
+  EXPECT_NEAR(r.N.sigma / r.N.value, 1.0 / std::sqrt(2.0 * c.edf[i_n]), 1e-12);
+
+  const std::size_t imin = index_of_min(c.dev);
+  ASSERT_TRUE(r.B.valid);
+  EXPECT_EQ(r.sigma_min, c.dev[imin]);
+  EXPECT_DOUBLE_EQ(r.B.value, c.dev[imin] / 0.6642824702007757);
+  EXPECT_EQ(r.tau_min, c.tau[imin]);
+  // The minimum of N^2/tau + K^2 tau/3 is at sqrt(3) N / K; the grid has
+  // 10 points per decade, so the nearest point is within 10^0.05.
+  const double tau_star = std::sqrt(3.0) * t.N / t.K;
+  EXPECT_LT(std::abs(std::log10(r.tau_min / tau_star)), 0.05 + 1e-9);
+}
+
+TEST(ReadOff, FlatBottomIsWhereTheIntervalsReachTheMinimum) {
+  // V-curve a/tau + b tau with a fixed +-10 % interval. sigma^2 =
+  // 2 sqrt(ab) cosh(x), x = ln(tau/tau*), so a point's lower bound
+  // 0.9 dev reaches sigma_min(~ the true minimum) while cosh x <= 1/0.81.
+  const double a = 1e-4, b = 1e-8;
+  AllanCurve c = synthetic_curve([&](double tau) { return a / tau + b * tau; }, 0.1, 1e7, 40);
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    c.lo[i] = 0.9 * c.dev[i];
+    c.hi[i] = 1.1 * c.dev[i];
+  }
+  const SlopeReadOffs r = read_off_noise_terms(c);
+  const double tau_star = std::sqrt(a / b);
+  // Bounds from the true minimum; the grid minimum is higher by at most
+  // cosh(ln(10)/80)^(1/2) - 1 ~ 2e-4, which moves the edges by < 1 %.
+  const double x = std::acosh(1.0 / 0.81);
+  EXPECT_NEAR(std::log(r.tau_min_lo / tau_star), -x, std::log(10.0) / 40.0 + 0.01);
+  EXPECT_NEAR(std::log(r.tau_min_hi / tau_star), x, std::log(10.0) / 40.0 + 0.01);
+  EXPECT_LT(r.tau_min_lo, r.tau_min);
+  EXPECT_GT(r.tau_min_hi, r.tau_min);
+  EXPECT_EQ(r.B.tau_lo, r.tau_min_lo);
+  EXPECT_EQ(r.B.tau_hi, r.tau_min_hi);
+  EXPECT_NEAR(r.B.sigma / r.B.value, 0.1, 1e-12);
+}
+
+TEST(ReadOff, RisingCurveHasNoMinimum) {
+  const Terms t{0.0, 0.0, 0.0, 1e-4, 0.0};
+  const AllanCurve c = synthetic_curve(t);
+  const SlopeReadOffs r = read_off_noise_terms(c);
+  EXPECT_FALSE(r.B.valid);
+  EXPECT_EQ(r.tau_min, c.tau.front());
+  EXPECT_FALSE(r.N.valid);
+  ASSERT_TRUE(r.K.valid);
+  EXPECT_NEAR(r.K.value, t.K, 1e-12 * t.K);
+}
+
+TEST(ReadOff, FlickerFloorWithoutRateRandomWalkRegion) {
+  // White noise onto a flicker floor, with a rate random walk too small to
+  // bring the slope past +0.35 before the record ends (at 6.5e4 s its share
+  // of the variance is 34 %).
+  const Terms t{0.0, 5e-3, 1e-4, 2.8e-7, 0.0};
+  const AllanCurve c = synthetic_curve(t);
+  const SlopeReadOffs r = read_off_noise_terms(c);
+  EXPECT_FALSE(r.K.valid);
+  EXPECT_FALSE(r.R.valid);
+  ASSERT_TRUE(r.B.valid);
+  EXPECT_NEAR(r.B.value, t.B, 0.02 * t.B);  // the floor, nudged up by the other two
+  ASSERT_TRUE(r.N.valid);
+  EXPECT_NEAR(r.N.value, t.N, 0.01 * t.N);
+}
+
+TEST(ReadOff, QuantizationAndRateRamp) {
+  // Q dominates below 3 Q^2/N^2 = 0.27 s; R beyond ~1e3 s. The curve passes
+  // through slope +1/2 on its way from -1/2 to +1 over less than a factor
+  // of 2 in tau, which is no rate-random-walk region.
+  const Terms t{1.5e-3, 5e-3, 0.0, 0.0, 1e-7};
+  const AllanCurve c = synthetic_curve(t, 0.01, 2.6e7);
+  const SlopeReadOffs r = read_off_noise_terms(c);
+  ASSERT_TRUE(r.Q.valid);
+  EXPECT_NEAR(r.Q.value, t.Q, 0.01 * t.Q);
+  EXPECT_EQ(r.Q.tau_lo, c.tau.front());
+  ASSERT_TRUE(r.R.valid);
+  EXPECT_NEAR(r.R.value, t.R, 0.01 * t.R);
+  EXPECT_EQ(r.R.tau_hi, c.tau.back());
+  ASSERT_TRUE(r.N.valid);
+  EXPECT_NEAR(r.N.value, t.N, 0.03 * t.N);
+  EXPECT_FALSE(r.K.valid);
+}
+
+TEST(ReadOff, DenseGridGivesTheSameRegions) {
+  // Every m up to 2000, then log: neighbours 0.05 % apart must not make
+  // the local slope noise.
+  const Terms t{0.0, 5e-3, 0.0, 1e-4, 0.0};
+  AllanCurve c = synthetic_curve(t, 0.1, 4e4, 1000);
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> g(0.0, 1e-3);
+  for (double& d : c.dev) d *= 1.0 + g(rng);
+  const SlopeReadOffs r = read_off_noise_terms(c);
+  ASSERT_TRUE(r.N.valid);
+  EXPECT_NEAR(r.N.value, t.N, 0.01 * t.N);
+  EXPECT_EQ(r.N.tau_lo, c.tau.front());
+  EXPECT_GT(r.N.tau_hi, 5.0);
+}
+
+// ---------------------------------------------------------------------------
+// The paper's adjusted gyro model (x axis), PRODUCT.md: sigma_n = 13.9e-3
+// deg/s, sigma_mu = 3.5e-3 deg/s^2, dt = 0.1 s.
+
+TEST(PaperModel, ReadOffsAndFitMatchTheClosedForm) {
+  const double sn = 13.9e-3, smu = 3.5e-3, dt = 0.1;
+  const auto avar = [&](double tau) { return sn * sn * dt / tau + smu * smu * dt * tau / 3.0; };
+  constexpr unsigned kPerDecade = 100;  // fine grid
+  const AllanCurve c = synthetic_curve(avar, dt, 2592208.0, kPerDecade);
+  const SlopeReadOffs r = read_off_noise_terms(c);
+
+  // sigma_min^2 = 2 sigma_n sigma_mu dt / sqrt(3) at tau* = sqrt(3) sigma_n / sigma_mu.
+  const double b_true = std::sqrt(2.0 * sn * smu * dt / std::sqrt(3.0)) / 0.6642824702007757;
+  const double tau_star = std::sqrt(3.0) * sn / smu;
+  // On the grid, the nearest point is within half a step x = ln(10)/200 of
+  // tau*, where sigma = sigma_min sqrt(cosh x); steps of m are integers, so
+  // near tau* = 6.9 s (m ~ 69) the step is at most 1/69 in ln.
+  const double half_step = std::max(std::log(10.0) / (2.0 * kPerDecade), 0.5 / 60.0);
+  const double resolution = std::sqrt(std::cosh(half_step)) - 1.0;
+  ASSERT_TRUE(r.B.valid);
+  EXPECT_GE(r.B.value, b_true * (1.0 - 1e-12));
+  EXPECT_LE(r.B.value, b_true * (1.0 + resolution));
+  EXPECT_LT(std::abs(std::log(r.tau_min / tau_star)), half_step);
+
+  const double n_true = sn * std::sqrt(dt), k_true = smu * std::sqrt(dt);
+  ASSERT_TRUE(r.N.valid);
+  EXPECT_NEAR(r.N.value, n_true, 0.01 * n_true);
+  ASSERT_TRUE(r.K.valid);
+  EXPECT_NEAR(r.K.value, k_true, 0.01 * k_true);
+
+  const NoiseFit f = fit_noise_terms(c);
+  ASSERT_TRUE(f.N.valid);
+  ASSERT_TRUE(f.K.valid);
+  EXPECT_NEAR(f.N.value, n_true, 1e-6 * n_true);
+  EXPECT_NEAR(f.K.value, k_true, 1e-6 * k_true);
+  for (const double tau : {0.1, 7.0, 1e4})
+    EXPECT_NEAR(noise_model_adev(f.c, tau), std::sqrt(avar(tau)), 1e-9 * std::sqrt(avar(tau)));
+  // In the paper's display units: N = 60 sigma(1 s) deg/sqrt(h), B in deg/h.
+  EXPECT_NEAR(60.0 * r.N.value, 0.2637, 0.003);
+  EXPECT_NEAR(3600.0 * r.B.value, 12.85, 0.05);
+}
+
+// ---------------------------------------------------------------------------
+// Monte-Carlo: white rate noise plus a random-walk bias, OADEV on log:10.
+
+struct Coverage {
+  int fit_n = 0, fit_k = 0, read_n = 0, read_k = 0;
+};
+
+TEST(MonteCarlo, ReportedSigmasCoverTheTruth) {
+  const double dt = 0.1, n_true = 0.004, k_true = 2e-4;
+  const std::size_t samples = 200000;
+  Coverage cov;
+  int read_k_valid = 0;
+  for (std::uint64_t seed = 1; seed <= 10; ++seed) {
+    std::mt19937_64 rng(seed);
+    std::normal_distribution<double> g(0.0, 1.0);
+    std::vector<double> y(samples);
+    double bias = 0.0;
+    for (double& v : y) {
+      v = n_true / std::sqrt(dt) * g(rng) + bias;
+      bias += k_true * std::sqrt(dt) * g(rng);
+    }
+    const std::size_t max_m = max_averaging_factor(Stat::oadev, samples + 1);
+    const auto ms = averaging_factors(parse_tau_grid("log:10"), max_m, dt);
+    const AllanCurve c = to_allan_curve(stability(y, DataType::freq, dt, Stat::oadev, ms));
+    ASSERT_GT(c.size(), 40u);
+
+    const NoiseFit f = fit_noise_terms(c);
+    const SlopeReadOffs r = read_off_noise_terms(c);
+    ASSERT_TRUE(f.N.valid);
+    ASSERT_TRUE(f.K.valid);
+    ASSERT_TRUE(r.N.valid);
+    cov.fit_n += std::abs(f.N.value - n_true) <= 3.0 * f.N.sigma;
+    cov.fit_k += std::abs(f.K.value - k_true) <= 3.0 * f.K.sigma;
+    cov.read_n += std::abs(r.N.value - n_true) <= 3.0 * r.N.sigma;
+    if (r.K.valid) {
+      ++read_k_valid;
+      cov.read_k += std::abs(r.K.value - k_true) <= 3.0 * r.K.sigma;
+    }
+    std::printf(
+        "seed %2llu  fit N %.5g +- %.2g  K %.4g +- %.2g  chi2/dof %.2f | read-off N %.5g +- "
+        "%.2g  K %s%.4g +- %.2g\n",
+        static_cast<unsigned long long>(seed), f.N.value, f.N.sigma, f.K.value, f.K.sigma,
+        f.chi2 / static_cast<double>(f.dof), r.N.value, r.N.sigma, r.K.valid ? "" : "(invalid) ",
+        r.K.value, r.K.sigma);
+  }
+  std::printf("coverage (3 sigma, of 10): fit N %d, fit K %d, read-off N %d, read-off K %d of %d\n",
+              cov.fit_n, cov.fit_k, cov.read_n, cov.read_k, read_k_valid);
+  RecordProperty("fit_N_covered", cov.fit_n);
+  RecordProperty("fit_K_covered", cov.fit_k);
+  RecordProperty("readoff_N_covered", cov.read_n);
+  EXPECT_GE(cov.fit_n, 9);
+  EXPECT_GE(cov.fit_k, 9);
+  EXPECT_GE(cov.read_n, 9);
+}
+
+}  // namespace
+}  // namespace cubecal

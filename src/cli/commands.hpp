@@ -3,12 +3,19 @@
 #pragma once
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <string>
 
 namespace cubecal::cli {
 
 using Command = std::function<int()>;
 
 CLI::App* add_dev_command(CLI::App& app, Command& run);
+CLI::App* add_analyze_command(CLI::App& app, Command& run);
 CLI::App* add_demo_command(CLI::App& app, Command& run);
+
+// The command line as typed (shell-quoted where needed), for result files
+// that must say how to reproduce them.
+const std::string& invocation();
+void set_invocation(int argc, char** argv);
 
 }  // namespace cubecal::cli

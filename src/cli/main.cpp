@@ -27,7 +27,9 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", "cubecal 0.1.0");
   cubecal::cli::Command run;
+  cubecal::cli::set_invocation(argc, argv);
   cubecal::cli::add_dev_command(app, run);
+  cubecal::cli::add_analyze_command(app, run);
   cubecal::cli::add_demo_command(app, run);
 
   try {

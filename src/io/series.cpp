@@ -188,6 +188,10 @@ Series read_series(const std::string& path, const SeriesOptions& opt) {
   }
   s.names = t.names;
   s.channels = std::move(t.data);
+  for (std::size_t k = 0; k < time_slot; ++k) {
+    s.extra_names.push_back(t.extra_names[k]);
+    s.extra.push_back(std::move(t.extra[k]));
+  }
   const std::size_t n = s.samples();
   if (n < opt.min_samples) throw_too_short(path, n, opt.min_samples, "a longer record is needed");
 

@@ -37,6 +37,10 @@ struct Series {
   std::vector<std::string> names;  // channel names (header names, or "col3")
   std::vector<std::vector<double>> channels;  // channels[c][i], in units (value / lsb)
   std::vector<double> time;        // seconds, empty when no time column
+  // Auxiliary columns asked for in SeriesOptions::table.extra_columns (e.g. a
+  // temperature), as read: not scaled by lsb.
+  std::vector<std::string> extra_names;
+  std::vector<std::vector<double>> extra;
   std::vector<Segment> segments;   // contiguous pieces; one when there are no gaps
   std::size_t irregular_intervals = 0;  // gaps/jitter split on (policy split)
   bool gzip = false;

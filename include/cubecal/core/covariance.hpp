@@ -1,0 +1,14 @@
+// Sample covariance matrix of several channels (the paper's eq. 12).
+#pragma once
+#include <cstddef>
+#include <span>
+#include <vector>
+
+namespace cubecal {
+
+// channels[c] holds one channel; the first `count` samples of each are used
+// (0: all). Unbiased (n-1) normalization. Row-major k x k result.
+std::vector<std::vector<double>> covariance_matrix(const std::vector<std::span<const double>>& channels,
+                                                   std::size_t count = 0);
+
+}  // namespace cubecal

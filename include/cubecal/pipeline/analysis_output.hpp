@@ -1,0 +1,29 @@
+// Files written by `cubecal analyze --out DIR`: analysis.json (stable keys,
+// every number with its unit), adev.csv, drift.csv and a Kalibr imu.yaml.
+#pragma once
+#include <string>
+
+#include "cubecal/pipeline/analyze.hpp"
+
+namespace cubecal::pipeline {
+
+struct OutputContext {
+  std::string command;   // the command line that reproduces the result
+  std::string rostopic = "/imu0";
+};
+
+std::string analysis_json(const AnalysisResult& r, const OutputContext& ctx);
+
+// Long format, one row per channel and tau: measured OADEV with its interval,
+// and the fitted five-term, random-walk and Gauss-Markov model deviations.
+std::string adev_csv(const AnalysisResult& r);
+
+// Long format: channel, t (s from the record start), drift (data unit).
+std::string drift_csv(const AnalysisResult& r);
+
+// Kalibr/OpenVINS IMU noise file, SI units, the worst axis of each sensor:
+// noise densities from the white-noise term N, random walks from K (not from
+// the bias instability). Empty string when no rate channel is present.
+std::string kalibr_yaml(const AnalysisResult& r, const OutputContext& ctx);
+
+}  // namespace cubecal::pipeline

@@ -1,0 +1,86 @@
+// `cubecal analyze` as a library call: static characterization of every
+// channel of a record (the paper's sections 2 and 3): fixed bias, OADEV with
+// intervals, IEEE 952 noise terms (slope read-offs and weighted fit), the
+// paper's random-walk model and a Gauss-Markov alternative, bias drift,
+// covariance, and temperature dependence.
+#pragma once
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cubecal/core/drift.hpp"
+#include "cubecal/core/noise_terms.hpp"
+#include "cubecal/core/sensor_noise_model.hpp"
+#include "cubecal/core/stability.hpp"
+#include "cubecal/core/tau_grid.hpp"
+#include "cubecal/core/temperature.hpp"
+#include "cubecal/core/units.hpp"
+#include "cubecal/io/series.hpp"
+
+namespace cubecal::pipeline {
+
+struct AnalyzeRequest {
+  std::vector<Unit> units;          // one per channel, or one for all
+  TauGrid grid;                     // default log:10 (set by the CLI)
+  double ci = 0.683;
+  std::optional<std::size_t> temp_index;  // index into Series::extra of the temperature
+  std::size_t temp_order = 1;
+  double drift_window_s = 0.0;      // 0: 300 s for rate sensors, 1000 s otherwise (the paper)
+  std::size_t cov_samples = 0;      // 0: whole record
+  std::size_t max_samples = 0;      // samples used for the model fit (0: all; paper: 42000)
+  std::vector<double> lsb;          // quantizer of the model, counts per unit: one for all or
+                                    // one per channel (empty or 0: no quantization)
+  unsigned threads = 0;
+};
+
+struct NoiseAnalysis {
+  std::vector<StabilityPoint> adev;
+  SlopeReadOffs readoffs;
+  NoiseFit fit;
+};
+
+struct ModelAnalysis {
+  bool ok = false;
+  std::string error;                // why the random-walk model could not be fitted
+  std::size_t samples = 0;          // samples the model was fitted on
+  std::vector<StabilityPoint> adev; // the curve it was fitted to
+  RandomWalkModel random_walk;
+  ModelResidual random_walk_residual;
+  bool gm_ok = false;
+  GaussMarkovModel gauss_markov;
+  ModelResidual gauss_markov_residual;
+};
+
+struct TemperatureAnalysis {
+  TemperatureFit fit;
+  NoiseAnalysis compensated;        // noise terms of the compensated series
+};
+
+struct ChannelAnalysis {
+  std::string name;
+  Unit unit;
+  double mean = 0.0;
+  double stddev = 0.0;
+  NoiseAnalysis noise;
+  ModelAnalysis model;
+  DriftSeries drift;                // concatenated over segments; t from the record start
+  std::optional<TemperatureAnalysis> temperature;
+};
+
+struct AnalysisResult {
+  std::string file;
+  std::size_t samples = 0;
+  double rate_hz = 0.0;
+  double duration_s = 0.0;
+  std::size_t segments = 1;
+  std::string temp_name;
+  std::vector<ChannelAnalysis> channels;
+  std::vector<std::string> cov_names;
+  std::vector<std::vector<double>> covariance;
+  std::size_t cov_samples = 0;
+};
+
+AnalysisResult run_analyze(const io::Series& series, const AnalyzeRequest& request);
+
+}  // namespace cubecal::pipeline

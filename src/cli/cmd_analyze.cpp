@@ -1,0 +1,204 @@
+// cubecal analyze: static characterization of a record (the paper's
+// sections 2 and 3): noise terms, sensor models, drift, covariance,
+// temperature dependence.
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <optional>
+
+#include "commands.hpp"
+#include "common_options.hpp"
+#include "cubecal/io/error.hpp"
+#include "cubecal/pipeline/analysis_output.hpp"
+#include "cubecal/pipeline/analyze.hpp"
+#include "output.hpp"
+
+namespace cubecal::cli {
+
+namespace {
+
+struct AnalyzeOptions {
+  InputOptions input;
+  std::string unit = "counts";
+  std::string temp_col;
+  std::size_t temp_order = 1;
+  double drift_window = 0.0;
+  std::size_t cov_samples = 0;
+  std::size_t max_samples = 0;
+  std::string model_lsb;
+  std::string taus = "log:10";
+  double ci = 0.683;
+  std::string out;
+  bool force = false;
+  std::string format = "table";
+  std::string rostopic = "/imu0";
+};
+
+std::string pm(const Quantity& q, bool valid, int digits = 4) {
+  if (!valid) return "—";
+  return fmt::format("{:.{}g} ± {:.2g} {}", q.value, digits, q.sigma, q.unit);
+}
+
+void print_summary(std::ostream& out, const pipeline::AnalysisResult& r) {
+  fmt::print(out, "{}: {} samples at {:g} Hz ({:.2f} h){}\n", r.file, r.samples, r.rate_hz,
+             r.duration_s / 3600.0, r.segments > 1 ? fmt::format(", {} segments split at gaps", r.segments) : "");
+  for (const auto& c : r.channels) {
+    const auto& ro = c.noise.readoffs;
+    const auto& f = c.noise.fit;
+    const Unit& u = c.unit;
+    fmt::print(out, "\n{} [{}, {}]  fixed bias {:.6g} {}  std {:.4g} {}\n", c.name, u.name, to_string(u.kind), c.mean,
+               u.name, c.stddev, u.name);
+    fmt::print(out, "  read-off  N {}   B {}   T {:.3g} s ({:.3g}–{:.3g})   K {}\n", pm(display(ro.N, Term::N, u), ro.N.valid),
+               pm(display(ro.B, Term::B, u), ro.B.valid), ro.tau_min, ro.tau_min_lo, ro.tau_min_hi,
+               pm(display(ro.K, Term::K, u), ro.K.valid));
+    if (!ro.B.valid) fmt::print(out, "            (no minimum inside the record: bias instability not reached)\n");
+    fmt::print(out, "  fit       N {}   B {}   K {}   Q {}   R {}   (rms residual {:.1f} %)\n",
+               pm(display(f.N, Term::N, u), f.N.valid), pm(display(f.B, Term::B, u), f.B.valid),
+               pm(display(f.K, Term::K, u), f.K.valid), pm(display(f.Q, Term::Q, u), f.Q.valid),
+               pm(display(f.R, Term::R, u), f.R.valid), 100.0 * f.rms_rel_residual);
+    if (c.model.ok)
+      fmt::print(out, "  model     sigma_n {:.4g} {}  sigma_mu {:.4g} {}/s  (paper eq. 1-3; {} samples; AV residual {:.3f})\n",
+                 c.model.random_walk.sigma_n, u.name, c.model.random_walk.sigma_mu, u.name, c.model.samples,
+                 c.model.random_walk_residual.rms_log);
+    else
+      fmt::print(out, "  model     not fitted: {}\n", c.model.error);
+    if (c.model.gm_ok)
+      fmt::print(out, "  Gauss-Markov sigma_b {:.4g} {}  T_c {:.4g} s  sigma_n {:.4g} {}  (AV residual {:.3f}{})\n",
+                 c.model.gauss_markov.sigma_b, u.name, c.model.gauss_markov.tau_c, c.model.gauss_markov.sigma_n,
+                 u.name, c.model.gauss_markov_residual.rms_log,
+                 c.model.ok && c.model.gauss_markov_residual.rms_log < c.model.random_walk_residual.rms_log
+                     ? ", fits better"
+                     : "");
+    if (c.temperature) {
+      const auto& t = *c.temperature;
+      fmt::print(out, "  temperature  {:.4g} ± {:.2g} {}/degC (R^2 {:.3f}, T_ref {:.2f} degC); compensated N {}  B {}\n",
+                 t.fit.coeff.size() > 1 ? t.fit.coeff[1] : 0.0, t.fit.coeff_sigma.size() > 1 ? t.fit.coeff_sigma[1] : 0.0,
+                 u.name, t.fit.r2, t.fit.t_ref,
+                 pm(display(t.compensated.readoffs.N, Term::N, u), t.compensated.readoffs.N.valid),
+                 pm(display(t.compensated.readoffs.B, Term::B, u), t.compensated.readoffs.B.valid));
+    }
+  }
+  if (r.covariance.size() > 1) {
+    fmt::print(out, "\ncovariance of the first {} samples:\n", r.cov_samples);
+    fmt::print(out, "{:>10}", "");
+    for (const auto& n : r.cov_names) fmt::print(out, " {:>12}", n);
+    out << '\n';
+    for (std::size_t a = 0; a < r.covariance.size(); ++a) {
+      fmt::print(out, "{:>10}", r.cov_names[a]);
+      for (double v : r.covariance[a]) fmt::print(out, " {:>12.4e}", v);
+      out << '\n';
+    }
+  }
+}
+
+int run_analyze_command(const AnalyzeOptions& o) {
+  pipeline::AnalyzeRequest req;
+  for (const auto& name : split_list(o.unit)) {
+    auto u = parse_unit(name);
+    if (!u) throw io::UsageError("unknown unit '" + name + "' (use " + known_units() + ")");
+    req.units.push_back(*u);
+  }
+  try {
+    req.grid = parse_tau_grid(o.taus);
+  } catch (const std::invalid_argument& e) {
+    throw io::UsageError(std::string("--taus: ") + e.what());
+  }
+  if (!(o.ci > 0.0 && o.ci < 1.0)) throw io::UsageError("--ci must be between 0 and 1");
+  req.ci = o.ci;
+  req.temp_order = o.temp_order;
+  req.drift_window_s = o.drift_window;
+  req.cov_samples = o.cov_samples;
+  req.max_samples = o.max_samples;
+  for (const auto& v : split_list(o.model_lsb)) {
+    double x = 0.0;
+    const auto [p, ec] = std::from_chars(v.data(), v.data() + v.size(), x);
+    if (ec != std::errc() || p != v.data() + v.size() || !(x >= 0.0) || !std::isfinite(x))
+      throw io::UsageError("--model-lsb: '" + v + "' is not a number of counts per unit");
+    req.lsb.push_back(x);
+  }
+  if (req.lsb.empty() && o.input.lsb != 1.0) req.lsb.push_back(o.input.lsb);
+  req.threads = o.input.threads;
+
+  io::SeriesOptions so = to_series_options(o.input);
+  if (!o.temp_col.empty()) {
+    so.table.extra_columns.push_back(o.temp_col);
+    req.temp_index = 0;
+  }
+
+  // Refuse to replace results before spending any time.
+  namespace fs = std::filesystem;
+  const char* files[] = {"analysis.json", "adev.csv", "drift.csv", "imu.yaml"};
+  if (!o.out.empty() && !o.force)
+    for (const char* f : files)
+      if (fs::exists(fs::path(o.out) / f))
+        throw io::UsageError((fs::path(o.out) / f).string() +
+                             " already exists (choose another --out or add --force to replace it)");
+
+  const io::Series series = io::read_series(o.input.file, so);
+  const pipeline::AnalysisResult r = pipeline::run_analyze(series, req);
+  pipeline::OutputContext ctx{invocation(), o.rostopic};
+
+  if (o.format == "json")
+    std::cout << pipeline::analysis_json(r, ctx);
+  else
+    print_summary(std::cout, r);
+
+  if (!o.out.empty()) {
+    fs::create_directories(o.out);
+    auto write = [&](const char* name, const std::string& text) {
+      if (text.empty()) return;
+      OutputFile f((fs::path(o.out) / name).string(), true);
+      f.stream() << text;
+      f.commit();
+    };
+    write("analysis.json", pipeline::analysis_json(r, ctx));
+    write("adev.csv", pipeline::adev_csv(r));
+    write("drift.csv", pipeline::drift_csv(r));
+    write("imu.yaml", pipeline::kalibr_yaml(r, ctx));
+    std::cerr << "cubecal: wrote " << o.out << "/analysis.json, adev.csv, drift.csv"
+              << (pipeline::kalibr_yaml(r, ctx).empty() ? "" : ", imu.yaml") << '\n';
+  }
+  return 0;
+}
+
+}  // namespace
+
+CLI::App* add_analyze_command(CLI::App& app, Command& run) {
+  auto opt = std::make_shared<AnalyzeOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "analyze", "Static characterization: noise terms (N, B, T, K, Q, R) with uncertainties, the paper's "
+                 "sensor model and a Gauss-Markov alternative, bias drift, covariance, temperature");
+  add_input_options(*cmd, opt->input);
+  cmd->add_option("--unit", opt->unit,
+                  "Unit of the values (after --lsb): " + known_units() + "; one for all columns or one per column")
+      ->capture_default_str();
+  cmd->add_option("--temp-col", opt->temp_col, "Temperature column (degC): regress each channel on it");
+  cmd->add_option("--temp-order", opt->temp_order, "Polynomial order of the temperature fit")
+      ->check(CLI::Range(1, 5))
+      ->capture_default_str();
+  cmd->add_option("--drift-window", opt->drift_window,
+                  "Moving-average window of the bias drift in seconds (default 300 s for rate sensors, "
+                  "1000 s otherwise, as the paper)");
+  cmd->add_option("--cov-samples", opt->cov_samples, "Covariance from the first N samples (default all)");
+  cmd->add_option("--max-samples", opt->max_samples,
+                  "Fit the sensor model on the first N samples (the paper used 42000)");
+  cmd->add_option("--model-lsb", opt->model_lsb,
+                  "Quantizer of the model in counts per unit, one for all columns or one per column "
+                  "(default: --lsb when given), eq. (3)");
+  cmd->add_option("--taus", opt->taus, "Tau grid of the Allan curve")->capture_default_str();
+  cmd->add_option("--ci", opt->ci, "Confidence factor of the intervals")->capture_default_str();
+  cmd->add_option("--out", opt->out, "Directory for analysis.json, adev.csv, drift.csv and (gyro) imu.yaml");
+  cmd->add_flag("--force", opt->force, "Replace files in --out");
+  cmd->add_option("--format", opt->format, "Standard output: table or json")
+      ->check(CLI::IsMember({"table", "json"}))
+      ->capture_default_str();
+  cmd->add_option("--rostopic", opt->rostopic, "rostopic written to imu.yaml")->capture_default_str();
+  cmd->callback([opt, &run] { run = [opt] { return run_analyze_command(*opt); }; });
+  return cmd;
+}
+
+}  // namespace cubecal::cli
