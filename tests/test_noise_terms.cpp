@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <numbers>
 #include <random>
@@ -148,19 +150,31 @@ TEST(NoiseFit, RecoversTermsFromTheIntervalOrWithoutWeights) {
   expect_exact_terms(fit_noise_terms(bare), kFiveTerms, 1e-6);
 }
 
-TEST(NoiseFit, TermRangesFollowWhereEachTermDominates) {
-  const NoiseFit f = fit_noise_terms(synthetic_curve(kFiveTerms));
-  // N carries >= 25 % of the variance between the tau where 3Q^2/tau^2 is
-  // 3 N^2/tau (0.81 s ... by the closed form) and well past its crossing.
-  EXPECT_LT(f.Q.tau_hi, f.N.tau_hi);
-  EXPECT_LT(f.N.tau_lo, f.B.tau_lo);
-  EXPECT_LT(f.B.tau_hi, f.K.tau_hi);
-  EXPECT_LT(f.K.tau_lo, f.R.tau_lo);
-  // Each range contains the point where the term is the largest share.
-  EXPECT_LE(f.N.tau_lo, 1.0);
-  EXPECT_GE(f.N.tau_hi, 10.0);
-  EXPECT_LE(f.B.tau_lo, 300.0);
-  EXPECT_GE(f.B.tau_hi, 300.0);
+TEST(NoiseFit, TermRangesAreWhereEachTermHasAQuarterOfTheVariance) {
+  const AllanCurve c = synthetic_curve(kFiveTerms);
+  const NoiseFit f = fit_noise_terms(c);
+  // Shares of the true closed-form terms on the curve's taus.
+  const Terms& t = kFiveTerms;
+  const auto share = [&](int k, double tau) {
+    const double parts[5] = {3.0 * t.Q * t.Q / (tau * tau), t.N * t.N / tau,
+                             (kFloor * t.B) * (kFloor * t.B), t.K * t.K * tau / 3.0,
+                             t.R * t.R * tau * tau / 2.0};
+    return parts[k] / closed_form_avar(t, tau);
+  };
+  const TermEstimate* terms[5] = {&f.Q, &f.N, &f.B, &f.K, &f.R};
+  for (int k = 0; k < 5; ++k) {
+    double lo = 0.0, hi = 0.0;
+    for (const double tau : c.tau) {
+      if (share(k, tau) < 0.25) continue;
+      if (lo == 0.0) lo = tau;
+      hi = tau;
+    }
+    ASSERT_GT(lo, 0.0) << "term " << k << " never dominates: bad test design";
+    EXPECT_EQ(terms[k]->tau_lo, lo) << "term " << k;
+    EXPECT_EQ(terms[k]->tau_hi, hi) << "term " << k;
+  }
+  EXPECT_EQ(f.Q.tau_lo, c.tau.front());
+  EXPECT_EQ(f.R.tau_hi, c.tau.back());
 }
 
 TEST(NoiseFit, PureWhiteLeavesTheOtherTermsAtTheirBound) {
@@ -168,24 +182,79 @@ TEST(NoiseFit, PureWhiteLeavesTheOtherTermsAtTheirBound) {
   const NoiseFit f = fit_noise_terms(synthetic_curve(t));
   ASSERT_TRUE(f.N.valid);
   EXPECT_NEAR(f.N.value, t.N, 1e-9 * t.N);
+  EXPECT_FALSE(f.Q.valid);
+  EXPECT_FALSE(f.B.valid);
+  EXPECT_FALSE(f.K.valid);
+  EXPECT_FALSE(f.R.valid);
   // Round-off may free a coefficient at the 1e-16 level; it must not be
   // visible in the model anywhere on the curve.
   for (const double tau : {0.1, 1.0, 1e3, 6e4})
     EXPECT_NEAR(noise_model_adev(f.c, tau), t.N / std::sqrt(tau), 1e-9 * t.N / std::sqrt(tau));
 }
 
-TEST(NoiseFit, NeverReturnsNegativeCoefficients) {
-  // Scattered curves whose unconstrained least squares wants negative C's:
-  // a white + flicker curve with large multiplicative noise, and curves
-  // with a single term.
+// Single-term and two-term curves on which unconstrained least squares
+// wants negative coefficients once scattered.
+Terms bound_test_terms(int trial) {
+  switch (trial % 3) {
+    case 0: return Terms{0.0, 5e-3, 2e-4, 0.0, 0.0};
+    case 1: return Terms{0.0, 0.0, 0.0, 1e-4, 0.0};
+    default: return Terms{1e-3, 0.0, 0.0, 0.0, 0.0};
+  }
+}
+
+TEST(NoiseFit, IsTheNonNegativeOptimumOfItsWeights) {
+  // Curves scattered as their EDFs say, checked against the optimality
+  // (KKT) conditions of
+  //   min sum w_i (dev_i^2 - sum C_k tau_i^k)^2, C >= 0,
+  // with the weights of the fit's fixed point, w_i = edf_i / (2 model_i^2):
+  // g_k = sum w_i (dev_i^2 - model_i) tau_i^k is zero for a free C_k and
+  // <= 0 for one at its bound (raising it cannot lower the sum).
   std::mt19937_64 rng(12345);
   std::normal_distribution<double> g(0.0, 1.0);
-  int negative_unconstrained_seen = 0;
-  for (int trial = 0; trial < 200; ++trial) {
-    const Terms t = trial % 3 == 0   ? Terms{0.0, 5e-3, 2e-4, 0.0, 0.0}
-                    : trial % 3 == 1 ? Terms{0.0, 0.0, 0.0, 1e-4, 0.0}
-                                     : Terms{1e-3, 0.0, 0.0, 0.0, 0.0};
-    AllanCurve c = synthetic_curve(t, 0.1, 1e5);
+  int active_bounds = 0;
+  for (int trial = 0; trial < 60; ++trial) {
+    AllanCurve c = synthetic_curve(bound_test_terms(trial), 0.1, 1e5);
+    for (std::size_t i = 0; i < c.size(); ++i) {
+      const double f = 1.0 + g(rng) / std::sqrt(2.0 * c.edf[i]);
+      c.dev[i] *= f;
+      c.lo[i] *= f;
+      c.hi[i] *= f;
+    }
+    const NoiseFit f = fit_noise_terms(c);
+    for (int k = 0; k < 5; ++k) {
+      const auto uk = static_cast<std::size_t>(k);
+      ASSERT_GE(f.c[uk], 0.0);
+      double grad = 0.0, ww = 0.0, wy = 0.0;
+      for (std::size_t i = 0; i < c.size(); ++i) {
+        const double model = std::pow(noise_model_adev(f.c, c.tau[i]), 2);
+        const double w = c.edf[i] / (2.0 * model * model);
+        const double tk = std::pow(c.tau[i], k - 2);
+        const double y = c.dev[i] * c.dev[i];
+        grad += w * (y - model) * tk;
+        ww += w * tk * tk;
+        wy += w * y * y;
+      }
+      const double scale = std::sqrt(ww * wy);  // Cauchy-Schwarz bound of |grad|
+      if (f.c[uk] > 0.0) {
+        EXPECT_LT(std::abs(grad), 1e-7 * scale) << "trial " << trial << " free C" << k - 2;
+      } else {
+        EXPECT_LT(grad, 1e-7 * scale) << "trial " << trial << " bound C" << k - 2;
+        active_bounds += grad < -1e-4 * scale;
+      }
+    }
+  }
+  // The bound must have been active, not merely touched, or this checks
+  // nothing.
+  EXPECT_GT(active_bounds, 30);
+}
+
+TEST(NoiseFit, HeavyScatterGivesConsistentNonNegativeTerms) {
+  // Scatter far beyond the EDFs (30 % log-normal): the reweighting may stop
+  // before its fixed point, but every output must still be usable.
+  std::mt19937_64 rng(54321);
+  std::normal_distribution<double> g(0.0, 1.0);
+  for (int trial = 0; trial < 60; ++trial) {
+    AllanCurve c = synthetic_curve(bound_test_terms(trial), 0.1, 1e5);
     for (std::size_t i = 0; i < c.size(); ++i) {
       const double f = std::exp(0.3 * g(rng));
       c.dev[i] *= f;
@@ -193,22 +262,90 @@ TEST(NoiseFit, NeverReturnsNegativeCoefficients) {
       c.hi[i] *= f;
     }
     const NoiseFit f = fit_noise_terms(c);
+    const TermEstimate* terms[5] = {&f.Q, &f.N, &f.B, &f.K, &f.R};
+    int valid = 0;
     for (std::size_t k = 0; k < 5; ++k) {
       EXPECT_GE(f.c[k], 0.0);
       EXPECT_GE(f.c_sigma[k], 0.0);
       EXPECT_TRUE(std::isfinite(f.c[k]) && std::isfinite(f.c_sigma[k]));
+      EXPECT_EQ(terms[k]->valid, f.c[k] > 0.0);
+      if (terms[k]->valid) {
+        ++valid;
+        EXPECT_GT(terms[k]->value, 0.0);
+        EXPECT_TRUE(std::isfinite(terms[k]->sigma));
+      } else {
+        EXPECT_EQ(terms[k]->value, 0.0);
+      }
     }
-    for (const TermEstimate* e : {&f.Q, &f.N, &f.B, &f.K, &f.R}) {
-      if (!e->valid) EXPECT_EQ(e->value, 0.0);
-      else EXPECT_GT(e->value, 0.0);
-    }
-    EXPECT_TRUE(f.N.valid || f.K.valid || f.Q.valid || f.B.valid || f.R.valid);
-    // The bound must have been active at least sometimes, or this test
-    // checks nothing: more than one term is never in the data.
-    const int free_terms = f.Q.valid + f.N.valid + f.B.valid + f.K.valid + f.R.valid;
-    if (free_terms < 5) ++negative_unconstrained_seen;
+    EXPECT_GT(valid, 0);
+    EXPECT_TRUE(std::isfinite(f.chi2) && std::isfinite(f.rms_rel_residual));
   }
-  EXPECT_GT(negative_unconstrained_seen, 100);
+}
+
+// Noise identification on a handful of averages can call the end of a
+// random-walk curve white PM, whose EDF is ~ half the record. Such points
+// get the EDF of the points before them: an estimate over longer averages
+// has fewer degrees of freedom.
+void claim_white_pm_edf(AllanCurve& c, std::size_t from) {
+  for (std::size_t i = from; i < c.size(); ++i) {
+    c.edf[i] = 8e4;
+    c.lo[i] = c.dev[i] * (1.0 - 1.0 / std::sqrt(2.0 * c.edf[i]));
+    c.hi[i] = c.dev[i] * (1.0 + 1.0 / std::sqrt(2.0 * c.edf[i]));
+  }
+}
+
+TEST(NoiseFit, ImplausibleEdfAtTheEndDoesNotDominate) {
+  // Three such points, 30 % low, must not pull K.
+  const Terms t{0.0, 5e-3, 0.0, 1e-4, 0.0};
+  AllanCurve c = synthetic_curve(t);
+  const std::size_t n = c.size();
+  for (std::size_t i = n - 3; i < n; ++i) c.dev[i] *= 0.7;
+  claim_white_pm_edf(c, n - 3);
+  const NoiseFit f = fit_noise_terms(c);
+  ASSERT_TRUE(f.K.valid);
+  EXPECT_NEAR(f.K.value, t.K, 0.05 * t.K);
+}
+
+TEST(ReadOff, ImplausibleEdfAtTheEndDoesNotShrinkTheUncertainty) {
+  const Terms t{0.0, 5e-3, 0.0, 1e-4, 0.0};
+  AllanCurve c = synthetic_curve(t);
+  const std::size_t n = c.size();
+  const double rel_before = (c.hi[n - 4] - c.lo[n - 4]) / (2.0 * c.dev[n - 4]);
+  claim_white_pm_edf(c, n - 3);
+  const SlopeReadOffs r = read_off_noise_terms(c);
+  ASSERT_TRUE(r.K.valid);
+  ASSERT_EQ(r.K.tau_hi, c.tau.back());
+  EXPECT_GE(r.K.sigma / r.K.value, rel_before);
+}
+
+TEST(NoiseFit, ScatterBeyondTheEdfsInflatesTheUncertainty) {
+  // The same scattered curve claiming 100 times its EDF: the weights only
+  // change scale, so the estimate is the same, and its uncertainty must
+  // follow the scatter of the residuals rather than shrink tenfold.
+  const Terms t{0.0, 5e-3, 0.0, 1e-4, 0.0};
+  AllanCurve c = synthetic_curve(t);
+  std::mt19937_64 rng(99);
+  std::normal_distribution<double> g(0.0, 1.0);
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    const double f = 1.0 + g(rng) / std::sqrt(2.0 * c.edf[i]);
+    c.dev[i] *= f;
+    c.lo[i] *= f;
+    c.hi[i] *= f;
+  }
+  AllanCurve overclaimed = c;
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    overclaimed.edf[i] *= 100.0;
+    const double rel = 1.0 / std::sqrt(2.0 * overclaimed.edf[i]);
+    overclaimed.lo[i] = c.dev[i] * (1.0 - rel);
+    overclaimed.hi[i] = c.dev[i] * (1.0 + rel);
+  }
+  const NoiseFit f = fit_noise_terms(c);
+  const NoiseFit o = fit_noise_terms(overclaimed);
+  ASSERT_TRUE(f.N.valid && f.K.valid && o.N.valid && o.K.valid);
+  EXPECT_NEAR(o.N.value, f.N.value, 1e-9 * f.N.value);
+  EXPECT_NEAR(o.K.value, f.K.value, 1e-9 * f.K.value);
+  EXPECT_GT(o.N.sigma, 0.5 * f.N.sigma);
+  EXPECT_GT(o.K.sigma, 0.5 * f.K.sigma);
 }
 
 TEST(NoiseFit, EmptyCurveGivesNothing) {
@@ -303,51 +440,103 @@ TEST(ReadOff, RisingCurveHasNoMinimum) {
 }
 
 TEST(ReadOff, FlickerFloorWithoutRateRandomWalkRegion) {
-  // White noise onto a flicker floor, with a rate random walk too small to
-  // bring the slope past +0.35 before the record ends (at 6.5e4 s its share
-  // of the variance is 34 %).
-  const Terms t{0.0, 5e-3, 1e-4, 2.8e-7, 0.0};
+  // White noise onto a flicker floor (white = floor at 57 s) with a rate
+  // random walk that has a third of the variance at the end of the record
+  // (6.5e4 s): the curve has a minimum but its slope never passes +0.35.
+  const Terms t{0.0, 5e-3, 1e-3, 3.2e-6, 0.0};
   const AllanCurve c = synthetic_curve(t);
   const SlopeReadOffs r = read_off_noise_terms(c);
   EXPECT_FALSE(r.K.valid);
   EXPECT_FALSE(r.R.valid);
+  // N^2/tau + K^2 tau/3 has its minimum 2 N K / sqrt(3) at sqrt(3) N / K
+  // (2.7e3 s); 10 points per decade put a grid point within cosh(ln10/20)
+  // of it, which changes sigma_min by < 1e-4 relative.
+  const double floor2 = (kFloor * t.B) * (kFloor * t.B);
+  const double b_min = std::sqrt(floor2 + 2.0 * t.N * t.K / std::sqrt(3.0)) / kFloor;
   ASSERT_TRUE(r.B.valid);
-  EXPECT_NEAR(r.B.value, t.B, 0.02 * t.B);  // the floor, nudged up by the other two
+  EXPECT_GE(r.B.value, b_min * (1.0 - 1e-12));
+  EXPECT_LE(r.B.value, b_min * (1.0 + 1e-4));
   ASSERT_TRUE(r.N.valid);
   EXPECT_NEAR(r.N.value, t.N, 0.01 * t.N);
 }
 
 TEST(ReadOff, QuantizationAndRateRamp) {
-  // Q dominates below 3 Q^2/N^2 = 0.27 s; R beyond ~1e3 s. The curve passes
-  // through slope +1/2 on its way from -1/2 to +1 over less than a factor
-  // of 2 in tau, which is no rate-random-walk region.
-  const Terms t{1.5e-3, 5e-3, 0.0, 0.0, 1e-7};
+  // Q dominates below 3 Q^2/N^2 = 3 s, R beyond ~1e3 s. On its way from
+  // -1/2 to +1 the curve passes through slope +1/2 within a factor of 1.4
+  // in tau: no rate-random-walk region.
+  const Terms t{5e-3, 5e-3, 0.0, 0.0, 1e-7};
   const AllanCurve c = synthetic_curve(t, 0.01, 2.6e7);
   const SlopeReadOffs r = read_off_noise_terms(c);
+  // The -1 line touches the curve at its shortest tau, where
+  // Q_i = sqrt(Q^2 + N^2 tau/3) is 0.17 % above Q.
   ASSERT_TRUE(r.Q.valid);
+  EXPECT_NEAR(r.Q.value, std::sqrt(t.Q * t.Q + t.N * t.N * c.tau.front() / 3.0), 1e-12 * t.Q);
   EXPECT_NEAR(r.Q.value, t.Q, 0.01 * t.Q);
   EXPECT_EQ(r.Q.tau_lo, c.tau.front());
   ASSERT_TRUE(r.R.valid);
   EXPECT_NEAR(r.R.value, t.R, 0.01 * t.R);
   EXPECT_EQ(r.R.tau_hi, c.tau.back());
+  // The -1/2 line touches near (2 Q^2 / R^2)^(1/4) = 266 s, 0.75 % high.
   ASSERT_TRUE(r.N.valid);
-  EXPECT_NEAR(r.N.value, t.N, 0.03 * t.N);
+  EXPECT_NEAR(r.N.value, t.N, 0.01 * t.N);
+  EXPECT_LT(r.N.tau_lo, 266.0);
+  EXPECT_GT(r.N.tau_hi, 266.0);
   EXPECT_FALSE(r.K.valid);
 }
 
 TEST(ReadOff, DenseGridGivesTheSameRegions) {
-  // Every m up to 2000, then log: neighbours 0.05 % apart must not make
-  // the local slope noise.
+  // Every m up to ~430, then 1000 points per decade, with 0.5 % scatter:
+  // slopes between neighbours 1-4 % apart in tau would be noise of +-0.2
+  // and break the white region (slope within 0.15 of -1/2 up to 14.5 s)
+  // into pieces.
   const Terms t{0.0, 5e-3, 0.0, 1e-4, 0.0};
   AllanCurve c = synthetic_curve(t, 0.1, 4e4, 1000);
   std::mt19937_64 rng(7);
-  std::normal_distribution<double> g(0.0, 1e-3);
+  std::normal_distribution<double> g(0.0, 5e-3);
   for (double& d : c.dev) d *= 1.0 + g(rng);
   const SlopeReadOffs r = read_off_noise_terms(c);
   ASSERT_TRUE(r.N.valid);
-  EXPECT_NEAR(r.N.value, t.N, 0.01 * t.N);
+  EXPECT_NEAR(r.N.value, t.N, 0.02 * t.N);  // the lowest of ~500 scattered points
   EXPECT_EQ(r.N.tau_lo, c.tau.front());
-  EXPECT_GT(r.N.tau_hi, 5.0);
+  EXPECT_GT(r.N.tau_hi, 8.0);
+}
+
+TEST(NoiseTerms, IndependentOfTheDataScale) {
+  // Clock data are 1e-12 and below; the core promises any unit in the
+  // double range. Scaling the deviations scales every term and nothing else.
+  const Terms t{0.0, 5e-3, 3e-4, 1e-4, 0.0};
+  AllanCurve c = synthetic_curve(t);
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> g(0.0, 1.0);
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    const double f = 1.0 + g(rng) / std::sqrt(2.0 * c.edf[i]);
+    c.dev[i] *= f;
+    c.lo[i] *= f;
+    c.hi[i] *= f;
+  }
+  const NoiseFit f = fit_noise_terms(c);
+  const SlopeReadOffs r = read_off_noise_terms(c);
+  for (const double scale : {1e-150, 1e150}) {
+    AllanCurve s = c;
+    for (std::size_t i = 0; i < s.size(); ++i) {
+      s.dev[i] *= scale;
+      s.lo[i] *= scale;
+      s.hi[i] *= scale;
+    }
+    const NoiseFit fs = fit_noise_terms(s);
+    const TermEstimate* a[5] = {&f.Q, &f.N, &f.B, &f.K, &f.R};
+    const TermEstimate* b[5] = {&fs.Q, &fs.N, &fs.B, &fs.K, &fs.R};
+    for (int k = 0; k < 5; ++k) {
+      ASSERT_EQ(a[k]->valid, b[k]->valid) << "term " << k << " scale " << scale;
+      EXPECT_NEAR(b[k]->value, a[k]->value * scale, 1e-9 * a[k]->value * scale);
+      EXPECT_NEAR(b[k]->sigma, a[k]->sigma * scale, 1e-6 * a[k]->sigma * scale);
+    }
+    EXPECT_NEAR(fs.chi2, f.chi2, 1e-6 * f.chi2);
+    const SlopeReadOffs rs = read_off_noise_terms(s);
+    EXPECT_NEAR(rs.N.value, r.N.value * scale, 1e-12 * r.N.value * scale);
+    EXPECT_NEAR(rs.B.value, r.B.value * scale, 1e-12 * r.B.value * scale);
+    EXPECT_EQ(rs.tau_min, r.tau_min);
+  }
 }
 
 // ---------------------------------------------------------------------------
@@ -388,8 +577,10 @@ TEST(PaperModel, ReadOffsAndFitMatchTheClosedForm) {
   for (const double tau : {0.1, 7.0, 1e4})
     EXPECT_NEAR(noise_model_adev(f.c, tau), std::sqrt(avar(tau)), 1e-9 * std::sqrt(avar(tau)));
   // In the paper's display units: N = 60 sigma(1 s) deg/sqrt(h), B in deg/h.
+  // The closed form gives 0.2637 and 12.84; the paper's model row (0.2683,
+  // 12.649, T = 7.4 s against 6.9 s here) was read off a simulated curve.
   EXPECT_NEAR(60.0 * r.N.value, 0.2637, 0.003);
-  EXPECT_NEAR(3600.0 * r.B.value, 12.85, 0.05);
+  EXPECT_NEAR(3600.0 * r.B.value, 12.84, 0.05);
 }
 
 // ---------------------------------------------------------------------------

@@ -52,10 +52,12 @@ void print_summary(std::ostream& out, const pipeline::AnalysisResult& r) {
     const Unit& u = c.unit;
     fmt::print(out, "\n{} [{}, {}]  fixed bias {:.6g} {}  std {:.4g} {}\n", c.name, u.name, to_string(u.kind), c.mean,
                u.name, c.stddev, u.name);
-    fmt::print(out, "  read-off  N {}   B {}   T {:.3g} s ({:.3g}–{:.3g})   K {}\n", pm(display(ro.N, Term::N, u), ro.N.valid),
-               pm(display(ro.B, Term::B, u), ro.B.valid), ro.tau_min, ro.tau_min_lo, ro.tau_min_hi,
-               pm(display(ro.K, Term::K, u), ro.K.valid));
-    if (!ro.B.valid) fmt::print(out, "            (no minimum inside the record: bias instability not reached)\n");
+    const std::string T = ro.B.valid ? fmt::format("{:.3g} s ({:.3g}–{:.3g})", ro.tau_min, ro.tau_min_lo, ro.tau_min_hi)
+                                     : std::string("—");
+    fmt::print(out, "  read-off  N {}   B {}   T {}   K {}\n", pm(display(ro.N, Term::N, u), ro.N.valid),
+               pm(display(ro.B, Term::B, u), ro.B.valid), T, pm(display(ro.K, Term::K, u), ro.K.valid));
+    if (!ro.B.valid)
+      fmt::print(out, "            (no minimum inside the record: the curve still falls at {:.3g} s)\n", ro.tau_min);
     fmt::print(out, "  fit       N {}   B {}   K {}   Q {}   R {}   (rms residual {:.1f} %)\n",
                pm(display(f.N, Term::N, u), f.N.valid), pm(display(f.B, Term::B, u), f.B.valid),
                pm(display(f.K, Term::K, u), f.K.valid), pm(display(f.Q, Term::Q, u), f.Q.valid),
@@ -66,6 +68,7 @@ void print_summary(std::ostream& out, const pipeline::AnalysisResult& r) {
                  c.model.random_walk_residual.rms_log);
     else
       fmt::print(out, "  model     not fitted: {}\n", c.model.error);
+    if (!c.model.gm_ok) fmt::print(out, "  Gauss-Markov not fitted: {}\n", c.model.gm_error);
     if (c.model.gm_ok)
       fmt::print(out, "  Gauss-Markov sigma_b {:.4g} {}  T_c {:.4g} s  sigma_n {:.4g} {}  (AV residual {:.3f}{})\n",
                  c.model.gauss_markov.sigma_b, u.name, c.model.gauss_markov.tau_c, c.model.gauss_markov.sigma_n,

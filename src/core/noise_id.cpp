@@ -126,7 +126,9 @@ double lag1_autocorrelation(std::span<const double> z) noexcept {
   return den > 0.0 ? num / den : 0.0;
 }
 
-NoiseId identify_noise(std::span<const double> x, std::size_t m, DataType original, Stat stat) {
+namespace {
+
+NoiseId identify_at(std::span<const double> x, std::size_t m, DataType original, Stat stat) {
   NoiseId out;
   if (m == 0 || x.size() < m + 1) return out;
   const int dmax = difference_order(stat);
@@ -240,6 +242,29 @@ NoiseId identify_noise(std::span<const double> x, std::size_t m, DataType origin
       out.alpha = rn > std::sqrt(r_fpm * r_wpm) ? 1 : 2;
       out.method = NoiseId::Method::b1_rn;
     }
+  }
+  return out;
+}
+
+}  // namespace
+
+NoiseId identify_noise(std::span<const double> x, std::size_t m, DataType original, Stat stat) {
+  NoiseId out = identify_at(x, m, original, stat);
+  if (out.method == NoiseId::Method::acf || m == 0 || x.size() < 2) return out;
+  // A B1 ratio from fewer than 30 averages scatters widely, and taking a
+  // random walk for white PM there gives an EDF of the record length and an
+  // interval a hundred times too narrow. The lag-1 ACF at the largest
+  // averaging factor that still has 30 points is trusted instead as a bound:
+  // the noise at longer tau is taken no whiter than it. (This also agrees
+  // with Stable32 on more of its short-series rows than the B1 ratio alone.)
+  const bool phase = original == DataType::phase;
+  const std::size_t intervals = x.size() - 1;
+  const std::size_t m_ref = phase ? intervals / (kMinAcfPoints - 1) : intervals / kMinAcfPoints;
+  if (m_ref == 0 || m_ref >= m) return out;
+  const NoiseId ref = identify_at(x, m_ref, original, stat);
+  if (ref.method == NoiseId::Method::acf && ref.alpha < out.alpha) {
+    out.alpha = ref.alpha;
+    out.method = NoiseId::Method::b1_bounded;
   }
   return out;
 }

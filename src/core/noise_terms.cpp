@@ -5,8 +5,10 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <optional>
 #include <vector>
 
@@ -22,8 +24,8 @@ using Eigen::Index;
 // A point belongs to a region of slope s0 when its local log-log slope is
 // within this of s0. 0.15 is 30 % of the spacing between the IEEE 952
 // slopes (-1, -1/2, 0, +1/2, +1), so neighbouring regions never share a
-// point, and it keeps a white-noise arm as "white" until the next term
-// brings in about 15 % of the variance.
+// point. A white-noise arm stays "white" until its neighbour carries 15 %
+// (rate random walk) to 30 % (flicker floor) of the variance.
 constexpr double kSlopeTolerance = 0.15;
 
 // The local slope at a point is taken between neighbours at least this many
@@ -40,17 +42,15 @@ std::vector<double> local_slopes(const AllanCurve& c) {
   const std::size_t n = c.size();
   std::vector<double> s(n, std::numeric_limits<double>::quiet_NaN());
   if (n < 2) return s;
+  const double ratio = std::pow(10.0, kHalfBaselineDecades);
+  // j: the last point at least `ratio` below tau_i (else the first point);
+  // k: the first point at least `ratio` above it (else the last). Both only
+  // move forward as i does.
+  std::size_t j = 0, k = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    std::size_t j = i;
-    if (i > 0) {
-      j = i - 1;
-      while (j > 0 && std::log10(c.tau[i] / c.tau[j]) < kHalfBaselineDecades) --j;
-    }
-    std::size_t k = i;
-    if (i + 1 < n) {
-      k = i + 1;
-      while (k + 1 < n && std::log10(c.tau[k] / c.tau[i]) < kHalfBaselineDecades) ++k;
-    }
+    while (j + 1 < i && c.tau[j + 1] * ratio <= c.tau[i]) ++j;
+    k = std::max(k, std::min(i + 1, n - 1));
+    while (k + 1 < n && c.tau[k] < c.tau[i] * ratio) ++k;
     s[i] = std::log(c.dev[k] / c.dev[j]) / std::log(c.tau[k] / c.tau[j]);
   }
   return s;
@@ -79,13 +79,47 @@ std::vector<Run> regions_of_slope(const AllanCurve& c, const std::vector<double>
   return runs;
 }
 
-// Relative half-width of a point's confidence interval, as a 1-sigma
-// relative uncertainty of the deviation. Falls back to the chi-squared
-// approximation 1/sqrt(2 edf) when the curve carries no interval.
-double relative_sigma(const AllanCurve& c, std::size_t i) {
-  if (c.hi[i] > c.lo[i] && c.lo[i] > 0.0) return (c.hi[i] - c.lo[i]) / (2.0 * c.dev[i]);
-  if (c.edf[i] > 0.0) return 1.0 / std::sqrt(2.0 * c.edf[i]);
-  return 0.0;
+// Equivalent degrees of freedom of each point, from the curve's EDF or, when
+// that is missing, from its interval (half-width ~ dev / sqrt(2 edf)).
+// nullopt when the curve carries no uncertainty at all (any point lacking
+// both counts: then the curve is treated as carrying none).
+//
+// The EDF is made non-increasing in tau: an estimate over longer averages
+// of the same record cannot have more degrees of freedom. This guards
+// against noise identification on a handful of averages (the B1 ratio
+// below 30 points) calling the end of a random-walk curve white PM, whose
+// EDF (~ half the record) would make three noisy points outweigh the rest.
+std::optional<std::vector<double>> point_edfs(const AllanCurve& c) {
+  std::vector<double> edf(c.size());
+  double running = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    double e = c.edf[i];
+    if (!(e > 0.0)) {
+      if (!(c.hi[i] > c.lo[i] && c.lo[i] > 0.0)) return std::nullopt;
+      const double rel = (c.hi[i] - c.lo[i]) / (2.0 * c.dev[i]);
+      e = 1.0 / (2.0 * rel * rel);
+    }
+    running = std::min(running, e);
+    edf[i] = running;
+  }
+  return edf;
+}
+
+// 1-sigma relative uncertainty of each point's deviation for the read-offs:
+// the relative half-width of its confidence interval (1/sqrt(2 edf) without
+// one), made non-decreasing in tau for the reason above. Zero when the
+// curve carries no uncertainty.
+std::vector<double> relative_sigmas(const AllanCurve& c) {
+  std::vector<double> rel(c.size(), 0.0);
+  double running = 0.0;
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    double r = 0.0;
+    if (c.hi[i] > c.lo[i] && c.lo[i] > 0.0) r = (c.hi[i] - c.lo[i]) / (2.0 * c.dev[i]);
+    else if (c.edf[i] > 0.0) r = 1.0 / std::sqrt(2.0 * c.edf[i]);
+    running = std::max(running, r);
+    rel[i] = running;
+  }
+  return rel;
 }
 
 // One IEEE 952 straight-line term: sigma(tau) = value * (tau / tau_read)^slope.
@@ -100,7 +134,8 @@ struct LineTerm {
 // through point i has ordinate dev_i (tau_read / tau_i)^slope, smallest at
 // the point where the curve's own slope equals the line's. Taking the
 // minimum over the region is the paper's "line tangent to the curve".
-TermEstimate read_line(const AllanCurve& c, const std::vector<double>& slope, LineTerm term) {
+TermEstimate read_line(const AllanCurve& c, const std::vector<double>& slope,
+                       const std::vector<double>& rel_sigma, LineTerm term) {
   TermEstimate e;
   const auto runs = regions_of_slope(c, slope, term.slope);
   if (runs.empty()) return e;
@@ -113,7 +148,7 @@ TermEstimate read_line(const AllanCurve& c, const std::vector<double>& slope, Li
   }
   e.valid = true;
   e.value = best_value;
-  e.sigma = best_value * relative_sigma(c, best);
+  e.sigma = best_value * rel_sigma[best];
   e.tau_lo = c.tau[r.first];
   e.tau_hi = c.tau[r.last];
   return e;
@@ -197,6 +232,114 @@ Eigen::VectorXd nnls(const Eigen::MatrixXd& a, const Eigen::VectorXd& b,
 }
 
 // ---------------------------------------------------------------------------
+// Correlation between the variance estimates at different taus.
+//
+// Overlapping estimates at neighbouring taus share most of their data:
+// on a random-walk arm the residuals of a fit are smooth, chi-squared comes
+// out well below its degrees of freedom, and covariances that treat the
+// points as independent are several times too small. The long-record
+// (spectral) approximation of the covariance of two Allan-variance
+// estimates is
+//   cov(s2_i, s2_j) ~ (1/T) int S_y(f)^2 g(f tau_i) g(f tau_j) df,
+//   g(f tau) = 2 sin^4(pi f tau) / (pi f tau)^2 (the Allan filter),
+// so their correlation follows from the noise spectrum alone; the variance
+// of each point is kept from its EDF.
+
+// One-sided PSD of y, S_y(f) = h2 f^2 + h0 + h_-1 / f + h_-2 / f^2, with the
+// Allan variance of the stochastic terms of the fit (SP 1065 Table 2):
+// white PM 3 f_h h2 / (4 pi^2 tau^2), white FM h0 / (2 tau), flicker FM
+// 2 ln2 h_-1, random-walk FM (2 pi^2 / 3) h_-2 tau. The rate ramp is a
+// deterministic drift with no spectrum; it enters through the EDFs only.
+struct PowerLawPsd {
+  double h2 = 0.0, h0 = 0.0, hm1 = 0.0, hm2 = 0.0;
+  double operator()(double f) const noexcept { return h2 * f * f + h0 + hm1 / f + hm2 / (f * f); }
+};
+
+PowerLawPsd psd_of(const std::array<double, 5>& c, double f_high) {
+  constexpr double pi2 = std::numbers::pi * std::numbers::pi;
+  PowerLawPsd s;
+  s.h2 = 4.0 * pi2 * c[0] / (3.0 * f_high);
+  s.h0 = 2.0 * c[1];
+  s.hm1 = c[2] / (2.0 * std::numbers::ln2);
+  s.hm2 = 3.0 * c[3] / (2.0 * pi2);
+  return s;
+}
+
+// Frequency grid of the correlation integrals: from three decades below
+// 1/tau_max (where every Allan filter has died out) to the Nyquist frequency
+// of the shortest tau, in steps of 1 % in f. Beyond x = pi f tau = 4 pi the
+// filter's sin^4 is replaced by its mean 3/8 (and sin^8 by 35/128 on the
+// diagonal): the oscillation is then faster than the grid and averages out.
+constexpr double kLnStep = 0.01;
+constexpr double kEnvelopeFrom = 4.0 * std::numbers::pi;
+
+// Allan filter g(x) and the mean of its square, x = pi f tau.
+struct FilterValue {
+  double g;
+  double g2;
+};
+FilterValue allan_filter(double x) noexcept {
+  if (x < kEnvelopeFrom) {
+    const double s2 = std::sin(x) * std::sin(x);
+    const double g = 2.0 * s2 * s2 / (x * x);
+    return {g, g * g};
+  }
+  const double x2 = x * x;
+  return {0.75 / x2, 4.0 * (35.0 / 128.0) / (x2 * x2)};
+}
+
+// Q^T rho Q for the thin Q (n x p) of the whitened design, where rho is
+// the correlation matrix of the whitened residuals (unit variances). rho is
+// never formed: with r_i(f) = g_i(f) / sqrt(int S^2 g_i^2), rho = int S^2
+// r r^T df + diag(e), where e_i >= 0 is the part of each point's variance
+// the envelope leaves uncorrelated (all of it when the PSD is zero there).
+Eigen::MatrixXd projected_correlation(const std::vector<double>& tau, const Eigen::MatrixXd& q,
+                                      const PowerLawPsd& psd) {
+  const std::size_t n = tau.size();
+  const Index p = q.cols();
+  const double f_lo = 1e-3 / tau.back();
+  const double f_hi = 0.5 / tau.front();
+  const auto steps = static_cast<std::size_t>(std::ceil(std::log(f_hi / f_lo) / kLnStep));
+  std::vector<double> f(steps + 1), weight(steps + 1);
+  for (std::size_t k = 0; k <= steps; ++k) {
+    f[k] = f_lo * std::exp(static_cast<double>(k) * kLnStep);
+    const double s = psd(f[k]);
+    // int ... df = int ... f dln f, trapezoid ends.
+    weight[k] = s * s * f[k] * kLnStep * (k == 0 || k == steps ? 0.5 : 1.0);
+  }
+
+  std::vector<double> self(n, 0.0), cross(n, 0.0);  // int S^2 <g^2>, int S^2 g^2
+  for (std::size_t k = 0; k <= steps; ++k) {
+    for (std::size_t i = 0; i < n; ++i) {
+      const FilterValue g = allan_filter(std::numbers::pi * f[k] * tau[i]);
+      self[i] += weight[k] * g.g2;
+      cross[i] += weight[k] * g.g * g.g;
+    }
+  }
+  std::vector<double> norm(n, 0.0);
+  for (std::size_t i = 0; i < n; ++i)
+    if (self[i] > 0.0 && std::isfinite(self[i])) norm[i] = 1.0 / std::sqrt(self[i]);
+
+  Eigen::MatrixXd m = Eigen::MatrixXd::Zero(p, p);
+  Eigen::VectorXd u(p);
+  for (std::size_t k = 0; k <= steps; ++k) {
+    u.setZero();
+    for (std::size_t i = 0; i < n; ++i) {
+      if (norm[i] == 0.0) continue;
+      const double r = allan_filter(std::numbers::pi * f[k] * tau[i]).g * norm[i];
+      u += r * q.row(static_cast<Index>(i)).transpose();
+    }
+    m.noalias() += weight[k] * u * u.transpose();
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const double e = norm[i] > 0.0 ? std::max(0.0, 1.0 - cross[i] / self[i]) : 1.0;
+    const auto row = q.row(static_cast<Index>(i));
+    m.noalias() += e * row.transpose() * row;
+  }
+  return m;
+}
+
+// ---------------------------------------------------------------------------
 // Fit helpers
 
 constexpr int kPowers = 5;  // tau^-2 .. tau^2
@@ -207,33 +350,23 @@ double geometric_mean(const std::vector<double>& v, double power) {
   return std::exp(s / static_cast<double>(v.size()));
 }
 
-// Equivalent degrees of freedom for a point's weight, or nullopt when the
-// curve says nothing about its uncertainty.
-std::optional<double> weight_edf(const AllanCurve& c, std::size_t i) {
-  if (c.edf[i] > 0.0) return c.edf[i];
-  // Chi-squared interval half-width ~ dev / sqrt(2 edf).
-  if (c.hi[i] > c.lo[i] && c.lo[i] > 0.0) {
-    const double rel = (c.hi[i] - c.lo[i]) / (2.0 * c.dev[i]);
-    return 1.0 / (2.0 * rel * rel);
-  }
-  return std::nullopt;
-}
-
-// The term's value and 1-sigma from C_k and its sigma: each term is
-// value = sqrt(C_k / g) for the IEEE 952 shape factor g, so by the delta
-// method sigma_value = sigma_C / (2 g value).
-struct TermShape {
-  double g;  // C_k = g * value^2
+// Each term is value = sqrt(C_k / g) for its IEEE 952 shape factor g, so by
+// the delta method sigma_value = sigma_C / (2 g value).
+constexpr std::array<double, kPowers> kShape = {
+    3.0,                            // Q: 3 Q^2 / tau^2
+    1.0,                            // N: N^2 / tau
+    kFlickerFloor * kFlickerFloor,  // B: (0.664 B)^2
+    1.0 / 3.0,                      // K: K^2 tau / 3
+    0.5,                            // R: R^2 tau^2 / 2
 };
-constexpr std::array<TermShape, kPowers> kShapes = {{
-    {3.0},                                 // Q: 3 Q^2 / tau^2
-    {1.0},                                 // N: N^2 / tau
-    {kFlickerFloor * kFlickerFloor},       // B: (0.664 B)^2
-    {1.0 / 3.0},                           // K: K^2 tau / 3
-    {0.5},                                 // R: R^2 tau^2 / 2
-}};
 
-// Share of a term in the fitted variance at which it "dominates" a tau.
+// Reweighting stops when no point of the model moves by more than this
+// (relative): 10-20 passes on measured curves, more (linear convergence)
+// when the scatter is far beyond what the EDFs allow.
+constexpr int kMaxReweightings = 50;
+constexpr double kReweightTolerance = 1e-10;
+
+// Share of the fitted variance from which a term "dominates" a tau.
 constexpr double kDominantShare = 0.25;
 
 }  // namespace
@@ -246,10 +379,11 @@ SlopeReadOffs read_off_noise_terms(const AllanCurve& curve) {
   if (n == 0) return out;
 
   const auto slope = local_slopes(curve);
-  out.Q = read_line(curve, slope, {-1.0, std::sqrt(3.0), true});
-  out.N = read_line(curve, slope, {-0.5, 1.0, true});
-  out.K = read_line(curve, slope, {+0.5, 3.0, false});
-  out.R = read_line(curve, slope, {+1.0, std::sqrt(2.0), false});
+  const auto rel = relative_sigmas(curve);
+  out.Q = read_line(curve, slope, rel, {-1.0, std::sqrt(3.0), true});
+  out.N = read_line(curve, slope, rel, {-0.5, 1.0, true});
+  out.K = read_line(curve, slope, rel, {+0.5, 3.0, false});
+  out.R = read_line(curve, slope, rel, {+1.0, std::sqrt(2.0), false});
 
   // Bias instability: the lowest point of the curve, B = sigma_min / 0.664.
   const auto it = std::min_element(curve.dev.begin(), curve.dev.end());
@@ -270,8 +404,11 @@ SlopeReadOffs read_off_noise_terms(const AllanCurve& curve) {
   out.tau_min_lo = curve.tau[lo_i];
   out.tau_min_hi = curve.tau[hi_i];
 
+  // Quoted with the interval of that point, as the paper reads it. (The
+  // lowest of several scattered points sits a little below the curve they
+  // sample.)
   out.B.value = out.sigma_min / kFlickerFloor;
-  out.B.sigma = out.B.value * relative_sigma(curve, imin);
+  out.B.sigma = out.B.value * rel[imin];
   out.B.tau_lo = out.tau_min_lo;
   out.B.tau_hi = out.tau_min_hi;
   // A minimum at either end of the curve is no minimum: the curve is still
@@ -292,15 +429,11 @@ NoiseFit fit_noise_terms(const AllanCurve& curve) {
   const double tau_ref = geometric_mean(curve.tau, 1.0);
   const double v_ref = geometric_mean(curve.dev, 2.0);
 
-  std::vector<double> edf(n);
-  bool absolute_weights = true;
-  for (std::size_t i = 0; i < n; ++i) {
-    const auto e = weight_edf(curve, i);
-    // Unknown uncertainty: weight 1/dev^4 (relative residuals, edf 2) and
-    // let the scatter of the residuals set the scale of the covariance.
-    edf[i] = e.value_or(2.0);
-    if (!e) absolute_weights = false;
-  }
+  // Without any uncertainty on the curve: weights 1/dev^4 (edf 2, i.e.
+  // relative residuals) and the scatter of the residuals sets the scale.
+  const auto known_edf = point_edfs(curve);
+  const bool absolute_weights = known_edf.has_value();
+  const std::vector<double> edf = known_edf.value_or(std::vector<double>(n, 2.0));
 
   const auto rows = static_cast<Index>(n);
   Eigen::MatrixXd powers(rows, kPowers);  // (tau / tau_ref)^k
@@ -314,16 +447,18 @@ NoiseFit fit_noise_terms(const AllanCurve& curve) {
   }
 
   // Var(AVAR estimate) = 2 sigma^4 / edf. The sigma^4 is taken first from
-  // the measured point, then from the fitted model: weighting by the
-  // measurement favours points that came out low and biases the fit down
-  // where edf is small (the long-tau end, where K and R live).
+  // the measured points, then from the fitted model until the fit stops
+  // changing: weighting by the measurement favours points that came out low
+  // and biases the fit down where edf is small (the long-tau end, where K
+  // and R live). At the fixed point the weights are those of the returned
+  // model, so the result satisfies the NNLS optimality conditions for them.
   Eigen::VectorXd d = Eigen::VectorXd::Zero(kPowers);
   Eigen::VectorXd scale(kPowers);
   Eigen::MatrixXd a;
   Eigen::VectorXd b;
   std::vector<bool> free_set;
   Eigen::VectorXd model = y;
-  for (int pass = 0; pass < 2; ++pass) {
+  for (int pass = 0; pass < kMaxReweightings; ++pass) {
     Eigen::VectorXd r(rows);  // sqrt(weight) in normalized units
     for (Index i = 0; i < rows; ++i) {
       const double v = model(i) > 0.0 ? model(i) : y(i);
@@ -336,58 +471,73 @@ NoiseFit fit_noise_terms(const AllanCurve& curve) {
     }
     b = r.cwiseProduct(y);
     d = nnls(a, b, free_set);
-    model = powers * d.cwiseQuotient(scale);
+    const Eigen::VectorXd next = powers * d.cwiseQuotient(scale);
+    double change = 0.0;
+    for (Index i = 0; i < rows; ++i)
+      if (next(i) > 0.0) change = std::max(change, std::abs(next(i) / model(i) - 1.0));
+    model = next;
+    if (pass > 0 && change < kReweightTolerance) break;
   }
 
-  // C_k in data units: model/v_ref = sum (tau/tau_ref)^k d_k / scale_k.
+  // C_k in data units: model / v_ref = sum (tau / tau_ref)^k d_k / scale_k.
   std::array<double, kPowers> to_c{};
   for (int k = 0; k < kPowers; ++k)
     to_c[static_cast<std::size_t>(k)] = v_ref / (scale(k) * std::pow(tau_ref, k - 2));
+  for (std::size_t k = 0; k < kPowers; ++k)
+    fit.c[k] = free_set[k] ? std::max(0.0, d(static_cast<Index>(k))) * to_c[k] : 0.0;
 
-  const Eigen::VectorXd resid = b - a * d;
-  fit.chi2 = resid.squaredNorm();
+  fit.chi2 = (b - a * d).squaredNorm();
   std::vector<Index> cols;
   for (Index k = 0; k < kPowers; ++k)
     if (free_set[static_cast<std::size_t>(k)]) cols.push_back(k);
   const std::size_t p = cols.size();
   fit.dof = n > p ? n - p : 0;
 
-  // Covariance of the free coefficients: (A_P^T W A_P)^-1, through the R of
-  // a QR so as not to square the condition number. Neighbouring overlapping
-  // points are correlated and the five-term model is only approximate, so
-  // the covariance is inflated by the reduced chi-squared when that is > 1
-  // (or always scaled by it when the curve gave no weights).
-  std::vector<double> d_sigma(kPowers, 0.0);
+  // Covariance of the free coefficients, sandwich form for correlated
+  // points: with the whitened design A_P = Q R, cov = R^-1 (Q^T rho Q) R^-T,
+  // which is (A_P^T W A_P)^-1 when the points are independent (rho = I).
+  // The model is only approximate, so the covariance is inflated by
+  // chi2 / E[chi2] when that is > 1, with E[chi2] = tr((I - Q Q^T) rho)
+  // = n - tr(Q^T rho Q) (= dof for independent points); without weights on
+  // the curve it is always scaled by that ratio.
+  std::array<double, kPowers> d_sigma{};
   if (p > 0 && n >= p) {
-    Eigen::MatrixXd ap(rows, static_cast<Index>(p));
-    for (std::size_t j = 0; j < p; ++j) ap.col(static_cast<Index>(j)) = a.col(cols[j]);
-    const Eigen::HouseholderQR<Eigen::MatrixXd> qr(ap);
     const auto pp = static_cast<Index>(p);
-    const Eigen::MatrixXd rr = qr.matrixQR().topLeftCorner(pp, pp).triangularView<Eigen::Upper>();
-    const Eigen::MatrixXd rinv =
-        rr.triangularView<Eigen::Upper>().solve(Eigen::MatrixXd::Identity(pp, pp));
-    const Eigen::MatrixXd cov = rinv * rinv.transpose();
+    Eigen::MatrixXd ap(rows, pp);
+    for (Index j = 0; j < pp; ++j) ap.col(j) = a.col(cols[static_cast<std::size_t>(j)]);
+    const Eigen::HouseholderQR<Eigen::MatrixXd> qr(ap);
+    const Eigen::MatrixXd q = qr.householderQ() * Eigen::MatrixXd::Identity(rows, pp);
+    const Eigen::MatrixXd rinv = qr.matrixQR()
+                                     .topLeftCorner(pp, pp)
+                                     .triangularView<Eigen::Upper>()
+                                     .solve(Eigen::MatrixXd::Identity(pp, pp));
+    // Only the shape of the spectrum matters: in units of v_ref, S^2 stays
+    // representable for any data unit.
+    std::array<double, kPowers> c_rel{};
+    for (std::size_t k = 0; k < kPowers; ++k) c_rel[k] = fit.c[k] / v_ref;
+    const Eigen::MatrixXd rho_q =
+        projected_correlation(curve.tau, q, psd_of(c_rel, 0.5 / curve.tau.front()));
+    const Eigen::MatrixXd cov = rinv * rho_q * rinv.transpose();
+    const double expected_chi2 = static_cast<double>(n) - rho_q.trace();
     double factor = 1.0;
-    if (fit.dof > 0) {
-      const double reduced = fit.chi2 / static_cast<double>(fit.dof);
-      factor = absolute_weights ? std::max(1.0, reduced) : reduced;
+    if (expected_chi2 > 0.0 && fit.dof > 0) {
+      const double ratio = fit.chi2 / expected_chi2;
+      factor = absolute_weights ? std::max(1.0, ratio) : ratio;
     }
-    for (std::size_t j = 0; j < p; ++j)
-      d_sigma[static_cast<std::size_t>(cols[j])] =
-          std::sqrt(std::max(0.0, cov(static_cast<Index>(j), static_cast<Index>(j))) * factor);
+    for (Index j = 0; j < pp; ++j)
+      d_sigma[static_cast<std::size_t>(cols[static_cast<std::size_t>(j)])] =
+          std::sqrt(std::max(0.0, cov(j, j)) * factor);
   }
 
   std::array<TermEstimate*, kPowers> terms = {&fit.Q, &fit.N, &fit.B, &fit.K, &fit.R};
   for (std::size_t k = 0; k < kPowers; ++k) {
     const auto kk = static_cast<Index>(k);
-    fit.c[k] = free_set[k] ? std::max(0.0, d(kk)) * to_c[k] : 0.0;
     fit.c_sigma[k] = d_sigma[k] * to_c[k];
     TermEstimate& e = *terms[k];
-    e.valid = free_set[k] && fit.c[k] > 0.0;
+    e.valid = fit.c[k] > 0.0;
     if (!e.valid) continue;
-    const double g = kShapes[k].g;
-    e.value = std::sqrt(fit.c[k] / g);
-    e.sigma = fit.c_sigma[k] / (2.0 * g * e.value);
+    e.value = std::sqrt(fit.c[k] / kShape[k]);
+    e.sigma = fit.c_sigma[k] / (2.0 * kShape[k] * e.value);
 
     // Where the term carries at least a quarter of the fitted variance; a
     // term that never does is reported at the tau of its largest share.

@@ -54,8 +54,9 @@ json noise_json(const NoiseAnalysis& n, const Unit& u) {
   j["method"] = "slope read-offs (IEEE 952): N at tau = 1 s, B = sigma_min / 0.664, K at tau = 3 s";
   j["arw"] = term(r.N, Term::N, u);
   j["bias_instability"] = term(r.B, Term::B, u);
-  j["time_constant_s"] = r.tau_min;
-  j["time_constant_range_s"] = {r.tau_min_lo, r.tau_min_hi};
+  // T only where the curve has a minimum inside the record.
+  j["time_constant_s"] = r.B.valid ? json(r.tau_min) : json(nullptr);
+  j["time_constant_range_s"] = r.B.valid ? json({r.tau_min_lo, r.tau_min_hi}) : json(nullptr);
   j["sigma_min"] = {{"value", r.sigma_min}, {"unit", u.name}};
   j["rate_random_walk"] = term(r.K, Term::K, u);
   j["quantization"] = term(r.Q, Term::Q, u);
@@ -122,6 +123,7 @@ std::string analysis_json(const AnalysisResult& r, const OutputContext& ctx) {
                            {"residual_rms_log", c.model.gauss_markov_residual.rms_log}};
     } else {
       m["gauss_markov"] = nullptr;
+      m["gauss_markov_error"] = c.model.gm_error;
     }
     if (c.model.ok && c.model.gm_ok)
       m["better_fit"] = c.model.gauss_markov_residual.rms_log < c.model.random_walk_residual.rms_log

@@ -44,9 +44,18 @@ void fit_models(ModelAnalysis& m, double dt, double lsb) {
   try {
     m.gauss_markov = fit_gauss_markov_model(curve, dt, lsb);
     m.gauss_markov_residual = residual(m.gauss_markov, curve);
-    m.gm_ok = true;
-  } catch (const std::invalid_argument&) {
-    m.gm_ok = false;
+    // A correlation time pinned at the ends of the search (one sample, or
+    // beyond the longest tau) means the curve shows no Gauss-Markov hump:
+    // the "fit" is white noise or a random walk in disguise.
+    const double tc = m.gauss_markov.tau_c;
+    if (!(m.gauss_markov.sigma_b > 0.0) || tc < 2.0 * dt || tc > 2.0 * curve.tau.back()) {
+      m.gm_error = "no Gauss-Markov correlation time between " + std::to_string(2.0 * dt) + " s and " +
+                   std::to_string(2.0 * curve.tau.back()) + " s fits the curve";
+    } else {
+      m.gm_ok = true;
+    }
+  } catch (const std::invalid_argument& e) {
+    m.gm_error = e.what();
   }
 }
 

@@ -48,6 +48,7 @@ struct ModelAnalysis {
   RandomWalkModel random_walk;
   ModelResidual random_walk_residual;
   bool gm_ok = false;
+  std::string gm_error;             // why no Gauss-Markov model is reported
   GaussMarkovModel gauss_markov;
   ModelResidual gauss_markov_residual;
 };

@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# Regenerates the numbers of docs/adis16405.md: `cubecal analyze` on the six
+# real ADIS16405 static runs in ../shared/data/imu/adis16405, one table row per
+# run and axis. Usage: scripts/adis16405-example.sh [build/bin/cubecal] [OUTDIR]
+set -euo pipefail
+CUBECAL=${1:-build/bin/cubecal}
+OUT=${2:-adis16405-out}
+DATA=$(cd "$(dirname "$0")/../../shared/data/imu/adis16405" && pwd)
+PY=/usr/bin/python3
+mkdir -p "$OUT"
+for run in 1 2 3 4 5 6; do
+  "$CUBECAL" analyze "$DATA/run$run.csv.gz" --unit deg/s,deg/s,deg/s,g,g,g --model-lsb 20,20,20,300.3,300.3,300.3 \
+    --out "$OUT/run$run" --force > "$OUT/run$run.txt"
+done
+"$PY" - "$OUT" <<'PY'
+import json, sys
+out = sys.argv[1]
+def f(q, d=3):
+    return "—" if q["value"] is None else f"{q['value']:.{d}g} ± {q['sigma']:.1g}"
+print("| run | axis | N | B | T [s] | K | model sigma_n, sigma_mu | Gauss-Markov sigma_b, T_c |")
+print("|---|---|---|---|---|---|---|---|")
+for run in range(1, 7):
+    j = json.load(open(f"{out}/run{run}/analysis.json"))
+    for c in j["channels"]:
+        n = c["noise"]
+        m = c["model"]
+        gm = m.get("gauss_markov")
+        model = "—" if m["sigma_n"] is None else f"{m['sigma_n']:.3g}, {m['sigma_mu']:.2g}"
+        gms = "—" if not gm else f"{gm['sigma']:.2g}, {gm['tau_s']:.3g} s"
+        print(f"| {run} | {c['name']} | {f(n['arw'])} {n['arw']['unit']} | {f(n['bias_instability'])} "
+              f"{n['bias_instability']['unit']} | {'—' if n['time_constant_s'] is None else format(n['time_constant_s'], '.3g')} | {f(n['rate_random_walk'])} | {model} | {gms} |")
+PY
