@@ -10,6 +10,8 @@ PACKAGES=(
   libboost-math-dev zlib1g-dev libfast-float-dev libeigen3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 gzip bc
+  gnuplot-nox             # plots (SVG/PNG) of the report
+  chromium                # browser test of report.html (headless)
 )
 
 missing=()

@@ -173,15 +173,116 @@ TEST_F(Cli, GapsSplitSaysSo) {
 }
 
 TEST_F(Cli, DemoRunsAndKeepsForeignFiles) {
-  const Result r = run("demo --hours 0.5 --out " + dir_.string() + "/d");
+  const Result r = run("demo --hours 2 --out " + dir_.string() + "/d");
   ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_TRUE(fs::exists(dir_ / "d" / "gyro_oadev.json"));
-  const Result again = run("demo --hours 0.5 --out " + dir_.string() + "/d");
+  for (const char* f : {"sport_static.csv.gz", "analysis.json", "adev.csv", "drift.csv", "imu.yaml"})
+    EXPECT_TRUE(fs::exists(dir_ / "d" / f)) << f;
+  EXPECT_NE(r.out.find("N paper"), std::string::npos);
+  const Result again = run("demo --hours 2 --out " + dir_.string() + "/d");
   EXPECT_EQ(again.code, 0) << again.err;  // its own earlier output is replaced
   fs::create_directories(dir_ / "mine");
-  write("mine/gyro_static.csv", "user data");
-  const Result foreign = run("demo --hours 0.5 --out " + (dir_ / "mine").string());
+  write("mine/analysis.json", "user data");
+  const Result foreign = run("demo --hours 2 --out " + (dir_ / "mine").string());
   EXPECT_EQ(foreign.code, 2);
+  std::ifstream kept(dir_ / "mine" / "analysis.json");
+  std::string s;
+  std::getline(kept, s);
+  EXPECT_EQ(s, "user data");
+}
+
+TEST_F(Cli, SimulateThenAnalyzeRoundTrip) {
+  // simulate writes what the readers take; analyze recovers the preset's
+  // white noise; --model analysis.json simulates the measured sensor again.
+  const std::string rec = (dir_ / "g.csv").string();
+  const Result s = run("simulate --preset sport-gyro --rate 10 --duration 2h --seed 3 --temp const:25 --out " + rec);
+  ASSERT_EQ(s.code, 0) << s.err;
+  const Result same = run("simulate --preset sport-gyro --rate 10 --duration 2h --seed 3 --temp const:25 --out " +
+                          (dir_ / "g2.csv").string());
+  ASSERT_EQ(same.code, 0) << same.err;
+  std::ifstream a(rec), b(dir_ / "g2.csv");
+  std::stringstream sa, sb;
+  sa << a.rdbuf();
+  sb << b.rdbuf();
+  EXPECT_EQ(sa.str(), sb.str()) << "same seed, same bytes";
+  EXPECT_EQ(run("simulate --preset sport-gyro --duration 1h --out " + rec).code, 2) << "existing file kept";
+
+  const std::string out = (dir_ / "an").string();
+  const Result an = run("analyze " + rec + " --columns gx,gy,gz --unit deg/s --model-lsb 145.6 --out " + out +
+                        " --format json");
+  ASSERT_EQ(an.code, 0) << an.err;
+  const auto j = nlohmann::json::parse(an.out);
+  const double sn = j["channels"][2]["model"]["sigma_n"].get<double>();
+  EXPECT_NEAR(sn / 13.0e-3, 1.0, 0.03);  // sport-gyro z white noise
+  for (const char* f : {"analysis.json", "adev.csv", "drift.csv", "imu.yaml"}) EXPECT_TRUE(fs::exists(dir_ / "an" / f)) << f;
+  const Result again = run("analyze " + rec + " --columns gx,gy,gz --unit deg/s --out " + out);
+  EXPECT_EQ(again.code, 2) << "results are not replaced without --force";
+
+  const Result re = run("simulate --model " + out + "/analysis.json --duration 1h --out " + (dir_ / "re.csv").string());
+  ASSERT_EQ(re.code, 0) << re.err;
+  std::ifstream rr(dir_ / "re.csv");
+  std::string header;
+  std::getline(rr, header);
+  EXPECT_EQ(header, "t,gx,gy,gz,temp");
+}
+
+TEST_F(Cli, SimulateAndAnalyzeUsageErrors) {
+  const std::string rec = (dir_ / "x.csv").string();
+  EXPECT_EQ(run("simulate --preset nope --out " + rec).code, 2);
+  EXPECT_EQ(run("simulate --preset sport-gyro --duration 3x --out " + rec).code, 2);
+  EXPECT_EQ(run("simulate --out " + rec).code, 2);
+  const Result bad_model = run("simulate --model " + kPhaseDat + " --out " + rec);
+  EXPECT_EQ(bad_model.code, 2);
+  EXPECT_TRUE(one_error_line(bad_model)) << bad_model.err;
+  EXPECT_EQ(run("analyze " + kPhaseDat + " --rate 1 --unit furlongs").code, 2);
+  EXPECT_EQ(run("analyze " + kPhaseDat + " --rate 1 --unit deg/s,deg/s").code, 2);
+}
+
+}  // namespace
+
+namespace {
+
+TEST_F(Cli, TurnonAndCompareOnSimulatedPowerCycles) {
+  // Five power cycles of the paper's gyro: each run draws a new turn-on bias
+  // (std (23.9, 11.9, 14.9) mdeg/s); turnon must see runs differing by about that.
+  std::string files;
+  for (int s = 1; s <= 5; ++s) {
+    const std::string f = (dir_ / ("run" + std::to_string(s) + ".csv")).string();
+    ASSERT_EQ(run("simulate --preset sport-gyro --rate 10 --duration 20m --temp const:25 --seed " +
+                  std::to_string(s) + " --out " + f)
+                  .code,
+              0);
+    files += " " + f;
+  }
+  const Result t = run("turnon" + files + " --columns gx,gy,gz --unit deg/s --format json");
+  ASSERT_EQ(t.code, 0) << t.err;
+  const auto j = nlohmann::json::parse(t.out);
+  ASSERT_EQ(j["runs"].size(), 5u);
+  ASSERT_EQ(j["channels"].size(), 3u);
+  const auto& x = j["channels"][0];
+  EXPECT_LT(x["turn_on_bias_lo"].get<double>(), x["turn_on_bias"].get<double>());
+  EXPECT_GT(x["turn_on_bias_hi"].get<double>(), x["turn_on_bias"].get<double>());
+  // 5 draws of a 23.9 mdeg/s std plus the bias random walk over 20 min: the
+  // interval of the estimate must reach the preset value.
+  EXPECT_LT(x["turn_on_bias_lo"].get<double>(), 0.0239 * 1.5);
+  const Result c = run("compare" + files + " --columns gx,gy,gz --unit deg/s");
+  ASSERT_EQ(c.code, 0) << c.err;
+  EXPECT_NE(c.out.find("run5.csv"), std::string::npos);
+  EXPECT_EQ(run("turnon " + (dir_ / "run1.csv").string() + " --unit deg/s").code, 2) << "one run is not enough";
+}
+
+TEST_F(Cli, CalibrateTemperatureRecoversCoefficient) {
+  const std::string f = (dir_ / "mag.csv").string();
+  ASSERT_EQ(run("simulate --preset sport-mag --rate 1 --duration 48h --temp sine:25,10,21600 --seed 2 --out " + f).code, 0);
+  const Result r = run("calibrate temperature " + f + " --columns mx,my,mz --temp-col temp --unit mGauss --format json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  for (int a = 0; a < 3; ++a) {
+    const auto& c = j["channels"][a];
+    const double k = c["coeff"][1].get<double>(), s = c["coeff_sigma"][1].get<double>();
+    EXPECT_NEAR(k, 0.7, 4 * s) << c["name"];
+    EXPECT_EQ(c["coeff_units"][1], "mGauss/degC");
+  }
+  EXPECT_EQ(run("calibrate temperature " + f + " --columns mx --temp-col nope").code, 2);
 }
 
 }  // namespace

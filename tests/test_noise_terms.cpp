@@ -476,11 +476,24 @@ TEST(ReadOff, QuantizationAndRateRamp) {
   ASSERT_TRUE(r.R.valid);
   EXPECT_NEAR(r.R.value, t.R, 0.01 * t.R);
   EXPECT_EQ(r.R.tau_hi, c.tau.back());
-  // The -1/2 line touches near (2 Q^2 / R^2)^(1/4) = 266 s, 0.75 % high.
+  // The noise-free -1/2 tangent touches near (2 Q^2 / R^2)^(1/4) = 266 s,
+  // 0.75 % high; but the read-off takes the tangent among the points measured
+  // within 3x the best relative uncertainty (allan_curve.hpp: on real data
+  // the minimum over poorly measured long-tau points is a low fluctuation),
+  // and at the shorter taus they allow the quantization term still adds a
+  // few per cent. The rule, checked from outside:
   ASSERT_TRUE(r.N.valid);
-  EXPECT_NEAR(r.N.value, t.N, 0.01 * t.N);
   EXPECT_LT(r.N.tau_lo, 266.0);
   EXPECT_GT(r.N.tau_hi, 266.0);
+  double best = 1e300, expect = 1e300;
+  for (std::size_t i = 0; i < c.size(); ++i)
+    if (c.tau[i] >= r.N.tau_lo && c.tau[i] <= r.N.tau_hi) best = std::min(best, relative_uncertainty(c, i));
+  for (std::size_t i = 0; i < c.size(); ++i)
+    if (c.tau[i] >= r.N.tau_lo && c.tau[i] <= r.N.tau_hi && relative_uncertainty(c, i) <= 3.0 * best)
+      expect = std::min(expect, c.dev[i] * std::sqrt(c.tau[i]));
+  EXPECT_DOUBLE_EQ(r.N.value, expect);
+  EXPECT_GT(r.N.value, t.N);             // never below the true white level here
+  EXPECT_NEAR(r.N.value, t.N, 0.06 * t.N);
   EXPECT_FALSE(r.K.valid);
 }
 

@@ -15,7 +15,10 @@
 #include "cubecal/io/error.hpp"
 #include "cubecal/pipeline/analysis_output.hpp"
 #include "cubecal/pipeline/analyze.hpp"
+#include "cubecal/report/plot.hpp"
+#include "cubecal/report/report.hpp"
 #include "output.hpp"
+#include "progress.hpp"
 
 namespace cubecal::cli {
 
@@ -34,6 +37,7 @@ struct AnalyzeOptions {
   double ci = 0.683;
   std::string out;
   bool force = false;
+  bool report = false;
   std::string format = "table";
   std::string rostopic = "/imu0";
 };
@@ -134,15 +138,23 @@ int run_analyze_command(const AnalyzeOptions& o) {
 
   // Refuse to replace results before spending any time.
   namespace fs = std::filesystem;
-  const char* files[] = {"analysis.json", "adev.csv", "drift.csv", "imu.yaml"};
   if (!o.out.empty() && !o.force)
-    for (const char* f : files)
+    for (const char* f : pipeline::kAnalysisFiles)
       if (fs::exists(fs::path(o.out) / f))
         throw io::UsageError((fs::path(o.out) / f).string() +
                              " already exists (choose another --out or add --force to replace it)");
+  if (o.report && !o.force)
+    for (const auto& f : report::existing_report_outputs(o.out))
+      throw io::UsageError(f + " already exists (choose another --out or add --force to replace it)");
+  if (o.report && !report::find_gnuplot()) throw io::UsageError(report::kGnuplotMissing);
 
+  const std::size_t bytes = file_size_or_zero(o.input.file);
+  Progress progress(bytes > 50'000'000);
+  progress.stage(fmt::format("reading {} ({:.0f} MB)", o.input.file, static_cast<double>(bytes) / 1e6));
   const io::Series series = io::read_series(o.input.file, so);
+  progress.stage(fmt::format("analyzing {} channels", series.channels.size()));
   const pipeline::AnalysisResult r = pipeline::run_analyze(series, req);
+  progress.done();
   pipeline::OutputContext ctx{invocation(), o.rostopic};
 
   if (o.format == "json")
@@ -151,19 +163,16 @@ int run_analyze_command(const AnalyzeOptions& o) {
     print_summary(std::cout, r);
 
   if (!o.out.empty()) {
-    fs::create_directories(o.out);
-    auto write = [&](const char* name, const std::string& text) {
-      if (text.empty()) return;
-      OutputFile f((fs::path(o.out) / name).string(), true);
-      f.stream() << text;
-      f.commit();
-    };
-    write("analysis.json", pipeline::analysis_json(r, ctx));
-    write("adev.csv", pipeline::adev_csv(r));
-    write("drift.csv", pipeline::drift_csv(r));
-    write("imu.yaml", pipeline::kalibr_yaml(r, ctx));
+    write_analysis_files(o.out, r, ctx);
     std::cerr << "cubecal: wrote " << o.out << "/analysis.json, adev.csv, drift.csv"
-              << (pipeline::kalibr_yaml(r, ctx).empty() ? "" : ", imu.yaml") << '\n';
+              << (r.channels.empty() || pipeline::kalibr_yaml(r, ctx).empty() ? "" : ", imu.yaml") << '\n';
+    if (o.report) {
+      report::ReportOptions ro;
+      ro.force = true;  // existing report files were refused above unless --force
+      const auto rep = report::write_report(o.out, ro);
+      std::cerr << "cubecal: wrote " << rep.html_path << " (" << rep.plots.size() << " plots in " << o.out
+                << "/plots/)\n";
+    }
   }
   return 0;
 }
@@ -194,8 +203,11 @@ CLI::App* add_analyze_command(CLI::App& app, Command& run) {
                   "(default: --lsb when given), eq. (3)");
   cmd->add_option("--taus", opt->taus, "Tau grid of the Allan curve")->capture_default_str();
   cmd->add_option("--ci", opt->ci, "Confidence factor of the intervals")->capture_default_str();
-  cmd->add_option("--out", opt->out, "Directory for analysis.json, adev.csv, drift.csv and (gyro) imu.yaml");
+  CLI::Option* out_opt =
+      cmd->add_option("--out", opt->out, "Directory for analysis.json, adev.csv, drift.csv and (gyro) imu.yaml");
   cmd->add_flag("--force", opt->force, "Replace files in --out");
+  cmd->add_flag("--report", opt->report, "Also write --out/report.html with its plots (as `cubecal report`)")
+      ->needs(out_opt);
   cmd->add_option("--format", opt->format, "Standard output: table or json")
       ->check(CLI::IsMember({"table", "json"}))
       ->capture_default_str();

@@ -9,8 +9,10 @@
 #include "common_options.hpp"
 #include "cubecal/io/error.hpp"
 #include "cubecal/io/series.hpp"
+#include "cubecal/pipeline/analysis_output.hpp"
 #include "cubecal/pipeline/dev_pipeline.hpp"
 #include "output.hpp"
+#include "progress.hpp"
 
 namespace cubecal::cli {
 
@@ -46,8 +48,13 @@ int run_dev_command(const DevOptions& o) {
   req.options.intervals = !o.no_ci;
   req.threads = o.input.threads;
 
+  const std::size_t bytes = file_size_or_zero(o.input.file);
+  Progress progress(bytes > 50'000'000);
+  progress.stage(fmt::format("reading {} ({:.0f} MB)", o.input.file, static_cast<double>(bytes) / 1e6));
   const io::Series series = io::read_series(o.input.file, to_series_options(o.input));
+  progress.stage(fmt::format("{} of {} channels", to_string(req.stat), series.channels.size()));
   const pipeline::DevResult res = pipeline::run_dev(series, req);
+  progress.done();
 
   DevContext ctx{o.input.file, o.ci, o.edf, !o.no_ci};
   std::optional<OutputFile> file;
@@ -58,7 +65,7 @@ int run_dev_command(const DevOptions& o) {
                              "contiguous segment ({} segments) and combined\n",
                              series.irregular_intervals, res.segments);
   if (o.format == "json")
-    out << dev_to_json(res, ctx).dump(1) << '\n';
+    out << pipeline::dev_json(res, {ctx.file, ctx.ci, ctx.edf_method, ctx.intervals});
   else if (o.format == "csv")
     write_dev_csv(out, res, ctx);
   else

@@ -11,7 +11,16 @@ using Command = std::function<int()>;
 
 CLI::App* add_dev_command(CLI::App& app, Command& run);
 CLI::App* add_analyze_command(CLI::App& app, Command& run);
+CLI::App* add_simulate_command(CLI::App& app, Command& run);
 CLI::App* add_demo_command(CLI::App& app, Command& run);
+CLI::App* add_calibrate_command(CLI::App& app, Command& run);
+CLI::App* add_report_command(CLI::App& app, Command& run);
+CLI::App* add_turnon_command(CLI::App& app, Command& run);
+CLI::App* add_compare_command(CLI::App& app, Command& run);
+// Registered on the `calibrate` subcommand:
+CLI::App* add_calibrate_rate_table_command(CLI::App& calibrate, Command& run);
+CLI::App* add_calibrate_mag_command(CLI::App& calibrate, Command& run);
+CLI::App* add_calibrate_temperature_command(CLI::App& calibrate, Command& run);
 
 // The command line as typed (shell-quoted where needed), for result files
 // that must say how to reproduce them.

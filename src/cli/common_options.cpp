@@ -22,10 +22,14 @@ std::vector<std::string> split_list(const std::string& s) {
   return out;
 }
 
-void add_input_options(CLI::App& app, InputOptions& opt) {
-  app.add_option("file", opt.file, "Input file: delimited text (comma, tab, semicolon or "
-                                   "whitespace), optionally gzip-compressed")
-      ->required();
+void add_input_options(CLI::App& app, InputOptions& opt, bool several) {
+  if (several)
+    app.add_option("files", opt.files, "Input files (one record each): delimited text, optionally gzip")
+        ->required();
+  else
+    app.add_option("file", opt.file, "Input file: delimited text (comma, tab, semicolon or "
+                                     "whitespace), optionally gzip-compressed")
+        ->required();
   app.add_option("--columns", opt.columns,
                  "Columns to analyse, by header name or 1-based index (gx,gy,gz or 2,3,4); "
                  "default: every column except the time column");

@@ -10,6 +10,7 @@ namespace cubecal::cli {
 
 struct InputOptions {
   std::string file;
+  std::vector<std::string> files;  // commands that take several records (turnon, compare)
   std::string columns;      // "gx,gy,gz" or "2,3,4"
   std::string time_col;
   double rate_hz = 0.0;
@@ -19,7 +20,8 @@ struct InputOptions {
   unsigned threads = 0;
 };
 
-void add_input_options(CLI::App& app, InputOptions& opt);
+// Registers FILE (or FILE... when `several`) and the reader options.
+void add_input_options(CLI::App& app, InputOptions& opt, bool several = false);
 
 // Validated reader options; throws io::UsageError on contradictions.
 io::SeriesOptions to_series_options(const InputOptions& opt);

@@ -30,6 +30,11 @@ int main(int argc, char** argv) {
   cubecal::cli::set_invocation(argc, argv);
   cubecal::cli::add_dev_command(app, run);
   cubecal::cli::add_analyze_command(app, run);
+  cubecal::cli::add_simulate_command(app, run);
+  cubecal::cli::add_calibrate_command(app, run);
+  cubecal::cli::add_turnon_command(app, run);
+  cubecal::cli::add_compare_command(app, run);
+  cubecal::cli::add_report_command(app, run);
   cubecal::cli::add_demo_command(app, run);
 
   try {

@@ -52,47 +52,18 @@ void write_dev_csv(std::ostream& out, const pipeline::DevResult& r, const DevCon
                  ctx.intervals ? g(p.lo) : "", g(p.dev), ctx.intervals ? g(p.hi) : "");
 }
 
-nlohmann::json dev_to_json(const pipeline::DevResult& r, const DevContext& ctx) {
-  nlohmann::json j;
-  j["stat"] = to_string(r.stat);
-  j["type"] = to_string(r.type);
-  j["rate_hz"] = r.rate_hz;
-  j["file"] = ctx.file;
-  j["samples"] = r.samples;
-  j["segments"] = r.segments;
-  j["ci"] = ctx.intervals ? nlohmann::json(ctx.ci) : nlohmann::json(nullptr);
-  j["edf_method"] = ctx.edf_method;
-  nlohmann::json cols = nlohmann::json::array();
-  for (const auto& ch : r.channels) {
-    nlohmann::json c;
-    c["name"] = ch.name;
-    std::vector<double> tau, dev, lo, hi, edf;
-    std::vector<std::size_t> n, af;
-    std::vector<int> alpha;
-    for (const auto& p : ch.points) {
-      af.push_back(p.m);
-      tau.push_back(p.tau);
-      dev.push_back(p.dev);
-      n.push_back(p.n);
-      lo.push_back(p.lo);
-      hi.push_back(p.hi);
-      edf.push_back(p.edf);
-      alpha.push_back(p.alpha);
-    }
-    c["af"] = af;
-    c["tau"] = tau;
-    c["dev"] = dev;
-    c["n"] = n;
-    if (ctx.intervals) {
-      c["lo"] = lo;
-      c["hi"] = hi;
-      c["edf"] = edf;
-      c["alpha"] = alpha;
-    }
-    cols.push_back(std::move(c));
+void write_analysis_files(const std::string& dir, const pipeline::AnalysisResult& r,
+                          const pipeline::OutputContext& ctx) {
+  namespace fs = std::filesystem;
+  fs::create_directories(dir);
+  const std::string texts[] = {pipeline::analysis_json(r, ctx), pipeline::adev_csv(r), pipeline::drift_csv(r),
+                               pipeline::kalibr_yaml(r, ctx)};
+  for (std::size_t k = 0; k < std::size(texts); ++k) {
+    if (texts[k].empty()) continue;  // imu.yaml only with rate channels
+    OutputFile f((fs::path(dir) / pipeline::kAnalysisFiles[k]).string(), true);
+    f.stream() << texts[k];
+    f.commit();
   }
-  j["columns"] = std::move(cols);
-  return j;
 }
 
 struct OutputFile::Impl {

@@ -2,10 +2,10 @@
 // programs. Also the rule that nothing the user has is overwritten unasked.
 #pragma once
 #include <memory>
-#include <nlohmann/json.hpp>
 #include <ostream>
 #include <string>
 
+#include "cubecal/pipeline/analysis_output.hpp"
 #include "cubecal/pipeline/dev_pipeline.hpp"
 
 namespace cubecal::cli {
@@ -19,7 +19,9 @@ struct DevContext {
 
 void write_dev_table(std::ostream& out, const pipeline::DevResult& r, const DevContext& ctx);
 void write_dev_csv(std::ostream& out, const pipeline::DevResult& r, const DevContext& ctx);
-nlohmann::json dev_to_json(const pipeline::DevResult& r, const DevContext& ctx);
+// analysis.json, adev.csv, drift.csv and imu.yaml into dir (created).
+void write_analysis_files(const std::string& dir, const pipeline::AnalysisResult& r,
+                          const pipeline::OutputContext& ctx);
 
 // Opens `path` for writing; refuses (io::UsageError) to replace an existing
 // file unless `force`. Writes go to a temporary file renamed into place on

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace cubecal {
 
@@ -32,6 +33,24 @@ AllanCurve to_allan_curve(const std::vector<StabilityPoint>& points) {
     c.edf.push_back(p.edf);
   }
   return c;
+}
+
+double relative_uncertainty(const AllanCurve& c, std::size_t i) noexcept {
+  if (i < c.lo.size() && i < c.hi.size() && c.hi[i] > c.lo[i] && c.dev[i] > 0.0)
+    return (c.hi[i] - c.lo[i]) / (2.0 * c.dev[i]);
+  if (i < c.edf.size() && c.edf[i] > 0.0) return 1.0 / std::sqrt(2.0 * c.edf[i]);
+  return 0.0;
+}
+
+std::vector<std::size_t> well_measured(const AllanCurve& c, std::size_t first, std::size_t last,
+                                       double factor) {
+  std::vector<std::size_t> out;
+  if (first > last || last >= c.size()) return out;
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t i = first; i <= last; ++i) best = std::min(best, relative_uncertainty(c, i));
+  for (std::size_t i = first; i <= last; ++i)
+    if (relative_uncertainty(c, i) <= factor * best) out.push_back(i);
+  return out;
 }
 
 }  // namespace cubecal

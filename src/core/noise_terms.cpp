@@ -142,7 +142,7 @@ TermEstimate read_line(const AllanCurve& c, const std::vector<double>& slope,
   const Run r = term.at_short_taus ? runs.front() : runs.back();
   std::size_t best = r.first;
   double best_value = std::numeric_limits<double>::infinity();
-  for (std::size_t i = r.first; i <= r.last; ++i) {
+  for (const std::size_t i : well_measured(c, r.first, r.last)) {
     const double v = c.dev[i] * std::pow(term.tau_read / c.tau[i], term.slope);
     if (v < best_value) { best_value = v; best = i; }
   }

@@ -213,7 +213,8 @@ double avar(const GaussMarkovModel& model, std::size_t m) noexcept {
 // lowest point of the whole curve.
 //
 // Tangent: the white line sigma(tau) = N / sqrt(tau) tangent from below to
-// the measured points left of the minimum, N^2 = min_i dev_i^2 tau_i. We
+// the well-measured points left of the minimum (allan_curve.hpp),
+// N^2 = min_i dev_i^2 tau_i. We
 // choose to make the model's WHITE PART equal that line, N^2 / dt =
 // sigma_n^2 + q^2 (the quantization share comes off sigma_n). With the
 // random-walk term added the model curve at small tau sits slightly above the
@@ -250,7 +251,8 @@ RandomWalkModel fit_random_walk_model(const AllanCurve& curve, double dt, double
         " s); use a longer record or a larger maximum tau");
 
   double n2 = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < imin; ++i) n2 = std::min(n2, curve.dev[i] * curve.dev[i] * curve.tau[i]);
+  for (const std::size_t i : well_measured(curve, 0, imin - 1))
+    n2 = std::min(n2, curve.dev[i] * curve.dev[i] * curve.tau[i]);
 
   const double q2 = quantization_variance(lsb);
   const double white = n2 / dt;  // sigma_n^2 + q^2

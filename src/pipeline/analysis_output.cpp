@@ -32,11 +32,13 @@ json term(const TermEstimate& t, Term which, const Unit& u) {
   return j;
 }
 
-json adev_json(const std::vector<StabilityPoint>& pts) {
+// Parallel arrays of a curve; the interval fields only when computed.
+json adev_json(const std::vector<StabilityPoint>& pts, bool intervals = true) {
   std::vector<double> tau, dev, lo, hi, edf;
-  std::vector<std::size_t> n;
+  std::vector<std::size_t> n, af;
   std::vector<int> alpha;
   for (const auto& p : pts) {
+    af.push_back(p.m);
     tau.push_back(p.tau);
     dev.push_back(p.dev);
     lo.push_back(p.lo);
@@ -45,7 +47,14 @@ json adev_json(const std::vector<StabilityPoint>& pts) {
     edf.push_back(p.edf);
     alpha.push_back(p.alpha);
   }
-  return json{{"tau", tau}, {"dev", dev}, {"lo", lo}, {"hi", hi}, {"n", n}, {"edf", edf}, {"alpha", alpha}};
+  json j{{"af", af}, {"tau", tau}, {"dev", dev}, {"n", n}};
+  if (intervals) {
+    j["lo"] = lo;
+    j["hi"] = hi;
+    j["edf"] = edf;
+    j["alpha"] = alpha;
+  }
+  return j;
 }
 
 json noise_json(const NoiseAnalysis& n, const Unit& u) {
@@ -162,6 +171,26 @@ std::string analysis_json(const AnalysisResult& r, const OutputContext& ctx) {
   if (!r.channels.empty()) cov_unit = "(" + r.channels[0].unit.name + ")^2";
   j["covariance"] = {{"channels", r.cov_names}, {"matrix", r.covariance}, {"samples", r.cov_samples},
                      {"unit", cov_unit}};
+  return j.dump(1) + "\n";
+}
+
+std::string dev_json(const DevResult& r, const DevJsonContext& ctx) {
+  json j;
+  j["stat"] = to_string(r.stat);
+  j["type"] = to_string(r.type);
+  j["rate_hz"] = r.rate_hz;
+  j["file"] = ctx.file;
+  j["samples"] = r.samples;
+  j["segments"] = r.segments;
+  j["ci"] = ctx.intervals ? json(ctx.ci) : json(nullptr);
+  j["edf_method"] = ctx.edf_method;
+  json cols = json::array();
+  for (const auto& ch : r.channels) {
+    json c = adev_json(ch.points, ctx.intervals);
+    c["name"] = ch.name;
+    cols.push_back(std::move(c));
+  }
+  j["columns"] = std::move(cols);
   return j.dump(1) + "\n";
 }
 

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "cubecal/pipeline/analyze.hpp"
+#include "cubecal/pipeline/dev_pipeline.hpp"
 
 namespace cubecal::pipeline {
 
@@ -13,6 +14,20 @@ struct OutputContext {
 };
 
 std::string analysis_json(const AnalysisResult& r, const OutputContext& ctx);
+
+// `cubecal dev --format json`: {"stat","type","rate_hz","file","samples",
+// "segments","ci","edf_method","columns":[{"name","af","tau","dev","n"
+// [,"lo","hi","edf","alpha"]}]}.
+struct DevJsonContext {
+  std::string file;
+  double ci = 0.683;
+  std::string edf_method = "greenhall";
+  bool intervals = true;
+};
+std::string dev_json(const DevResult& r, const DevJsonContext& ctx);
+
+// The names of the files `analyze --out` writes, in order.
+inline constexpr const char* kAnalysisFiles[] = {"analysis.json", "adev.csv", "drift.csv", "imu.yaml"};
 
 // Long format, one row per channel and tau: measured OADEV with its interval,
 // and the fitted five-term, random-walk and Gauss-Markov model deviations.

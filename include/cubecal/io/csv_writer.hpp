@@ -1,0 +1,38 @@
+// Delimited-text output that the readers take back: comma-separated, one
+// header line, numbers in the shortest form that keeps 9 significant digits.
+// A name ending in .gz is written gzip-compressed. Writes go to
+// NAME.partial and are renamed into place by commit(), so an interrupted run
+// never leaves a truncated file under the real name; an existing file is
+// replaced only when asked.
+#pragma once
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace cubecal::io {
+
+class CsvWriter {
+ public:
+  // Throws UsageError when `path` exists and !force, or cannot be written.
+  CsvWriter(std::string path, bool force);
+  ~CsvWriter();
+  CsvWriter(const CsvWriter&) = delete;
+  CsvWriter& operator=(const CsvWriter&) = delete;
+
+  void header(const std::vector<std::string>& names);
+  void row(std::span<const double> values);
+  void commit();
+  const std::string& path() const noexcept { return path_; }
+
+ private:
+  void flush();
+  std::string path_;
+  std::string tmp_;
+  std::string buf_;
+  bool gzip_ = false;
+  struct Sink;
+  std::unique_ptr<Sink> sink_;
+};
+
+}  // namespace cubecal::io

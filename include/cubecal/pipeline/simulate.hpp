@@ -1,0 +1,62 @@
+// `cubecal simulate` as a library call: records from sensor models (presets
+// or an `analyze` result) at a rate and duration, with a temperature profile
+// and an optional true-rate profile, in memory or streamed to CSV.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "cubecal/core/sensor_simulator.hpp"
+#include "cubecal/io/csv_writer.hpp"
+
+namespace cubecal::pipeline {
+
+struct RateProfile {
+  std::vector<double> t;                  // s, ascending
+  std::array<std::vector<double>, 3> w;   // true input per axis at t (zero-order hold)
+  bool empty() const noexcept { return t.empty(); }
+};
+
+struct SimulateRequest {
+  std::vector<TriadModel> triads;
+  double rate_hz = 10.0;
+  double duration_s = 3600.0;
+  std::uint64_t seed = 1;
+  TemperatureProfile temperature;
+  bool temperature_column = true;
+  RateProfile true_input;                 // applied to the first rate (deg/s or rad/s) triad
+  std::function<void(double)> progress;   // called with the fraction done, per block (optional)
+};
+
+struct SimulatedRecord {
+  double rate_hz = 0.0;
+  std::vector<std::string> names;              // t excluded; temp last when present
+  std::vector<std::vector<double>> channels;   // one per name
+};
+
+std::size_t sample_count(const SimulateRequest& r);
+
+// Channel names in output order (axis names of each triad, then "temp").
+std::vector<std::string> channel_names(const SimulateRequest& r);
+
+SimulatedRecord simulate(const SimulateRequest& r);
+
+// Streams the record to `out` (header t,<axes...>,temp) in blocks, so days
+// of data need no more memory than one block.
+void write_simulation(const SimulateRequest& r, io::CsvWriter& out);
+
+// Sensor models from an `analyze` result (analysis.json text): consecutive
+// channels form triads (a last partial triad keeps only its channels); the
+// fixed bias is the measured mean, white noise and bias process come from
+// the fitted random-walk model, or the Gauss-Markov model when asked; the
+// quantizer is the model's LSB. Throws io::UsageError for a file that is not
+// an analysis result or has no fitted model.
+std::vector<TriadModel> models_from_analysis(const std::string& json_text, const std::string& label,
+                                             bool gauss_markov);
+
+// "72h", "30m", "90s", "2d" or a number of seconds.
+double parse_duration(const std::string& s);
+
+}  // namespace cubecal::pipeline

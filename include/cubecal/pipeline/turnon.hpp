@@ -1,0 +1,37 @@
+// Turn-on bias and run-to-run comparison over several records of the same
+// sensor (the paper's five power-cycled 3 h runs, and its 10/100/250 Hz runs).
+#pragma once
+#include <string>
+#include <vector>
+
+#include "cubecal/pipeline/analyze.hpp"
+
+namespace cubecal::pipeline {
+
+struct RunSummary {
+  std::string file;
+  std::size_t samples = 0;
+  double rate_hz = 0.0;
+  std::vector<ChannelAnalysis> channels;  // per channel: mean (the run's bias), noise terms
+};
+
+struct TurnOnResult {
+  std::vector<std::string> names;
+  std::vector<Unit> units;
+  std::vector<RunSummary> runs;
+  std::vector<double> mean_bias;     // mean over runs of the run biases
+  std::vector<double> turn_on;       // sample standard deviation of the run biases
+  std::vector<double> turn_on_lo;    // its confidence interval (chi-squared, runs - 1 dof)
+  std::vector<double> turn_on_hi;
+  double ci = 0.683;
+};
+
+// Every run is analysed as `analyze` does (same request); runs must have the
+// same channels. Throws io::UsageError for fewer than 2 runs or mismatched
+// channels.
+TurnOnResult run_turnon(const std::vector<io::Series>& runs, const AnalyzeRequest& request);
+
+// Each run analysed on its own, for side-by-side Allan curves and N, B, T.
+std::vector<RunSummary> run_compare(const std::vector<io::Series>& runs, const AnalyzeRequest& request);
+
+}  // namespace cubecal::pipeline

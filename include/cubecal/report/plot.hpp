@@ -1,0 +1,95 @@
+// Plots as data: a small description (title, axes, series with a style)
+// that cubecal renders with gnuplot. Every plot leaves three files a user can
+// keep working with, side by side in one directory:
+//   NAME.dat   the numbers, one block per series (gnuplot `index K`)
+//   NAME.gp    a readable gnuplot script: line styles first, then the plot;
+//              `gnuplot NAME.gp` run in that directory writes the two images
+//   NAME.svg   (for the HTML report) and NAME.png (for slides and papers)
+// Any command that wants a figure builds a Plot and calls render_plots().
+#pragma once
+#include <cstddef>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace cubecal::report {
+
+enum class Dash { solid, dashed, dotted, dash_dot };
+
+enum class Mark {
+  line,        // x, y joined
+  points,      // x, y as marks
+  errorlines,  // x, y joined, with y error bars from lo..hi
+  errorbars,   // x, y as marks, with y error bars from lo..hi
+};
+
+struct PlotSeries {
+  // Legend text (plain text: never interpreted as gnuplot markup); empty:
+  // not in the legend. A series without data is a legend entry only.
+  std::string label;
+  std::vector<double> x, y;
+  std::vector<double> lo, hi;    // error bar bounds (errorlines, errorbars)
+  Mark mark = Mark::line;
+  Dash dash = Dash::solid;
+  std::string color = "#1f77b4"; // #RRGGBB
+  double opacity = 1.0;          // 0..1
+  double width = 1.5;            // line width, gnuplot units
+  double point_size = 0.4;
+  bool scale = true;             // counts for the automatic range of a log axis
+};
+
+struct PlotAxis {
+  std::string label;             // plain text (UTF-8)
+  bool log = false;
+  std::optional<double> min, max;  // fixed range; autoscaled otherwise
+};
+
+struct Plot {
+  std::string name;              // file stem: letters, digits, '_', '-'
+  std::string title;             // plain text
+  PlotAxis x, y;
+  std::vector<PlotSeries> series;
+  std::string key = "outside right top";  // gnuplot `set key` arguments
+  std::vector<std::string> notes;  // comment lines at the top of the .gp and .dat
+  int width = 900, height = 600;   // pixels
+};
+
+// The text of NAME.dat and NAME.gp for `plot` (deterministic).
+std::string plot_data(const Plot& plot);
+std::string gnuplot_script(const Plot& plot);
+
+struct RenderOptions {
+  std::string gnuplot;           // executable; empty: `gnuplot` on PATH
+  bool keep_scripts = false;     // an existing NAME.gp is run as it is (a user's restyled script)
+  unsigned jobs = 0;             // gnuplot processes at once (0: hardware threads)
+};
+
+struct RenderedPlot {
+  std::string name;
+  std::string title;
+  std::filesystem::path dat, gp, svg, png;
+  std::string svg_text;          // the SVG document gnuplot wrote
+};
+
+// The gnuplot executable: `explicit_path` when it names an executable file,
+// else `gnuplot` on PATH; nullopt when there is none.
+std::optional<std::string> find_gnuplot(const std::string& explicit_path = {});
+
+// The one-line message for a missing gnuplot.
+inline constexpr const char* kGnuplotMissing =
+    "gnuplot not found: install gnuplot-nox (scripts/install-deps.sh)";
+
+// Writes NAME.dat and NAME.gp of every plot into `dir` (created), runs
+// gnuplot on the scripts (several at once, each in `dir`) and reads the SVGs
+// back. Throws io::UsageError when gnuplot is missing or a script fails (the
+// message quotes gnuplot's first error line and names the script).
+std::vector<RenderedPlot> render_plots(const std::vector<Plot>& plots, const std::filesystem::path& dir,
+                                       const RenderOptions& options = {});
+
+// At most about `max_points` points of (x, y) for drawing: the minimum and
+// maximum of each of max_points/2 consecutive buckets, in x order, so peaks
+// survive. Shorter series are returned unchanged.
+void decimate_minmax(std::vector<double>& x, std::vector<double>& y, std::size_t max_points);
+
+}  // namespace cubecal::report

@@ -1,0 +1,48 @@
+// `cubecal report DIR`: the results `cubecal analyze --out DIR` left
+// (analysis.json, adev.csv, drift.csv) as one self-contained HTML page,
+// DIR/report.html, with its plots rendered by gnuplot into DIR/plots/:
+//   allan_<sensor>        OADEV with intervals, the fitted random-walk model
+//                         (dashed), the Gauss-Markov model (dotted) and the
+//                         fitted noise-term lines (the paper's Figs. 1, 2, 4)
+//   drift_<sensor>        bias drift of the data and of the fitted model,
+//                         simulated (Figs. 3, 5)
+//   temperature_<sensor>  the fitted bias-temperature polynomial
+//   compensated_<sensor>  OADEV before and after temperature compensation
+// <sensor> is rate, field or other (channels grouped by the kind of unit).
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace cubecal::report {
+
+struct ReportOptions {
+  bool force = false;            // replace an existing report.html and plots/ files
+  bool keep_scripts = false;     // re-render from existing (user-edited) plots/*.gp
+  bool require_plots = true;     // false: without gnuplot, write the page without plots (and say so)
+  std::string gnuplot;           // gnuplot executable; empty: on PATH
+  std::size_t max_points = 2000; // per drift series in a plot
+  std::uint64_t seed = 1;        // of the simulated model drift
+  unsigned jobs = 0;             // gnuplot processes at once (0: hardware threads)
+};
+
+struct ReportResult {
+  std::string html_path;
+  std::size_t html_bytes = 0;
+  std::vector<std::string> plots;  // names of the plots in plots/
+  std::string note;                // why plots are missing (require_plots = false), else empty
+  double seconds = 0.0;            // wall time of write_report
+};
+
+// Reads DIR/analysis.json (required), DIR/adev.csv (the model curves; computed
+// from analysis.json when absent) and DIR/drift.csv (drift plots; skipped when
+// absent), renders the plots and writes DIR/report.html atomically. Throws
+// io::UsageError with one line for: no analysis.json, a file that is not an
+// analysis result, gnuplot missing, an existing report without `force`.
+ReportResult write_report(const std::string& dir, const ReportOptions& options = {});
+
+// The files write_report would replace that exist now (report.html, plots/).
+std::vector<std::string> existing_report_outputs(const std::string& dir);
+
+}  // namespace cubecal::report

@@ -1,0 +1,16 @@
+// cubecal calibrate: rate-table, magnetometer and temperature calibration.
+#include "commands.hpp"
+
+namespace cubecal::cli {
+
+CLI::App* add_calibrate_command(CLI::App& app, Command& run) {
+  CLI::App* cmd = app.add_subcommand("calibrate", "Calibration from lab logs: rate-table (gyro scale factor, "
+                                                  "misalignment, bias), mag (TWOSTEP, ellipsoid), temperature");
+  cmd->require_subcommand(1);
+  add_calibrate_rate_table_command(*cmd, run);
+  add_calibrate_mag_command(*cmd, run);
+  add_calibrate_temperature_command(*cmd, run);
+  return cmd;
+}
+
+}  // namespace cubecal::cli

@@ -1,0 +1,277 @@
+// cubecal calibrate mag: hard- and soft-iron calibration of a magnetometer
+// from points measured over many orientations (no time stamps needed):
+// TWOSTEP bias only, TWOSTEP bias + symmetric D, or the Li-Griffiths
+// ellipsoid fit Magneto uses. Result: h_cal = A^-1 (h - b).
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+
+#include <cmath>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <stdexcept>
+
+#include "commands.hpp"
+#include "common_options.hpp"
+#include "cubecal/core/mag_calibration.hpp"
+#include "cubecal/io/delimited_reader.hpp"
+#include "cubecal/io/error.hpp"
+#include "output.hpp"
+
+namespace cubecal::cli {
+
+namespace {
+
+struct MagCliOptions {
+  std::string file;
+  std::string columns;
+  std::size_t skip_rows = 0;
+  double lsb = 1.0;
+  std::string method = "ellipsoid";
+  double field_norm = 0.0;
+  bool field_norm_given = false;
+  std::string field_col;
+  double noise = 0.0;
+  bool noise_given = false;
+  double reject = 0.0;
+  bool partial = false;
+  std::string unit;
+  std::string format = "table";
+  std::string out;
+  bool force = false;
+  unsigned threads = 0;
+};
+
+const char* method_text(mag::Method m) {
+  switch (m) {
+    case mag::Method::twostep: return "TWOSTEP, bias only (Alonso & Shuster 2002)";
+    case mag::Method::twostep_full: return "TWOSTEP, bias + symmetric D (Alonso & Shuster 2002)";
+    case mag::Method::ellipsoid: return "Li-Griffiths ellipsoid fit, k = 4 (as Magneto)";
+  }
+  return "";
+}
+
+struct Context {
+  std::string file;
+  std::string unit;
+  std::string field_source;  // "given", "mean_raw_norm", "column"
+  std::size_t points_total = 0;
+  std::size_t first_data_line = 0;
+};
+
+nlohmann::json norm_json(const mag::NormError& e, const std::string& unit) {
+  return {{"mean", e.mean}, {"rms", e.rms}, {"max", e.max}, {"unit", unit}};
+}
+
+nlohmann::json result_json(const mag::Result& r, const Context& ctx) {
+  nlohmann::json j;
+  j["file"] = ctx.file;
+  j["invocation"] = invocation();
+  j["method"] = std::string(mag::to_string(r.method));
+  j["model"] = "h_cal = soft_iron * (h - bias), |h_cal| = field_norm";
+  j["unit"] = ctx.unit;
+  j["bias"] = r.bias;
+  j["bias_sigma"] = r.bias_sigma;
+  j["soft_iron"] = r.soft_iron;
+  j["soft_iron_sigma"] = r.soft_iron_sigma;
+  j["soft_iron_unit"] = "1";
+  j["field_norm"] = r.field_norm;
+  j["field_norm_source"] = ctx.field_source;
+  j["norm_error_before"] = norm_json(r.before, ctx.unit);
+  j["norm_error_after"] = norm_json(r.after, ctx.unit);
+  j["chi2"] = r.chi2;
+  j["dof"] = r.dof;
+  j["p_value"] = r.p_value ? nlohmann::json(*r.p_value) : nlohmann::json(nullptr);
+  j["noise"] = r.noise;
+  j["noise_estimated"] = r.noise_estimated;
+  j["points"] = r.points_used;
+  j["points_total"] = ctx.points_total;
+  j["rejected"] = r.points_rejected;
+  j["reject_sigma"] = r.reject_sigma;
+  nlohmann::json lines = nlohmann::json::array();
+  for (std::size_t k : r.rejected) lines.push_back(ctx.first_data_line + k);
+  j["rejected_lines"] = lines;
+  j["iterations"] = r.iterations;
+  j["converged"] = r.converged;
+  j["semi_axes"] = r.semi_axes;
+  j["axis_ratio"] = r.axis_ratio;
+  j["coverage"] = {{"centre", r.coverage.centre},
+                   {"resultant", r.coverage.resultant},
+                   {"lambda_min", r.coverage.lambda_min},
+                   {"spread", r.coverage.spread},
+                   {"octants", r.coverage.octants}};
+  j["covariance"] = {{"names", r.covariance_names}, {"matrix", r.covariance}};
+  j["notes"] = r.notes;
+  return j;
+}
+
+void print_table(std::ostream& out, const mag::Result& r, const Context& ctx) {
+  const std::string u = ctx.unit == "input units" ? std::string() : ctx.unit;
+  fmt::print(out, "{}: {} points used of {}", ctx.file, r.points_used, ctx.points_total);
+  if (r.points_rejected > 0) fmt::print(out, " ({} rejected at {:g} sigma)", r.points_rejected, r.reject_sigma);
+  fmt::print(out, "\nmethod     {}\n", method_text(r.method));
+  fmt::print(out, "field norm {:.6g} {} ({})\n", r.field_norm, u,
+             ctx.field_source == "given"    ? "given"
+             : ctx.field_source == "column" ? "mean of the field-norm column"
+                                            : "mean raw |h|, Magneto's default: give --field-norm for an absolute scale");
+  const bool bias_only = r.method == mag::Method::twostep;
+  fmt::print(out, "\ncalibration  h_cal = A^-1 (h - b), 1-sigma{}\n", bias_only ? "; A^-1 = I (bias only)" : "");
+  const char* axes = "xyz";
+  for (std::size_t i = 0; i < 3; ++i) {
+    fmt::print(out, "  {}  b {:>12.6g} ± {:<9.2g} {}", axes[i], r.bias[i], r.bias_sigma[i], u);
+    if (!bias_only) {
+      fmt::print(out, "  A^-1");
+      for (std::size_t k = 0; k < 3; ++k)
+        fmt::print(out, " {:>10.6f} ± {:<8.2g}", r.soft_iron[i][k], r.soft_iron_sigma[i][k]);
+    }
+    out << '\n';
+  }
+  fmt::print(out, "  semi-axes of the raw ellipsoid {:.6g} {:.6g} {:.6g} {}, axis ratio {:.5f}\n", r.semi_axes[0],
+             r.semi_axes[1], r.semi_axes[2], u, r.axis_ratio);
+  fmt::print(out, "\n|h| - F, {}:  before mean {:.4g} rms {:.4g} max {:.4g};  after mean {:.4g} rms {:.4g} max {:.4g} "
+             "({:.3g} % of F)\n",
+             u, r.before.mean, r.before.rms, r.before.max, r.after.mean, r.after.rms, r.after.max,
+             100.0 * r.after.rms / r.field_norm);
+  if (r.noise_estimated)
+    fmt::print(out, "noise      s = {:.4g} {} per axis, estimated from the residuals (chi2 = dof = {})\n", r.noise, u,
+               r.dof);
+  else
+    fmt::print(out, "noise      s = {:.4g} {} per axis given; chi2 {:.1f} for {} dof, p = {:.3g}\n", r.noise, u, r.chi2,
+               r.dof, r.p_value.value_or(0.0));
+  if (r.method != mag::Method::ellipsoid)
+    fmt::print(out, "TWOSTEP    {} iterations of step 2, {}\n", r.iterations, r.converged ? "converged" : "NOT converged");
+  fmt::print(out,
+             "coverage   mean resultant {:.3f} (0 whole sphere, 0.5 hemisphere), smallest scatter eigenvalue {:.3f} "
+             "(1/3 whole sphere), {} of 8 octants\n",
+             r.coverage.resultant, r.coverage.lambda_min, r.coverage.octants);
+  for (const auto& n : r.notes) fmt::print(out, "note: {}\n", n);
+}
+
+int run_calibrate_mag(const MagCliOptions& o) {
+  const auto method = mag::parse_method(o.method);
+  if (!method) throw io::UsageError("--method must be twostep, twostep-full or ellipsoid");
+  if (!(o.lsb > 0.0) || !std::isfinite(o.lsb))
+    throw io::UsageError("--lsb must be a positive number of counts per unit");
+  if (o.field_norm_given && (!(o.field_norm > 0.0) || !std::isfinite(o.field_norm)))
+    throw io::UsageError("--field-norm must be a positive field magnitude (in the units of the values after --lsb)");
+  if (o.noise_given && (!(o.noise > 0.0) || !std::isfinite(o.noise)))
+    throw io::UsageError("--noise must be a positive standard deviation per axis (leave it out to estimate it)");
+  if (!(o.reject >= 0.0) || !std::isfinite(o.reject))
+    throw io::UsageError("--reject must be a positive number of standard deviations (0: no rejection)");
+  if (o.field_norm_given && !o.field_col.empty())
+    throw io::UsageError("give either --field-norm or --field-col, not both");
+  if (!o.field_col.empty() && *method == mag::Method::ellipsoid)
+    throw io::UsageError("--field-col (a field norm per point) needs --method twostep or twostep-full");
+  const std::vector<std::string> cols = split_list(o.columns);
+  if (!cols.empty() && cols.size() != 3)
+    throw io::UsageError("--columns takes the 3 magnetometer columns (mx,my,mz or 1,2,3)");
+
+  // Refuse to replace a result before spending any time.
+  std::optional<OutputFile> file;
+  if (!o.out.empty()) file.emplace(o.out, o.force);
+
+  io::TableOptions to;
+  to.columns = cols;
+  to.skip_rows = o.skip_rows;
+  to.threads = o.threads;
+  if (!o.field_col.empty()) to.extra_columns.push_back(o.field_col);
+  const io::Table t = io::read_table(o.file, to);
+  if (t.data.size() != 3)
+    throw io::UsageError(o.file + " has " + std::to_string(t.data.size()) +
+                         " data columns: name the 3 magnetometer columns with --columns mx,my,mz");
+  std::vector<mag::Vec3> h(t.rows());
+  for (std::size_t i = 0; i < h.size(); ++i)
+    h[i] = {t.data[0][i] / o.lsb, t.data[1][i] / o.lsb, t.data[2][i] / o.lsb};
+
+  mag::Options opt;
+  opt.method = *method;
+  opt.field_norm = o.field_norm_given ? o.field_norm : 0.0;
+  if (!o.field_col.empty()) opt.field_norms = t.extra[0];
+  opt.noise = o.noise_given ? o.noise : 0.0;
+  opt.reject_sigma = o.reject;
+  opt.check_coverage = !o.partial;
+
+  Context ctx;
+  ctx.file = o.file;
+  ctx.unit = o.unit.empty() ? std::string("input units") : o.unit;
+  ctx.field_source = !o.field_col.empty() ? "column" : o.field_norm_given ? "given" : "mean_raw_norm";
+  ctx.points_total = h.size();
+  ctx.first_data_line = t.first_data_line;
+
+  mag::Result r;
+  try {
+    r = mag::calibrate(h, opt);
+  } catch (const std::invalid_argument& e) {
+    const std::string what = e.what();
+    std::string hint;
+    if (what.find("do not cover the sphere") != std::string::npos)
+      hint = *method == mag::Method::twostep
+                 ? "add --allow-partial to fit anyway"
+                 : "add --allow-partial to fit anyway and judge the uncertainties, or use --method twostep";
+    else if (what.find("field norm") != std::string::npos && !o.field_col.empty())
+      hint = "check --field-col";
+    throw io::InputError(o.file, 0, 0, what, hint);
+  }
+
+  std::ostream& out = file ? file->stream() : std::cout;
+  if (o.format == "json")
+    out << result_json(r, ctx).dump(2) << '\n';
+  else
+    print_table(out, r, ctx);
+  if (file) {
+    file->commit();
+    std::cerr << "cubecal: wrote " << o.out << '\n';
+  }
+  return 0;
+}
+
+}  // namespace
+
+CLI::App* add_calibrate_mag_command(CLI::App& calibrate, Command& run) {
+  auto opt = std::make_shared<MagCliOptions>();
+  CLI::App* cmd = calibrate.add_subcommand(
+      "mag",
+      "Magnetometer hard- and soft-iron calibration from points over many orientations (no time stamps): "
+      "h_cal = A^-1 (h - b) with |h_cal| = F. Methods: twostep (bias only, tolerates partial coverage), "
+      "twostep-full (bias + symmetric D), ellipsoid (Li-Griffiths, as Magneto)");
+  cmd->add_option("file", opt->file, "Points: delimited text with 3 magnetometer columns, optionally gzip-compressed")
+      ->required();
+  cmd->add_option("--method", opt->method, "twostep, twostep-full or ellipsoid")
+      ->check(CLI::IsMember({"twostep", "twostep-full", "ellipsoid"}))
+      ->capture_default_str();
+  cmd->add_option("--columns", opt->columns,
+                  "The 3 magnetometer columns, by header name or 1-based index (mx,my,mz or 2,3,4); default: "
+                  "every column, which must then be 3");
+  cmd->add_option("--skip-rows", opt->skip_rows, "Lines to skip before the header/data (preamble)");
+  cmd->add_option("--lsb", opt->lsb, "Counts per unit: values are divided by this");
+  auto* fn = cmd->add_option("--field-norm", opt->field_norm,
+                             "Local field magnitude F (e.g. from IGRF), in the units after --lsb; default: the "
+                             "mean raw |h| (Magneto's default)");
+  cmd->add_option("--field-col", opt->field_col,
+                  "Column with the reference field magnitude |H_k| of each point (TWOSTEP only, e.g. IGRF along "
+                  "an orbit), in the units of the values after --lsb (the column itself is not divided by --lsb)");
+  auto* ns = cmd->add_option("--noise", opt->noise,
+                             "Per-axis measurement noise (1 sigma, units after --lsb) for the weights and the "
+                             "chi-squared test; default: estimated from the residuals");
+  cmd->add_option("--reject", opt->reject,
+                  "Reject points whose |h| is more than SIGMA standard deviations from the mean |h| "
+                  "(Magneto's rule, one pass); 0: none")
+      ->capture_default_str();
+  cmd->add_flag("--allow-partial", opt->partial,
+                "Fit even when the points do not cover enough of the sphere for the method");
+  cmd->add_option("--unit", opt->unit, "Name of the unit of the values after --lsb (e.g. uT, mG), for the output");
+  cmd->add_option("--format", opt->format, "Output format")
+      ->check(CLI::IsMember({"table", "json"}))
+      ->capture_default_str();
+  cmd->add_option("--out", opt->out, "Write the result to this file instead of standard output");
+  cmd->add_flag("--force", opt->force, "Replace the --out file if it exists");
+  cmd->add_option("--threads", opt->threads, "Reader threads (default: all cores)");
+  cmd->callback([opt, fn, ns, &run] {
+    opt->field_norm_given = fn->count() > 0;
+    opt->noise_given = ns->count() > 0;
+    run = [opt] { return run_calibrate_mag(*opt); };
+  });
+  return cmd;
+}
+
+}  // namespace cubecal::cli

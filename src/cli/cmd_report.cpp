@@ -1,0 +1,49 @@
+// cubecal report DIR: the results of `analyze --out DIR` as one
+// self-contained HTML page (DIR/report.html) with gnuplot plots in DIR/plots/.
+#include <fmt/format.h>
+
+#include <iostream>
+#include <memory>
+
+#include "commands.hpp"
+#include "cubecal/report/report.hpp"
+
+namespace cubecal::cli {
+
+namespace {
+
+struct ReportCmdOptions {
+  std::string dir;
+  bool force = false;
+  bool keep_scripts = false;
+  std::string gnuplot;
+};
+
+int run_report(const ReportCmdOptions& o) {
+  report::ReportOptions ro;
+  ro.force = o.force;
+  ro.keep_scripts = o.keep_scripts;
+  ro.gnuplot = o.gnuplot;
+  const report::ReportResult r = report::write_report(o.dir, ro);
+  std::cerr << fmt::format("cubecal: wrote {} ({:.0f} kB, {} plots in {}/plots/) in {:.1f} s\n", r.html_path,
+                           static_cast<double>(r.html_bytes) / 1024.0, r.plots.size(), o.dir, r.seconds);
+  return 0;
+}
+
+}  // namespace
+
+CLI::App* add_report_command(CLI::App& app, Command& run) {
+  auto opt = std::make_shared<ReportCmdOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "report", "One self-contained HTML page (DIR/report.html) of the results `analyze --out DIR` wrote, with "
+                "gnuplot plots (data, script, SVG, PNG) in DIR/plots/");
+  cmd->add_option("DIR", opt->dir, "Directory holding analysis.json (and adev.csv, drift.csv)")->required();
+  cmd->add_flag("--force", opt->force, "Replace an existing report.html and plots/");
+  cmd->add_flag("--keep-scripts", opt->keep_scripts,
+                "Render from the existing plots/*.gp (restyled by hand) instead of writing new ones");
+  cmd->add_option("--gnuplot", opt->gnuplot, "gnuplot executable (default: gnuplot on PATH)");
+  cmd->callback([opt, &run] { run = [opt] { return run_report(*opt); }; });
+  return cmd;
+}
+
+}  // namespace cubecal::cli

@@ -1,0 +1,161 @@
+// cubecal simulate: records from sensor models, in the layout the readers
+// take (t, axes..., temp).
+#include <fmt/format.h>
+
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include "commands.hpp"
+#include "common_options.hpp"
+#include "cubecal/io/error.hpp"
+#include "cubecal/io/series.hpp"
+#include "cubecal/pipeline/simulate.hpp"
+#include "progress.hpp"
+
+namespace cubecal::cli {
+
+namespace {
+
+struct SimulateOptions {
+  std::string presets;
+  std::string model_file;
+  std::string bias = "random-walk";
+  double rate_hz = 10.0;
+  std::string duration = "1h";
+  std::uint64_t seed = 1;
+  std::string temp = "sine:25,5";
+  std::string true_input;
+  std::string out;
+  bool force = false;
+};
+
+std::vector<double> numbers(const std::string& list, const std::string& what) {
+  std::vector<double> v;
+  for (const auto& item : split_list(list)) {
+    double x = 0.0;
+    const auto [p, ec] = std::from_chars(item.data(), item.data() + item.size(), x);
+    if (ec != std::errc() || p != item.data() + item.size() || !std::isfinite(x))
+      throw io::UsageError(what + ": '" + item + "' is not a number");
+    v.push_back(x);
+  }
+  return v;
+}
+
+// const:T | sine:MEAN,AMPLITUDE[,PERIOD_S] | FILE (a temperature column, one
+// value per sample, held at its last value).
+TemperatureProfile parse_temperature(const std::string& spec) {
+  TemperatureProfile p;
+  if (spec.rfind("const:", 0) == 0) {
+    const auto v = numbers(spec.substr(6), "--temp const");
+    if (v.size() != 1) throw io::UsageError("--temp const:T takes one temperature in degC");
+    p.kind = TemperatureProfile::Kind::constant;
+    p.mean = v[0];
+  } else if (spec.rfind("sine:", 0) == 0) {
+    const auto v = numbers(spec.substr(5), "--temp sine");
+    if (v.size() < 2 || v.size() > 3) throw io::UsageError("--temp sine:MEAN,AMPLITUDE[,PERIOD_S]");
+    p.kind = TemperatureProfile::Kind::sinusoid;
+    p.mean = v[0];
+    p.amplitude = v[1];
+    if (v.size() == 3) {
+      if (!(v[2] > 0)) throw io::UsageError("--temp sine: the period must be positive");
+      p.period_s = v[2];
+    }
+  } else {
+    io::SeriesOptions so;
+    so.rate_hz = 1.0;  // one value per sample; the time stamps, if any, are not used
+    so.min_samples = 1;
+    const auto s = io::read_series(spec, so);
+    p.kind = TemperatureProfile::Kind::series;
+    p.values = s.channels.at(0);
+  }
+  return p;
+}
+
+pipeline::RateProfile read_rate_profile(const std::string& path) {
+  io::SeriesOptions so;  // needs a time column (t, time, t_s...) and 3 rate columns
+  so.min_samples = 1;
+  const auto s = io::read_series(path, so);
+  if (s.time.empty() || s.channels.size() != 3)
+    throw io::UsageError(path + ": a true-input profile needs a time column and three rate columns "
+                                "(e.g. t,wx,wy,wz in the gyro's unit)");
+  pipeline::RateProfile p;
+  p.t = s.time;
+  for (int a = 0; a < 3; ++a) p.w[a] = s.channels[a];
+  return p;
+}
+
+int run_simulate(const SimulateOptions& o) {
+  pipeline::SimulateRequest req;
+  for (const auto& name : split_list(o.presets)) {
+    try {
+      req.triads.push_back(preset(name));
+    } catch (const std::invalid_argument&) {
+      std::string known;
+      for (const auto& n : preset_names()) known += (known.empty() ? "" : ", ") + n;
+      throw io::UsageError("unknown preset '" + name + "' (known: " + known + ")");
+    }
+  }
+  if (!o.model_file.empty()) {
+    std::ifstream in(o.model_file);
+    if (!in) throw io::UsageError("cannot read " + o.model_file);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    for (auto& m : pipeline::models_from_analysis(ss.str(), o.model_file, o.bias == "gauss-markov"))
+      req.triads.push_back(std::move(m));
+  }
+  if (req.triads.empty()) throw io::UsageError("nothing to simulate: give --preset and/or --model");
+  if (!(o.rate_hz > 0.0) || !std::isfinite(o.rate_hz)) throw io::UsageError("--rate must be positive");
+  req.rate_hz = o.rate_hz;
+  req.duration_s = pipeline::parse_duration(o.duration);
+  req.seed = o.seed;
+  req.temperature = parse_temperature(o.temp);
+  if (!o.true_input.empty()) req.true_input = read_rate_profile(o.true_input);
+  const std::size_t n = pipeline::sample_count(req);
+  if (n < 1) throw io::UsageError("--duration shorter than one sample period");
+
+  io::CsvWriter w(o.out, o.force);
+  Progress progress(n > 1'000'000);
+  progress.stage("simulating " + std::to_string(n) + " samples into " + o.out);
+  req.progress = [&](double f) { progress.fraction(f); };
+  write_simulation(req, w);
+  w.commit();
+  progress.done();
+  std::cerr << fmt::format("cubecal: wrote {} ({} samples at {:g} Hz, {} columns, seed {})\n", o.out, n, o.rate_hz,
+                           pipeline::channel_names(req).size() + 1, o.seed);
+  return 0;
+}
+
+}  // namespace
+
+CLI::App* add_simulate_command(CLI::App& app, Command& run) {
+  auto opt = std::make_shared<SimulateOptions>();
+  std::string presets;
+  for (const auto& n : preset_names()) presets += (presets.empty() ? "" : ", ") + n;
+  CLI::App* cmd = app.add_subcommand(
+      "simulate", "Simulate sensor records from presets (the paper's gyro and magnetometer) or from an "
+                  "analyze result: white noise, bias random walk or Gauss-Markov, turn-on bias, "
+                  "temperature, scale factor, quantization");
+  cmd->add_option("--preset", opt->presets, "Comma-separated presets: " + presets);
+  cmd->add_option("--model", opt->model_file, "analysis.json from cubecal analyze: simulate the measured sensor");
+  cmd->add_option("--bias", opt->bias, "Bias process taken from --model: random-walk (the paper's) or gauss-markov")
+      ->check(CLI::IsMember({"random-walk", "gauss-markov"}))
+      ->capture_default_str();
+  cmd->add_option("--rate", opt->rate_hz, "Sampling rate in Hz")->capture_default_str();
+  cmd->add_option("--duration", opt->duration, "Record length: 72h, 30m, 3600s, 2d")->capture_default_str();
+  cmd->add_option("--seed", opt->seed, "Random seed (same seed, same bytes)")->capture_default_str();
+  cmd->add_option("--temp", opt->temp,
+                  "Temperature profile: const:T, sine:MEAN,AMPLITUDE[,PERIOD_S] (default period one day) "
+                  "or a file with one temperature per sample")
+      ->capture_default_str();
+  cmd->add_option("--true-input", opt->true_input,
+                  "Rate profile for the gyro (CSV: t and three rates), held between its time stamps");
+  cmd->add_option("--out", opt->out, "Output file (.csv, or .csv.gz for gzip)")->required();
+  cmd->add_flag("--force", opt->force, "Replace --out if it exists");
+  cmd->callback([opt, &run] { run = [opt] { return run_simulate(*opt); }; });
+  return cmd;
+}
+
+}  // namespace cubecal::cli

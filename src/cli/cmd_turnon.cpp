@@ -1,0 +1,188 @@
+// cubecal turnon: turn-on bias over power-cycled runs; cubecal compare: Allan
+// curves and N, B, T of several runs side by side (sampling rates, units).
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "commands.hpp"
+#include "common_options.hpp"
+#include "cubecal/io/error.hpp"
+#include "cubecal/pipeline/turnon.hpp"
+#include "output.hpp"
+
+namespace cubecal::cli {
+
+namespace {
+
+struct RunsOptions {
+  InputOptions input;
+  std::string unit = "counts";
+  std::string taus = "log:10";
+  double ci = 0.683;
+  std::string format = "table";
+  std::string out;
+  bool force = false;
+};
+
+pipeline::AnalyzeRequest request_of(const RunsOptions& o) {
+  pipeline::AnalyzeRequest req;
+  for (const auto& name : split_list(o.unit)) {
+    auto u = parse_unit(name);
+    if (!u) throw io::UsageError("unknown unit '" + name + "' (use " + known_units() + ")");
+    req.units.push_back(*u);
+  }
+  try {
+    req.grid = parse_tau_grid(o.taus);
+  } catch (const std::invalid_argument& e) {
+    throw io::UsageError(std::string("--taus: ") + e.what());
+  }
+  if (!(o.ci > 0.0 && o.ci < 1.0)) throw io::UsageError("--ci must be between 0 and 1");
+  req.ci = o.ci;
+  req.threads = o.input.threads;
+  return req;
+}
+
+std::vector<io::Series> read_runs(const RunsOptions& o) {
+  std::vector<io::Series> runs;
+  const io::SeriesOptions so = to_series_options(o.input);
+  for (const auto& f : o.input.files) runs.push_back(io::read_series(f, so));
+  return runs;
+}
+
+nlohmann::json quantity_json(const Quantity& q, bool valid) {
+  return {{"value", valid ? nlohmann::json(q.value) : nlohmann::json(nullptr)},
+          {"sigma", valid ? nlohmann::json(q.sigma) : nlohmann::json(nullptr)},
+          {"unit", q.unit}};
+}
+
+nlohmann::json run_json(const pipeline::RunSummary& r) {
+  nlohmann::json j{{"file", r.file}, {"samples", r.samples}, {"rate_hz", r.rate_hz}};
+  for (const auto& c : r.channels) {
+    const auto& ro = c.noise.readoffs;
+    std::vector<double> tau, dev, lo, hi;
+    for (const auto& p : c.noise.adev) {
+      tau.push_back(p.tau);
+      dev.push_back(p.dev);
+      lo.push_back(p.lo);
+      hi.push_back(p.hi);
+    }
+    j["channels"].push_back({{"name", c.name},
+                             {"unit", c.unit.name},
+                             {"mean", c.mean},
+                             {"arw", quantity_json(display(ro.N, Term::N, c.unit), ro.N.valid)},
+                             {"bias_instability", quantity_json(display(ro.B, Term::B, c.unit), ro.B.valid)},
+                             {"time_constant_s", ro.B.valid ? nlohmann::json(ro.tau_min) : nlohmann::json(nullptr)},
+                             {"adev", {{"tau", tau}, {"dev", dev}, {"lo", lo}, {"hi", hi}}}});
+  }
+  return j;
+}
+
+void emit(const RunsOptions& o, const std::string& text) {
+  if (o.out.empty()) {
+    std::cout << text;
+    return;
+  }
+  OutputFile f(o.out, o.force);
+  f.stream() << text;
+  f.commit();
+  std::cerr << "cubecal: wrote " << o.out << '\n';
+}
+
+std::string term(const TermEstimate& t, Term which, const Unit& u) {
+  if (!t.valid) return "—";
+  const Quantity q = display(t, which, u);
+  return fmt::format("{:.4g} ± {:.2g}", q.value, q.sigma);
+}
+
+int run_turnon_command(const RunsOptions& o) {
+  const auto t = pipeline::run_turnon(read_runs(o), request_of(o));
+  if (o.format == "json") {
+    nlohmann::json j;
+    j["ci"] = t.ci;
+    for (const auto& r : t.runs) j["runs"].push_back(run_json(r));
+    for (std::size_t c = 0; c < t.names.size(); ++c)
+      j["channels"].push_back({{"name", t.names[c]},
+                               {"unit", t.units[c].name},
+                               {"mean_bias", t.mean_bias[c]},
+                               {"turn_on_bias", t.turn_on[c]},
+                               {"turn_on_bias_lo", t.turn_on_lo[c]},
+                               {"turn_on_bias_hi", t.turn_on_hi[c]}});
+    emit(o, j.dump(1) + "\n");
+    return 0;
+  }
+  std::string s = fmt::format("Turn-on bias over {} runs ({:.1f} % interval of the standard deviation, {} dof)\n\n",
+                              t.runs.size(), 100 * t.ci, t.runs.size() - 1);
+  s += fmt::format("{:<28}", "run");
+  for (const auto& n : t.names) s += fmt::format(" {:>16} {:>18}", n + " bias", "B");
+  s += '\n';
+  for (const auto& r : t.runs) {
+    s += fmt::format("{:<28}", r.file.size() > 28 ? "…" + r.file.substr(r.file.size() - 27) : r.file);
+    for (const auto& c : r.channels)
+      s += fmt::format(" {:>16.6g} {:>18}", c.mean, term(c.noise.readoffs.B, Term::B, c.unit));
+    s += '\n';
+  }
+  s += fmt::format("\n{:<10} {:>14} {:>14} {:>26}\n", "channel", "mean bias", "turn-on (std)", "interval");
+  for (std::size_t c = 0; c < t.names.size(); ++c)
+    s += fmt::format("{:<10} {:>14.6g} {:>14.4g} {:>12.4g} – {:<11.4g} {}\n", t.names[c], t.mean_bias[c], t.turn_on[c],
+                     t.turn_on_lo[c], t.turn_on_hi[c], t.units[c].name);
+  emit(o, s);
+  return 0;
+}
+
+int run_compare_command(const RunsOptions& o) {
+  const auto runs = pipeline::run_compare(read_runs(o), request_of(o));
+  if (o.format == "json") {
+    nlohmann::json j;
+    for (const auto& r : runs) j["runs"].push_back(run_json(r));
+    emit(o, j.dump(1) + "\n");
+    return 0;
+  }
+  std::string s = fmt::format("{:<28} {:>8} {:>10} {:<8} {:>22} {:>22} {:>10}\n", "run", "rate Hz", "samples", "axis",
+                              "N", "B", "T [s]");
+  for (const auto& r : runs)
+    for (const auto& c : r.channels) {
+      const auto& ro = c.noise.readoffs;
+      s += fmt::format("{:<28} {:>8.4g} {:>10} {:<8} {:>22} {:>22} {:>10}\n",
+                       r.file.size() > 28 ? "…" + r.file.substr(r.file.size() - 27) : r.file, r.rate_hz, r.samples,
+                       c.name, term(ro.N, Term::N, c.unit) + " " + display(ro.N, Term::N, c.unit).unit,
+                       term(ro.B, Term::B, c.unit), ro.B.valid ? fmt::format("{:.3g}", ro.tau_min) : "—");
+    }
+  emit(o, s);
+  return 0;
+}
+
+void add_runs_options(CLI::App& cmd, RunsOptions& o) {
+  add_input_options(cmd, o.input, true);
+  cmd.add_option("--unit", o.unit, "Unit of the values: " + known_units() + "; one for all or one per column")
+      ->capture_default_str();
+  cmd.add_option("--taus", o.taus, "Tau grid")->capture_default_str();
+  cmd.add_option("--ci", o.ci, "Confidence factor")->capture_default_str();
+  cmd.add_option("--format", o.format, "table or json")->check(CLI::IsMember({"table", "json"}))->capture_default_str();
+  cmd.add_option("--out", o.out, "Write the result to this file");
+  cmd.add_flag("--force", o.force, "Replace --out if it exists");
+}
+
+}  // namespace
+
+CLI::App* add_turnon_command(CLI::App& app, Command& run) {
+  auto opt = std::make_shared<RunsOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "turnon", "Turn-on bias: per-run bias, mean over runs, standard deviation of the run biases with its "
+                "interval, and each run's bias instability");
+  add_runs_options(*cmd, *opt);
+  cmd->callback([opt, &run] { run = [opt] { return run_turnon_command(*opt); }; });
+  return cmd;
+}
+
+CLI::App* add_compare_command(CLI::App& app, Command& run) {
+  auto opt = std::make_shared<RunsOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "compare", "Allan curves of several runs (sampling rates, units) side by side, with N, B, T per run");
+  add_runs_options(*cmd, *opt);
+  cmd->callback([opt, &run] { run = [opt] { return run_compare_command(*opt); }; });
+  return cmd;
+}
+
+}  // namespace cubecal::cli

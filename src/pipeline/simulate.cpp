@@ -1,0 +1,199 @@
+#include "cubecal/pipeline/simulate.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "cubecal/io/error.hpp"
+
+namespace cubecal::pipeline {
+
+namespace {
+
+constexpr std::size_t kBlock = 65536;
+
+// Independent streams per triad from one user seed (splitmix64 finalizer):
+// adding a triad never changes the numbers of the others.
+std::uint64_t triad_seed(std::uint64_t seed, std::size_t k) {
+  std::uint64_t z = seed + 0x9E3779B97F4A7C15ULL * (k + 1);
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+  return z ^ (z >> 31);
+}
+
+bool is_rate(const TriadModel& m) { return m.unit == "deg/s" || m.unit == "rad/s"; }
+
+struct Generator {
+  const SimulateRequest& r;
+  std::vector<TriadSimulator> sims;
+  std::size_t rate_triad = static_cast<std::size_t>(-1);
+  std::size_t profile_pos = 0;
+  std::vector<double> in, temp, out;
+
+  explicit Generator(const SimulateRequest& req) : r(req) {
+    const double dt = 1.0 / r.rate_hz;
+    for (std::size_t k = 0; k < r.triads.size(); ++k) {
+      sims.emplace_back(r.triads[k], dt, triad_seed(r.seed, k));
+      if (rate_triad == static_cast<std::size_t>(-1) && is_rate(r.triads[k])) rate_triad = k;
+    }
+  }
+
+  // Fills temp/out for samples [k0, k0+len): out is row-major len x 3 per triad.
+  void block(std::size_t k0, std::size_t len) {
+    const double dt = 1.0 / r.rate_hz;
+    temp.resize(len);
+    for (std::size_t j = 0; j < len; ++j) temp[j] = r.temperature.at(k0 + j, dt);
+    out.resize(sims.size() * len * 3);
+    for (std::size_t k = 0; k < sims.size(); ++k) {
+      std::span<const double> input;
+      if (k == rate_triad && !r.true_input.empty()) {
+        in.resize(len * 3);
+        for (std::size_t j = 0; j < len; ++j) {
+          const double t = static_cast<double>(k0 + j) * dt;
+          while (profile_pos + 1 < r.true_input.t.size() && r.true_input.t[profile_pos + 1] <= t) ++profile_pos;
+          const bool before = t < r.true_input.t.front();
+          for (int a = 0; a < 3; ++a) in[j * 3 + a] = before ? 0.0 : r.true_input.w[a][profile_pos];
+        }
+        input = in;
+      }
+      sims[k].run(len, input, temp, std::span<double>(out.data() + k * len * 3, len * 3));
+    }
+  }
+};
+
+std::size_t axes_of(const TriadModel& m) {
+  std::size_t n = 0;
+  for (const auto& a : m.axis_names) n += a.empty() ? 0 : 1;
+  return n;
+}
+
+}  // namespace
+
+std::size_t sample_count(const SimulateRequest& r) {
+  return static_cast<std::size_t>(std::llround(r.duration_s * r.rate_hz));
+}
+
+std::vector<std::string> channel_names(const SimulateRequest& r) {
+  std::vector<std::string> names;
+  for (const auto& m : r.triads)
+    for (const auto& a : m.axis_names)
+      if (!a.empty()) names.push_back(a);
+  if (r.temperature_column) names.push_back("temp");
+  return names;
+}
+
+SimulatedRecord simulate(const SimulateRequest& r) {
+  SimulatedRecord rec;
+  rec.rate_hz = r.rate_hz;
+  rec.names = channel_names(r);
+  const std::size_t n = sample_count(r);
+  rec.channels.assign(rec.names.size(), std::vector<double>(n));
+  Generator g(r);
+  for (std::size_t k0 = 0; k0 < n; k0 += kBlock) {
+    const std::size_t len = std::min(kBlock, n - k0);
+    g.block(k0, len);
+    std::size_t c = 0;
+    for (std::size_t k = 0; k < g.sims.size(); ++k)
+      for (std::size_t a = 0; a < axes_of(r.triads[k]); ++a, ++c)
+        for (std::size_t j = 0; j < len; ++j) rec.channels[c][k0 + j] = g.out[k * len * 3 + j * 3 + a];
+    if (r.temperature_column)
+      std::copy(g.temp.begin(), g.temp.begin() + static_cast<std::ptrdiff_t>(len), rec.channels[c].begin() + static_cast<std::ptrdiff_t>(k0));
+  }
+  return rec;
+}
+
+void write_simulation(const SimulateRequest& r, io::CsvWriter& out) {
+  std::vector<std::string> header{"t"};
+  for (auto& n : channel_names(r)) header.push_back(n);
+  out.header(header);
+  const std::size_t n = sample_count(r);
+  const double dt = 1.0 / r.rate_hz;
+  Generator g(r);
+  std::vector<double> row(header.size());
+  for (std::size_t k0 = 0; k0 < n; k0 += kBlock) {
+    const std::size_t len = std::min(kBlock, n - k0);
+    g.block(k0, len);
+    for (std::size_t j = 0; j < len; ++j) {
+      std::size_t c = 0;
+      row[c++] = static_cast<double>(k0 + j) * dt;
+      for (std::size_t k = 0; k < g.sims.size(); ++k)
+        for (std::size_t a = 0; a < axes_of(r.triads[k]); ++a) row[c++] = g.out[k * len * 3 + j * 3 + a];
+      if (r.temperature_column) row[c++] = g.temp[j];
+      out.row(row);
+    }
+    if (r.progress) r.progress(static_cast<double>(k0 + len) / static_cast<double>(n));
+  }
+}
+
+std::vector<TriadModel> models_from_analysis(const std::string& text, const std::string& label, bool gm) {
+  const auto j = nlohmann::json::parse(text, nullptr, false);
+  if (j.is_discarded() || !j.contains("channels") || !j["channels"].is_array() || j["channels"].empty())
+    throw io::UsageError(label + ": not an analysis.json written by cubecal analyze");
+  std::vector<TriadModel> out;
+  const auto& chans = j["channels"];
+  const double rate = j["input"].value("rate_hz", 0.0);
+  (void)rate;
+  for (std::size_t c = 0; c < chans.size(); ++c) {
+    if (c % 3 == 0) {
+      out.emplace_back();
+      out.back().name = label;
+      out.back().axis_names = {"", "", ""};
+      out.back().unit = chans[c].value("unit", "counts");
+    }
+    TriadModel& m = out.back();
+    const auto& ch = chans[c];
+    const auto& model = ch["model"];
+    const std::size_t a = c % 3;
+    // (std::string{"c"} += ...: GCC 12 warns falsely on "c" + std::to_string at -O3.)
+    m.axis_names[a] = ch.contains("name") ? ch["name"].get<std::string>() : (std::string{"c"} += std::to_string(c + 1));
+    AxisModel& ax = m.axes[a];
+    ax.fixed_bias = ch.value("mean", 0.0);
+    if (gm) {
+      if (!model.contains("gauss_markov") || model["gauss_markov"].is_null())
+        throw io::UsageError(label + ": channel " + m.axis_names[a] +
+                             " has no Gauss-Markov model (use the random-walk model, or re-run analyze)");
+      const auto& g = model["gauss_markov"];
+      ax.white_sigma = g.value("sigma_n", 0.0);
+      ax.bias = BiasProcess::gauss_markov;
+      ax.bias_sigma = g.value("sigma", 0.0);
+      ax.tau_c = g.value("tau_s", 0.0);
+    } else {
+      if (!model.contains("sigma_n") || model["sigma_n"].is_null())
+        throw io::UsageError(label + ": channel " + m.axis_names[a] + " has no fitted random-walk model (" +
+                             model.value("error", std::string("no minimum in its Allan curve")) +
+                             "); try --bias gauss-markov");
+      ax.white_sigma = model["sigma_n"].get<double>();
+      ax.bias = BiasProcess::random_walk;
+      ax.bias_sigma = model["sigma_mu"].get<double>();
+      m.lsb = model.value("lsb", 0.0);
+    }
+    if (ch.contains("temperature") && !ch["temperature"].is_null()) {
+      const auto& t = ch["temperature"];
+      if (t.contains("coeff") && !t["coeff"].empty()) ax.temp_coeff = t["coeff"][0].get<double>();
+      m.temp_ref = t.value("t_ref", 25.0);
+      ax.fixed_bias = t.value("offset", ax.fixed_bias);
+    }
+  }
+  return out;
+}
+
+double parse_duration(const std::string& s) {
+  if (s.empty()) throw io::UsageError("empty duration (use e.g. 72h, 30m, 3600s or 2d)");
+  double mult = 1.0;
+  std::string num = s;
+  switch (s.back()) {
+    case 's': mult = 1.0; num.pop_back(); break;
+    case 'm': mult = 60.0; num.pop_back(); break;
+    case 'h': mult = 3600.0; num.pop_back(); break;
+    case 'd': mult = 86400.0; num.pop_back(); break;
+    default: break;
+  }
+  double v = 0.0;
+  const auto [p, ec] = std::from_chars(num.data(), num.data() + num.size(), v);
+  if (ec != std::errc() || p != num.data() + num.size() || !(v > 0.0) || !std::isfinite(v))
+    throw io::UsageError("bad duration '" + s + "' (use e.g. 72h, 30m, 3600s or 2d)");
+  return v * mult;
+}
+
+}  // namespace cubecal::pipeline

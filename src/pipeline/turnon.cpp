@@ -1,0 +1,57 @@
+#include "cubecal/pipeline/turnon.hpp"
+
+#include <boost/math/distributions/chi_squared.hpp>
+#include <cmath>
+
+#include "cubecal/io/error.hpp"
+
+namespace cubecal::pipeline {
+
+std::vector<RunSummary> run_compare(const std::vector<io::Series>& runs, const AnalyzeRequest& req) {
+  std::vector<RunSummary> out;
+  for (const auto& s : runs) {
+    AnalysisResult r = run_analyze(s, req);
+    RunSummary rs;
+    rs.file = s.file;
+    rs.samples = r.samples;
+    rs.rate_hz = r.rate_hz;
+    rs.channels = std::move(r.channels);
+    out.push_back(std::move(rs));
+  }
+  return out;
+}
+
+TurnOnResult run_turnon(const std::vector<io::Series>& runs, const AnalyzeRequest& req) {
+  if (runs.size() < 2) throw io::UsageError("turn-on bias needs at least 2 runs (power cycles), got " +
+                                            std::to_string(runs.size()));
+  for (const auto& s : runs)
+    if (s.names != runs.front().names)
+      throw io::UsageError(s.file + ": columns differ from " + runs.front().file +
+                           " (choose the same columns in every run with --columns)");
+  TurnOnResult t;
+  t.ci = req.ci;
+  t.runs = run_compare(runs, req);
+  const std::size_t nch = runs.front().names.size();
+  t.names = runs.front().names;
+  for (const auto& c : t.runs.front().channels) t.units.push_back(c.unit);
+  const double k = static_cast<double>(t.runs.size());
+  const boost::math::chi_squared chi(k - 1.0);
+  const double tail = (1.0 - req.ci) / 2.0;
+  const double q_lo = boost::math::quantile(chi, tail), q_hi = boost::math::quantile(chi, 1.0 - tail);
+  for (std::size_t c = 0; c < nch; ++c) {
+    double mean = 0.0;
+    for (const auto& r : t.runs) mean += r.channels[c].mean;
+    mean /= k;
+    double ss = 0.0;
+    for (const auto& r : t.runs) ss += (r.channels[c].mean - mean) * (r.channels[c].mean - mean);
+    const double sd = std::sqrt(ss / (k - 1.0));
+    t.mean_bias.push_back(mean);
+    t.turn_on.push_back(sd);
+    // (k-1) s^2 / sigma^2 ~ chi^2(k-1): the interval of sigma.
+    t.turn_on_lo.push_back(sd * std::sqrt((k - 1.0) / q_hi));
+    t.turn_on_hi.push_back(sd * std::sqrt((k - 1.0) / q_lo));
+  }
+  return t;
+}
+
+}  // namespace cubecal::pipeline

@@ -1,0 +1,477 @@
+// The figures of an analysis: Allan deviation with the fitted models and
+// noise-term lines (the paper's Figs. 1, 2, 4), bias drift of the data and
+// of the fitted model simulated (Figs. 3, 5), the temperature fit and the
+// Allan deviation after temperature compensation. One of each per sensor group.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "analysis_data.hpp"
+#include "cubecal/core/drift.hpp"
+#include "cubecal/core/sensor_simulator.hpp"
+#include "cubecal/report/html.hpp"
+
+namespace cubecal::report::detail {
+
+namespace {
+
+constexpr const char* kPalette[] = {"#d62728", "#2ca02c", "#1f77b4", "#9467bd",
+                                    "#ff7f0e", "#8c564b", "#e377c2", "#17becf"};
+constexpr const char* kInk = "#444444";
+
+const char* color(std::size_t k) { return kPalette[k % std::size(kPalette)]; }
+
+std::string lower_first(std::string s) {
+  if (!s.empty() && s[0] >= 'A' && s[0] <= 'Z') s[0] = static_cast<char>(s[0] - 'A' + 'a');
+  return s;
+}
+
+std::string fmt(const char* f, double v) {
+  char b[64];
+  std::snprintf(b, sizeof b, f, v);
+  return b;
+}
+
+bool any_finite(const std::vector<double>& v) {
+  return std::any_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); });
+}
+
+PlotSeries legend_entry(std::string label, const char* c, Dash dash = Dash::solid, Mark mark = Mark::line,
+                        double opacity = 1.0) {
+  PlotSeries s;
+  s.label = std::move(label);
+  s.color = c;
+  s.dash = dash;
+  s.mark = mark;
+  s.opacity = opacity;
+  return s;
+}
+
+// A power law a * tau^p drawn across [t0, t1] (a straight line in log-log).
+PlotSeries term_line(double a, double p, double t0, double t1, const char* c) {
+  PlotSeries s;
+  for (int i = 0; i <= 8; ++i) {
+    const double t = t0 * std::pow(t1 / t0, i / 8.0);
+    s.x.push_back(t);
+    s.y.push_back(a * std::pow(t, p));
+  }
+  s.color = c;
+  s.opacity = 0.35;
+  s.width = 1.0;
+  s.scale = false;
+  return s;
+}
+
+Figure allan_figure(const AnalysisData& d, const SensorGroup& g) {
+  Figure f;
+  f.section = "allan";
+  f.group = g.key;
+  Plot& p = f.plot;
+  p.name = "allan_" + g.key;
+  p.title = "Allan deviation, " + lower_first(g.title);
+  p.x = {"averaging time τ [s]", true, std::nullopt, std::nullopt};
+  p.y = {"Allan deviation σ(τ) [" + g.unit + "]", true, std::nullopt, std::nullopt};
+  p.key = "outside bottom center horizontal Left reverse maxrows 3";
+  p.height = 640;
+  bool any_model = false, any_gm = false, any_terms = false;
+  double tmin = INFINITY, tmax = 0;
+  for (auto c : g.channels)
+    for (double t : d.channels[c].curve.tau)
+      if (t > 0) {
+        tmin = std::min(tmin, t);
+        tmax = std::max(tmax, t);
+      }
+  for (std::size_t k = 0; k < g.channels.size(); ++k) {
+    const ChannelData& ch = d.channels[g.channels[k]];
+    const char* c = color(k);
+    PlotSeries m;
+    m.x = ch.curve.tau;
+    m.y = ch.curve.dev;
+    m.lo = ch.curve.lo;
+    m.hi = ch.curve.hi;
+    m.mark = Mark::errorlines;
+    m.color = c;
+    m.width = 1.3;
+    m.point_size = 0.25;
+    p.series.push_back(std::move(m));
+    if (any_finite(ch.curve.model)) {
+      PlotSeries s;
+      s.x = ch.curve.tau;
+      s.y = ch.curve.model;
+      s.dash = Dash::dashed;
+      s.color = c;
+      s.width = 1.6;
+      p.series.push_back(std::move(s));
+      any_model = true;
+    }
+    if (any_finite(ch.curve.gm)) {
+      PlotSeries s;
+      s.x = ch.curve.tau;
+      s.y = ch.curve.gm;
+      s.dash = Dash::dotted;
+      s.color = c;
+      s.width = 1.8;
+      p.series.push_back(std::move(s));
+      any_gm = true;
+    }
+    // Noise-term lines of the weighted fit: N (slope -1/2), K (+1/2), and the
+    // bias-instability floor at sigma_min (0.664 B) where the curve has a minimum.
+    if (tmax > tmin) {
+      const json& noise = ch.j->contains("noise") ? (*ch.j)["noise"] : json();
+      const json& fit = noise.is_object() && noise.contains("fit") ? noise["fit"] : json();
+      std::vector<double> cf;
+      if (fit.is_object() && fit.contains("coefficients") && fit["coefficients"].is_array())
+        for (const auto& v : fit["coefficients"]) cf.push_back(number(v).value_or(0.0));
+      if (cf.size() == 5) {
+        if (cf[1] > 0) p.series.push_back(term_line(std::sqrt(cf[1]), -0.5, tmin, tmax, c));
+        if (cf[3] > 0) p.series.push_back(term_line(std::sqrt(cf[3]), 0.5, tmin, tmax, c));
+        any_terms = any_terms || cf[1] > 0 || cf[3] > 0;
+      }
+      std::optional<double> floor;
+      if (number(noise, "time_constant_s") && noise.contains("sigma_min"))
+        floor = number(noise["sigma_min"], "value");
+      else if (cf.size() == 5 && cf[2] > 0)
+        floor = std::sqrt(cf[2]);
+      if (floor && *floor > 0) {
+        p.series.push_back(term_line(*floor, 0.0, tmin, tmax, c));
+        any_terms = true;
+      }
+    }
+  }
+  for (std::size_t k = 0; k < g.channels.size(); ++k)
+    p.series.push_back(legend_entry(d.channels[g.channels[k]].name, color(k)));
+  p.series.push_back(legend_entry("measured, " + d.ci_text + " interval", kInk, Dash::solid, Mark::errorlines));
+  if (any_model) p.series.push_back(legend_entry("random-walk model (paper eq. 1–3)", kInk, Dash::dashed));
+  if (any_gm) p.series.push_back(legend_entry("Gauss–Markov model", kInk, Dash::dotted));
+  if (any_terms)
+    p.series.push_back(legend_entry("noise terms: N (−½), B floor, K (+½)", kInk, Dash::solid, Mark::line, 0.35));
+  p.notes.push_back("OADEV of each channel with its " + d.ci_text + " confidence interval (analysis.json adev),");
+  p.notes.push_back("model curves from " + std::string(d.adev_csv ? "adev.csv" : "the parameters in analysis.json") +
+                    ", noise-term lines from the weighted fit (noise.fit.coefficients).");
+
+  std::string cap = "Overlapping Allan deviation of the " + html_escape(lower_first(g.title)) + " (solid, " +
+                    html_escape(d.ci_text) + " confidence intervals)";
+  if (any_model) cap += ", the fitted random-walk model of the paper (dashed)";
+  if (any_gm) cap += ", the Gauss–Markov alternative (dotted)";
+  if (any_terms)
+    cap += " and, light, the noise-term lines of the weighted fit: white noise N (slope −½), rate random walk K "
+           "(+½) and the bias-instability floor 0.664 B";
+  cap += ". As the paper's Figs. 1, 2 and 4.";
+  f.caption_html = cap;
+  return f;
+}
+
+struct SimDrift {
+  bool ok = false;
+  std::string process;  // "random walk" or "Gauss–Markov"
+  DriftSeries d;
+};
+
+// The fitted model of each channel run for the record's length at its rate
+// (white noise and bias process, no quantization, no temperature), averaged
+// over the same window as the data.
+std::vector<SimDrift> simulate_model_drift(const AnalysisData& d, const SensorGroup& g, std::uint64_t seed) {
+  std::vector<SimDrift> out(g.channels.size());
+  const double dt = 1.0 / d.rate_hz;
+  std::size_t n = d.samples;
+  if (n == 0) n = static_cast<std::size_t>(std::llround(d.duration_s * d.rate_hz));
+  for (std::size_t first = 0; first < g.channels.size(); first += 3) {
+    TriadModel tm;
+    tm.name = "report-model";
+    std::array<std::size_t, 3> window{};
+    bool any = false;
+    for (std::size_t a = 0; a < 3 && first + a < g.channels.size(); ++a) {
+      const ChannelData& ch = d.channels[g.channels[first + a]];
+      const json& m = ch.j->contains("model") ? (*ch.j)["model"] : json();
+      const json& gm = m.is_object() && m.contains("gauss_markov") ? m["gauss_markov"] : json();
+      const json& dr = ch.j->contains("drift") ? (*ch.j)["drift"] : json();
+      const auto win = number(dr, "window_s");
+      if (!win || *win <= 0) continue;
+      window[a] = static_cast<std::size_t>(std::llround(*win * d.rate_hz));
+      AxisModel& ax = tm.axes[a];
+      if (const auto sn = number(m, "sigma_n"), smu = number(m, "sigma_mu"); sn && smu) {
+        ax.white_sigma = *sn;
+        ax.bias = BiasProcess::random_walk;
+        ax.bias_sigma = *smu;
+        out[first + a].process = "random walk";
+      } else if (const auto gs = number(gm, "sigma"), gt = number(gm, "tau_s"), gn = number(gm, "sigma_n");
+                 gs && gt && gn && *gt > 0) {
+        ax.white_sigma = *gn;
+        ax.bias = BiasProcess::gauss_markov;
+        ax.bias_sigma = *gs;
+        ax.tau_c = *gt;
+        out[first + a].process = "Gauss–Markov";
+      } else {
+        continue;
+      }
+      out[first + a].ok = true;
+      any = true;
+    }
+    if (!any || n == 0) continue;
+    TriadSimulator sim(tm, dt, seed + first);
+    std::array<std::vector<double>, 3> y;
+    for (std::size_t a = 0; a < 3; ++a)
+      if (first + a < g.channels.size() && out[first + a].ok) y[a].resize(n);
+    constexpr std::size_t kBlock = 1 << 16;
+    std::vector<double> buf(3 * kBlock);
+    for (std::size_t i = 0; i < n; i += kBlock) {
+      const std::size_t nb = std::min(kBlock, n - i);
+      sim.run(nb, {}, {}, std::span<double>(buf.data(), 3 * nb));
+      for (std::size_t a = 0; a < 3; ++a)
+        if (!y[a].empty())
+          for (std::size_t k = 0; k < nb; ++k) y[a][i + k] = buf[3 * k + a];
+    }
+    for (std::size_t a = 0; a < 3; ++a)
+      if (!y[a].empty()) out[first + a].d = bias_drift(y[a], dt, window[a]);
+  }
+  return out;
+}
+
+std::optional<Figure> drift_figure(const AnalysisData& d, const SensorGroup& g, const ReportOptions& o) {
+  bool any = false;
+  for (auto c : g.channels) any = any || !d.channels[c].drift_t.empty();
+  if (!any) return std::nullopt;
+  Figure f;
+  f.section = "drift";
+  f.group = g.key;
+  Plot& p = f.plot;
+  p.name = "drift_" + g.key;
+  p.title = "Bias drift, " + lower_first(g.title) + ": data and fitted model";
+  p.x = {"time since the start of the record [h]", false, 0.0, d.duration_s > 0 ? std::optional(d.duration_s / 3600.0) : std::nullopt};
+  p.y = {"bias drift [" + g.unit + "]", false, std::nullopt, std::nullopt};
+  p.key = "outside bottom center horizontal Left reverse maxrows 2";
+  const auto sim = simulate_model_drift(d, g, o.seed + 1000 * static_cast<std::uint64_t>(g.channels.front()));
+  std::vector<std::string> windows;
+  bool any_model = false;
+  std::string process;
+  for (std::size_t k = 0; k < g.channels.size(); ++k) {
+    const ChannelData& ch = d.channels[g.channels[k]];
+    PlotSeries s;
+    s.x = ch.drift_t;
+    for (double& t : s.x) t /= 3600.0;
+    s.y = ch.drift;
+    decimate_minmax(s.x, s.y, o.max_points);
+    s.color = color(k);
+    s.width = 1.2;
+    if (!s.x.empty()) p.series.push_back(std::move(s));
+    if (const auto w = number(ch.j->contains("drift") ? (*ch.j)["drift"] : json(), "window_s")) {
+      const std::string ws = fmt("%g s", *w);
+      if (std::find(windows.begin(), windows.end(), ws) == windows.end()) windows.push_back(ws);
+    }
+    if (sim[k].ok && !sim[k].d.t.empty()) {
+      PlotSeries m;
+      m.x = sim[k].d.t;
+      for (double& t : m.x) t /= 3600.0;
+      m.y = sim[k].d.drift;
+      decimate_minmax(m.x, m.y, o.max_points);
+      m.color = color(k);
+      m.dash = Dash::dashed;
+      m.width = 1.2;
+      m.opacity = 0.85;
+      p.series.push_back(std::move(m));
+      any_model = true;
+      if (process.empty()) process = sim[k].process;
+      else if (process != sim[k].process) process = "fitted";
+    }
+  }
+  std::string win;
+  for (const auto& w : windows) win += (win.empty() ? "" : ", ") + w;
+  for (std::size_t k = 0; k < g.channels.size(); ++k)
+    p.series.push_back(legend_entry(d.channels[g.channels[k]].name, color(k)));
+  p.series.push_back(legend_entry("data: " + win + " moving average − fixed bias", kInk));
+  if (any_model) p.series.push_back(legend_entry("model, simulated (" + process + " bias)", kInk, Dash::dashed));
+  p.notes.push_back("data: drift.csv (moving average of " + win + " minus the record mean), at most " +
+                    std::to_string(o.max_points) + " points per series (min/max per bucket)");
+  p.notes.push_back("model: the fitted sensor model (white noise + bias process, no quantization, no temperature)");
+  p.notes.push_back("simulated by cubecal's TriadSimulator for the record's length and rate, seed " +
+                    std::to_string(o.seed) + ", then averaged the same way");
+  std::string cap = "Bias drift of the " + html_escape(lower_first(g.title)) + ": moving average over " +
+                    html_escape(win) + " minus the fixed bias (solid)";
+  if (any_model)
+    cap += ", and the same for the fitted model (" + html_escape(process) +
+           " bias plus white noise) simulated over the record's length and averaged the same way (dashed; one "
+           "realization, so only its size and character compare, not its course)";
+  cap += ". As the paper's Figs. 3 and 5.";
+  f.caption_html = cap;
+  return f;
+}
+
+// The temperature spread the fit saw: R^2 = var(fit) / var(y) and, for the
+// linear term, var(fit) = c1^2 var(T), so sigma_T = sqrt(R^2) std(y) / |c1|.
+std::optional<double> temperature_sigma(const json& ch) {
+  const json& t = ch["temperature"];
+  const auto r2 = number(t, "r2"), sd = number(ch, "stddev");
+  if (!r2 || !sd || !t.contains("coeff") || !t["coeff"].is_array() || t["coeff"].empty()) return std::nullopt;
+  const auto c1 = number(t["coeff"][0]);
+  if (!c1 || *c1 == 0.0 || *r2 <= 0) return std::nullopt;
+  const double s = std::sqrt(*r2) * *sd / std::abs(*c1);
+  if (!std::isfinite(s) || s <= 0) return std::nullopt;
+  return s;
+}
+
+std::vector<Figure> temperature_figures(const AnalysisData& d, const SensorGroup& g) {
+  std::vector<std::size_t> with;
+  for (std::size_t k = 0; k < g.channels.size(); ++k)
+    if (d.channels[g.channels[k]].j->contains("temperature") && (*d.channels[g.channels[k]].j)["temperature"].is_object())
+      with.push_back(k);
+  if (with.empty()) return {};
+  std::vector<Figure> figs;
+
+  // Fitted bias change against temperature.
+  std::vector<double> sig;
+  double t_ref = 0.0;
+  for (auto k : with) {
+    const json& ch = *d.channels[g.channels[k]].j;
+    if (const auto s = temperature_sigma(ch)) sig.push_back(*s);
+    t_ref += number(ch["temperature"], "t_ref").value_or(0.0);
+  }
+  t_ref /= static_cast<double>(with.size());
+  std::sort(sig.begin(), sig.end());
+  const bool inferred = !sig.empty();
+  const double half = inferred ? 2.0 * sig[sig.size() / 2] : 10.0;
+  Figure f;
+  f.section = "temperature";
+  f.group = g.key;
+  Plot& p = f.plot;
+  p.name = "temperature_" + g.key;
+  p.title = "Temperature dependence of the bias, " + lower_first(g.title);
+  p.x = {"temperature [°C]", false, t_ref - half, t_ref + half};
+  p.y = {"bias − bias at T_ref [" + g.unit + "]", false, std::nullopt, std::nullopt};
+  p.key = "outside bottom center horizontal Left reverse maxrows 3";
+  bool band = false;
+  std::string sensor;
+  for (auto k : with) {
+    const ChannelData& ch = d.channels[g.channels[k]];
+    const json& t = (*ch.j)["temperature"];
+    if (sensor.empty() && t.contains("sensor") && t["sensor"].is_string()) sensor = t["sensor"].get<std::string>();
+    std::vector<double> c, cs;
+    if (t.contains("coeff") && t["coeff"].is_array())
+      for (const auto& v : t["coeff"]) c.push_back(number(v).value_or(0.0));
+    if (t.contains("coeff_sigma") && t["coeff_sigma"].is_array())
+      for (const auto& v : t["coeff_sigma"]) cs.push_back(number(v).value_or(0.0));
+    const double tr = number(t, "t_ref").value_or(t_ref);
+    auto poly = [&](double dT, double c1shift) {
+      double y = 0.0, pw = 1.0;
+      for (std::size_t q = 0; q < c.size(); ++q) {
+        pw *= dT;
+        y += (c[q] + (q == 0 ? c1shift : 0.0)) * pw;
+      }
+      return y;
+    };
+    PlotSeries s, up, dn;
+    for (int i = 0; i <= 40; ++i) {
+      const double T = t_ref - half + 2.0 * half * i / 40.0;
+      s.x.push_back(T);
+      s.y.push_back(poly(T - tr, 0.0));
+      if (!cs.empty()) {
+        up.x.push_back(T);
+        up.y.push_back(poly(T - tr, cs[0]));
+        dn.x.push_back(T);
+        dn.y.push_back(poly(T - tr, -cs[0]));
+      }
+    }
+    s.color = color(k);
+    s.width = 1.8;
+    const std::string unit = t.contains("unit") && t["unit"].is_string() ? t["unit"].get<std::string>() : "";
+    s.label = ch.name + ": " + format_pm(c.empty() ? std::nullopt : std::optional(c[0]),
+                                         cs.empty() ? std::nullopt : std::optional(cs[0])) +
+              " " + unit + (c.size() > 1 ? " (+ higher orders)" : "");
+    p.series.push_back(std::move(s));
+    if (!up.x.empty()) {
+      for (PlotSeries* b : {&up, &dn}) {
+        b->color = color(k);
+        b->width = 1.0;
+        b->dash = Dash::dashed;
+        b->opacity = 0.6;
+        p.series.push_back(std::move(*b));
+      }
+      band = true;
+    }
+  }
+  if (band) p.series.push_back(legend_entry("linear coefficient ± 1σ", kInk, Dash::dashed, Mark::line, 0.6));
+  p.notes.push_back("the fitted polynomial of analysis.json channels[].temperature (coeff, t_ref), offset removed");
+  p.notes.push_back(inferred ? "temperature range: T_ref ± 2 sigma_T, sigma_T = sqrt(R^2) std(y) / |c1| (the record's "
+                               "temperatures are not in the analysis files)"
+                             : "temperature range: T_ref ± 10 degC (the spread could not be inferred)");
+  std::string cap = "Bias change against temperature";
+  if (!sensor.empty()) cap += " (sensor column <code>" + html_escape(sensor) + "</code>)";
+  cap += ": the polynomial fitted by <code>--temp-col</code>, relative to the bias at T<sub>ref</sub> = " +
+         html_escape(fmt("%.2f", t_ref)) + " °C";
+  if (band) cap += ", with the linear coefficient moved by ±1σ (dashed)";
+  cap += ". The record's temperatures are not part of the analysis files, so the raw points are not shown; ";
+  if (inferred)
+    cap += "the range drawn is T<sub>ref</sub> ± 2σ<sub>T</sub> with the temperature spread σ<sub>T</sub> ≈ " +
+           html_escape(fmt("%.3g", half / 2.0)) +
+           " °C inferred from the fit (σ<sub>T</sub> = √R² · std(y) / |c<sub>1</sub>|).";
+  else
+    cap += "the range drawn is T<sub>ref</sub> ± 10 °C (the spread could not be inferred from the fit).";
+  f.caption_html = cap;
+  figs.push_back(std::move(f));
+
+  // Allan deviation before and after compensation.
+  Figure h;
+  h.section = "temperature";
+  h.group = g.key;
+  Plot& q = h.plot;
+  q.name = "compensated_" + g.key;
+  q.title = "Allan deviation before and after temperature compensation, " + lower_first(g.title);
+  q.x = {"averaging time τ [s]", true, std::nullopt, std::nullopt};
+  q.y = {"Allan deviation σ(τ) [" + g.unit + "]", true, std::nullopt, std::nullopt};
+  q.key = "outside bottom center horizontal Left reverse maxrows 3";
+  for (auto k : with) {
+    const ChannelData& ch = d.channels[g.channels[k]];
+    PlotSeries raw;
+    raw.x = ch.curve.tau;
+    raw.y = ch.curve.dev;
+    raw.color = color(k);
+    raw.opacity = 0.4;
+    raw.width = 1.2;
+    q.series.push_back(std::move(raw));
+    const json& t = (*ch.j)["temperature"];
+    if (t.contains("compensated") && t["compensated"].contains("adev")) {
+      const json& a = t["compensated"]["adev"];
+      PlotSeries s;
+      for (const char* key : {"tau", "dev", "lo", "hi"}) {
+        std::vector<double>& v = key[0] == 't' ? s.x : key[0] == 'd' ? s.y : key[0] == 'l' ? s.lo : s.hi;
+        if (a.contains(key) && a[key].is_array())
+          for (const auto& x : a[key]) v.push_back(number(x).value_or(NAN));
+      }
+      if (s.lo.size() != s.x.size() || s.hi.size() != s.x.size()) {
+        s.lo = s.y;
+        s.hi = s.y;
+      }
+      s.mark = Mark::errorlines;
+      s.color = color(k);
+      s.width = 1.4;
+      s.point_size = 0.25;
+      if (!s.x.empty()) q.series.push_back(std::move(s));
+    }
+  }
+  for (auto k : with) q.series.push_back(legend_entry(d.channels[g.channels[k]].name, color(k)));
+  q.series.push_back(legend_entry("as recorded", kInk, Dash::solid, Mark::line, 0.4));
+  q.series.push_back(legend_entry("temperature compensated, " + d.ci_text + " interval", kInk, Dash::solid, Mark::errorlines));
+  h.caption_html = "Allan deviation of the " + html_escape(lower_first(g.title)) +
+                   " as recorded (light) and after removing the fitted temperature dependence (with " +
+                   html_escape(d.ci_text) + " intervals): what the temperature swing adds at long averaging times.";
+  figs.push_back(std::move(h));
+  return figs;
+}
+
+}  // namespace
+
+std::vector<Figure> analysis_figures(const AnalysisData& d, const ReportOptions& o) {
+  std::vector<Figure> allan, drift, temp;
+  for (const auto& g : d.groups) {
+    bool any_curve = false;
+    for (auto c : g.channels) any_curve = any_curve || !d.channels[c].curve.tau.empty();
+    if (any_curve) allan.push_back(allan_figure(d, g));
+    if (auto f = drift_figure(d, g, o)) drift.push_back(std::move(*f));
+    for (auto& f : temperature_figures(d, g)) temp.push_back(std::move(f));
+  }
+  std::vector<Figure> all;
+  for (auto* v : {&allan, &drift, &temp})
+    for (auto& f : *v) all.push_back(std::move(f));
+  return all;
+}
+
+}  // namespace cubecal::report::detail
