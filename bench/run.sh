@@ -51,3 +51,13 @@ for i in 1 2 3 4 5; do
   times+=("$(echo "$e - $s" | bc -l)")
 done
 printf '%s\n' "${times[@]}" | sort -g | awk '{a[NR]=$1} END {printf "  runs: "; for(i=1;i<=NR;i++) printf "%.3f ", a[i]; printf "\n  median: %.3f s (target <= 1 s)\n", a[int((NR+1)/2)]}'
+
+echo "== simulator: Google Benchmark (median of 5; items = axis samples)"
+"$BUILD/bin/bench_simulator" --benchmark_repetitions=5 --benchmark_report_aggregates_only=true \
+  --benchmark_display_aggregates_only=true | grep -E "median|Benchmark|---"
+
+echo "== cubecal demo (72 h simulated, written, read back, analyzed; target < 10 s)"
+s=$(date +%s.%N)
+"$BUILD/bin/cubecal" demo --out "$OUT/demo" > "$OUT/demo.txt"
+e=$(date +%s.%N)
+echo "  $(echo "$e - $s" | bc -l | xargs printf '%.2f') s"

@@ -10,6 +10,7 @@ CLI::App* add_calibrate_command(CLI::App& app, Command& run) {
   add_calibrate_rate_table_command(*cmd, run);
   add_calibrate_mag_command(*cmd, run);
   add_calibrate_temperature_command(*cmd, run);
+  add_calibrate_multiposition_command(*cmd, run);
   return cmd;
 }
 

@@ -21,6 +21,7 @@
 #include "cubecal/pipeline/analysis_output.hpp"
 #include "cubecal/pipeline/analyze.hpp"
 #include "cubecal/pipeline/simulate.hpp"
+#include "cubecal/report/report.hpp"
 #include "output.hpp"
 
 namespace cubecal::cli {
@@ -59,6 +60,8 @@ int run_demo(const DemoOptions& o) {
     if (fs::exists(record)) throw io::UsageError(record + " already exists (use another --out, or --force)");
     for (const char* f : pipeline::kAnalysisFiles)
       if (fs::exists(dir / f)) throw io::UsageError((dir / f).string() + " already exists (use another --out, or --force)");
+    for (const auto& f : report::existing_report_outputs(o.out))
+      throw io::UsageError(f + " already exists (use another --out, or --force)");
   }
   std::ofstream(marker) << "written by cubecal demo; files here are replaced by the next run\n";
 
@@ -131,6 +134,11 @@ int run_demo(const DemoOptions& o) {
                              c.model.ok ? c.model.random_walk.sigma_n : NAN);
   }
   (void)kMagSmu;
+  report::ReportOptions ro;
+  ro.force = true;           // the marker makes the directory the demo's
+  ro.require_plots = false;  // without gnuplot: the page without plots, and a warning
+  const report::ReportResult rep = report::write_report(o.out, ro);
+  if (!rep.note.empty()) std::cerr << "cubecal: warning: " << rep.note << '\n';
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::cout << fmt::format(
       "\nDone in {:.1f} s. Output in {}/:\n"
@@ -138,6 +146,7 @@ int run_demo(const DemoOptions& o) {
       "  analysis.json        every number above, with units and uncertainties\n"
       "  adev.csv, drift.csv  Allan curves with the fitted models, bias drift (300 s / 1000 s windows)\n"
       "  imu.yaml             Kalibr noise parameters of the gyro\n"
+      "  report.html          all of it on one page, with the paper's figures (gnuplot files in plots/)\n"
       "Reproduce the analysis: {}\n",
       secs, o.out, cmd);
   return 0;

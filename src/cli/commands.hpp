@@ -21,6 +21,7 @@ CLI::App* add_compare_command(CLI::App& app, Command& run);
 CLI::App* add_calibrate_rate_table_command(CLI::App& calibrate, Command& run);
 CLI::App* add_calibrate_mag_command(CLI::App& calibrate, Command& run);
 CLI::App* add_calibrate_temperature_command(CLI::App& calibrate, Command& run);
+CLI::App* add_calibrate_multiposition_command(CLI::App& calibrate, Command& run);
 
 // The command line as typed (shell-quoted where needed), for result files
 // that must say how to reproduce them.
