@@ -2,6 +2,8 @@
 // and that no file is replaced without being asked.
 #include <gtest/gtest.h>
 
+#include "cli_runner.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cstdio>
@@ -17,30 +19,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int code = -1;
-  std::string out, err;
-};
-
-Result run(const std::string& args) {
-  static int counter = 0;
-  const fs::path errf = fs::temp_directory_path() / ("cubecal_cli_err_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-  const std::string cmd = std::string(CUBECAL_BINARY) + " " + args + " 2>" + errf.string();
-  Result r;
-  FILE* p = ::popen(cmd.c_str(), "r");
-  if (!p) return r;
-  std::array<char, 4096> buf{};
-  std::size_t n;
-  while ((n = std::fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
-  const int st = ::pclose(p);
-  r.code = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  std::ifstream e(errf);
-  std::stringstream ss;
-  ss << e.rdbuf();
-  r.err = ss.str();
-  fs::remove(errf);
-  return r;
-}
+using Result = cubecal::test::CliRun;
+Result run(const std::string& args) { return cubecal::test::run_cubecal(args); }
 
 class Cli : public ::testing::Test {
  protected:
@@ -60,9 +40,7 @@ class Cli : public ::testing::Test {
 
 const std::string kPhaseDat = std::string(CUBECAL_SHARED_DATA) + "/stable32/phasedat/PHASE.DAT";
 
-bool one_error_line(const Result& r) {
-  return r.err.rfind("cubecal: error: ", 0) == 0 && r.err.find('\n') == r.err.size() - 1;
-}
+using cubecal::test::one_error_line;
 
 TEST_F(Cli, JsonShapeAndValuesOnPhaseDat) {
   const Result r = run("dev " + kPhaseDat + " --type phase --rate 1 --stat oadev --format json");

@@ -4,6 +4,8 @@
 // cubesat-adcs points, and the `calibrate mag` command.
 #include <gtest/gtest.h>
 
+#include "cli_runner.hpp"
+
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -718,35 +720,9 @@ TEST(MagCalibration, RealCubesatAdcsPoints) {
 
 namespace fs = std::filesystem;
 
-struct CliRun {
-  int code = -1;
-  std::string out, err;
-};
-
-CliRun cubecal(const std::string& args) {
-  static int counter = 0;
-  const fs::path errf =
-      fs::temp_directory_path() / ("cubecal_mag_err_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-  const std::string cmd = std::string(CUBECAL_BINARY) + " " + args + " 2>" + errf.string();
-  CliRun r;
-  FILE* p = ::popen(cmd.c_str(), "r");
-  if (!p) return r;
-  std::array<char, 4096> buf{};
-  std::size_t n;
-  while ((n = std::fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
-  const int st = ::pclose(p);
-  r.code = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  std::ifstream e(errf);
-  std::stringstream ss;
-  ss << e.rdbuf();
-  r.err = ss.str();
-  fs::remove(errf);
-  return r;
-}
-
-bool one_error_line(const CliRun& r) {
-  return r.err.rfind("cubecal: error: ", 0) == 0 && r.err.find('\n') == r.err.size() - 1;
-}
+using cubecal::test::CliRun;
+using cubecal::test::one_error_line;
+CliRun cubecal(const std::string& args) { return cubecal::test::run_cubecal(args); }
 
 class MagCli : public ::testing::Test {
  protected:

@@ -104,16 +104,8 @@ void print_summary(std::ostream& out, const pipeline::AnalysisResult& r) {
 
 int run_analyze_command(const AnalyzeOptions& o) {
   pipeline::AnalyzeRequest req;
-  for (const auto& name : split_list(o.unit)) {
-    auto u = parse_unit(name);
-    if (!u) throw io::UsageError("unknown unit '" + name + "' (use " + known_units() + ")");
-    req.units.push_back(*u);
-  }
-  try {
-    req.grid = parse_tau_grid(o.taus);
-  } catch (const std::invalid_argument& e) {
-    throw io::UsageError(std::string("--taus: ") + e.what());
-  }
+  req.units = parse_units(o.unit);
+  req.grid = parse_taus(o.taus);
   if (!(o.ci > 0.0 && o.ci < 1.0)) throw io::UsageError("--ci must be between 0 and 1");
   req.ci = o.ci;
   req.temp_order = o.temp_order;

@@ -36,11 +36,7 @@ int run_dev_command(const DevOptions& o) {
   pipeline::DevRequest req;
   req.stat = *parse_stat(o.stat);
   req.type = *parse_data_type(o.type);
-  try {
-    req.grid = parse_tau_grid(o.taus);
-  } catch (const std::invalid_argument& e) {
-    throw io::UsageError(std::string("--taus: ") + e.what());
-  }
+  req.grid = parse_taus(o.taus);
   if (!(o.ci > 0.0 && o.ci < 1.0)) throw io::UsageError("--ci must be between 0 and 1 (e.g. 0.683 or 0.95)");
   req.options.ci = o.ci;
   req.options.edf = o.edf == "simple" ? EdfMethod::simple : EdfMethod::greenhall;

@@ -1,6 +1,7 @@
 #include "common_options.hpp"
 
 #include <cmath>
+#include <stdexcept>
 
 #include "cubecal/io/error.hpp"
 
@@ -46,6 +47,24 @@ void add_input_options(CLI::App& app, InputOptions& opt, bool several) {
                                      "segments and combine)")
       ->check(CLI::IsMember({"error", "split"}));
   app.add_option("--threads", opt.threads, "Worker threads (default: all cores)");
+}
+
+std::vector<Unit> parse_units(const std::string& list) {
+  std::vector<Unit> units;
+  for (const auto& name : split_list(list)) {
+    auto u = parse_unit(name);
+    if (!u) throw io::UsageError("unknown unit '" + name + "' (use " + known_units() + ")");
+    units.push_back(*u);
+  }
+  return units;
+}
+
+TauGrid parse_taus(const std::string& spec) {
+  try {
+    return parse_tau_grid(spec);
+  } catch (const std::invalid_argument& e) {
+    throw io::UsageError(std::string("--taus: ") + e.what());
+  }
 }
 
 io::SeriesOptions to_series_options(const InputOptions& opt) {

@@ -4,6 +4,8 @@
 #include <string>
 #include <vector>
 
+#include "cubecal/core/tau_grid.hpp"
+#include "cubecal/core/units.hpp"
 #include "cubecal/io/series.hpp"
 
 namespace cubecal::cli {
@@ -27,5 +29,10 @@ void add_input_options(CLI::App& app, InputOptions& opt, bool several = false);
 io::SeriesOptions to_series_options(const InputOptions& opt);
 
 std::vector<std::string> split_list(const std::string& s);
+
+// "deg/s,mGauss" -> units; throws io::UsageError naming the unknown one.
+std::vector<Unit> parse_units(const std::string& list);
+// --taus value; throws io::UsageError.
+TauGrid parse_taus(const std::string& spec);
 
 }  // namespace cubecal::cli

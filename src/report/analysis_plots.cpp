@@ -48,8 +48,9 @@ PlotSeries legend_entry(std::string label, const char* c, Dash dash = Dash::soli
 }
 
 // A power law a * tau^p drawn across [t0, t1] (a straight line in log-log).
-PlotSeries term_line(double a, double p, double t0, double t1, const char* c) {
+PlotSeries term_line(double a, double p, double t0, double t1, const char* c, std::string id) {
   PlotSeries s;
+  s.id = std::move(id);
   for (int i = 0; i <= 8; ++i) {
     const double t = t0 * std::pow(t1 / t0, i / 8.0);
     s.x.push_back(t);
@@ -90,6 +91,7 @@ Figure allan_figure(const AnalysisData& d, const SensorGroup& g) {
     m.lo = ch.curve.lo;
     m.hi = ch.curve.hi;
     m.mark = Mark::errorlines;
+    m.id = ch.name + " measured OADEV";
     m.color = c;
     m.width = 1.3;
     m.point_size = 0.25;
@@ -98,6 +100,7 @@ Figure allan_figure(const AnalysisData& d, const SensorGroup& g) {
       PlotSeries s;
       s.x = ch.curve.tau;
       s.y = ch.curve.model;
+      s.id = ch.name + " random-walk model";
       s.dash = Dash::dashed;
       s.color = c;
       s.width = 1.6;
@@ -108,6 +111,7 @@ Figure allan_figure(const AnalysisData& d, const SensorGroup& g) {
       PlotSeries s;
       s.x = ch.curve.tau;
       s.y = ch.curve.gm;
+      s.id = ch.name + " Gauss-Markov model";
       s.dash = Dash::dotted;
       s.color = c;
       s.width = 1.8;
@@ -123,8 +127,8 @@ Figure allan_figure(const AnalysisData& d, const SensorGroup& g) {
       if (fit.is_object() && fit.contains("coefficients") && fit["coefficients"].is_array())
         for (const auto& v : fit["coefficients"]) cf.push_back(number(v).value_or(0.0));
       if (cf.size() == 5) {
-        if (cf[1] > 0) p.series.push_back(term_line(std::sqrt(cf[1]), -0.5, tmin, tmax, c));
-        if (cf[3] > 0) p.series.push_back(term_line(std::sqrt(cf[3]), 0.5, tmin, tmax, c));
+        if (cf[1] > 0) p.series.push_back(term_line(std::sqrt(cf[1]), -0.5, tmin, tmax, c, ch.name + " N line"));
+        if (cf[3] > 0) p.series.push_back(term_line(std::sqrt(cf[3]), 0.5, tmin, tmax, c, ch.name + " K line"));
         any_terms = any_terms || cf[1] > 0 || cf[3] > 0;
       }
       std::optional<double> floor;
@@ -133,7 +137,7 @@ Figure allan_figure(const AnalysisData& d, const SensorGroup& g) {
       else if (cf.size() == 5 && cf[2] > 0)
         floor = std::sqrt(cf[2]);
       if (floor && *floor > 0) {
-        p.series.push_back(term_line(*floor, 0.0, tmin, tmax, c));
+        p.series.push_back(term_line(*floor, 0.0, tmin, tmax, c, ch.name + " B floor (0.664 B)"));
         any_terms = true;
       }
     }
@@ -208,7 +212,7 @@ std::vector<SimDrift> simulate_model_drift(const AnalysisData& d, const SensorGr
       any = true;
     }
     if (!any || n == 0) continue;
-    TriadSimulator sim(tm, dt, seed + first);
+    TriadSimulator sim(tm, dt, seed + g.channels[first]);
     std::array<std::vector<double>, 3> y;
     for (std::size_t a = 0; a < 3; ++a)
       if (first + a < g.channels.size() && out[first + a].ok) y[a].resize(n);
@@ -240,7 +244,7 @@ std::optional<Figure> drift_figure(const AnalysisData& d, const SensorGroup& g, 
   p.x = {"time since the start of the record [h]", false, 0.0, d.duration_s > 0 ? std::optional(d.duration_s / 3600.0) : std::nullopt};
   p.y = {"bias drift [" + g.unit + "]", false, std::nullopt, std::nullopt};
   p.key = "outside bottom center horizontal Left reverse maxrows 2";
-  const auto sim = simulate_model_drift(d, g, o.seed + 1000 * static_cast<std::uint64_t>(g.channels.front()));
+  const auto sim = simulate_model_drift(d, g, o.seed);
   std::vector<std::string> windows;
   bool any_model = false;
   std::string process;
@@ -251,6 +255,7 @@ std::optional<Figure> drift_figure(const AnalysisData& d, const SensorGroup& g, 
     for (double& t : s.x) t /= 3600.0;
     s.y = ch.drift;
     decimate_minmax(s.x, s.y, o.max_points);
+    s.id = ch.name + " drift (data)";
     s.color = color(k);
     s.width = 1.2;
     if (!s.x.empty()) p.series.push_back(std::move(s));
@@ -264,6 +269,7 @@ std::optional<Figure> drift_figure(const AnalysisData& d, const SensorGroup& g, 
       for (double& t : m.x) t /= 3600.0;
       m.y = sim[k].d.drift;
       decimate_minmax(m.x, m.y, o.max_points);
+      m.id = ch.name + " drift (model, simulated)";
       m.color = color(k);
       m.dash = Dash::dashed;
       m.width = 1.2;
@@ -283,8 +289,8 @@ std::optional<Figure> drift_figure(const AnalysisData& d, const SensorGroup& g, 
   p.notes.push_back("data: drift.csv (moving average of " + win + " minus the record mean), at most " +
                     std::to_string(o.max_points) + " points per series (min/max per bucket)");
   p.notes.push_back("model: the fitted sensor model (white noise + bias process, no quantization, no temperature)");
-  p.notes.push_back("simulated by cubecal's TriadSimulator for the record's length and rate, seed " +
-                    std::to_string(o.seed) + ", then averaged the same way");
+  p.notes.push_back("simulated by cubecal's TriadSimulator for the record's length and rate (seed " +
+                    std::to_string(o.seed) + " + index of the triad's first channel), then averaged the same way");
   std::string cap = "Bias drift of the " + html_escape(lower_first(g.title)) + ": moving average over " +
                     html_escape(win) + " minus the fixed bias (solid)";
   if (any_model)
@@ -370,6 +376,7 @@ std::vector<Figure> temperature_figures(const AnalysisData& d, const SensorGroup
         dn.y.push_back(poly(T - tr, -cs[0]));
       }
     }
+    s.id = ch.name + " fitted bias change";
     s.color = color(k);
     s.width = 1.8;
     const std::string unit = t.contains("unit") && t["unit"].is_string() ? t["unit"].get<std::string>() : "";
@@ -379,6 +386,7 @@ std::vector<Figure> temperature_figures(const AnalysisData& d, const SensorGroup
     p.series.push_back(std::move(s));
     if (!up.x.empty()) {
       for (PlotSeries* b : {&up, &dn}) {
+        b->id = ch.name + (b == &up ? " fit, c1 + 1 sigma" : " fit, c1 - 1 sigma");
         b->color = color(k);
         b->width = 1.0;
         b->dash = Dash::dashed;
@@ -423,6 +431,7 @@ std::vector<Figure> temperature_figures(const AnalysisData& d, const SensorGroup
     PlotSeries raw;
     raw.x = ch.curve.tau;
     raw.y = ch.curve.dev;
+    raw.id = ch.name + " as recorded";
     raw.color = color(k);
     raw.opacity = 0.4;
     raw.width = 1.2;
@@ -441,6 +450,7 @@ std::vector<Figure> temperature_figures(const AnalysisData& d, const SensorGroup
         s.hi = s.y;
       }
       s.mark = Mark::errorlines;
+      s.id = ch.name + " temperature compensated";
       s.color = color(k);
       s.width = 1.4;
       s.point_size = 0.25;

@@ -65,6 +65,12 @@ bool valid_name(const std::string& n) {
 
 bool has_data(const PlotSeries& s) { return !s.x.empty(); }
 
+std::string describe(const PlotSeries& s) {
+  if (!s.id.empty()) return s.id;
+  if (!s.label.empty()) return s.label;
+  return "(no legend)";
+}
+
 bool has_bars(const PlotSeries& s) { return s.mark == Mark::errorlines || s.mark == Mark::errorbars; }
 
 // The range of a log axis when none is given: the finite positive values of
@@ -153,7 +159,7 @@ std::string plot_data(const Plot& plot) {
   for (const auto& ser : plot.series) {
     if (!has_data(ser)) continue;
     if (block > 0) s += "\n\n";
-    s += "# index " + std::to_string(block) + ": " + (ser.label.empty() ? std::string("(no legend)") : ser.label) + "\n";
+    s += "# index " + std::to_string(block) + ": " + describe(ser) + "\n";
     const bool bars = has_bars(ser);
     s += bars ? "# x y lo hi\n" : "# x y\n";
     for (std::size_t i = 0; i < ser.x.size(); ++i) {
@@ -191,7 +197,7 @@ std::string gnuplot_script(const Plot& plot) {
     char w[64];
     std::snprintf(w, sizeof w, " lw %.3g pt 7 ps %.3g", ser.width, ser.point_size);
     s += "set style line " + std::to_string(k + 1) + " lc rgb " + rgb(ser) + w + " dt " + dash_type(ser.dash) +
-         "   " + comment(ser.label.empty() ? std::string("(no legend)") : ser.label);
+         "   " + comment(describe(ser));
   }
   s += "\n# ---- frame\n";
   s += "set title " + gp_quote(plot.title) + " noenhanced\n";
@@ -372,6 +378,8 @@ std::vector<RenderedPlot> render_plots(const std::vector<Plot>& plots, const fs:
     r.gp = dir / (p.name + ".gp");
     r.svg = dir / (p.name + ".svg");
     r.png = dir / (p.name + ".png");
+    r.width = p.width;
+    r.height = p.height;
     write_text(r.dat, plot_data(p));
     if (!(options.keep_scripts && fs::exists(r.gp))) write_text(r.gp, gnuplot_script(p));
     fs::remove(r.svg, ec);
@@ -391,10 +399,13 @@ std::vector<RenderedPlot> render_plots(const std::vector<Plot>& plots, const fs:
     }
     const RenderedPlot& r = out[j.index];
     const fs::path log = dir / (r.name + ".log");
-    const bool ok = WIFEXITED(status) && WEXITSTATUS(status) == 0 && fs::exists(r.svg) && fs::file_size(r.svg) > 0 &&
-                    fs::exists(r.png) && fs::file_size(r.png) > 0;
-    if (ok) {
+    const bool ran = WIFEXITED(status) && WEXITSTATUS(status) == 0;
+    const bool wrote = fs::exists(r.svg) && fs::file_size(r.svg) > 0 && fs::exists(r.png) && fs::file_size(r.png) > 0;
+    if (ran && wrote) {
       fs::remove(log, ec);
+    } else if (ran) {
+      failures.push_back(r.gp.string() + " ran but did not write " + r.name + ".svg and " + r.name +
+                         ".png (keep its `set output` lines)");
     } else {
       failures.push_back("gnuplot failed on " + r.gp.string() + ": " + gnuplot_complaint(read_text(log)) +
                          " (all of its output: " + log.string() + ")");

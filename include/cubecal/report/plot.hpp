@@ -28,6 +28,7 @@ struct PlotSeries {
   // Legend text (plain text: never interpreted as gnuplot markup); empty:
   // not in the legend. A series without data is a legend entry only.
   std::string label;
+  std::string id;                // names the series in the .gp and .dat comments (default: label)
   std::vector<double> x, y;
   std::vector<double> lo, hi;    // error bar bounds (errorlines, errorbars)
   Mark mark = Mark::line;
@@ -69,6 +70,7 @@ struct RenderedPlot {
   std::string name;
   std::string title;
   std::filesystem::path dat, gp, svg, png;
+  int width = 900, height = 600;
   std::string svg_text;          // the SVG document gnuplot wrote
 };
 

@@ -1,0 +1,198 @@
+// Multi-position calibration of an accelerometer and a gyroscope without a
+// turntable (Tedaldi, Pretto & Menegatti, ICRA 2014; the imu_tk code):
+// formulas.md section 3.2.
+//
+// Model of each triad (raw X in counts or any unit, calibrated X'):
+//     X' = T K (X - B),   K = diag(s_x, s_y, s_z),
+//     T = [[ 1,      -mis_yz,  mis_zy ],
+//          [ mis_xz,  1,      -mis_zx ],
+//          [-mis_xy,  mis_yx,  1      ]]      (imu_tk's names and signs).
+// The accelerometer defines the body frame: its mis_xz = mis_xy = mis_yx = 0
+// (T_a upper-triangular), 9 parameters (3 misalignments, 3 scales, 3 biases).
+// The gyroscope has 9 parameters (6 misalignments, 3 scales); its bias is the
+// mean over the initial static period, optionally refined (3 more).
+//
+// Procedure:
+// 1. Static detection. v(i) = |(var_x, var_y, var_z)| of the accelerometer over
+//    the centred window [i-h, i+h] (window = 2h+1 samples, unbiased variance);
+//    a static interval is a maximal run of window centres with v(i) below the
+//    threshold, [begin, end) (end is the first centre at or above it). The
+//    threshold is th_mult x |var| of the initial static period (the whole
+//    period, not windowed). Intervals shorter than interval_samples centres
+//    are dropped.
+// 2. Accelerometer: for th_mult = 2..10 with at least min_intervals intervals,
+//    Levenberg-Marquardt on r = g - |T K (a - B)| over the first
+//    interval_samples samples of every interval (or the interval means),
+//    starting from the same initial guess; the th_mult with the smallest final
+//    cost is kept.
+// 3. Gyroscope: u_k = normalised mean of the calibrated accelerometer over
+//    interval k. Between intervals k-1 and k the calibrated gyro
+//    w = T K (w_raw - b) is integrated from the time of end_{k-1} to that of
+//    begin_k (RK4 on the quaternion, q' = q (x) (0, w)/2, rates at both ends
+//    of each step and their mean at the midpoint, as imu_tk), giving R (end
+//    body frame to start body frame). Residual R^-1 u_{k-1} - u_k, 3 per pair;
+//    Levenberg-Marquardt.
+//
+// Costs are sums of squared residuals, sum r^2 (Ceres and imu_tk print half
+// of that). Uncertainties are 1 sigma from sigma0^2 (J^T J)^-1 at the
+// solution, sigma0^2 = cost / (residuals - parameters): they assume white,
+// independent residuals and say nothing of model error.
+#pragma once
+#include <array>
+#include <cstddef>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace cubecal::multipos {
+
+using Vec3 = std::array<double, 3>;
+using Mat3 = std::array<std::array<double, 3>, 3>;  // m[row][col]
+
+inline constexpr std::size_t kDefaultWindow = 101;
+inline constexpr std::size_t kMinWindow = 11;
+inline constexpr std::size_t kIntervalSamples = 100;
+inline constexpr std::size_t kMinIntervals = 12;
+
+struct TriadModel {
+  double mis_yz = 0.0, mis_zy = 0.0, mis_zx = 0.0;  // used by both triads
+  double mis_xz = 0.0, mis_xy = 0.0, mis_yx = 0.0;  // gyroscope only (0 for the accelerometer)
+  Vec3 scale{1.0, 1.0, 1.0};                        // K (calibrated unit per raw unit)
+  Vec3 bias{};                                      // B (raw unit)
+
+  Mat3 misalignment() const noexcept;  // T
+  Mat3 matrix() const noexcept;        // T K
+  Vec3 apply(const Vec3& raw) const noexcept;  // T K (raw - B)
+};
+
+// Half-open range of sample indices [begin, end).
+struct Interval {
+  std::size_t begin = 0;
+  std::size_t end = 0;
+  std::size_t size() const noexcept { return end - begin; }
+};
+
+// One triad record: samples and either time stamps (s, strictly increasing,
+// one per sample) or, when t is empty, a uniform rate.
+struct TriadSeries {
+  std::span<const Vec3> x;
+  std::span<const double> t;
+  double rate_hz = 0.0;
+};
+
+// The window rule: window must be at least kMinWindow; an even window is
+// made odd (+1), as imu_tk does. Throws std::invalid_argument below 11.
+std::size_t normalised_window(std::size_t window);
+
+// v(i) for every sample; +infinity for the h samples at each end, whose
+// centred window does not fit (never static).
+std::vector<double> variance_norm(std::span<const Vec3> x, std::size_t window = kDefaultWindow);
+
+// |(var_x, var_y, var_z)| over all of x (unbiased variance).
+double block_variance_norm(std::span<const Vec3> x);
+
+// Maximal runs of v(i) < threshold, in order, of any length.
+std::vector<Interval> static_intervals(std::span<const double> v, double threshold);
+
+struct Options {
+  double g = 9.81;               // local gravity: |calibrated acceleration| (sets its unit)
+  double init_static_s = 50.0;   // initial static period: samples with t < t_0 + this
+  std::size_t window = kDefaultWindow;
+  std::size_t interval_samples = kIntervalSamples;  // per interval (and its minimum length)
+  std::size_t min_intervals = kMinIntervals;
+  int th_mult_min = 2;
+  int th_mult_max = 10;
+  bool acc_use_means = false;    // one residual per interval (its mean) instead of its samples
+  Vec3 acc_bias_guess{};         // initial B_a (raw unit), e.g. 32768 for offset-binary counts
+  // Initial s_a for all three axes (calibrated unit per raw unit). 0: g over
+  // the mean |a - B_a guess| of the initial static period.
+  double acc_scale_guess = 0.0;
+  double gyro_scale_guess = 1.0;  // initial s_g (rad/s per raw unit)
+  bool refine_gyro_bias = false;  // 3 more gyro parameters (bias corrections)
+  std::size_t max_iterations = 200;
+};
+
+// One th_mult tried.
+struct Trial {
+  int th_mult = 0;
+  double threshold = 0.0;
+  std::size_t intervals = 0;  // of at least interval_samples
+  bool fitted = false;        // enough intervals and a determined fit
+  double cost = 0.0;          // final cost when fitted
+};
+
+// Statistics of the residuals of a fit.
+struct Residuals {
+  std::size_t count = 0;
+  double cost = 0.0;  // sum r^2
+  double rms = 0.0;   // sqrt(cost / count)
+  double max = 0.0;   // max |r|
+};
+
+struct AccResult {
+  TriadModel model;
+  TriadModel initial;  // the starting point (the "before" model)
+  // Parameters in the order mis_yz, mis_zy, mis_zx, s_x, s_y, s_z, b_x, b_y, b_z.
+  std::vector<std::string> names;
+  std::vector<double> values;
+  std::vector<double> sigma;
+  std::vector<std::vector<double>> covariance;
+  std::size_t init_samples = 0;
+  double init_variance_norm = 0.0;
+  int th_mult = 0;
+  double threshold = 0.0;
+  std::vector<Trial> trials;
+  std::vector<Interval> intervals;  // used ones, for the chosen th_mult (accelerometer indices)
+  Residuals before, after;          // r = g - |a'| over the fitted samples
+  double sigma0 = 0.0;              // sqrt(cost / (residuals - 9))
+  std::size_t iterations = 0;
+  bool converged = false;
+};
+
+struct GyroResult {
+  TriadModel model;    // bias: initial-period mean (+ refinement)
+  TriadModel initial;  // scale guess, no misalignment, initial-period bias
+  // mis_yz, mis_zy, mis_zx, mis_xz, mis_xy, mis_yx, s_x, s_y, s_z
+  // [, db_x, db_y, db_z: bias corrections when refined].
+  std::vector<std::string> names;
+  std::vector<double> values;
+  std::vector<double> sigma;
+  std::vector<std::vector<double>> covariance;
+  std::size_t init_samples = 0;
+  Vec3 init_bias{};        // mean over the initial static period
+  Vec3 init_bias_sigma{};  // its standard error (white noise)
+  Vec3 bias_sigma{};       // of model.bias: init_bias_sigma, or from the fit when refined
+  std::size_t pairs = 0;   // consecutive interval pairs (residual blocks)
+  Residuals before, after;  // components of R^-1 u_{k-1} - u_k
+  double angle_rms_before_deg = 0.0;  // RMS angle between R^-1 u_{k-1} and u_k
+  double angle_rms_after_deg = 0.0;
+  double angle_max_after_deg = 0.0;
+  double sigma0 = 0.0;
+  std::size_t iterations = 0;
+  bool converged = false;
+};
+
+struct Result {
+  AccResult acc;
+  GyroResult gyro;
+};
+
+// Accelerometer calibration (steps 1-2). Throws std::invalid_argument, with a
+// message fit for the user, for: empty or non-finite data, time stamps of the
+// wrong count or not increasing, no rate, an initial static period shorter
+// than the window or than the record allows, a constant initial period, bad
+// options, fewer than min_intervals static intervals for every th_mult, or
+// poses that do not determine the parameters.
+AccResult calibrate_accelerometer(const TriadSeries& acc, const Options& opt);
+
+// Gyroscope calibration (step 3) given the accelerometer result on `acc`.
+// The gyro is matched to the accelerometer intervals by time. Throws
+// std::invalid_argument as above, and when the gyro record does not cover the
+// intervals.
+GyroResult calibrate_gyroscope(const TriadSeries& acc, const AccResult& acc_result, const TriadSeries& gyro,
+                               const Options& opt);
+
+// Both.
+Result calibrate(const TriadSeries& acc, const TriadSeries& gyro, const Options& opt);
+
+}  // namespace cubecal::multipos
