@@ -213,20 +213,46 @@ std::vector<SimDrift> simulate_model_drift(const AnalysisData& d, const SensorGr
     }
     if (!any || n == 0) continue;
     TriadSimulator sim(tm, dt, seed + g.channels[first]);
-    std::array<std::vector<double>, 3> y;
-    for (std::size_t a = 0; a < 3; ++a)
-      if (first + a < g.channels.size() && out[first + a].ok) y[a].resize(n);
-    constexpr std::size_t kBlock = 1 << 16;
-    std::vector<double> buf(3 * kBlock);
-    for (std::size_t i = 0; i < n; i += kBlock) {
-      const std::size_t nb = std::min(kBlock, n - i);
-      sim.run(nb, {}, {}, std::span<double>(buf.data(), 3 * nb));
-      for (std::size_t a = 0; a < 3; ++a)
-        if (!y[a].empty())
-          for (std::size_t k = 0; k < nb; ++k) y[a][i + k] = buf[3 * k + a];
+    // Means of consecutive blocks of `block` samples (a divisor of the window,
+    // about a tenth of it, as bias_drift's default stride), so that days of
+    // samples need no memory: the moving average over the window at every
+    // block boundary is the mean of window / block consecutive block means.
+    std::array<std::size_t, 3> block{};
+    std::array<std::vector<double>, 3> means;
+    std::array<double, 3> acc{};
+    std::array<std::size_t, 3> filled{};
+    for (std::size_t a = 0; a < 3; ++a) {
+      if (!(first + a < g.channels.size() && out[first + a].ok) || window[a] == 0) continue;
+      std::size_t b = std::max<std::size_t>(1, window[a] / 10);
+      while (window[a] % b != 0) --b;
+      block[a] = b;
+      means[a].reserve(n / b + 1);
     }
-    for (std::size_t a = 0; a < 3; ++a)
-      if (!y[a].empty()) out[first + a].d = bias_drift(y[a], dt, window[a]);
+    constexpr std::size_t kChunk = 1 << 16;
+    std::vector<double> buf(3 * kChunk);
+    for (std::size_t i = 0; i < n; i += kChunk) {
+      const std::size_t nb = std::min(kChunk, n - i);
+      sim.run(nb, {}, {}, std::span<double>(buf.data(), 3 * nb));
+      for (std::size_t a = 0; a < 3; ++a) {
+        if (block[a] == 0) continue;
+        for (std::size_t k = 0; k < nb; ++k) {
+          acc[a] += buf[3 * k + a];
+          if (++filled[a] == block[a]) {
+            means[a].push_back(acc[a] / static_cast<double>(block[a]));
+            acc[a] = 0.0;
+            filled[a] = 0;
+          }
+        }
+      }
+    }
+    for (std::size_t a = 0; a < 3; ++a) {
+      if (block[a] == 0) continue;
+      const double bdt = static_cast<double>(block[a]) * dt;
+      DriftSeries ds = bias_drift(means[a], bdt, window[a] / block[a], 1);
+      // Centre of the window in samples, not in blocks.
+      for (double& t : ds.t) t += 0.5 * static_cast<double>(block[a] - 1) * dt;
+      out[first + a].d = std::move(ds);
+    }
   }
   return out;
 }

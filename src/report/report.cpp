@@ -12,6 +12,7 @@
 #include "analysis_data.hpp"
 #include "cubecal/core/noise_terms.hpp"
 #include "cubecal/core/sensor_noise_model.hpp"
+#include "cubecal/core/units.hpp"
 #include "cubecal/io/error.hpp"
 
 namespace cubecal::report {
@@ -160,7 +161,14 @@ void read_drift_csv(const fs::path& p, std::vector<ChannelData>& chans) {
   }
 }
 
-std::string kind_class(const std::string& kind) {
+// rate, field or other. analysis.json's "kind" calls every non-rate sensor
+// "field" (their noise terms are quoted alike), so the unit decides first.
+std::string kind_class(const std::string& kind, const std::string& unit) {
+  if (const auto u = parse_unit(unit)) {
+    if (u->kind == SensorKind::rate) return "rate";
+    if (u->kind == SensorKind::field) return "field";
+    return "other";
+  }
   if (kind == "rate" || kind == "field") return kind;
   return "other";
 }
@@ -264,7 +272,7 @@ AnalysisData load_analysis(const fs::path& dir) {
   // Sensor groups: rate, field, other; split by unit when a kind mixes units.
   std::vector<std::pair<std::string, std::string>> keys;  // (class, unit) in first-seen order
   for (const auto& ch : d.channels) {
-    const std::pair<std::string, std::string> k{kind_class(ch.kind), ch.unit};
+    const std::pair<std::string, std::string> k{kind_class(ch.kind, ch.unit), ch.unit};
     if (std::find(keys.begin(), keys.end(), k) == keys.end()) keys.push_back(k);
   }
   for (const auto& k : keys) {
@@ -274,13 +282,34 @@ AnalysisData load_analysis(const fs::path& dir) {
     g.unit = k.second;
     g.title = class_title(k.first) + (k.second.empty() ? std::string() : " (" + k.second + ")");
     for (std::size_t c = 0; c < d.channels.size(); ++c)
-      if (kind_class(d.channels[c].kind) == k.first && d.channels[c].unit == k.second) g.channels.push_back(c);
+      if (kind_class(d.channels[c].kind, d.channels[c].unit) == k.first && d.channels[c].unit == k.second)
+        g.channels.push_back(c);
     d.groups.push_back(std::move(g));
   }
   return d;
 }
 
 }  // namespace detail
+
+namespace {
+
+// Files of an earlier report's plots that this one did not make (the
+// analysis had other sensor groups): only the names write_report uses.
+void remove_stale_plots(const fs::path& dir, const std::vector<std::string>& current) {
+  std::error_code ec;
+  std::vector<fs::path> stale;
+  for (const auto& e : fs::directory_iterator(dir, ec)) {
+    const fs::path& p = e.path();
+    const std::string stem = p.stem().string(), ext = p.extension().string();
+    const bool ours = ext == ".dat" || ext == ".gp" || ext == ".svg" || ext == ".png" || ext == ".log";
+    const bool named = stem.rfind("allan_", 0) == 0 || stem.rfind("drift_", 0) == 0 ||
+                       stem.rfind("temperature_", 0) == 0 || stem.rfind("compensated_", 0) == 0;
+    if (ours && named && std::find(current.begin(), current.end(), stem) == current.end()) stale.push_back(p);
+  }
+  for (const auto& p : stale) fs::remove(p, ec);
+}
+
+}  // namespace
 
 std::vector<std::string> existing_report_outputs(const std::string& dir) {
   std::vector<std::string> v;
@@ -317,6 +346,7 @@ ReportResult write_report(const std::string& dir, const ReportOptions& options) 
     ro.jobs = options.jobs;
     rendered = render_plots(plots, d / "plots", ro);
     for (const auto& r : rendered) res.plots.push_back(r.name);
+    if (!options.keep_scripts) remove_stale_plots(d / "plots", res.plots);
   }
 
   const std::string page = detail::analysis_page(data, figures, rendered, res.note);

@@ -156,7 +156,12 @@ struct GyroResult {
   // [, db_x, db_y, db_z: bias corrections when refined].
   std::vector<std::string> names;
   std::vector<double> values;
+  // 1 sigma and covariance: the fit's sigma0^2 (J^T J)^-1 plus the
+  // propagated accelerometer covariance (through the gravity directions) and,
+  // unless refined, the initial-bias standard error. sigma_fit: the first
+  // term alone (conditional on both).
   std::vector<double> sigma;
+  std::vector<double> sigma_fit;
   std::vector<std::vector<double>> covariance;
   std::size_t init_samples = 0;
   Vec3 init_bias{};        // mean over the initial static period

@@ -8,7 +8,8 @@
 //                         simulated (Figs. 3, 5)
 //   temperature_<sensor>  the fitted bias-temperature polynomial
 //   compensated_<sensor>  OADEV before and after temperature compensation
-// <sensor> is rate, field or other (channels grouped by the kind of unit).
+// <sensor> is rate, field or other: channels grouped by the kind of their unit
+// (with _<unit> appended when one kind comes in several units).
 #pragma once
 #include <cstddef>
 #include <cstdint>
