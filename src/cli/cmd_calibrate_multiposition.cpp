@@ -209,8 +209,8 @@ void print_matrix(std::ostream& out, const char* label, const mp::Mat3& m) {
     fmt::print(out, "  {:<4} [{:>13.6g} {:>13.6g} {:>13.6g}]\n", i == 1 ? label : "", m[i][0], m[i][1], m[i][2]);
 }
 
-void print_table(std::ostream& out, const mp::AccResult& a, const std::optional<mp::GyroResult>& g,
-                 const Context& ctx, const mp::Options& opt) {
+void print_table(std::ostream& out, const mp::AccResult& a, const std::optional<mp::GyroResult>& g, const Context& ctx,
+                 const mp::Options& opt) {
   fmt::print(out, "Multi-position calibration without a turntable (Tedaldi, Pretto & Menegatti 2014)\n");
   fmt::print(out, "accelerometer {}{}\n", ctx.acc_file,
              ctx.gyro ? fmt::format(", gyroscope {}", ctx.gyro_file == ctx.acc_file ? "(same file)" : ctx.gyro_file)
@@ -230,8 +230,8 @@ void print_table(std::ostream& out, const mp::AccResult& a, const std::optional<
   fmt::print(out, "\n\nAccelerometer  a' = T K (a - B), 1 sigma\n");
   print_params(out, a.names, a.values, a.sigma, acc_units());
   print_matrix(out, "T", a.model.misalignment());
-  fmt::print(out, "  |g| - |a'| over {} residuals: rms {:.5g} -> {:.5g}, max {:.5g} -> {:.5g} (g units)\n", a.after.count,
-             a.before.rms, a.after.rms, a.before.max, a.after.max);
+  fmt::print(out, "  |g| - |a'| over {} residuals: rms {:.5g} -> {:.5g}, max {:.5g} -> {:.5g} (g units)\n",
+             a.after.count, a.before.rms, a.after.rms, a.before.max, a.after.max);
   fmt::print(out, "  cost sum r^2 {:.6g} -> {:.6g}; {} iterations{}\n", a.before.cost, a.after.cost, a.iterations,
              a.converged ? "" : " (not converged)");
   if (opt.acc_scale_guess == 0.0)
@@ -243,10 +243,11 @@ void print_table(std::ostream& out, const mp::AccResult& a, const std::optional<
   fmt::print(out, "  B {:>13.6g} {:>13.6g} {:>13.6g} raw ± {:.3g} {:.3g} {:.3g} ({})\n", g->model.bias[0],
              g->model.bias[1], g->model.bias[2], g->bias_sigma[0], g->bias_sigma[1], g->bias_sigma[2],
              g->names.size() == 12 ? "initial-period mean, refined" : "initial-period mean");
-  fmt::print(out, "  gravity direction after integration between {} pose pairs: rms {:.4g} -> {:.4g} deg, max {:.4g} deg\n",
+  fmt::print(out,
+             "  gravity direction after integration between {} pose pairs: rms {:.4g} -> {:.4g} deg, max {:.4g} deg\n",
              g->pairs, g->angle_rms_before_deg, g->angle_rms_after_deg, g->angle_max_after_deg);
-  fmt::print(out, "  cost sum |R^-1 u_(k-1) - u_k|^2 {:.6g} -> {:.6g}; {} iterations{}\n", g->before.cost, g->after.cost,
-             g->iterations, g->converged ? "" : " (not converged)");
+  fmt::print(out, "  cost sum |R^-1 u_(k-1) - u_k|^2 {:.6g} -> {:.6g}; {} iterations{}\n", g->before.cost,
+             g->after.cost, g->iterations, g->converged ? "" : " (not converged)");
   fmt::print(out, "  (before: scale guess {:.6g} rad/s/raw, no misalignment)\n", opt.gyro_scale_guess);
 }
 
@@ -318,9 +319,9 @@ int run_calibrate_multiposition(const MultiposCliOptions& o) {
       g = mp::calibrate_gyroscope(sa, a, sg, opt);
     } catch (const std::invalid_argument& e) {
       const std::string what = e.what();
-      throw io::InputError(ctx.gyro_file, 0, 0, what,
-                           what.find("scale") != std::string::npos ? "give --gyro-scale in rad/s per count"
-                                                                   : std::string());
+      throw io::InputError(
+          ctx.gyro_file, 0, 0, what,
+          what.find("scale") != std::string::npos ? "give --gyro-scale in rad/s per count" : std::string());
     }
   }
   std::vector<double> ta = acc.t;

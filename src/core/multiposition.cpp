@@ -143,8 +143,8 @@ LmOutcome levenberg_marquardt(const EvalFn& eval, VectorXd p, std::size_t max_it
   const double emin = es.eigenvalues().minCoeff();
   out.determined = es.info() == Eigen::Success && emax > 0.0 && emin > 1e-12 * emax;
   if (out.determined) {
-    const MatrixXd Ainv = es.eigenvectors() * es.eigenvalues().cwiseInverse().asDiagonal() *
-                          es.eigenvectors().transpose();
+    const MatrixXd Ainv =
+        es.eigenvectors() * es.eigenvalues().cwiseInverse().asDiagonal() * es.eigenvectors().transpose();
     out.inv_jtj = d.cwiseInverse().asDiagonal() * Ainv * d.cwiseInverse().asDiagonal();
   }
   return out;
@@ -191,8 +191,8 @@ std::vector<double> sample_times(const TriadSeries& s, const char* what) {
     t[i] = s.t[i];
     if (!std::isfinite(t[i])) fail(std::string(what) + ": non-finite time stamp at sample " + std::to_string(i));
     if (i > 0 && !(t[i] > t[i - 1]))
-      fail(std::string(what) + ": time stamps not increasing at sample " + std::to_string(i) + " (" +
-           fmt_g(t[i - 1]) + " s then " + fmt_g(t[i]) + " s)");
+      fail(std::string(what) + ": time stamps not increasing at sample " + std::to_string(i) + " (" + fmt_g(t[i - 1]) +
+           " s then " + fmt_g(t[i]) + " s)");
   }
   return t;
 }
@@ -212,8 +212,7 @@ void check_options(const Options& o) {
   if (o.th_mult_min < 1 || o.th_mult_max < o.th_mult_min) fail("th_mult range must be 1 <= min <= max");
   if (!(o.acc_scale_guess >= 0.0) || !std::isfinite(o.acc_scale_guess))
     fail("accelerometer scale guess must be positive (or 0 for automatic)");
-  if (!(o.gyro_scale_guess > 0.0) || !std::isfinite(o.gyro_scale_guess))
-    fail("gyroscope scale guess must be positive");
+  if (!(o.gyro_scale_guess > 0.0) || !std::isfinite(o.gyro_scale_guess)) fail("gyroscope scale guess must be positive");
   for (double b : o.acc_bias_guess)
     if (!std::isfinite(b)) fail("accelerometer bias guess must be finite");
   if (o.max_iterations < 1) fail("max_iterations must be at least 1");
@@ -278,9 +277,9 @@ EvalFn acc_eval(const std::vector<Vec3>& samples, double g) {
       Jm(k, 1) = -e0 * v2;  // dy0/dmis_zy = v2
       Jm(k, 2) = e1 * v2;   // dy1/dmis_zx = -v2
       // dy/ds_i = T[:, i] d_i ; dy/dB_i = -T[:, i] s_i
-      const double c0 = e0;                       // e . T[:,0]
-      const double c1 = e0 * a01 + e1;            // e . T[:,1]
-      const double c2 = e0 * a02 + e1 * a12 + e2; // e . T[:,2]
+      const double c0 = e0;                        // e . T[:,0]
+      const double c1 = e0 * a01 + e1;             // e . T[:,1]
+      const double c2 = e0 * a02 + e1 * a12 + e2;  // e . T[:,2]
       Jm(k, 3) = -c0 * d0;
       Jm(k, 4) = -c1 * d1;
       Jm(k, 5) = -c2 * d2;
@@ -356,8 +355,8 @@ inline Eigen::Vector3d rotate_inverse(const Quat& q, const Eigen::Vector3d& v) {
 
 // The motion from static interval k to k+1 (gravity directions u[k], u[k+1]).
 struct GyroPair {
-  std::vector<Vec3> raw;      // gyro samples minus the initial-period bias
-  std::vector<double> dt;     // raw.size() - 1 steps
+  std::vector<Vec3> raw;   // gyro samples minus the initial-period bias
+  std::vector<double> dt;  // raw.size() - 1 steps
 };
 
 TriadModel gyro_model(const VectorXd& p, const Vec3& init_bias) {
@@ -411,7 +410,8 @@ double angle_between_deg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
 // ---------------------------------------------------------------------------
 
 Mat3 TriadModel::misalignment() const noexcept {
-  return Mat3{{{1.0, -mis_yz, mis_zy}, {mis_xz, 1.0, -mis_zx}, {-mis_xy, mis_yx, 1.0}}};
+  // 0.0 - x: no negative zeros in printed matrices.
+  return Mat3{{{1.0, 0.0 - mis_yz, mis_zy}, {mis_xz, 1.0, 0.0 - mis_zx}, {0.0 - mis_xy, mis_yx, 1.0}}};
 }
 
 Mat3 TriadModel::matrix() const noexcept {
@@ -514,8 +514,9 @@ AccResult calibrate_accelerometer(const TriadSeries& acc, const Options& opt) {
   const std::span<const Vec3> init = acc.x.first(res.init_samples);
   res.init_variance_norm = block_variance_norm(init);
   if (!(res.init_variance_norm > 0.0))
-    fail("the accelerometer does not vary at all over the initial static period: no noise level to set the "
-         "static threshold");
+    fail(
+        "the accelerometer does not vary at all over the initial static period: no noise level to set the "
+        "static threshold");
 
   // Initial guess.
   TriadModel init_model;
@@ -566,19 +567,19 @@ AccResult calibrate_accelerometer(const TriadSeries& acc, const Options& opt) {
     res.trials.push_back(trial);
   }
   if (!any_enough) {
-    const double hold_s = static_cast<double>(window - 1 + opt.interval_samples) *
-                          ((t.back() - t.front()) / static_cast<double>(n - 1));
+    const double hold_s =
+        static_cast<double>(window - 1 + opt.interval_samples) * ((t.back() - t.front()) / static_cast<double>(n - 1));
     fail("fewer than " + std::to_string(opt.min_intervals) + " static intervals: at most " + std::to_string(most) +
-         " of at least " + std::to_string(opt.interval_samples) + " samples found (threshold " +
-         std::to_string(opt.th_mult_min) + ".." + std::to_string(opt.th_mult_max) +
-         " x the variance of the initial " + fmt_g(opt.init_static_s) + " s, window " + std::to_string(window) +
-         "); hold the sensor still in at least " + std::to_string(opt.min_intervals) +
-         " different orientations, each for more than " + fmt_g(hold_s) +
+         " found (intervals of at least " + std::to_string(opt.interval_samples) + " samples, thresholds " +
+         std::to_string(opt.th_mult_min) + ".." + std::to_string(opt.th_mult_max) + " x the variance of the initial " +
+         fmt_g(opt.init_static_s) + " s, window " + std::to_string(window) + "); hold the sensor still in at least " +
+         std::to_string(opt.min_intervals) + " different orientations, each for more than " + fmt_g(hold_s) +
          " s, after a still initial period");
   }
   if (res.th_mult == 0)
-    fail("the static poses do not determine the accelerometer parameters (too few distinct orientations, or "
-         "the fit diverged: check the bias and scale guesses; use orientations spread over the sphere)");
+    fail(
+        "the static poses do not determine the accelerometer parameters (too few distinct orientations, or "
+        "the fit diverged: check the bias and scale guesses; use orientations spread over the sphere)");
 
   res.model = acc_model(best.p);
   res.names = {"mis_yz", "mis_zy", "mis_zx", "s_x", "s_y", "s_z", "b_x", "b_y", "b_z"};
@@ -604,8 +605,7 @@ GyroResult calibrate_gyroscope(const TriadSeries& acc, const AccResult& ar, cons
   const std::vector<double> tg = sample_times(gyro, "gyroscope");
   if (ar.intervals.size() < 2) fail("the gyroscope fit needs at least 2 static intervals");
   for (const Interval& i : ar.intervals)
-    if (i.end >= acc.x.size() || i.begin >= i.end)
-      fail("static intervals do not match the accelerometer record");
+    if (i.end >= acc.x.size() || i.begin >= i.end) fail("static intervals do not match the accelerometer record");
 
   GyroResult res;
   res.init_samples = init_count(tg, opt.init_static_s);
@@ -617,8 +617,8 @@ GyroResult calibrate_gyroscope(const TriadSeries& acc, const AccResult& ar, cons
     double ss = 0.0;
     for (std::size_t k = 0; k < res.init_samples; ++k) ss += (gyro.x[k][c] - mean) * (gyro.x[k][c] - mean);
     res.init_bias[c] = mean;
-    res.init_bias_sigma[c] = std::sqrt(ss / static_cast<double>(res.init_samples - 1) /
-                                       static_cast<double>(res.init_samples));
+    res.init_bias_sigma[c] =
+        std::sqrt(ss / static_cast<double>(res.init_samples - 1) / static_cast<double>(res.init_samples));
   }
 
   // Gravity directions from the calibrated accelerometer: the calibration is
@@ -648,12 +648,12 @@ GyroResult calibrate_gyroscope(const TriadSeries& acc, const AccResult& ar, cons
     const auto j0 = static_cast<std::size_t>(std::lower_bound(tg.begin(), tg.end(), ts0) - tg.begin());
     const auto j1e = static_cast<std::size_t>(std::lower_bound(tg.begin(), tg.end(), ts1) - tg.begin());
     if (j1e == tg.size() || j0 + 1 >= j1e)
-      fail("the gyroscope record does not cover the motion between static intervals " + std::to_string(k) +
-           " and " + std::to_string(k + 1) + " (" + fmt_g(ts0) + " s to " + fmt_g(ts1) + " s)");
+      fail("the gyroscope record does not cover the motion between static intervals " + std::to_string(k) + " and " +
+           std::to_string(k + 1) + " (" + fmt_g(ts0) + " s to " + fmt_g(ts1) + " s)");
     GyroPair p;
     for (std::size_t j = j0; j < j1e; ++j) {
-      p.raw.push_back({gyro.x[j][0] - res.init_bias[0], gyro.x[j][1] - res.init_bias[1],
-                       gyro.x[j][2] - res.init_bias[2]});
+      p.raw.push_back(
+          {gyro.x[j][0] - res.init_bias[0], gyro.x[j][1] - res.init_bias[1], gyro.x[j][2] - res.init_bias[2]});
       if (j > j0) p.dt.push_back(tg[j] - tg[j - 1]);
     }
     pairs.push_back(std::move(p));
@@ -663,8 +663,8 @@ GyroResult calibrate_gyroscope(const TriadSeries& acc, const AccResult& ar, cons
   const Eigen::Index np = opt.refine_gyro_bias ? 12 : 9;
   VectorXd p0 = VectorXd::Zero(np);
   p0.segment<3>(6).setConstant(opt.gyro_scale_guess);
-  const double bias_typical = std::max({res.init_bias_sigma[0], res.init_bias_sigma[1], res.init_bias_sigma[2],
-                                        1e-3 / opt.gyro_scale_guess});
+  const double bias_typical =
+      std::max({res.init_bias_sigma[0], res.init_bias_sigma[1], res.init_bias_sigma[2], 1e-3 / opt.gyro_scale_guess});
   VectorXd typical(np);
   typical.setConstant(1e-2);
   typical.segment<3>(6).setConstant(opt.gyro_scale_guess);
@@ -672,8 +672,9 @@ GyroResult calibrate_gyroscope(const TriadSeries& acc, const AccResult& ar, cons
   auto f = [&pairs, &u](const VectorXd& p, VectorXd& r) { return gyro_residuals(pairs, u, p, r); };
   const LmOutcome lm = levenberg_marquardt(with_numeric_jacobian(f, typical), p0, opt.max_iterations);
   if (!lm.determined || !lm.p.allFinite())
-    fail("the motions between static poses do not determine the gyroscope parameters (rotate about all three "
-         "axes between poses)");
+    fail(
+        "the motions between static poses do not determine the gyroscope parameters (rotate about all three "
+        "axes between poses)");
   if (lm.p.segment<3>(6).minCoeff() <= 0.0)
     fail("the gyroscope fit converged to a non-positive scale: check the gyroscope scale guess (rad/s per count)");
 

@@ -60,8 +60,8 @@ struct TriadModel {
   Vec3 scale{1.0, 1.0, 1.0};                        // K (calibrated unit per raw unit)
   Vec3 bias{};                                      // B (raw unit)
 
-  Mat3 misalignment() const noexcept;  // T
-  Mat3 matrix() const noexcept;        // T K
+  Mat3 misalignment() const noexcept;          // T
+  Mat3 matrix() const noexcept;                // T K
   Vec3 apply(const Vec3& raw) const noexcept;  // T K (raw - B)
 };
 
@@ -95,15 +95,15 @@ double block_variance_norm(std::span<const Vec3> x);
 std::vector<Interval> static_intervals(std::span<const double> v, double threshold);
 
 struct Options {
-  double g = 9.81;               // local gravity: |calibrated acceleration| (sets its unit)
-  double init_static_s = 50.0;   // initial static period: samples with t < t_0 + this
+  double g = 9.80665;           // local gravity: |calibrated acceleration| (sets its unit)
+  double init_static_s = 50.0;  // initial static period: samples with t < t_0 + this
   std::size_t window = kDefaultWindow;
   std::size_t interval_samples = kIntervalSamples;  // per interval (and its minimum length)
   std::size_t min_intervals = kMinIntervals;
   int th_mult_min = 2;
   int th_mult_max = 10;
-  bool acc_use_means = false;    // one residual per interval (its mean) instead of its samples
-  Vec3 acc_bias_guess{};         // initial B_a (raw unit), e.g. 32768 for offset-binary counts
+  bool acc_use_means = false;  // one residual per interval (its mean) instead of its samples
+  Vec3 acc_bias_guess{};       // initial B_a (raw unit), e.g. 32768 for offset-binary counts
   // Initial s_a for all three axes (calibrated unit per raw unit). 0: g over
   // the mean |a - B_a guess| of the initial static period.
   double acc_scale_guess = 0.0;
@@ -164,11 +164,11 @@ struct GyroResult {
   std::vector<double> sigma_fit;
   std::vector<std::vector<double>> covariance;
   std::size_t init_samples = 0;
-  Vec3 init_bias{};        // mean over the initial static period
-  Vec3 init_bias_sigma{};  // its standard error (white noise)
-  Vec3 bias_sigma{};       // of model.bias: init_bias_sigma, or from the fit when refined
-  std::size_t pairs = 0;   // consecutive interval pairs (residual blocks)
-  Residuals before, after;  // components of R^-1 u_{k-1} - u_k
+  Vec3 init_bias{};                   // mean over the initial static period
+  Vec3 init_bias_sigma{};             // its standard error (white noise)
+  Vec3 bias_sigma{};                  // of model.bias: init_bias_sigma, or from the fit when refined
+  std::size_t pairs = 0;              // consecutive interval pairs (residual blocks)
+  Residuals before, after;            // components of R^-1 u_{k-1} - u_k
   double angle_rms_before_deg = 0.0;  // RMS angle between R^-1 u_{k-1} and u_k
   double angle_rms_after_deg = 0.0;
   double angle_max_after_deg = 0.0;
