@@ -3,7 +3,6 @@
 // its script), its errors, and the page rendered in headless Chromium.
 #include <gtest/gtest.h>
 #include <stdlib.h>
-#include <zlib.h>
 
 #include <chrono>
 #include <cmath>
@@ -14,7 +13,6 @@
 #include <random>
 #include <regex>
 #include <sstream>
-#include <unordered_set>
 
 #include "cubecal/core/tau_grid.hpp"
 #include "cubecal/core/units.hpp"
@@ -25,6 +23,7 @@
 #include "cubecal/report/html.hpp"
 #include "cubecal/report/plot.hpp"
 #include "cubecal/report/report.hpp"
+#include "report_check.hpp"
 
 namespace cubecal {
 namespace {
@@ -47,18 +46,6 @@ std::size_t count(const std::string& hay, const std::string& needle) {
   std::size_t n = 0;
   for (auto p = hay.find(needle); p != std::string::npos; p = hay.find(needle, p + needle.size())) ++n;
   return n;
-}
-
-// An executable on PATH, or empty.
-std::string on_path(const std::string& name) {
-  const auto p = report::find_gnuplot(name);  // finds any executable by name
-  return p ? *p : std::string();
-}
-
-std::string shell_quote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
 }
 
 // White noise + bias random walk (+ a temperature term), the paper's model.
@@ -421,123 +408,29 @@ TEST_F(ReportTest, ModelCurvesWithoutAdevCsv) {
 // ---------------------------------------------------------------------------
 // In a browser
 
-struct PngImage {
-  std::uint32_t width = 0, height = 0;
-  std::vector<std::uint32_t> rgb;  // 0xRRGGBB per pixel
-};
-
-std::uint32_t be32(const unsigned char* p) {
-  return (std::uint32_t(p[0]) << 24) | (std::uint32_t(p[1]) << 16) | (std::uint32_t(p[2]) << 8) | p[3];
-}
-
-// 8-bit RGB / RGBA, non-interlaced (what Chromium writes); empty otherwise.
-PngImage decode_png(const std::string& bytes) {
-  PngImage img;
-  const auto* b = reinterpret_cast<const unsigned char*>(bytes.data());
-  if (bytes.size() < 33 || bytes.compare(1, 3, "PNG") != 0) return img;
-  std::string idat;
-  int channels = 0;
-  for (std::size_t p = 8; p + 12 <= bytes.size();) {
-    const std::uint32_t len = be32(b + p);
-    const std::string type = bytes.substr(p + 4, 4);
-    if (p + 12 + len > bytes.size()) return {};
-    if (type == "IHDR") {
-      img.width = be32(b + p + 8);
-      img.height = be32(b + p + 12);
-      const int depth = b[p + 16], color = b[p + 17], interlace = b[p + 20];
-      if (depth != 8 || interlace != 0 || (color != 2 && color != 6)) return {};
-      channels = color == 2 ? 3 : 4;
-    } else if (type == "IDAT") {
-      idat.append(bytes, p + 8, len);
-    }
-    p += 12 + len;
-  }
-  if (!channels) return {};
-  const std::size_t stride = std::size_t(img.width) * channels;
-  std::vector<unsigned char> raw((stride + 1) * img.height);
-  uLongf n = static_cast<uLongf>(raw.size());
-  if (uncompress(raw.data(), &n, reinterpret_cast<const Bytef*>(idat.data()), static_cast<uLong>(idat.size())) != Z_OK ||
-      n != raw.size())
-    return {};
-  std::vector<unsigned char> prev(stride, 0), cur(stride);
-  img.rgb.reserve(std::size_t(img.width) * img.height);
-  for (std::uint32_t y = 0; y < img.height; ++y) {
-    const unsigned char* row = raw.data() + y * (stride + 1);
-    const int filter = row[0];
-    for (std::size_t i = 0; i < stride; ++i) {
-      const int a = i >= std::size_t(channels) ? cur[i - channels] : 0;
-      const int up = prev[i];
-      const int c = i >= std::size_t(channels) ? prev[i - channels] : 0;
-      int pred = 0;
-      switch (filter) {
-        case 1: pred = a; break;
-        case 2: pred = up; break;
-        case 3: pred = (a + up) / 2; break;
-        case 4: {
-          const int pp = a + up - c, pa = std::abs(pp - a), pb = std::abs(pp - up), pc = std::abs(pp - c);
-          pred = (pa <= pb && pa <= pc) ? a : (pb <= pc ? up : c);
-          break;
-        }
-        default: break;
-      }
-      cur[i] = static_cast<unsigned char>(row[1 + i] + pred);
-    }
-    for (std::uint32_t x = 0; x < img.width; ++x) {
-      const unsigned char* px = cur.data() + std::size_t(x) * channels;
-      img.rgb.push_back((std::uint32_t(px[0]) << 16) | (std::uint32_t(px[1]) << 8) | px[2]);
-    }
-    std::swap(prev, cur);
-  }
-  return img;
-}
-
 TEST_F(ReportTest, RendersInHeadlessChromium) {
   REQUIRE_GNUPLOT();
-  std::string chromium;
-  for (const char* name : {"chromium", "chromium-browser", "google-chrome"})
-    if (chromium.empty()) chromium = on_path(name);
+  const std::string chromium = test::find_chromium();
   if (chromium.empty())
     GTEST_SKIP() << "chromium not installed: install it (scripts/install-deps.sh) to check the page in a browser";
   const fs::path d = fresh("browser");
   const auto r = report::write_report(d.string());
-  const fs::path html = fs::absolute(d / "report.html");
-  const std::string flags = " --headless --no-sandbox --disable-gpu --no-first-run --disable-background-networking"
-                            " --disable-component-update --disable-sync --hide-scrollbars";
-  const std::string url = shell_quote("file://" + html.string());
-  const std::string log = shell_quote((d / "chromium.log").string());
-  const std::string timeout = on_path("timeout").empty() ? "" : "timeout 120 ";
+  const test::BrowserPage page = test::load_in_chromium(chromium, d / "report.html", d);
+  ASSERT_TRUE(page.error.empty()) << page.error;
 
   // Screenshot.
-  const fs::path shot = d / "shot.png";
-  const auto t0 = std::chrono::steady_clock::now();
-  const std::string cmd1 = timeout + shell_quote(chromium) + flags + " --user-data-dir=" +
-                           shell_quote((d / "profile1").string()) + " --screenshot=" + shell_quote(shot.string()) +
-                           " --window-size=1200,2000 " + url + " > " + log + " 2>&1";
-  const int rc1 = std::system(cmd1.c_str());
-  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  ASSERT_EQ(rc1, 0) << cmd1 << "\n" << slurp(d / "chromium.log");
-  ASSERT_TRUE(fs::exists(shot)) << slurp(d / "chromium.log");
-  const PngImage img = decode_png(slurp(shot));
-  ASSERT_EQ(img.width, 1200u);
-  ASSERT_EQ(img.height, 2000u);
-  std::unordered_set<std::uint32_t> colors(img.rgb.begin(), img.rgb.end());
-  const auto ink = std::count_if(img.rgb.begin(), img.rgb.end(), [](std::uint32_t c) { return c != 0xffffffu; });
-  const double ink_fraction = static_cast<double>(ink) / static_cast<double>(img.rgb.size());
+  ASSERT_EQ(page.image.width, 1200u);
+  ASSERT_EQ(page.image.height, 2000u);
   std::printf("  report %zu bytes written in %.2f s; chromium screenshot in %.2f s: %zu colours, %.1f %% ink\n",
-              r.html_bytes, r.seconds, secs, colors.size(), 100.0 * ink_fraction);
-  EXPECT_GT(colors.size(), 100u) << "text, tables and a coloured plot are in view";
-  EXPECT_GT(ink_fraction, 0.03);
-  EXPECT_GT(fs::file_size(shot), 50000u) << "a blank 1200x2000 page is about 11 kB";
+              r.html_bytes, r.seconds, page.seconds, page.colours, 100.0 * page.ink_fraction);
+  EXPECT_GT(page.colours, 100u) << "text, tables and a coloured plot are in view";
+  EXPECT_GT(page.ink_fraction, 0.03);
+  EXPECT_GT(page.shot_bytes, 50000u) << "a blank 1200x2000 page is about 11 kB";
 
   // The DOM after the page's scripts ran: every image decoded.
-  const fs::path dom = d / "dom.html";
-  const std::string cmd2 = timeout + shell_quote(chromium) + flags + " --user-data-dir=" +
-                           shell_quote((d / "profile2").string()) + " --virtual-time-budget=5000 --dump-dom " + url +
-                           " > " + shell_quote(dom.string()) + " 2> " + log;
-  ASSERT_EQ(std::system(cmd2.c_str()), 0) << cmd2 << "\n" << slurp(d / "chromium.log");
-  const std::string dumped = slurp(dom);
+  const std::string& dumped = page.dom;
   EXPECT_NE(dumped.find("data-images=\"ok\""), std::string::npos)
-      << dumped.substr(dumped.find("<body"), 300);
+      << dumped.substr(std::min(dumped.size(), dumped.find("<body")), 300);
   EXPECT_NE(dumped.find("data-image-count=\"" + std::to_string(r.plots.size()) + "\""), std::string::npos);
   EXPECT_EQ(count(dumped, "<img class=\"plot\""), r.plots.size());
 }

@@ -16,7 +16,9 @@
 #include "cubecal/core/mag_calibration.hpp"
 #include "cubecal/io/delimited_reader.hpp"
 #include "cubecal/io/error.hpp"
+#include "cubecal/report/command_reports.hpp"
 #include "output.hpp"
+#include "report_option.hpp"
 
 namespace cubecal::cli {
 
@@ -40,6 +42,7 @@ struct MagCliOptions {
   std::string out;
   bool force = false;
   unsigned threads = 0;
+  std::string report;  // --report DIR
 };
 
 const char* method_text(mag::Method m) {
@@ -169,6 +172,7 @@ int run_calibrate_mag(const MagCliOptions& o) {
   // Refuse to replace a result before spending any time.
   std::optional<OutputFile> file;
   if (!o.out.empty()) file.emplace(o.out, o.force);
+  check_report_option(o.report, o.force);
 
   io::TableOptions to;
   to.columns = cols;
@@ -222,6 +226,11 @@ int run_calibrate_mag(const MagCliOptions& o) {
     file->commit();
     std::cerr << "cubecal: wrote " << o.out << '\n';
   }
+  if (!o.report.empty())
+    write_report_option(report::mag_report(h, r,
+                                           {invocation(), o.file, o.unit, ctx.field_source, opt.field_norms,
+                                            ctx.first_data_line}),
+                        o.report);
   return 0;
 }
 
@@ -264,7 +273,8 @@ CLI::App* add_calibrate_mag_command(CLI::App& calibrate, Command& run) {
       ->check(CLI::IsMember({"table", "json"}))
       ->capture_default_str();
   cmd->add_option("--out", opt->out, "Write the result to this file instead of standard output");
-  cmd->add_flag("--force", opt->force, "Replace the --out file if it exists");
+  cmd->add_flag("--force", opt->force, "Replace the --out file and the --report files if they exist");
+  add_report_option(*cmd, opt->report);
   cmd->add_option("--threads", opt->threads, "Reader threads (default: all cores)");
   cmd->callback([opt, fn, ns, &run] {
     opt->field_norm_given = fn->count() > 0;

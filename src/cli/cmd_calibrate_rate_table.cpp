@@ -21,7 +21,9 @@
 #include "cubecal/io/delimited_reader.hpp"
 #include "cubecal/io/error.hpp"
 #include "cubecal/io/series.hpp"
+#include "cubecal/report/command_reports.hpp"
 #include "output.hpp"
+#include "report_option.hpp"
 
 namespace cubecal::cli {
 
@@ -41,6 +43,7 @@ struct RateTableCliOptions {
   std::string format = "table";
   std::string out;
   bool force = false;
+  std::string report;  // --report DIR
 };
 
 constexpr const char* kAxes = "xyz";
@@ -225,6 +228,7 @@ int run_rate_table_command(const RateTableCliOptions& o) {
   // Refuse to replace a result before spending any time.
   std::optional<OutputFile> file;
   if (!o.out.empty()) file.emplace(o.out, o.force);
+  check_report_option(o.report, o.force);
 
   std::vector<ScheduleRow> schedule;
   if (use_schedule) schedule = read_schedule(o.schedule);
@@ -288,6 +292,10 @@ int run_rate_table_command(const RateTableCliOptions& o) {
     file->commit();
     std::cerr << "cubecal: wrote " << o.out << '\n';
   }
+  if (!o.report.empty())
+    write_report_option(
+        report::rate_table_report(found, cal, {invocation(), o.input.file, o.unit, ctx.source_text, cal_opt.earth_rate}),
+        o.report);
   return 0;
 }
 
@@ -330,7 +338,8 @@ CLI::App* add_calibrate_rate_table_command(CLI::App& calibrate, Command& run) {
       ->check(CLI::IsMember({"table", "json"}))
       ->capture_default_str();
   cmd->add_option("--out", opt->out, "Write the result to this file instead of standard output");
-  cmd->add_flag("--force", opt->force, "Replace the --out file if it exists");
+  cmd->add_flag("--force", opt->force, "Replace the --out file and the --report files if they exist");
+  add_report_option(*cmd, opt->report);
   cmd->callback([opt, &run] { run = [opt] { return run_rate_table_command(*opt); }; });
   return cmd;
 }

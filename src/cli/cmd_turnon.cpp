@@ -10,7 +10,9 @@
 #include "common_options.hpp"
 #include "cubecal/io/error.hpp"
 #include "cubecal/pipeline/turnon.hpp"
+#include "cubecal/report/command_reports.hpp"
 #include "output.hpp"
+#include "report_option.hpp"
 
 namespace cubecal::cli {
 
@@ -24,6 +26,7 @@ struct RunsOptions {
   std::string format = "table";
   std::string out;
   bool force = false;
+  std::string report;  // --report DIR
 };
 
 pipeline::AnalyzeRequest request_of(const RunsOptions& o) {
@@ -88,7 +91,10 @@ std::string term(const TermEstimate& t, Term which, const Unit& u) {
   return fmt::format("{:.4g} ± {:.2g}", q.value, q.sigma);
 }
 
+report::RunsReportContext report_context(const RunsOptions& o) { return {invocation(), o.ci, o.taus}; }
+
 int run_turnon_command(const RunsOptions& o) {
+  check_report_option(o.report, o.force);
   const auto t = pipeline::run_turnon(read_runs(o), request_of(o));
   if (o.format == "json") {
     nlohmann::json j;
@@ -102,6 +108,7 @@ int run_turnon_command(const RunsOptions& o) {
                                {"turn_on_bias_lo", t.turn_on_lo[c]},
                                {"turn_on_bias_hi", t.turn_on_hi[c]}});
     emit(o, j.dump(1) + "\n");
+    if (!o.report.empty()) write_report_option(report::turnon_report(t, report_context(o)), o.report);
     return 0;
   }
   std::string s = fmt::format("Turn-on bias over {} runs ({:.1f} % interval of the standard deviation, {} dof)\n\n",
@@ -120,15 +127,18 @@ int run_turnon_command(const RunsOptions& o) {
     s += fmt::format("{:<10} {:>14.6g} {:>14.4g} {:>12.4g} – {:<11.4g} {}\n", t.names[c], t.mean_bias[c], t.turn_on[c],
                      t.turn_on_lo[c], t.turn_on_hi[c], t.units[c].name);
   emit(o, s);
+  if (!o.report.empty()) write_report_option(report::turnon_report(t, report_context(o)), o.report);
   return 0;
 }
 
 int run_compare_command(const RunsOptions& o) {
+  check_report_option(o.report, o.force);
   const auto runs = pipeline::run_compare(read_runs(o), request_of(o));
   if (o.format == "json") {
     nlohmann::json j;
     for (const auto& r : runs) j["runs"].push_back(run_json(r));
     emit(o, j.dump(1) + "\n");
+    if (!o.report.empty()) write_report_option(report::compare_report(runs, report_context(o)), o.report);
     return 0;
   }
   std::string s = fmt::format("{:<28} {:>8} {:>10} {:<8} {:>22} {:>22} {:>10}\n", "run", "rate Hz", "samples", "axis",
@@ -142,6 +152,7 @@ int run_compare_command(const RunsOptions& o) {
                        term(ro.B, Term::B, c.unit), ro.B.valid ? fmt::format("{:.3g}", ro.tau_min) : "—");
     }
   emit(o, s);
+  if (!o.report.empty()) write_report_option(report::compare_report(runs, report_context(o)), o.report);
   return 0;
 }
 
@@ -153,7 +164,8 @@ void add_runs_options(CLI::App& cmd, RunsOptions& o) {
   cmd.add_option("--ci", o.ci, "Confidence factor")->capture_default_str();
   cmd.add_option("--format", o.format, "table or json")->check(CLI::IsMember({"table", "json"}))->capture_default_str();
   cmd.add_option("--out", o.out, "Write the result to this file");
-  cmd.add_flag("--force", o.force, "Replace --out if it exists");
+  cmd.add_flag("--force", o.force, "Replace --out and the --report files if they exist");
+  add_report_option(cmd, o.report);
 }
 
 }  // namespace

@@ -127,6 +127,8 @@ table.kv th { width: 14rem; background: #f7f8f9; }
 figure { margin: 1.2rem 0 1.6rem; }
 figure img.plot { display: block; width: 100%; height: auto; border: 1px solid #e3e3e3; }
 figcaption { font-size: .88rem; color: #333; margin-top: .35rem; max-width: 52rem; }
+.figrow { display: grid; grid-template-columns: repeat(auto-fit, minmax(18rem, 1fr)); gap: 0 1rem; }
+.figrow figure { margin: .6rem 0 1rem; }
 nav.toc { font-size: .92rem; border: 1px solid #e1e3e5; border-radius: 4px; padding: .5rem 1rem; margin: 1rem 0; }
 nav.toc ol { margin: .2rem 0; padding-left: 1.4rem; columns: 2; }
 footer { margin-top: 3rem; font-size: .8rem; color: #666; border-top: 1px solid #e1e3e5; padding-top: .6rem; }

@@ -71,7 +71,10 @@ std::string describe(const PlotSeries& s) {
   return "(no legend)";
 }
 
-bool has_bars(const PlotSeries& s) { return s.mark == Mark::errorlines || s.mark == Mark::errorbars; }
+// Series written as x y lo hi (error bars, or the edges of a band).
+bool has_bars(const PlotSeries& s) {
+  return s.mark == Mark::errorlines || s.mark == Mark::errorbars || s.mark == Mark::band;
+}
 
 // The range of a log axis when none is given: the finite positive values of
 // the data (error bounds included), widened to whole decades.
@@ -145,6 +148,7 @@ const char* with_clause(Mark m) {
     case Mark::points: return "points";
     case Mark::errorlines: return "yerrorlines";
     case Mark::errorbars: return "yerrorbars";
+    case Mark::band: return "filledcurves";
   }
   return "lines";
 }
@@ -209,6 +213,8 @@ std::string gnuplot_script(const Plot& plot) {
   s += "set bars small\n";
   s += "set clip two\n";
   s += "set datafile missing 'NaN'\n";
+  if (plot.equal_axes) s += "set size ratio -1\n";
+  if (plot.x_tics && *plot.x_tics > 0 && !plot.x.log) s += "set xtics " + num(*plot.x_tics) + "\n";
 
   std::string cmd = "plot";
   std::size_t block = 0;
@@ -219,12 +225,17 @@ std::string gnuplot_script(const Plot& plot) {
     first = false;
     const std::string style = " ls " + std::to_string(k + 1);
     const std::string title = ser.label.empty() ? std::string(" notitle") : " title " + gp_quote(ser.label) + " noenhanced";
+    // A band is filled in its line colour (whose alpha carries the opacity), without an outline.
+    const std::string fill = ser.mark == Mark::band ? " fs solid 1.0 noborder" : "";
     if (!has_data(ser)) {
-      cmd += std::string("keyentry with ") + (ser.mark == Mark::points ? "points" : "lines") + style + title;
+      cmd += std::string("keyentry with ") +
+             (ser.mark == Mark::points ? "points" : ser.mark == Mark::band ? "filledcurves" : "lines") + style +
+             fill + title;
       continue;
     }
+    const char* columns = ser.mark == Mark::band ? "1:3:4" : has_bars(ser) ? "1:2:3:4" : "1:2";
     cmd += (block == 0 ? gp_quote(n + ".dat") : std::string("''")) + " index " + std::to_string(block) + " using " +
-           (has_bars(ser) ? "1:2:3:4" : "1:2") + " with " + with_clause(ser.mark) + style + title;
+           columns + " with " + with_clause(ser.mark) + style + fill + title;
     ++block;
   }
   char size[48];

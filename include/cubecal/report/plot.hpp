@@ -22,6 +22,7 @@ enum class Mark {
   points,      // x, y as marks
   errorlines,  // x, y joined, with y error bars from lo..hi
   errorbars,   // x, y as marks, with y error bars from lo..hi
+  band,        // the area between lo and hi over x, filled in the colour at `opacity` (y unused)
 };
 
 struct PlotSeries {
@@ -30,7 +31,7 @@ struct PlotSeries {
   std::string label;
   std::string id;                // names the series in the .gp and .dat comments (default: label)
   std::vector<double> x, y;
-  std::vector<double> lo, hi;    // error bar bounds (errorlines, errorbars)
+  std::vector<double> lo, hi;    // error bar bounds (errorlines, errorbars), or the band's edges
   Mark mark = Mark::line;
   Dash dash = Dash::solid;
   std::string color = "#1f77b4"; // #RRGGBB
@@ -54,6 +55,8 @@ struct Plot {
   std::string key = "outside right top";  // gnuplot `set key` arguments
   std::vector<std::string> notes;  // comment lines at the top of the .gp and .dat
   int width = 900, height = 600;   // pixels
+  bool equal_axes = false;         // one unit as long on x as on y (`set size ratio -1`)
+  std::optional<double> x_tics;    // spacing of the major x tics (linear x axis); automatic otherwise
 };
 
 // The text of NAME.dat and NAME.gp for `plot` (deterministic).

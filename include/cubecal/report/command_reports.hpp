@@ -1,0 +1,96 @@
+// The report pages of the analysis commands other than `analyze`, built from
+// their result structs (core and pipeline; neither depends on this layer),
+// and the figures on them. Write a page with write_command_report
+// (command_report.hpp). Plot names:
+//   turnon, compare     runs_allan_<channel>   OADEV of every run with its
+//                                              interval, a colour per run
+//   turnon              turnon_bias_<channel>  each run's bias, the mean over
+//                                              the runs and mean ± the turn-on
+//                                              standard deviation (a band)
+//   calibrate rate-table  rate_residual_before, rate_residual_after
+//                                              plateau residuals per axis, before
+//                                              (identity, no bias) and after
+//   calibrate mag       mag_xy, mag_xz, mag_yz raw and calibrated points with the
+//                                              circle of radius F
+//                       mag_norm_error         |h| − F per point, before and after
+//                       mag_norm_error_after   the same after calibration alone
+// <channel> is the channel's name reduced to letters, digits and '_'.
+#pragma once
+#include <array>
+#include <cstddef>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "cubecal/core/mag_calibration.hpp"
+#include "cubecal/core/plateaus.hpp"
+#include "cubecal/core/rate_table.hpp"
+#include "cubecal/pipeline/turnon.hpp"
+#include "cubecal/report/command_report.hpp"
+
+namespace cubecal::report {
+
+// ---------------------------------------------------------------------------
+// turnon, compare
+
+struct RunsReportContext {
+  std::string command;          // the command line as typed
+  double ci = 0.683;            // confidence of the Allan intervals
+  std::string taus;             // the tau grid (--taus), for the input summary
+};
+
+// One plot per channel (channels matched by name and unit across the runs, in
+// first-seen order): every run's OADEV with its interval.
+std::vector<ReportFigure> allan_overlay_figures(const std::vector<pipeline::RunSummary>& runs, double ci);
+
+// One plot per channel: the runs' biases, their mean and mean ± the turn-on
+// standard deviation.
+std::vector<ReportFigure> turnon_bias_figures(const pipeline::TurnOnResult& t);
+
+CommandReport turnon_report(const pipeline::TurnOnResult& t, const RunsReportContext& ctx);
+CommandReport compare_report(const std::vector<pipeline::RunSummary>& runs, const RunsReportContext& ctx);
+
+// ---------------------------------------------------------------------------
+// calibrate rate-table
+
+struct RateTableReportContext {
+  std::string command;
+  std::string file;
+  std::string unit = "deg/s";              // of the gyro and the reference rates
+  std::string source_text;                 // where the plateaus came from ("the reference columns")
+  std::array<double, 3> earth_rate{};      // added to every reference rate (RateTableOptions::earth_rate)
+};
+
+// Residual of every plateau's mean per axis: before, w_g − (w + earth rate)
+// (identity, no bias); after, A w_g + β − (w + earth rate). Error bars: the
+// standard error of the plateau mean (std / √n).
+std::vector<ReportFigure> rate_table_residual_figures(const PlateauDetection& found, const RateTableCalibration& cal,
+                                                      const RateTableReportContext& ctx);
+
+CommandReport rate_table_report(const PlateauDetection& found, const RateTableCalibration& cal,
+                                const RateTableReportContext& ctx);
+
+// ---------------------------------------------------------------------------
+// calibrate mag
+
+struct MagReportContext {
+  std::string command;
+  std::string file;
+  std::string unit;                        // of the values after --lsb; empty: "input units"
+  std::string field_source;                // "given", "mean_raw_norm" or "column"
+  std::vector<double> field_norms;         // F per input point (--field-col); empty: Result::field_norm
+  std::size_t first_data_line = 0;         // line of the first point in the file (rejected points' lines)
+  std::size_t max_points = 1000;           // per series of a plot; beyond, every k-th point
+};
+
+// mag_xy, mag_xz, mag_yz: `h` (every input point, as calibrate() got them)
+// and A^-1 (h − b) projected, with the circle of radius F.
+std::vector<ReportFigure> mag_projection_figures(std::span<const mag::Vec3> h, const mag::Result& r,
+                                                 const MagReportContext& ctx);
+// mag_norm_error (before and after), mag_norm_error_after (after, ± its RMS).
+std::vector<ReportFigure> mag_norm_error_figures(std::span<const mag::Vec3> h, const mag::Result& r,
+                                                 const MagReportContext& ctx);
+
+CommandReport mag_report(std::span<const mag::Vec3> h, const mag::Result& r, const MagReportContext& ctx);
+
+}  // namespace cubecal::report
