@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <filesystem>
@@ -60,7 +61,11 @@ void print_summary(std::ostream& out, const pipeline::AnalysisResult& r) {
                                      : std::string("—");
     fmt::print(out, "  read-off  N {}   B {}   T {}   K {}\n", pm(display(ro.N, Term::N, u), ro.N.valid),
                pm(display(ro.B, Term::B, u), ro.B.valid), T, pm(display(ro.K, Term::K, u), ro.K.valid));
-    if (!ro.B.valid)
+    const bool constant = std::none_of(c.noise.adev.begin(), c.noise.adev.end(),
+                                       [](const StabilityPoint& p) { return p.dev > 0.0; });
+    if (constant)
+      fmt::print(out, "            (the record is constant: every Allan deviation is zero)\n");
+    else if (!ro.B.valid)
       fmt::print(out, "            (no minimum inside the record: the curve still falls at {:.3g} s)\n", ro.tau_min);
     fmt::print(out, "  fit       N {}   B {}   K {}   Q {}   R {}   (rms residual {:.1f} %)\n",
                pm(display(f.N, Term::N, u), f.N.valid), pm(display(f.B, Term::B, u), f.B.valid),
