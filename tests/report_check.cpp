@@ -21,6 +21,17 @@ std::string slurp(const fs::path& p) {
   return ss.str();
 }
 
+void spit(const fs::path& p, const std::string& s) {
+  std::ofstream f(p, std::ios::binary | std::ios::trunc);
+  f << s;
+}
+
+std::size_t count(const std::string& hay, const std::string& needle) {
+  std::size_t n = 0;
+  for (auto p = hay.find(needle); p != std::string::npos; p = hay.find(needle, p + needle.size())) ++n;
+  return n;
+}
+
 std::string on_path(const std::string& name) {
   const auto p = report::find_gnuplot(name);  // finds any executable by name
   return p ? *p : std::string();

@@ -11,6 +11,9 @@
 namespace cubecal::test {
 
 std::string slurp(const std::filesystem::path& p);
+void spit(const std::filesystem::path& p, const std::string& s);
+// Non-overlapping occurrences of needle in hay.
+std::size_t count(const std::string& hay, const std::string& needle);
 
 // An executable on PATH, or empty.
 std::string on_path(const std::string& name);

@@ -36,18 +36,9 @@ namespace {
 namespace fs = std::filesystem;
 using test::one_error_line;
 using test::run_cubecal;
+using test::count;
 using test::slurp;
-
-void spit(const fs::path& p, const std::string& s) {
-  std::ofstream f(p, std::ios::binary | std::ios::trunc);
-  f << s;
-}
-
-std::size_t count(const std::string& hay, const std::string& needle) {
-  std::size_t n = 0;
-  for (auto p = hay.find(needle); p != std::string::npos; p = hay.find(needle, p + needle.size())) ++n;
-  return n;
-}
+using test::spit;
 
 std::string q(const fs::path& p) { return test::shell_quote(p.string()); }
 

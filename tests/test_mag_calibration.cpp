@@ -4,6 +4,8 @@
 // cubesat-adcs points, and the `calibrate mag` command.
 #include <gtest/gtest.h>
 
+#include "mat3.hpp"
+
 #include "cli_runner.hpp"
 
 #include <sys/wait.h>
@@ -32,42 +34,13 @@ using namespace cubecal::mag;
 
 constexpr double kPi = 3.14159265358979323846;
 
+using cubecal::test::mul;
+using cubecal::test::inverse;
+using cubecal::test::norm;
+using cubecal::test::max_abs_diff;
+
 Vec3 add(const Vec3& a, const Vec3& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
 Vec3 scale(double s, const Vec3& a) { return {s * a[0], s * a[1], s * a[2]}; }
-Vec3 mul(const Mat3& m, const Vec3& v) {
-  Vec3 r{};
-  for (std::size_t i = 0; i < 3; ++i)
-    for (std::size_t j = 0; j < 3; ++j) r[i] += m[i][j] * v[j];
-  return r;
-}
-double norm(const Vec3& v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
-double max_abs_diff(const Vec3& a, const Vec3& b) {
-  double m = 0.0;
-  for (std::size_t i = 0; i < 3; ++i) m = std::max(m, std::abs(a[i] - b[i]));
-  return m;
-}
-double max_abs_diff(const Mat3& a, const Mat3& b) {
-  double m = 0.0;
-  for (std::size_t i = 0; i < 3; ++i)
-    for (std::size_t j = 0; j < 3; ++j) m = std::max(m, std::abs(a[i][j] - b[i][j]));
-  return m;
-}
-Mat3 inverse(const Mat3& a) {
-  const double det = a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) -
-                     a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
-                     a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
-  Mat3 r{};
-  r[0][0] = (a[1][1] * a[2][2] - a[1][2] * a[2][1]) / det;
-  r[0][1] = (a[0][2] * a[2][1] - a[0][1] * a[2][2]) / det;
-  r[0][2] = (a[0][1] * a[1][2] - a[0][2] * a[1][1]) / det;
-  r[1][0] = (a[1][2] * a[2][0] - a[1][0] * a[2][2]) / det;
-  r[1][1] = (a[0][0] * a[2][2] - a[0][2] * a[2][0]) / det;
-  r[1][2] = (a[0][2] * a[1][0] - a[0][0] * a[1][2]) / det;
-  r[2][0] = (a[1][0] * a[2][1] - a[1][1] * a[2][0]) / det;
-  r[2][1] = (a[0][1] * a[2][0] - a[0][0] * a[2][1]) / det;
-  r[2][2] = (a[0][0] * a[1][1] - a[0][1] * a[1][0]) / det;
-  return r;
-}
 Mat3 plus_identity(const Mat3& d) {
   Mat3 r = d;
   for (std::size_t i = 0; i < 3; ++i) r[i][i] += 1.0;

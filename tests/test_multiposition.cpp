@@ -4,6 +4,8 @@
 // noisy), the error paths, the real imu_tk xsens sequence, the MPU-6050
 // example, and the `calibrate multiposition` command.
 #include <gtest/gtest.h>
+
+#include "mat3.hpp"
 #include <unistd.h>
 
 #include <algorithm>
@@ -29,45 +31,13 @@ using namespace cubecal::multipos;
 
 constexpr double kPi = 3.14159265358979323846;
 
-// ---------------------------------------------------------------------------
-// Small 3x3 algebra.
+using cubecal::test::mul;
+using cubecal::test::transpose;
+using cubecal::test::inverse;
+using cubecal::test::norm;
 
-Vec3 mul(const Mat3& m, const Vec3& v) {
-  Vec3 r{};
-  for (std::size_t i = 0; i < 3; ++i)
-    for (std::size_t j = 0; j < 3; ++j) r[i] += m[i][j] * v[j];
-  return r;
-}
-Mat3 mul(const Mat3& a, const Mat3& b) {
-  Mat3 r{};
-  for (std::size_t i = 0; i < 3; ++i)
-    for (std::size_t j = 0; j < 3; ++j)
-      for (std::size_t k = 0; k < 3; ++k) r[i][j] += a[i][k] * b[k][j];
-  return r;
-}
-Mat3 transpose(const Mat3& a) {
-  Mat3 r{};
-  for (std::size_t i = 0; i < 3; ++i)
-    for (std::size_t j = 0; j < 3; ++j) r[i][j] = a[j][i];
-  return r;
-}
-Mat3 inverse(const Mat3& a) {
-  const double det = a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) -
-                     a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
-                     a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
-  Mat3 r{};
-  r[0][0] = (a[1][1] * a[2][2] - a[1][2] * a[2][1]) / det;
-  r[0][1] = (a[0][2] * a[2][1] - a[0][1] * a[2][2]) / det;
-  r[0][2] = (a[0][1] * a[1][2] - a[0][2] * a[1][1]) / det;
-  r[1][0] = (a[1][2] * a[2][0] - a[1][0] * a[2][2]) / det;
-  r[1][1] = (a[0][0] * a[2][2] - a[0][2] * a[2][0]) / det;
-  r[1][2] = (a[0][2] * a[1][0] - a[0][0] * a[1][2]) / det;
-  r[2][0] = (a[1][0] * a[2][1] - a[1][1] * a[2][0]) / det;
-  r[2][1] = (a[0][1] * a[2][0] - a[0][0] * a[2][1]) / det;
-  r[2][2] = (a[0][0] * a[1][1] - a[0][1] * a[1][0]) / det;
-  return r;
-}
-double norm(const Vec3& v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
+// ---------------------------------------------------------------------------
+// Small 3x3 algebra (the rest in mat3.hpp).
 
 // exp([n]x theta), n a unit vector (Rodrigues).
 Mat3 rotation(const Vec3& n, double theta) {

@@ -160,9 +160,9 @@ int run_analyze_command(const AnalyzeOptions& o) {
     print_summary(std::cout, r);
 
   if (!o.out.empty()) {
-    write_analysis_files(o.out, r, ctx);
-    std::cerr << "cubecal: wrote " << o.out << "/analysis.json, adev.csv, drift.csv"
-              << (r.channels.empty() || pipeline::kalibr_yaml(r, ctx).empty() ? "" : ", imu.yaml") << '\n';
+    std::string list;
+    for (const auto& f : write_analysis_files(o.out, r, ctx)) list += (list.empty() ? "" : ", ") + f;
+    std::cerr << "cubecal: wrote " << list << " in " << o.out << '\n';
     if (o.report) {
       report::ReportOptions ro;
       ro.force = true;  // existing report files were refused above unless --force

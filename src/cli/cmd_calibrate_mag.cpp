@@ -170,8 +170,7 @@ int run_calibrate_mag(const MagCliOptions& o) {
     throw io::UsageError("--columns takes the 3 magnetometer columns (mx,my,mz or 1,2,3)");
 
   // Refuse to replace a result before spending any time.
-  std::optional<OutputFile> file;
-  if (!o.out.empty()) file.emplace(o.out, o.force);
+  ResultOutput result(o.out, o.force);  // refuses an existing file before the work
   check_report_option(o.report, o.force);
 
   io::TableOptions to;
@@ -217,15 +216,12 @@ int run_calibrate_mag(const MagCliOptions& o) {
     throw io::InputError(o.file, 0, 0, what, hint);
   }
 
-  std::ostream& out = file ? file->stream() : std::cout;
+  std::ostream& out = result.stream();
   if (o.format == "json")
     out << result_json(r, ctx).dump(2) << '\n';
   else
     print_table(out, r, ctx);
-  if (file) {
-    file->commit();
-    std::cerr << "cubecal: wrote " << o.out << '\n';
-  }
+  result.finish();
   if (!o.report.empty())
     write_report_option(report::mag_report(h, r,
                                            {invocation(), o.file, o.unit, ctx.field_source, opt.field_norms,

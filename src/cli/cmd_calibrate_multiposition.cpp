@@ -301,8 +301,7 @@ int run_calibrate_multiposition(const MultiposCliOptions& o) {
 
   const mp::TriadSeries sa{acc.x, acc.t, o.rate_hz};
   const mp::TriadSeries sg{gyro.x, gyro.t, o.rate_hz};
-  std::optional<OutputFile> file;
-  if (!o.out.empty()) file.emplace(o.out, o.force);  // refuse an existing file before the work
+  ResultOutput result(o.out, o.force);  // refuses an existing file before the work
   mp::AccResult a;
   std::optional<mp::GyroResult> g;
   try {
@@ -328,15 +327,12 @@ int run_calibrate_multiposition(const MultiposCliOptions& o) {
   if (ta.empty())
     for (std::size_t i = 0; i < acc.x.size(); ++i) ta.push_back(static_cast<double>(i) / o.rate_hz);
 
-  std::ostream& out = file ? file->stream() : std::cout;
+  std::ostream& out = result.stream();
   if (o.format == "json")
     out << result_json(a, g, ctx, opt, ta).dump(2) << '\n';
   else
     print_table(out, a, g, ctx, opt);
-  if (file) {
-    file->commit();
-    std::cerr << "cubecal: wrote " << o.out << '\n';
-  }
+  result.finish();
   return 0;
 }
 

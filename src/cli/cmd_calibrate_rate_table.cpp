@@ -226,8 +226,7 @@ int run_rate_table_command(const RateTableCliOptions& o) {
   if (!o.earth_axis.empty()) cal_opt.earth_rate = earth_rate_along(parse_axis(o.earth_axis), unit_per_rad_s);
 
   // Refuse to replace a result before spending any time.
-  std::optional<OutputFile> file;
-  if (!o.out.empty()) file.emplace(o.out, o.force);
+  ResultOutput result(o.out, o.force);  // refuses an existing file before the work
   check_report_option(o.report, o.force);
 
   std::vector<ScheduleRow> schedule;
@@ -283,15 +282,12 @@ int run_rate_table_command(const RateTableCliOptions& o) {
     throw io::InputError(o.input.file, 0, 0, e.what(), "the run must turn the gyro about each of its 3 axes");
   }
 
-  std::ostream& out = file ? file->stream() : std::cout;
+  std::ostream& out = result.stream();
   if (o.format == "json")
     out << result_json(cal, ctx).dump(2) << '\n';
   else
     print_table(out, cal, ctx);
-  if (file) {
-    file->commit();
-    std::cerr << "cubecal: wrote " << o.out << '\n';
-  }
+  result.finish();
   if (!o.report.empty())
     write_report_option(
         report::rate_table_report(found, cal, {invocation(), o.input.file, o.unit, ctx.source_text, cal_opt.earth_rate}),

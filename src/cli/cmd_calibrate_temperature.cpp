@@ -29,6 +29,7 @@ struct TemperatureOptions {
 };
 
 int run_calibrate_temperature(const TemperatureOptions& o) {
+  ResultOutput result(o.out, o.force);  // refuses an existing file before the work
   io::SeriesOptions so = to_series_options(o.input);
   so.table.extra_columns = {o.temp_col};
   const io::Series s = io::read_series(o.input.file, so);
@@ -65,14 +66,8 @@ int run_calibrate_temperature(const TemperatureOptions& o) {
   }
   table += "\nUncertainties: sandwich covariance with batch means (robust to a drifting bias).\n";
   const std::string text = o.format == "json" ? j.dump(1) + "\n" : table;
-  if (o.out.empty()) {
-    std::cout << text;
-  } else {
-    OutputFile f(o.out, o.force);
-    f.stream() << text;
-    f.commit();
-    std::cerr << "cubecal: wrote " << o.out << '\n';
-  }
+  result.stream() << text;
+  result.finish();
   return 0;
 }
 

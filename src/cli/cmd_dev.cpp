@@ -53,9 +53,8 @@ int run_dev_command(const DevOptions& o) {
   progress.done();
 
   DevContext ctx{o.input.file, o.ci, o.edf, !o.no_ci};
-  std::optional<OutputFile> file;
-  if (!o.out.empty()) file.emplace(o.out, o.force);
-  std::ostream& out = file ? file->stream() : std::cout;
+  ResultOutput result(o.out, o.force);
+  std::ostream& out = result.stream();
   if (res.segments > 1)
     std::cerr << fmt::format("cubecal: note: {} gaps/jitter found; statistics computed per "
                              "contiguous segment ({} segments) and combined\n",
@@ -66,10 +65,7 @@ int run_dev_command(const DevOptions& o) {
     write_dev_csv(out, res, ctx);
   else
     write_dev_table(out, res, ctx);
-  if (file) {
-    file->commit();
-    std::cerr << "cubecal: wrote " << o.out << '\n';
-  }
+  result.finish();
   return 0;
 }
 

@@ -74,17 +74,6 @@ nlohmann::json run_json(const pipeline::RunSummary& r) {
   return j;
 }
 
-void emit(const RunsOptions& o, const std::string& text) {
-  if (o.out.empty()) {
-    std::cout << text;
-    return;
-  }
-  OutputFile f(o.out, o.force);
-  f.stream() << text;
-  f.commit();
-  std::cerr << "cubecal: wrote " << o.out << '\n';
-}
-
 std::string term(const TermEstimate& t, Term which, const Unit& u) {
   if (!t.valid) return "—";
   const Quantity q = display(t, which, u);
@@ -93,9 +82,7 @@ std::string term(const TermEstimate& t, Term which, const Unit& u) {
 
 report::RunsReportContext report_context(const RunsOptions& o) { return {invocation(), o.ci, o.taus}; }
 
-int run_turnon_command(const RunsOptions& o) {
-  check_report_option(o.report, o.force);
-  const auto t = pipeline::run_turnon(read_runs(o), request_of(o));
+std::string turnon_text(const RunsOptions& o, const pipeline::TurnOnResult& t) {
   if (o.format == "json") {
     nlohmann::json j;
     j["ci"] = t.ci;
@@ -107,9 +94,7 @@ int run_turnon_command(const RunsOptions& o) {
                                {"turn_on_bias", t.turn_on[c]},
                                {"turn_on_bias_lo", t.turn_on_lo[c]},
                                {"turn_on_bias_hi", t.turn_on_hi[c]}});
-    emit(o, j.dump(1) + "\n");
-    if (!o.report.empty()) write_report_option(report::turnon_report(t, report_context(o)), o.report);
-    return 0;
+    return j.dump(1) + "\n";
   }
   std::string s = fmt::format("Turn-on bias over {} runs ({:.1f} % interval of the standard deviation, {} dof)\n\n",
                               t.runs.size(), 100 * t.ci, t.runs.size() - 1);
@@ -126,20 +111,14 @@ int run_turnon_command(const RunsOptions& o) {
   for (std::size_t c = 0; c < t.names.size(); ++c)
     s += fmt::format("{:<10} {:>14.6g} {:>14.4g} {:>12.4g} – {:<11.4g} {}\n", t.names[c], t.mean_bias[c], t.turn_on[c],
                      t.turn_on_lo[c], t.turn_on_hi[c], t.units[c].name);
-  emit(o, s);
-  if (!o.report.empty()) write_report_option(report::turnon_report(t, report_context(o)), o.report);
-  return 0;
+  return s;
 }
 
-int run_compare_command(const RunsOptions& o) {
-  check_report_option(o.report, o.force);
-  const auto runs = pipeline::run_compare(read_runs(o), request_of(o));
+std::string compare_text(const RunsOptions& o, const std::vector<pipeline::RunSummary>& runs) {
   if (o.format == "json") {
     nlohmann::json j;
     for (const auto& r : runs) j["runs"].push_back(run_json(r));
-    emit(o, j.dump(1) + "\n");
-    if (!o.report.empty()) write_report_option(report::compare_report(runs, report_context(o)), o.report);
-    return 0;
+    return j.dump(1) + "\n";
   }
   std::string s = fmt::format("{:<28} {:>8} {:>10} {:<8} {:>22} {:>22} {:>10}\n", "run", "rate Hz", "samples", "axis",
                               "N", "B", "T [s]");
@@ -151,7 +130,25 @@ int run_compare_command(const RunsOptions& o) {
                        c.name, term(ro.N, Term::N, c.unit) + " " + display(ro.N, Term::N, c.unit).unit,
                        term(ro.B, Term::B, c.unit), ro.B.valid ? fmt::format("{:.3g}", ro.tau_min) : "—");
     }
-  emit(o, s);
+  return s;
+}
+
+int run_turnon_command(const RunsOptions& o) {
+  check_report_option(o.report, o.force);
+  ResultOutput result(o.out, o.force);  // refuses an existing file before the work
+  const auto t = pipeline::run_turnon(read_runs(o), request_of(o));
+  result.stream() << turnon_text(o, t);
+  result.finish();
+  if (!o.report.empty()) write_report_option(report::turnon_report(t, report_context(o)), o.report);
+  return 0;
+}
+
+int run_compare_command(const RunsOptions& o) {
+  check_report_option(o.report, o.force);
+  ResultOutput result(o.out, o.force);
+  const auto runs = pipeline::run_compare(read_runs(o), request_of(o));
+  result.stream() << compare_text(o, runs);
+  result.finish();
   if (!o.report.empty()) write_report_option(report::compare_report(runs, report_context(o)), o.report);
   return 0;
 }

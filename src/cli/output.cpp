@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 
 #include "cubecal/io/error.hpp"
 
@@ -52,18 +53,21 @@ void write_dev_csv(std::ostream& out, const pipeline::DevResult& r, const DevCon
                  ctx.intervals ? g(p.lo) : "", g(p.dev), ctx.intervals ? g(p.hi) : "");
 }
 
-void write_analysis_files(const std::string& dir, const pipeline::AnalysisResult& r,
-                          const pipeline::OutputContext& ctx) {
+std::vector<std::string> write_analysis_files(const std::string& dir, const pipeline::AnalysisResult& r,
+                                              const pipeline::OutputContext& ctx) {
   namespace fs = std::filesystem;
   fs::create_directories(dir);
   const std::string texts[] = {pipeline::analysis_json(r, ctx), pipeline::adev_csv(r), pipeline::drift_csv(r),
                                pipeline::kalibr_yaml(r, ctx)};
+  std::vector<std::string> written;
   for (std::size_t k = 0; k < std::size(texts); ++k) {
     if (texts[k].empty()) continue;  // imu.yaml only with rate channels
     OutputFile f((fs::path(dir) / pipeline::kAnalysisFiles[k]).string(), true);
     f.stream() << texts[k];
     f.commit();
+    written.emplace_back(pipeline::kAnalysisFiles[k]);
   }
+  return written;
 }
 
 struct OutputFile::Impl {
@@ -94,6 +98,22 @@ void OutputFile::commit() {
   if (!impl_->out) throw io::UsageError("could not finish writing " + path_ + " (disk full?)");
   std::filesystem::rename(tmp_, path_);
   tmp_.clear();
+}
+
+}  // namespace cubecal::cli
+
+namespace cubecal::cli {
+
+ResultOutput::ResultOutput(const std::string& path, bool force) : path_(path) {
+  if (!path_.empty()) file_ = std::make_unique<OutputFile>(path_, force);
+}
+
+std::ostream& ResultOutput::stream() { return file_ ? file_->stream() : std::cout; }
+
+void ResultOutput::finish() {
+  if (!file_) return;
+  file_->commit();
+  std::cerr << "cubecal: wrote " << path_ << '\n';
 }
 
 }  // namespace cubecal::cli

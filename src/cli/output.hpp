@@ -4,6 +4,7 @@
 #include <memory>
 #include <ostream>
 #include <string>
+#include <vector>
 
 #include "cubecal/pipeline/analysis_output.hpp"
 #include "cubecal/pipeline/dev_pipeline.hpp"
@@ -19,9 +20,10 @@ struct DevContext {
 
 void write_dev_table(std::ostream& out, const pipeline::DevResult& r, const DevContext& ctx);
 void write_dev_csv(std::ostream& out, const pipeline::DevResult& r, const DevContext& ctx);
-// analysis.json, adev.csv, drift.csv and imu.yaml into dir (created).
-void write_analysis_files(const std::string& dir, const pipeline::AnalysisResult& r,
-                          const pipeline::OutputContext& ctx);
+// analysis.json, adev.csv, drift.csv and imu.yaml into dir (created);
+// returns the names written (imu.yaml only with rate channels).
+std::vector<std::string> write_analysis_files(const std::string& dir, const pipeline::AnalysisResult& r,
+                                              const pipeline::OutputContext& ctx);
 
 // Opens `path` for writing; refuses (io::UsageError) to replace an existing
 // file unless `force`. Writes go to a temporary file renamed into place on
@@ -38,6 +40,20 @@ class OutputFile {
   std::string tmp_;
   struct Impl;
   std::unique_ptr<Impl> impl_;
+};
+
+// Where a command's result goes: standard output, or the --out file. The
+// file is refused at construction when it exists and !force (before any
+// work), written atomically, and announced on stderr by finish().
+class ResultOutput {
+ public:
+  ResultOutput(const std::string& path, bool force);
+  std::ostream& stream();
+  void finish();
+
+ private:
+  std::string path_;
+  std::unique_ptr<OutputFile> file_;
 };
 
 }  // namespace cubecal::cli

@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
-#include <fstream>
 
 #include "cubecal/io/error.hpp"
 #include "cubecal/report/html.hpp"
@@ -195,17 +194,7 @@ ReportResult write_command_report(const CommandReport& report, const std::string
 
   const std::string page = command_report_html(report, rendered, res.note);
   const fs::path html = d / "report.html";
-  const fs::path tmp = d / "report.html.partial";
-  {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    f << page;
-    f.close();
-    if (!f) {
-      fs::remove(tmp, ec);
-      throw io::UsageError("cannot write " + html.string() + " (check the directory is writable)");
-    }
-  }
-  fs::rename(tmp, html);
+  write_page(html, page);
   res.html_path = html.string();
   res.html_bytes = page.size();
   res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -5,6 +5,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+
+#include "cubecal/io/error.hpp"
 
 namespace cubecal::report {
 
@@ -170,6 +173,22 @@ std::string html_document(std::string_view title, std::string_view body_html) {
   s += body_html;
   s += "</body>\n</html>\n";
   return s;
+}
+
+void write_page(const std::filesystem::path& html, const std::string& page) {
+  namespace fs = std::filesystem;
+  const fs::path tmp = html.string() + ".partial";
+  {
+    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
+    f << page;
+    f.close();
+    if (!f) {
+      std::error_code ec;
+      fs::remove(tmp, ec);
+      throw io::UsageError("cannot write " + html.string() + " (check the directory is writable)");
+    }
+  }
+  fs::rename(tmp, html);
 }
 
 }  // namespace cubecal::report

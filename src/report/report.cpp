@@ -14,6 +14,7 @@
 #include "cubecal/core/sensor_noise_model.hpp"
 #include "cubecal/core/units.hpp"
 #include "cubecal/io/error.hpp"
+#include "cubecal/report/html.hpp"
 
 namespace cubecal::report {
 
@@ -350,18 +351,7 @@ ReportResult write_report(const std::string& dir, const ReportOptions& options) 
   }
 
   const std::string page = detail::analysis_page(data, figures, rendered, res.note);
-  const fs::path tmp = d / "report.html.partial";
-  {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    f << page;
-    f.close();
-    if (!f) {
-      std::error_code ec;
-      fs::remove(tmp, ec);
-      throw io::UsageError("cannot write " + html.string() + " (check the directory is writable)");
-    }
-  }
-  fs::rename(tmp, html);
+  write_page(html, page);
   res.html_path = html.string();
   res.html_bytes = page.size();
   res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -3,6 +3,7 @@
 // shell (inline CSS, system fonts, print styles, no network references).
 #pragma once
 #include <optional>
+#include <filesystem>
 #include <string>
 #include <string_view>
 
@@ -33,5 +34,9 @@ std::string html_figure(const RenderedPlot& plot, std::string_view caption_html,
 // <body data-images="ok"> once every image decoded (or "missing: NAMES"),
 // then `body_html`.
 std::string html_document(std::string_view title, std::string_view body_html);
+
+// Writes a finished page to `html` through NAME.partial and a rename, so a
+// reader never sees half a page. Throws io::UsageError when it cannot.
+void write_page(const std::filesystem::path& html, const std::string& page);
 
 }  // namespace cubecal::report
