@@ -5,6 +5,8 @@
 // and `cubecal calibrate rate-table` end to end.
 #include <gtest/gtest.h>
 
+#include "mat3.hpp"
+
 #include "cli_runner.hpp"
 
 #include <algorithm>
@@ -40,30 +42,8 @@ using cubecal::RateTableCalibration;
 using cubecal::ScheduleRow;
 using cubecal::TriadRecord;
 using Vec3 = std::array<double, 3>;
-
-Matrix3 inverse(const Matrix3& m) {
-  const double c00 = m[1][1] * m[2][2] - m[1][2] * m[2][1];
-  const double c01 = m[1][2] * m[2][0] - m[1][0] * m[2][2];
-  const double c02 = m[1][0] * m[2][1] - m[1][1] * m[2][0];
-  const double det = m[0][0] * c00 + m[0][1] * c01 + m[0][2] * c02;
-  Matrix3 r{};
-  r[0][0] = c00 / det;
-  r[1][0] = c01 / det;
-  r[2][0] = c02 / det;
-  r[0][1] = (m[0][2] * m[2][1] - m[0][1] * m[2][2]) / det;
-  r[1][1] = (m[0][0] * m[2][2] - m[0][2] * m[2][0]) / det;
-  r[2][1] = (m[0][1] * m[2][0] - m[0][0] * m[2][1]) / det;
-  r[0][2] = (m[0][1] * m[1][2] - m[0][2] * m[1][1]) / det;
-  r[1][2] = (m[0][2] * m[1][0] - m[0][0] * m[1][2]) / det;
-  r[2][2] = (m[0][0] * m[1][1] - m[0][1] * m[1][0]) / det;
-  return r;
-}
-
-Vec3 mul(const Matrix3& m, const Vec3& v) {
-  Vec3 r{};
-  for (int i = 0; i < 3; ++i) r[i] = m[i][0] * v[0] + m[i][1] * v[1] + m[i][2] * v[2];
-  return r;
-}
+using cubecal::test::inverse;
+using cubecal::test::mul;
 
 // The paper's eq. (10) and (11), deg/s.
 const Matrix3 kPaperA{{{1.00330, 0.00792, 0.00798}, {0.00025, 1.02386, -0.01054}, {0.01879, 0.00047, 1.00042}}};
