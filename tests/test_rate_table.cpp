@@ -395,7 +395,7 @@ TEST(Plateaus, SignalDetectionMergesAcrossAShortDisturbance) {
   EXPECT_LT(p.begin, mid);
   EXPECT_GT(p.end, mid + 10);
   EXPECT_LT(p.n, p.end - p.begin);  // the knock is not averaged
-  const Vec3 expected = mul(paper_S(), {10.0, 0.0, 0.0});
+  const Vec3 expected = mul(paper_S(), Vec3{10.0, 0.0, 0.0});
   EXPECT_NEAR(p.mean[1], expected[1] + paper_bias()[1], 5.0 * kNoise / std::sqrt(static_cast<double>(p.n)));
 }
 
