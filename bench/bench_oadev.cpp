@@ -10,10 +10,10 @@
 #include <random>
 #include <vector>
 
-#include "cubecal/core/kernels.hpp"
-#include "cubecal/core/phase.hpp"
-#include "cubecal/core/stability.hpp"
-#include "cubecal/core/tau_grid.hpp"
+#include "cubecal/stats/kernels.hpp"
+#include "cubecal/stats/phase.hpp"
+#include "cubecal/stats/stability.hpp"
+#include "cubecal/stats/tau_grid.hpp"
 
 namespace {
 

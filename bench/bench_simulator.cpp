@@ -14,7 +14,7 @@
 #include <span>
 #include <vector>
 
-#include "cubecal/core/sensor_simulator.hpp"
+#include "cubecal/sim/presets.hpp"
 
 namespace {
 

@@ -9,10 +9,10 @@
 #include <numbers>
 #include <random>
 
-#include "cubecal/core/covariance.hpp"
-#include "cubecal/core/drift.hpp"
-#include "cubecal/core/sensor_noise_model.hpp"
-#include "cubecal/core/temperature.hpp"
+#include "cubecal/noise/covariance.hpp"
+#include "cubecal/noise/drift.hpp"
+#include "cubecal/noise/sensor_noise_model.hpp"
+#include "cubecal/noise/temperature.hpp"
 #include "cubecal/io/series.hpp"
 #include "cubecal/pipeline/analysis_output.hpp"
 #include "cubecal/pipeline/analyze.hpp"

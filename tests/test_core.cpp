@@ -5,13 +5,13 @@
 #include <random>
 #include <vector>
 
-#include "cubecal/core/confidence.hpp"
-#include "cubecal/core/edf.hpp"
-#include "cubecal/core/kernels.hpp"
-#include "cubecal/core/noise_id.hpp"
-#include "cubecal/core/phase.hpp"
-#include "cubecal/core/stability.hpp"
-#include "cubecal/core/tau_grid.hpp"
+#include "cubecal/stats/confidence.hpp"
+#include "cubecal/stats/edf.hpp"
+#include "cubecal/stats/kernels.hpp"
+#include "cubecal/stats/noise_id.hpp"
+#include "cubecal/stats/phase.hpp"
+#include "cubecal/stats/stability.hpp"
+#include "cubecal/stats/tau_grid.hpp"
 
 namespace cubecal {
 namespace {

@@ -23,9 +23,9 @@
 #include <string>
 #include <vector>
 
-#include "cubecal/core/ellipsoid_fit.hpp"
-#include "cubecal/core/mag_calibration.hpp"
-#include "cubecal/core/twostep.hpp"
+#include "cubecal/calib/ellipsoid_fit.hpp"
+#include "cubecal/calib/mag_calibration.hpp"
+#include "cubecal/calib/twostep.hpp"
 #include "cubecal/io/delimited_reader.hpp"
 
 namespace {

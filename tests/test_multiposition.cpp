@@ -22,7 +22,7 @@
 #include <vector>
 
 #include "cli_runner.hpp"
-#include "cubecal/core/multiposition.hpp"
+#include "cubecal/calib/multiposition.hpp"
 #include "cubecal/io/delimited_reader.hpp"
 
 namespace {

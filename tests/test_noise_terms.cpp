@@ -11,11 +11,11 @@
 #include <random>
 #include <vector>
 
-#include "cubecal/core/allan_curve.hpp"
-#include "cubecal/core/noise_terms.hpp"
-#include "cubecal/core/stability.hpp"
-#include "cubecal/core/tau_grid.hpp"
-#include "cubecal/core/types.hpp"
+#include "cubecal/stats/allan_curve.hpp"
+#include "cubecal/noise/noise_terms.hpp"
+#include "cubecal/stats/stability.hpp"
+#include "cubecal/stats/tau_grid.hpp"
+#include "cubecal/stats/statistic.hpp"
 
 namespace cubecal {
 namespace {

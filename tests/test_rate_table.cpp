@@ -27,8 +27,8 @@
 #include <unistd.h>
 #include <vector>
 
-#include "cubecal/core/plateaus.hpp"
-#include "cubecal/core/rate_table.hpp"
+#include "cubecal/calib/plateaus.hpp"
+#include "cubecal/calib/rate_table.hpp"
 
 namespace {
 

@@ -14,8 +14,8 @@
 #include <regex>
 #include <sstream>
 
-#include "cubecal/core/tau_grid.hpp"
-#include "cubecal/core/units.hpp"
+#include "cubecal/stats/tau_grid.hpp"
+#include "cubecal/noise/units.hpp"
 #include "cubecal/io/error.hpp"
 #include "cubecal/io/series.hpp"
 #include "cubecal/pipeline/analysis_output.hpp"

@@ -2,7 +2,7 @@
 // alternative: exact discrete Allan variances against published values and
 // closed forms, the paper's adjustment (fit), and a seeded Monte Carlo of the
 // paper's own model row (PRODUCT.md, "Numbers from the paper").
-#include "cubecal/core/sensor_noise_model.hpp"
+#include "cubecal/noise/sensor_noise_model.hpp"
 
 #include <gtest/gtest.h>
 
@@ -15,10 +15,10 @@
 #include <stdexcept>
 #include <vector>
 
-#include "cubecal/core/allan_curve.hpp"
-#include "cubecal/core/noise_terms.hpp"
-#include "cubecal/core/stability.hpp"
-#include "cubecal/core/tau_grid.hpp"
+#include "cubecal/stats/allan_curve.hpp"
+#include "cubecal/noise/noise_terms.hpp"
+#include "cubecal/stats/stability.hpp"
+#include "cubecal/stats/tau_grid.hpp"
 
 namespace {
 

@@ -5,7 +5,8 @@
 // Stable32-style 68.3 % confidence intervals, must cover the exact discrete
 // closed form (sensor_noise_model.hpp, formulas.md 5) as often as the nominal
 // confidence says -- and must NOT when the closed form is deliberately wrong.
-#include "cubecal/core/sensor_simulator.hpp"
+#include "cubecal/sim/presets.hpp"
+#include "cubecal/sim/simulator.hpp"
 
 #include <gtest/gtest.h>
 
@@ -24,10 +25,10 @@
 #include <string>
 #include <vector>
 
-#include "cubecal/core/sensor_noise_model.hpp"
-#include "cubecal/core/stability.hpp"
-#include "cubecal/core/tau_grid.hpp"
-#include "cubecal/core/types.hpp"
+#include "cubecal/noise/sensor_noise_model.hpp"
+#include "cubecal/stats/stability.hpp"
+#include "cubecal/stats/tau_grid.hpp"
+#include "cubecal/stats/statistic.hpp"
 
 namespace {
 

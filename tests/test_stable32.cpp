@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "cubecal/core/stability.hpp"
-#include "cubecal/core/tau_grid.hpp"
+#include "cubecal/stats/stability.hpp"
+#include "cubecal/stats/tau_grid.hpp"
 #include "stable32_table.hpp"
 
 namespace cubecal {

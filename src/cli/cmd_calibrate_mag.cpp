@@ -13,7 +13,7 @@
 
 #include "commands.hpp"
 #include "common_options.hpp"
-#include "cubecal/core/mag_calibration.hpp"
+#include "cubecal/calib/mag_calibration.hpp"
 #include "cubecal/io/delimited_reader.hpp"
 #include "cubecal/io/error.hpp"
 #include "cubecal/report/command_reports.hpp"

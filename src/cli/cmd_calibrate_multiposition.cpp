@@ -13,7 +13,7 @@
 
 #include "commands.hpp"
 #include "common_options.hpp"
-#include "cubecal/core/multiposition.hpp"
+#include "cubecal/calib/multiposition.hpp"
 #include "cubecal/io/delimited_reader.hpp"
 #include "cubecal/io/error.hpp"
 #include "output.hpp"

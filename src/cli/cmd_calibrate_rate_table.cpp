@@ -16,8 +16,8 @@
 
 #include "commands.hpp"
 #include "common_options.hpp"
-#include "cubecal/core/plateaus.hpp"
-#include "cubecal/core/rate_table.hpp"
+#include "cubecal/calib/plateaus.hpp"
+#include "cubecal/calib/rate_table.hpp"
 #include "cubecal/io/delimited_reader.hpp"
 #include "cubecal/io/error.hpp"
 #include "cubecal/io/series.hpp"

@@ -9,7 +9,7 @@
 
 #include "commands.hpp"
 #include "common_options.hpp"
-#include "cubecal/core/temperature.hpp"
+#include "cubecal/noise/temperature.hpp"
 #include "cubecal/io/error.hpp"
 #include "cubecal/io/series.hpp"
 #include "output.hpp"

@@ -16,6 +16,7 @@
 
 #include "commands.hpp"
 #include "cubecal/io/csv_writer.hpp"
+#include "cubecal/sim/presets.hpp"
 #include "cubecal/io/error.hpp"
 #include "cubecal/io/series.hpp"
 #include "cubecal/pipeline/analysis_output.hpp"

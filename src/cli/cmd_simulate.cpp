@@ -13,6 +13,7 @@
 #include "cubecal/io/error.hpp"
 #include "cubecal/io/series.hpp"
 #include "cubecal/pipeline/simulate.hpp"
+#include "cubecal/sim/presets.hpp"
 #include "progress.hpp"
 
 namespace cubecal::cli {

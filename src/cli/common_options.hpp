@@ -4,8 +4,8 @@
 #include <string>
 #include <vector>
 
-#include "cubecal/core/tau_grid.hpp"
-#include "cubecal/core/units.hpp"
+#include "cubecal/stats/tau_grid.hpp"
+#include "cubecal/noise/units.hpp"
 #include "cubecal/io/series.hpp"
 
 namespace cubecal::cli {

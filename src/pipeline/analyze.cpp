@@ -4,8 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "cubecal/core/allan_curve.hpp"
-#include "cubecal/core/covariance.hpp"
+#include "cubecal/stats/allan_curve.hpp"
+#include "cubecal/noise/covariance.hpp"
 #include "cubecal/io/error.hpp"
 #include "cubecal/pipeline/dev_pipeline.hpp"
 

@@ -7,8 +7,8 @@
 #include <memory>
 #include <string>
 
-#include "cubecal/core/confidence.hpp"
-#include "cubecal/core/edf.hpp"
+#include "cubecal/stats/confidence.hpp"
+#include "cubecal/stats/edf.hpp"
 #include "cubecal/io/error.hpp"
 
 namespace cubecal::pipeline {

@@ -7,8 +7,8 @@
 #include <cstdio>
 
 #include "analysis_data.hpp"
-#include "cubecal/core/drift.hpp"
-#include "cubecal/core/sensor_simulator.hpp"
+#include "cubecal/noise/drift.hpp"
+#include "cubecal/sim/simulator.hpp"
 #include "cubecal/report/html.hpp"
 
 namespace cubecal::report::detail {

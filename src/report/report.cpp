@@ -10,9 +10,9 @@
 #include <sstream>
 
 #include "analysis_data.hpp"
-#include "cubecal/core/noise_terms.hpp"
-#include "cubecal/core/sensor_noise_model.hpp"
-#include "cubecal/core/units.hpp"
+#include "cubecal/noise/noise_terms.hpp"
+#include "cubecal/noise/sensor_noise_model.hpp"
+#include "cubecal/noise/units.hpp"
 #include "cubecal/io/error.hpp"
 #include "cubecal/report/html.hpp"
 

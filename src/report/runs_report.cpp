@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "command_util.hpp"
-#include "cubecal/core/units.hpp"
+#include "cubecal/noise/units.hpp"
 #include "cubecal/report/command_reports.hpp"
 #include "cubecal/report/html.hpp"
 

@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <vector>
 
-#include "cubecal/core/stability.hpp"
+#include "cubecal/stats/stability.hpp"
 
 int main() {
   const double R = 1e-3;

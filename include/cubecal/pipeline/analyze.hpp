@@ -9,13 +9,13 @@
 #include <string>
 #include <vector>
 
-#include "cubecal/core/drift.hpp"
-#include "cubecal/core/noise_terms.hpp"
-#include "cubecal/core/sensor_noise_model.hpp"
-#include "cubecal/core/stability.hpp"
-#include "cubecal/core/tau_grid.hpp"
-#include "cubecal/core/temperature.hpp"
-#include "cubecal/core/units.hpp"
+#include "cubecal/noise/drift.hpp"
+#include "cubecal/noise/noise_terms.hpp"
+#include "cubecal/noise/sensor_noise_model.hpp"
+#include "cubecal/stats/stability.hpp"
+#include "cubecal/stats/tau_grid.hpp"
+#include "cubecal/noise/temperature.hpp"
+#include "cubecal/noise/units.hpp"
 #include "cubecal/io/series.hpp"
 
 namespace cubecal::pipeline {

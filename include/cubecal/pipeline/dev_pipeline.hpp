@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "cubecal/core/stability.hpp"
-#include "cubecal/core/tau_grid.hpp"
+#include "cubecal/stats/stability.hpp"
+#include "cubecal/stats/tau_grid.hpp"
 #include "cubecal/io/series.hpp"
 
 namespace cubecal::pipeline {

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "cubecal/core/sensor_simulator.hpp"
+#include "cubecal/sim/simulator.hpp"
 #include "cubecal/io/csv_writer.hpp"
 
 namespace cubecal::pipeline {

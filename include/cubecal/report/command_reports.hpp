@@ -22,9 +22,9 @@
 #include <string>
 #include <vector>
 
-#include "cubecal/core/mag_calibration.hpp"
-#include "cubecal/core/plateaus.hpp"
-#include "cubecal/core/rate_table.hpp"
+#include "cubecal/calib/mag_calibration.hpp"
+#include "cubecal/calib/plateaus.hpp"
+#include "cubecal/calib/rate_table.hpp"
 #include "cubecal/pipeline/turnon.hpp"
 #include "cubecal/report/command_report.hpp"
 

@@ -1,0 +1,59 @@
+// The paper's sensor noise model (eq. 1-3, 14-16) and the bounded
+// alternative its conclusion asks for, fitted to a measured Allan curve.
+//
+// Random-walk model: w_k = true + beta + b_k + sigma_n * n_k, with
+// b_{k+1} = b_k + sigma_mu * dt * n'_k (Euler step of db/dt = mu), then
+// quantized: int(w * lsb) / lsb. Its Allan variance at tau = m dt is exact:
+//   sigma^2 = (sigma_n^2 + q^2) dt / tau ... white part, q^2 = 1/(12 lsb^2) when quantized
+//           + sigma_mu^2 dt^2 * dt (2 m^2 + 1) / (6 m)  ... discrete random walk
+// (continuous limit sigma_n^2 dt / tau + sigma_mu^2 dt tau / 3).
+//
+// Gauss-Markov model: b_{k+1} = phi b_k + w_k, phi = exp(-dt/T), stationary
+// sigma_b; exact discrete AVAR (formulas.md 5.2) plus the same white part.
+#pragma once
+#include <cstddef>
+
+#include "cubecal/stats/allan_curve.hpp"
+
+namespace cubecal {
+
+struct RandomWalkModel {
+  double sigma_n = 0.0;   // white noise per sample, u
+  double sigma_mu = 0.0;  // bias random-walk rate, u/s (increment sigma_mu * dt per step)
+  double dt = 0.0;        // sample period, s
+  double lsb = 0.0;       // counts per unit; 0: no quantization
+};
+
+struct GaussMarkovModel {
+  double sigma_n = 0.0;   // white noise per sample, u
+  double sigma_b = 0.0;   // stationary bias standard deviation, u
+  double tau_c = 0.0;     // correlation time T_c, s
+  double dt = 0.0;
+  double lsb = 0.0;
+};
+
+// Exact discrete Allan variance of the models at averaging factor m.
+double avar(const RandomWalkModel& model, std::size_t m) noexcept;
+double avar(const GaussMarkovModel& model, std::size_t m) noexcept;
+
+// The paper's adjustment: the model's Allan curve tangent to the measured
+// white-noise arm and with the same minimum. `curve` is the measured OADEV
+// (tau in s); `dt` the sample period; `lsb` > 0 removes the quantization
+// share from sigma_n. Throws std::invalid_argument when the curve has no
+// minimum inside its tau range or no white-noise arm.
+RandomWalkModel fit_random_walk_model(const AllanCurve& curve, double dt, double lsb = 0.0);
+
+// Weighted least squares of the Gauss-Markov model (white + first-order GM)
+// to the measured curve: sigma_n, sigma_b, T_c.
+GaussMarkovModel fit_gauss_markov_model(const AllanCurve& curve, double dt, double lsb = 0.0);
+
+// How well a model reproduces the curve: RMS over the curve's points of
+// log(model dev / measured dev), and the weighted chi-squared in variance.
+struct ModelResidual {
+  double rms_log = 0.0;
+  double chi2 = 0.0;
+};
+ModelResidual residual(const RandomWalkModel& model, const AllanCurve& curve);
+ModelResidual residual(const GaussMarkovModel& model, const AllanCurve& curve);
+
+}  // namespace cubecal

@@ -1,0 +1,47 @@
+// Sensor units and the display units of noise terms, as the paper and the
+// inertial-sensor literature quote them.
+#pragma once
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "cubecal/noise/noise_terms.hpp"
+
+namespace cubecal {
+
+enum class SensorKind { rate, field, acceleration, generic };
+
+struct Unit {
+  std::string name;          // as given: "deg/s", "mGauss", ...
+  SensorKind kind = SensorKind::generic;
+  double to_si = 1.0;        // multiply a value in this unit to get SI (rad/s, T, m/s^2)
+  std::string si_name;       // "rad/s", "T", "m/s^2", or the unit itself
+};
+
+// deg/s, rad/s, mGauss (also mG), uT, nT, g, m/s^2, counts. Case-sensitive
+// except for the aliases listed in units.cpp. nullopt for anything else.
+std::optional<Unit> parse_unit(std::string_view s);
+std::string known_units();  // "deg/s|rad/s|mGauss|uT|nT|g|m/s^2|counts"
+
+struct Quantity {
+  double value = 0.0;
+  double sigma = 0.0;
+  std::string unit;
+};
+
+// A noise term (value and sigma in the data unit and seconds, as
+// noise_terms.hpp defines them) in the unit people quote for this sensor:
+// rate sensors: Q deg, N deg/sqrt(h), B deg/h, K deg/h/sqrt(h), R deg/h^2
+// (rad/s data are converted to degrees); other sensors, as the paper does for
+// its magnetometer: Q u*s, N u*sqrt(h), B u, K u/sqrt(h), R u/h.
+enum class Term { Q, N, B, K, R };
+Quantity display(const TermEstimate& t, Term term, const Unit& unit);
+
+// Spectral densities in the data unit: white noise u/sqrt(Hz) (= N in u*sqrt(s))
+// and random walk u/s/sqrt(Hz) (= K in u/sqrt(s)); in SI when `si`.
+Quantity white_density(const TermEstimate& N, const Unit& unit, bool si);
+Quantity random_walk_density(const TermEstimate& K, const Unit& unit, bool si);
+
+std::string_view to_string(SensorKind k) noexcept;
+
+}  // namespace cubecal

@@ -1,0 +1,17 @@
+// Sensor presets: the paper's gyro and magnetometer as simulator models.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "cubecal/sim/simulator.hpp"
+
+namespace cubecal {
+
+// The paper's sensors (PRODUCT.md): "sport-gyro" (MPU-3300 adjusted model,
+// 145.6 LSB/(deg/s), turn-on bias std of the five power cycles) and
+// "sport-mag" (HMC5843, 1.30 LSB/mGauss, 0.7 mGauss/degC). Throws
+// std::invalid_argument for an unknown name.
+TriadModel preset(const std::string& name);
+std::vector<std::string> preset_names();
+
+}  // namespace cubecal

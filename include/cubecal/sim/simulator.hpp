@@ -1,0 +1,91 @@
+// Simulated sensor triads: the paper's measurement model (eq. 1-3 for the
+// gyro, 14-16 for the magnetometer) and its extensions, for ADCS simulators
+// and for checking the analysis on data with known parameters.
+//
+// Per axis i, sample k (period dt):
+//   u_k      = M * true_k                      (scale factor and misalignment)
+//   w_k[i]   = u_k[i] + fixed_bias[i] + turn_on[i] + b_k[i]
+//              + temp_coeff[i] * (T_k - temp_ref) + white[i] * n_k
+//   out_k[i] = clamp(Q(w_k[i]), -saturation, +saturation)
+// with Q(w) = int(w * lsb) / lsb (truncation toward zero, eq. 3) or rounding,
+// none when lsb == 0; turn_on drawn once per run (N(0, turn_on_sigma^2)); and
+// the bias process b either a random walk b_{k+1} = b_k + sigma_mu dt n'_k
+// (eq. 2/15) or a first-order Gauss-Markov b_{k+1} = phi b_k + sigma_b
+// sqrt(1 - phi^2) n'_k, phi = exp(-dt/T_c), started in its stationary state.
+// Deterministic for a seed; no allocation per sample.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace cubecal {
+
+enum class BiasProcess { none, random_walk, gauss_markov };
+enum class Quantizer { truncate, round };
+
+struct AxisModel {
+  double fixed_bias = 0.0;      // u
+  double turn_on_sigma = 0.0;   // u, drawn once per run
+  double white_sigma = 0.0;     // u per sample (sigma_n)
+  BiasProcess bias = BiasProcess::none;
+  double bias_sigma = 0.0;      // random walk: sigma_mu (u/s); Gauss-Markov: sigma_b (u)
+  double tau_c = 0.0;           // Gauss-Markov correlation time, s
+  double temp_coeff = 0.0;      // u per degC
+};
+
+struct TriadModel {
+  std::string name;                          // e.g. "sport-gyro"
+  std::string unit;                          // e.g. "deg/s"
+  std::array<std::string, 3> axis_names{"x", "y", "z"};
+  std::array<AxisModel, 3> axes;
+  // Row-major 3x3: u = M * true. Identity: no scale-factor or misalignment error.
+  std::array<double, 9> scale_misalignment{1, 0, 0, 0, 1, 0, 0, 0, 1};
+  double lsb = 0.0;                          // counts per unit; 0: no quantization
+  Quantizer quantizer = Quantizer::truncate;
+  double saturation = std::numeric_limits<double>::infinity();  // |out| limit, u
+  double temp_ref = 25.0;                    // degC at which the temperature term is zero
+};
+
+// Temperature profile: constant, daily sinusoid, or a given series.
+struct TemperatureProfile {
+  enum class Kind { constant, sinusoid, series } kind = Kind::constant;
+  double mean = 25.0;          // degC
+  double amplitude = 0.0;      // degC (sinusoid)
+  double period_s = 86400.0;   // sinusoid
+  double phase_rad = 0.0;
+  std::vector<double> values;  // series, one per sample (held at the last value beyond)
+  double at(std::size_t k, double dt) const noexcept;
+};
+
+class TriadSimulator {
+ public:
+  TriadSimulator(const TriadModel& model, double dt, std::uint64_t seed);
+  ~TriadSimulator();
+  TriadSimulator(TriadSimulator&&) noexcept;
+  TriadSimulator& operator=(TriadSimulator&&) noexcept;
+
+  // One sample: true input (u) and temperature (degC) in, measurement out.
+  std::array<double, 3> step(const std::array<double, 3>& true_input, double temperature) noexcept;
+
+  // n samples into out (row-major n x 3). true_input: n x 3 row-major, or
+  // empty for a static sensor. temperature: n values, or empty for temp_ref.
+  void run(std::size_t n, std::span<const double> true_input, std::span<const double> temperature,
+           std::span<double> out);
+
+  const TriadModel& model() const noexcept;
+  double dt() const noexcept;
+  // The turn-on bias drawn for this run.
+  std::array<double, 3> turn_on() const noexcept;
+  // Current bias process state b_k (without fixed, turn-on and temperature terms).
+  std::array<double, 3> bias_state() const noexcept;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace cubecal

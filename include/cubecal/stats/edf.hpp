@@ -1,0 +1,28 @@
+// Equivalent degrees of freedom of stability variances.
+#pragma once
+#include <cstddef>
+
+#include "cubecal/stats/statistic.hpp"
+
+namespace cubecal {
+
+// Greenhall & Riley (PTTI 2003) EDF for a variance built on d-th phase
+// differences. alpha: noise exponent; m: averaging factor; n_phase: phase
+// points; overlapping: stride m (else stride 1 in units of tau); modified:
+// MVAR/TVAR filter. Returns 0 when the algorithm has no answer (alpha+2d<=1).
+double edf_greenhall(int alpha, int d, std::size_t m, std::size_t n_phase, bool overlapping,
+                     bool modified);
+
+// NIST SP 1065 Table 5 simple approximations (overlapping AVAR).
+double edf_simple(int alpha, std::size_t m, std::size_t n_phase);
+
+// NIST SP 1065 Table 11 for TOTVAR (b*T/tau - c), simple formula otherwise.
+double edf_totvar(int alpha, std::size_t m, std::size_t n_phase);
+
+enum class EdfMethod { greenhall, simple };
+
+// EDF of a statistic as Stable32 computes it.
+double edf_for(Stat stat, int alpha, std::size_t m, std::size_t n_phase,
+               EdfMethod method = EdfMethod::greenhall);
+
+}  // namespace cubecal

@@ -1,0 +1,72 @@
+// One statistic over a grid of averaging factors, with noise identification,
+// EDF and confidence intervals: the engine behind `cubecal dev`.
+#pragma once
+#include <cstddef>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "cubecal/stats/edf.hpp"
+#include "cubecal/stats/kernels.hpp"
+#include "cubecal/stats/statistic.hpp"
+
+namespace cubecal {
+
+struct StabilityOptions {
+  double ci = 0.683;                 // confidence factor, as Stable32's default
+  EdfMethod edf = EdfMethod::greenhall;
+  bool intervals = true;             // noise id + EDF + CI
+  std::optional<int> alpha;          // fixed noise type instead of identification
+};
+
+struct StabilityPoint {
+  std::size_t m = 0;
+  double tau = 0.0;
+  double dev = 0.0;
+  std::size_t n = 0;
+  double lo = 0.0;
+  double hi = 0.0;
+  double edf = 0.0;
+  int alpha = 0;
+};
+
+// Prepared record: phase points for the kernels plus what the statistic
+// needs (the reflected extension for TOTDEV). Build once per channel and
+// statistic; evaluate() is const and safe to call from several threads.
+class StabilityRecord {
+ public:
+  // Throws std::invalid_argument for a NaN or infinite sample. The data are
+  // scaled by an exact power of two internally, so values anywhere in the
+  // double range (1e-150 or 1e+150) give correct deviations.
+  StabilityRecord(std::span<const double> data, DataType type, double tau0, Stat stat);
+
+  std::size_t phase_points() const noexcept { return x_.size(); }
+  double tau0() const noexcept { return tau0_; }
+  DataType type() const noexcept { return type_; }
+  // Phase points, divided by scale().
+  std::span<const double> phase() const noexcept { return x_; }
+  double scale() const noexcept { return scale_; }
+  Stat stat() const noexcept { return stat_; }
+  // Largest m Stable32 would evaluate on this record.
+  std::size_t max_m() const noexcept;
+
+  // Deviation, n, and (if opt.intervals) noise id, EDF and interval at m.
+  // n == 0 when m is beyond what the record supports.
+  StabilityPoint evaluate(std::size_t m, const StabilityOptions& opt) const;
+
+ private:
+  double scale_;
+  std::vector<double> x_;
+  DataType type_;
+  double tau0_;
+  Stat stat_;
+  TotvarExtension ext_;  // only for TOTDEV
+};
+
+// Convenience: every m in `ms` (single-threaded; the pipeline layer runs
+// channels and taus in parallel).
+std::vector<StabilityPoint> stability(std::span<const double> data, DataType type, double tau0,
+                                      Stat stat, std::span<const std::size_t> ms,
+                                      const StabilityOptions& opt = {});
+
+}  // namespace cubecal

@@ -1,0 +1,282 @@
+// Simulated sensor triads (simulator.hpp): the paper's measurement model
+// (eq. 1-3 gyro, 14-16 magnetometer) with turn-on bias, temperature, scale
+// factor / misalignment and saturation.
+//
+// Random-number stream (kept stable so a seed reproduces a run across
+// versions; changing any of this changes every simulated record):
+//   engine  std::mt19937_64 seeded with `seed` (std::mt19937_64(seed)), one
+//           engine per simulator;
+//   normal  boost::random::normal_distribution<double>(0, 1), Boost.Random's
+//           ziggurat (Boost >= 1.56; one 64-bit engine output per attempt,
+//           a few more on the rare rejections and tail draws);
+//   order   at construction, 6 normals: the turn-on biases of x, y, z, then
+//           the Gauss-Markov initial states of x, y, z;
+//           per sample k, 6 normals in axis order x, y, z, two per axis:
+//           first the white-noise normal n_k[i], then the bias-process normal
+//           n'_k[i] (which moves b_k[i] to b_{k+1}[i]).
+// Every normal is drawn whether or not its term is enabled (a zero sigma, no
+// bias process, no Gauss-Markov state): the stream does not depend on the
+// model, so two models run with the same seed see the same normals (common
+// random numbers) -- e.g. the white noise of "white + random walk" equals
+// that of "white only" sample for sample.
+//
+// Per sample and axis, in this floating-point order:
+//   w      = (((u + (fixed_bias + turn_on)) + b_k) + temp_coeff (T - temp_ref)) + white n_k
+//   b_k+1  = phi b_k + gain n'_k    random walk: phi = 1, gain = sigma_mu dt
+//                                   Gauss-Markov: phi = exp(-dt/T_c),
+//                                     gain = sigma_b sqrt(1 - phi^2)
+//                                   none: phi = 1, gain = 0 (b stays 0)
+//   out    = clamp(Q(w), -saturation, saturation)
+// with u = M * true (row-major) and Q(w) = trunc(w lsb)/lsb (eq. 3) or
+// round(w lsb)/lsb, Q = identity for lsb == 0. The random walk starts at
+// b_0 = 0 (the paper's model: the starting level is the fixed + turn-on
+// bias), the Gauss-Markov process at b_0 = sigma_b n, its stationary law.
+// step() and run() evaluate the same inlined kernel, so they produce the same
+// bytes for the same seed and inputs.
+#include "cubecal/sim/simulator.hpp"
+
+#include <algorithm>
+#include <boost/random/normal_distribution.hpp>
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+namespace cubecal {
+
+namespace {
+
+using Engine = std::mt19937_64;
+
+enum class QuantMode { none, truncate, round };
+
+void require(bool ok, const std::string& what) {
+  if (!ok) throw std::invalid_argument("TriadSimulator: " + what);
+}
+
+// Parameters and state the per-sample kernel reads. run() works on a local
+// copy so that the compiler can keep it in registers (the output span could
+// otherwise alias it) and writes the state back at the end.
+struct Kernel {
+  std::array<double, 9> m{};       // scale factor / misalignment, row-major
+  std::array<double, 3> offset{};  // fixed_bias + turn_on
+  std::array<double, 3> white{};   // sigma_n
+  std::array<double, 3> phi{};     // bias-process recursion
+  std::array<double, 3> gain{};
+  std::array<double, 3> tc{};      // temperature coefficients
+  std::array<double, 3> b{};       // bias state b_k
+  double lsb = 0.0;
+  double saturation = 0.0;
+  double temp_ref = 0.0;
+
+  template <QuantMode Q>
+  double finish(double w) const noexcept {
+    if constexpr (Q == QuantMode::truncate) {
+      w = std::trunc(w * lsb) / lsb;
+    } else if constexpr (Q == QuantMode::round) {
+      w = std::round(w * lsb) / lsb;
+    }
+    return std::clamp(w, -saturation, saturation);
+  }
+
+  // One triad. `in` is the true input (3 values) when kInput, ignored (zero
+  // input) otherwise. For a zero input both paths give the same bytes:
+  // M * 0 is +-0 and adding a signed zero to the offset leaves it unchanged.
+  template <QuantMode Q, bool kInput>
+  void sample(Engine& eng, const double* in, double temperature, double* out) noexcept {
+    boost::random::normal_distribution<double> normal;  // N(0, 1), stateless
+    const double dtemp = temperature - temp_ref;
+    for (std::size_t i = 0; i < 3; ++i) {
+      double u = 0.0;
+      if constexpr (kInput) u = m[3 * i] * in[0] + m[3 * i + 1] * in[1] + m[3 * i + 2] * in[2];
+      const double n_white = normal(eng);
+      const double n_bias = normal(eng);
+      const double w = (((u + offset[i]) + b[i]) + tc[i] * dtemp) + white[i] * n_white;
+      b[i] = phi[i] * b[i] + gain[i] * n_bias;
+      out[i] = finish<Q>(w);
+    }
+  }
+
+  template <QuantMode Q, bool kInput, bool kTemp>
+  void run(Engine& eng, std::size_t n, const double* in, const double* temp, double* out) noexcept {
+    for (std::size_t k = 0; k < n; ++k) {
+      const double t = kTemp ? temp[k] : temp_ref;
+      sample<Q, kInput>(eng, kInput ? in + 3 * k : nullptr, t, out + 3 * k);
+    }
+  }
+};
+
+template <QuantMode Q>
+void dispatch_run(Kernel& kern, Engine& eng, std::size_t n, const double* in, const double* temp,
+                  double* out) noexcept {
+  if (in != nullptr) {
+    if (temp != nullptr) kern.run<Q, true, true>(eng, n, in, temp, out);
+    else kern.run<Q, true, false>(eng, n, in, temp, out);
+  } else {
+    if (temp != nullptr) kern.run<Q, false, true>(eng, n, in, temp, out);
+    else kern.run<Q, false, false>(eng, n, in, temp, out);
+  }
+}
+
+bool finite(double v) noexcept { return std::isfinite(v); }
+
+void validate(const TriadModel& model, double dt) {
+  require(finite(dt) && dt > 0.0, "the sample period dt must be positive and finite");
+  for (std::size_t i = 0; i < 3; ++i) {
+    const AxisModel& a = model.axes[i];
+    const std::string ax = "axis " + std::to_string(i) + ": ";
+    require(finite(a.fixed_bias), ax + "fixed_bias must be finite");
+    require(finite(a.turn_on_sigma) && a.turn_on_sigma >= 0.0,
+            ax + "turn_on_sigma must be finite and >= 0");
+    require(finite(a.white_sigma) && a.white_sigma >= 0.0, ax + "white_sigma must be finite and >= 0");
+    require(finite(a.bias_sigma) && a.bias_sigma >= 0.0, ax + "bias_sigma must be finite and >= 0");
+    require(finite(a.temp_coeff), ax + "temp_coeff must be finite");
+    if (a.bias == BiasProcess::gauss_markov)
+      require(finite(a.tau_c) && a.tau_c > 0.0,
+              ax + "a Gauss-Markov bias needs a positive, finite correlation time tau_c");
+  }
+  for (double v : model.scale_misalignment)
+    require(finite(v), "scale_misalignment entries must be finite");
+  require(finite(model.lsb) && model.lsb >= 0.0,
+          "lsb (counts per unit) must be finite and >= 0 (0: no quantization)");
+  require(model.saturation > 0.0, "saturation must be > 0 (infinity: none)");
+  require(finite(model.temp_ref), "temp_ref must be finite");
+}
+
+}  // namespace
+
+double TemperatureProfile::at(std::size_t k, double dt) const noexcept {
+  switch (kind) {
+    case Kind::constant:
+      return mean;
+    case Kind::sinusoid: {
+      if (!(period_s > 0.0)) return mean;
+      // fmod keeps the phase accurate for long records (k dt >> period).
+      const double cycles = std::fmod(static_cast<double>(k) * dt, period_s) / period_s;
+      return mean + amplitude * std::sin(2.0 * std::numbers::pi * cycles + phase_rad);
+    }
+    case Kind::series:
+      if (values.empty()) return mean;
+      return values[std::min(k, values.size() - 1)];
+  }
+  return mean;
+}
+
+struct TriadSimulator::Impl {
+  TriadModel model;
+  double dt = 0.0;
+  Engine eng;
+  QuantMode quant = QuantMode::none;
+  std::array<double, 3> turn_on{};
+  Kernel kern;
+};
+
+TriadSimulator::TriadSimulator(const TriadModel& model, double dt, std::uint64_t seed) {
+  validate(model, dt);
+  auto p = std::make_unique<Impl>();
+  p->model = model;
+  p->dt = dt;
+  p->eng.seed(seed);
+  p->quant = model.lsb > 0.0 ? (model.quantizer == Quantizer::round ? QuantMode::round
+                                                                     : QuantMode::truncate)
+                             : QuantMode::none;
+  Kernel& k = p->kern;
+  k.m = model.scale_misalignment;
+  k.lsb = model.lsb;
+  k.saturation = model.saturation;
+  k.temp_ref = model.temp_ref;
+
+  boost::random::normal_distribution<double> normal;
+  // Construction draws: turn-on x, y, z; then Gauss-Markov initial x, y, z.
+  std::array<double, 3> n_turn_on{}, n_initial{};
+  for (double& v : n_turn_on) v = normal(p->eng);
+  for (double& v : n_initial) v = normal(p->eng);
+
+  for (std::size_t i = 0; i < 3; ++i) {
+    const AxisModel& a = model.axes[i];
+    p->turn_on[i] = a.turn_on_sigma * n_turn_on[i];
+    k.offset[i] = a.fixed_bias + p->turn_on[i];
+    k.white[i] = a.white_sigma;
+    k.tc[i] = a.temp_coeff;
+    switch (a.bias) {
+      case BiasProcess::none:
+        k.phi[i] = 1.0;
+        k.gain[i] = 0.0;
+        k.b[i] = 0.0;
+        break;
+      case BiasProcess::random_walk:
+        k.phi[i] = 1.0;
+        k.gain[i] = a.bias_sigma * dt;  // Euler step of db/dt = mu (eq. 2/15)
+        k.b[i] = 0.0;
+        break;
+      case BiasProcess::gauss_markov:
+        k.phi[i] = std::exp(-dt / a.tau_c);
+        // sqrt(1 - phi^2) without cancellation when dt << tau_c.
+        k.gain[i] = a.bias_sigma * std::sqrt(-std::expm1(-2.0 * dt / a.tau_c));
+        k.b[i] = a.bias_sigma * n_initial[i];  // stationary N(0, sigma_b^2)
+        break;
+    }
+  }
+  impl_ = std::move(p);
+}
+
+TriadSimulator::~TriadSimulator() = default;
+TriadSimulator::TriadSimulator(TriadSimulator&&) noexcept = default;
+TriadSimulator& TriadSimulator::operator=(TriadSimulator&&) noexcept = default;
+
+std::array<double, 3> TriadSimulator::step(const std::array<double, 3>& true_input,
+                                           double temperature) noexcept {
+  std::array<double, 3> out{};
+  Impl& s = *impl_;
+  switch (s.quant) {
+    case QuantMode::none:
+      s.kern.sample<QuantMode::none, true>(s.eng, true_input.data(), temperature, out.data());
+      break;
+    case QuantMode::truncate:
+      s.kern.sample<QuantMode::truncate, true>(s.eng, true_input.data(), temperature, out.data());
+      break;
+    case QuantMode::round:
+      s.kern.sample<QuantMode::round, true>(s.eng, true_input.data(), temperature, out.data());
+      break;
+  }
+  return out;
+}
+
+void TriadSimulator::run(std::size_t n, std::span<const double> true_input,
+                         std::span<const double> temperature, std::span<double> out) {
+  require(n <= out.size() / 3 && out.size() == 3 * n,
+          "out has " + std::to_string(out.size()) + " values; " + std::to_string(n) +
+              " samples need " + std::to_string(3 * n) + " (n x 3)");
+  require(true_input.empty() || true_input.size() == 3 * n,
+          "true_input has " + std::to_string(true_input.size()) +
+              " values; it must be empty or n x 3 = " + std::to_string(3 * n));
+  require(temperature.empty() || temperature.size() == n,
+          "temperature has " + std::to_string(temperature.size()) +
+              " values; it must be empty or n = " + std::to_string(n));
+  if (n == 0) return;
+  Impl& s = *impl_;
+  Kernel kern = s.kern;  // local copy: registers, no aliasing with out
+  const double* in = true_input.empty() ? nullptr : true_input.data();
+  const double* temp = temperature.empty() ? nullptr : temperature.data();
+  switch (s.quant) {
+    case QuantMode::none:
+      dispatch_run<QuantMode::none>(kern, s.eng, n, in, temp, out.data());
+      break;
+    case QuantMode::truncate:
+      dispatch_run<QuantMode::truncate>(kern, s.eng, n, in, temp, out.data());
+      break;
+    case QuantMode::round:
+      dispatch_run<QuantMode::round>(kern, s.eng, n, in, temp, out.data());
+      break;
+  }
+  s.kern.b = kern.b;
+}
+
+const TriadModel& TriadSimulator::model() const noexcept { return impl_->model; }
+double TriadSimulator::dt() const noexcept { return impl_->dt; }
+std::array<double, 3> TriadSimulator::turn_on() const noexcept { return impl_->turn_on; }
+std::array<double, 3> TriadSimulator::bias_state() const noexcept { return impl_->kern.b; }
+
+}  // namespace cubecal

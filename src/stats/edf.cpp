@@ -1,0 +1,226 @@
+// Equivalent degrees of freedom.
+//
+// Greenhall & Riley, "Uncertainty of stability variances based on finite
+// differences", PTTI 2003: the EDF of a variance built on d-th differences
+// of phase follows from the generalized autocovariance of the power-law
+// phase noise, sw(t) ~ |t|^(-alpha-1) (with a log factor for odd alpha).
+// Eq. (13) sums it directly when at most J_max = 100 lags contribute;
+// Tables 1-3 give the large-r asymptotes otherwise.
+#include "cubecal/stats/edf.hpp"
+
+#include <cmath>
+#include <limits>
+
+namespace cubecal {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr int kJmax = 100;
+
+// Eq. (7): generalized autocovariance kernel of phase noise with exponent alpha.
+double sw(double t, int alpha) {
+  const double a = std::abs(t);
+  switch (alpha) {
+    case 2: return -a;
+    case 1: return a == 0.0 ? 0.0 : t * t * std::log(a);
+    case 0: return a * a * a;
+    case -1: return a == 0.0 ? 0.0 : t * t * t * t * std::log(a);
+    case -2: return a * a * a * a * a;
+    case -3: return a == 0.0 ? 0.0 : std::pow(t, 6) * std::log(a);
+    case -4: return std::pow(a, 7);
+    default: return 0.0;
+  }
+}
+
+// Eq. (8): the averaging filter of length 1/F applied to the kernel;
+// F = infinity is the limit of an unfiltered (point) sample.
+double sx(double t, double F, int alpha) {
+  if (std::isinf(F)) return sw(t, alpha + 2);
+  return F * F * (2.0 * sw(t, alpha) - sw(t - 1.0 / F, alpha) - sw(t + 1.0 / F, alpha));
+}
+
+// Eq. (9): the d-th difference, coefficients (-1)^j C(2d, d+j).
+double sz(double t, double F, int alpha, int d) {
+  switch (d) {
+    case 1:
+      return 2.0 * sx(t, F, alpha) - sx(t - 1.0, F, alpha) - sx(t + 1.0, F, alpha);
+    case 2:
+      return 6.0 * sx(t, F, alpha) - 4.0 * (sx(t - 1.0, F, alpha) + sx(t + 1.0, F, alpha)) +
+             sx(t - 2.0, F, alpha) + sx(t + 2.0, F, alpha);
+    case 3:
+      return 20.0 * sx(t, F, alpha) - 15.0 * (sx(t - 1.0, F, alpha) + sx(t + 1.0, F, alpha)) +
+             6.0 * (sx(t - 2.0, F, alpha) + sx(t + 2.0, F, alpha)) -
+             (sx(t - 3.0, F, alpha) + sx(t + 3.0, F, alpha));
+    default:
+      return 0.0;
+  }
+}
+
+// Eq. (10).
+double basic_sum(double J, double M, double S, double F, int alpha, int d) {
+  const double z0 = sz(0.0, F, alpha, d);
+  const double zJ = sz(J / S, F, alpha, d);
+  double sum = z0 * z0 + (1.0 - J / M) * zJ * zJ;
+  const int jn = static_cast<int>(J);
+  for (int j = 1; j < jn; ++j) {
+    const double z = sz(j / S, F, alpha, d);
+    sum += 2.0 * (1.0 - j / M) * z * z;
+  }
+  return sum;
+}
+
+// Eq. (13) evaluated: EDF = sz(0)^2 M / BasicSum.
+double edf_direct(double J, double M, double S, double F, int alpha, int d) {
+  const double z0 = sz(0.0, F, alpha, d);
+  const double bs = basic_sum(J, M, S, F, alpha, d);
+  return bs > 0.0 ? z0 * z0 * M / bs : 0.0;
+}
+
+struct Coeffs {
+  double a0, a1;
+};
+
+// Table 1 (modified variances), rows alpha = 2..-4, columns d = 1..3.
+// {0,0} marks combinations where the variance does not converge.
+constexpr Coeffs kTable1[7][3] = {
+    {{2.0 / 3.0, 1.0 / 3.0}, {7.0 / 9.0, 1.0 / 2.0}, {22.0 / 25.0, 2.0 / 3.0}},
+    {{0.840, 0.345}, {0.997, 0.616}, {1.141, 0.843}},
+    {{1.079, 0.368}, {1.033, 0.607}, {1.184, 0.848}},
+    {{0, 0}, {1.048, 0.534}, {1.180, 0.816}},
+    {{0, 0}, {1.302, 0.535}, {1.175, 0.777}},
+    {{0, 0}, {0, 0}, {1.194, 0.703}},
+    {{0, 0}, {0, 0}, {1.489, 0.702}},
+};
+
+// Table 2 (unmodified variances).
+constexpr Coeffs kTable2[7][3] = {
+    {{3.0 / 2.0, 1.0 / 2.0}, {35.0 / 18.0, 1.0}, {231.0 / 100.0, 3.0 / 2.0}},
+    {{78.6, 25.2}, {790.0, 410.0}, {9950.0, 6520.0}},
+    {{2.0 / 3.0, 1.0 / 6.0}, {2.0 / 3.0, 1.0 / 3.0}, {7.0 / 9.0, 1.0 / 2.0}},
+    {{0, 0}, {0.852, 0.375}, {0.997, 0.617}},
+    {{0, 0}, {1.079, 0.368}, {1.033, 0.607}},
+    {{0, 0}, {0, 0}, {1.053, 0.553}},
+    {{0, 0}, {0, 0}, {1.302, 0.535}},
+};
+
+// Table 3 (unmodified, alpha = 1): log factor b0 + b1 ln m.
+constexpr Coeffs kTable3[3] = {{6.0, 4.0}, {15.23, 12.0}, {47.8, 40.0}};
+
+double binomial(int n, int k) {
+  double r = 1.0;
+  for (int i = 1; i <= k; ++i) r = r * (n - k + i) / i;
+  return r;
+}
+
+}  // namespace
+
+double edf_greenhall(int alpha, int d, std::size_t m_, std::size_t n_phase, bool overlapping,
+                     bool modified) {
+  if (d < 1 || d > 3 || alpha > 2 || alpha < -4 || alpha + 2 * d <= 1 || m_ == 0) return 0.0;
+  const double m = static_cast<double>(m_);
+  const double N = static_cast<double>(n_phase);
+  const double F = modified ? 1.0 : m;
+  const double S = overlapping ? m : 1.0;
+  const double L = m / F + m * d;  // span of the filter on phase samples
+  if (N < L) return 0.0;
+  const double M = 1.0 + std::floor(S * (N - L) / m);
+  const double J = std::min(M, (d + 1) * S);
+  const double r = M / S;
+  const int row = 2 - alpha;
+  const int col = d - 1;
+
+  if (modified) {  // case 1: all alpha
+    if (J <= kJmax) return edf_direct(J, M, S, 1.0, alpha, d);
+    if (r > d + 1) {
+      const Coeffs c = kTable1[row][col];
+      return 1.0 / ((c.a0 - c.a1 / r) / r);
+    }
+    const double mp = kJmax / r;
+    return edf_direct(kJmax, kJmax, mp, 1.0, alpha, d);
+  }
+  if (alpha <= 0) {  // case 2: unmodified, alpha <= 0
+    if (J <= kJmax) {
+      const double Fp = (m * (d + 1) <= kJmax) ? m : kInf;
+      return edf_direct(J, M, S, Fp, alpha, d);
+    }
+    if (r > d + 1) {
+      const Coeffs c = kTable2[row][col];
+      return 1.0 / ((c.a0 - c.a1 / r) / r);
+    }
+    const double mp = kJmax / r;
+    return edf_direct(kJmax, kJmax, mp, kInf, alpha, d);
+  }
+  if (alpha == 1) {  // case 3: unmodified flicker PM
+    if (J <= kJmax) return edf_direct(J, M, S, m, alpha, d);
+    const Coeffs b = kTable3[col];
+    const double lf = b.a0 + b.a1 * std::log(m);
+    if (r > d + 1) {
+      const Coeffs c = kTable2[row][col];
+      return 1.0 / ((c.a0 - c.a1 / r) / (lf * lf * r));
+    }
+    const double mp = kJmax / r;
+    const double bs = basic_sum(kJmax, kJmax, mp, mp, alpha, d);
+    return bs > 0.0 ? lf * lf * kJmax / bs : 0.0;
+  }
+  // case 4: unmodified white PM
+  const double K = std::ceil(r);
+  if (K <= d) return edf_direct(J, M, S, m, alpha, d);
+  const double a0 = binomial(4 * d, 2 * d) / (binomial(2 * d, d) * binomial(2 * d, d));
+  const double a1 = d / 2.0;
+  return 1.0 / ((a0 - a1 / r) / M);
+}
+
+double edf_simple(int alpha, std::size_t m_, std::size_t n_phase) {
+  const double N = static_cast<double>(n_phase);
+  const double m = static_cast<double>(m_);
+  switch (alpha) {
+    case 2:
+      return (N + 1.0) * (N - 2.0 * m) / (2.0 * (N - m));
+    case 1:
+      return std::exp(std::sqrt(std::log((N - 1.0) / (2.0 * m)) *
+                                std::log((2.0 * m + 1.0) * (N - 1.0) / 4.0)));
+    case 0:
+      return (3.0 * (N - 1.0) / (2.0 * m) - 2.0 * (N - 2.0) / N) * 4.0 * m * m /
+             (4.0 * m * m + 5.0);
+    case -1:
+      // SP 1065 Table 5 has (N-2)^2 for m = 1.
+      if (m_ == 1) return 2.0 * (N - 2.0) * (N - 2.0) / (2.3 * N - 4.9);
+      return 5.0 * N * N / (4.0 * m * (N + 3.0 * m));
+    case -2:
+      return (N - 2.0) / m * ((N - 1.0) * (N - 1.0) - 3.0 * m * (N - 1.0) + 4.0 * m * m) /
+             ((N - 3.0) * (N - 3.0));
+    default:
+      return N - 1.0;
+  }
+}
+
+double edf_totvar(int alpha, std::size_t m, std::size_t n_phase) {
+  // SP 1065 Table 11: edf = b (T/tau) - c, T the record length.
+  const double ratio = static_cast<double>(n_phase) / static_cast<double>(m);
+  switch (alpha) {
+    case 0: return 1.50 * ratio;
+    case -1: return 1.17 * ratio - 0.22;
+    case -2: return 0.93 * ratio - 0.36;
+    default: return edf_simple(alpha, m, n_phase);
+  }
+}
+
+double edf_for(Stat stat, int alpha, std::size_t m, std::size_t n_phase, EdfMethod method) {
+  if (method == EdfMethod::simple) {
+    if (stat == Stat::totdev) return edf_totvar(alpha, m, n_phase);
+    return edf_simple(alpha, m, n_phase);
+  }
+  switch (stat) {
+    case Stat::adev: return edf_greenhall(alpha, 2, m, n_phase, false, false);
+    case Stat::oadev: return edf_greenhall(alpha, 2, m, n_phase, true, false);
+    case Stat::mdev:
+    case Stat::tdev: return edf_greenhall(alpha, 2, m, n_phase, true, true);
+    case Stat::hdev: return edf_greenhall(alpha, 3, m, n_phase, false, false);
+    case Stat::ohdev: return edf_greenhall(alpha, 3, m, n_phase, true, false);
+    case Stat::totdev: return edf_totvar(alpha, m, n_phase);
+  }
+  return 0.0;
+}
+
+}  // namespace cubecal

@@ -1,0 +1,45 @@
+#include "cubecal/stats/phase.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace cubecal {
+
+std::vector<double> freq_to_phase(std::span<const double> y, double tau0, double scale) {
+  std::vector<double> x(y.size() + 1, 0.0);
+  if (y.empty()) return x;
+  const double inv = 1.0 / scale;
+  // Two-pass mean (accurate for long records), then the running sum.
+  double mean = 0.0;
+  for (double v : y) mean += v * inv;
+  mean /= static_cast<double>(y.size());
+  double acc = 0.0;
+  for (std::size_t i = 0; i < y.size(); ++i) {
+    acc += (y[i] * inv - mean) * tau0;
+    x[i + 1] = acc;
+  }
+  return x;
+}
+
+std::vector<double> normalize_phase(std::span<const double> x, double scale) {
+  std::vector<double> out(x.size());
+  if (out.empty()) return out;
+  const double inv = 1.0 / scale;
+  const double x0 = x.front() * inv;
+  for (std::size_t i = 0; i < x.size(); ++i) out[i] = x[i] * inv - x0;
+  return out;
+}
+
+double power_of_two_scale(std::span<const double> v) {
+  double big = 0.0;
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    if (!std::isfinite(v[i]))
+      throw std::invalid_argument("sample " + std::to_string(i) + " is not a finite number");
+    big = std::max(big, std::abs(v[i]));
+  }
+  return big > 0.0 ? std::ldexp(1.0, std::ilogb(big)) : 1.0;
+}
+
+}  // namespace cubecal

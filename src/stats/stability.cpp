@@ -1,0 +1,63 @@
+#include "cubecal/stats/stability.hpp"
+
+#include <cmath>
+
+#include "cubecal/stats/confidence.hpp"
+#include "cubecal/stats/noise_id.hpp"
+#include "cubecal/stats/phase.hpp"
+
+namespace cubecal {
+
+StabilityRecord::StabilityRecord(std::span<const double> data, DataType type, double tau0,
+                                 Stat stat)
+    : scale_(power_of_two_scale(data)),
+      x_(type == DataType::freq ? freq_to_phase(data, tau0, scale_) : normalize_phase(data, scale_)),
+      type_(type),
+      tau0_(tau0),
+      stat_(stat) {
+  if (stat_ == Stat::totdev) ext_ = totvar_extend(x_);
+}
+
+std::size_t StabilityRecord::max_m() const noexcept {
+  return max_averaging_factor(stat_, x_.size());
+}
+
+StabilityPoint StabilityRecord::evaluate(std::size_t m, const StabilityOptions& opt) const {
+  StabilityPoint p;
+  p.m = m;
+  p.tau = static_cast<double>(m) * tau0_;
+  VarianceTerm v;
+  switch (stat_) {
+    case Stat::adev: v = avar(x_, m, tau0_); break;
+    case Stat::oadev: v = oavar(x_, m, tau0_); break;
+    case Stat::mdev:
+    case Stat::tdev: v = mvar(x_, m, tau0_); break;
+    case Stat::hdev: v = hvar(x_, m, tau0_); break;
+    case Stat::ohdev: v = ohvar(x_, m, tau0_); break;
+    case Stat::totdev: v = totvar(ext_, m, tau0_); break;
+  }
+  p.n = v.n;
+  if (v.n == 0) return p;
+  p.dev = std::sqrt(std::max(v.var, 0.0)) * scale_;
+  if (stat_ == Stat::tdev) p.dev *= p.tau / std::sqrt(3.0);
+  if (!opt.intervals) return p;
+
+  p.alpha = opt.alpha ? *opt.alpha : identify_noise(x_, m, type_, stat_).alpha;
+  p.edf = edf_for(stat_, p.alpha, m, x_.size(), opt.edf);
+  const Interval ci = chi2_interval(p.dev, p.edf, opt.ci);
+  p.lo = ci.lo;
+  p.hi = ci.hi;
+  return p;
+}
+
+std::vector<StabilityPoint> stability(std::span<const double> data, DataType type, double tau0,
+                                      Stat stat, std::span<const std::size_t> ms,
+                                      const StabilityOptions& opt) {
+  const StabilityRecord rec(data, type, tau0, stat);
+  std::vector<StabilityPoint> out;
+  out.reserve(ms.size());
+  for (std::size_t m : ms) out.push_back(rec.evaluate(m, opt));
+  return out;
+}
+
+}  // namespace cubecal
