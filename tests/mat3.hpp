@@ -6,10 +6,12 @@
 #include <cmath>
 #include <cstddef>
 
+#include "cubecal/math/vec3.hpp"
+
 namespace cubecal::test {
 
-using Vec3 = std::array<double, 3>;
-using Mat3 = std::array<std::array<double, 3>, 3>;  // m[row][col]
+using cubecal::Mat3;
+using cubecal::Vec3;
 
 inline Vec3 mul(const Mat3& m, const Vec3& v) {
   Vec3 r{};

@@ -24,7 +24,7 @@
 #include <vector>
 
 #include "cli_runner.hpp"
-#include "cubecal/io/error.hpp"
+#include "cubecal/error.hpp"
 #include "cubecal/report/command_report.hpp"
 #include "cubecal/report/command_reports.hpp"
 #include "cubecal/report/plot.hpp"
@@ -293,13 +293,13 @@ TEST(CommandReportPage, RefusesAnExistingReportAndAMissingGnuplot) {
   try {
     report::check_report_target(d.string(), false, (d / "no-such" / "gnuplot").string());
     FAIL() << "no error";
-  } catch (const io::UsageError& e) {
+  } catch (const UsageError& e) {
     EXPECT_STREQ(e.what(), report::kGnuplotMissing);
   }
   // Without gnuplot and require_plots = false: the page, saying why.
   report::ReportOptions o;
   o.gnuplot = (d / "no-such" / "gnuplot").string();
-  EXPECT_THROW(report::write_command_report(evil_report(), d.string(), o), io::UsageError);
+  EXPECT_THROW(report::write_command_report(evil_report(), d.string(), o), UsageError);
   EXPECT_FALSE(fs::exists(d / "report.html"));
   o.require_plots = false;
   const auto r = report::write_command_report(evil_report(), d.string(), o);
@@ -308,12 +308,12 @@ TEST(CommandReportPage, RefusesAnExistingReportAndAMissingGnuplot) {
   try {
     report::check_report_target(d.string(), false);
     FAIL() << "no error for an existing report";
-  } catch (const io::UsageError& e) {
+  } catch (const UsageError& e) {
     EXPECT_NE(std::string(e.what()).find("report.html already exists"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("--force"), std::string::npos) << e.what();
   }
   o.force = false;
-  EXPECT_THROW(report::write_command_report(evil_report(), d.string(), o), io::UsageError);
+  EXPECT_THROW(report::write_command_report(evil_report(), d.string(), o), UsageError);
   fs::remove_all(d);
 }
 

@@ -31,6 +31,10 @@
 namespace {
 
 using namespace cubecal::mag;
+using cubecal::IndexRange;
+using cubecal::kIdentity3;
+using cubecal::Mat3;
+using cubecal::Vec3;
 
 constexpr double kPi = 3.14159265358979323846;
 

@@ -28,6 +28,10 @@
 namespace {
 
 using namespace cubecal::multipos;
+using cubecal::IndexRange;
+using cubecal::kIdentity3;
+using cubecal::Mat3;
+using cubecal::Vec3;
 
 constexpr double kPi = 3.14159265358979323846;
 
@@ -94,7 +98,7 @@ Truth make_truth() {
 struct Synthetic {
   std::vector<double> t;
   std::vector<Vec3> acc, gyro;
-  std::vector<Interval> planted;  // static segments [begin, end), pose 0 first
+  std::vector<IndexRange> planted;  // static segments [begin, end), pose 0 first
 };
 
 Synthetic make_sequence(const Truth& tr, std::size_t poses, double acc_noise, double gyro_noise, unsigned seed,
@@ -223,12 +227,12 @@ TEST(MultiPosition, StaticDetectionFindsPlantedIntervals) {
   const std::vector<double> v = variance_norm(s.acc, 101);
   const double init = block_variance_norm(std::span<const Vec3>(s.acc).first(1000));
   for (int th : {2, 5, 10}) {
-    const std::vector<Interval> iv = static_intervals(v, th * init);
+    const std::vector<IndexRange> iv = static_intervals(v, th * init);
     ASSERT_EQ(iv.size(), s.planted.size()) << "th_mult " << th;
     for (std::size_t k = 0; k < iv.size(); ++k) {
       // The centred window fits inside the static segment from begin + 50 to
       // end - 50; the slow start and end of each turn may add a few centres.
-      const Interval& p = s.planted[k];
+      const IndexRange& p = s.planted[k];
       EXPECT_LE(iv[k].begin, p.begin + 50) << k;
       EXPECT_GE(iv[k].begin + 40, p.begin + 50) << k;
       EXPECT_GE(iv[k].end, p.end - 50) << k;

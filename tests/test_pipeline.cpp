@@ -4,7 +4,7 @@
 #include <cmath>
 #include <random>
 
-#include "cubecal/io/error.hpp"
+#include "cubecal/error.hpp"
 #include "cubecal/pipeline/dev_pipeline.hpp"
 
 namespace cubecal::pipeline {
@@ -73,7 +73,7 @@ TEST(DevPipeline, NonFiniteSampleNamesTheColumn) {
   try {
     (void)run_dev({"ok", "gy"}, {white(100, 8), bad}, 1.0, req);
     FAIL() << "no error";
-  } catch (const io::UsageError& e) {
+  } catch (const UsageError& e) {
     EXPECT_NE(std::string(e.what()).find("gy"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("10"), std::string::npos) << e.what();
   }
@@ -82,7 +82,7 @@ TEST(DevPipeline, NonFiniteSampleNamesTheColumn) {
 TEST(DevPipeline, TooShortIsAUsageError) {
   DevRequest req;
   req.stat = Stat::hdev;
-  EXPECT_THROW((void)run_dev({"g"}, {{1.0, 2.0, 3.0}}, 1.0, req), io::UsageError);
+  EXPECT_THROW((void)run_dev({"g"}, {{1.0, 2.0, 3.0}}, 1.0, req), UsageError);
 }
 
 }  // namespace

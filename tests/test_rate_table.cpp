@@ -34,7 +34,7 @@ namespace {
 
 using cubecal::calibrate_rate_table;
 using cubecal::Covariance12;
-using cubecal::Matrix3;
+using cubecal::Mat3;
 using cubecal::Plateau;
 using cubecal::PlateauDetection;
 using cubecal::PlateauOptions;
@@ -46,10 +46,10 @@ using cubecal::test::inverse;
 using cubecal::test::mul;
 
 // The paper's eq. (10) and (11), deg/s.
-const Matrix3 kPaperA{{{1.00330, 0.00792, 0.00798}, {0.00025, 1.02386, -0.01054}, {0.01879, 0.00047, 1.00042}}};
+const Mat3 kPaperA{{{1.00330, 0.00792, 0.00798}, {0.00025, 1.02386, -0.01054}, {0.01879, 0.00047, 1.00042}}};
 const Vec3 kPaperBeta{-289.59e-3, -1556.20e-3, 1627.19e-3};
 // The forward model that produces them: w_g = S w + b_g, S = A^-1, b_g = -S beta.
-Matrix3 paper_S() { return inverse(kPaperA); }
+Mat3 paper_S() { return inverse(kPaperA); }
 Vec3 paper_bias() {
   const Vec3 sb = mul(paper_S(), kPaperBeta);
   return {-sb[0], -sb[1], -sb[2]};
@@ -85,7 +85,7 @@ struct RunSpec {
   double hz = 10.0;
 };
 
-SimLog simulate_run(const Matrix3& S, const Vec3& bg, double sigma, std::uint64_t seed, const RunSpec& spec = {}) {
+SimLog simulate_run(const Mat3& S, const Vec3& bg, double sigma, std::uint64_t seed, const RunSpec& spec = {}) {
   std::vector<Vec3> rates;
   for (int axis : spec.axes)
     for (double r : spec.rates) {
@@ -121,7 +121,7 @@ SimLog simulate_run(const Matrix3& S, const Vec3& bg, double sigma, std::uint64_
   return log;
 }
 
-Plateau exact_plateau(const Matrix3& S, const Vec3& bg, const Vec3& w) {
+Plateau exact_plateau(const Mat3& S, const Vec3& bg, const Vec3& w) {
   Plateau p;
   p.n = 1000;
   p.end = 1000;
@@ -191,7 +191,7 @@ double nees(const std::array<double, 12>& e, const Covariance12& P) {
 // (1) formulas.md section 3.1: exact recovery from noise-free +-1 rad/s plateaus.
 
 TEST(RateTable, FormulasTestCaseIsRecoveredExactly) {
-  const Matrix3 S{{{1.01, .002, -.003}, {.001, .99, .004}, {-.002, .003, 1.005}}};
+  const Mat3 S{{{1.01, .002, -.003}, {.001, .99, .004}, {-.002, .003, 1.005}}};
   const Vec3 bg{0.01, -0.02, 0.005};
   std::vector<Plateau> plateaus;
   for (int axis = 0; axis < 3; ++axis)
@@ -201,10 +201,10 @@ TEST(RateTable, FormulasTestCaseIsRecoveredExactly) {
       plateaus.push_back(exact_plateau(S, bg, w));
     }
   const RateTableCalibration c = calibrate_rate_table(plateaus);
-  const Matrix3 A_expected{{{0.990106868, -0.002009196, 0.00296354},
+  const Mat3 A_expected{{{0.990106868, -0.002009196, 0.00296354},
                             {-0.001008081, 1.010115240, -0.004023368},
                             {0.001973371, -0.003019268, 0.995042783}}};
-  const Matrix3 A_exact = inverse(S);
+  const Mat3 A_exact = inverse(S);
   // As printed in formulas.md: A to 9 significant digits (A_yy = 1.010115240
   // is 1.0101152387 rounded, hence 2e-9 below), beta to 6.
   const Vec3 beta_expected{-0.00995607, 0.0202325, -0.00505533};
@@ -234,7 +234,7 @@ TEST(RateTable, FormulasTestCaseIsRecoveredExactly) {
 TEST(RateTable, SymmetricDesignMatchesTheClosedForm) {
   // formulas.md: S col i = (w_+i - w_-i) / 2w, b_g = mean of the 6 plateaus;
   // with an unequal rate per axis the least-squares fit must still agree.
-  const Matrix3 S = paper_S();
+  const Mat3 S = paper_S();
   const Vec3 bg = paper_bias();
   std::vector<Plateau> plateaus;
   const Vec3 rate{7.0, 13.0, 55.0};
@@ -255,7 +255,7 @@ TEST(RateTable, SymmetricDesignMatchesTheClosedForm) {
 }
 
 TEST(RateTable, EarthRateOnlyMovesTheBias) {
-  const Matrix3 S = paper_S();
+  const Mat3 S = paper_S();
   const Vec3 bg = paper_bias();
   std::vector<Plateau> plateaus;
   for (int axis = 0; axis < 3; ++axis)
@@ -347,7 +347,7 @@ TEST(RateTable, PaperCalibrationFromSchedule) {
 // (3) The reported covariance is the estimator's: mean NEES over 100 runs.
 
 TEST(RateTable, MonteCarloNeesMatchesReportedCovariance) {
-  const Matrix3 S = paper_S();
+  const Mat3 S = paper_S();
   const Vec3 bg = paper_bias();
   RunSpec spec;
   constexpr int kRuns = 100;

@@ -16,12 +16,14 @@
 #include <vector>
 
 #include "cubecal/io/delimited_reader.hpp"
-#include "cubecal/io/error.hpp"
+#include "cubecal/error.hpp"
 #include "cubecal/io/file_buffer.hpp"
 #include "cubecal/io/series.hpp"
 
 namespace fs = std::filesystem;
 using namespace cubecal::io;
+using cubecal::InputError;
+using cubecal::UsageError;
 
 namespace {
 

@@ -16,7 +16,7 @@
 
 #include "cubecal/stats/tau_grid.hpp"
 #include "cubecal/noise/units.hpp"
-#include "cubecal/io/error.hpp"
+#include "cubecal/error.hpp"
 #include "cubecal/io/series.hpp"
 #include "cubecal/pipeline/analysis_output.hpp"
 #include "cubecal/pipeline/analyze.hpp"
@@ -197,7 +197,7 @@ TEST(Plot, RendersSvgAndPngAndReportsScriptErrors) {
   try {
     report::render_plots({p}, dir, keep);
     ADD_FAILURE() << "no error for a failing script";
-  } catch (const io::UsageError& e) {
+  } catch (const UsageError& e) {
     const std::string m = e.what();
     EXPECT_NE(m.find("gnuplot failed on"), std::string::npos) << m;
     EXPECT_NE(m.find("demo_plot.gp"), std::string::npos) << m;
@@ -231,7 +231,7 @@ TEST_F(ReportTest, DirectoryWithoutAnalysisIsAnError) {
   try {
     report::write_report(d.string());
     FAIL() << "no error";
-  } catch (const io::UsageError& e) {
+  } catch (const UsageError& e) {
     const std::string m = e.what();
     EXPECT_NE(m.find("analysis.json not found"), std::string::npos) << m;
     EXPECT_NE(m.find("cubecal analyze"), std::string::npos) << m;
@@ -240,9 +240,9 @@ TEST_F(ReportTest, DirectoryWithoutAnalysisIsAnError) {
   EXPECT_FALSE(fs::exists(d / "report.html"));
 
   spit(d / "analysis.json", "{\"not\": \"an analysis\"}");
-  EXPECT_THROW(report::write_report(d.string()), io::UsageError);
+  EXPECT_THROW(report::write_report(d.string()), UsageError);
   spit(d / "analysis.json", "{ truncated");
-  EXPECT_THROW(report::write_report(d.string()), io::UsageError);
+  EXPECT_THROW(report::write_report(d.string()), UsageError);
   EXPECT_FALSE(fs::exists(d / "report.html"));
 }
 
@@ -253,7 +253,7 @@ TEST_F(ReportTest, MissingGnuplotIsAClearError) {
   try {
     report::write_report(d.string(), o);
     FAIL() << "no error";
-  } catch (const io::UsageError& e) {
+  } catch (const UsageError& e) {
     EXPECT_STREQ(e.what(), "gnuplot not found: install gnuplot-nox (scripts/install-deps.sh)");
   }
   EXPECT_FALSE(fs::exists(d / "report.html"));
@@ -348,7 +348,7 @@ TEST_F(ReportTest, NeverReplacesAReportUnasked) {
   try {
     report::write_report(d.string());
     FAIL() << "replaced without force";
-  } catch (const io::UsageError& e) {
+  } catch (const UsageError& e) {
     EXPECT_NE(std::string(e.what()).find("already exists (add --force"), std::string::npos) << e.what();
   }
   EXPECT_EQ(fs::last_write_time(d / "report.html"), before);

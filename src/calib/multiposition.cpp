@@ -291,10 +291,10 @@ EvalFn acc_eval(const std::vector<Vec3>& samples, double g) {
   };
 }
 
-std::vector<Vec3> fit_samples(std::span<const Vec3> x, const std::vector<Interval>& iv, std::size_t per_interval,
+std::vector<Vec3> fit_samples(std::span<const Vec3> x, const std::vector<IndexRange>& iv, std::size_t per_interval,
                               bool means) {
   std::vector<Vec3> out;
-  for (const Interval& i : iv) {
+  for (const IndexRange& i : iv) {
     if (means) {
       Vec3 m{};
       for (std::size_t k = i.begin; k < i.end; ++k)
@@ -476,10 +476,10 @@ double block_variance_norm(std::span<const Vec3> x) {
   return std::sqrt(var2);
 }
 
-std::vector<Interval> static_intervals(std::span<const double> v, double threshold) {
-  std::vector<Interval> out;
+std::vector<IndexRange> static_intervals(std::span<const double> v, double threshold) {
+  std::vector<IndexRange> out;
   bool in = false;
-  Interval cur;
+  IndexRange cur;
   for (std::size_t i = 0; i < v.size(); ++i) {
     const bool still = v[i] < threshold;
     if (!in && still) {
@@ -544,8 +544,8 @@ AccResult calibrate_accelerometer(const TriadSeries& acc, const Options& opt) {
     Trial trial;
     trial.th_mult = th;
     trial.threshold = th * res.init_variance_norm;
-    std::vector<Interval> iv;
-    for (const Interval& i : static_intervals(v, trial.threshold))
+    std::vector<IndexRange> iv;
+    for (const IndexRange& i : static_intervals(v, trial.threshold))
       if (i.size() >= opt.interval_samples) iv.push_back(i);
     trial.intervals = iv.size();
     most = std::max(most, iv.size());
@@ -604,7 +604,7 @@ GyroResult calibrate_gyroscope(const TriadSeries& acc, const AccResult& ar, cons
   const std::vector<double> ta = sample_times(acc, "accelerometer");
   const std::vector<double> tg = sample_times(gyro, "gyroscope");
   if (ar.intervals.size() < 2) fail("the gyroscope fit needs at least 2 static intervals");
-  for (const Interval& i : ar.intervals)
+  for (const IndexRange& i : ar.intervals)
     if (i.end >= acc.x.size() || i.begin >= i.end) fail("static intervals do not match the accelerometer record");
 
   GyroResult res;
@@ -624,7 +624,7 @@ GyroResult calibrate_gyroscope(const TriadSeries& acc, const AccResult& ar, cons
   // Gravity directions from the calibrated accelerometer: the calibration is
   // affine, so the direction of the calibrated mean is that of the raw mean.
   std::vector<Vec3> raw_means;
-  for (const Interval& i : ar.intervals) {
+  for (const IndexRange& i : ar.intervals) {
     Vec3 m{};
     for (std::size_t k = i.begin; k < i.end; ++k)
       for (int c = 0; c < 3; ++c) m[c] += acc.x[k][c];

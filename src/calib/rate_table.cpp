@@ -15,8 +15,8 @@ using Mat = Eigen::MatrixXd;
 
 const char* const kNeed = "need rates about at least 3 independent axes plus one more (4 affinely independent)";
 
-Matrix3 to_array(const Eigen::Matrix3d& m) {
-  Matrix3 out{};
+Mat3 to_array(const Eigen::Matrix3d& m) {
+  Mat3 out{};
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) out[i][j] = m(i, j);
   return out;

@@ -13,7 +13,7 @@
 
 #include "commands.hpp"
 #include "common_options.hpp"
-#include "cubecal/io/error.hpp"
+#include "cubecal/error.hpp"
 #include "cubecal/pipeline/analysis_output.hpp"
 #include "cubecal/pipeline/analyze.hpp"
 #include "cubecal/report/plot.hpp"
@@ -111,7 +111,7 @@ int run_analyze_command(const AnalyzeOptions& o) {
   pipeline::AnalyzeRequest req;
   req.units = parse_units(o.unit);
   req.grid = parse_taus(o.taus);
-  if (!(o.ci > 0.0 && o.ci < 1.0)) throw io::UsageError("--ci must be between 0 and 1");
+  if (!(o.ci > 0.0 && o.ci < 1.0)) throw UsageError("--ci must be between 0 and 1");
   req.ci = o.ci;
   req.temp_order = o.temp_order;
   req.drift_window_s = o.drift_window;
@@ -121,7 +121,7 @@ int run_analyze_command(const AnalyzeOptions& o) {
     double x = 0.0;
     const auto [p, ec] = std::from_chars(v.data(), v.data() + v.size(), x);
     if (ec != std::errc() || p != v.data() + v.size() || !(x >= 0.0) || !std::isfinite(x))
-      throw io::UsageError("--model-lsb: '" + v + "' is not a number of counts per unit");
+      throw UsageError("--model-lsb: '" + v + "' is not a number of counts per unit");
     req.lsb.push_back(x);
   }
   if (req.lsb.empty() && o.input.lsb != 1.0) req.lsb.push_back(o.input.lsb);
@@ -138,12 +138,12 @@ int run_analyze_command(const AnalyzeOptions& o) {
   if (!o.out.empty() && !o.force)
     for (const char* f : pipeline::kAnalysisFiles)
       if (fs::exists(fs::path(o.out) / f))
-        throw io::UsageError((fs::path(o.out) / f).string() +
+        throw UsageError((fs::path(o.out) / f).string() +
                              " already exists (choose another --out or add --force to replace it)");
   if (o.report && !o.force)
     for (const auto& f : report::existing_report_outputs(o.out))
-      throw io::UsageError(f + " already exists (choose another --out or add --force to replace it)");
-  if (o.report && !report::find_gnuplot()) throw io::UsageError(report::kGnuplotMissing);
+      throw UsageError(f + " already exists (choose another --out or add --force to replace it)");
+  if (o.report && !report::find_gnuplot()) throw UsageError(report::kGnuplotMissing);
 
   const std::size_t bytes = file_size_or_zero(o.input.file);
   Progress progress(bytes > 50'000'000);

@@ -15,7 +15,7 @@
 #include "common_options.hpp"
 #include "cubecal/calib/mag_calibration.hpp"
 #include "cubecal/io/delimited_reader.hpp"
-#include "cubecal/io/error.hpp"
+#include "cubecal/error.hpp"
 #include "cubecal/report/command_reports.hpp"
 #include "output.hpp"
 #include "report_option.hpp"
@@ -152,22 +152,22 @@ void print_table(std::ostream& out, const mag::Result& r, const Context& ctx) {
 
 int run_calibrate_mag(const MagCliOptions& o) {
   const auto method = mag::parse_method(o.method);
-  if (!method) throw io::UsageError("--method must be twostep, twostep-full or ellipsoid");
+  if (!method) throw UsageError("--method must be twostep, twostep-full or ellipsoid");
   if (!(o.lsb > 0.0) || !std::isfinite(o.lsb))
-    throw io::UsageError("--lsb must be a positive number of counts per unit");
+    throw UsageError("--lsb must be a positive number of counts per unit");
   if (o.field_norm_given && (!(o.field_norm > 0.0) || !std::isfinite(o.field_norm)))
-    throw io::UsageError("--field-norm must be a positive field magnitude (in the units of the values after --lsb)");
+    throw UsageError("--field-norm must be a positive field magnitude (in the units of the values after --lsb)");
   if (o.noise_given && (!(o.noise > 0.0) || !std::isfinite(o.noise)))
-    throw io::UsageError("--noise must be a positive standard deviation per axis (leave it out to estimate it)");
+    throw UsageError("--noise must be a positive standard deviation per axis (leave it out to estimate it)");
   if (!(o.reject >= 0.0) || !std::isfinite(o.reject))
-    throw io::UsageError("--reject must be a positive number of standard deviations (0: no rejection)");
+    throw UsageError("--reject must be a positive number of standard deviations (0: no rejection)");
   if (o.field_norm_given && !o.field_col.empty())
-    throw io::UsageError("give either --field-norm or --field-col, not both");
+    throw UsageError("give either --field-norm or --field-col, not both");
   if (!o.field_col.empty() && *method == mag::Method::ellipsoid)
-    throw io::UsageError("--field-col (a field norm per point) needs --method twostep or twostep-full");
+    throw UsageError("--field-col (a field norm per point) needs --method twostep or twostep-full");
   const std::vector<std::string> cols = split_list(o.columns);
   if (!cols.empty() && cols.size() != 3)
-    throw io::UsageError("--columns takes the 3 magnetometer columns (mx,my,mz or 1,2,3)");
+    throw UsageError("--columns takes the 3 magnetometer columns (mx,my,mz or 1,2,3)");
 
   // Refuse to replace a result before spending any time.
   ResultOutput result(o.out, o.force);  // refuses an existing file before the work
@@ -180,9 +180,9 @@ int run_calibrate_mag(const MagCliOptions& o) {
   if (!o.field_col.empty()) to.extra_columns.push_back(o.field_col);
   const io::Table t = io::read_table(o.file, to);
   if (t.data.size() != 3)
-    throw io::UsageError(o.file + " has " + std::to_string(t.data.size()) +
+    throw UsageError(o.file + " has " + std::to_string(t.data.size()) +
                          " data columns: name the 3 magnetometer columns with --columns mx,my,mz");
-  std::vector<mag::Vec3> h(t.rows());
+  std::vector<Vec3> h(t.rows());
   for (std::size_t i = 0; i < h.size(); ++i)
     h[i] = {t.data[0][i] / o.lsb, t.data[1][i] / o.lsb, t.data[2][i] / o.lsb};
 
@@ -213,7 +213,7 @@ int run_calibrate_mag(const MagCliOptions& o) {
                  : "add --allow-partial to fit anyway and judge the uncertainties, or use --method twostep";
     else if (what.find("field norm") != std::string::npos && !o.field_col.empty())
       hint = "check --field-col";
-    throw io::InputError(o.file, 0, 0, what, hint);
+    throw InputError(o.file, 0, 0, what, hint);
   }
 
   std::ostream& out = result.stream();

@@ -15,7 +15,7 @@
 #include "common_options.hpp"
 #include "cubecal/calib/multiposition.hpp"
 #include "cubecal/io/delimited_reader.hpp"
-#include "cubecal/io/error.hpp"
+#include "cubecal/error.hpp"
 #include "output.hpp"
 
 namespace cubecal::cli {
@@ -50,7 +50,7 @@ struct MultiposCliOptions {
 
 struct Triads {
   std::vector<double> t;
-  std::vector<mp::Vec3> x;
+  std::vector<Vec3> x;
   std::vector<std::string> names;
 };
 
@@ -66,14 +66,14 @@ std::vector<Triads> read_triads(const std::string& path, const std::vector<std::
   const io::Table tab = io::read_table(path, to);
   const std::size_t want = columns.empty() ? 3 : columns.size();
   if (tab.data.size() != want || want % 3 != 0)
-    throw io::UsageError(fmt::format("{}: {} data columns{}: choose three with {}", path, tab.data.size(),
+    throw UsageError(fmt::format("{}: {} data columns{}: choose three with {}", path, tab.data.size(),
                                      o.time_col.empty() ? "" : " besides the time column", what_columns));
   if (!o.time_col.empty()) {
     const auto& t = tab.extra[0];
     for (std::size_t i = 1; i < t.size(); ++i)
       if (!(t[i] > t[i - 1])) {
         const io::Location at = io::locate(tab, i, tab.extra_indices[0]);
-        throw io::InputError(path, at.line, at.column,
+        throw InputError(path, at.line, at.column,
                              fmt::format("time stamps not increasing ({} s after {} s)", t[i], t[i - 1]),
                              "check --time-col");
       }
@@ -147,7 +147,7 @@ nlohmann::json result_json(const mp::AccResult& a, const std::optional<mp::GyroR
   j["init_variance_norm"] = a.init_variance_norm;
   j["static_intervals"] = a.intervals.size();
   nlohmann::json iv = nlohmann::json::array();
-  for (const mp::Interval& i : a.intervals)
+  for (const IndexRange& i : a.intervals)
     iv.push_back({{"begin", i.begin}, {"end", i.end}, {"t_begin", ta[i.begin]}, {"t_end", ta[i.end]}});
   j["intervals"] = iv;
   nlohmann::json trials = nlohmann::json::array();
@@ -204,7 +204,7 @@ void print_params(std::ostream& out, const std::vector<std::string>& names, cons
     fmt::print(out, "  {:<7} {:>15.8g} ± {:<10.3g} {}\n", names[i], v[i], s[i], units[i]);
 }
 
-void print_matrix(std::ostream& out, const char* label, const mp::Mat3& m) {
+void print_matrix(std::ostream& out, const char* label, const Mat3& m) {
   for (std::size_t i = 0; i < 3; ++i)
     fmt::print(out, "  {:<4} [{:>13.6g} {:>13.6g} {:>13.6g}]\n", i == 1 ? label : "", m[i][0], m[i][1], m[i][2]);
 }
@@ -252,15 +252,15 @@ void print_table(std::ostream& out, const mp::AccResult& a, const std::optional<
 }
 
 int run_calibrate_multiposition(const MultiposCliOptions& o) {
-  if (!o.time_col.empty() && o.rate_hz > 0.0) throw io::UsageError("give --time-col or --rate, not both");
+  if (!o.time_col.empty() && o.rate_hz > 0.0) throw UsageError("give --time-col or --rate, not both");
   if (o.time_col.empty() && !(o.rate_hz > 0.0))
-    throw io::UsageError("give the time column (--time-col) or the sampling rate (--rate)");
+    throw UsageError("give the time column (--time-col) or the sampling rate (--rate)");
   if (o.acc_bias.size() != 1 && o.acc_bias.size() != 3)
-    throw io::UsageError("--acc-bias takes one value or three (x,y,z)");
+    throw UsageError("--acc-bias takes one value or three (x,y,z)");
   const std::vector<std::string> acc_cols = split_list(o.acc_columns);
   const std::vector<std::string> gyro_cols = split_list(o.gyro_columns);
-  if (!acc_cols.empty() && acc_cols.size() != 3) throw io::UsageError("--acc-columns takes three columns");
-  if (!gyro_cols.empty() && gyro_cols.size() != 3) throw io::UsageError("--gyro-columns takes three columns");
+  if (!acc_cols.empty() && acc_cols.size() != 3) throw UsageError("--acc-columns takes three columns");
+  if (!gyro_cols.empty() && gyro_cols.size() != 3) throw UsageError("--gyro-columns takes three columns");
 
   Context ctx;
   ctx.acc_file = o.acc_file;
@@ -268,7 +268,7 @@ int run_calibrate_multiposition(const MultiposCliOptions& o) {
   Triads acc, gyro;
   if (o.gyro_file.empty() && !gyro_cols.empty()) {
     // One file with both triads.
-    if (acc_cols.empty()) throw io::UsageError("give --acc-columns with --gyro-columns for a single file");
+    if (acc_cols.empty()) throw UsageError("give --acc-columns with --gyro-columns for a single file");
     std::vector<std::string> cols = acc_cols;
     cols.insert(cols.end(), gyro_cols.begin(), gyro_cols.end());
     auto both = read_triads(o.acc_file, cols, o, "--acc-columns and --gyro-columns");
@@ -293,8 +293,8 @@ int run_calibrate_multiposition(const MultiposCliOptions& o) {
   opt.interval_samples = o.interval_samples;
   opt.min_intervals = o.min_intervals;
   opt.acc_use_means = o.use_means;
-  opt.acc_bias_guess = o.acc_bias.size() == 3 ? mp::Vec3{o.acc_bias[0], o.acc_bias[1], o.acc_bias[2]}
-                                              : mp::Vec3{o.acc_bias[0], o.acc_bias[0], o.acc_bias[0]};
+  opt.acc_bias_guess = o.acc_bias.size() == 3 ? Vec3{o.acc_bias[0], o.acc_bias[1], o.acc_bias[2]}
+                                              : Vec3{o.acc_bias[0], o.acc_bias[0], o.acc_bias[0]};
   opt.acc_scale_guess = o.acc_scale;
   opt.gyro_scale_guess = o.gyro_scale;
   opt.refine_gyro_bias = o.refine_gyro_bias;
@@ -308,7 +308,7 @@ int run_calibrate_multiposition(const MultiposCliOptions& o) {
     a = mp::calibrate_accelerometer(sa, opt);
   } catch (const std::invalid_argument& e) {
     const std::string what = e.what();
-    throw io::InputError(o.acc_file, 0, 0, what,
+    throw InputError(o.acc_file, 0, 0, what,
                          what.find("static intervals") != std::string::npos
                              ? "check --init-static (the sensor must be still then) and --rate/--time-col"
                              : std::string());
@@ -318,7 +318,7 @@ int run_calibrate_multiposition(const MultiposCliOptions& o) {
       g = mp::calibrate_gyroscope(sa, a, sg, opt);
     } catch (const std::invalid_argument& e) {
       const std::string what = e.what();
-      throw io::InputError(
+      throw InputError(
           ctx.gyro_file, 0, 0, what,
           what.find("scale") != std::string::npos ? "give --gyro-scale in rad/s per count" : std::string());
     }

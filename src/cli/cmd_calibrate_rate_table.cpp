@@ -19,7 +19,7 @@
 #include "cubecal/calib/plateaus.hpp"
 #include "cubecal/calib/rate_table.hpp"
 #include "cubecal/io/delimited_reader.hpp"
-#include "cubecal/io/error.hpp"
+#include "cubecal/error.hpp"
 #include "cubecal/io/series.hpp"
 #include "cubecal/report/command_reports.hpp"
 #include "output.hpp"
@@ -52,7 +52,7 @@ constexpr const char* kAxes = "xyz";
 std::vector<ScheduleRow> read_schedule(const std::string& path) {
   const io::Table t = io::read_table(path);
   if (t.data.size() != 5)
-    throw io::InputError(path, t.first_data_line, 0,
+    throw InputError(path, t.first_data_line, 0,
                          "a schedule has 5 columns (t_begin,t_end,wx,wy,wz), this file has " +
                              std::to_string(t.data.size()));
   std::vector<ScheduleRow> rows(t.rows());
@@ -60,7 +60,7 @@ std::vector<ScheduleRow> read_schedule(const std::string& path) {
     rows[i] = {t.data[0][i], t.data[1][i], {t.data[2][i], t.data[3][i], t.data[4][i]}};
   if (const auto problem = check_schedule(rows)) {
     const io::Location at = io::locate(t, problem->row, t.indices[0]);
-    throw io::InputError(path, at.line, at.column, problem->what,
+    throw InputError(path, at.line, at.column, problem->what,
                          "one row per plateau, in seconds of the log's time base");
   }
   return rows;
@@ -79,18 +79,18 @@ std::array<double, 3> parse_axis(const std::string& text) {
       ok = false;
     }
   }
-  if (!ok) throw io::UsageError("--earth-axis takes three numbers X,Y,Z (the Earth's axis in the sensor frame)");
+  if (!ok) throw UsageError("--earth-axis takes three numbers X,Y,Z (the Earth's axis in the sensor frame)");
   return v;
 }
 
-nlohmann::json matrix_json(const Matrix3& m) {
+nlohmann::json matrix_json(const Mat3& m) {
   nlohmann::json j = nlohmann::json::array();
   for (const auto& row : m) j.push_back(row);
   return j;
 }
 
 // Off-diagonal angles keyed "xy" (axis x leaning toward y), in `scale` units.
-nlohmann::json angles_json(const Matrix3& m, double scale) {
+nlohmann::json angles_json(const Mat3& m, double scale) {
   nlohmann::json j = nlohmann::json::object();
   for (int i = 0; i < 3; ++i)
     for (int k = 0; k < 3; ++k)
@@ -211,16 +211,16 @@ void print_table(std::ostream& out, const RateTableCalibration& c, const Context
 int run_rate_table_command(const RateTableCliOptions& o) {
   const bool use_ref = !o.ref_columns.empty(), use_schedule = !o.schedule.empty();
   if (use_ref == use_schedule)
-    throw io::UsageError(use_ref ? "give either --ref-columns or --schedule, not both"
+    throw UsageError(use_ref ? "give either --ref-columns or --schedule, not both"
                                  : "the true rates are needed: give --ref-columns rx,ry,rz (reference rate columns "
                                    "of the log) or --schedule FILE (rows t_begin,t_end,wx,wy,wz)");
   if (o.from_signal && !use_schedule)
-    throw io::UsageError("--from-signal labels the plateaus from a schedule: give --schedule FILE");
+    throw UsageError("--from-signal labels the plateaus from a schedule: give --schedule FILE");
   const std::vector<std::string> ref_names = split_list(o.ref_columns);
   if (use_ref && ref_names.size() != 3)
-    throw io::UsageError("--ref-columns takes the 3 reference rate columns (rx,ry,rz or 5,6,7)");
+    throw UsageError("--ref-columns takes the 3 reference rate columns (rx,ry,rz or 5,6,7)");
   if (!(o.margin >= 0.0) || !(o.min_plateau >= 0.0) || !(o.ref_tolerance >= 0.0) || !(o.window > 0.0))
-    throw io::UsageError("--margin, --min-plateau and --ref-tolerance must be >= 0 and --window > 0 seconds");
+    throw UsageError("--margin, --min-plateau and --ref-tolerance must be >= 0 and --window > 0 seconds");
   const double unit_per_rad_s = o.unit == "deg/s" ? kRadToDeg : 1.0;
   RateTableOptions cal_opt;
   if (!o.earth_axis.empty()) cal_opt.earth_rate = earth_rate_along(parse_axis(o.earth_axis), unit_per_rad_s);
@@ -236,7 +236,7 @@ int run_rate_table_command(const RateTableCliOptions& o) {
   so.table.extra_columns = ref_names;  // the reference is in physical units: not scaled by --lsb
   const io::Series series = io::read_series(o.input.file, so);
   if (series.channels.size() != 3)
-    throw io::UsageError("a rate table needs exactly 3 gyro columns, " + std::to_string(series.channels.size()) +
+    throw UsageError("a rate table needs exactly 3 gyro columns, " + std::to_string(series.channels.size()) +
                          " selected (name them with --columns gx,gy,gz)");
 
   TriadRecord rec;
@@ -270,7 +270,7 @@ int run_rate_table_command(const RateTableCliOptions& o) {
       found = plateaus_from_schedule(rec, schedule, popt);
     }
   } catch (const std::invalid_argument& e) {
-    throw io::InputError(o.input.file, 0, 0, e.what(),
+    throw InputError(o.input.file, 0, 0, e.what(),
                          use_ref ? "check --ref-columns and --ref-tolerance, or lower --margin / --min-plateau"
                                  : "check the schedule's times against the log's, or lower --margin / --min-plateau");
   }
@@ -279,7 +279,7 @@ int run_rate_table_command(const RateTableCliOptions& o) {
   try {
     cal = calibrate_rate_table(found.plateaus, cal_opt);
   } catch (const std::invalid_argument& e) {
-    throw io::InputError(o.input.file, 0, 0, e.what(), "the run must turn the gyro about each of its 3 axes");
+    throw InputError(o.input.file, 0, 0, e.what(), "the run must turn the gyro about each of its 3 axes");
   }
 
   std::ostream& out = result.stream();

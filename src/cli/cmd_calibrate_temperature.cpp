@@ -10,7 +10,7 @@
 #include "commands.hpp"
 #include "common_options.hpp"
 #include "cubecal/noise/temperature.hpp"
-#include "cubecal/io/error.hpp"
+#include "cubecal/error.hpp"
 #include "cubecal/io/series.hpp"
 #include "output.hpp"
 
@@ -46,7 +46,7 @@ int run_calibrate_temperature(const TemperatureOptions& o) {
     try {
       f = fit_temperature(s.channels[c], temp, o.order);
     } catch (const std::invalid_argument& e) {
-      throw io::UsageError(s.names[c] + ": " + e.what());
+      throw UsageError(s.names[c] + ": " + e.what());
     }
     std::vector<std::string> units;
     for (std::size_t p = 0; p < f.coeff.size(); ++p)

@@ -17,7 +17,7 @@
 #include "commands.hpp"
 #include "cubecal/io/csv_writer.hpp"
 #include "cubecal/sim/presets.hpp"
-#include "cubecal/io/error.hpp"
+#include "cubecal/error.hpp"
 #include "cubecal/io/series.hpp"
 #include "cubecal/pipeline/analysis_output.hpp"
 #include "cubecal/pipeline/analyze.hpp"
@@ -58,11 +58,11 @@ int run_demo(const DemoOptions& o) {
   // one holding the user's own files of the same names (never replaced unasked).
   const fs::path marker = dir / ".cubecal-demo";
   if (!fs::exists(marker) && !o.force) {
-    if (fs::exists(record)) throw io::UsageError(record + " already exists (use another --out, or --force)");
+    if (fs::exists(record)) throw UsageError(record + " already exists (use another --out, or --force)");
     for (const char* f : pipeline::kAnalysisFiles)
-      if (fs::exists(dir / f)) throw io::UsageError((dir / f).string() + " already exists (use another --out, or --force)");
+      if (fs::exists(dir / f)) throw UsageError((dir / f).string() + " already exists (use another --out, or --force)");
     for (const auto& f : report::existing_report_outputs(o.out))
-      throw io::UsageError(f + " already exists (use another --out, or --force)");
+      throw UsageError(f + " already exists (use another --out, or --force)");
   }
   std::ofstream(marker) << "written by cubecal demo; files here are replaced by the next run\n";
 

@@ -7,7 +7,7 @@
 
 #include "commands.hpp"
 #include "common_options.hpp"
-#include "cubecal/io/error.hpp"
+#include "cubecal/error.hpp"
 #include "cubecal/io/series.hpp"
 #include "cubecal/pipeline/analysis_output.hpp"
 #include "cubecal/pipeline/dev_pipeline.hpp"
@@ -37,7 +37,7 @@ int run_dev_command(const DevOptions& o) {
   req.stat = *parse_stat(o.stat);
   req.type = *parse_data_type(o.type);
   req.grid = parse_taus(o.taus);
-  if (!(o.ci > 0.0 && o.ci < 1.0)) throw io::UsageError("--ci must be between 0 and 1 (e.g. 0.683 or 0.95)");
+  if (!(o.ci > 0.0 && o.ci < 1.0)) throw UsageError("--ci must be between 0 and 1 (e.g. 0.683 or 0.95)");
   req.options.ci = o.ci;
   req.options.edf = o.edf == "simple" ? EdfMethod::simple : EdfMethod::greenhall;
   req.options.alpha = o.alpha;

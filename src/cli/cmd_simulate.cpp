@@ -10,7 +10,7 @@
 
 #include "commands.hpp"
 #include "common_options.hpp"
-#include "cubecal/io/error.hpp"
+#include "cubecal/error.hpp"
 #include "cubecal/io/series.hpp"
 #include "cubecal/pipeline/simulate.hpp"
 #include "cubecal/sim/presets.hpp"
@@ -39,7 +39,7 @@ std::vector<double> numbers(const std::string& list, const std::string& what) {
     double x = 0.0;
     const auto [p, ec] = std::from_chars(item.data(), item.data() + item.size(), x);
     if (ec != std::errc() || p != item.data() + item.size() || !std::isfinite(x))
-      throw io::UsageError(what + ": '" + item + "' is not a number");
+      throw UsageError(what + ": '" + item + "' is not a number");
     v.push_back(x);
   }
   return v;
@@ -51,17 +51,17 @@ TemperatureProfile parse_temperature(const std::string& spec) {
   TemperatureProfile p;
   if (spec.rfind("const:", 0) == 0) {
     const auto v = numbers(spec.substr(6), "--temp const");
-    if (v.size() != 1) throw io::UsageError("--temp const:T takes one temperature in degC");
+    if (v.size() != 1) throw UsageError("--temp const:T takes one temperature in degC");
     p.kind = TemperatureProfile::Kind::constant;
     p.mean = v[0];
   } else if (spec.rfind("sine:", 0) == 0) {
     const auto v = numbers(spec.substr(5), "--temp sine");
-    if (v.size() < 2 || v.size() > 3) throw io::UsageError("--temp sine:MEAN,AMPLITUDE[,PERIOD_S]");
+    if (v.size() < 2 || v.size() > 3) throw UsageError("--temp sine:MEAN,AMPLITUDE[,PERIOD_S]");
     p.kind = TemperatureProfile::Kind::sinusoid;
     p.mean = v[0];
     p.amplitude = v[1];
     if (v.size() == 3) {
-      if (!(v[2] > 0)) throw io::UsageError("--temp sine: the period must be positive");
+      if (!(v[2] > 0)) throw UsageError("--temp sine: the period must be positive");
       p.period_s = v[2];
     }
   } else {
@@ -80,7 +80,7 @@ pipeline::RateProfile read_rate_profile(const std::string& path) {
   so.min_samples = 1;
   const auto s = io::read_series(path, so);
   if (s.time.empty() || s.channels.size() != 3)
-    throw io::UsageError(path + ": a true-input profile needs a time column and three rate columns "
+    throw UsageError(path + ": a true-input profile needs a time column and three rate columns "
                                 "(e.g. t,wx,wy,wz in the gyro's unit)");
   pipeline::RateProfile p;
   p.t = s.time;
@@ -96,26 +96,26 @@ int run_simulate(const SimulateOptions& o) {
     } catch (const std::invalid_argument&) {
       std::string known;
       for (const auto& n : preset_names()) known += (known.empty() ? "" : ", ") + n;
-      throw io::UsageError("unknown preset '" + name + "' (known: " + known + ")");
+      throw UsageError("unknown preset '" + name + "' (known: " + known + ")");
     }
   }
   if (!o.model_file.empty()) {
     std::ifstream in(o.model_file);
-    if (!in) throw io::UsageError("cannot read " + o.model_file);
+    if (!in) throw UsageError("cannot read " + o.model_file);
     std::stringstream ss;
     ss << in.rdbuf();
     for (auto& m : pipeline::models_from_analysis(ss.str(), o.model_file, o.bias == "gauss-markov"))
       req.triads.push_back(std::move(m));
   }
-  if (req.triads.empty()) throw io::UsageError("nothing to simulate: give --preset and/or --model");
-  if (!(o.rate_hz > 0.0) || !std::isfinite(o.rate_hz)) throw io::UsageError("--rate must be positive");
+  if (req.triads.empty()) throw UsageError("nothing to simulate: give --preset and/or --model");
+  if (!(o.rate_hz > 0.0) || !std::isfinite(o.rate_hz)) throw UsageError("--rate must be positive");
   req.rate_hz = o.rate_hz;
   req.duration_s = pipeline::parse_duration(o.duration);
   req.seed = o.seed;
   req.temperature = parse_temperature(o.temp);
   if (!o.true_input.empty()) req.true_input = read_rate_profile(o.true_input);
   const std::size_t n = pipeline::sample_count(req);
-  if (n < 1) throw io::UsageError("--duration shorter than one sample period");
+  if (n < 1) throw UsageError("--duration shorter than one sample period");
 
   io::CsvWriter w(o.out, o.force);
   Progress progress(n > 1'000'000);

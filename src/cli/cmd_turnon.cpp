@@ -8,7 +8,7 @@
 
 #include "commands.hpp"
 #include "common_options.hpp"
-#include "cubecal/io/error.hpp"
+#include "cubecal/error.hpp"
 #include "cubecal/pipeline/turnon.hpp"
 #include "cubecal/report/command_reports.hpp"
 #include "output.hpp"
@@ -33,7 +33,7 @@ pipeline::AnalyzeRequest request_of(const RunsOptions& o) {
   pipeline::AnalyzeRequest req;
   req.units = parse_units(o.unit);
   req.grid = parse_taus(o.taus);
-  if (!(o.ci > 0.0 && o.ci < 1.0)) throw io::UsageError("--ci must be between 0 and 1");
+  if (!(o.ci > 0.0 && o.ci < 1.0)) throw UsageError("--ci must be between 0 and 1");
   req.ci = o.ci;
   req.threads = o.input.threads;
   return req;

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "cubecal/io/error.hpp"
+#include "cubecal/error.hpp"
 
 namespace cubecal::cli {
 
@@ -53,7 +53,7 @@ std::vector<Unit> parse_units(const std::string& list) {
   std::vector<Unit> units;
   for (const auto& name : split_list(list)) {
     auto u = parse_unit(name);
-    if (!u) throw io::UsageError("unknown unit '" + name + "' (use " + known_units() + ")");
+    if (!u) throw UsageError("unknown unit '" + name + "' (use " + known_units() + ")");
     units.push_back(*u);
   }
   return units;
@@ -63,7 +63,7 @@ TauGrid parse_taus(const std::string& spec) {
   try {
     return parse_tau_grid(spec);
   } catch (const std::invalid_argument& e) {
-    throw io::UsageError(std::string("--taus: ") + e.what());
+    throw UsageError(std::string("--taus: ") + e.what());
   }
 }
 
@@ -74,10 +74,10 @@ io::SeriesOptions to_series_options(const InputOptions& opt) {
   s.table.threads = opt.threads;
   s.time_col = opt.time_col;
   if (opt.rate_hz < 0.0 || !std::isfinite(opt.rate_hz))
-    throw io::UsageError("--rate must be a positive number of Hz");
+    throw UsageError("--rate must be a positive number of Hz");
   s.rate_hz = opt.rate_hz;
   if (!(opt.lsb > 0.0) || !std::isfinite(opt.lsb))
-    throw io::UsageError("--lsb must be a positive number of counts per unit");
+    throw UsageError("--lsb must be a positive number of counts per unit");
   s.lsb = opt.lsb;
   s.gaps = opt.gaps == "split" ? io::GapPolicy::split : io::GapPolicy::error;
   return s;

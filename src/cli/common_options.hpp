@@ -25,14 +25,14 @@ struct InputOptions {
 // Registers FILE (or FILE... when `several`) and the reader options.
 void add_input_options(CLI::App& app, InputOptions& opt, bool several = false);
 
-// Validated reader options; throws io::UsageError on contradictions.
+// Validated reader options; throws UsageError on contradictions.
 io::SeriesOptions to_series_options(const InputOptions& opt);
 
 std::vector<std::string> split_list(const std::string& s);
 
-// "deg/s,mGauss" -> units; throws io::UsageError naming the unknown one.
+// "deg/s,mGauss" -> units; throws UsageError naming the unknown one.
 std::vector<Unit> parse_units(const std::string& list);
-// --taus value; throws io::UsageError.
+// --taus value; throws UsageError.
 TauGrid parse_taus(const std::string& spec);
 
 }  // namespace cubecal::cli

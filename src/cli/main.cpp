@@ -6,7 +6,7 @@
 #include <string>
 
 #include "commands.hpp"
-#include "cubecal/io/error.hpp"
+#include "cubecal/error.hpp"
 
 namespace {
 
@@ -53,9 +53,9 @@ int main(int argc, char** argv) {
 
   try {
     return run ? run() : 0;
-  } catch (const cubecal::io::InputError& e) {
+  } catch (const cubecal::InputError& e) {
     return fail(e.what(), kExitBadInput);
-  } catch (const cubecal::io::UsageError& e) {
+  } catch (const cubecal::UsageError& e) {
     return fail(e.what(), kExitBadInput);
   } catch (const std::bad_alloc&) {
     return fail("out of memory (analyse fewer columns at once or a shorter record)", kExitInternal);

@@ -8,7 +8,7 @@
 #include <fstream>
 #include <iostream>
 
-#include "cubecal/io/error.hpp"
+#include "cubecal/error.hpp"
 
 namespace cubecal::cli {
 
@@ -77,10 +77,10 @@ struct OutputFile::Impl {
 OutputFile::OutputFile(std::string path, bool force) : path_(std::move(path)), impl_(std::make_unique<Impl>()) {
   namespace fs = std::filesystem;
   if (fs::exists(path_) && !force)
-    throw io::UsageError(path_ + " already exists (choose another --out or add --force to replace it)");
+    throw UsageError(path_ + " already exists (choose another --out or add --force to replace it)");
   tmp_ = path_ + ".partial";
   impl_->out.open(tmp_, std::ios::binary | std::ios::trunc);
-  if (!impl_->out) throw io::UsageError("cannot write " + path_ + " (check the directory exists and is writable)");
+  if (!impl_->out) throw UsageError("cannot write " + path_ + " (check the directory exists and is writable)");
 }
 
 OutputFile::~OutputFile() {
@@ -95,7 +95,7 @@ std::ostream& OutputFile::stream() { return impl_->out; }
 
 void OutputFile::commit() {
   impl_->out.close();
-  if (!impl_->out) throw io::UsageError("could not finish writing " + path_ + " (disk full?)");
+  if (!impl_->out) throw UsageError("could not finish writing " + path_ + " (disk full?)");
   std::filesystem::rename(tmp_, path_);
   tmp_.clear();
 }

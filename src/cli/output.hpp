@@ -25,7 +25,7 @@ void write_dev_csv(std::ostream& out, const pipeline::DevResult& r, const DevCon
 std::vector<std::string> write_analysis_files(const std::string& dir, const pipeline::AnalysisResult& r,
                                               const pipeline::OutputContext& ctx);
 
-// Opens `path` for writing; refuses (io::UsageError) to replace an existing
+// Opens `path` for writing; refuses (UsageError) to replace an existing
 // file unless `force`. Writes go to a temporary file renamed into place on
 // commit(), so an interrupted run never leaves a half-written result.
 class OutputFile {

@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "cubecal/io/error.hpp"
+#include "cubecal/error.hpp"
 
 namespace cubecal::io {
 

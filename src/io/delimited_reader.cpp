@@ -24,7 +24,7 @@
 #include <thread>
 #include <utility>
 
-#include "cubecal/io/error.hpp"
+#include "cubecal/error.hpp"
 #include "cubecal/io/file_buffer.hpp"
 
 namespace cubecal::io {

@@ -18,7 +18,7 @@
 #include <new>
 #include <utility>
 
-#include "cubecal/io/error.hpp"
+#include "cubecal/error.hpp"
 
 namespace cubecal::io {
 

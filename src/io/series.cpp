@@ -11,7 +11,7 @@
 #include <string_view>
 #include <utility>
 
-#include "cubecal/io/error.hpp"
+#include "cubecal/error.hpp"
 #include "cubecal/io/file_buffer.hpp"
 
 namespace cubecal::io {

@@ -9,7 +9,7 @@
 
 #include "cubecal/stats/confidence.hpp"
 #include "cubecal/stats/edf.hpp"
-#include "cubecal/io/error.hpp"
+#include "cubecal/error.hpp"
 
 namespace cubecal::pipeline {
 
@@ -87,7 +87,7 @@ DevResult run(const std::vector<std::string>& names,
   }
   for (std::size_t k = 0; k < pieces.size(); ++k)
     if (!errors[k].empty())
-      throw io::UsageError("column " + names[pieces[k].channel] + ": " + errors[k] +
+      throw UsageError("column " + names[pieces[k].channel] + ": " + errors[k] +
                            " (remove or repair it before the analysis)");
 
   std::size_t max_m = 0;
@@ -101,7 +101,7 @@ DevResult run(const std::vector<std::string>& names,
   if (ms.empty()) {
     std::size_t longest = 0;
     for (const auto& s : segments) longest = std::max(longest, s.size());
-    throw io::UsageError("series too short for " + std::string(to_string(req.stat)) + ": " +
+    throw UsageError("series too short for " + std::string(to_string(req.stat)) + ": " +
                          std::to_string(longest) +
                          " samples in the longest segment, and no averaging factor of the tau "
                          "grid fits (record longer data or choose smaller taus)");

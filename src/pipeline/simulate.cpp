@@ -5,7 +5,7 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
-#include "cubecal/io/error.hpp"
+#include "cubecal/error.hpp"
 
 namespace cubecal::pipeline {
 
@@ -129,7 +129,7 @@ void write_simulation(const SimulateRequest& r, io::CsvWriter& out) {
 std::vector<TriadModel> models_from_analysis(const std::string& text, const std::string& label, bool gm) {
   const auto j = nlohmann::json::parse(text, nullptr, false);
   if (j.is_discarded() || !j.contains("channels") || !j["channels"].is_array() || j["channels"].empty())
-    throw io::UsageError(label + ": not an analysis.json written by cubecal analyze");
+    throw UsageError(label + ": not an analysis.json written by cubecal analyze");
   std::vector<TriadModel> out;
   const auto& chans = j["channels"];
   const double rate = j["input"].value("rate_hz", 0.0);
@@ -151,7 +151,7 @@ std::vector<TriadModel> models_from_analysis(const std::string& text, const std:
     ax.fixed_bias = ch.value("mean", 0.0);
     if (gm) {
       if (!model.contains("gauss_markov") || model["gauss_markov"].is_null())
-        throw io::UsageError(label + ": channel " + m.axis_names[a] +
+        throw UsageError(label + ": channel " + m.axis_names[a] +
                              " has no Gauss-Markov model (use the random-walk model, or re-run analyze)");
       const auto& g = model["gauss_markov"];
       ax.white_sigma = g.value("sigma_n", 0.0);
@@ -160,7 +160,7 @@ std::vector<TriadModel> models_from_analysis(const std::string& text, const std:
       ax.tau_c = g.value("tau_s", 0.0);
     } else {
       if (!model.contains("sigma_n") || model["sigma_n"].is_null())
-        throw io::UsageError(label + ": channel " + m.axis_names[a] + " has no fitted random-walk model (" +
+        throw UsageError(label + ": channel " + m.axis_names[a] + " has no fitted random-walk model (" +
                              model.value("error", std::string("no minimum in its Allan curve")) +
                              "); try --bias gauss-markov");
       ax.white_sigma = model["sigma_n"].get<double>();
@@ -179,7 +179,7 @@ std::vector<TriadModel> models_from_analysis(const std::string& text, const std:
 }
 
 double parse_duration(const std::string& s) {
-  if (s.empty()) throw io::UsageError("empty duration (use e.g. 72h, 30m, 3600s or 2d)");
+  if (s.empty()) throw UsageError("empty duration (use e.g. 72h, 30m, 3600s or 2d)");
   double mult = 1.0;
   std::string num = s;
   switch (s.back()) {
@@ -192,7 +192,7 @@ double parse_duration(const std::string& s) {
   double v = 0.0;
   const auto [p, ec] = std::from_chars(num.data(), num.data() + num.size(), v);
   if (ec != std::errc() || p != num.data() + num.size() || !(v > 0.0) || !std::isfinite(v))
-    throw io::UsageError("bad duration '" + s + "' (use e.g. 72h, 30m, 3600s or 2d)");
+    throw UsageError("bad duration '" + s + "' (use e.g. 72h, 30m, 3600s or 2d)");
   return v * mult;
 }
 

@@ -3,7 +3,7 @@
 #include <boost/math/distributions/chi_squared.hpp>
 #include <cmath>
 
-#include "cubecal/io/error.hpp"
+#include "cubecal/error.hpp"
 
 namespace cubecal::pipeline {
 
@@ -22,11 +22,11 @@ std::vector<RunSummary> run_compare(const std::vector<io::Series>& runs, const A
 }
 
 TurnOnResult run_turnon(const std::vector<io::Series>& runs, const AnalyzeRequest& req) {
-  if (runs.size() < 2) throw io::UsageError("turn-on bias needs at least 2 runs (power cycles), got " +
+  if (runs.size() < 2) throw UsageError("turn-on bias needs at least 2 runs (power cycles), got " +
                                             std::to_string(runs.size()));
   for (const auto& s : runs)
     if (s.names != runs.front().names)
-      throw io::UsageError(s.file + ": columns differ from " + runs.front().file +
+      throw UsageError(s.file + ": columns differ from " + runs.front().file +
                            " (choose the same columns in every run with --columns)");
   TurnOnResult t;
   t.ci = req.ci;

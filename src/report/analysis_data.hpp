@@ -51,7 +51,7 @@ struct AnalysisData {
   std::string ci_text = "68.3 %";        // confidence of the intervals, from the command
 };
 
-// Throws io::UsageError (one line) for a missing or malformed analysis.json.
+// Throws UsageError (one line) for a missing or malformed analysis.json.
 AnalysisData load_analysis(const std::filesystem::path& dir);
 
 // A figure of the page: the plot, its caption (HTML) and the section it belongs in.

@@ -7,7 +7,7 @@
 #include <chrono>
 #include <filesystem>
 
-#include "cubecal/io/error.hpp"
+#include "cubecal/error.hpp"
 #include "cubecal/report/html.hpp"
 
 namespace cubecal::report {
@@ -152,14 +152,14 @@ std::string command_report_html(const CommandReport& r, const std::vector<Render
 void check_report_target(const std::string& dir, bool force, const std::string& gnuplot) {
   std::error_code ec;
   if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
-    throw io::UsageError(dir + " is a file: --report takes a directory (report.html and plots/ go into it)");
+    throw UsageError(dir + " is a file: --report takes a directory (report.html and plots/ go into it)");
   if (!force) {
     const auto existing = existing_report_outputs(dir);
     if (!existing.empty())
-      throw io::UsageError(existing.front() + " already exists (choose another --report directory or add --force to "
+      throw UsageError(existing.front() + " already exists (choose another --report directory or add --force to "
                                               "replace the report)");
   }
-  if (!find_gnuplot(gnuplot)) throw io::UsageError(kGnuplotMissing);
+  if (!find_gnuplot(gnuplot)) throw UsageError(kGnuplotMissing);
 }
 
 ReportResult write_command_report(const CommandReport& report, const std::string& dir,
@@ -169,18 +169,18 @@ ReportResult write_command_report(const CommandReport& report, const std::string
   if (!options.force) {
     const auto existing = existing_report_outputs(dir);
     if (!existing.empty())
-      throw io::UsageError(existing.front() + " already exists (add --force to replace the report" +
+      throw UsageError(existing.front() + " already exists (add --force to replace the report" +
                            std::string(fs::exists(d / "plots") ? " and its plots" : "") + ")");
   }
   std::error_code ec;
   fs::create_directories(d, ec);
-  if (ec) throw io::UsageError("cannot create " + d.string() + ": " + ec.message());
+  if (ec) throw UsageError("cannot create " + d.string() + ": " + ec.message());
 
   ReportResult res;
   const auto plots = report_plots(report);
   std::vector<RenderedPlot> rendered;
   if (!find_gnuplot(options.gnuplot)) {
-    if (options.require_plots) throw io::UsageError(kGnuplotMissing);
+    if (options.require_plots) throw UsageError(kGnuplotMissing);
     res.note = std::string("Plots not rendered: ") + kGnuplotMissing + ".";
   } else if (!plots.empty()) {
     RenderOptions ro;

@@ -7,7 +7,7 @@
 #include <cstdio>
 #include <fstream>
 
-#include "cubecal/io/error.hpp"
+#include "cubecal/error.hpp"
 
 namespace cubecal::report {
 
@@ -185,7 +185,7 @@ void write_page(const std::filesystem::path& html, const std::string& page) {
     if (!f) {
       std::error_code ec;
       fs::remove(tmp, ec);
-      throw io::UsageError("cannot write " + html.string() + " (check the directory is writable)");
+      throw UsageError("cannot write " + html.string() + " (check the directory is writable)");
     }
   }
   fs::rename(tmp, html);

@@ -31,7 +31,7 @@ const char* method_text(mag::Method m) {
   return "";
 }
 
-double norm3(const mag::Vec3& v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
+double norm3(const Vec3& v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
 
 // The points as the figures show them: which were rejected, every k-th of the others.
 struct PointSets {
@@ -80,7 +80,7 @@ PlotSeries point_series(std::string label, const char* color, double size, doubl
 
 }  // namespace
 
-std::vector<ReportFigure> mag_projection_figures(std::span<const mag::Vec3> h, const mag::Result& r,
+std::vector<ReportFigure> mag_projection_figures(std::span<const Vec3> h, const mag::Result& r,
                                                  const MagReportContext& ctx) {
   const std::string u = unit_of(ctx);
   const PointSets ps = point_sets(h.size(), r, ctx.max_points);
@@ -113,7 +113,7 @@ std::vector<ReportFigure> mag_projection_figures(std::span<const mag::Vec3> h, c
     for (std::size_t k : ps.shown) {
       raw.x.push_back(h[k][a]);
       raw.y.push_back(h[k][b]);
-      const mag::Vec3 c = mag::apply(h[k], r.bias, r.soft_iron);
+      const Vec3 c = mag::apply(h[k], r.bias, r.soft_iron);
       cal.x.push_back(c[a]);
       cal.y.push_back(c[b]);
     }
@@ -164,7 +164,7 @@ std::vector<ReportFigure> mag_projection_figures(std::span<const mag::Vec3> h, c
   return figs;
 }
 
-std::vector<ReportFigure> mag_norm_error_figures(std::span<const mag::Vec3> h, const mag::Result& r,
+std::vector<ReportFigure> mag_norm_error_figures(std::span<const Vec3> h, const mag::Result& r,
                                                  const MagReportContext& ctx) {
   const std::string u = unit_of(ctx);
   const PointSets ps = point_sets(h.size(), r, ctx.max_points);
@@ -246,7 +246,7 @@ std::vector<ReportFigure> mag_norm_error_figures(std::span<const mag::Vec3> h, c
   return {std::move(both), std::move(only_after)};
 }
 
-CommandReport mag_report(std::span<const mag::Vec3> h, const mag::Result& r, const MagReportContext& ctx) {
+CommandReport mag_report(std::span<const Vec3> h, const mag::Result& r, const MagReportContext& ctx) {
   const std::string u = unit_of(ctx);
   CommandReport rep;
   rep.title = "Magnetometer calibration: " + base_name(ctx.file);

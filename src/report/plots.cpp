@@ -17,7 +17,7 @@
 #include <string_view>
 #include <thread>
 
-#include "cubecal/io/error.hpp"
+#include "cubecal/error.hpp"
 #include "cubecal/report/plot.hpp"
 
 extern char** environ;
@@ -313,7 +313,7 @@ void write_text(const fs::path& p, const std::string& text) {
   std::ofstream f(p, std::ios::binary | std::ios::trunc);
   f << text;
   f.close();
-  if (!f) throw io::UsageError("cannot write " + p.string() + " (check the directory is writable)");
+  if (!f) throw UsageError("cannot write " + p.string() + " (check the directory is writable)");
 }
 
 std::string read_text(const fs::path& p) {
@@ -361,7 +361,7 @@ pid_t spawn_gnuplot(const std::string& gnuplot, const fs::path& dir, const std::
   pid_t pid = -1;
   const int rc = posix_spawn(&pid, gnuplot.c_str(), &fa, nullptr, argv.data(), environ);
   posix_spawn_file_actions_destroy(&fa);
-  if (rc != 0) throw io::UsageError("cannot run " + gnuplot + ": " + std::strerror(rc));
+  if (rc != 0) throw UsageError("cannot run " + gnuplot + ": " + std::strerror(rc));
   return pid;
 }
 
@@ -370,10 +370,10 @@ pid_t spawn_gnuplot(const std::string& gnuplot, const fs::path& dir, const std::
 std::vector<RenderedPlot> render_plots(const std::vector<Plot>& plots, const fs::path& dir_in,
                                        const RenderOptions& options) {
   const auto gnuplot = find_gnuplot(options.gnuplot);
-  if (!gnuplot) throw io::UsageError(kGnuplotMissing);
+  if (!gnuplot) throw UsageError(kGnuplotMissing);
   std::error_code ec;
   fs::create_directories(dir_in, ec);
-  if (ec) throw io::UsageError("cannot create " + dir_in.string() + ": " + ec.message());
+  if (ec) throw UsageError("cannot create " + dir_in.string() + ": " + ec.message());
   const fs::path dir = fs::absolute(dir_in);
 
   std::vector<RenderedPlot> out;
@@ -436,7 +436,7 @@ std::vector<RenderedPlot> render_plots(const std::vector<Plot>& plots, const fs:
     running.erase(running.begin());
     reap(j);
   }
-  if (!failures.empty()) throw io::UsageError(failures.front());
+  if (!failures.empty()) throw UsageError(failures.front());
   for (auto& r : out) r.svg_text = read_text(r.svg);
   return out;
 }

@@ -13,7 +13,7 @@
 #include "cubecal/noise/noise_terms.hpp"
 #include "cubecal/noise/sensor_noise_model.hpp"
 #include "cubecal/noise/units.hpp"
-#include "cubecal/io/error.hpp"
+#include "cubecal/error.hpp"
 #include "cubecal/report/html.hpp"
 
 namespace cubecal::report {
@@ -41,7 +41,7 @@ namespace {
 
 std::string read_file(const fs::path& p) {
   std::ifstream f(p, std::ios::binary);
-  if (!f) throw io::UsageError("cannot read " + p.string());
+  if (!f) throw UsageError("cannot read " + p.string());
   std::ostringstream ss;
   ss << f.rdbuf();
   return ss.str();
@@ -218,21 +218,21 @@ AnalysisData load_analysis(const fs::path& dir) {
   d.dir = dir;
   const fs::path p = dir / "analysis.json";
   if (!fs::exists(p))
-    throw io::UsageError(p.string() + " not found: " + dir.string() +
+    throw UsageError(p.string() + " not found: " + dir.string() +
                          " holds no analysis (run `cubecal analyze FILE ... --out " + dir.string() + "` first)");
   try {
     d.root = json::parse(read_file(p));
   } catch (const json::parse_error& e) {
-    throw io::UsageError(p.string() + ": not valid JSON (" + std::string(e.what()) + ")");
+    throw UsageError(p.string() + ": not valid JSON (" + std::string(e.what()) + ")");
   }
   const json& r = d.root;
   if (!r.is_object() || !r.contains("channels") || !r["channels"].is_array() || !r.contains("input") ||
       !r["input"].is_object())
-    throw io::UsageError(p.string() + ": not a cubecal analysis result (no 'input' and 'channels')");
+    throw UsageError(p.string() + ": not a cubecal analysis result (no 'input' and 'channels')");
   d.rate_hz = number(r["input"], "rate_hz").value_or(0.0);
   d.duration_s = number(r["input"], "duration_s").value_or(0.0);
   d.samples = static_cast<std::size_t>(number(r["input"], "samples").value_or(0.0));
-  if (!(d.rate_hz > 0)) throw io::UsageError(p.string() + ": input.rate_hz is missing or not positive");
+  if (!(d.rate_hz > 0)) throw UsageError(p.string() + ": input.rate_hz is missing or not positive");
   if (r.contains("command") && r["command"].is_string()) d.ci_text = ci_from_command(r["command"].get<std::string>());
 
   for (const auto& cj : r["channels"]) {
@@ -245,14 +245,14 @@ AnalysisData load_analysis(const fs::path& dir) {
     ch.unit = str("unit");
     ch.kind = str("kind");
     if (!cj.contains("adev") || !cj["adev"].is_object())
-      throw io::UsageError(p.string() + ": channel '" + ch.name + "' has no 'adev' curve");
+      throw UsageError(p.string() + ": channel '" + ch.name + "' has no 'adev' curve");
     const json& a = cj["adev"];
     ch.curve.tau = numbers(a, "tau");
     ch.curve.dev = numbers(a, "dev");
     ch.curve.lo = numbers(a, "lo");
     ch.curve.hi = numbers(a, "hi");
     if (ch.curve.dev.size() != ch.curve.tau.size())
-      throw io::UsageError(p.string() + ": channel '" + ch.name + "': adev.tau and adev.dev differ in length");
+      throw UsageError(p.string() + ": channel '" + ch.name + "': adev.tau and adev.dev differ in length");
     if (ch.curve.lo.size() != ch.curve.tau.size() || ch.curve.hi.size() != ch.curve.tau.size()) {
       ch.curve.lo = ch.curve.dev;
       ch.curve.hi = ch.curve.dev;
@@ -328,7 +328,7 @@ ReportResult write_report(const std::string& dir, const ReportOptions& options) 
   if (!options.force) {
     const auto existing = existing_report_outputs(dir);
     if (!existing.empty())
-      throw io::UsageError(existing.front() + " already exists (add --force to replace the report" +
+      throw UsageError(existing.front() + " already exists (add --force to replace the report" +
                            std::string(fs::exists(d / "plots") ? " and its plots" : "") + ")");
   }
 
@@ -336,7 +336,7 @@ ReportResult write_report(const std::string& dir, const ReportOptions& options) 
   const auto figures = detail::analysis_figures(data, options);
   std::vector<RenderedPlot> rendered;
   if (!find_gnuplot(options.gnuplot)) {
-    if (options.require_plots) throw io::UsageError(kGnuplotMissing);
+    if (options.require_plots) throw UsageError(kGnuplotMissing);
     res.note = std::string("Plots not rendered: ") + kGnuplotMissing + ".";
   } else {
     std::vector<Plot> plots;

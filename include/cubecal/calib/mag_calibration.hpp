@@ -18,12 +18,9 @@
 #include <string_view>
 #include <vector>
 
+#include "cubecal/math/vec3.hpp"
+
 namespace cubecal::mag {
-
-using Vec3 = std::array<double, 3>;
-using Mat3 = std::array<std::array<double, 3>, 3>;  // m[row][col]
-
-inline constexpr Mat3 kIdentity3{{{1.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, {0.0, 0.0, 1.0}}};
 
 // Fewer points than this (after outlier rejection) is an error for every
 // method: the full models have 9 parameters and need redundancy to give a

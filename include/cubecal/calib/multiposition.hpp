@@ -44,10 +44,9 @@
 #include <string>
 #include <vector>
 
-namespace cubecal::multipos {
+#include "cubecal/math/vec3.hpp"
 
-using Vec3 = std::array<double, 3>;
-using Mat3 = std::array<std::array<double, 3>, 3>;  // m[row][col]
+namespace cubecal::multipos {
 
 inline constexpr std::size_t kDefaultWindow = 101;
 inline constexpr std::size_t kMinWindow = 11;
@@ -63,13 +62,6 @@ struct TriadModel {
   Mat3 misalignment() const noexcept;          // T
   Mat3 matrix() const noexcept;                // T K
   Vec3 apply(const Vec3& raw) const noexcept;  // T K (raw - B)
-};
-
-// Half-open range of sample indices [begin, end).
-struct Interval {
-  std::size_t begin = 0;
-  std::size_t end = 0;
-  std::size_t size() const noexcept { return end - begin; }
 };
 
 // One triad record: samples and either time stamps (s, strictly increasing,
@@ -92,7 +84,7 @@ std::vector<double> variance_norm(std::span<const Vec3> x, std::size_t window = 
 double block_variance_norm(std::span<const Vec3> x);
 
 // Maximal runs of v(i) < threshold, in order, of any length.
-std::vector<Interval> static_intervals(std::span<const double> v, double threshold);
+std::vector<IndexRange> static_intervals(std::span<const double> v, double threshold);
 
 struct Options {
   double g = 9.80665;           // local gravity: |calibrated acceleration| (sets its unit)
@@ -142,7 +134,7 @@ struct AccResult {
   int th_mult = 0;
   double threshold = 0.0;
   std::vector<Trial> trials;
-  std::vector<Interval> intervals;  // used ones, for the chosen th_mult (accelerometer indices)
+  std::vector<IndexRange> intervals;  // used ones, for the chosen th_mult (accelerometer indices)
   Residuals before, after;          // r = g - |a'| over the fitted samples
   double sigma0 = 0.0;              // sqrt(cost / (residuals - 9))
   std::size_t iterations = 0;

@@ -31,6 +31,7 @@
 #include <vector>
 
 #include "cubecal/calib/plateaus.hpp"
+#include "cubecal/math/vec3.hpp"
 
 namespace cubecal {
 
@@ -53,7 +54,6 @@ struct ResidualStats {
   double rms = 0.0;      // root mean square over all plateaus and axes, data unit
 };
 
-using Matrix3 = std::array<std::array<double, 3>, 3>;
 // Covariance of 12 parameters ordered per gyro output axis k = 0, 1, 2 as
 // index 4k + m: m = 0..2 the row k of the matrix (S or A), m = 3 the k-th
 // bias (b_g or beta). This is vec Theta, Theta's columns stacked.
@@ -63,19 +63,19 @@ struct RateTableCalibration {
   std::size_t plateaus = 0;
   std::size_t dof = 0;                      // plateaus - 4
   bool noise_from_residuals = true;         // false: R from the within-plateau variances (dof 0)
-  Matrix3 noise_cov{};                      // R: covariance of a plateau mean's error, data unit^2
+  Mat3 noise_cov{};                      // R: covariance of a plateau mean's error, data unit^2
 
   // Forward model w_g = S w + b_g.
-  Matrix3 S{};
+  Mat3 S{};
   std::array<double, 3> bias{};             // b_g, data unit
-  Matrix3 S_sigma{};
+  Mat3 S_sigma{};
   std::array<double, 3> bias_sigma{};
   Covariance12 forward_cov{};               // of (S, b_g), ordering above
 
   // Inverse (the paper's) form w = A w_g + beta.
-  Matrix3 A{};
+  Mat3 A{};
   std::array<double, 3> beta{};             // data unit
-  Matrix3 A_sigma{};
+  Mat3 A_sigma{};
   std::array<double, 3> beta_sigma{};
   Covariance12 inverse_cov{};               // of (A, beta), ordering above
 
@@ -89,8 +89,8 @@ struct RateTableCalibration {
   // rate about +j reads positive on axis i. Not symmetric: misalignment[i][j]
   // and misalignment[j][i] are independent (6 angles; a pure rotation of the
   // sensor gives them opposite signs). The diagonal is zero.
-  Matrix3 misalignment{};
-  Matrix3 misalignment_sigma{};
+  Mat3 misalignment{};
+  Mat3 misalignment_sigma{};
 
   // Plateau residuals: before calibration (identity, no bias) w_g,j - w_j;
   // after, A w_g,j + beta - w_j (per plateau, in input order).
@@ -101,7 +101,7 @@ struct RateTableCalibration {
   // The paper's eq. (12): covariance of the calibrated error A w_g + beta - w
   // over every sample of every plateau (pooled from the plateaus' means and
   // covariances, unbiased), data unit^2. The paper's eq. (13) is this matrix.
-  Matrix3 error_covariance{};
+  Mat3 error_covariance{};
 };
 
 // Calibrates from plateaus that carry a reference rate (has_ref). Throws

@@ -36,7 +36,7 @@ struct DevResult {
   std::vector<DevChannel> channels;
 };
 
-// Throws io::UsageError when no averaging factor of the grid fits the record
+// Throws UsageError when no averaging factor of the grid fits the record
 // (the series is too short for the statistic).
 DevResult run_dev(const io::Series& series, const DevRequest& request);
 

@@ -51,7 +51,7 @@ void write_simulation(const SimulateRequest& r, io::CsvWriter& out);
 // channels form triads (a last partial triad keeps only its channels); the
 // fixed bias is the measured mean, white noise and bias process come from
 // the fitted random-walk model, or the Gauss-Markov model when asked; the
-// quantizer is the model's LSB. Throws io::UsageError for a file that is not
+// quantizer is the model's LSB. Throws UsageError for a file that is not
 // an analysis result or has no fitted model.
 std::vector<TriadModel> models_from_analysis(const std::string& json_text, const std::string& label,
                                              bool gauss_markov);

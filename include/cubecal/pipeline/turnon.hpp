@@ -27,7 +27,7 @@ struct TurnOnResult {
 };
 
 // Every run is analysed as `analyze` does (same request); runs must have the
-// same channels. Throws io::UsageError for fewer than 2 runs or mismatched
+// same channels. Throws UsageError for fewer than 2 runs or mismatched
 // channels.
 TurnOnResult run_turnon(const std::vector<io::Series>& runs, const AnalyzeRequest& request);
 

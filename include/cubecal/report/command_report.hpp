@@ -76,13 +76,13 @@ std::vector<Plot> report_plots(const CommandReport& report);
 std::string command_report_html(const CommandReport& report, const std::vector<RenderedPlot>& rendered,
                                 std::string_view note = {});
 
-// What `cmd --report DIR` checks before any work: throws io::UsageError (one
+// What `cmd --report DIR` checks before any work: throws UsageError (one
 // line) when DIR/report.html or DIR/plots exists and `force` is false, or when
 // gnuplot is missing.
 void check_report_target(const std::string& dir, bool force, const std::string& gnuplot = {});
 
 // Renders the plots into DIR/plots/ (created with DIR) and writes
-// DIR/report.html atomically. Throws io::UsageError for an existing report
+// DIR/report.html atomically. Throws UsageError for an existing report
 // without options.force, a missing gnuplot (unless !options.require_plots:
 // then the page says the plots are missing) or a failing plot.
 // options.max_points and options.seed are not used (the builders decide).

@@ -85,12 +85,12 @@ struct MagReportContext {
 
 // mag_xy, mag_xz, mag_yz: `h` (every input point, as calibrate() got them)
 // and A^-1 (h − b) projected, with the circle of radius F.
-std::vector<ReportFigure> mag_projection_figures(std::span<const mag::Vec3> h, const mag::Result& r,
+std::vector<ReportFigure> mag_projection_figures(std::span<const Vec3> h, const mag::Result& r,
                                                  const MagReportContext& ctx);
 // mag_norm_error (before and after), mag_norm_error_after (after, ± its RMS).
-std::vector<ReportFigure> mag_norm_error_figures(std::span<const mag::Vec3> h, const mag::Result& r,
+std::vector<ReportFigure> mag_norm_error_figures(std::span<const Vec3> h, const mag::Result& r,
                                                  const MagReportContext& ctx);
 
-CommandReport mag_report(std::span<const mag::Vec3> h, const mag::Result& r, const MagReportContext& ctx);
+CommandReport mag_report(std::span<const Vec3> h, const mag::Result& r, const MagReportContext& ctx);
 
 }  // namespace cubecal::report

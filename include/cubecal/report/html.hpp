@@ -36,7 +36,7 @@ std::string html_figure(const RenderedPlot& plot, std::string_view caption_html,
 std::string html_document(std::string_view title, std::string_view body_html);
 
 // Writes a finished page to `html` through NAME.partial and a rename, so a
-// reader never sees half a page. Throws io::UsageError when it cannot.
+// reader never sees half a page. Throws UsageError when it cannot.
 void write_page(const std::filesystem::path& html, const std::string& page);
 
 }  // namespace cubecal::report

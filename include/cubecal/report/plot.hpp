@@ -87,7 +87,7 @@ inline constexpr const char* kGnuplotMissing =
 
 // Writes NAME.dat and NAME.gp of every plot into `dir` (created), runs
 // gnuplot on the scripts (several at once, each in `dir`) and reads the SVGs
-// back. Throws io::UsageError when gnuplot is missing or a script fails (the
+// back. Throws UsageError when gnuplot is missing or a script fails (the
 // message quotes gnuplot's first error line and names the script).
 std::vector<RenderedPlot> render_plots(const std::vector<Plot>& plots, const std::filesystem::path& dir,
                                        const RenderOptions& options = {});

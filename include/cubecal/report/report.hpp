@@ -39,7 +39,7 @@ struct ReportResult {
 // Reads DIR/analysis.json (required), DIR/adev.csv (the model curves; computed
 // from analysis.json when absent) and DIR/drift.csv (drift plots; skipped when
 // absent), renders the plots and writes DIR/report.html atomically. Throws
-// io::UsageError with one line for: no analysis.json, a file that is not an
+// UsageError with one line for: no analysis.json, a file that is not an
 // analysis result, gnuplot missing, an existing report without `force`.
 ReportResult write_report(const std::string& dir, const ReportOptions& options = {});
 

@@ -1,10 +1,10 @@
-// One-line error messages in the compiler style "FILE:LINE:COL: problem (hint)"
+// The error types (error.hpp). One-line error messages in the compiler style "FILE:LINE:COL: problem (hint)"
 // so that editors and terminals can jump to the offending field.
-#include "cubecal/io/error.hpp"
+#include "cubecal/error.hpp"
 
 #include <utility>
 
-namespace cubecal::io {
+namespace cubecal {
 
 namespace {
 
@@ -41,4 +41,21 @@ InputError::InputError(std::string file, std::size_t line, std::size_t column, s
       problem_(std::move(what)),
       hint_(std::move(hint)) {}
 
-}  // namespace cubecal::io
+std::string_view to_string(CalibrationReason r) noexcept {
+  switch (r) {
+    case CalibrationReason::too_few_points: return "too_few_points";
+    case CalibrationReason::poor_coverage: return "poor_coverage";
+    case CalibrationReason::degenerate: return "degenerate";
+    case CalibrationReason::bad_data: return "bad_data";
+    case CalibrationReason::bad_option: return "bad_option";
+    case CalibrationReason::field_norm: return "field_norm";
+    case CalibrationReason::no_plateaus: return "no_plateaus";
+    case CalibrationReason::too_few_intervals: return "too_few_intervals";
+    case CalibrationReason::initial_static: return "initial_static";
+    case CalibrationReason::scale_guess: return "scale_guess";
+    case CalibrationReason::not_converged: return "not_converged";
+  }
+  return "unknown";
+}
+
+}  // namespace cubecal
