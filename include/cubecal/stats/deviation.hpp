@@ -1,0 +1,70 @@
+// The front door to the statistics: one call per statistic in the shape
+// AllanTools users know, `oadev(data, rate, data_type, taus)`, returning one
+// point per tau with the deviation, the number of terms, and (unless
+// options.intervals is off) the identified noise type, the EDF and the
+// confidence interval, as Stable32 computes them. See
+// docs/formulas/stability.md for the definitions.
+//
+//   std::vector<double> y = ...;                      // rate samples at 100 Hz
+//   for (const auto& p : cubecal::oadev(y, 100.0))    // octave taus, 68.3 % intervals
+//     std::printf("%g %g [%g, %g]\n", p.tau, p.dev, p.lo, p.hi);
+//
+// Single-threaded and allocation-light; pipeline::run_dev does several
+// channels, segments split at gaps and taus in parallel.
+#pragma once
+#include <span>
+#include <vector>
+
+#include "cubecal/stats/stability.hpp"
+#include "cubecal/stats/statistic.hpp"
+#include "cubecal/stats/tau_grid.hpp"
+
+namespace cubecal {
+
+// `data`: frequency samples (rate-like: deg/s, fractional frequency, ...) or
+// phase samples (their integral: deg, s), one every 1/rate_hz seconds.
+// `grid`: the taus (default octave: 1, 2, 4, ... times 1/rate_hz), up to the
+// largest averaging factor Stable32 evaluates for the statistic.
+// Throws UsageError when rate_hz is not a positive finite number or no tau of
+// the grid fits the record, std::invalid_argument for a NaN or infinite sample.
+std::vector<StabilityPoint> deviation(Stat stat, std::span<const double> data, double rate_hz,
+                                      DataType type = DataType::freq, const TauGrid& grid = {},
+                                      const StabilityOptions& options = {});
+
+inline std::vector<StabilityPoint> adev(std::span<const double> data, double rate_hz,
+                                        DataType type = DataType::freq, const TauGrid& grid = {},
+                                        const StabilityOptions& options = {}) {
+  return deviation(Stat::adev, data, rate_hz, type, grid, options);
+}
+inline std::vector<StabilityPoint> oadev(std::span<const double> data, double rate_hz,
+                                         DataType type = DataType::freq, const TauGrid& grid = {},
+                                         const StabilityOptions& options = {}) {
+  return deviation(Stat::oadev, data, rate_hz, type, grid, options);
+}
+inline std::vector<StabilityPoint> mdev(std::span<const double> data, double rate_hz,
+                                        DataType type = DataType::freq, const TauGrid& grid = {},
+                                        const StabilityOptions& options = {}) {
+  return deviation(Stat::mdev, data, rate_hz, type, grid, options);
+}
+inline std::vector<StabilityPoint> tdev(std::span<const double> data, double rate_hz,
+                                        DataType type = DataType::freq, const TauGrid& grid = {},
+                                        const StabilityOptions& options = {}) {
+  return deviation(Stat::tdev, data, rate_hz, type, grid, options);
+}
+inline std::vector<StabilityPoint> hdev(std::span<const double> data, double rate_hz,
+                                        DataType type = DataType::freq, const TauGrid& grid = {},
+                                        const StabilityOptions& options = {}) {
+  return deviation(Stat::hdev, data, rate_hz, type, grid, options);
+}
+inline std::vector<StabilityPoint> ohdev(std::span<const double> data, double rate_hz,
+                                         DataType type = DataType::freq, const TauGrid& grid = {},
+                                         const StabilityOptions& options = {}) {
+  return deviation(Stat::ohdev, data, rate_hz, type, grid, options);
+}
+inline std::vector<StabilityPoint> totdev(std::span<const double> data, double rate_hz,
+                                          DataType type = DataType::freq, const TauGrid& grid = {},
+                                          const StabilityOptions& options = {}) {
+  return deviation(Stat::totdev, data, rate_hz, type, grid, options);
+}
+
+}  // namespace cubecal

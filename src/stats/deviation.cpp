@@ -1,0 +1,30 @@
+// deviation(): a StabilityRecord evaluated over the grid's averaging factors.
+#include "cubecal/stats/deviation.hpp"
+
+#include <cmath>
+#include <string>
+
+#include "cubecal/error.hpp"
+
+namespace cubecal {
+
+std::vector<StabilityPoint> deviation(Stat stat, std::span<const double> data, double rate_hz, DataType type,
+                                      const TauGrid& grid, const StabilityOptions& options) {
+  if (!(rate_hz > 0.0) || !std::isfinite(rate_hz))
+    throw UsageError("the sampling rate must be a positive number of samples per second");
+  const double tau0 = 1.0 / rate_hz;
+  const StabilityRecord record(data, type, tau0, stat);
+  const std::vector<std::size_t> ms = averaging_factors(grid, record.max_m(), tau0);
+  if (ms.empty())
+    throw UsageError(std::string(to_string(stat)) + " of " + std::to_string(data.size()) +
+                     " samples: no tau of the grid fits the record (use more data or smaller taus)");
+  std::vector<StabilityPoint> points;
+  points.reserve(ms.size());
+  for (std::size_t m : ms) {
+    StabilityPoint p = record.evaluate(m, options);
+    if (p.n > 0) points.push_back(p);
+  }
+  return points;
+}
+
+}  // namespace cubecal
