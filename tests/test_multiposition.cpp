@@ -72,8 +72,8 @@ void axis_angle(const Mat3& r, Vec3& n, double& theta) {
 // (T K)^-1 f + B and (T_g K_g)^-1 w + b_g, plus white noise in counts.
 
 struct Truth {
-  TriadModel acc;
-  TriadModel gyro;
+  TriadCalibration acc;
+  TriadCalibration gyro;
   double g = 9.80665;
 };
 
@@ -167,10 +167,10 @@ Options synthetic_options(const Truth& tr) {
 
 TriadSeries series(const Synthetic& s, bool gyro) { return {gyro ? s.gyro : s.acc, s.t, 0.0}; }
 
-std::vector<double> acc_truth_vector(const TriadModel& m) {
+std::vector<double> acc_truth_vector(const TriadCalibration& m) {
   return {m.mis_yz, m.mis_zy, m.mis_zx, m.scale[0], m.scale[1], m.scale[2], m.bias[0], m.bias[1], m.bias[2]};
 }
-std::vector<double> gyro_truth_vector(const TriadModel& m) {
+std::vector<double> gyro_truth_vector(const TriadCalibration& m) {
   return {m.mis_yz, m.mis_zy, m.mis_zx, m.mis_xz, m.mis_xy, m.mis_yx, m.scale[0], m.scale[1], m.scale[2]};
 }
 
@@ -192,7 +192,7 @@ void print_params(const char* what, const std::vector<std::string>& names, const
 // ---------------------------------------------------------------------------
 
 TEST(MultiPosition, ModelLayoutFollowsImuTk) {
-  TriadModel m;
+  TriadCalibration m;
   m.mis_yz = 0.1;
   m.mis_zy = 0.2;
   m.mis_zx = 0.3;

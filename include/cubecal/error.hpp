@@ -16,12 +16,22 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <utility>
 
 namespace cubecal {
 
 class UsageError : public std::runtime_error {
  public:
-  using std::runtime_error::runtime_error;
+  explicit UsageError(const std::string& what) : std::runtime_error(what) {}
+  // `option` names the request field at fault, in the library's words
+  // ("units", "lsb", "temp_index", "temp_order", "bias", "columns"); each
+  // face says it in its own (the CLI as "--unit: what"). The message itself
+  // names no flag.
+  UsageError(std::string option, const std::string& what) : std::runtime_error(what), option_(std::move(option)) {}
+  const std::string& option() const noexcept { return option_; }
+
+ private:
+  std::string option_;
 };
 
 class InputError : public std::runtime_error {

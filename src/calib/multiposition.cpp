@@ -237,8 +237,8 @@ std::vector<std::vector<double>> to_rows(const MatrixXd& m) {
 // ---------------------------------------------------------------------------
 // Accelerometer.
 
-TriadModel acc_model(const VectorXd& p) {
-  TriadModel m;
+TriadCalibration acc_model(const VectorXd& p) {
+  TriadCalibration m;
   m.mis_yz = p(0);
   m.mis_zy = p(1);
   m.mis_zx = p(2);
@@ -247,7 +247,7 @@ TriadModel acc_model(const VectorXd& p) {
   return m;
 }
 
-VectorXd acc_params(const TriadModel& m) {
+VectorXd acc_params(const TriadCalibration& m) {
   VectorXd p(9);
   p << m.mis_yz, m.mis_zy, m.mis_zx, m.scale[0], m.scale[1], m.scale[2], m.bias[0], m.bias[1], m.bias[2];
   return p;
@@ -359,8 +359,8 @@ struct GyroPair {
   std::vector<double> dt;  // raw.size() - 1 steps
 };
 
-TriadModel gyro_model(const VectorXd& p, const Vec3& init_bias) {
-  TriadModel m;
+TriadCalibration gyro_model(const VectorXd& p, const Vec3& init_bias) {
+  TriadCalibration m;
   m.mis_yz = p(0);
   m.mis_zy = p(1);
   m.mis_zx = p(2);
@@ -378,7 +378,7 @@ TriadModel gyro_model(const VectorXd& p, const Vec3& init_bias) {
 // shifted by `shift` (a bias change; zero but for error propagation).
 bool gyro_residuals(const std::vector<GyroPair>& pairs, const std::vector<Eigen::Vector3d>& u, const VectorXd& p,
                     VectorXd& r, const Vec3& shift = {}) {
-  TriadModel m = gyro_model(p, shift);
+  TriadCalibration m = gyro_model(p, shift);
   const Mat3 M = m.matrix();
   const Vec3 db = m.bias;
   auto cal = [&](const Vec3& x) {
@@ -409,19 +409,19 @@ double angle_between_deg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
 
 // ---------------------------------------------------------------------------
 
-Mat3 TriadModel::misalignment() const noexcept {
+Mat3 TriadCalibration::misalignment() const noexcept {
   // 0.0 - x: no negative zeros in printed matrices.
   return Mat3{{{1.0, 0.0 - mis_yz, mis_zy}, {mis_xz, 1.0, 0.0 - mis_zx}, {0.0 - mis_xy, mis_yx, 1.0}}};
 }
 
-Mat3 TriadModel::matrix() const noexcept {
+Mat3 TriadCalibration::matrix() const noexcept {
   Mat3 t = misalignment();
   for (auto& row : t)
     for (std::size_t j = 0; j < 3; ++j) row[j] *= scale[j];
   return t;
 }
 
-Vec3 TriadModel::apply(const Vec3& raw) const noexcept {
+Vec3 TriadCalibration::apply(const Vec3& raw) const noexcept {
   const Mat3 m = matrix();
   Vec3 out{};
   for (std::size_t i = 0; i < 3; ++i)
@@ -519,7 +519,7 @@ AccResult calibrate_accelerometer(const TriadSeries& acc, const Options& opt) {
         "static threshold");
 
   // Initial guess.
-  TriadModel init_model;
+  TriadCalibration init_model;
   init_model.bias = opt.acc_bias_guess;
   double s0 = opt.acc_scale_guess;
   if (s0 == 0.0) {
@@ -631,7 +631,7 @@ GyroResult calibrate_gyroscope(const TriadSeries& acc, const AccResult& ar, cons
     for (double& v : m) v /= static_cast<double>(i.size());
     raw_means.push_back(m);
   }
-  auto directions = [&raw_means](const TriadModel& am) {
+  auto directions = [&raw_means](const TriadCalibration& am) {
     std::vector<Eigen::Vector3d> u;
     for (const Vec3& m : raw_means) {
       const Vec3 a = am.apply(m);

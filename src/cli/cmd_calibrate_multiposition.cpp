@@ -107,7 +107,7 @@ nlohmann::json params_json(const std::vector<std::string>& names, const std::vec
   return a;
 }
 
-nlohmann::json model_json(const mp::TriadModel& m) {
+nlohmann::json model_json(const mp::TriadCalibration& m) {
   return {{"T", m.misalignment()}, {"K", m.scale}, {"B", m.bias}, {"TK", m.matrix()}};
 }
 

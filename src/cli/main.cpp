@@ -4,6 +4,7 @@
 #include <exception>
 #include <iostream>
 #include <string>
+#include <utility>
 
 #include "commands.hpp"
 #include "cubecal/error.hpp"
@@ -12,6 +13,17 @@ namespace {
 
 constexpr int kExitBadInput = 2;
 constexpr int kExitInternal = 1;
+
+// The flag of each request field a library UsageError may name.
+std::string usage_message(const cubecal::UsageError& e) {
+  static constexpr std::pair<const char*, const char*> kFlags[] = {
+      {"units", "--unit"},          {"lsb", "--model-lsb"}, {"temp_index", "--temp-col"},
+      {"temp_order", "--temp-order"}, {"bias", "--bias"},     {"columns", "--columns"},
+  };
+  for (const auto& [option, flag] : kFlags)
+    if (e.option() == option) return std::string(flag) + ": " + e.what();
+  return e.what();
+}
 
 int fail(const std::string& msg, int code) {
   std::fflush(stdout);
@@ -56,7 +68,7 @@ int main(int argc, char** argv) {
   } catch (const cubecal::InputError& e) {
     return fail(e.what(), kExitBadInput);
   } catch (const cubecal::UsageError& e) {
-    return fail(e.what(), kExitBadInput);
+    return fail(usage_message(e), kExitBadInput);
   } catch (const std::bad_alloc&) {
     return fail("out of memory (analyse fewer columns at once or a shorter record)", kExitInternal);
   } catch (const std::exception& e) {

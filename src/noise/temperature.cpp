@@ -51,7 +51,7 @@ TemperatureFit fit_temperature(std::span<const double> y, std::span<const double
   const Eigen::LDLT<Eigen::MatrixXd> ldlt(ata);
   if (ldlt.info() != Eigen::Success || ldlt.rcond() < 1e-13)
     throw std::invalid_argument("temperature takes too few distinct values for a fit of order " +
-                                std::to_string(order) + " (lower --temp-order)");
+                                std::to_string(order) + " (lower the order)");
   Eigen::VectorXd cu = ldlt.solve(aty);
   cu(0) += ymean;
 

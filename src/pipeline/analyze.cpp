@@ -64,10 +64,10 @@ void fit_models(ModelAnalysis& m, double dt, double lsb) {
 AnalysisResult run_analyze(const io::Series& s, const AnalyzeRequest& req) {
   const std::size_t nch = s.channels.size();
   if (!req.units.empty() && req.units.size() != 1 && req.units.size() != nch)
-    throw UsageError("--unit lists " + std::to_string(req.units.size()) + " units for " +
+    throw UsageError("units", std::to_string(req.units.size()) + " units for " +
                          std::to_string(nch) + " columns (give one unit, or one per column)");
   if (!req.lsb.empty() && req.lsb.size() != 1 && req.lsb.size() != nch)
-    throw UsageError("--model-lsb lists " + std::to_string(req.lsb.size()) + " values for " +
+    throw UsageError("lsb", std::to_string(req.lsb.size()) + " values for " +
                          std::to_string(nch) + " columns (give one value, or one per column)");
   auto lsb_of = [&](std::size_t c) { return req.lsb.empty() ? 0.0 : req.lsb[req.lsb.size() == 1 ? 0 : c]; };
   AnalysisResult r;
@@ -164,7 +164,7 @@ AnalysisResult run_analyze(const io::Series& s, const AnalyzeRequest& req) {
       }
     }
     for (std::size_t c = 0; c < nch; ++c)
-      if (!errors[c].empty()) throw UsageError("--temp-col " + r.temp_name + ": " + errors[c]);
+      if (!errors[c].empty()) throw UsageError("temp_index", r.temp_name + ": " + errors[c]);
     io::Series cs;
     cs.names = s.names;
     cs.channels = std::move(comp);

@@ -151,7 +151,7 @@ std::vector<TriadModel> models_from_analysis(const std::string& text, const std:
     ax.fixed_bias = ch.value("mean", 0.0);
     if (gm) {
       if (!model.contains("gauss_markov") || model["gauss_markov"].is_null())
-        throw UsageError(label + ": channel " + m.axis_names[a] +
+        throw UsageError("bias", label + ": channel " + m.axis_names[a] +
                              " has no Gauss-Markov model (use the random-walk model, or re-run analyze)");
       const auto& g = model["gauss_markov"];
       ax.white_sigma = g.value("sigma_n", 0.0);
@@ -160,9 +160,9 @@ std::vector<TriadModel> models_from_analysis(const std::string& text, const std:
       ax.tau_c = g.value("tau_s", 0.0);
     } else {
       if (!model.contains("sigma_n") || model["sigma_n"].is_null())
-        throw UsageError(label + ": channel " + m.axis_names[a] + " has no fitted random-walk model (" +
+        throw UsageError("bias", label + ": channel " + m.axis_names[a] + " has no fitted random-walk model (" +
                              model.value("error", std::string("no minimum in its Allan curve")) +
-                             "); try --bias gauss-markov");
+                             "; the Gauss-Markov model may have one)");
       ax.white_sigma = model["sigma_n"].get<double>();
       ax.bias = BiasProcess::random_walk;
       ax.bias_sigma = model["sigma_mu"].get<double>();

@@ -26,8 +26,8 @@ TurnOnResult run_turnon(const std::vector<io::Series>& runs, const AnalyzeReques
                                             std::to_string(runs.size()));
   for (const auto& s : runs)
     if (s.names != runs.front().names)
-      throw UsageError(s.file + ": columns differ from " + runs.front().file +
-                           " (choose the same columns in every run with --columns)");
+      throw UsageError("columns", s.file + ": columns differ from " + runs.front().file +
+                                        " (choose the same columns in every run)");
   TurnOnResult t;
   t.ci = req.ci;
   t.runs = run_compare(runs, req);

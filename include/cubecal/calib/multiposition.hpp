@@ -53,7 +53,7 @@ inline constexpr std::size_t kMinWindow = 11;
 inline constexpr std::size_t kIntervalSamples = 100;
 inline constexpr std::size_t kMinIntervals = 12;
 
-struct TriadModel {
+struct TriadCalibration {
   double mis_yz = 0.0, mis_zy = 0.0, mis_zx = 0.0;  // used by both triads
   double mis_xz = 0.0, mis_xy = 0.0, mis_yx = 0.0;  // gyroscope only (0 for the accelerometer)
   Vec3 scale{1.0, 1.0, 1.0};                        // K (calibrated unit per raw unit)
@@ -122,8 +122,8 @@ struct Residuals {
 };
 
 struct AccResult {
-  TriadModel model;
-  TriadModel initial;  // the starting point (the "before" model)
+  TriadCalibration model;
+  TriadCalibration initial;  // the starting point (the "before" model)
   // Parameters in the order mis_yz, mis_zy, mis_zx, s_x, s_y, s_z, b_x, b_y, b_z.
   std::vector<std::string> names;
   std::vector<double> values;
@@ -142,8 +142,8 @@ struct AccResult {
 };
 
 struct GyroResult {
-  TriadModel model;    // bias: initial-period mean (+ refinement)
-  TriadModel initial;  // scale guess, no misalignment, initial-period bias
+  TriadCalibration model;    // bias: initial-period mean (+ refinement)
+  TriadCalibration initial;  // scale guess, no misalignment, initial-period bias
   // mis_yz, mis_zy, mis_zx, mis_xz, mis_xy, mis_yx, s_x, s_y, s_z
   // [, db_x, db_y, db_z: bias corrections when refined].
   std::vector<std::string> names;
