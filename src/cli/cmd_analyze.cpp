@@ -166,7 +166,7 @@ int run_analyze_command(const AnalyzeOptions& o) {
     if (o.report) {
       report::ReportOptions ro;
       ro.force = true;  // existing report files were refused above unless --force
-      const auto rep = report::write_report(o.out, ro);
+      const auto rep = report::write_report(r, {ctx.command, {}}, o.out, ro);
       std::cerr << "cubecal: wrote " << rep.html_path << " (" << rep.plots.size() << " plots in " << o.out
                 << "/plots/)\n";
     }

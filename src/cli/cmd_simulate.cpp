@@ -12,6 +12,7 @@
 #include "common_options.hpp"
 #include "cubecal/error.hpp"
 #include "cubecal/io/series.hpp"
+#include "cubecal/pipeline/analysis_json.hpp"
 #include "cubecal/pipeline/simulate.hpp"
 #include "cubecal/sim/presets.hpp"
 #include "progress.hpp"
@@ -104,7 +105,8 @@ int run_simulate(const SimulateOptions& o) {
     if (!in) throw UsageError("cannot read " + o.model_file);
     std::stringstream ss;
     ss << in.rdbuf();
-    for (auto& m : pipeline::models_from_analysis(ss.str(), o.model_file, o.bias == "gauss-markov"))
+    const pipeline::AnalysisDocument doc = pipeline::parse_analysis_json(ss.str(), o.model_file);
+    for (auto& m : pipeline::models_from_analysis(doc.result, o.model_file, o.bias == "gauss-markov"))
       req.triads.push_back(std::move(m));
   }
   if (req.triads.empty()) throw UsageError("nothing to simulate: give --preset and/or --model");

@@ -56,6 +56,14 @@ void CsvWriter::header(const std::vector<std::string>& names) {
   buf_ += '\n';
 }
 
+double csv_round(double v) noexcept {
+  char tmp[32];
+  const auto w = std::to_chars(tmp, tmp + sizeof tmp, v, std::chars_format::general, 9);
+  double r = v;
+  std::from_chars(tmp, w.ptr, r);
+  return r;
+}
+
 void CsvWriter::row(std::span<const double> values) {
   char tmp[32];
   for (std::size_t i = 0; i < values.size(); ++i) {

@@ -181,6 +181,7 @@ Series read_series(const std::string& path, const SeriesOptions& opt) {
 
   Series s;
   s.file = path;
+  s.gaps = opt.gaps;
   s.gzip = buf.was_gzip();
   s.bytes = t.bytes;
   if (t.data.empty()) {

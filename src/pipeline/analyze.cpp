@@ -34,6 +34,9 @@ DevRequest oadev_request(const AnalyzeRequest& req) {
 
 void fit_models(ModelAnalysis& m, double dt, double lsb) {
   const AllanCurve curve = to_allan_curve(m.adev);
+  // The sample period and quantizer asked for, also when a fit fails.
+  m.random_walk.dt = m.gauss_markov.dt = dt;
+  m.random_walk.lsb = m.gauss_markov.lsb = lsb;
   try {
     m.random_walk = fit_random_walk_model(curve, dt, lsb);
     m.random_walk_residual = residual(m.random_walk, curve);
@@ -76,6 +79,8 @@ AnalysisResult run_analyze(const io::Series& s, const AnalyzeRequest& req) {
   r.rate_hz = s.rate_hz;
   r.duration_s = static_cast<double>(r.samples) * s.tau0;
   r.segments = s.segments.size();
+  r.gaps = s.gaps;
+  r.ci = req.ci;
   const double dt = s.tau0;
 
   r.channels.resize(nch);

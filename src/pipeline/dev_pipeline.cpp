@@ -64,6 +64,7 @@ DevResult run(const std::vector<std::string>& names,
   res.tau0 = 1.0 / rate_hz;
   res.samples = channels.empty() ? 0 : channels[0].size();
   res.segments = segments.size();
+  res.options = req.options;
 
   const int threads = req.threads > 0 ? static_cast<int>(req.threads) : omp_get_max_threads();
 
@@ -138,7 +139,9 @@ DevResult run(const std::vector<std::string>& names,
 }  // namespace
 
 DevResult run_dev(const io::Series& series, const DevRequest& request) {
-  return run(series.names, series.channels, series.rate_hz, series.segments, request);
+  DevResult r = run(series.names, series.channels, series.rate_hz, series.segments, request);
+  r.file = series.file;
+  return r;
 }
 
 DevResult run_dev(const std::vector<std::string>& names,

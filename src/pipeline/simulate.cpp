@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
-#include <nlohmann/json.hpp>
 
 #include "cubecal/error.hpp"
 
@@ -126,53 +125,61 @@ void write_simulation(const SimulateRequest& r, io::CsvWriter& out) {
   }
 }
 
-std::vector<TriadModel> models_from_analysis(const std::string& text, const std::string& label, bool gm) {
-  const auto j = nlohmann::json::parse(text, nullptr, false);
-  if (j.is_discarded() || !j.contains("channels") || !j["channels"].is_array() || j["channels"].empty())
-    throw UsageError(label + ": not an analysis.json written by cubecal analyze");
+void write_record(const SimulatedRecord& rec, io::CsvWriter& out) {
+  std::vector<std::string> header{"t"};
+  for (const auto& n : rec.names) header.push_back(n);
+  out.header(header);
+  const std::size_t n = rec.channels.empty() ? 0 : rec.channels[0].size();
+  const double dt = 1.0 / rec.rate_hz;
+  std::vector<double> row(header.size());
+  for (std::size_t k = 0; k < n; ++k) {
+    row[0] = static_cast<double>(k) * dt;
+    for (std::size_t c = 0; c < rec.channels.size(); ++c) row[c + 1] = rec.channels[c][k];
+    out.row(row);
+  }
+}
+
+std::vector<TriadModel> models_from_analysis(const AnalysisResult& r, const std::string& label, bool gm) {
+  if (r.channels.empty()) throw UsageError(label + ": not an analysis.json written by cubecal analyze");
   std::vector<TriadModel> out;
-  const auto& chans = j["channels"];
-  const double rate = j["input"].value("rate_hz", 0.0);
-  (void)rate;
-  for (std::size_t c = 0; c < chans.size(); ++c) {
+  for (std::size_t c = 0; c < r.channels.size(); ++c) {
+    const ChannelAnalysis& ch = r.channels[c];
     if (c % 3 == 0) {
       out.emplace_back();
       out.back().name = label;
       out.back().axis_names = {"", "", ""};
-      out.back().unit = chans[c].value("unit", "counts");
+      out.back().unit = ch.unit.name;
     }
     TriadModel& m = out.back();
-    const auto& ch = chans[c];
-    const auto& model = ch["model"];
     const std::size_t a = c % 3;
     // (std::string{"c"} += ...: GCC 12 warns falsely on "c" + std::to_string at -O3.)
-    m.axis_names[a] = ch.contains("name") ? ch["name"].get<std::string>() : (std::string{"c"} += std::to_string(c + 1));
+    m.axis_names[a] = !ch.name.empty() ? ch.name : (std::string{"c"} += std::to_string(c + 1));
     AxisModel& ax = m.axes[a];
-    ax.fixed_bias = ch.value("mean", 0.0);
+    ax.fixed_bias = ch.mean;
     if (gm) {
-      if (!model.contains("gauss_markov") || model["gauss_markov"].is_null())
+      if (!ch.model.gm_ok)
         throw UsageError("bias", label + ": channel " + m.axis_names[a] +
-                             " has no Gauss-Markov model (use the random-walk model, or re-run analyze)");
-      const auto& g = model["gauss_markov"];
-      ax.white_sigma = g.value("sigma_n", 0.0);
+                                     " has no Gauss-Markov model (use the random-walk model, or re-run analyze)");
+      ax.white_sigma = ch.model.gauss_markov.sigma_n;
       ax.bias = BiasProcess::gauss_markov;
-      ax.bias_sigma = g.value("sigma", 0.0);
-      ax.tau_c = g.value("tau_s", 0.0);
+      ax.bias_sigma = ch.model.gauss_markov.sigma_b;
+      ax.tau_c = ch.model.gauss_markov.tau_c;
     } else {
-      if (!model.contains("sigma_n") || model["sigma_n"].is_null())
+      if (!ch.model.ok)
         throw UsageError("bias", label + ": channel " + m.axis_names[a] + " has no fitted random-walk model (" +
-                             model.value("error", std::string("no minimum in its Allan curve")) +
-                             "; the Gauss-Markov model may have one)");
-      ax.white_sigma = model["sigma_n"].get<double>();
+                                     (ch.model.error.empty() ? std::string("no minimum in its Allan curve")
+                                                             : ch.model.error) +
+                                     "; the Gauss-Markov model may have one)");
+      ax.white_sigma = ch.model.random_walk.sigma_n;
       ax.bias = BiasProcess::random_walk;
-      ax.bias_sigma = model["sigma_mu"].get<double>();
-      m.lsb = model.value("lsb", 0.0);
+      ax.bias_sigma = ch.model.random_walk.sigma_mu;
+      m.lsb = ch.model.random_walk.lsb;
     }
-    if (ch.contains("temperature") && !ch["temperature"].is_null()) {
-      const auto& t = ch["temperature"];
-      if (t.contains("coeff") && !t["coeff"].empty()) ax.temp_coeff = t["coeff"][0].get<double>();
-      m.temp_ref = t.value("t_ref", 25.0);
-      ax.fixed_bias = t.value("offset", ax.fixed_bias);
+    if (ch.temperature) {
+      const TemperatureFit& t = ch.temperature->fit;
+      if (t.coeff.size() > 1) ax.temp_coeff = t.coeff[1];
+      m.temp_ref = t.t_ref;
+      if (!t.coeff.empty()) ax.fixed_bias = t.coeff[0];
     }
   }
   return out;

@@ -8,10 +8,15 @@
 
 #include "analysis_data.hpp"
 #include "cubecal/noise/drift.hpp"
-#include "cubecal/sim/simulator.hpp"
+#include "cubecal/noise/noise_terms.hpp"
+#include "cubecal/noise/sensor_noise_model.hpp"
 #include "cubecal/report/html.hpp"
+#include "cubecal/sim/simulator.hpp"
 
 namespace cubecal::report::detail {
+
+using pipeline::AnalysisResult;
+using pipeline::ChannelAnalysis;
 
 namespace {
 
@@ -63,10 +68,11 @@ PlotSeries term_line(double a, double p, double t0, double t1, const char* c, st
   return s;
 }
 
-Figure allan_figure(const AnalysisData& d, const SensorGroup& g) {
-  Figure f;
-  f.section = "allan";
-  f.group = g.key;
+}  // namespace
+
+ReportFigure allan_figure(const AnalysisResult& d, const SensorGroup& g) {
+  const std::string ci = ci_text(d.ci);
+  ReportFigure f;
   Plot& p = f.plot;
   p.name = "allan_" + g.key;
   p.title = "Allan deviation, " + lower_first(g.title);
@@ -77,29 +83,34 @@ Figure allan_figure(const AnalysisData& d, const SensorGroup& g) {
   bool any_model = false, any_gm = false, any_terms = false;
   double tmin = INFINITY, tmax = 0;
   for (auto c : g.channels)
-    for (double t : d.channels[c].curve.tau)
-      if (t > 0) {
-        tmin = std::min(tmin, t);
-        tmax = std::max(tmax, t);
+    for (const auto& pt : d.channels[c].noise.adev)
+      if (pt.tau > 0) {
+        tmin = std::min(tmin, pt.tau);
+        tmax = std::max(tmax, pt.tau);
       }
   for (std::size_t k = 0; k < g.channels.size(); ++k) {
-    const ChannelData& ch = d.channels[g.channels[k]];
+    const ChannelAnalysis& ch = d.channels[g.channels[k]];
     const char* c = color(k);
+    const ModelCurves mc = model_curves(ch, d.rate_hz);
+    std::vector<double> tau;
+    for (const auto& pt : ch.noise.adev) tau.push_back(pt.tau);
     PlotSeries m;
-    m.x = ch.curve.tau;
-    m.y = ch.curve.dev;
-    m.lo = ch.curve.lo;
-    m.hi = ch.curve.hi;
+    for (const auto& pt : ch.noise.adev) {
+      m.x.push_back(pt.tau);
+      m.y.push_back(pt.dev);
+      m.lo.push_back(pt.lo);
+      m.hi.push_back(pt.hi);
+    }
     m.mark = Mark::errorlines;
     m.id = ch.name + " measured OADEV";
     m.color = c;
     m.width = 1.3;
     m.point_size = 0.25;
     p.series.push_back(std::move(m));
-    if (any_finite(ch.curve.model)) {
+    if (any_finite(mc.model)) {
       PlotSeries s;
-      s.x = ch.curve.tau;
-      s.y = ch.curve.model;
+      s.x = tau;
+      s.y = mc.model;
       s.id = ch.name + " random-walk model";
       s.dash = Dash::dashed;
       s.color = c;
@@ -107,10 +118,10 @@ Figure allan_figure(const AnalysisData& d, const SensorGroup& g) {
       p.series.push_back(std::move(s));
       any_model = true;
     }
-    if (any_finite(ch.curve.gm)) {
+    if (any_finite(mc.gm)) {
       PlotSeries s;
-      s.x = ch.curve.tau;
-      s.y = ch.curve.gm;
+      s.x = tau;
+      s.y = mc.gm;
       s.id = ch.name + " Gauss-Markov model";
       s.dash = Dash::dotted;
       s.color = c;
@@ -121,20 +132,14 @@ Figure allan_figure(const AnalysisData& d, const SensorGroup& g) {
     // Noise-term lines of the weighted fit: N (slope -1/2), K (+1/2), and the
     // bias-instability floor at sigma_min (0.664 B) where the curve has a minimum.
     if (tmax > tmin) {
-      const json& noise = ch.j->contains("noise") ? (*ch.j)["noise"] : json();
-      const json& fit = noise.is_object() && noise.contains("fit") ? noise["fit"] : json();
-      std::vector<double> cf;
-      if (fit.is_object() && fit.contains("coefficients") && fit["coefficients"].is_array())
-        for (const auto& v : fit["coefficients"]) cf.push_back(number(v).value_or(0.0));
-      if (cf.size() == 5) {
-        if (cf[1] > 0) p.series.push_back(term_line(std::sqrt(cf[1]), -0.5, tmin, tmax, c, ch.name + " N line"));
-        if (cf[3] > 0) p.series.push_back(term_line(std::sqrt(cf[3]), 0.5, tmin, tmax, c, ch.name + " K line"));
-        any_terms = any_terms || cf[1] > 0 || cf[3] > 0;
-      }
+      const auto& cf = ch.noise.fit.c;
+      if (cf[1] > 0) p.series.push_back(term_line(std::sqrt(cf[1]), -0.5, tmin, tmax, c, ch.name + " N line"));
+      if (cf[3] > 0) p.series.push_back(term_line(std::sqrt(cf[3]), 0.5, tmin, tmax, c, ch.name + " K line"));
+      any_terms = any_terms || cf[1] > 0 || cf[3] > 0;
       std::optional<double> floor;
-      if (number(noise, "time_constant_s") && noise.contains("sigma_min"))
-        floor = number(noise["sigma_min"], "value");
-      else if (cf.size() == 5 && cf[2] > 0)
+      if (ch.noise.readoffs.B.valid)
+        floor = ch.noise.readoffs.sigma_min;
+      else if (cf[2] > 0)
         floor = std::sqrt(cf[2]);
       if (floor && *floor > 0) {
         p.series.push_back(term_line(*floor, 0.0, tmin, tmax, c, ch.name + " B floor (0.664 B)"));
@@ -144,17 +149,17 @@ Figure allan_figure(const AnalysisData& d, const SensorGroup& g) {
   }
   for (std::size_t k = 0; k < g.channels.size(); ++k)
     p.series.push_back(legend_entry(d.channels[g.channels[k]].name, color(k)));
-  p.series.push_back(legend_entry("measured, " + d.ci_text + " interval", kInk, Dash::solid, Mark::errorlines));
+  p.series.push_back(legend_entry("measured, " + ci + " interval", kInk, Dash::solid, Mark::errorlines));
   if (any_model) p.series.push_back(legend_entry("random-walk model (paper eq. 1–3)", kInk, Dash::dashed));
   if (any_gm) p.series.push_back(legend_entry("Gauss–Markov model", kInk, Dash::dotted));
   if (any_terms)
     p.series.push_back(legend_entry("noise terms: N (−½), B floor, K (+½)", kInk, Dash::solid, Mark::line, 0.35));
-  p.notes.push_back("OADEV of each channel with its " + d.ci_text + " confidence interval (analysis.json adev),");
-  p.notes.push_back("model curves from " + std::string(d.adev_csv ? "adev.csv" : "the parameters in analysis.json") +
-                    ", noise-term lines from the weighted fit (noise.fit.coefficients).");
+  p.notes.push_back("OADEV of each channel with its " + ci + " confidence interval (analysis.json adev),");
+  p.notes.push_back("model curves from the fitted parameters (analysis.json model), noise-term lines from the "
+                    "weighted fit (noise.fit.coefficients).");
 
   std::string cap = "Overlapping Allan deviation of the " + html_escape(lower_first(g.title)) + " (solid, " +
-                    html_escape(d.ci_text) + " confidence intervals)";
+                    html_escape(ci) + " confidence intervals)";
   if (any_model) cap += ", the fitted random-walk model of the paper (dashed)";
   if (any_gm) cap += ", the Gauss–Markov alternative (dotted)";
   if (any_terms)
@@ -165,6 +170,8 @@ Figure allan_figure(const AnalysisData& d, const SensorGroup& g) {
   return f;
 }
 
+namespace {
+
 struct SimDrift {
   bool ok = false;
   std::string process;  // "random walk" or "Gauss–Markov"
@@ -174,7 +181,7 @@ struct SimDrift {
 // The fitted model of each channel run for the record's length at its rate
 // (white noise and bias process, no quantization, no temperature), averaged
 // over the same window as the data.
-std::vector<SimDrift> simulate_model_drift(const AnalysisData& d, const SensorGroup& g, std::uint64_t seed) {
+std::vector<SimDrift> simulate_model_drift(const AnalysisResult& d, const SensorGroup& g, std::uint64_t seed) {
   std::vector<SimDrift> out(g.channels.size());
   const double dt = 1.0 / d.rate_hz;
   std::size_t n = d.samples;
@@ -185,25 +192,21 @@ std::vector<SimDrift> simulate_model_drift(const AnalysisData& d, const SensorGr
     std::array<std::size_t, 3> window{};
     bool any = false;
     for (std::size_t a = 0; a < 3 && first + a < g.channels.size(); ++a) {
-      const ChannelData& ch = d.channels[g.channels[first + a]];
-      const json& m = ch.j->contains("model") ? (*ch.j)["model"] : json();
-      const json& gm = m.is_object() && m.contains("gauss_markov") ? m["gauss_markov"] : json();
-      const json& dr = ch.j->contains("drift") ? (*ch.j)["drift"] : json();
-      const auto win = number(dr, "window_s");
-      if (!win || *win <= 0) continue;
-      window[a] = static_cast<std::size_t>(std::llround(*win * d.rate_hz));
+      const ChannelAnalysis& ch = d.channels[g.channels[first + a]];
+      const pipeline::ModelAnalysis& m = ch.model;
+      if (ch.drift.window == 0) continue;
+      window[a] = ch.drift.window;
       AxisModel& ax = tm.axes[a];
-      if (const auto sn = number(m, "sigma_n"), smu = number(m, "sigma_mu"); sn && smu) {
-        ax.white_sigma = *sn;
+      if (m.ok) {
+        ax.white_sigma = m.random_walk.sigma_n;
         ax.bias = BiasProcess::random_walk;
-        ax.bias_sigma = *smu;
+        ax.bias_sigma = m.random_walk.sigma_mu;
         out[first + a].process = "random walk";
-      } else if (const auto gs = number(gm, "sigma"), gt = number(gm, "tau_s"), gn = number(gm, "sigma_n");
-                 gs && gt && gn && *gt > 0) {
-        ax.white_sigma = *gn;
+      } else if (m.gm_ok && m.gauss_markov.tau_c > 0) {
+        ax.white_sigma = m.gauss_markov.sigma_n;
         ax.bias = BiasProcess::gauss_markov;
-        ax.bias_sigma = *gs;
-        ax.tau_c = *gt;
+        ax.bias_sigma = m.gauss_markov.sigma_b;
+        ax.tau_c = m.gauss_markov.tau_c;
         out[first + a].process = "Gauss–Markov";
       } else {
         continue;
@@ -257,13 +260,13 @@ std::vector<SimDrift> simulate_model_drift(const AnalysisData& d, const SensorGr
   return out;
 }
 
-std::optional<Figure> drift_figure(const AnalysisData& d, const SensorGroup& g, const ReportOptions& o) {
+}  // namespace
+
+std::optional<ReportFigure> drift_figure(const AnalysisResult& d, const SensorGroup& g, const ReportOptions& o) {
   bool any = false;
-  for (auto c : g.channels) any = any || !d.channels[c].drift_t.empty();
+  for (auto c : g.channels) any = any || !d.channels[c].drift.t.empty();
   if (!any) return std::nullopt;
-  Figure f;
-  f.section = "drift";
-  f.group = g.key;
+  ReportFigure f;
   Plot& p = f.plot;
   p.name = "drift_" + g.key;
   p.title = "Bias drift, " + lower_first(g.title) + ": data and fitted model";
@@ -275,18 +278,18 @@ std::optional<Figure> drift_figure(const AnalysisData& d, const SensorGroup& g, 
   bool any_model = false;
   std::string process;
   for (std::size_t k = 0; k < g.channels.size(); ++k) {
-    const ChannelData& ch = d.channels[g.channels[k]];
+    const ChannelAnalysis& ch = d.channels[g.channels[k]];
     PlotSeries s;
-    s.x = ch.drift_t;
+    s.x = ch.drift.t;
     for (double& t : s.x) t /= 3600.0;
-    s.y = ch.drift;
+    s.y = ch.drift.drift;
     decimate_minmax(s.x, s.y, o.max_points);
     s.id = ch.name + " drift (data)";
     s.color = color(k);
     s.width = 1.2;
     if (!s.x.empty()) p.series.push_back(std::move(s));
-    if (const auto w = number(ch.j->contains("drift") ? (*ch.j)["drift"] : json(), "window_s")) {
-      const std::string ws = fmt("%g s", *w);
+    if (ch.drift.window > 0) {
+      const std::string ws = fmt("%g s", static_cast<double>(ch.drift.window) / d.rate_hz);
       if (std::find(windows.begin(), windows.end(), ws) == windows.end()) windows.push_back(ws);
     }
     if (sim[k].ok && !sim[k].d.t.empty()) {
@@ -328,42 +331,43 @@ std::optional<Figure> drift_figure(const AnalysisData& d, const SensorGroup& g, 
   return f;
 }
 
+namespace {
+
 // The temperature spread the fit saw: R^2 = var(fit) / var(y) and, for the
 // linear term, var(fit) = c1^2 var(T), so sigma_T = sqrt(R^2) std(y) / |c1|.
-std::optional<double> temperature_sigma(const json& ch) {
-  const json& t = ch["temperature"];
-  const auto r2 = number(t, "r2"), sd = number(ch, "stddev");
-  if (!r2 || !sd || !t.contains("coeff") || !t["coeff"].is_array() || t["coeff"].empty()) return std::nullopt;
-  const auto c1 = number(t["coeff"][0]);
-  if (!c1 || *c1 == 0.0 || *r2 <= 0) return std::nullopt;
-  const double s = std::sqrt(*r2) * *sd / std::abs(*c1);
+std::optional<double> temperature_sigma(const ChannelAnalysis& ch) {
+  const TemperatureFit& t = ch.temperature->fit;
+  if (t.coeff.size() < 2 || !std::isfinite(t.r2) || !std::isfinite(ch.stddev)) return std::nullopt;
+  const double c1 = t.coeff[1];
+  if (!std::isfinite(c1) || c1 == 0.0 || t.r2 <= 0) return std::nullopt;
+  const double s = std::sqrt(t.r2) * ch.stddev / std::abs(c1);
   if (!std::isfinite(s) || s <= 0) return std::nullopt;
   return s;
 }
 
-std::vector<Figure> temperature_figures(const AnalysisData& d, const SensorGroup& g) {
+}  // namespace
+
+std::vector<ReportFigure> temperature_figures(const AnalysisResult& d, const SensorGroup& g) {
   std::vector<std::size_t> with;
   for (std::size_t k = 0; k < g.channels.size(); ++k)
-    if (d.channels[g.channels[k]].j->contains("temperature") && (*d.channels[g.channels[k]].j)["temperature"].is_object())
-      with.push_back(k);
+    if (d.channels[g.channels[k]].temperature) with.push_back(k);
   if (with.empty()) return {};
-  std::vector<Figure> figs;
+  std::vector<ReportFigure> figs;
+  const std::string ci = ci_text(d.ci);
 
   // Fitted bias change against temperature.
   std::vector<double> sig;
   double t_ref = 0.0;
   for (auto k : with) {
-    const json& ch = *d.channels[g.channels[k]].j;
+    const ChannelAnalysis& ch = d.channels[g.channels[k]];
     if (const auto s = temperature_sigma(ch)) sig.push_back(*s);
-    t_ref += number(ch["temperature"], "t_ref").value_or(0.0);
+    t_ref += std::isfinite(ch.temperature->fit.t_ref) ? ch.temperature->fit.t_ref : 0.0;
   }
   t_ref /= static_cast<double>(with.size());
   std::sort(sig.begin(), sig.end());
   const bool inferred = !sig.empty();
   const double half = inferred ? 2.0 * sig[sig.size() / 2] : 10.0;
-  Figure f;
-  f.section = "temperature";
-  f.group = g.key;
+  ReportFigure f;
   Plot& p = f.plot;
   p.name = "temperature_" + g.key;
   p.title = "Temperature dependence of the bias, " + lower_first(g.title);
@@ -371,17 +375,15 @@ std::vector<Figure> temperature_figures(const AnalysisData& d, const SensorGroup
   p.y = {"bias − bias at T_ref [" + g.unit + "]", false, std::nullopt, std::nullopt};
   p.key = "outside bottom center horizontal Left reverse maxrows 3";
   bool band = false;
-  std::string sensor;
+  const std::string sensor = d.temp_name;
   for (auto k : with) {
-    const ChannelData& ch = d.channels[g.channels[k]];
-    const json& t = (*ch.j)["temperature"];
-    if (sensor.empty() && t.contains("sensor") && t["sensor"].is_string()) sensor = t["sensor"].get<std::string>();
+    const ChannelAnalysis& ch = d.channels[g.channels[k]];
+    const TemperatureFit& t = ch.temperature->fit;
+    // c1, c2, ...: the orders above the offset.
     std::vector<double> c, cs;
-    if (t.contains("coeff") && t["coeff"].is_array())
-      for (const auto& v : t["coeff"]) c.push_back(number(v).value_or(0.0));
-    if (t.contains("coeff_sigma") && t["coeff_sigma"].is_array())
-      for (const auto& v : t["coeff_sigma"]) cs.push_back(number(v).value_or(0.0));
-    const double tr = number(t, "t_ref").value_or(t_ref);
+    if (t.coeff.size() > 1) c.assign(t.coeff.begin() + 1, t.coeff.end());
+    if (t.coeff_sigma.size() > 1) cs.assign(t.coeff_sigma.begin() + 1, t.coeff_sigma.end());
+    const double tr = std::isfinite(t.t_ref) ? t.t_ref : t_ref;
     auto poly = [&](double dT, double c1shift) {
       double y = 0.0, pw = 1.0;
       for (std::size_t q = 0; q < c.size(); ++q) {
@@ -405,7 +407,7 @@ std::vector<Figure> temperature_figures(const AnalysisData& d, const SensorGroup
     s.id = ch.name + " fitted bias change";
     s.color = color(k);
     s.width = 1.8;
-    const std::string unit = t.contains("unit") && t["unit"].is_string() ? t["unit"].get<std::string>() : "";
+    const std::string unit = ch.unit.name + "/degC";
     s.label = ch.name + ": " + format_pm(c.empty() ? std::nullopt : std::optional(c[0]),
                                          cs.empty() ? std::nullopt : std::optional(cs[0])) +
               " " + unit + (c.size() > 1 ? " (+ higher orders)" : "");
@@ -443,9 +445,7 @@ std::vector<Figure> temperature_figures(const AnalysisData& d, const SensorGroup
   figs.push_back(std::move(f));
 
   // Allan deviation before and after compensation.
-  Figure h;
-  h.section = "temperature";
-  h.group = g.key;
+  ReportFigure h;
   Plot& q = h.plot;
   q.name = "compensated_" + g.key;
   q.title = "Allan deviation before and after temperature compensation, " + lower_first(g.title);
@@ -453,61 +453,39 @@ std::vector<Figure> temperature_figures(const AnalysisData& d, const SensorGroup
   q.y = {"Allan deviation σ(τ) [" + g.unit + "]", true, std::nullopt, std::nullopt};
   q.key = "outside bottom center horizontal Left reverse maxrows 3";
   for (auto k : with) {
-    const ChannelData& ch = d.channels[g.channels[k]];
+    const ChannelAnalysis& ch = d.channels[g.channels[k]];
     PlotSeries raw;
-    raw.x = ch.curve.tau;
-    raw.y = ch.curve.dev;
+    for (const auto& pt : ch.noise.adev) {
+      raw.x.push_back(pt.tau);
+      raw.y.push_back(pt.dev);
+    }
     raw.id = ch.name + " as recorded";
     raw.color = color(k);
     raw.opacity = 0.4;
     raw.width = 1.2;
     q.series.push_back(std::move(raw));
-    const json& t = (*ch.j)["temperature"];
-    if (t.contains("compensated") && t["compensated"].contains("adev")) {
-      const json& a = t["compensated"]["adev"];
-      PlotSeries s;
-      for (const char* key : {"tau", "dev", "lo", "hi"}) {
-        std::vector<double>& v = key[0] == 't' ? s.x : key[0] == 'd' ? s.y : key[0] == 'l' ? s.lo : s.hi;
-        if (a.contains(key) && a[key].is_array())
-          for (const auto& x : a[key]) v.push_back(number(x).value_or(NAN));
-      }
-      if (s.lo.size() != s.x.size() || s.hi.size() != s.x.size()) {
-        s.lo = s.y;
-        s.hi = s.y;
-      }
-      s.mark = Mark::errorlines;
-      s.id = ch.name + " temperature compensated";
-      s.color = color(k);
-      s.width = 1.4;
-      s.point_size = 0.25;
-      if (!s.x.empty()) q.series.push_back(std::move(s));
+    PlotSeries s;
+    for (const auto& pt : ch.temperature->compensated.adev) {
+      s.x.push_back(pt.tau);
+      s.y.push_back(pt.dev);
+      s.lo.push_back(pt.lo);
+      s.hi.push_back(pt.hi);
     }
+    s.mark = Mark::errorlines;
+    s.id = ch.name + " temperature compensated";
+    s.color = color(k);
+    s.width = 1.4;
+    s.point_size = 0.25;
+    if (!s.x.empty()) q.series.push_back(std::move(s));
   }
   for (auto k : with) q.series.push_back(legend_entry(d.channels[g.channels[k]].name, color(k)));
   q.series.push_back(legend_entry("as recorded", kInk, Dash::solid, Mark::line, 0.4));
-  q.series.push_back(legend_entry("temperature compensated, " + d.ci_text + " interval", kInk, Dash::solid, Mark::errorlines));
+  q.series.push_back(legend_entry("temperature compensated, " + ci + " interval", kInk, Dash::solid, Mark::errorlines));
   h.caption_html = "Allan deviation of the " + html_escape(lower_first(g.title)) +
                    " as recorded (light) and after removing the fitted temperature dependence (with " +
-                   html_escape(d.ci_text) + " intervals): what the temperature swing adds at long averaging times.";
+                   html_escape(ci) + " intervals): what the temperature swing adds at long averaging times.";
   figs.push_back(std::move(h));
   return figs;
-}
-
-}  // namespace
-
-std::vector<Figure> analysis_figures(const AnalysisData& d, const ReportOptions& o) {
-  std::vector<Figure> allan, drift, temp;
-  for (const auto& g : d.groups) {
-    bool any_curve = false;
-    for (auto c : g.channels) any_curve = any_curve || !d.channels[c].curve.tau.empty();
-    if (any_curve) allan.push_back(allan_figure(d, g));
-    if (auto f = drift_figure(d, g, o)) drift.push_back(std::move(*f));
-    for (auto& f : temperature_figures(d, g)) temp.push_back(std::move(f));
-  }
-  std::vector<Figure> all;
-  for (auto* v : {&allan, &drift, &temp})
-    for (auto& f : *v) all.push_back(std::move(f));
-  return all;
 }
 
 }  // namespace cubecal::report::detail

@@ -106,14 +106,20 @@ std::string command_report_html(const CommandReport& r, const std::vector<Render
     const std::string v = html_escape(f.value);
     b += "<tr><th>" + html_escape(f.label) + "</th><td>" + (f.code ? "<code>" + v + "</code>" : v) + "</td></tr>\n";
   }
+  for (const auto& f : r.input_html)
+    b += "<tr><th>" + html_escape(f.label) + "</th><td>" + f.value_html + "</td></tr>\n";
   b += "</tbody></table>\n</section>\n";
 
   b += "<section id=\"reproduce\">\n<h2>Reproduce</h2>\n";
-  if (!r.command.empty())
-    b += "<p>The command that wrote this page (add <code>--force</code> to replace it):</p>\n<pre><code>" +
-         html_escape(r.command) + "</code></pre>\n";
-  b += "<p>Each plot is a gnuplot script beside its data in <code>plots/</code>: edit the script (line styles "
-       "come first) and run <code>gnuplot NAME.gp</code> in that directory for new SVG and PNG files.</p>\n";
+  if (!r.reproduce_html.empty()) {
+    b += r.reproduce_html;
+  } else {
+    if (!r.command.empty())
+      b += "<p>The command that wrote this page (add <code>--force</code> to replace it):</p>\n<pre><code>" +
+           html_escape(r.command) + "</code></pre>\n";
+    b += "<p>Each plot is a gnuplot script beside its data in <code>plots/</code>: edit the script (line styles "
+         "come first) and run <code>gnuplot NAME.gp</code> in that directory for new SVG and PNG files.</p>\n";
+  }
   b += "</section>\n";
 
   for (const auto& sec : r.sections) {
@@ -134,7 +140,9 @@ std::string command_report_html(const CommandReport& r, const std::vector<Render
 
   const auto plots = report_plots(r);
   b += "<section id=\"files\">\n<h2>Files</h2>\n";
-  if (plots.empty()) {
+  if (!r.files_html.empty()) {
+    b += r.files_html;
+  } else if (plots.empty()) {
     b += "<p>This report has no plots.</p>\n";
   } else {
     b += "<p>In <code>plots/</code>, for each figure its data (<code>.dat</code>, one block per series), gnuplot "
@@ -144,8 +152,11 @@ std::string command_report_html(const CommandReport& r, const std::vector<Render
     b += ".</p>\n";
   }
   b += "</section>\n";
-  b += "<footer>Written by cubecal. This page is self-contained: no network access, plots embedded as "
-       "SVG.</footer>\n";
+  if (!r.footer_html.empty())
+    b += "<footer>" + r.footer_html + "</footer>\n";
+  else
+    b += "<footer>Written by cubecal. This page is self-contained: no network access, plots embedded as "
+         "SVG.</footer>\n";
   return html_document(r.title, b);
 }
 

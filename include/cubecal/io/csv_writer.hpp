@@ -12,6 +12,11 @@
 
 namespace cubecal::io {
 
+// The value a reader gets back for `v` written by CsvWriter (nine
+// significant digits): lets a caller holding the data in memory analyze
+// exactly what the file it writes holds.
+double csv_round(double v) noexcept;
+
 class CsvWriter {
  public:
   // Throws UsageError when `path` exists and !force, or cannot be written.

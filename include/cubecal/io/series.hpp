@@ -42,6 +42,7 @@ struct Series {
   std::vector<std::string> extra_names;
   std::vector<std::vector<double>> extra;
   std::vector<Segment> segments;   // contiguous pieces; one when there are no gaps
+  GapPolicy gaps = GapPolicy::error;   // the policy the record was read with
   std::size_t irregular_intervals = 0;  // gaps/jitter split on (policy split)
   bool gzip = false;
   std::size_t bytes = 0;           // bytes parsed (after decompression)

@@ -1,7 +1,9 @@
 // Files written by `cubecal analyze --out DIR`: analysis.json (stable keys,
 // every number with its unit), adev.csv, drift.csv and a Kalibr imu.yaml.
 #pragma once
+#include <cstddef>
 #include <string>
+#include <vector>
 
 #include "cubecal/pipeline/analyze.hpp"
 #include "cubecal/pipeline/dev_pipeline.hpp"
@@ -13,11 +15,11 @@ struct OutputContext {
   std::string rostopic = "/imu0";
 };
 
+// analysis.json: to_json(AnalysisResult) of analysis_json.hpp and the command.
 std::string analysis_json(const AnalysisResult& r, const OutputContext& ctx);
 
-// `cubecal dev --format json`: {"stat","type","rate_hz","file","samples",
-// "segments","ci","edf_method","columns":[{"name","af","tau","dev","n"
-// [,"lo","hi","edf","alpha"]}]}.
+// `cubecal dev --format json` (to_json(DevResult) of analysis_json.hpp) with
+// the file and interval settings of `ctx`.
 struct DevJsonContext {
   std::string file;
   double ci = 0.683;
@@ -35,6 +37,13 @@ std::string adev_csv(const AnalysisResult& r);
 
 // Long format: channel, t (s from the record start), drift (data unit).
 std::string drift_csv(const AnalysisResult& r);
+
+// drift.csv of an earlier run read back through the io layer's table reader
+// (columns t and drift) into the channels' DriftSeries, in channel order,
+// points[c] rows for channel c (the counts analysis.json records). False,
+// and `r` unchanged, when the file does not hold that many rows. Throws
+// InputError for a malformed file.
+bool read_drift_csv(const std::string& path, const std::vector<std::size_t>& points, AnalysisResult& r);
 
 // Kalibr/OpenVINS IMU noise file, SI units, the worst axis of each sensor:
 // noise densities from the white-noise term N, random walks from K (not from

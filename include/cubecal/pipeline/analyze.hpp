@@ -75,6 +75,8 @@ struct AnalysisResult {
   double rate_hz = 0.0;
   double duration_s = 0.0;
   std::size_t segments = 1;
+  io::GapPolicy gaps = io::GapPolicy::error;  // how the record was read: split at gaps, or refused with one
+  double ci = 0.683;                // confidence of every interval (AnalyzeRequest::ci)
   std::string temp_name;
   std::vector<ChannelAnalysis> channels;
   std::vector<std::string> cov_names;

@@ -33,6 +33,8 @@ struct DevResult {
   std::size_t samples = 0;
   std::size_t segments = 1;      // > 1 when the record was split at gaps
   std::size_t segments_used = 1; // segments long enough for at least m = 1
+  std::string file;              // the record's file (empty for in-memory arrays)
+  StabilityOptions options;      // ci, EDF method and intervals of the points
   std::vector<DevChannel> channels;
 };
 

@@ -10,6 +10,7 @@
 
 #include "cubecal/sim/simulator.hpp"
 #include "cubecal/io/csv_writer.hpp"
+#include "cubecal/pipeline/analyze.hpp"
 
 namespace cubecal::pipeline {
 
@@ -47,13 +48,18 @@ SimulatedRecord simulate(const SimulateRequest& r);
 // of data need no more memory than one block.
 void write_simulation(const SimulateRequest& r, io::CsvWriter& out);
 
-// Sensor models from an `analyze` result (analysis.json text): consecutive
+// A record already in memory to `out`, in write_simulation's layout
+// (t, <names...>): the same file write_simulation writes for its request.
+void write_record(const SimulatedRecord& rec, io::CsvWriter& out);
+
+// Sensor models from an `analyze` result (e.g. from_json of an
+// analysis.json; `label` names it in messages): consecutive
 // channels form triads (a last partial triad keeps only its channels); the
 // fixed bias is the measured mean, white noise and bias process come from
 // the fitted random-walk model, or the Gauss-Markov model when asked; the
-// quantizer is the model's LSB. Throws UsageError for a file that is not
-// an analysis result or has no fitted model.
-std::vector<TriadModel> models_from_analysis(const std::string& json_text, const std::string& label,
+// quantizer is the model's LSB. Throws UsageError for a result without
+// channels, and UsageError("bias", ...) for a channel without the fitted model asked for.
+std::vector<TriadModel> models_from_analysis(const AnalysisResult& analysis, const std::string& label,
                                              bool gauss_markov);
 
 // "72h", "30m", "90s", "2d" or a number of seconds.

@@ -24,6 +24,12 @@ struct ReportField {
   bool code = false;
 };
 
+// A row of the input summary whose value is HTML (escaped by the builder).
+struct ReportHtmlField {
+  std::string label;                           // plain text
+  std::string value_html;
+};
+
 // A table of plain-text cells (escaped on the page). The first cell of each
 // row is its label; the other columns are numbers (right-aligned) unless
 // `numeric` says otherwise (one flag per column, the label column included).
@@ -59,6 +65,7 @@ struct CommandReport {
   std::string title;                           // plain text: <title> and <h1>
   std::string lead_html;                       // the paragraph under the title
   std::vector<ReportField> input;
+  std::vector<ReportHtmlField> input_html;     // rows after `input`
   std::string command;                         // the command line as typed
   std::vector<std::string> notes;              // plain text, highlighted under the title
   std::vector<ReportSection> sections;
@@ -66,6 +73,11 @@ struct CommandReport {
   // ReportOptions::force, plot files with these prefixes that the new report
   // did not write (an earlier run had other channels) are removed.
   std::vector<std::string> plot_prefixes;
+  // Not empty: HTML (escaped by the builder) shown instead of the default
+  // text of the Reproduce section, the Files section and the footer.
+  std::string reproduce_html;
+  std::string files_html;
+  std::string footer_html;
 };
 
 // The plots of every figure, in page order.

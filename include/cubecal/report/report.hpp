@@ -1,6 +1,7 @@
-// `cubecal report DIR`: the results `cubecal analyze --out DIR` left
-// (analysis.json, adev.csv, drift.csv) as one self-contained HTML page,
-// DIR/report.html, with its plots rendered by gnuplot into DIR/plots/:
+// The report of an analysis: a typed pipeline::AnalysisResult as one
+// self-contained HTML page, DIR/report.html, with its plots rendered by
+// gnuplot into DIR/plots/ (the page is built by analysis_report() of
+// analysis_report.hpp and written by write_command_report):
 //   allan_<sensor>        OADEV with intervals, the fitted random-walk model
 //                         (dashed), the Gauss-Markov model (dotted) and the
 //                         fitted noise-term lines (the paper's Figs. 1, 2, 4)
@@ -15,6 +16,8 @@
 #include <cstdint>
 #include <string>
 #include <vector>
+
+#include "cubecal/pipeline/analyze.hpp"
 
 namespace cubecal::report {
 
@@ -36,11 +39,24 @@ struct ReportResult {
   double seconds = 0.0;            // wall time of write_report
 };
 
-// Reads DIR/analysis.json (required), DIR/adev.csv (the model curves; computed
-// from analysis.json when absent) and DIR/drift.csv (drift plots; skipped when
-// absent), renders the plots and writes DIR/report.html atomically. Throws
-// UsageError with one line for: no analysis.json, a file that is not an
-// analysis result, gnuplot missing, an existing report without `force`.
+// What the page says besides the result.
+struct AnalysisReportContext {
+  std::string command;     // the `cubecal analyze` command line that reproduces the result
+  std::string drift_note;  // not empty: why the drift series are missing (the page shows no drift plots)
+};
+
+// The page of `r` into DIR (created): `analyze --report` and `demo` pass the
+// result they hold. Throws UsageError with one line for gnuplot missing (unless
+// !options.require_plots) or an existing report without `force`.
+ReportResult write_report(const pipeline::AnalysisResult& r, const AnalysisReportContext& context,
+                          const std::string& dir, const ReportOptions& options = {});
+
+// `cubecal report DIR`: the result of an earlier `analyze --out DIR` read from
+// DIR/analysis.json (from_json) and its drift series from DIR/drift.csv (no
+// drift plots when absent or not matching), then the page as above. The model
+// curves are computed from the fitted parameters. Throws UsageError with one
+// line for: no analysis.json, a file that is not an analysis result, gnuplot
+// missing, an existing report without `force`.
 ReportResult write_report(const std::string& dir, const ReportOptions& options = {});
 
 // The files write_report would replace that exist now (report.html, plots/).

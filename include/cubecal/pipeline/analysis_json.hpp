@@ -1,0 +1,49 @@
+// The JSON form of the analysis results, beside their types: `analyze`'s
+// AnalysisResult (analysis.json: stable keys, every number with its unit,
+// the confidence level of the intervals) and `dev`'s DevResult
+// (`dev --format json`). from_json reads back what to_json wrote, so a later
+// run (`cubecal report DIR`, `simulate --model`) gets the typed result of an
+// earlier one; a document without a key the result needs is a UsageError
+// naming the key.
+#pragma once
+#include <nlohmann/json.hpp>
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "cubecal/pipeline/analyze.hpp"
+#include "cubecal/pipeline/dev_pipeline.hpp"
+
+namespace cubecal::pipeline {
+
+// analysis.json without its "command" (see AnalysisDocument). Noise terms
+// are stored in their display units (display() of noise/units.hpp) with the
+// tau range they were read from; densities are derived values, written for
+// the user and not read back. The drift series are not stored (drift.csv
+// holds them): from_json leaves DriftSeries::t and ::drift empty.
+void to_json(nlohmann::json& j, const AnalysisResult& r);
+// Throws UsageError ("analysis.json: channels[0].noise: no key 'fit' ...")
+// for a document that lacks a key the result needs. Keys added after the
+// first release (ci, gaps, ...) take their defaults when absent.
+void from_json(const nlohmann::json& j, AnalysisResult& r);
+
+// An analysis.json document: the result and the command line recorded with it.
+struct AnalysisDocument {
+  AnalysisResult result;
+  std::string command;
+  std::vector<std::size_t> drift_points;  // drift.points of each channel: its rows in drift.csv
+};
+
+nlohmann::json to_json(const AnalysisDocument& d);
+// Parses the text of an analysis.json; `label` (the file name) starts every
+// message. Throws UsageError for text that is not JSON or not an analysis.
+AnalysisDocument parse_analysis_json(const std::string& text, const std::string& label);
+
+// `dev --format json`: {"stat","type","rate_hz","file","samples","segments",
+// "ci","edf_method","columns":[{"name","af","tau","dev","n"[,"lo","hi",
+// "edf","alpha"]}]}; "ci" is null and the interval arrays are left out when
+// the intervals were not computed.
+void to_json(nlohmann::json& j, const DevResult& r);
+void from_json(const nlohmann::json& j, DevResult& r);
+
+}  // namespace cubecal::pipeline

@@ -1,0 +1,512 @@
+#include "cubecal/pipeline/analysis_json.hpp"
+
+#include <cmath>
+#include <limits>
+#include <optional>
+
+#include "cubecal/error.hpp"
+
+namespace cubecal::pipeline {
+
+namespace {
+
+using nlohmann::json;
+
+// ---------------------------------------------------------------------------
+// Writing
+
+json quantity(const Quantity& q, bool valid) {
+  json j;
+  j["value"] = valid ? json(q.value) : json(nullptr);
+  j["sigma"] = valid ? json(q.sigma) : json(nullptr);
+  j["unit"] = q.unit;
+  return j;
+}
+
+json term(const TermEstimate& t, Term which, const Unit& u) {
+  json j = quantity(display(t, which, u), t.valid);
+  if (t.valid) j["tau_range_s"] = {t.tau_lo, t.tau_hi};
+  return j;
+}
+
+// Parallel arrays of a curve; the interval fields only when computed.
+json curve_json(const std::vector<StabilityPoint>& pts, bool intervals = true) {
+  std::vector<double> tau, dev, lo, hi, edf;
+  std::vector<std::size_t> n, af;
+  std::vector<int> alpha;
+  for (const auto& p : pts) {
+    af.push_back(p.m);
+    tau.push_back(p.tau);
+    dev.push_back(p.dev);
+    lo.push_back(p.lo);
+    hi.push_back(p.hi);
+    n.push_back(p.n);
+    edf.push_back(p.edf);
+    alpha.push_back(p.alpha);
+  }
+  json j{{"af", af}, {"tau", tau}, {"dev", dev}, {"n", n}};
+  if (intervals) {
+    j["lo"] = lo;
+    j["hi"] = hi;
+    j["edf"] = edf;
+    j["alpha"] = alpha;
+  }
+  return j;
+}
+
+json noise_json(const NoiseAnalysis& n, const Unit& u) {
+  json j;
+  const SlopeReadOffs& r = n.readoffs;
+  j["method"] = "slope read-offs (IEEE 952): N at tau = 1 s, B = sigma_min / 0.664, K at tau = 3 s";
+  j["arw"] = term(r.N, Term::N, u);
+  j["bias_instability"] = term(r.B, Term::B, u);
+  // T only where the curve has a minimum inside the record.
+  j["time_constant_s"] = r.B.valid ? json(r.tau_min) : json(nullptr);
+  j["time_constant_range_s"] = r.B.valid ? json({r.tau_min_lo, r.tau_min_hi}) : json(nullptr);
+  // Where the curve is lowest, minimum inside the record or not.
+  j["curve_minimum"] = {{"tau_s", r.tau_min}, {"tau_range_s", {r.tau_min_lo, r.tau_min_hi}}};
+  j["sigma_min"] = {{"value", r.sigma_min}, {"unit", u.name}};
+  j["rate_random_walk"] = term(r.K, Term::K, u);
+  j["quantization"] = term(r.Q, Term::Q, u);
+  j["rate_ramp"] = term(r.R, Term::R, u);
+  const NoiseFit& f = n.fit;
+  json fit;
+  fit["method"] = "weighted non-negative least squares of sigma^2(tau) = sum C_k tau^k, k = -2..2";
+  fit["quantization"] = term(f.Q, Term::Q, u);
+  fit["arw"] = term(f.N, Term::N, u);
+  fit["bias_instability"] = term(f.B, Term::B, u);
+  fit["rate_random_walk"] = term(f.K, Term::K, u);
+  fit["rate_ramp"] = term(f.R, Term::R, u);
+  fit["coefficients"] = f.c;
+  fit["coefficients_sigma"] = f.c_sigma;
+  fit["chi2"] = f.chi2;
+  fit["dof"] = f.dof;
+  fit["rms_rel_residual"] = f.rms_rel_residual;
+  j["fit"] = fit;
+  // Densities from the fit when it found the term, else from the read-off.
+  const TermEstimate& N = f.N.valid ? f.N : r.N;
+  const TermEstimate& K = f.K.valid ? f.K : r.K;
+  j["densities"] = {{"white", quantity(white_density(N, u, false), N.valid)},
+                    {"random_walk", quantity(random_walk_density(K, u, false), K.valid)},
+                    {"white_si", quantity(white_density(N, u, true), N.valid)},
+                    {"random_walk_si", quantity(random_walk_density(K, u, true), K.valid)}};
+  return j;
+}
+
+json model_json(const ModelAnalysis& m, const Unit& u, std::size_t record_samples) {
+  json j;
+  j["unit"] = u.name;
+  j["samples"] = m.samples;
+  if (m.ok) {
+    j["sigma_n"] = m.random_walk.sigma_n;
+    j["sigma_mu"] = m.random_walk.sigma_mu;
+    j["sigma_mu_unit"] = u.name + "/s";
+    j["lsb"] = m.random_walk.lsb;
+    j["residual_rms_log"] = m.random_walk_residual.rms_log;
+    j["residual_chi2"] = m.random_walk_residual.chi2;
+  } else {
+    j["sigma_n"] = nullptr;
+    j["sigma_mu"] = nullptr;
+    j["error"] = m.error;
+    j["lsb"] = m.random_walk.lsb;
+  }
+  if (m.gm_ok) {
+    j["gauss_markov"] = {{"sigma", m.gauss_markov.sigma_b},
+                         {"tau_s", m.gauss_markov.tau_c},
+                         {"sigma_n", m.gauss_markov.sigma_n},
+                         {"residual_rms_log", m.gauss_markov_residual.rms_log},
+                         {"residual_chi2", m.gauss_markov_residual.chi2}};
+  } else {
+    j["gauss_markov"] = nullptr;
+    j["gauss_markov_error"] = m.gm_error;
+  }
+  if (m.ok && m.gm_ok)
+    j["better_fit"] =
+        m.gauss_markov_residual.rms_log < m.random_walk_residual.rms_log ? "gauss_markov" : "random_walk";
+  // The curve the models were fitted to, when it is not the record's.
+  if (m.samples != record_samples) j["adev"] = curve_json(m.adev);
+  return j;
+}
+
+json temperature_json(const TemperatureAnalysis& t, const Unit& u, const std::string& sensor) {
+  json tj;
+  tj["sensor"] = sensor;
+  tj["t_ref"] = t.fit.t_ref;
+  tj["offset"] = t.fit.coeff.empty() ? 0.0 : t.fit.coeff[0];
+  tj["offset_sigma"] = t.fit.coeff_sigma.empty() ? 0.0 : t.fit.coeff_sigma[0];
+  std::vector<double> coeff, sig;
+  if (!t.fit.coeff.empty()) coeff.assign(t.fit.coeff.begin() + 1, t.fit.coeff.end());
+  if (!t.fit.coeff_sigma.empty()) sig.assign(t.fit.coeff_sigma.begin() + 1, t.fit.coeff_sigma.end());
+  tj["coeff"] = coeff;
+  tj["coeff_sigma"] = sig;
+  tj["coeff_cov"] = t.fit.cov;
+  tj["order"] = t.fit.order;
+  tj["unit"] = u.name + "/degC";
+  std::vector<std::string> units;
+  for (std::size_t p = 1; p <= coeff.size(); ++p)
+    units.push_back(u.name + (p == 1 ? "/degC" : "/degC^" + std::to_string(p)));
+  tj["coeff_units"] = units;
+  tj["r2"] = t.fit.r2;
+  tj["residual_rms"] = t.fit.residual_rms;
+  tj["compensated"] = noise_json(t.compensated, u);
+  tj["compensated"]["adev"] = curve_json(t.compensated.adev);
+  return tj;
+}
+
+std::string_view edf_name(EdfMethod m) { return m == EdfMethod::simple ? "simple" : "greenhall"; }
+
+// ---------------------------------------------------------------------------
+// Reading: every access names its place in the document.
+
+class Node {
+ public:
+  Node(const json& j, std::string path, const std::string& label) : j_(j), path_(std::move(path)), label_(label) {}
+
+  [[noreturn]] void fail(const std::string& what) const {
+    throw UsageError(label_ + ": " + (path_.empty() ? std::string() : path_ + ": ") + what +
+                     " (not an analysis result written by cubecal)");
+  }
+  bool has(const char* key) const { return j_.is_object() && j_.contains(key) && !j_[key].is_null(); }
+  Node at(const char* key) const {
+    if (!j_.is_object()) fail("not an object");
+    const auto it = j_.find(key);
+    if (it == j_.end()) fail(std::string("no key '") + key + "'");
+    return Node(*it, path_.empty() ? std::string(key) : path_ + "." + key, label_);
+  }
+  Node at(std::size_t i) const {
+    if (!j_.is_array() || i >= j_.size()) fail("no element " + std::to_string(i));
+    return Node(j_[i], path_ + "[" + std::to_string(i) + "]", label_);
+  }
+  std::size_t size() const {
+    if (!j_.is_array()) fail("not an array");
+    return j_.size();
+  }
+  // A number; null (how JSON writes a NaN) reads as NaN.
+  double num() const {
+    if (j_.is_null()) return std::numeric_limits<double>::quiet_NaN();
+    if (!j_.is_number()) fail("not a number");
+    return j_.get<double>();
+  }
+  std::size_t count() const {
+    if (!j_.is_number_unsigned() && !(j_.is_number_integer() && j_.get<long long>() >= 0)) fail("not a count");
+    return j_.get<std::size_t>();
+  }
+  std::string str() const {
+    if (!j_.is_string()) fail("not a string");
+    return j_.get<std::string>();
+  }
+  std::vector<double> nums() const {
+    std::vector<double> v(size());
+    for (std::size_t i = 0; i < v.size(); ++i) v[i] = at(i).num();
+    return v;
+  }
+  double num(const char* key) const { return at(key).num(); }
+  double num_or(const char* key, double fallback) const { return has(key) ? at(key).num() : fallback; }
+  std::string str_or(const char* key, const std::string& fallback) const {
+    return has(key) ? at(key).str() : fallback;
+  }
+  const json& raw() const { return j_; }
+
+ private:
+  const json& j_;
+  std::string path_;
+  const std::string& label_;
+};
+
+std::vector<StabilityPoint> read_curve(const Node& a) {
+  const auto tau = a.at("tau").nums(), dev = a.at("dev").nums();
+  const Node af = a.at("af"), n = a.at("n");
+  const std::size_t k = tau.size();
+  if (dev.size() != k || af.size() != k || n.size() != k) a.fail("af, tau, dev and n differ in length");
+  std::vector<StabilityPoint> pts(k);
+  for (std::size_t i = 0; i < k; ++i) {
+    pts[i].m = af.at(i).count();
+    pts[i].tau = tau[i];
+    pts[i].dev = dev[i];
+    pts[i].n = n.at(i).count();
+  }
+  if (a.has("lo")) {
+    const auto lo = a.at("lo").nums(), hi = a.at("hi").nums(), edf = a.at("edf").nums();
+    const Node alpha = a.at("alpha");
+    if (lo.size() != k || hi.size() != k || edf.size() != k || alpha.size() != k)
+      a.fail("the interval arrays differ in length from tau");
+    for (std::size_t i = 0; i < k; ++i) {
+      pts[i].lo = lo[i];
+      pts[i].hi = hi[i];
+      pts[i].edf = edf[i];
+      pts[i].alpha = static_cast<int>(alpha.at(i).num());
+    }
+  }
+  return pts;
+}
+
+// The inverse of term(): the display value back in the data unit.
+TermEstimate read_term(const Node& q, Term which, const Unit& u) {
+  TermEstimate t;
+  const Node v = q.at("value");
+  if (v.raw().is_null()) return t;
+  TermEstimate one;
+  one.valid = true;
+  one.value = 1.0;
+  const double f = display(one, which, u).value;
+  t.valid = true;
+  t.value = v.num() / f;
+  t.sigma = q.num("sigma") / f;
+  if (q.has("tau_range_s")) {
+    const auto r = q.at("tau_range_s").nums();
+    if (r.size() != 2) q.fail("tau_range_s is not a pair");
+    t.tau_lo = r[0];
+    t.tau_hi = r[1];
+  }
+  return t;
+}
+
+NoiseAnalysis read_noise(const Node& j, const Unit& u) {
+  NoiseAnalysis n;
+  SlopeReadOffs& r = n.readoffs;
+  r.N = read_term(j.at("arw"), Term::N, u);
+  r.B = read_term(j.at("bias_instability"), Term::B, u);
+  r.K = read_term(j.at("rate_random_walk"), Term::K, u);
+  r.Q = read_term(j.at("quantization"), Term::Q, u);
+  r.R = read_term(j.at("rate_ramp"), Term::R, u);
+  r.sigma_min = j.at("sigma_min").num("value");
+  if (j.has("curve_minimum")) {
+    const Node m = j.at("curve_minimum");
+    r.tau_min = m.num("tau_s");
+    const auto range = m.at("tau_range_s").nums();
+    if (range.size() != 2) m.fail("tau_range_s is not a pair");
+    r.tau_min_lo = range[0];
+    r.tau_min_hi = range[1];
+  } else if (j.has("time_constant_s")) {
+    r.tau_min = j.num("time_constant_s");
+    const auto range = j.at("time_constant_range_s").nums();
+    if (range.size() != 2) j.fail("time_constant_range_s is not a pair");
+    r.tau_min_lo = range[0];
+    r.tau_min_hi = range[1];
+  }
+  const Node f = j.at("fit");
+  NoiseFit& fit = n.fit;
+  fit.Q = read_term(f.at("quantization"), Term::Q, u);
+  fit.N = read_term(f.at("arw"), Term::N, u);
+  fit.B = read_term(f.at("bias_instability"), Term::B, u);
+  fit.K = read_term(f.at("rate_random_walk"), Term::K, u);
+  fit.R = read_term(f.at("rate_ramp"), Term::R, u);
+  const auto c = f.at("coefficients").nums(), cs = f.at("coefficients_sigma").nums();
+  if (c.size() != 5 || cs.size() != 5) f.fail("coefficients are not five numbers (C_-2 .. C_2)");
+  std::copy(c.begin(), c.end(), fit.c.begin());
+  std::copy(cs.begin(), cs.end(), fit.c_sigma.begin());
+  fit.chi2 = f.num("chi2");
+  fit.dof = f.at("dof").count();
+  fit.rms_rel_residual = f.num("rms_rel_residual");
+  return n;
+}
+
+ModelAnalysis read_model(const Node& m, const ChannelAnalysis& ch, double dt) {
+  ModelAnalysis a;
+  a.samples = m.at("samples").count();
+  a.adev = m.has("adev") ? read_curve(m.at("adev")) : ch.noise.adev;
+  const double lsb = m.num_or("lsb", 0.0);
+  if (m.has("sigma_n")) {
+    a.ok = true;
+    a.random_walk = RandomWalkModel{m.num("sigma_n"), m.num("sigma_mu"), dt, lsb};
+    a.random_walk_residual.rms_log = m.num("residual_rms_log");
+    a.random_walk_residual.chi2 = m.num_or("residual_chi2", 0.0);
+  } else {
+    a.error = m.str_or("error", "");
+    a.random_walk.dt = dt;
+    a.random_walk.lsb = lsb;
+  }
+  if (m.has("gauss_markov")) {
+    const Node g = m.at("gauss_markov");
+    a.gm_ok = true;
+    a.gauss_markov = GaussMarkovModel{g.num("sigma_n"), g.num("sigma"), g.num("tau_s"), dt, lsb};
+    a.gauss_markov_residual.rms_log = g.num("residual_rms_log");
+    a.gauss_markov_residual.chi2 = g.num_or("residual_chi2", 0.0);
+  } else {
+    a.gm_error = m.str_or("gauss_markov_error", "");
+    a.gauss_markov.dt = dt;
+    a.gauss_markov.lsb = lsb;
+  }
+  return a;
+}
+
+TemperatureAnalysis read_temperature(const Node& t, const Unit& u) {
+  TemperatureAnalysis a;
+  TemperatureFit& f = a.fit;
+  f.t_ref = t.num("t_ref");
+  const auto coeff = t.at("coeff").nums(), sig = t.at("coeff_sigma").nums();
+  if (sig.size() != coeff.size()) t.fail("coeff and coeff_sigma differ in length");
+  f.coeff.push_back(t.num("offset"));
+  f.coeff.insert(f.coeff.end(), coeff.begin(), coeff.end());
+  f.coeff_sigma.push_back(t.num_or("offset_sigma", 0.0));
+  f.coeff_sigma.insert(f.coeff_sigma.end(), sig.begin(), sig.end());
+  if (t.has("coeff_cov")) {
+    const Node cov = t.at("coeff_cov");
+    for (std::size_t i = 0; i < cov.size(); ++i) f.cov.push_back(cov.at(i).nums());
+  }
+  f.order = t.has("order") ? t.at("order").count() : coeff.size();
+  f.r2 = t.num("r2");
+  f.residual_rms = t.num("residual_rms");
+  const Node comp = t.at("compensated");
+  a.compensated = read_noise(comp, u);
+  a.compensated.adev = read_curve(comp.at("adev"));
+  return a;
+}
+
+AnalysisResult read_result(const json& doc, const std::string& label) {
+  const Node root(doc, "", label);
+  if (!doc.is_object() || !doc.contains("input") || !doc.contains("channels"))
+    root.fail("no 'input' and 'channels'");
+  AnalysisResult r;
+  const Node in = root.at("input");
+  r.file = in.at("file").str();
+  r.samples = in.at("samples").count();
+  r.rate_hz = in.num("rate_hz");
+  if (!(r.rate_hz > 0)) in.fail("rate_hz is not positive");
+  r.duration_s = in.num("duration_s");
+  r.segments = in.at("segments").count();
+  const std::string gaps = in.str_or("gaps", "error");
+  if (gaps != "error" && gaps != "split") in.at("gaps").fail("neither 'error' nor 'split'");
+  r.gaps = gaps == "split" ? io::GapPolicy::split : io::GapPolicy::error;
+  r.ci = root.num_or("ci", 0.683);
+  const double dt = 1.0 / r.rate_hz;
+  const Node chans = root.at("channels");
+  for (std::size_t c = 0; c < chans.size(); ++c) {
+    const Node cj = chans.at(c);
+    ChannelAnalysis ch;
+    ch.name = cj.at("name").str();
+    const std::string unit = cj.at("unit").str();
+    const auto u = parse_unit(unit);
+    if (!u) cj.at("unit").fail("unknown unit '" + unit + "' (known: " + known_units() + ")");
+    ch.unit = *u;
+    ch.mean = cj.num("mean");
+    ch.stddev = cj.num("stddev");
+    ch.noise = read_noise(cj.at("noise"), ch.unit);
+    ch.noise.adev = read_curve(cj.at("adev"));
+    ch.model = read_model(cj.at("model"), ch, dt);
+    const Node d = cj.at("drift");
+    ch.drift.window = static_cast<std::size_t>(std::llround(d.num("window_s") * r.rate_hz));
+    ch.drift.mean = d.num("fixed_bias");
+    if (cj.has("temperature")) {
+      const Node t = cj.at("temperature");
+      ch.temperature = read_temperature(t, ch.unit);
+      if (r.temp_name.empty()) r.temp_name = t.str_or("sensor", "");
+    }
+    r.channels.push_back(std::move(ch));
+  }
+  const Node cov = root.at("covariance");
+  const Node names = cov.at("channels");
+  for (std::size_t i = 0; i < names.size(); ++i) r.cov_names.push_back(names.at(i).str());
+  const Node m = cov.at("matrix");
+  for (std::size_t i = 0; i < m.size(); ++i) r.covariance.push_back(m.at(i).nums());
+  r.cov_samples = cov.at("samples").count();
+  return r;
+}
+
+}  // namespace
+
+void to_json(json& j, const AnalysisResult& r) {
+  j = json::object();
+  j["input"] = {{"file", r.file},
+                {"samples", r.samples},
+                {"rate_hz", r.rate_hz},
+                {"duration_s", r.duration_s},
+                {"segments", r.segments},
+                {"gaps", r.gaps == io::GapPolicy::split ? "split" : "error"}};
+  j["ci"] = r.ci;
+  json chans = json::array();
+  for (const auto& c : r.channels) {
+    json ch;
+    ch["name"] = c.name;
+    ch["unit"] = c.unit.name;
+    ch["kind"] = to_string(c.unit.kind);
+    ch["mean"] = c.mean;
+    ch["stddev"] = c.stddev;
+    ch["adev"] = curve_json(c.noise.adev);
+    ch["noise"] = noise_json(c.noise, c.unit);
+    ch["model"] = model_json(c.model, c.unit, r.samples);
+    ch["drift"] = {{"window_s", static_cast<double>(c.drift.window) / r.rate_hz},
+                   {"fixed_bias", c.drift.mean},
+                   {"points", c.drift.t.size()},
+                   {"file", "drift.csv"}};
+    if (c.temperature) ch["temperature"] = temperature_json(*c.temperature, c.unit, r.temp_name);
+    chans.push_back(std::move(ch));
+  }
+  j["channels"] = std::move(chans);
+  std::string cov_unit;
+  if (!r.channels.empty()) cov_unit = "(" + r.channels[0].unit.name + ")^2";
+  j["covariance"] = {{"channels", r.cov_names}, {"matrix", r.covariance}, {"samples", r.cov_samples},
+                     {"unit", cov_unit}};
+}
+
+void from_json(const json& j, AnalysisResult& r) { r = read_result(j, "analysis.json"); }
+
+json to_json(const AnalysisDocument& d) {
+  json j = d.result;
+  j["command"] = d.command;
+  return j;
+}
+
+AnalysisDocument parse_analysis_json(const std::string& text, const std::string& label) {
+  const json j = json::parse(text, nullptr, false);
+  if (j.is_discarded())
+    throw UsageError(label + ": not an analysis.json written by cubecal analyze (not valid JSON)");
+  AnalysisDocument d;
+  d.result = read_result(j, label);
+  if (j.contains("command") && j["command"].is_string()) d.command = j["command"].get<std::string>();
+  for (const auto& c : j["channels"]) {
+    const json& n = c["drift"].contains("points") ? c["drift"]["points"] : json();
+    d.drift_points.push_back(n.is_number_unsigned() ? n.get<std::size_t>() : 0);
+  }
+  return d;
+}
+
+void to_json(json& j, const DevResult& r) {
+  j = json::object();
+  j["stat"] = to_string(r.stat);
+  j["type"] = to_string(r.type);
+  j["rate_hz"] = r.rate_hz;
+  j["file"] = r.file;
+  j["samples"] = r.samples;
+  j["segments"] = r.segments;
+  j["ci"] = r.options.intervals ? json(r.options.ci) : json(nullptr);
+  j["edf_method"] = edf_name(r.options.edf);
+  json cols = json::array();
+  for (const auto& ch : r.channels) {
+    json c = curve_json(ch.points, r.options.intervals);
+    c["name"] = ch.name;
+    cols.push_back(std::move(c));
+  }
+  j["columns"] = std::move(cols);
+}
+
+void from_json(const json& j, DevResult& r) {
+  const std::string label = "dev result";
+  const Node root(j, "", label);
+  r = DevResult{};
+  const std::string stat = root.at("stat").str(), type = root.at("type").str();
+  const auto s = parse_stat(stat);
+  const auto t = parse_data_type(type);
+  if (!s) root.at("stat").fail("unknown statistic '" + stat + "'");
+  if (!t) root.at("type").fail("unknown data type '" + type + "'");
+  r.stat = *s;
+  r.type = *t;
+  r.rate_hz = root.num("rate_hz");
+  if (!(r.rate_hz > 0)) root.at("rate_hz").fail("not positive");
+  r.tau0 = 1.0 / r.rate_hz;
+  r.file = root.at("file").str();
+  r.samples = root.at("samples").count();
+  r.segments = root.at("segments").count();
+  r.options.intervals = root.has("ci");
+  if (r.options.intervals) r.options.ci = root.num("ci");
+  const std::string edf = root.str_or("edf_method", "greenhall");
+  if (edf != "greenhall" && edf != "simple") root.at("edf_method").fail("neither 'greenhall' nor 'simple'");
+  r.options.edf = edf == "simple" ? EdfMethod::simple : EdfMethod::greenhall;
+  const Node cols = root.at("columns");
+  for (std::size_t c = 0; c < cols.size(); ++c) {
+    const Node cj = cols.at(c);
+    r.channels.push_back({cj.at("name").str(), read_curve(cj)});
+  }
+}
+
+}  // namespace cubecal::pipeline

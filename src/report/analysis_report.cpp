@@ -1,0 +1,547 @@
+// The report page of an analysis as a CommandReport: input summary, the
+// command that reproduces it, figures, parameter tables (units,
+// uncertainties), fitted models, temperature dependence and covariance, all
+// from the typed result. Every string from the data is escaped.
+#include "cubecal/report/analysis_report.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+
+#include "analysis_data.hpp"
+#include "cubecal/noise/noise_terms.hpp"
+#include "cubecal/noise/sensor_noise_model.hpp"
+#include "cubecal/noise/units.hpp"
+#include "cubecal/report/html.hpp"
+
+namespace cubecal::report {
+
+using pipeline::AnalysisResult;
+using pipeline::ChannelAnalysis;
+
+namespace detail {
+
+namespace {
+
+// rate, field or other.
+std::string kind_class(const Unit& u) {
+  if (u.kind == SensorKind::rate) return "rate";
+  if (u.kind == SensorKind::field) return "field";
+  return "other";
+}
+
+std::string class_title(const std::string& cls) {
+  if (cls == "rate") return "Rate sensors";
+  if (cls == "field") return "Field sensors";
+  return "Other sensors";
+}
+
+std::string unit_slug(const std::string& u) {
+  std::string s;
+  for (char c : u) {
+    if ((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9'))
+      s += c;
+    else if (!s.empty() && s.back() != '_')
+      s += '_';
+  }
+  while (!s.empty() && s.back() == '_') s.pop_back();
+  return s.empty() ? std::string("u") : s;
+}
+
+}  // namespace
+
+std::vector<SensorGroup> sensor_groups(const AnalysisResult& r) {
+  // Sensor groups: rate, field, other; split by unit when a kind mixes units.
+  std::vector<std::pair<std::string, std::string>> keys;  // (class, unit) in first-seen order
+  for (const auto& ch : r.channels) {
+    const std::pair<std::string, std::string> k{kind_class(ch.unit), ch.unit.name};
+    if (std::find(keys.begin(), keys.end(), k) == keys.end()) keys.push_back(k);
+  }
+  std::vector<SensorGroup> groups;
+  for (const auto& k : keys) {
+    SensorGroup g;
+    const auto same_class = std::count_if(keys.begin(), keys.end(), [&](const auto& o) { return o.first == k.first; });
+    g.key = same_class > 1 ? k.first + "_" + unit_slug(k.second) : k.first;
+    g.unit = k.second;
+    g.title = class_title(k.first) + (k.second.empty() ? std::string() : " (" + k.second + ")");
+    for (std::size_t c = 0; c < r.channels.size(); ++c)
+      if (kind_class(r.channels[c].unit) == k.first && r.channels[c].unit.name == k.second) g.channels.push_back(c);
+    groups.push_back(std::move(g));
+  }
+  return groups;
+}
+
+std::string ci_text(double ci) {
+  if (!(ci > 0 && ci < 1)) return "68.3 %";
+  char b[32];
+  std::snprintf(b, sizeof b, "%.4g %%", 100.0 * ci);
+  return b;
+}
+
+ModelCurves model_curves(const ChannelAnalysis& c, double rate_hz) {
+  const auto n = c.noise.adev.size();
+  ModelCurves m;
+  m.fit.assign(n, NAN);
+  m.model.assign(n, NAN);
+  m.gm.assign(n, NAN);
+  const double dt = 1.0 / rate_hz;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double tau = c.noise.adev[i].tau;
+    const auto k = static_cast<std::size_t>(std::max(1.0, std::round(tau / dt)));
+    m.fit[i] = noise_model_adev(c.noise.fit.c, tau);
+    if (c.model.ok) m.model[i] = std::sqrt(avar(c.model.random_walk, k));
+    if (c.model.gm_ok) m.gm[i] = std::sqrt(avar(c.model.gauss_markov, k));
+  }
+  return m;
+}
+
+}  // namespace detail
+
+namespace {
+
+using detail::SensorGroup;
+
+std::string fmt(const char* f, double v) {
+  char b[64];
+  std::snprintf(b, sizeof b, f, v);
+  return b;
+}
+
+std::optional<double> finite(double v) { return std::isfinite(v) ? std::optional(v) : std::nullopt; }
+
+std::string duration_text(double s) {
+  if (!(s > 0)) return "—";
+  const double h = s / 3600.0;
+  if (h >= 1.0) return fmt("%.6g s", s) + " (" + fmt("%.4g h", h) + ")";
+  if (s >= 60.0) return fmt("%.6g s", s) + " (" + fmt("%.4g min", s / 60.0) + ")";
+  return fmt("%.6g s", s);
+}
+
+using Cell = std::pair<std::string, std::string>;  // (html, title)
+
+// A parameter table with one column per channel of a group.
+class Table {
+ public:
+  Table(const AnalysisResult& r, const SensorGroup& g) : r_(r), g_(g) {
+    s_ = "<div class=\"scroll\"><table>\n<thead><tr><th>parameter</th><th>unit</th>";
+    for (auto c : g.channels) s_ += "<th>" + html_escape(r.channels[c].name) + "</th>";
+    s_ += "</tr></thead>\n<tbody>\n";
+  }
+  void section(const std::string& title_html) {
+    s_ += "<tr class=\"sub\"><th colspan=\"" + std::to_string(g_.channels.size() + 2) + "\">" + title_html +
+          "</th></tr>\n";
+  }
+  // A row of cells from the channels; left out when every cell is empty ("—")
+  // unless it is a noise-term row.
+  void row(const std::string& label_html, const std::string& unit,
+           const std::function<Cell(const ChannelAnalysis&)>& cell, bool keep_empty = false) {
+    std::string r = "<tr><th>" + label_html + "</th><td class=\"unit\">" + html_escape(unit) + "</td>";
+    bool any = false;
+    for (auto c : g_.channels) {
+      const auto [html, title] = cell(r_.channels[c]);
+      if (html != "—") any = true;
+      r += "<td class=\"num\"" + (title.empty() ? std::string() : " title=\"" + html_escape(title) + "\"") + ">" + html +
+           "</td>";
+    }
+    r += "</tr>\n";
+    if (any || keep_empty) s_ += r;
+  }
+  // A noise term in its display unit, with the tau range it was read from.
+  void term(const std::string& label_html, Term which,
+            const std::function<const TermEstimate*(const ChannelAnalysis&)>& get) {
+    std::string unit;
+    if (!g_.channels.empty()) unit = display(TermEstimate{}, which, r_.channels[g_.channels.front()].unit).unit;
+    row(
+        label_html, unit,
+        [&](const ChannelAnalysis& ch) {
+          const TermEstimate* t = get(ch);
+          if (!t || !t->valid) return Cell{"—", ""};
+          const Quantity q = display(*t, which, ch.unit);
+          std::string html = html_escape(format_pm(finite(q.value), finite(q.sigma)));
+          if (q.unit != unit && html != "—") html += " " + html_escape(q.unit);
+          const std::string title = "read over tau " + format_num(t->tau_lo, 4) + " to " + format_num(t->tau_hi, 4) + " s";
+          return Cell{html, title};
+        },
+        true);
+  }
+  void value(const std::string& label_html, const std::string& unit,
+             const std::function<std::optional<double>(const ChannelAnalysis&)>& get, int digits = 5) {
+    row(label_html, unit, [&](const ChannelAnalysis& ch) { return Cell{html_escape(format_num(get(ch), digits)), ""}; });
+  }
+  // Why something was not fitted: a note under the table, not a cell.
+  void reason(const std::string& what_html, const std::function<std::string(const ChannelAnalysis&)>& get) {
+    for (auto c : g_.channels) {
+      const std::string v = get(r_.channels[c]);
+      if (!v.empty())
+        notes_ += "<li><b>" + html_escape(r_.channels[c].name) + "</b>: " + what_html + " not fitted: " + html_escape(v) +
+                  "</li>\n";
+    }
+  }
+  std::string str() const {
+    return s_ + "</tbody></table></div>\n" + (notes_.empty() ? "" : "<ul class=\"reasons\">\n" + notes_ + "</ul>\n");
+  }
+
+ private:
+  const AnalysisResult& r_;
+  const SensorGroup& g_;
+  std::string s_, notes_;
+};
+
+std::optional<double> count(std::size_t n) { return static_cast<double>(n); }
+
+std::string noise_table(const AnalysisResult& r, const SensorGroup& g) {
+  Table t(r, g);
+  t.section("Record");
+  t.value("fixed bias β (record mean)", g.unit, [](const ChannelAnalysis& c) { return finite(c.mean); }, 7);
+  t.value("standard deviation", g.unit, [](const ChannelAnalysis& c) { return finite(c.stddev); });
+  t.section("Slope read-offs (IEEE 952, as the paper): N at τ = 1 s, B = σ<sub>min</sub> / 0.664, K at τ = 3 s");
+  t.term("N, white noise (angle random walk)", Term::N, [](const ChannelAnalysis& c) { return &c.noise.readoffs.N; });
+  t.term("B, bias instability", Term::B, [](const ChannelAnalysis& c) { return &c.noise.readoffs.B; });
+  t.row("T, time constant (τ at the minimum)", "s", [](const ChannelAnalysis& c) {
+    const auto& ro = c.noise.readoffs;
+    if (!ro.B.valid) return Cell{"—", "no minimum inside the record"};
+    const std::string h = format_num(ro.tau_min, 4) + " (" + format_num(ro.tau_min_lo, 3) + "–" +
+                          format_num(ro.tau_min_hi, 3) + ")";
+    return Cell{html_escape(h), "range: taus whose intervals reach sigma_min"};
+  });
+  t.value("σ<sub>min</sub>, minimum of the curve", g.unit,
+          [](const ChannelAnalysis& c) { return finite(c.noise.readoffs.sigma_min); });
+  t.term("K, rate random walk", Term::K, [](const ChannelAnalysis& c) { return &c.noise.readoffs.K; });
+  t.term("Q, quantization", Term::Q, [](const ChannelAnalysis& c) { return &c.noise.readoffs.Q; });
+  t.term("R, rate ramp", Term::R, [](const ChannelAnalysis& c) { return &c.noise.readoffs.R; });
+  t.section("Weighted least-squares fit of σ²(τ) = Σ C<sub>k</sub> τ<sup>k</sup>, k = −2…2");
+  t.term("N, white noise", Term::N, [](const ChannelAnalysis& c) { return &c.noise.fit.N; });
+  t.term("B, bias instability", Term::B, [](const ChannelAnalysis& c) { return &c.noise.fit.B; });
+  t.term("K, rate random walk", Term::K, [](const ChannelAnalysis& c) { return &c.noise.fit.K; });
+  t.term("Q, quantization", Term::Q, [](const ChannelAnalysis& c) { return &c.noise.fit.Q; });
+  t.term("R, rate ramp", Term::R, [](const ChannelAnalysis& c) { return &c.noise.fit.R; });
+  t.row("χ² / degrees of freedom", "", [](const ChannelAnalysis& c) {
+    if (!std::isfinite(c.noise.fit.chi2)) return Cell{"—", ""};
+    return Cell{html_escape(format_num(c.noise.fit.chi2, 4) + " / " + format_num(count(c.noise.fit.dof), 6)), ""};
+  });
+  t.row("RMS relative residual", "%", [](const ChannelAnalysis& c) {
+    const auto v = finite(c.noise.fit.rms_rel_residual);
+    return Cell{v ? html_escape(format_num(100.0 * *v, 3)) : std::string("—"), ""};
+  });
+  // Densities from the fit where it found the term, else from the read-off.
+  auto density = [&](const std::string& label, bool white, bool si) {
+    std::string unit;
+    if (!g.channels.empty()) {
+      const Unit& u = r.channels[g.channels.front()].unit;
+      unit = white ? white_density(TermEstimate{}, u, si).unit : random_walk_density(TermEstimate{}, u, si).unit;
+    }
+    t.row(
+        label, unit,
+        [&](const ChannelAnalysis& c) {
+          const auto& f = c.noise.fit;
+          const auto& ro = c.noise.readoffs;
+          const TermEstimate& e = white ? (f.N.valid ? f.N : ro.N) : (f.K.valid ? f.K : ro.K);
+          if (!e.valid) return Cell{"—", ""};
+          const Quantity q = white ? white_density(e, c.unit, si) : random_walk_density(e, c.unit, si);
+          return Cell{html_escape(format_pm(finite(q.value), finite(q.sigma))), ""};
+        },
+        true);
+  };
+  t.section("Noise densities (from the fit where it found the term, else the read-off)");
+  density("white noise density", true, false);
+  density("white noise density, SI", true, true);
+  density("random-walk density", false, false);
+  density("random-walk density, SI", false, true);
+  return t.str();
+}
+
+std::string model_table(const AnalysisResult& r, const SensorGroup& g) {
+  Table t(r, g);
+  t.section("Random-walk model (paper eq. 1–3): tangent to the white-noise arm, same minimum");
+  t.value("σ<sub>n</sub>, white noise per sample", g.unit, [](const ChannelAnalysis& c) {
+    return c.model.ok ? finite(c.model.random_walk.sigma_n) : std::nullopt;
+  });
+  t.value("σ<sub>μ</sub>, bias random-walk rate", g.unit + "/s", [](const ChannelAnalysis& c) {
+    return c.model.ok ? finite(c.model.random_walk.sigma_mu) : std::nullopt;
+  });
+  t.row("quantizer (m<sub>lsb</sub>)", "counts/" + g.unit, [](const ChannelAnalysis& c) {
+    if (!c.model.ok) return Cell{"—", ""};
+    const double v = c.model.random_walk.lsb;
+    return Cell{v > 0 ? html_escape(format_num(v, 6)) : std::string("none"), ""};
+  });
+  t.value("samples fitted", "", [](const ChannelAnalysis& c) { return count(c.model.samples); }, 10);
+  t.value("Allan-curve residual, RMS of ln(model / data)", "", [](const ChannelAnalysis& c) {
+    return c.model.ok ? finite(c.model.random_walk_residual.rms_log) : std::nullopt;
+  }, 3);
+  t.reason("random-walk model", [](const ChannelAnalysis& c) { return c.model.ok ? std::string() : c.model.error; });
+  t.section("Gauss–Markov alternative: white noise + first-order Gauss–Markov bias");
+  t.value("σ<sub>b</sub>, stationary bias", g.unit, [](const ChannelAnalysis& c) {
+    return c.model.gm_ok ? finite(c.model.gauss_markov.sigma_b) : std::nullopt;
+  });
+  t.value("T<sub>c</sub>, correlation time", "s", [](const ChannelAnalysis& c) {
+    return c.model.gm_ok ? finite(c.model.gauss_markov.tau_c) : std::nullopt;
+  });
+  t.value("σ<sub>n</sub>, white noise per sample", g.unit, [](const ChannelAnalysis& c) {
+    return c.model.gm_ok ? finite(c.model.gauss_markov.sigma_n) : std::nullopt;
+  });
+  t.value("Allan-curve residual, RMS of ln(model / data)", "", [](const ChannelAnalysis& c) {
+    return c.model.gm_ok ? finite(c.model.gauss_markov_residual.rms_log) : std::nullopt;
+  }, 3);
+  t.reason("Gauss–Markov model", [](const ChannelAnalysis& c) { return c.model.gm_ok ? std::string() : c.model.gm_error; });
+  t.row("the better fit", "", [](const ChannelAnalysis& c) {
+    if (!c.model.ok || !c.model.gm_ok) return Cell{"—", ""};
+    const bool gm = c.model.gauss_markov_residual.rms_log < c.model.random_walk_residual.rms_log;
+    return Cell{gm ? "Gauss–Markov" : "random walk", "smaller RMS of ln(model / data)"};
+  });
+  t.section("Bias drift");
+  t.value("moving-average window", "s", [&](const ChannelAnalysis& c) {
+    return finite(static_cast<double>(c.drift.window) / r.rate_hz);
+  });
+  t.value("drift points (drift.csv)", "", [](const ChannelAnalysis& c) { return count(c.drift.t.size()); }, 10);
+  return t.str();
+}
+
+std::string temperature_table(const AnalysisResult& r, const SensorGroup& g) {
+  std::size_t order = 0;  // highest power fitted
+  for (auto c : g.channels)
+    if (r.channels[c].temperature && !r.channels[c].temperature->fit.coeff.empty())
+      order = std::max(order, r.channels[c].temperature->fit.coeff.size() - 1);
+  auto fit_of = [](const ChannelAnalysis& c) -> const TemperatureFit* {
+    return c.temperature ? &c.temperature->fit : nullptr;
+  };
+  Table t(r, g);
+  t.section("Polynomial fit of the channel on temperature, y = Σ c<sub>p</sub> (T − T<sub>ref</sub>)<sup>p</sup>");
+  t.row("temperature column", "", [&](const ChannelAnalysis& c) {
+    return c.temperature ? Cell{html_escape(r.temp_name), ""} : Cell{"—", ""};
+  });
+  t.value("T<sub>ref</sub> (mean temperature)", "°C", [&](const ChannelAnalysis& c) {
+    const auto* f = fit_of(c);
+    return f ? finite(f->t_ref) : std::nullopt;
+  });
+  for (std::size_t p = 1; p <= order; ++p) {
+    const std::string unit = g.unit + (p == 1 ? "/degC" : "/degC^" + std::to_string(p));
+    const std::string label = p == 1 ? std::string("c<sub>1</sub>, temperature coefficient")
+                                     : "c<sub>" + std::to_string(p) + "</sub>";
+    t.row(label, unit, [&](const ChannelAnalysis& c) {
+      const auto* f = fit_of(c);
+      if (!f || f->coeff.size() <= p) return Cell{"—", ""};
+      return Cell{html_escape(format_pm(finite(f->coeff[p]),
+                                        f->coeff_sigma.size() > p ? finite(f->coeff_sigma[p]) : std::nullopt)),
+                  ""};
+    });
+  }
+  t.value("c<sub>0</sub>, bias at T<sub>ref</sub>", g.unit, [&](const ChannelAnalysis& c) {
+    const auto* f = fit_of(c);
+    return f && !f->coeff.empty() ? finite(f->coeff[0]) : std::nullopt;
+  }, 7);
+  t.value("R²", "", [&](const ChannelAnalysis& c) {
+    const auto* f = fit_of(c);
+    return f ? finite(f->r2) : std::nullopt;
+  }, 4);
+  t.value("residual RMS", g.unit, [&](const ChannelAnalysis& c) {
+    const auto* f = fit_of(c);
+    return f ? finite(f->residual_rms) : std::nullopt;
+  }, 4);
+  t.section("Noise terms after compensation (slope read-offs)");
+  auto comp = [](const ChannelAnalysis& c) -> const SlopeReadOffs* {
+    return c.temperature ? &c.temperature->compensated.readoffs : nullptr;
+  };
+  t.term("N, white noise", Term::N, [&](const ChannelAnalysis& c) { return comp(c) ? &comp(c)->N : nullptr; });
+  t.term("B, bias instability", Term::B, [&](const ChannelAnalysis& c) { return comp(c) ? &comp(c)->B : nullptr; });
+  t.value("T, time constant", "s", [&](const ChannelAnalysis& c) {
+    return comp(c) && comp(c)->B.valid ? finite(comp(c)->tau_min) : std::nullopt;
+  }, 4);
+  t.term("K, rate random walk", Term::K, [&](const ChannelAnalysis& c) { return comp(c) ? &comp(c)->K : nullptr; });
+  return t.str();
+}
+
+std::string covariance_html(const AnalysisResult& r) {
+  const auto& names = r.cov_names;
+  const auto& m = r.covariance;
+  if (names.empty() || m.size() != names.size()) return "<p class=\"muted\">No covariance in the analysis.</p>\n";
+  const std::size_t n = names.size();
+  std::vector<std::vector<std::optional<double>>> v(n, std::vector<std::optional<double>>(n));
+  for (std::size_t a = 0; a < n; ++a)
+    for (std::size_t b = 0; b < n && b < m[a].size(); ++b) v[a][b] = finite(m[a][b]);
+  // The unit of entry (a, b) is unit_a * unit_b.
+  std::vector<std::string> units(n);
+  for (std::size_t a = 0; a < n; ++a)
+    for (const auto& ch : r.channels)
+      if (ch.name == names[a]) {
+        units[a] = ch.unit.name;
+        break;
+      }
+  std::string s;
+  s += "<p>Sample covariance of the channels over " +
+       (r.cov_samples > 0 ? html_escape(format_num(count(r.cov_samples), 12)) + " samples" : std::string("the record")) +
+       " (the sensor noise covariance of a Kalman filter); entry (a, b) in unit<sub>a</sub>·unit<sub>b</sub>. "
+       "Beside it the correlation coefficients.</p>\n";
+  auto head = [&](std::size_t a, bool corr) {
+    return html_escape(names[a]) +
+           (corr || units[a].empty() ? "" : " <span class=\"muted\">[" + html_escape(units[a]) + "]</span>");
+  };
+  auto matrix = [&](bool corr) {
+    std::string t = "<div class=\"scroll\"><table>\n<thead><tr><th></th>";
+    for (std::size_t b = 0; b < n; ++b) t += "<th>" + head(b, corr) + "</th>";
+    t += "</tr></thead>\n<tbody>\n";
+    for (std::size_t a = 0; a < n; ++a) {
+      t += "<tr><th>" + head(a, corr) + "</th>";
+      for (std::size_t b = 0; b < n; ++b) {
+        std::optional<double> x = v[a][b];
+        if (corr && x && v[a][a] && v[b][b] && *v[a][a] > 0 && *v[b][b] > 0)
+          x = *x / std::sqrt(*v[a][a] * *v[b][b]);
+        else if (corr)
+          x.reset();
+        t += "<td class=\"num\">" + html_escape(corr ? (x ? fmt("%+.3f", *x) : "—") : (x ? fmt("%.4e", *x) : "—")) +
+             "</td>";
+      }
+      t += "</tr>\n";
+    }
+    return t + "</tbody></table></div>\n";
+  };
+  s += "<h3>Covariance</h3>\n" + matrix(false);
+  s += "<h3>Correlation</h3>\n" + matrix(true);
+  return s;
+}
+
+std::vector<ReportHtmlField> input_fields(const AnalysisResult& r) {
+  std::vector<ReportHtmlField> in;
+  auto html = [&](const std::string& label, const std::string& value_html) { in.push_back({label, value_html}); };
+  html("file", "<code>" + html_escape(r.file) + "</code>");
+  html("samples", html_escape(format_num(count(r.samples), 15)));
+  html("sampling rate", html_escape(format_num(finite(r.rate_hz), 8)) + " Hz");
+  html("duration", html_escape(duration_text(r.duration_s)));
+  const bool split = r.gaps == io::GapPolicy::split;
+  if (r.segments > 1)
+    html("gaps", html_escape(format_num(count(r.segments), 10)) +
+                     " contiguous segments: the record was split at its gaps (<code>--gaps split</code>), each "
+                     "segment analysed and the results combined");
+  else
+    html("gaps", std::string("none: one contiguous segment") +
+                     (split ? " (<code>--gaps split</code>)" : " (policy <code>--gaps error</code>: a gap stops the analysis)"));
+  std::string chans;
+  for (const auto& ch : r.channels) {
+    if (!chans.empty()) chans += ", ";
+    chans += "<code>" + html_escape(ch.name) + "</code> [" + html_escape(ch.unit.name) + ", " +
+             html_escape(std::string(to_string(ch.unit.kind))) + "]";
+  }
+  html("channels", chans);
+  bool temp = false;
+  for (const auto& ch : r.channels) temp = temp || ch.temperature.has_value();
+  html("temperature", !temp ? std::string("not analysed (no <code>--temp-col</code>)")
+                            : "column <code>" + html_escape(r.temp_name) + "</code>, regressed per channel");
+  const std::size_t model_samples = r.channels.empty() ? 0 : r.channels.front().model.samples;
+  if (model_samples > 0)
+    html("model fitted on",
+         html_escape(format_num(count(model_samples), 12)) + " samples" +
+             (r.samples > 0 && model_samples < r.samples
+                  ? " (the first ones: <code>--max-samples</code>, as the paper reduced its record to 42000)"
+                  : std::string(" (the whole record)")));
+  html("confidence of the intervals", html_escape(detail::ci_text(r.ci)));
+  return in;
+}
+
+ReportBlock html_block(std::string html) {
+  ReportBlock b;
+  b.html = std::move(html);
+  return b;
+}
+
+ReportBlock figure_block(ReportFigure f) {
+  ReportBlock b;
+  b.figures.push_back(std::move(f));
+  return b;
+}
+
+}  // namespace
+
+CommandReport analysis_report(const AnalysisResult& r, const AnalysisReportContext& ctx, const std::string& dir,
+                              const ReportOptions& options) {
+  const auto groups = detail::sensor_groups(r);
+  const std::string& file = r.file;
+  const std::string base = file.substr(file.find_last_of('/') == std::string::npos ? 0 : file.find_last_of('/') + 1);
+
+  CommandReport page;
+  page.title = "Sensor analysis: " + (base.empty() ? std::string("record") : base);
+  page.lead_html =
+      "Static characterization by <code>cubecal analyze</code>: Allan deviation with confidence "
+      "intervals, IEEE 952 noise terms, the paper's sensor model and a Gauss–Markov alternative, bias drift, "
+      "temperature dependence and covariance (Carrara, Pereira and Azevedo, “Attitude sensors calibration and "
+      "modeling for CubeSats”).";
+  page.input_html = input_fields(r);
+  page.command = ctx.command;
+  page.plot_prefixes = {"allan_", "drift_", "temperature_", "compensated_"};
+
+  std::string rep;
+  if (!ctx.command.empty())
+    rep += "<p>The analysis, as recorded in analysis.json:</p>\n<pre><code>" + html_escape(ctx.command) +
+           "</code></pre>\n";
+  else
+    rep += "<p class=\"muted\">analysis.json does not record its command.</p>\n";
+  rep += "<p>This page and its plots:</p>\n<pre><code>cubecal report " + html_escape(dir) + " --force</code></pre>\n";
+  rep += "<p>Each plot is a gnuplot script beside its data in <code>plots/</code>: edit the script (line styles "
+         "come first), run <code>gnuplot NAME.gp</code> in that directory for new SVG and PNG files, and "
+         "<code>cubecal report DIR --force --keep-scripts</code> to put the restyled plots into this page.</p>\n";
+  page.reproduce_html = rep;
+
+  ReportSection allan{"allan", "Allan deviation and noise terms", {}};
+  allan.blocks.push_back(html_block(
+      "<p>Noise terms in the units the literature quotes: for rate sensors N in °/√h, B in °/h, K in "
+      "°/h/√h; for other sensors, as the paper does for its magnetometer, N in unit·√h, B in unit, K in "
+      "unit/√h. Uncertainties are 1σ, from the confidence intervals of the curve. Hover a value for the τ range "
+      "it was read from.</p>\n"));
+  for (const auto& g : groups) {
+    ReportBlock b = html_block("<h3>" + html_escape(g.title) + "</h3>\n");
+    bool any_curve = false;
+    for (auto c : g.channels) any_curve = any_curve || !r.channels[c].noise.adev.empty();
+    if (any_curve) b.figures.push_back(detail::allan_figure(r, g));
+    allan.blocks.push_back(std::move(b));
+    allan.blocks.push_back(html_block(noise_table(r, g)));
+  }
+  page.sections.push_back(std::move(allan));
+
+  ReportSection model{"model", "Fitted sensor model and bias drift", {}};
+  model.blocks.push_back(html_block(
+      "<p>The paper's measurement model, per axis and sample k (period Δt): "
+      "w<sub>k</sub> = ω<sub>k</sub> + β + b<sub>k</sub> + σ<sub>n</sub> η<sub>k</sub>, with the bias a random walk "
+      "b<sub>k+1</sub> = b<sub>k</sub> + σ<sub>μ</sub> Δt μ<sub>k</sub> (η, μ unit Gaussian), quantized as "
+      "int(w · m<sub>lsb</sub>) / m<sub>lsb</sub>. It is fitted so that its Allan curve is tangent to the measured "
+      "white-noise arm and has the same minimum. The Gauss–Markov alternative replaces the random walk by a "
+      "bounded first-order process b<sub>k+1</sub> = φ b<sub>k</sub> + σ<sub>b</sub> √(1 − φ²) μ<sub>k</sub>, "
+      "φ = exp(−Δt / T<sub>c</sub>), fitted by weighted least squares.</p>\n" +
+      (ctx.drift_note.empty() ? std::string() : "<p class=\"muted\">" + html_escape(ctx.drift_note) + "</p>\n")));
+  for (const auto& g : groups) {
+    ReportBlock b = html_block("<h3>" + html_escape(g.title) + "</h3>\n" + model_table(r, g));
+    if (auto f = detail::drift_figure(r, g, options)) b.figures.push_back(std::move(*f));
+    model.blocks.push_back(std::move(b));
+  }
+  page.sections.push_back(std::move(model));
+
+  bool any_temp = false;
+  for (const auto& ch : r.channels) any_temp = any_temp || ch.temperature.has_value();
+  if (any_temp) {
+    ReportSection temp{"temperature", "Temperature", {}};
+    for (const auto& g : groups) {
+      bool has = false;
+      for (auto c : g.channels) has = has || r.channels[c].temperature.has_value();
+      if (!has) continue;
+      temp.blocks.push_back(html_block("<h3>" + html_escape(g.title) + "</h3>\n" + temperature_table(r, g)));
+      for (auto& f : detail::temperature_figures(r, g)) temp.blocks.push_back(figure_block(std::move(f)));
+    }
+    page.sections.push_back(std::move(temp));
+  }
+
+  ReportSection cov{"covariance", "Covariance", {}};
+  cov.blocks.push_back(html_block(covariance_html(r)));
+  page.sections.push_back(std::move(cov));
+
+  page.files_html =
+      "<p>In <code>" + html_escape(dir) +
+      "</code>: <code>analysis.json</code> (every number on this page, with units), <code>adev.csv</code> (Allan "
+      "curves with the fitted models), <code>drift.csv</code> (bias drift), and in <code>plots/</code> for each "
+      "figure its data (<code>.dat</code>), gnuplot script (<code>.gp</code>), <code>.svg</code> and "
+      "<code>.png</code>. The model curves were computed from the fitted parameters (the values of analysis.json, "
+      "as adev.csv lists them).</p>\n";
+  page.footer_html = "Written by cubecal from the analysis of " + html_escape(base.empty() ? std::string("a record") : base) +
+                     " (every number in " + html_escape(dir) +
+                     "/analysis.json). This page is self-contained: no network access, plots embedded as SVG.";
+  return page;
+}
+
+}  // namespace cubecal::report
