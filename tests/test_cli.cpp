@@ -168,6 +168,55 @@ TEST_F(Cli, DemoRunsAndKeepsForeignFiles) {
   EXPECT_EQ(s, "user data");
 }
 
+TEST_F(Cli, DemoAnalysisIsWhatItsReproduceCommandGives) {
+  // The demo analyzes the record it holds in memory; the command it prints
+  // analyzes the file it wrote: the same numbers, key for key.
+  const std::string d = (dir_ / "demo").string();
+  const Result r = run("demo --hours 2 --seed 5 --out " + d);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string tag = "Reproduce the analysis: cubecal ";
+  const auto at = r.out.find(tag);
+  ASSERT_NE(at, std::string::npos) << r.out;
+  std::string cmd = r.out.substr(at + tag.size());
+  cmd = cmd.substr(0, cmd.find('\n'));
+  const Result re = run(cmd + " --out " + (dir_ / "re").string());
+  ASSERT_EQ(re.code, 0) << re.err;
+  auto load = [](const fs::path& p) {
+    std::ifstream f(p);
+    return nlohmann::json::parse(f);
+  };
+  nlohmann::json a = load(dir_ / "demo" / "analysis.json"), b = load(dir_ / "re" / "analysis.json");
+  EXPECT_EQ(a["command"], "cubecal " + cmd);
+  a.erase("command");
+  b.erase("command");
+  EXPECT_EQ(a["channels"][0]["noise"]["arw"], b["channels"][0]["noise"]["arw"]);
+  EXPECT_TRUE(a == b) << "the demo's analysis.json and the reproduced one differ";
+  // And the page of the demo says the confidence level of its intervals.
+  std::ifstream page(dir_ / "demo" / "report.html");
+  std::stringstream html;
+  html << page.rdbuf();
+  EXPECT_NE(html.str().find("<th>confidence of the intervals</th><td>68.3 %</td>"), std::string::npos);
+}
+
+TEST_F(Cli, ReportShowsTheConfidenceLevelOfTheResult) {
+  const std::string rec = (dir_ / "c.csv").string();
+  ASSERT_EQ(run("simulate --preset sport-gyro --rate 10 --duration 1h --temp const:25 --out " + rec).code, 0);
+  const std::string out = (dir_ / "c").string();
+  const Result an = run("analyze " + rec + " --columns gx,gy,gz --unit deg/s --ci 0.95 --out " + out);
+  ASSERT_EQ(an.code, 0) << an.err;
+  std::ifstream f(dir_ / "c" / "analysis.json");
+  EXPECT_EQ(nlohmann::json::parse(f)["ci"], 0.95);
+  // cubecal report DIR reads it from analysis.json, not from the command line.
+  const Result rep = run("report " + out);
+  if (rep.code != 0 && rep.err.find("gnuplot not found") != std::string::npos) GTEST_SKIP() << "no gnuplot";
+  ASSERT_EQ(rep.code, 0) << rep.err;
+  std::ifstream page(dir_ / "c" / "report.html");
+  std::stringstream html;
+  html << page.rdbuf();
+  EXPECT_NE(html.str().find("<th>confidence of the intervals</th><td>95 %</td>"), std::string::npos);
+  EXPECT_NE(html.str().find("id=\"fig-drift_rate\""), std::string::npos) << "drift series from drift.csv";
+}
+
 TEST_F(Cli, SimulateThenAnalyzeRoundTrip) {
   // simulate writes what the readers take; analyze recovers the preset's
   // white noise; --model analysis.json simulates the measured sensor again.

@@ -1,5 +1,6 @@
-// cubecal report DIR: the results of `analyze --out DIR` as one
-// self-contained HTML page (DIR/report.html) with gnuplot plots in DIR/plots/.
+// cubecal report DIR: the results of an earlier `analyze --out DIR` (read
+// through from_json) as one self-contained HTML page (DIR/report.html) with
+// gnuplot plots in DIR/plots/.
 #include <fmt/format.h>
 
 #include <iostream>
@@ -37,7 +38,7 @@ CLI::App* add_report_command(CLI::App& app, Command& run) {
   CLI::App* cmd = app.add_subcommand(
       "report", "One self-contained HTML page (DIR/report.html) of the results `analyze --out DIR` wrote, with "
                 "gnuplot plots (data, script, SVG, PNG) in DIR/plots/");
-  cmd->add_option("DIR", opt->dir, "Directory holding analysis.json (and adev.csv, drift.csv)")->required();
+  cmd->add_option("DIR", opt->dir, "Directory holding analysis.json (and drift.csv for the drift plots)")->required();
   cmd->add_flag("--force", opt->force, "Replace an existing report.html and plots/");
   cmd->add_flag("--keep-scripts", opt->keep_scripts,
                 "Render from the existing plots/*.gp (restyled by hand) instead of writing new ones");
