@@ -9,6 +9,7 @@
 #include "common_options.hpp"
 #include "cubecal/error.hpp"
 #include "cubecal/io/series.hpp"
+#include "cubecal/pipeline/analysis_json.hpp"
 #include "cubecal/pipeline/analysis_output.hpp"
 #include "cubecal/pipeline/dev_pipeline.hpp"
 #include "output.hpp"
@@ -60,7 +61,7 @@ int run_dev_command(const DevOptions& o) {
                              "contiguous segment ({} segments) and combined\n",
                              series.irregular_intervals, res.segments);
   if (o.format == "json")
-    out << pipeline::dev_json(res, {ctx.file, ctx.ci, ctx.edf_method, ctx.intervals});
+    out << nlohmann::json(res).dump(1) << '\n';  // run_dev recorded the file and the interval options
   else if (o.format == "csv")
     write_dev_csv(out, res, ctx);
   else
