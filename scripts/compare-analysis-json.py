@@ -2,7 +2,7 @@
 """Checks that an analysis.json keeps every key path and value of a baseline
 analysis.json (written by an earlier cubecal) and lists the keys it adds.
 
-usage: compare_analysis_json.py BASELINE NEW [--ignore KEY ...]
+usage: compare-analysis-json.py BASELINE NEW [--ignore KEY ...]
 
 Key paths are dotted, with [i] for array elements. Values compare exactly
 (numbers as parsed from the files). Exit status 0 when the baseline is
