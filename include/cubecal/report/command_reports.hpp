@@ -25,6 +25,7 @@
 #include "cubecal/calib/mag_calibration.hpp"
 #include "cubecal/calib/plateaus.hpp"
 #include "cubecal/calib/rate_table.hpp"
+#include "cubecal/pipeline/calibrate_rate_table.hpp"
 #include "cubecal/pipeline/turnon.hpp"
 #include "cubecal/report/command_report.hpp"
 
@@ -69,6 +70,8 @@ std::vector<ReportFigure> rate_table_residual_figures(const PlateauDetection& fo
 
 CommandReport rate_table_report(const PlateauDetection& found, const RateTableCalibration& cal,
                                 const RateTableReportContext& ctx);
+// The page of a pipeline result; `command` is the command line as typed.
+CommandReport rate_table_report(const pipeline::RateTableResult& r, const std::string& command);
 
 // ---------------------------------------------------------------------------
 // calibrate mag

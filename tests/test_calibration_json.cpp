@@ -1,0 +1,140 @@
+// The JSON form of every calibration and runs result (pipeline/*_json.hpp):
+// from_json(to_json(r)) gives back every field of a result the pipeline
+// computed on a record, through the text the CLI prints.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "cubecal/error.hpp"
+#include "cubecal/pipeline/calibrate_rate_table.hpp"
+#include "cubecal/pipeline/calibrate_rate_table_json.hpp"
+
+namespace cubecal {
+namespace {
+
+// Through the printed text, as a later run reads it.
+template <class Result>
+Result round_trip(const Result& r) {
+  const nlohmann::json j = pipeline::to_json(r);
+  return nlohmann::json::parse(j.dump(2)).get<Result>();
+}
+
+// ---------------------------------------------------------------------------
+// calibrate rate-table
+
+// 0, +-10, +-100 deg/s about each axis, 60 s plateaus at 10 Hz with 10 s
+// ramps; the gyro sees S w + b + noise; reference columns as Series::extra.
+io::Series rate_table_series() {
+  const Mat3 S{{{1.002, 0.003, -0.001}, {0.002, 0.998, 0.004}, {-0.003, 0.001, 1.001}}};
+  const Vec3 b{0.1, -0.05, 0.02};
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> noise(0.0, 0.02);
+  io::Series s;
+  s.file = "rate_table.csv";
+  s.rate_hz = 10.0;
+  s.tau0 = 0.1;
+  s.names = {"gx", "gy", "gz"};
+  s.channels.resize(3);
+  s.extra_names = {"rx", "ry", "rz"};
+  s.extra.resize(3);
+  const auto add = [&](const Vec3& w, const Vec3& ref, int n) {
+    for (int k = 0; k < n; ++k) {
+      s.time.push_back(static_cast<double>(s.time.size()) * 0.1);
+      for (int i = 0; i < 3; ++i) {
+        s.channels[i].push_back(S[i][0] * w[0] + S[i][1] * w[1] + S[i][2] * w[2] + b[i] + noise(rng));
+        s.extra[i].push_back(ref[i]);
+      }
+    }
+  };
+  for (int axis = 0; axis < 3; ++axis)
+    for (double rate : {0.0, 10.0, -10.0, 100.0, -100.0}) {
+      Vec3 w{};
+      w[axis] = rate;
+      add(w, w, 600);
+      add({0.5 * w[0], 0.5 * w[1], 0.5 * w[2]}, {1000.0 + w[0], w[1], w[2]}, 100);
+    }
+  s.segments = {{0, s.time.size()}};
+  return s;
+}
+
+TEST(CalibrationJson, RateTableRoundTrip) {
+  pipeline::RateTableRequest req;
+  req.earth_axis = std::array<double, 3>{0.0, 0.6, 0.8};
+  const pipeline::RateTableResult r = pipeline::calibrate_rate_table(rate_table_series(), req);
+  ASSERT_EQ(r.found.plateaus.size(), 15u);
+  const pipeline::RateTableResult b = round_trip(r);
+  EXPECT_EQ(b.file, r.file);
+  EXPECT_EQ(b.unit, r.unit);
+  EXPECT_EQ(b.source, r.source);
+  EXPECT_EQ(b.earth_rate, r.earth_rate);
+  EXPECT_NE(r.earth_rate[2], 0.0);
+  ASSERT_EQ(b.found.plateaus.size(), r.found.plateaus.size());
+  for (std::size_t k = 0; k < r.found.plateaus.size(); ++k) {
+    const Plateau &p = r.found.plateaus[k], &q = b.found.plateaus[k];
+    EXPECT_EQ(q.begin, p.begin);
+    EXPECT_EQ(q.end, p.end);
+    EXPECT_EQ(q.t_begin, p.t_begin);
+    EXPECT_EQ(q.t_end, p.t_end);
+    EXPECT_EQ(q.n, p.n);
+    EXPECT_EQ(q.mean, p.mean);
+    EXPECT_EQ(q.stddev, p.stddev);
+    EXPECT_EQ(q.cov, p.cov);
+    EXPECT_EQ(q.ref, p.ref);
+    EXPECT_EQ(q.has_ref, p.has_ref);
+  }
+  EXPECT_EQ(b.found.dropped_short, r.found.dropped_short);
+  EXPECT_EQ(b.found.unmatched, r.found.unmatched);
+  EXPECT_EQ(b.found.skipped_rows, r.found.skipped_rows);
+  EXPECT_EQ(b.found.noise, r.found.noise);
+  const RateTableCalibration &c = r.calibration, &d = b.calibration;
+  EXPECT_EQ(d.plateaus, c.plateaus);
+  EXPECT_EQ(d.dof, c.dof);
+  EXPECT_EQ(d.noise_from_residuals, c.noise_from_residuals);
+  EXPECT_EQ(d.noise_cov, c.noise_cov);
+  EXPECT_EQ(d.S, c.S);
+  EXPECT_EQ(d.bias, c.bias);
+  EXPECT_EQ(d.S_sigma, c.S_sigma);
+  EXPECT_EQ(d.bias_sigma, c.bias_sigma);
+  EXPECT_EQ(d.forward_cov, c.forward_cov);
+  EXPECT_EQ(d.A, c.A);
+  EXPECT_EQ(d.beta, c.beta);
+  EXPECT_EQ(d.A_sigma, c.A_sigma);
+  EXPECT_EQ(d.beta_sigma, c.beta_sigma);
+  EXPECT_EQ(d.inverse_cov, c.inverse_cov);
+  EXPECT_EQ(d.scale_factor_error, c.scale_factor_error);
+  EXPECT_EQ(d.scale_factor_error_sigma, c.scale_factor_error_sigma);
+  EXPECT_EQ(d.misalignment, c.misalignment);
+  EXPECT_EQ(d.misalignment_sigma, c.misalignment_sigma);
+  EXPECT_EQ(d.residual_before.max_abs, c.residual_before.max_abs);
+  EXPECT_EQ(d.residual_before.rms, c.residual_before.rms);
+  EXPECT_EQ(d.residual_after.max_abs, c.residual_after.max_abs);
+  EXPECT_EQ(d.residual_after.rms, c.residual_after.rms);
+  EXPECT_EQ(d.residuals_after, c.residuals_after);
+  EXPECT_EQ(d.error_covariance, c.error_covariance);
+}
+
+TEST(CalibrationJson, RateTableErrorsByType) {
+  io::Series s = rate_table_series();
+  s.channels.pop_back();
+  try {
+    pipeline::calibrate_rate_table(s, {});
+    ADD_FAILURE() << "2 gyro channels accepted";
+  } catch (const UsageError& e) {
+    EXPECT_EQ(e.option(), "columns");
+  }
+  pipeline::RateTableRequest req;
+  req.plateaus.min_plateau_s = 1000.0;  // longer than every plateau
+  try {
+    pipeline::calibrate_rate_table(rate_table_series(), req);
+    ADD_FAILURE() << "plateaus shorter than the minimum accepted";
+  } catch (const CalibrationError& e) {
+    EXPECT_EQ(e.reason(), CalibrationReason::no_plateaus);
+  }
+}
+
+}  // namespace
+}  // namespace cubecal
