@@ -10,6 +10,8 @@
 #include <vector>
 
 #include "cubecal/error.hpp"
+#include "cubecal/pipeline/calibrate_mag.hpp"
+#include "cubecal/pipeline/calibrate_mag_json.hpp"
 #include "cubecal/pipeline/calibrate_rate_table.hpp"
 #include "cubecal/pipeline/calibrate_rate_table_json.hpp"
 
@@ -133,6 +135,122 @@ TEST(CalibrationJson, RateTableErrorsByType) {
     ADD_FAILURE() << "plateaus shorter than the minimum accepted";
   } catch (const CalibrationError& e) {
     EXPECT_EQ(e.reason(), CalibrationReason::no_plateaus);
+  }
+}
+
+// ---------------------------------------------------------------------------
+// calibrate mag
+
+// Points on an ellipsoid (soft iron, offset, noise) over the whole sphere, in
+// counts, as a table read with a field column; two outliers.
+io::Table mag_table() {
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> n01(0.0, 1.0);
+  io::Table t;
+  t.file = "mag.csv";
+  t.names = {"mx", "my", "mz"};
+  t.data.resize(3);
+  t.extra_names = {"F"};
+  t.extra.resize(1);
+  t.first_data_line = 2;
+  for (int k = 0; k < 400; ++k) {
+    Vec3 u{n01(rng), n01(rng), n01(rng)};
+    const double norm = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+    const double f = k == 17 || k == 301 ? 90.0 : 45.0;
+    const Vec3 h{1.05 * f * u[0] / norm + 0.02 * f * u[1] / norm + 3.0, 0.97 * f * u[1] / norm - 2.0,
+                 1.01 * f * u[2] / norm + 1.5};
+    for (int i = 0; i < 3; ++i) t.data[i].push_back(1000.0 * (h[i] + 0.05 * n01(rng)));
+    t.extra[0].push_back(45.0);
+  }
+  return t;
+}
+
+void expect_same(const pipeline::MagResult& b, const pipeline::MagResult& m) {
+  EXPECT_EQ(b.file, m.file);
+  EXPECT_EQ(b.unit, m.unit);
+  EXPECT_EQ(b.field_source, m.field_source);
+  EXPECT_EQ(b.first_data_line, m.first_data_line);
+  EXPECT_EQ(b.points, m.points);
+  EXPECT_EQ(b.field_norms, m.field_norms);
+  const mag::Result &r = m.calibration, &q = b.calibration;
+  EXPECT_EQ(q.method, r.method);
+  EXPECT_EQ(q.bias, r.bias);
+  EXPECT_EQ(q.bias_sigma, r.bias_sigma);
+  EXPECT_EQ(q.soft_iron, r.soft_iron);
+  EXPECT_EQ(q.soft_iron_sigma, r.soft_iron_sigma);
+  EXPECT_EQ(q.covariance, r.covariance);
+  EXPECT_EQ(q.covariance_names, r.covariance_names);
+  EXPECT_EQ(q.field_norm, r.field_norm);
+  EXPECT_EQ(q.field_norm_default, r.field_norm_default);
+  EXPECT_EQ(q.field_norm_per_point, r.field_norm_per_point);
+  EXPECT_EQ(q.semi_axes, r.semi_axes);
+  EXPECT_EQ(q.axis_ratio, r.axis_ratio);
+  for (const auto& [x, y] : {std::pair{q.before, r.before}, std::pair{q.after, r.after}}) {
+    EXPECT_EQ(x.mean, y.mean);
+    EXPECT_EQ(x.rms, y.rms);
+    EXPECT_EQ(x.max, y.max);
+  }
+  EXPECT_EQ(q.chi2, r.chi2);
+  EXPECT_EQ(q.dof, r.dof);
+  EXPECT_EQ(q.p_value, r.p_value);
+  EXPECT_EQ(q.noise, r.noise);
+  EXPECT_EQ(q.noise_estimated, r.noise_estimated);
+  EXPECT_EQ(q.iterations, r.iterations);
+  EXPECT_EQ(q.converged, r.converged);
+  EXPECT_EQ(q.eta, r.eta);
+  EXPECT_EQ(q.points_used, r.points_used);
+  EXPECT_EQ(q.points_rejected, r.points_rejected);
+  EXPECT_EQ(q.rejected, r.rejected);
+  EXPECT_EQ(q.reject_sigma, r.reject_sigma);
+  EXPECT_EQ(q.coverage.centre, r.coverage.centre);
+  EXPECT_EQ(q.coverage.centre_from_sphere_fit, r.coverage.centre_from_sphere_fit);
+  EXPECT_EQ(q.coverage.resultant, r.coverage.resultant);
+  EXPECT_EQ(q.coverage.lambda_min, r.coverage.lambda_min);
+  EXPECT_EQ(q.coverage.spread, r.coverage.spread);
+  EXPECT_EQ(q.coverage.octants, r.coverage.octants);
+  EXPECT_EQ(q.notes, r.notes);
+}
+
+TEST(CalibrationJson, MagRoundTrip) {
+  pipeline::MagRequest req;
+  req.counts_per_unit = 1000.0;
+  req.reject_sigma = 3.0;
+  req.unit = "uT";
+  const pipeline::MagResult r = pipeline::calibrate_mag(mag_table(), req);
+  EXPECT_EQ(r.calibration.rejected, (std::vector<std::size_t>{17, 301}));
+  EXPECT_FALSE(r.calibration.p_value.has_value());
+  expect_same(round_trip(r), r);
+
+  // TWOSTEP with a field per point and a given noise: the p-value and the
+  // field column travel too.
+  req.method = mag::Method::twostep_full;
+  req.field_column = true;
+  req.noise = 0.05;
+  req.reject_sigma = 0.0;
+  req.unit.clear();
+  const pipeline::MagResult t = pipeline::calibrate_mag(mag_table(), req);
+  EXPECT_TRUE(t.calibration.p_value.has_value());
+  EXPECT_EQ(t.field_source, pipeline::FieldNormSource::column);
+  EXPECT_EQ(t.field_norms.size(), 400u);
+  expect_same(round_trip(t), t);
+}
+
+TEST(CalibrationJson, MagRequestErrorsNameTheField) {
+  pipeline::MagRequest req;
+  req.counts_per_unit = 0.0;
+  try {
+    pipeline::calibrate_mag(mag_table(), req);
+    ADD_FAILURE() << "zero counts per unit accepted";
+  } catch (const UsageError& e) {
+    EXPECT_EQ(e.option(), "counts_per_unit");
+  }
+  req = {};
+  req.field_column = true;  // with the ellipsoid method
+  try {
+    pipeline::calibrate_mag(mag_table(), req);
+    ADD_FAILURE() << "a field column accepted with the ellipsoid fit";
+  } catch (const UsageError& e) {
+    EXPECT_EQ(e.option(), "field_column");
   }
 }
 

@@ -23,6 +23,12 @@ std::string usage_message(const cubecal::UsageError& e) {
       {"reference_columns", "--ref-columns"},
       {"schedule", "--schedule"},
       {"plateaus", "--margin/--min-plateau/--ref-tolerance/--window"},
+      {"mag_columns", "--columns"},
+      {"counts_per_unit", "--lsb"},
+      {"field_norm", "--field-norm"},
+      {"field_column", "--field-col"},
+      {"noise", "--noise"},
+      {"reject_sigma", "--reject"},
   };
   for (const auto& [option, flag] : kFlags)
     if (e.option() == option) return std::string(flag) + ": " + e.what();

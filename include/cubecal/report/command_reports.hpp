@@ -25,6 +25,7 @@
 #include "cubecal/calib/mag_calibration.hpp"
 #include "cubecal/calib/plateaus.hpp"
 #include "cubecal/calib/rate_table.hpp"
+#include "cubecal/pipeline/calibrate_mag.hpp"
 #include "cubecal/pipeline/calibrate_rate_table.hpp"
 #include "cubecal/pipeline/turnon.hpp"
 #include "cubecal/report/command_report.hpp"
@@ -95,5 +96,7 @@ std::vector<ReportFigure> mag_norm_error_figures(std::span<const Vec3> h, const 
                                                  const MagReportContext& ctx);
 
 CommandReport mag_report(std::span<const Vec3> h, const mag::Result& r, const MagReportContext& ctx);
+// The page of a pipeline result; `command` is the command line as typed.
+CommandReport mag_report(const pipeline::MagResult& r, const std::string& command);
 
 }  // namespace cubecal::report
