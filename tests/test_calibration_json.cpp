@@ -10,8 +10,11 @@
 #include <vector>
 
 #include "cubecal/error.hpp"
+#include "cubecal/io/delimited_reader.hpp"
 #include "cubecal/pipeline/calibrate_mag.hpp"
 #include "cubecal/pipeline/calibrate_mag_json.hpp"
+#include "cubecal/pipeline/calibrate_multiposition.hpp"
+#include "cubecal/pipeline/calibrate_multiposition_json.hpp"
 #include "cubecal/pipeline/calibrate_rate_table.hpp"
 #include "cubecal/pipeline/calibrate_rate_table_json.hpp"
 
@@ -252,6 +255,138 @@ TEST(CalibrationJson, MagRequestErrorsNameTheField) {
   } catch (const UsageError& e) {
     EXPECT_EQ(e.option(), "field_column");
   }
+}
+
+// ---------------------------------------------------------------------------
+// calibrate multiposition
+
+const std::string kXsens = std::string(CUBECAL_SHARED_DATA) + "/imu/xsens-multiposition/";
+
+pipeline::TriadSamples xsens(const std::string& name) {
+  io::TableOptions to;
+  to.columns = {"2", "3", "4"};
+  to.extra_columns = {"1"};
+  const io::Table t = io::read_table(kXsens + name, to);
+  pipeline::TriadSamples s;
+  s.file = t.file;
+  s.t = t.extra[0];
+  for (std::size_t i = 0; i < t.rows(); ++i) s.x.push_back({t.data[0][i], t.data[1][i], t.data[2][i]});
+  return s;
+}
+
+void expect_same(const multipos::TriadCalibration& b, const multipos::TriadCalibration& m) {
+  EXPECT_EQ(b.mis_yz, m.mis_yz);
+  EXPECT_EQ(b.mis_zy, m.mis_zy);
+  EXPECT_EQ(b.mis_zx, m.mis_zx);
+  EXPECT_EQ(b.mis_xz, m.mis_xz);
+  EXPECT_EQ(b.mis_xy, m.mis_xy);
+  EXPECT_EQ(b.mis_yx, m.mis_yx);
+  EXPECT_EQ(b.scale, m.scale);
+  EXPECT_EQ(b.bias, m.bias);
+}
+
+void expect_same(const multipos::Residuals& b, const multipos::Residuals& r) {
+  EXPECT_EQ(b.count, r.count);
+  EXPECT_EQ(b.cost, r.cost);
+  EXPECT_EQ(b.rms, r.rms);
+  EXPECT_EQ(b.max, r.max);
+}
+
+TEST(CalibrationJson, MultipositionRoundTrip) {
+  pipeline::MultipositionRequest req;
+  req.options.g = 9.81744;
+  req.options.acc_bias_guess = {32768.0, 32768.0, 32768.0};
+  req.options.gyro_scale_guess = 1.598e-4;
+  req.options.refine_gyro_bias = true;
+  const pipeline::MultipositionResult r =
+      pipeline::calibrate_multiposition(xsens("xsens_acc.txt"), xsens("xsens_gyro.txt"), req);
+  ASSERT_TRUE(r.gyroscope.has_value());
+  EXPECT_EQ(r.gyroscope->names.size(), 12u);
+  EXPECT_EQ(r.accelerometer.intervals.size(), 38u);
+  const pipeline::MultipositionResult b = round_trip(r);
+
+  EXPECT_EQ(b.acc_file, r.acc_file);
+  EXPECT_EQ(b.gyro_file, r.gyro_file);
+  EXPECT_EQ(b.samples, r.samples);
+  EXPECT_EQ(b.rate_hz, r.rate_hz);
+  EXPECT_EQ(b.interval_times, r.interval_times);
+  const multipos::Options &o = r.options, &p = b.options;
+  EXPECT_EQ(p.g, o.g);
+  EXPECT_EQ(p.init_static_s, o.init_static_s);
+  EXPECT_EQ(p.window, o.window);
+  EXPECT_EQ(p.interval_samples, o.interval_samples);
+  EXPECT_EQ(p.min_intervals, o.min_intervals);
+  EXPECT_EQ(p.th_mult_min, o.th_mult_min);
+  EXPECT_EQ(p.th_mult_max, o.th_mult_max);
+  EXPECT_EQ(p.acc_use_means, o.acc_use_means);
+  EXPECT_EQ(p.acc_bias_guess, o.acc_bias_guess);
+  EXPECT_EQ(p.acc_scale_guess, o.acc_scale_guess);
+  EXPECT_EQ(p.gyro_scale_guess, o.gyro_scale_guess);
+  EXPECT_EQ(p.refine_gyro_bias, o.refine_gyro_bias);
+  EXPECT_EQ(p.max_iterations, o.max_iterations);
+
+  const multipos::AccResult &a = r.accelerometer, &c = b.accelerometer;
+  expect_same(c.model, a.model);
+  expect_same(c.initial, a.initial);
+  EXPECT_EQ(c.names, a.names);
+  EXPECT_EQ(c.values, a.values);
+  EXPECT_EQ(c.sigma, a.sigma);
+  EXPECT_EQ(c.covariance, a.covariance);
+  EXPECT_EQ(c.init_samples, a.init_samples);
+  EXPECT_EQ(c.init_variance_norm, a.init_variance_norm);
+  EXPECT_EQ(c.th_mult, a.th_mult);
+  EXPECT_EQ(c.threshold, a.threshold);
+  ASSERT_EQ(c.trials.size(), a.trials.size());
+  for (std::size_t k = 0; k < a.trials.size(); ++k) {
+    EXPECT_EQ(c.trials[k].th_mult, a.trials[k].th_mult);
+    EXPECT_EQ(c.trials[k].threshold, a.trials[k].threshold);
+    EXPECT_EQ(c.trials[k].intervals, a.trials[k].intervals);
+    EXPECT_EQ(c.trials[k].fitted, a.trials[k].fitted);
+    EXPECT_EQ(c.trials[k].cost, a.trials[k].cost);
+  }
+  EXPECT_EQ(c.intervals, a.intervals);
+  expect_same(c.before, a.before);
+  expect_same(c.after, a.after);
+  EXPECT_EQ(c.sigma0, a.sigma0);
+  EXPECT_EQ(c.iterations, a.iterations);
+  EXPECT_EQ(c.converged, a.converged);
+
+  const multipos::GyroResult &g = *r.gyroscope, &h = *b.gyroscope;
+  expect_same(h.model, g.model);
+  expect_same(h.initial, g.initial);
+  EXPECT_EQ(h.names, g.names);
+  EXPECT_EQ(h.values, g.values);
+  EXPECT_EQ(h.sigma, g.sigma);
+  EXPECT_EQ(h.sigma_fit, g.sigma_fit);
+  EXPECT_EQ(h.covariance, g.covariance);
+  EXPECT_EQ(h.init_samples, g.init_samples);
+  EXPECT_EQ(h.init_bias, g.init_bias);
+  EXPECT_EQ(h.init_bias_sigma, g.init_bias_sigma);
+  EXPECT_EQ(h.bias_sigma, g.bias_sigma);
+  EXPECT_EQ(h.pairs, g.pairs);
+  expect_same(h.before, g.before);
+  expect_same(h.after, g.after);
+  EXPECT_EQ(h.angle_rms_before_deg, g.angle_rms_before_deg);
+  EXPECT_EQ(h.angle_rms_after_deg, g.angle_rms_after_deg);
+  EXPECT_EQ(h.angle_max_after_deg, g.angle_max_after_deg);
+  EXPECT_EQ(h.sigma0, g.sigma0);
+  EXPECT_EQ(h.iterations, g.iterations);
+  EXPECT_EQ(h.converged, g.converged);
+}
+
+TEST(CalibrationJson, MultipositionNeedsTimeStampsOrARate) {
+  pipeline::TriadSamples acc = xsens("xsens_acc.txt");
+  pipeline::MultipositionRequest req;
+  req.rate_hz = 100.0;  // and time stamps
+  try {
+    pipeline::calibrate_multiposition_accelerometer(acc, req);
+    ADD_FAILURE() << "time stamps and a rate accepted";
+  } catch (const UsageError& e) {
+    EXPECT_EQ(e.option(), "sampling");
+  }
+  acc.t.clear();
+  req.rate_hz = 0.0;
+  EXPECT_THROW(pipeline::calibrate_multiposition_accelerometer(acc, req), UsageError);
 }
 
 }  // namespace

@@ -29,6 +29,7 @@ std::string usage_message(const cubecal::UsageError& e) {
       {"field_column", "--field-col"},
       {"noise", "--noise"},
       {"reject_sigma", "--reject"},
+      {"sampling", "--time-col/--rate"},
   };
   for (const auto& [option, flag] : kFlags)
     if (e.option() == option) return std::string(flag) + ": " + e.what();
