@@ -3,6 +3,7 @@
 // computed on a record, through the text the CLI prints.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <random>
@@ -17,6 +18,8 @@
 #include "cubecal/pipeline/calibrate_multiposition_json.hpp"
 #include "cubecal/pipeline/calibrate_rate_table.hpp"
 #include "cubecal/pipeline/calibrate_rate_table_json.hpp"
+#include "cubecal/pipeline/calibrate_temperature.hpp"
+#include "cubecal/pipeline/calibrate_temperature_json.hpp"
 
 namespace cubecal {
 namespace {
@@ -387,6 +390,80 @@ TEST(CalibrationJson, MultipositionNeedsTimeStampsOrARate) {
   acc.t.clear();
   req.rate_hz = 0.0;
   EXPECT_THROW(pipeline::calibrate_multiposition_accelerometer(acc, req), UsageError);
+}
+
+// ---------------------------------------------------------------------------
+// calibrate temperature
+
+// Two channels with bias 0.7 and -0.2 per degC and a quadratic term, over a
+// temperature sine; white noise.
+io::Series temperature_series() {
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> noise(0.0, 0.3);
+  io::Series s;
+  s.file = "temp.csv";
+  s.rate_hz = 1.0;
+  s.tau0 = 1.0;
+  s.names = {"gx", "gy"};
+  s.channels.resize(2);
+  s.extra_names = {"temp"};
+  s.extra.resize(1);
+  for (int k = 0; k < 5000; ++k) {
+    const double T = 25.0 + 10.0 * std::sin(k / 400.0);
+    s.extra[0].push_back(T);
+    s.channels[0].push_back(3.0 + 0.7 * (T - 25.0) + 0.01 * (T - 25.0) * (T - 25.0) + noise(rng));
+    s.channels[1].push_back(-1.0 - 0.2 * (T - 25.0) + noise(rng));
+  }
+  s.segments = {{0, 5000}};
+  return s;
+}
+
+TEST(CalibrationJson, TemperatureRoundTrip) {
+  pipeline::TemperatureRequest req;
+  req.order = 2;
+  req.unit = "deg/h";
+  const pipeline::TemperatureResult r = pipeline::calibrate_temperature(temperature_series(), req);
+  ASSERT_EQ(r.channels.size(), 2u);
+  EXPECT_NEAR(r.channels[0].fit.coeff[1], 0.7, 5 * r.channels[0].fit.coeff_sigma[1]);
+  EXPECT_EQ(r.channels[0].coeff_units[2], "deg/h/degC^2");
+  const pipeline::TemperatureResult b = round_trip(r);
+  EXPECT_EQ(b.file, r.file);
+  EXPECT_EQ(b.temperature_column, r.temperature_column);
+  EXPECT_EQ(b.order, r.order);
+  EXPECT_EQ(b.unit, r.unit);
+  EXPECT_EQ(b.samples, r.samples);
+  ASSERT_EQ(b.channels.size(), r.channels.size());
+  for (std::size_t c = 0; c < r.channels.size(); ++c) {
+    EXPECT_EQ(b.channels[c].name, r.channels[c].name);
+    EXPECT_EQ(b.channels[c].coeff_units, r.channels[c].coeff_units);
+    const TemperatureFit &f = r.channels[c].fit, &g = b.channels[c].fit;
+    EXPECT_EQ(g.t_ref, f.t_ref);
+    EXPECT_EQ(g.coeff, f.coeff);
+    EXPECT_EQ(g.coeff_sigma, f.coeff_sigma);
+    EXPECT_EQ(g.cov, f.cov);
+    EXPECT_EQ(g.residual_rms, f.residual_rms);
+    EXPECT_EQ(g.r2, f.r2);
+    EXPECT_EQ(g.order, f.order);
+  }
+}
+
+TEST(CalibrationJson, TemperatureErrorsNameTheChannelOrTheField) {
+  pipeline::TemperatureRequest req;
+  req.order = 6;
+  try {
+    pipeline::calibrate_temperature(temperature_series(), req);
+    ADD_FAILURE() << "order 6 accepted";
+  } catch (const UsageError& e) {
+    EXPECT_EQ(e.option(), "polynomial_order");
+  }
+  io::Series s = temperature_series();
+  std::fill(s.extra[0].begin(), s.extra[0].end(), 20.0);
+  try {
+    pipeline::calibrate_temperature(s, {});
+    ADD_FAILURE() << "a constant temperature accepted";
+  } catch (const std::exception& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("gx: ", 0), 0u) << e.what();
+  }
 }
 
 }  // namespace

@@ -25,6 +25,7 @@
 
 #include "cli_runner.hpp"
 #include "cubecal/error.hpp"
+#include "cubecal/pipeline/calibrate_temperature.hpp"
 #include "cubecal/report/command_report.hpp"
 #include "cubecal/report/command_reports.hpp"
 #include "cubecal/report/plot.hpp"
@@ -573,6 +574,47 @@ TEST_F(CommandReports, PagesRenderInHeadlessChromium) {
         << b.dom.substr(std::min(b.dom.size(), b.dom.find("<body")), 300);
     EXPECT_NE(b.dom.find("data-image-count=\"" + std::to_string(pages[k].plots) + "\""), std::string::npos);
   }
+}
+
+// ---------------------------------------------------------------------------
+// calibrate temperature: a page of tables built from the typed result
+
+TEST(CommandReportPage, TemperaturePageFromTheTypedResult) {
+  io::Series s;
+  s.file = "/data/temp run.csv";
+  s.rate_hz = 1.0;
+  s.tau0 = 1.0;
+  s.names = {"gx", "g<y>"};
+  s.channels.resize(2);
+  s.extra_names = {"temp"};
+  s.extra.resize(1);
+  for (int k = 0; k < 2000; ++k) {
+    const double T = 20.0 + 5.0 * std::sin(k / 100.0);
+    s.extra[0].push_back(T);
+    s.channels[0].push_back(1.0 + 0.5 * (T - 20.0) + 0.01 * std::cos(k * 1.7));
+    s.channels[1].push_back(-2.0 + 0.01 * std::sin(k * 2.3));
+  }
+  s.segments = {{0, 2000}};
+  pipeline::TemperatureRequest req;
+  req.order = 2;
+  req.unit = "deg/h";
+  const pipeline::TemperatureResult t = pipeline::calibrate_temperature(s, req);
+  const report::CommandReport page = report::temperature_report(t, "cubecal calibrate temperature x");
+  EXPECT_EQ(page.title, "Temperature calibration: temp run.csv");
+  EXPECT_EQ(page.command, "cubecal calibrate temperature x");
+  ASSERT_EQ(page.sections.size(), 2u);
+  ASSERT_TRUE(page.sections[0].blocks[0].table.has_value());
+  EXPECT_EQ(page.sections[0].blocks[0].table->rows.size(), 2u);
+  ASSERT_EQ(page.sections[1].blocks.size(), 2u);  // one coefficient table per channel
+  const auto& coeffs = *page.sections[1].blocks[0].table;
+  ASSERT_EQ(coeffs.rows.size(), 3u);
+  EXPECT_EQ(coeffs.rows[1][2], "deg/h/degC");
+  EXPECT_EQ(coeffs.rows[1][1].rfind("0.5", 0), 0u) << coeffs.rows[1][1];
+  EXPECT_TRUE(report::report_plots(page).empty());
+  const std::string html = report::command_report_html(page, {});
+  EXPECT_NE(html.find("g&lt;y&gt;"), std::string::npos);
+  EXPECT_EQ(html.find("g<y>"), std::string::npos);
+  EXPECT_NE(html.find("deg/h/degC^2"), std::string::npos);
 }
 
 }  // namespace

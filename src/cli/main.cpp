@@ -30,6 +30,7 @@ std::string usage_message(const cubecal::UsageError& e) {
       {"noise", "--noise"},
       {"reject_sigma", "--reject"},
       {"sampling", "--time-col/--rate"},
+      {"polynomial_order", "--order"},
   };
   for (const auto& [option, flag] : kFlags)
     if (e.option() == option) return std::string(flag) + ": " + e.what();
