@@ -20,6 +20,8 @@
 #include "cubecal/pipeline/calibrate_rate_table_json.hpp"
 #include "cubecal/pipeline/calibrate_temperature.hpp"
 #include "cubecal/pipeline/calibrate_temperature_json.hpp"
+#include "cubecal/pipeline/turnon.hpp"
+#include "cubecal/pipeline/turnon_json.hpp"
 
 namespace cubecal {
 namespace {
@@ -464,6 +466,112 @@ TEST(CalibrationJson, TemperatureErrorsNameTheChannelOrTheField) {
   } catch (const std::exception& e) {
     EXPECT_EQ(std::string(e.what()).rfind("gx: ", 0), 0u) << e.what();
   }
+}
+
+// ---------------------------------------------------------------------------
+// turnon, compare
+
+// A run of a two-axis gyro: white noise plus a bias random walk and a
+// per-run bias, 10 Hz, 2 h (long enough for a minimum of the Allan curve).
+io::Series gyro_run(int seed, const std::string& file) {
+  std::mt19937_64 rng(static_cast<unsigned>(seed));
+  std::normal_distribution<double> n01(0.0, 1.0);
+  io::Series s;
+  s.file = file;
+  s.rate_hz = 10.0;
+  s.tau0 = 0.1;
+  s.names = {"gx", "gy"};
+  s.channels.resize(2);
+  for (int c = 0; c < 2; ++c) {
+    double walk = 0.05 * n01(rng);
+    for (int k = 0; k < 72000; ++k) {
+      walk += 2e-4 * n01(rng);
+      s.channels[c].push_back(0.3 * c + walk + 0.01 * n01(rng));
+    }
+  }
+  s.segments = {{0, 72000}};
+  return s;
+}
+
+void expect_same(const pipeline::RunSummary& b, const pipeline::RunSummary& r) {
+  EXPECT_EQ(b.file, r.file);
+  EXPECT_EQ(b.samples, r.samples);
+  EXPECT_EQ(b.rate_hz, r.rate_hz);
+  ASSERT_EQ(b.channels.size(), r.channels.size());
+  for (std::size_t c = 0; c < r.channels.size(); ++c) {
+    const pipeline::RunChannel &x = b.channels[c], &y = r.channels[c];
+    EXPECT_EQ(x.name, y.name);
+    EXPECT_EQ(x.unit.name, y.unit.name);
+    EXPECT_EQ(x.unit.kind, y.unit.kind);
+    EXPECT_EQ(x.unit.to_si, y.unit.to_si);
+    EXPECT_EQ(x.unit.si_name, y.unit.si_name);
+    EXPECT_EQ(x.mean, y.mean);
+    EXPECT_EQ(x.stddev, y.stddev);
+    ASSERT_EQ(x.adev.size(), y.adev.size());
+    for (std::size_t i = 0; i < y.adev.size(); ++i) {
+      EXPECT_EQ(x.adev[i].m, y.adev[i].m);
+      EXPECT_EQ(x.adev[i].tau, y.adev[i].tau);
+      EXPECT_EQ(x.adev[i].dev, y.adev[i].dev);
+      EXPECT_EQ(x.adev[i].n, y.adev[i].n);
+      EXPECT_EQ(x.adev[i].lo, y.adev[i].lo);
+      EXPECT_EQ(x.adev[i].hi, y.adev[i].hi);
+      EXPECT_EQ(x.adev[i].edf, y.adev[i].edf);
+      EXPECT_EQ(x.adev[i].alpha, y.adev[i].alpha);
+    }
+    const SlopeReadOffs &p = x.readoffs, &q = y.readoffs;
+    for (const auto& [t, u] : {std::pair{p.Q, q.Q}, std::pair{p.N, q.N}, std::pair{p.B, q.B}, std::pair{p.K, q.K},
+                               std::pair{p.R, q.R}}) {
+      EXPECT_EQ(t.valid, u.valid);
+      EXPECT_EQ(t.value, u.value);
+      EXPECT_EQ(t.sigma, u.sigma);
+      EXPECT_EQ(t.tau_lo, u.tau_lo);
+      EXPECT_EQ(t.tau_hi, u.tau_hi);
+    }
+    EXPECT_EQ(p.tau_min, q.tau_min);
+    EXPECT_EQ(p.tau_min_lo, q.tau_min_lo);
+    EXPECT_EQ(p.tau_min_hi, q.tau_min_hi);
+    EXPECT_EQ(p.sigma_min, q.sigma_min);
+  }
+}
+
+pipeline::AnalyzeRequest runs_request() {
+  pipeline::AnalyzeRequest req;
+  req.units = {*parse_unit("deg/s")};
+  req.grid = parse_tau_grid("log:10");
+  return req;
+}
+
+TEST(CalibrationJson, TurnOnRoundTrip) {
+  const std::vector<io::Series> runs{gyro_run(1, "run1.csv"), gyro_run(2, "run2.csv"), gyro_run(3, "run3.csv")};
+  const pipeline::TurnOnResult t = pipeline::run_turnon(runs, runs_request());
+  ASSERT_EQ(t.runs.size(), 3u);
+  ASSERT_FALSE(t.runs[0].channels[0].adev.empty());
+  EXPECT_TRUE(t.runs[0].channels[0].readoffs.N.valid);
+  const pipeline::TurnOnResult b = round_trip(t);
+  EXPECT_EQ(b.ci, t.ci);
+  EXPECT_EQ(b.names, t.names);
+  ASSERT_EQ(b.units.size(), t.units.size());
+  for (std::size_t c = 0; c < t.units.size(); ++c) {
+    EXPECT_EQ(b.units[c].name, t.units[c].name);
+    EXPECT_EQ(b.units[c].kind, t.units[c].kind);
+    EXPECT_EQ(b.units[c].to_si, t.units[c].to_si);
+    EXPECT_EQ(b.units[c].si_name, t.units[c].si_name);
+  }
+  EXPECT_EQ(b.mean_bias, t.mean_bias);
+  EXPECT_EQ(b.turn_on, t.turn_on);
+  EXPECT_EQ(b.turn_on_lo, t.turn_on_lo);
+  EXPECT_EQ(b.turn_on_hi, t.turn_on_hi);
+  ASSERT_EQ(b.runs.size(), t.runs.size());
+  for (std::size_t k = 0; k < t.runs.size(); ++k) expect_same(b.runs[k], t.runs[k]);
+}
+
+TEST(CalibrationJson, CompareRoundTrip) {
+  const std::vector<io::Series> runs{gyro_run(4, "a.csv"), gyro_run(5, "b.csv")};
+  const std::vector<pipeline::RunSummary> r = pipeline::run_compare(runs, runs_request());
+  const nlohmann::json j = nlohmann::json::parse(pipeline::to_json(r).dump(1));
+  const auto b = j.at("runs").get<std::vector<pipeline::RunSummary>>();
+  ASSERT_EQ(b.size(), 2u);
+  for (std::size_t k = 0; k < r.size(); ++k) expect_same(b[k], r[k]);
 }
 
 }  // namespace
