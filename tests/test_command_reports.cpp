@@ -25,6 +25,8 @@
 
 #include "cli_runner.hpp"
 #include "cubecal/error.hpp"
+#include "cubecal/io/delimited_reader.hpp"
+#include "cubecal/pipeline/calibrate_multiposition.hpp"
 #include "cubecal/pipeline/calibrate_temperature.hpp"
 #include "cubecal/report/command_report.hpp"
 #include "cubecal/report/command_reports.hpp"
@@ -615,6 +617,47 @@ TEST(CommandReportPage, TemperaturePageFromTheTypedResult) {
   EXPECT_NE(html.find("g&lt;y&gt;"), std::string::npos);
   EXPECT_EQ(html.find("g<y>"), std::string::npos);
   EXPECT_NE(html.find("deg/h/degC^2"), std::string::npos);
+}
+
+// ---------------------------------------------------------------------------
+// calibrate multiposition: a page of tables built from the typed result
+
+pipeline::TriadSamples xsens_triad(const std::string& name) {
+  io::TableOptions to;
+  to.columns = {"2", "3", "4"};
+  to.extra_columns = {"1"};
+  const io::Table t = io::read_table(std::string(CUBECAL_SHARED_DATA) + "/imu/xsens-multiposition/" + name, to);
+  pipeline::TriadSamples s;
+  s.file = t.file;
+  s.t = t.extra[0];
+  for (std::size_t i = 0; i < t.rows(); ++i) s.x.push_back({t.data[0][i], t.data[1][i], t.data[2][i]});
+  return s;
+}
+
+TEST(CommandReportPage, MultipositionPageFromTheTypedResult) {
+  pipeline::MultipositionRequest req;
+  req.options.g = 9.81744;
+  req.options.acc_bias_guess = {32768.0, 32768.0, 32768.0};
+  req.options.gyro_scale_guess = 1.598e-4;
+  const pipeline::MultipositionResult r =
+      pipeline::calibrate_multiposition(xsens_triad("xsens_acc.txt"), xsens_triad("xsens_gyro.txt"), req);
+  const report::CommandReport page = report::multiposition_report(r, "cubecal calibrate multiposition x");
+  EXPECT_EQ(page.title, "Multi-position calibration: xsens_acc.txt");
+  ASSERT_EQ(page.sections.size(), 3u);  // poses, accelerometer, gyroscope
+  EXPECT_EQ(page.sections[0].id, "poses");
+  ASSERT_TRUE(page.sections[0].blocks[1].table.has_value());
+  EXPECT_EQ(page.sections[0].blocks[1].table->rows.size(), r.accelerometer.intervals.size());
+  const auto& acc_params = *page.sections[1].blocks[0].table;
+  ASSERT_EQ(acc_params.rows.size(), 9u);
+  EXPECT_EQ(acc_params.rows[3][0], r.accelerometer.names[3]);
+  EXPECT_EQ(acc_params.rows[3][2], "g-unit/raw");
+  bool gyro_file = false;
+  for (const auto& f : page.input) gyro_file = gyro_file || (f.label == "gyroscope" && f.value == *r.gyro_file);
+  EXPECT_TRUE(gyro_file);
+  EXPECT_TRUE(report::report_plots(page).empty());
+  const std::string html = report::command_report_html(page, {});
+  EXPECT_NE(html.find("Tedaldi, Pretto &amp; Menegatti 2014"), std::string::npos);
+  EXPECT_NE(html.find("Gravity direction after integration"), std::string::npos);
 }
 
 }  // namespace

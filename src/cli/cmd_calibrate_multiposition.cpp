@@ -19,7 +19,9 @@
 #include "cubecal/pipeline/calibrate_multiposition_json.hpp"
 #include "cubecal/io/delimited_reader.hpp"
 #include "cubecal/error.hpp"
+#include "cubecal/report/command_reports.hpp"
 #include "output.hpp"
+#include "report_option.hpp"
 
 namespace cubecal::cli {
 
@@ -49,6 +51,7 @@ struct MultiposCliOptions {
   std::string out;
   bool force = false;
   unsigned threads = 0;
+  std::string report;  // --report DIR
 };
 
 // Reads one file: the given columns (3 or 6), split into triads, and the time
@@ -185,6 +188,7 @@ int run_calibrate_multiposition(const MultiposCliOptions& o) {
   req.rate_hz = o.rate_hz;
 
   ResultOutput result(o.out, o.force);  // refuses an existing file before the work
+  check_report_option(o.report, o.force);
   const HintContext hints{CalibrationCommand::multiposition};
   pipeline::MultipositionResult r = with_calibration_hints(
       o.acc_file, hints, [&] { return pipeline::calibrate_multiposition_accelerometer(acc, req); });
@@ -200,6 +204,7 @@ int run_calibrate_multiposition(const MultiposCliOptions& o) {
     print_table(out, r);
   }
   result.finish();
+  if (!o.report.empty()) write_report_option(report::multiposition_report(r, invocation()), o.report);
   return 0;
 }
 
@@ -258,7 +263,8 @@ CLI::App* add_calibrate_multiposition_command(CLI::App& calibrate, Command& run)
       ->check(CLI::IsMember({"table", "json"}))
       ->capture_default_str();
   cmd->add_option("--out", opt->out, "Write the result to this file");
-  cmd->add_flag("--force", opt->force, "Replace --out if it exists");
+  cmd->add_flag("--force", opt->force, "Replace --out and the --report files if they exist");
+  add_report_option(*cmd, opt->report);
   cmd->add_option("--threads", opt->threads, "Reader threads (default: all cores)");
   cmd->callback([opt, &run] { run = [opt] { return run_calibrate_multiposition(*opt); }; });
   return cmd;

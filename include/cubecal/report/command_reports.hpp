@@ -27,6 +27,7 @@
 #include "cubecal/calib/plateaus.hpp"
 #include "cubecal/calib/rate_table.hpp"
 #include "cubecal/pipeline/calibrate_mag.hpp"
+#include "cubecal/pipeline/calibrate_multiposition.hpp"
 #include "cubecal/pipeline/calibrate_rate_table.hpp"
 #include "cubecal/pipeline/calibrate_temperature.hpp"
 #include "cubecal/pipeline/turnon.hpp"
@@ -105,5 +106,11 @@ CommandReport mag_report(const pipeline::MagResult& r, const std::string& comman
 // calibrate temperature (tables only: the fit per channel, the coefficients)
 
 CommandReport temperature_report(const pipeline::TemperatureResult& r, const std::string& command);
+
+// ---------------------------------------------------------------------------
+// calibrate multiposition (tables only: the poses, each triad's parameters
+// and residuals)
+
+CommandReport multiposition_report(const pipeline::MultipositionResult& r, const std::string& command);
 
 }  // namespace cubecal::report
