@@ -480,6 +480,46 @@ TEST_F(CommandReports, MagnetometerPointsBeforeAndAfterCalibration) {
   EXPECT_EQ(dat_block(ne, 3).size(), 3u);
 }
 
+// A page of tables only: report.html, complete and self-contained, no plots.
+std::string expect_table_page(const fs::path& dir) {
+  EXPECT_TRUE(fs::exists(dir / "report.html")) << dir;
+  EXPECT_FALSE(fs::exists(dir / "report.html.partial"));
+  const std::string html = slurp(dir / "report.html");
+  EXPECT_EQ(html.rfind("<!DOCTYPE html>", 0), 0u);
+  for (const char* bad : {"http://", "https://", "<link", "<img", "<script src"}) EXPECT_EQ(html.find(bad), std::string::npos) << bad;
+  return html;
+}
+
+TEST_F(CommandReports, TemperatureAndMultipositionPagesFromTheCli) {
+  REQUIRE_GNUPLOT();
+  const fs::path mag = root_ / "mag_temp.csv";
+  ASSERT_EQ(run_cubecal("simulate --preset sport-mag --rate 1 --duration 2h --temp sine:25,10,3600 --seed 3 --out " +
+                        q(mag))
+                .code,
+            0);
+  const fs::path dt = root_ / "temperature";
+  const auto t = run_cubecal("calibrate temperature " + q(mag) + " --columns mx,my,mz --temp-col temp --unit mGauss " +
+                             "--format json --report " + q(dt));
+  ASSERT_EQ(t.code, 0) << t.err;
+  EXPECT_EQ(nlohmann::json::parse(t.out)["channels"].size(), 3u) << "the JSON still goes to standard output";
+  const std::string tp = expect_table_page(dt);
+  EXPECT_NE(tp.find("Temperature calibration: mag_temp.csv"), std::string::npos);
+  EXPECT_NE(tp.find("mGauss/degC"), std::string::npos);
+  const auto again = run_cubecal("calibrate temperature " + q(mag) + " --columns mx,my,mz --temp-col temp --report " +
+                                 q(dt));
+  EXPECT_TRUE(one_error_line(again)) << again.err;
+  EXPECT_TRUE(again.out.empty()) << "refused before the work";
+
+  const std::string xsens = std::string(CUBECAL_SHARED_DATA) + "/imu/xsens-multiposition/";
+  const fs::path dm = root_ / "multiposition";
+  const auto m = run_cubecal("calibrate multiposition " + xsens + "xsens_acc.txt --acc-columns 2,3,4 --time-col 1 "
+                             "--g 9.81744 --acc-bias 32768 --report " + q(dm));
+  ASSERT_EQ(m.code, 0) << m.err;
+  const std::string mp = expect_table_page(dm);
+  EXPECT_NE(mp.find("Static poses"), std::string::npos);
+  EXPECT_EQ(mp.find("Gravity direction after integration"), std::string::npos) << "no gyroscope given";
+}
+
 TEST_F(CommandReports, NeverReplacesAReportWithoutForce) {
   REQUIRE_GNUPLOT();
   const fs::path d = root_ / "replace";
