@@ -25,6 +25,9 @@
 
 #include "cli_runner.hpp"
 #include "cubecal/error.hpp"
+#include "cubecal/io/delimited_reader.hpp"
+#include "cubecal/pipeline/calibrate_multiposition.hpp"
+#include "cubecal/pipeline/calibrate_temperature.hpp"
 #include "cubecal/report/command_report.hpp"
 #include "cubecal/report/command_reports.hpp"
 #include "cubecal/report/plot.hpp"
@@ -477,6 +480,46 @@ TEST_F(CommandReports, MagnetometerPointsBeforeAndAfterCalibration) {
   EXPECT_EQ(dat_block(ne, 3).size(), 3u);
 }
 
+// A page of tables only: report.html, complete and self-contained, no plots.
+std::string expect_table_page(const fs::path& dir) {
+  EXPECT_TRUE(fs::exists(dir / "report.html")) << dir;
+  EXPECT_FALSE(fs::exists(dir / "report.html.partial"));
+  const std::string html = slurp(dir / "report.html");
+  EXPECT_EQ(html.rfind("<!DOCTYPE html>", 0), 0u);
+  for (const char* bad : {"http://", "https://", "<link", "<img", "<script src"}) EXPECT_EQ(html.find(bad), std::string::npos) << bad;
+  return html;
+}
+
+TEST_F(CommandReports, TemperatureAndMultipositionPagesFromTheCli) {
+  REQUIRE_GNUPLOT();
+  const fs::path mag = root_ / "mag_temp.csv";
+  ASSERT_EQ(run_cubecal("simulate --preset sport-mag --rate 1 --duration 2h --temp sine:25,10,3600 --seed 3 --out " +
+                        q(mag))
+                .code,
+            0);
+  const fs::path dt = root_ / "temperature";
+  const auto t = run_cubecal("calibrate temperature " + q(mag) + " --columns mx,my,mz --temp-col temp --unit mGauss " +
+                             "--format json --report " + q(dt));
+  ASSERT_EQ(t.code, 0) << t.err;
+  EXPECT_EQ(nlohmann::json::parse(t.out)["channels"].size(), 3u) << "the JSON still goes to standard output";
+  const std::string tp = expect_table_page(dt);
+  EXPECT_NE(tp.find("Temperature calibration: mag_temp.csv"), std::string::npos);
+  EXPECT_NE(tp.find("mGauss/degC"), std::string::npos);
+  const auto again = run_cubecal("calibrate temperature " + q(mag) + " --columns mx,my,mz --temp-col temp --report " +
+                                 q(dt));
+  EXPECT_TRUE(one_error_line(again)) << again.err;
+  EXPECT_TRUE(again.out.empty()) << "refused before the work";
+
+  const std::string xsens = std::string(CUBECAL_SHARED_DATA) + "/imu/xsens-multiposition/";
+  const fs::path dm = root_ / "multiposition";
+  const auto m = run_cubecal("calibrate multiposition " + xsens + "xsens_acc.txt --acc-columns 2,3,4 --time-col 1 "
+                             "--g 9.81744 --acc-bias 32768 --report " + q(dm));
+  ASSERT_EQ(m.code, 0) << m.err;
+  const std::string mp = expect_table_page(dm);
+  EXPECT_NE(mp.find("Static poses"), std::string::npos);
+  EXPECT_EQ(mp.find("Gravity direction after integration"), std::string::npos) << "no gyroscope given";
+}
+
 TEST_F(CommandReports, NeverReplacesAReportWithoutForce) {
   REQUIRE_GNUPLOT();
   const fs::path d = root_ / "replace";
@@ -573,6 +616,88 @@ TEST_F(CommandReports, PagesRenderInHeadlessChromium) {
         << b.dom.substr(std::min(b.dom.size(), b.dom.find("<body")), 300);
     EXPECT_NE(b.dom.find("data-image-count=\"" + std::to_string(pages[k].plots) + "\""), std::string::npos);
   }
+}
+
+// ---------------------------------------------------------------------------
+// calibrate temperature: a page of tables built from the typed result
+
+TEST(CommandReportPage, TemperaturePageFromTheTypedResult) {
+  io::Series s;
+  s.file = "/data/temp run.csv";
+  s.rate_hz = 1.0;
+  s.tau0 = 1.0;
+  s.names = {"gx", "g<y>"};
+  s.channels.resize(2);
+  s.extra_names = {"temp"};
+  s.extra.resize(1);
+  for (int k = 0; k < 2000; ++k) {
+    const double T = 20.0 + 5.0 * std::sin(k / 100.0);
+    s.extra[0].push_back(T);
+    s.channels[0].push_back(1.0 + 0.5 * (T - 20.0) + 0.01 * std::cos(k * 1.7));
+    s.channels[1].push_back(-2.0 + 0.01 * std::sin(k * 2.3));
+  }
+  s.segments = {{0, 2000}};
+  pipeline::TemperatureRequest req;
+  req.order = 2;
+  req.unit = "deg/h";
+  const pipeline::TemperatureResult t = pipeline::calibrate_temperature(s, req);
+  const report::CommandReport page = report::temperature_report(t, "cubecal calibrate temperature x");
+  EXPECT_EQ(page.title, "Temperature calibration: temp run.csv");
+  EXPECT_EQ(page.command, "cubecal calibrate temperature x");
+  ASSERT_EQ(page.sections.size(), 2u);
+  ASSERT_TRUE(page.sections[0].blocks[0].table.has_value());
+  EXPECT_EQ(page.sections[0].blocks[0].table->rows.size(), 2u);
+  ASSERT_EQ(page.sections[1].blocks.size(), 2u);  // one coefficient table per channel
+  const auto& coeffs = *page.sections[1].blocks[0].table;
+  ASSERT_EQ(coeffs.rows.size(), 3u);
+  EXPECT_EQ(coeffs.rows[1][2], "deg/h/degC");
+  EXPECT_EQ(coeffs.rows[1][1].rfind("0.5", 0), 0u) << coeffs.rows[1][1];
+  EXPECT_TRUE(report::report_plots(page).empty());
+  const std::string html = report::command_report_html(page, {});
+  EXPECT_NE(html.find("g&lt;y&gt;"), std::string::npos);
+  EXPECT_EQ(html.find("g<y>"), std::string::npos);
+  EXPECT_NE(html.find("deg/h/degC^2"), std::string::npos);
+}
+
+// ---------------------------------------------------------------------------
+// calibrate multiposition: a page of tables built from the typed result
+
+pipeline::TriadSamples xsens_triad(const std::string& name) {
+  io::TableOptions to;
+  to.columns = {"2", "3", "4"};
+  to.extra_columns = {"1"};
+  const io::Table t = io::read_table(std::string(CUBECAL_SHARED_DATA) + "/imu/xsens-multiposition/" + name, to);
+  pipeline::TriadSamples s;
+  s.file = t.file;
+  s.t = t.extra[0];
+  for (std::size_t i = 0; i < t.rows(); ++i) s.x.push_back({t.data[0][i], t.data[1][i], t.data[2][i]});
+  return s;
+}
+
+TEST(CommandReportPage, MultipositionPageFromTheTypedResult) {
+  pipeline::MultipositionRequest req;
+  req.options.g = 9.81744;
+  req.options.acc_bias_guess = {32768.0, 32768.0, 32768.0};
+  req.options.gyro_scale_guess = 1.598e-4;
+  const pipeline::MultipositionResult r =
+      pipeline::calibrate_multiposition(xsens_triad("xsens_acc.txt"), xsens_triad("xsens_gyro.txt"), req);
+  const report::CommandReport page = report::multiposition_report(r, "cubecal calibrate multiposition x");
+  EXPECT_EQ(page.title, "Multi-position calibration: xsens_acc.txt");
+  ASSERT_EQ(page.sections.size(), 3u);  // poses, accelerometer, gyroscope
+  EXPECT_EQ(page.sections[0].id, "poses");
+  ASSERT_TRUE(page.sections[0].blocks[1].table.has_value());
+  EXPECT_EQ(page.sections[0].blocks[1].table->rows.size(), r.accelerometer.intervals.size());
+  const auto& acc_params = *page.sections[1].blocks[0].table;
+  ASSERT_EQ(acc_params.rows.size(), 9u);
+  EXPECT_EQ(acc_params.rows[3][0], r.accelerometer.names[3]);
+  EXPECT_EQ(acc_params.rows[3][2], "g-unit/raw");
+  bool gyro_file = false;
+  for (const auto& f : page.input) gyro_file = gyro_file || (f.label == "gyroscope" && f.value == *r.gyro_file);
+  EXPECT_TRUE(gyro_file);
+  EXPECT_TRUE(report::report_plots(page).empty());
+  const std::string html = report::command_report_html(page, {});
+  EXPECT_NE(html.find("Tedaldi, Pretto &amp; Menegatti 2014"), std::string::npos);
+  EXPECT_NE(html.find("Gravity direction after integration"), std::string::npos);
 }
 
 }  // namespace

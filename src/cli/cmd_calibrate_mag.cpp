@@ -13,7 +13,10 @@
 
 #include "commands.hpp"
 #include "common_options.hpp"
+#include "calibration_hints.hpp"
 #include "cubecal/calib/mag_calibration.hpp"
+#include "cubecal/pipeline/calibrate_mag.hpp"
+#include "cubecal/pipeline/calibrate_mag_json.hpp"
 #include "cubecal/io/delimited_reader.hpp"
 #include "cubecal/error.hpp"
 #include "cubecal/report/command_reports.hpp"
@@ -54,68 +57,15 @@ const char* method_text(mag::Method m) {
   return "";
 }
 
-struct Context {
-  std::string file;
-  std::string unit;
-  std::string field_source;  // "given", "mean_raw_norm", "column"
-  std::size_t points_total = 0;
-  std::size_t first_data_line = 0;
-};
-
-nlohmann::json norm_json(const mag::NormError& e, const std::string& unit) {
-  return {{"mean", e.mean}, {"rms", e.rms}, {"max", e.max}, {"unit", unit}};
-}
-
-nlohmann::json result_json(const mag::Result& r, const Context& ctx) {
-  nlohmann::json j;
-  j["file"] = ctx.file;
-  j["invocation"] = invocation();
-  j["method"] = std::string(mag::to_string(r.method));
-  j["model"] = "h_cal = soft_iron * (h - bias), |h_cal| = field_norm";
-  j["unit"] = ctx.unit;
-  j["bias"] = r.bias;
-  j["bias_sigma"] = r.bias_sigma;
-  j["soft_iron"] = r.soft_iron;
-  j["soft_iron_sigma"] = r.soft_iron_sigma;
-  j["soft_iron_unit"] = "1";
-  j["field_norm"] = r.field_norm;
-  j["field_norm_source"] = ctx.field_source;
-  j["norm_error_before"] = norm_json(r.before, ctx.unit);
-  j["norm_error_after"] = norm_json(r.after, ctx.unit);
-  j["chi2"] = r.chi2;
-  j["dof"] = r.dof;
-  j["p_value"] = r.p_value ? nlohmann::json(*r.p_value) : nlohmann::json(nullptr);
-  j["noise"] = r.noise;
-  j["noise_estimated"] = r.noise_estimated;
-  j["points"] = r.points_used;
-  j["points_total"] = ctx.points_total;
-  j["rejected"] = r.points_rejected;
-  j["reject_sigma"] = r.reject_sigma;
-  nlohmann::json lines = nlohmann::json::array();
-  for (std::size_t k : r.rejected) lines.push_back(ctx.first_data_line + k);
-  j["rejected_lines"] = lines;
-  j["iterations"] = r.iterations;
-  j["converged"] = r.converged;
-  j["semi_axes"] = r.semi_axes;
-  j["axis_ratio"] = r.axis_ratio;
-  j["coverage"] = {{"centre", r.coverage.centre},
-                   {"resultant", r.coverage.resultant},
-                   {"lambda_min", r.coverage.lambda_min},
-                   {"spread", r.coverage.spread},
-                   {"octants", r.coverage.octants}};
-  j["covariance"] = {{"names", r.covariance_names}, {"matrix", r.covariance}};
-  j["notes"] = r.notes;
-  return j;
-}
-
-void print_table(std::ostream& out, const mag::Result& r, const Context& ctx) {
-  const std::string u = ctx.unit == "input units" ? std::string() : ctx.unit;
-  fmt::print(out, "{}: {} points used of {}", ctx.file, r.points_used, ctx.points_total);
+void print_table(std::ostream& out, const pipeline::MagResult& m) {
+  const mag::Result& r = m.calibration;
+  const std::string u = m.unit == "input units" ? std::string() : m.unit;
+  fmt::print(out, "{}: {} points used of {}", m.file, r.points_used, m.points.size());
   if (r.points_rejected > 0) fmt::print(out, " ({} rejected at {:g} sigma)", r.points_rejected, r.reject_sigma);
   fmt::print(out, "\nmethod     {}\n", method_text(r.method));
   fmt::print(out, "field norm {:.6g} {} ({})\n", r.field_norm, u,
-             ctx.field_source == "given"    ? "given"
-             : ctx.field_source == "column" ? "mean of the field-norm column"
+             m.field_source == pipeline::FieldNormSource::given    ? "given"
+             : m.field_source == pipeline::FieldNormSource::column ? "mean of the field-norm column"
                                             : "mean raw |h|, Magneto's default: give --field-norm for an absolute scale");
   const bool bias_only = r.method == mag::Method::twostep;
   fmt::print(out, "\ncalibration  h_cal = A^-1 (h - b), 1-sigma{}\n", bias_only ? "; A^-1 = I (bias only)" : "");
@@ -181,52 +131,34 @@ int run_calibrate_mag(const MagCliOptions& o) {
   const io::Table t = io::read_table(o.file, to);
   if (t.data.size() != 3)
     throw UsageError(o.file + " has " + std::to_string(t.data.size()) +
-                         " data columns: name the 3 magnetometer columns with --columns mx,my,mz");
-  std::vector<Vec3> h(t.rows());
-  for (std::size_t i = 0; i < h.size(); ++i)
-    h[i] = {t.data[0][i] / o.lsb, t.data[1][i] / o.lsb, t.data[2][i] / o.lsb};
+                     " data columns: name the 3 magnetometer columns with --columns mx,my,mz");
 
-  mag::Options opt;
-  opt.method = *method;
-  opt.field_norm = o.field_norm_given ? o.field_norm : 0.0;
-  if (!o.field_col.empty()) opt.field_norms = t.extra[0];
-  opt.noise = o.noise_given ? o.noise : 0.0;
-  opt.reject_sigma = o.reject;
-  opt.check_coverage = !o.partial;
+  pipeline::MagRequest req;
+  req.method = *method;
+  req.counts_per_unit = o.lsb;
+  if (o.field_norm_given) req.field_norm = o.field_norm;
+  req.field_column = !o.field_col.empty();
+  if (o.noise_given) req.noise = o.noise;
+  req.reject_sigma = o.reject;
+  req.allow_partial = o.partial;
+  req.unit = o.unit;
 
-  Context ctx;
-  ctx.file = o.file;
-  ctx.unit = o.unit.empty() ? std::string("input units") : o.unit;
-  ctx.field_source = !o.field_col.empty() ? "column" : o.field_norm_given ? "given" : "mean_raw_norm";
-  ctx.points_total = h.size();
-  ctx.first_data_line = t.first_data_line;
-
-  mag::Result r;
-  try {
-    r = mag::calibrate(h, opt);
-  } catch (const std::invalid_argument& e) {
-    const std::string what = e.what();
-    std::string hint;
-    if (what.find("do not cover the sphere") != std::string::npos)
-      hint = *method == mag::Method::twostep
-                 ? "add --allow-partial to fit anyway"
-                 : "add --allow-partial to fit anyway and judge the uncertainties, or use --method twostep";
-    else if (what.find("field norm") != std::string::npos && !o.field_col.empty())
-      hint = "check --field-col";
-    throw InputError(o.file, 0, 0, what, hint);
-  }
+  HintContext hints;
+  hints.command = CalibrationCommand::mag;
+  hints.bias_only = *method == mag::Method::twostep;
+  hints.field_col = req.field_column;
+  const pipeline::MagResult r = with_calibration_hints(o.file, hints, [&] { return pipeline::calibrate_mag(t, req); });
 
   std::ostream& out = result.stream();
-  if (o.format == "json")
-    out << result_json(r, ctx).dump(2) << '\n';
-  else
-    print_table(out, r, ctx);
+  if (o.format == "json") {
+    nlohmann::json j = pipeline::to_json(r);
+    j["invocation"] = invocation();
+    out << j.dump(2) << '\n';
+  } else {
+    print_table(out, r);
+  }
   result.finish();
-  if (!o.report.empty())
-    write_report_option(report::mag_report(h, r,
-                                           {invocation(), o.file, o.unit, ctx.field_source, opt.field_norms,
-                                            ctx.first_data_line}),
-                        o.report);
+  if (!o.report.empty()) write_report_option(report::mag_report(r, invocation()), o.report);
   return 0;
 }
 

@@ -13,10 +13,15 @@
 
 #include "commands.hpp"
 #include "common_options.hpp"
+#include "calibration_hints.hpp"
 #include "cubecal/calib/multiposition.hpp"
+#include "cubecal/pipeline/calibrate_multiposition.hpp"
+#include "cubecal/pipeline/calibrate_multiposition_json.hpp"
 #include "cubecal/io/delimited_reader.hpp"
 #include "cubecal/error.hpp"
+#include "cubecal/report/command_reports.hpp"
 #include "output.hpp"
+#include "report_option.hpp"
 
 namespace cubecal::cli {
 
@@ -46,17 +51,12 @@ struct MultiposCliOptions {
   std::string out;
   bool force = false;
   unsigned threads = 0;
-};
-
-struct Triads {
-  std::vector<double> t;
-  std::vector<Vec3> x;
-  std::vector<std::string> names;
+  std::string report;  // --report DIR
 };
 
 // Reads one file: the given columns (3 or 6), split into triads, and the time
 // column when asked. Time stamps must increase (FILE:LINE:COL otherwise).
-std::vector<Triads> read_triads(const std::string& path, const std::vector<std::string>& columns,
+std::vector<pipeline::TriadSamples> read_triads(const std::string& path, const std::vector<std::string>& columns,
                                 const MultiposCliOptions& o, const char* what_columns) {
   io::TableOptions to;
   to.columns = columns;
@@ -78,124 +78,16 @@ std::vector<Triads> read_triads(const std::string& path, const std::vector<std::
                              "check --time-col");
       }
   }
-  std::vector<Triads> out(want / 3);
+  std::vector<pipeline::TriadSamples> out(want / 3);
   for (std::size_t k = 0; k < out.size(); ++k) {
-    Triads& tr = out[k];
+    pipeline::TriadSamples& tr = out[k];
+    tr.file = path;
     if (!o.time_col.empty()) tr.t = tab.extra[0];
     tr.x.resize(tab.rows());
     for (std::size_t i = 0; i < tab.rows(); ++i)
       tr.x[i] = {tab.data[3 * k][i], tab.data[3 * k + 1][i], tab.data[3 * k + 2][i]};
-    tr.names = {tab.names[3 * k], tab.names[3 * k + 1], tab.names[3 * k + 2]};
   }
   return out;
-}
-
-double mean_rate(const Triads& t, double rate) {
-  if (t.t.size() < 2) return rate;
-  return static_cast<double>(t.t.size() - 1) / (t.t.back() - t.t.front());
-}
-
-nlohmann::json residuals_json(const mp::Residuals& r) {
-  return {{"count", r.count}, {"cost", r.cost}, {"rms", r.rms}, {"max", r.max}};
-}
-
-nlohmann::json params_json(const std::vector<std::string>& names, const std::vector<double>& v,
-                           const std::vector<double>& s, const std::vector<std::string>& units) {
-  nlohmann::json a = nlohmann::json::array();
-  for (std::size_t i = 0; i < names.size(); ++i)
-    a.push_back({{"name", names[i]}, {"value", v[i]}, {"sigma", s[i]}, {"unit", units[i]}});
-  return a;
-}
-
-nlohmann::json model_json(const mp::TriadCalibration& m) {
-  return {{"T", m.misalignment()}, {"K", m.scale}, {"B", m.bias}, {"TK", m.matrix()}};
-}
-
-std::vector<std::string> acc_units() {
-  return {"rad", "rad", "rad", "g-unit/raw", "g-unit/raw", "g-unit/raw", "raw", "raw", "raw"};
-}
-std::vector<std::string> gyro_units(std::size_t n) {
-  std::vector<std::string> u{"rad", "rad", "rad", "rad", "rad", "rad", "rad/s/raw", "rad/s/raw", "rad/s/raw"};
-  if (n == 12) u.insert(u.end(), {"raw", "raw", "raw"});
-  return u;
-}
-
-struct Context {
-  std::string acc_file, gyro_file;
-  std::size_t samples = 0;
-  double rate = 0.0;
-  bool gyro = false;
-};
-
-nlohmann::json result_json(const mp::AccResult& a, const std::optional<mp::GyroResult>& g, const Context& ctx,
-                           const mp::Options& opt, const std::vector<double>& ta) {
-  nlohmann::json j;
-  j["method"] = "multi-position calibration without a turntable (Tedaldi, Pretto & Menegatti 2014)";
-  j["invocation"] = invocation();
-  j["acc_file"] = ctx.acc_file;
-  j["gyro_file"] = ctx.gyro ? nlohmann::json(ctx.gyro_file) : nlohmann::json(nullptr);
-  j["model"] = "X' = T K (X - B); T = [[1, -mis_yz, mis_zy], [mis_xz, 1, -mis_zx], [-mis_xy, mis_yx, 1]]";
-  j["samples"] = ctx.samples;
-  j["rate_hz"] = ctx.rate;
-  j["g"] = opt.g;
-  j["init_static_s"] = opt.init_static_s;
-  j["window"] = mp::normalised_window(opt.window);
-  j["interval_samples"] = opt.interval_samples;
-  j["min_intervals"] = opt.min_intervals;
-  j["th_mult"] = a.th_mult;
-  j["threshold"] = a.threshold;
-  j["init_variance_norm"] = a.init_variance_norm;
-  j["static_intervals"] = a.intervals.size();
-  nlohmann::json iv = nlohmann::json::array();
-  for (const IndexRange& i : a.intervals)
-    iv.push_back({{"begin", i.begin}, {"end", i.end}, {"t_begin", ta[i.begin]}, {"t_end", ta[i.end]}});
-  j["intervals"] = iv;
-  nlohmann::json trials = nlohmann::json::array();
-  for (const mp::Trial& t : a.trials)
-    trials.push_back({{"th_mult", t.th_mult},
-                      {"threshold", t.threshold},
-                      {"intervals", t.intervals},
-                      {"fitted", t.fitted},
-                      {"cost", t.fitted ? nlohmann::json(t.cost) : nlohmann::json(nullptr)}});
-  j["trials"] = trials;
-  nlohmann::json ja;
-  ja["parameters"] = params_json(a.names, a.values, a.sigma, acc_units());
-  ja["covariance"] = {{"names", a.names}, {"matrix", a.covariance}};
-  ja["model"] = model_json(a.model);
-  ja["initial"] = model_json(a.initial);
-  ja["residual"] = "g - |T K (a - B)|";
-  ja["before"] = residuals_json(a.before);
-  ja["after"] = residuals_json(a.after);
-  ja["sigma0"] = a.sigma0;
-  ja["iterations"] = a.iterations;
-  ja["converged"] = a.converged;
-  j["accelerometer"] = ja;
-  if (g) {
-    nlohmann::json jg;
-    jg["parameters"] = params_json(g->names, g->values, g->sigma, gyro_units(g->names.size()));
-    jg["sigma_fit"] = g->sigma_fit;
-    jg["covariance"] = {{"names", g->names}, {"matrix", g->covariance}};
-    jg["model"] = model_json(g->model);
-    jg["initial"] = model_json(g->initial);
-    jg["init_bias"] = g->init_bias;
-    jg["init_bias_sigma"] = g->init_bias_sigma;
-    jg["bias_sigma"] = g->bias_sigma;
-    jg["init_samples"] = g->init_samples;
-    jg["residual"] = "R^-1 u_{k-1} - u_k";
-    jg["pairs"] = g->pairs;
-    jg["before"] = residuals_json(g->before);
-    jg["after"] = residuals_json(g->after);
-    jg["angle_rms_before_deg"] = g->angle_rms_before_deg;
-    jg["angle_rms_after_deg"] = g->angle_rms_after_deg;
-    jg["angle_max_after_deg"] = g->angle_max_after_deg;
-    jg["sigma0"] = g->sigma0;
-    jg["iterations"] = g->iterations;
-    jg["converged"] = g->converged;
-    j["gyroscope"] = jg;
-  } else {
-    j["gyroscope"] = nullptr;
-  }
-  return j;
 }
 
 void print_params(std::ostream& out, const std::vector<std::string>& names, const std::vector<double>& v,
@@ -209,14 +101,16 @@ void print_matrix(std::ostream& out, const char* label, const Mat3& m) {
     fmt::print(out, "  {:<4} [{:>13.6g} {:>13.6g} {:>13.6g}]\n", i == 1 ? label : "", m[i][0], m[i][1], m[i][2]);
 }
 
-void print_table(std::ostream& out, const mp::AccResult& a, const std::optional<mp::GyroResult>& g, const Context& ctx,
-                 const mp::Options& opt) {
+void print_table(std::ostream& out, const pipeline::MultipositionResult& r) {
+  const mp::AccResult& a = r.accelerometer;
+  const auto& g = r.gyroscope;
+  const mp::Options& opt = r.options;
   fmt::print(out, "Multi-position calibration without a turntable (Tedaldi, Pretto & Menegatti 2014)\n");
-  fmt::print(out, "accelerometer {}{}\n", ctx.acc_file,
-             ctx.gyro ? fmt::format(", gyroscope {}", ctx.gyro_file == ctx.acc_file ? "(same file)" : ctx.gyro_file)
-                      : std::string());
+  fmt::print(out, "accelerometer {}{}\n", r.acc_file,
+             r.gyro_file ? fmt::format(", gyroscope {}", *r.gyro_file == r.acc_file ? "(same file)" : *r.gyro_file)
+                         : std::string());
   fmt::print(out, "{} samples at {:.6g} Hz; g = {:.6g}; initial static period {:.6g} s ({} samples, |var| {:.4g})\n",
-             ctx.samples, ctx.rate, opt.g, opt.init_static_s, a.init_samples, a.init_variance_norm);
+             r.samples, r.rate_hz, opt.g, opt.init_static_s, a.init_samples, a.init_variance_norm);
   fmt::print(out, "static intervals: {} (th_mult {} of {}..{}, threshold {:.4g}; window {}, {} {} per interval)\n",
              a.intervals.size(), a.th_mult, opt.th_mult_min, opt.th_mult_max, a.threshold,
              mp::normalised_window(opt.window), opt.acc_use_means ? "mean of" : "first", opt.interval_samples);
@@ -228,7 +122,7 @@ void print_table(std::ostream& out, const mp::AccResult& a, const std::optional<
   for (const mp::Trial& t : a.trials)
     fmt::print(out, " {:>9}", t.fitted ? fmt::format("{:.4g}", t.cost) : std::string("-"));
   fmt::print(out, "\n\nAccelerometer  a' = T K (a - B), 1 sigma\n");
-  print_params(out, a.names, a.values, a.sigma, acc_units());
+  print_params(out, a.names, a.values, a.sigma, pipeline::multiposition_acc_units());
   print_matrix(out, "T", a.model.misalignment());
   fmt::print(out, "  |g| - |a'| over {} residuals: rms {:.5g} -> {:.5g}, max {:.5g} -> {:.5g} (g units)\n",
              a.after.count, a.before.rms, a.after.rms, a.before.max, a.after.max);
@@ -238,7 +132,7 @@ void print_table(std::ostream& out, const mp::AccResult& a, const std::optional<
     fmt::print(out, "  (before: bias guess and the isotropic scale g / mean|a - B| of the initial period)\n");
   if (!g) return;
   fmt::print(out, "\nGyroscope  w' = T K (w - B), w' in rad/s, 1 sigma (incl. accelerometer and bias errors)\n");
-  print_params(out, g->names, g->values, g->sigma, gyro_units(g->names.size()));
+  print_params(out, g->names, g->values, g->sigma, pipeline::multiposition_gyro_units(g->names.size()));
   print_matrix(out, "T", g->model.misalignment());
   fmt::print(out, "  B {:>13.6g} {:>13.6g} {:>13.6g} raw ± {:.3g} {:.3g} {:.3g} ({})\n", g->model.bias[0],
              g->model.bias[1], g->model.bias[2], g->bias_sigma[0], g->bias_sigma[1], g->bias_sigma[2],
@@ -262,10 +156,8 @@ int run_calibrate_multiposition(const MultiposCliOptions& o) {
   if (!acc_cols.empty() && acc_cols.size() != 3) throw UsageError("--acc-columns takes three columns");
   if (!gyro_cols.empty() && gyro_cols.size() != 3) throw UsageError("--gyro-columns takes three columns");
 
-  Context ctx;
-  ctx.acc_file = o.acc_file;
-  ctx.gyro_file = o.gyro_file;
-  Triads acc, gyro;
+  pipeline::TriadSamples acc;
+  std::optional<pipeline::TriadSamples> gyro;
   if (o.gyro_file.empty() && !gyro_cols.empty()) {
     // One file with both triads.
     if (acc_cols.empty()) throw UsageError("give --acc-columns with --gyro-columns for a single file");
@@ -274,19 +166,14 @@ int run_calibrate_multiposition(const MultiposCliOptions& o) {
     auto both = read_triads(o.acc_file, cols, o, "--acc-columns and --gyro-columns");
     acc = std::move(both[0]);
     gyro = std::move(both[1]);
-    ctx.gyro = true;
-    ctx.gyro_file = o.acc_file;
   } else {
     acc = std::move(read_triads(o.acc_file, acc_cols, o, "--acc-columns")[0]);
-    if (!o.gyro_file.empty()) {
+    if (!o.gyro_file.empty())
       gyro = std::move(read_triads(o.gyro_file, gyro_cols.empty() ? acc_cols : gyro_cols, o, "--gyro-columns")[0]);
-      ctx.gyro = true;
-    }
   }
-  ctx.samples = acc.x.size();
-  ctx.rate = mean_rate(acc, o.rate_hz);
 
-  mp::Options opt;
+  pipeline::MultipositionRequest req;
+  mp::Options& opt = req.options;
   opt.g = o.g;
   opt.init_static_s = o.init_static;
   opt.window = o.window;
@@ -298,41 +185,26 @@ int run_calibrate_multiposition(const MultiposCliOptions& o) {
   opt.acc_scale_guess = o.acc_scale;
   opt.gyro_scale_guess = o.gyro_scale;
   opt.refine_gyro_bias = o.refine_gyro_bias;
+  req.rate_hz = o.rate_hz;
 
-  const mp::TriadSeries sa{acc.x, acc.t, o.rate_hz};
-  const mp::TriadSeries sg{gyro.x, gyro.t, o.rate_hz};
   ResultOutput result(o.out, o.force);  // refuses an existing file before the work
-  mp::AccResult a;
-  std::optional<mp::GyroResult> g;
-  try {
-    a = mp::calibrate_accelerometer(sa, opt);
-  } catch (const std::invalid_argument& e) {
-    const std::string what = e.what();
-    throw InputError(o.acc_file, 0, 0, what,
-                         what.find("static intervals") != std::string::npos
-                             ? "check --init-static (the sensor must be still then) and --rate/--time-col"
-                             : std::string());
-  }
-  if (ctx.gyro) {
-    try {
-      g = mp::calibrate_gyroscope(sa, a, sg, opt);
-    } catch (const std::invalid_argument& e) {
-      const std::string what = e.what();
-      throw InputError(
-          ctx.gyro_file, 0, 0, what,
-          what.find("scale") != std::string::npos ? "give --gyro-scale in rad/s per count" : std::string());
-    }
-  }
-  std::vector<double> ta = acc.t;
-  if (ta.empty())
-    for (std::size_t i = 0; i < acc.x.size(); ++i) ta.push_back(static_cast<double>(i) / o.rate_hz);
+  check_report_option(o.report, o.force);
+  const HintContext hints{CalibrationCommand::multiposition};
+  pipeline::MultipositionResult r = with_calibration_hints(
+      o.acc_file, hints, [&] { return pipeline::calibrate_multiposition_accelerometer(acc, req); });
+  if (gyro)
+    with_calibration_hints(gyro->file, hints, [&] { pipeline::add_multiposition_gyroscope(r, acc, *gyro, req); });
 
   std::ostream& out = result.stream();
-  if (o.format == "json")
-    out << result_json(a, g, ctx, opt, ta).dump(2) << '\n';
-  else
-    print_table(out, a, g, ctx, opt);
+  if (o.format == "json") {
+    nlohmann::json j = pipeline::to_json(r);
+    j["invocation"] = invocation();
+    out << j.dump(2) << '\n';
+  } else {
+    print_table(out, r);
+  }
   result.finish();
+  if (!o.report.empty()) write_report_option(report::multiposition_report(r, invocation()), o.report);
   return 0;
 }
 
@@ -391,7 +263,8 @@ CLI::App* add_calibrate_multiposition_command(CLI::App& calibrate, Command& run)
       ->check(CLI::IsMember({"table", "json"}))
       ->capture_default_str();
   cmd->add_option("--out", opt->out, "Write the result to this file");
-  cmd->add_flag("--force", opt->force, "Replace --out if it exists");
+  cmd->add_flag("--force", opt->force, "Replace --out and the --report files if they exist");
+  add_report_option(*cmd, opt->report);
   cmd->add_option("--threads", opt->threads, "Reader threads (default: all cores)");
   cmd->callback([opt, &run] { run = [opt] { return run_calibrate_multiposition(*opt); }; });
   return cmd;

@@ -16,11 +16,12 @@
 
 #include "commands.hpp"
 #include "common_options.hpp"
-#include "cubecal/calib/plateaus.hpp"
-#include "cubecal/calib/rate_table.hpp"
+#include "calibration_hints.hpp"
 #include "cubecal/io/delimited_reader.hpp"
 #include "cubecal/error.hpp"
 #include "cubecal/io/series.hpp"
+#include "cubecal/pipeline/calibrate_rate_table.hpp"
+#include "cubecal/pipeline/calibrate_rate_table_json.hpp"
 #include "cubecal/report/command_reports.hpp"
 #include "output.hpp"
 #include "report_option.hpp"
@@ -83,90 +84,12 @@ std::array<double, 3> parse_axis(const std::string& text) {
   return v;
 }
 
-nlohmann::json matrix_json(const Mat3& m) {
-  nlohmann::json j = nlohmann::json::array();
-  for (const auto& row : m) j.push_back(row);
-  return j;
-}
-
-// Off-diagonal angles keyed "xy" (axis x leaning toward y), in `scale` units.
-nlohmann::json angles_json(const Mat3& m, double scale) {
-  nlohmann::json j = nlohmann::json::object();
-  for (int i = 0; i < 3; ++i)
-    for (int k = 0; k < 3; ++k)
-      if (i != k) j[std::string{kAxes[i], kAxes[k]}] = m[i][k] * scale;
-  return j;
-}
-
-std::array<double, 3> scaled(const std::array<double, 3>& v, double s) { return {v[0] * s, v[1] * s, v[2] * s}; }
-
-constexpr double kRadToDeg = 180.0 / std::numbers::pi;
-
-struct Context {
-  std::string file;
-  std::string unit;
-  std::string source;       // stable JSON code: reference, schedule, signal+schedule
-  std::string source_text;  // for people
-  const PlateauDetection* found = nullptr;
-  std::array<double, 3> earth_rate{};
-};
-
-nlohmann::json result_json(const RateTableCalibration& c, const Context& ctx) {
-  const std::string u = ctx.unit;
-  nlohmann::json j;
-  j["file"] = ctx.file;
-  j["invocation"] = invocation();
-  j["unit"] = u;
-  j["model"] = "w = A w_g + beta (paper eq. 6); forward w_g = S w + b_g, A = S^-1, beta = -S^-1 b_g";
-  j["A"] = matrix_json(c.A);
-  j["A_sigma"] = matrix_json(c.A_sigma);
-  j["beta"] = c.beta;
-  j["beta_sigma"] = c.beta_sigma;
-  j["residual_before"] = {{"max", c.residual_before.max_abs}, {"rms", c.residual_before.rms}, {"unit", u}};
-  j["residual_after"] = {{"max", c.residual_after.max_abs}, {"rms", c.residual_after.rms}, {"unit", u}};
-  j["error_covariance"] = matrix_json(c.error_covariance);
-  j["error_covariance_unit"] = "(" + u + ")^2";
-  j["forward"] = {
-      {"S", matrix_json(c.S)},
-      {"S_sigma", matrix_json(c.S_sigma)},
-      {"bias", c.bias},
-      {"bias_sigma", c.bias_sigma},
-      {"scale_factor_ppm", scaled(c.scale_factor_error, 1e6)},
-      {"scale_factor_ppm_sigma", scaled(c.scale_factor_error_sigma, 1e6)},
-      {"scale_factor_percent", scaled(c.scale_factor_error, 100.0)},
-      {"misalignment_mrad", angles_json(c.misalignment, 1e3)},
-      {"misalignment_mrad_sigma", angles_json(c.misalignment_sigma, 1e3)},
-      {"misalignment_deg", angles_json(c.misalignment, kRadToDeg)},
-      {"misalignment_convention",
-       "key ij: angle by which gyro axis i leans toward reference axis j, atan(S_ij / S_ii)"}};
-  j["fit"] = {{"plateaus", c.plateaus},
-              {"dof", c.dof},
-              {"noise_from_residuals", c.noise_from_residuals},
-              {"noise_cov", matrix_json(c.noise_cov)},
-              {"earth_rate", ctx.earth_rate}};
-  j["plateau_source"] = ctx.source;
-  j["plateaus_dropped_short"] = ctx.found->dropped_short;
-  j["plateaus_unmatched"] = ctx.found->unmatched;
-  nlohmann::json list = nlohmann::json::array();
-  for (std::size_t k = 0; k < ctx.found->plateaus.size(); ++k) {
-    const Plateau& p = ctx.found->plateaus[k];
-    list.push_back({{"t_begin", p.t_begin},
-                    {"t_end", p.t_end},
-                    {"n", p.n},
-                    {"ref", p.ref},
-                    {"gyro", p.mean},
-                    {"gyro_std", p.stddev},
-                    {"residual_after", c.residuals_after[k]}});
-  }
-  j["plateaus"] = list;
-  return j;
-}
-
-void print_table(std::ostream& out, const RateTableCalibration& c, const Context& ctx) {
-  const std::string& u = ctx.unit;
-  fmt::print(out, "{}: {} plateaus from {}", ctx.file, c.plateaus, ctx.source_text);
-  if (ctx.found->dropped_short > 0) fmt::print(out, ", {} too short dropped", ctx.found->dropped_short);
-  if (ctx.found->unmatched > 0) fmt::print(out, ", {} outside the schedule dropped", ctx.found->unmatched);
+void print_table(std::ostream& out, const pipeline::RateTableResult& r) {
+  const RateTableCalibration& c = r.calibration;
+  const std::string& u = r.unit;
+  fmt::print(out, "{}: {} plateaus from {}", r.file, c.plateaus, pipeline::describe(r.source));
+  if (r.found.dropped_short > 0) fmt::print(out, ", {} too short dropped", r.found.dropped_short);
+  if (r.found.unmatched > 0) fmt::print(out, ", {} outside the schedule dropped", r.found.unmatched);
   fmt::print(out, "; {} residual dof{}\n", c.dof, c.noise_from_residuals ? "" : " (sigmas from within-plateau noise)");
 
   fmt::print(out, "\ncalibration  w = A w_g + beta  (paper eq. 6), 1-sigma; beta in {}\n", u);
@@ -199,12 +122,12 @@ void print_table(std::ostream& out, const RateTableCalibration& c, const Context
 
   fmt::print(out, "\n  {:>3} {:>9} {:>9} {:>6}  {:>26}  {:>32}  {:>29}\n", "#", "t_begin s", "t_end s", "n",
              "reference " + u, "gyro mean " + u, "residual after " + u);
-  for (std::size_t k = 0; k < ctx.found->plateaus.size(); ++k) {
-    const Plateau& p = ctx.found->plateaus[k];
-    const auto& r = c.residuals_after[k];
+  for (std::size_t k = 0; k < r.found.plateaus.size(); ++k) {
+    const Plateau& p = r.found.plateaus[k];
+    const auto& e = c.residuals_after[k];
     fmt::print(out, "  {:>3} {:>9.1f} {:>9.1f} {:>6}  {:>8.4g} {:>8.4g} {:>8.4g}  {:>10.5f} {:>10.5f} {:>10.5f}  {:>9.2e} {:>9.2e} {:>9.2e}\n",
-               k + 1, p.t_begin, p.t_end, p.n, p.ref[0], p.ref[1], p.ref[2], p.mean[0], p.mean[1], p.mean[2], r[0],
-               r[1], r[2]);
+               k + 1, p.t_begin, p.t_end, p.n, p.ref[0], p.ref[1], p.ref[2], p.mean[0], p.mean[1], p.mean[2], e[0],
+               e[1], e[2]);
   }
 }
 
@@ -221,77 +144,41 @@ int run_rate_table_command(const RateTableCliOptions& o) {
     throw UsageError("--ref-columns takes the 3 reference rate columns (rx,ry,rz or 5,6,7)");
   if (!(o.margin >= 0.0) || !(o.min_plateau >= 0.0) || !(o.ref_tolerance >= 0.0) || !(o.window > 0.0))
     throw UsageError("--margin, --min-plateau and --ref-tolerance must be >= 0 and --window > 0 seconds");
-  const double unit_per_rad_s = o.unit == "deg/s" ? kRadToDeg : 1.0;
-  RateTableOptions cal_opt;
-  if (!o.earth_axis.empty()) cal_opt.earth_rate = earth_rate_along(parse_axis(o.earth_axis), unit_per_rad_s);
+  pipeline::RateTableRequest req;
+  req.source = use_ref ? pipeline::PlateauSource::reference
+               : o.from_signal ? pipeline::PlateauSource::signal_schedule
+                               : pipeline::PlateauSource::schedule;
+  req.unit = o.unit;
+  if (!o.earth_axis.empty()) req.earth_axis = parse_axis(o.earth_axis);
+  req.plateaus.margin_s = o.margin;
+  req.plateaus.min_plateau_s = o.min_plateau;
+  req.plateaus.ref_tolerance = o.ref_tolerance;
+  req.plateaus.window_s = o.window;
 
   // Refuse to replace a result before spending any time.
   ResultOutput result(o.out, o.force);  // refuses an existing file before the work
   check_report_option(o.report, o.force);
 
-  std::vector<ScheduleRow> schedule;
-  if (use_schedule) schedule = read_schedule(o.schedule);
+  if (use_schedule) req.schedule = read_schedule(o.schedule);
 
   io::SeriesOptions so = to_series_options(o.input);
   so.table.extra_columns = ref_names;  // the reference is in physical units: not scaled by --lsb
   const io::Series series = io::read_series(o.input.file, so);
-  if (series.channels.size() != 3)
-    throw UsageError("a rate table needs exactly 3 gyro columns, " + std::to_string(series.channels.size()) +
-                         " selected (name them with --columns gx,gy,gz)");
 
-  TriadRecord rec;
-  for (int a = 0; a < 3; ++a) rec.axes[a] = series.channels[a];
-  rec.time = series.time;
-  rec.dt = series.tau0;
-  std::vector<std::size_t> breaks;
-  for (std::size_t s = 1; s < series.segments.size(); ++s) breaks.push_back(series.segments[s].begin);
-  rec.breaks = breaks;
-
-  PlateauOptions popt;
-  popt.margin_s = o.margin;
-  popt.min_plateau_s = o.min_plateau;
-  popt.ref_tolerance = o.ref_tolerance;
-  popt.window_s = o.window;
-
-  PlateauDetection found;
-  Context ctx{o.input.file, o.unit, "", "", &found, cal_opt.earth_rate};
-  try {
-    if (use_ref) {
-      ctx.source = "reference";
-      ctx.source_text = "the reference columns";
-      found = plateaus_from_reference(rec, {series.extra[0], series.extra[1], series.extra[2]}, popt);
-    } else if (o.from_signal) {
-      ctx.source = "signal+schedule";
-      ctx.source_text = "the gyro signal, rates from the schedule";
-      found = label_with_schedule(plateaus_from_signal(rec, popt), schedule);
-    } else {
-      ctx.source = "schedule";
-      ctx.source_text = "the schedule";
-      found = plateaus_from_schedule(rec, schedule, popt);
-    }
-  } catch (const std::invalid_argument& e) {
-    throw InputError(o.input.file, 0, 0, e.what(),
-                         use_ref ? "check --ref-columns and --ref-tolerance, or lower --margin / --min-plateau"
-                                 : "check the schedule's times against the log's, or lower --margin / --min-plateau");
-  }
-
-  RateTableCalibration cal;
-  try {
-    cal = calibrate_rate_table(found.plateaus, cal_opt);
-  } catch (const std::invalid_argument& e) {
-    throw InputError(o.input.file, 0, 0, e.what(), "the run must turn the gyro about each of its 3 axes");
-  }
+  const HintContext hints{CalibrationCommand::rate_table, use_ref};
+  const pipeline::RateTableResult r =
+      with_calibration_hints(o.input.file, hints, [&] { return pipeline::calibrate_rate_table(series, req); });
 
   std::ostream& out = result.stream();
-  if (o.format == "json")
-    out << result_json(cal, ctx).dump(2) << '\n';
-  else
-    print_table(out, cal, ctx);
+  if (o.format == "json") {
+    nlohmann::json j = pipeline::to_json(r);
+    j["invocation"] = invocation();
+    out << j.dump(2) << '\n';
+  } else {
+    print_table(out, r);
+  }
   result.finish();
-  if (!o.report.empty())
-    write_report_option(
-        report::rate_table_report(found, cal, {invocation(), o.input.file, o.unit, ctx.source_text, cal_opt.earth_rate}),
-        o.report);
+  if (!o.report.empty()) write_report_option(report::rate_table_report(r, invocation()), o.report);
   return 0;
 }
 

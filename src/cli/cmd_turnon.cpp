@@ -10,6 +10,7 @@
 #include "common_options.hpp"
 #include "cubecal/error.hpp"
 #include "cubecal/pipeline/turnon.hpp"
+#include "cubecal/pipeline/turnon_json.hpp"
 #include "cubecal/report/command_reports.hpp"
 #include "output.hpp"
 #include "report_option.hpp"
@@ -46,34 +47,6 @@ std::vector<io::Series> read_runs(const RunsOptions& o) {
   return runs;
 }
 
-nlohmann::json quantity_json(const Quantity& q, bool valid) {
-  return {{"value", valid ? nlohmann::json(q.value) : nlohmann::json(nullptr)},
-          {"sigma", valid ? nlohmann::json(q.sigma) : nlohmann::json(nullptr)},
-          {"unit", q.unit}};
-}
-
-nlohmann::json run_json(const pipeline::RunSummary& r) {
-  nlohmann::json j{{"file", r.file}, {"samples", r.samples}, {"rate_hz", r.rate_hz}};
-  for (const auto& c : r.channels) {
-    const auto& ro = c.noise.readoffs;
-    std::vector<double> tau, dev, lo, hi;
-    for (const auto& p : c.noise.adev) {
-      tau.push_back(p.tau);
-      dev.push_back(p.dev);
-      lo.push_back(p.lo);
-      hi.push_back(p.hi);
-    }
-    j["channels"].push_back({{"name", c.name},
-                             {"unit", c.unit.name},
-                             {"mean", c.mean},
-                             {"arw", quantity_json(display(ro.N, Term::N, c.unit), ro.N.valid)},
-                             {"bias_instability", quantity_json(display(ro.B, Term::B, c.unit), ro.B.valid)},
-                             {"time_constant_s", ro.B.valid ? nlohmann::json(ro.tau_min) : nlohmann::json(nullptr)},
-                             {"adev", {{"tau", tau}, {"dev", dev}, {"lo", lo}, {"hi", hi}}}});
-  }
-  return j;
-}
-
 std::string term(const TermEstimate& t, Term which, const Unit& u) {
   if (!t.valid) return "—";
   const Quantity q = display(t, which, u);
@@ -83,19 +56,7 @@ std::string term(const TermEstimate& t, Term which, const Unit& u) {
 report::RunsReportContext report_context(const RunsOptions& o) { return {invocation(), o.ci, o.taus}; }
 
 std::string turnon_text(const RunsOptions& o, const pipeline::TurnOnResult& t) {
-  if (o.format == "json") {
-    nlohmann::json j;
-    j["ci"] = t.ci;
-    for (const auto& r : t.runs) j["runs"].push_back(run_json(r));
-    for (std::size_t c = 0; c < t.names.size(); ++c)
-      j["channels"].push_back({{"name", t.names[c]},
-                               {"unit", t.units[c].name},
-                               {"mean_bias", t.mean_bias[c]},
-                               {"turn_on_bias", t.turn_on[c]},
-                               {"turn_on_bias_lo", t.turn_on_lo[c]},
-                               {"turn_on_bias_hi", t.turn_on_hi[c]}});
-    return j.dump(1) + "\n";
-  }
+  if (o.format == "json") return pipeline::to_json(t).dump(1) + "\n";
   std::string s = fmt::format("Turn-on bias over {} runs ({:.1f} % interval of the standard deviation, {} dof)\n\n",
                               t.runs.size(), 100 * t.ci, t.runs.size() - 1);
   s += fmt::format("{:<28}", "run");
@@ -104,7 +65,7 @@ std::string turnon_text(const RunsOptions& o, const pipeline::TurnOnResult& t) {
   for (const auto& r : t.runs) {
     s += fmt::format("{:<28}", r.file.size() > 28 ? "…" + r.file.substr(r.file.size() - 27) : r.file);
     for (const auto& c : r.channels)
-      s += fmt::format(" {:>16.6g} {:>18}", c.mean, term(c.noise.readoffs.B, Term::B, c.unit));
+      s += fmt::format(" {:>16.6g} {:>18}", c.mean, term(c.readoffs.B, Term::B, c.unit));
     s += '\n';
   }
   s += fmt::format("\n{:<10} {:>14} {:>14} {:>26}\n", "channel", "mean bias", "turn-on (std)", "interval");
@@ -115,16 +76,12 @@ std::string turnon_text(const RunsOptions& o, const pipeline::TurnOnResult& t) {
 }
 
 std::string compare_text(const RunsOptions& o, const std::vector<pipeline::RunSummary>& runs) {
-  if (o.format == "json") {
-    nlohmann::json j;
-    for (const auto& r : runs) j["runs"].push_back(run_json(r));
-    return j.dump(1) + "\n";
-  }
+  if (o.format == "json") return pipeline::to_json(runs).dump(1) + "\n";
   std::string s = fmt::format("{:<28} {:>8} {:>10} {:<8} {:>22} {:>22} {:>10}\n", "run", "rate Hz", "samples", "axis",
                               "N", "B", "T [s]");
   for (const auto& r : runs)
     for (const auto& c : r.channels) {
-      const auto& ro = c.noise.readoffs;
+      const auto& ro = c.readoffs;
       s += fmt::format("{:<28} {:>8.4g} {:>10} {:<8} {:>22} {:>22} {:>10}\n",
                        r.file.size() > 28 ? "…" + r.file.substr(r.file.size() - 27) : r.file, r.rate_hz, r.samples,
                        c.name, term(ro.N, Term::N, c.unit) + " " + display(ro.N, Term::N, c.unit).unit,

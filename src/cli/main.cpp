@@ -19,6 +19,18 @@ std::string usage_message(const cubecal::UsageError& e) {
   static constexpr std::pair<const char*, const char*> kFlags[] = {
       {"units", "--unit"},          {"lsb", "--model-lsb"}, {"temp_index", "--temp-col"},
       {"temp_order", "--temp-order"}, {"bias", "--bias"},     {"columns", "--columns"},
+      {"unit", "--unit"},
+      {"reference_columns", "--ref-columns"},
+      {"schedule", "--schedule"},
+      {"plateaus", "--margin/--min-plateau/--ref-tolerance/--window"},
+      {"mag_columns", "--columns"},
+      {"counts_per_unit", "--lsb"},
+      {"field_norm", "--field-norm"},
+      {"field_column", "--field-col"},
+      {"noise", "--noise"},
+      {"reject_sigma", "--reject"},
+      {"sampling", "--time-col/--rate"},
+      {"polynomial_order", "--order"},
   };
   for (const auto& [option, flag] : kFlags)
     if (e.option() == option) return std::string(flag) + ": " + e.what();

@@ -15,7 +15,9 @@ std::vector<RunSummary> run_compare(const std::vector<io::Series>& runs, const A
     rs.file = s.file;
     rs.samples = r.samples;
     rs.rate_hz = r.rate_hz;
-    rs.channels = std::move(r.channels);
+    for (auto& c : r.channels)
+      rs.channels.push_back({std::move(c.name), std::move(c.unit), c.mean, c.stddev, std::move(c.noise.adev),
+                             c.noise.readoffs});
     out.push_back(std::move(rs));
   }
   return out;

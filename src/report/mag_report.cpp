@@ -341,3 +341,14 @@ CommandReport mag_report(std::span<const Vec3> h, const mag::Result& r, const Ma
 }
 
 }  // namespace cubecal::report
+
+namespace cubecal::report {
+
+CommandReport mag_report(const pipeline::MagResult& r, const std::string& command) {
+  const std::string unit = r.unit == "input units" ? std::string() : r.unit;
+  return mag_report(r.points, r.calibration,
+                    {command, r.file, unit, std::string(pipeline::to_string(r.field_source)), r.field_norms,
+                     r.first_data_line});
+}
+
+}  // namespace cubecal::report

@@ -206,3 +206,12 @@ CommandReport rate_table_report(const PlateauDetection& found, const RateTableCa
 }
 
 }  // namespace cubecal::report
+
+namespace cubecal::report {
+
+CommandReport rate_table_report(const pipeline::RateTableResult& r, const std::string& command) {
+  return rate_table_report(r.found, r.calibration,
+                           {command, r.file, r.unit, std::string(pipeline::describe(r.source)), r.earth_rate});
+}
+
+}  // namespace cubecal::report

@@ -95,7 +95,7 @@ ReportTable runs_table(const std::vector<pipeline::RunSummary>& runs) {
   t.numeric = {false, false, true, true, false, true, true, true, true};
   for (std::size_t k = 0; k < runs.size(); ++k)
     for (const auto& c : runs[k].channels) {
-      const auto& ro = c.noise.readoffs;
+      const auto& ro = c.readoffs;
       t.rows.push_back({std::to_string(k + 1), base_name(runs[k].file), format_num(runs[k].rate_hz, 6),
                         std::to_string(runs[k].samples), c.name, format_num(c.mean, 6) + " " + c.unit.name,
                         term_text(ro.N, Term::N, c.unit), term_text(ro.B, Term::B, c.unit),
@@ -139,7 +139,7 @@ std::vector<ReportFigure> allan_overlay_figures(const std::vector<pipeline::RunS
       if (key.index[r] == std::string::npos) continue;
       const auto& ch = runs[r].channels[key.index[r]];
       PlotSeries s;
-      for (const auto& pt : ch.noise.adev) {
+      for (const auto& pt : ch.adev) {
         s.x.push_back(pt.tau);
         s.y.push_back(pt.dev);
         s.lo.push_back(pt.lo);

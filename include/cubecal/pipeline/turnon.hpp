@@ -1,5 +1,6 @@
 // Turn-on bias and run-to-run comparison over several records of the same
 // sensor (the paper's five power-cycled 3 h runs, and its 10/100/250 Hz runs).
+// JSON form: turnon_json.hpp.
 #pragma once
 #include <string>
 #include <vector>
@@ -8,11 +9,21 @@
 
 namespace cubecal::pipeline {
 
+// What a runs command shows of one channel of one run.
+struct RunChannel {
+  std::string name;
+  Unit unit;
+  double mean = 0.0;                  // the run's bias
+  double stddev = 0.0;
+  std::vector<StabilityPoint> adev;   // OADEV with its interval
+  SlopeReadOffs readoffs;             // N, B (and T = tau_min) of the curve
+};
+
 struct RunSummary {
   std::string file;
   std::size_t samples = 0;
   double rate_hz = 0.0;
-  std::vector<ChannelAnalysis> channels;  // per channel: mean (the run's bias), noise terms
+  std::vector<RunChannel> channels;
 };
 
 struct TurnOnResult {

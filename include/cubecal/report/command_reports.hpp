@@ -14,6 +14,7 @@
 //                                              circle of radius F
 //                       mag_norm_error         |h| − F per point, before and after
 //                       mag_norm_error_after   the same after calibration alone
+//   calibrate temperature, calibrate multiposition: tables only, no plots
 // <channel> is the channel's name reduced to letters, digits and '_'.
 #pragma once
 #include <array>
@@ -25,6 +26,10 @@
 #include "cubecal/calib/mag_calibration.hpp"
 #include "cubecal/calib/plateaus.hpp"
 #include "cubecal/calib/rate_table.hpp"
+#include "cubecal/pipeline/calibrate_mag.hpp"
+#include "cubecal/pipeline/calibrate_multiposition.hpp"
+#include "cubecal/pipeline/calibrate_rate_table.hpp"
+#include "cubecal/pipeline/calibrate_temperature.hpp"
 #include "cubecal/pipeline/turnon.hpp"
 #include "cubecal/report/command_report.hpp"
 
@@ -69,6 +74,8 @@ std::vector<ReportFigure> rate_table_residual_figures(const PlateauDetection& fo
 
 CommandReport rate_table_report(const PlateauDetection& found, const RateTableCalibration& cal,
                                 const RateTableReportContext& ctx);
+// The page of a pipeline result; `command` is the command line as typed.
+CommandReport rate_table_report(const pipeline::RateTableResult& r, const std::string& command);
 
 // ---------------------------------------------------------------------------
 // calibrate mag
@@ -92,5 +99,18 @@ std::vector<ReportFigure> mag_norm_error_figures(std::span<const Vec3> h, const 
                                                  const MagReportContext& ctx);
 
 CommandReport mag_report(std::span<const Vec3> h, const mag::Result& r, const MagReportContext& ctx);
+// The page of a pipeline result; `command` is the command line as typed.
+CommandReport mag_report(const pipeline::MagResult& r, const std::string& command);
+
+// ---------------------------------------------------------------------------
+// calibrate temperature (tables only: the fit per channel, the coefficients)
+
+CommandReport temperature_report(const pipeline::TemperatureResult& r, const std::string& command);
+
+// ---------------------------------------------------------------------------
+// calibrate multiposition (tables only: the poses, each triad's parameters
+// and residuals)
+
+CommandReport multiposition_report(const pipeline::MultipositionResult& r, const std::string& command);
 
 }  // namespace cubecal::report

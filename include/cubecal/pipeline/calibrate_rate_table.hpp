@@ -1,0 +1,55 @@
+// `calibrate rate-table` as one call: the gyro record (already read) and the
+// request in, the plateaus found and the calibration fitted to them out (the
+// paper's fourth gyro test, eq. 6-13). JSON form: calibrate_rate_table_json.hpp.
+#pragma once
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cubecal/calib/plateaus.hpp"
+#include "cubecal/calib/rate_table.hpp"
+#include "cubecal/io/series.hpp"
+
+namespace cubecal::pipeline {
+
+// Where the true rate of each plateau comes from.
+enum class PlateauSource {
+  reference,        // reference columns of the log (Series::extra[0..2]): runs where they stay constant
+  schedule,         // the schedule's rows cut the record
+  signal_schedule,  // plateaus found in the gyro signal, labelled with the schedule's rates
+};
+
+std::string_view to_string(PlateauSource s) noexcept;  // "reference", "schedule", "signal+schedule"
+std::optional<PlateauSource> parse_plateau_source(std::string_view s) noexcept;
+// For people: "the reference columns", "the schedule", ...
+std::string_view describe(PlateauSource s) noexcept;
+
+struct RateTableRequest {
+  PlateauSource source = PlateauSource::reference;
+  std::vector<ScheduleRow> schedule;   // schedule and signal_schedule: checked rows (check_schedule)
+  PlateauOptions plateaus;             // margins, shortest plateau, tolerances, window
+  std::string unit = "deg/s";          // of the gyro and the reference rates: "deg/s" or "rad/s"
+  // The Earth's axis in the sensor frame: the Earth rate along it is added to
+  // every reference rate. Unset: ignored (a table that compensates it).
+  std::optional<std::array<double, 3>> earth_axis;
+};
+
+struct RateTableResult {
+  std::string file;                    // the record's file (Series::file)
+  std::string unit = "deg/s";
+  PlateauSource source = PlateauSource::reference;
+  std::array<double, 3> earth_rate{};  // added to every reference rate, in `unit`
+  PlateauDetection found;              // the plateaus fitted, what was dropped
+  RateTableCalibration calibration;    // residuals_after in the order of found.plateaus
+};
+
+// `series` holds the 3 gyro channels, and for PlateauSource::reference the 3
+// reference columns as Series::extra (in `unit`, not scaled). Throws
+// UsageError (option "columns": not 3 gyro channels; "reference_columns",
+// "schedule", "plateaus", "unit"); CalibrationError with reason no_plateaus
+// when plateau detection fails, and the core's reason (degenerate,
+// too_few_points when the core says so) when the fit fails.
+RateTableResult calibrate_rate_table(const io::Series& series, const RateTableRequest& request);
+
+}  // namespace cubecal::pipeline

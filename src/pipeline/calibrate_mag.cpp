@@ -1,0 +1,75 @@
+#include "cubecal/pipeline/calibrate_mag.hpp"
+
+#include <cmath>
+
+#include "cubecal/error.hpp"
+
+namespace cubecal::pipeline {
+
+std::string_view to_string(FieldNormSource s) noexcept {
+  switch (s) {
+    case FieldNormSource::given: return "given";
+    case FieldNormSource::mean_raw_norm: return "mean_raw_norm";
+    case FieldNormSource::column: return "column";
+  }
+  return "";
+}
+
+std::optional<FieldNormSource> parse_field_norm_source(std::string_view s) noexcept {
+  for (FieldNormSource f : {FieldNormSource::given, FieldNormSource::mean_raw_norm, FieldNormSource::column})
+    if (to_string(f) == s) return f;
+  return std::nullopt;
+}
+
+namespace {
+
+bool positive(double v) { return v > 0.0 && std::isfinite(v); }
+
+void check_request(const io::Table& t, const MagRequest& req) {
+  if (t.data.size() != 3)
+    throw UsageError("mag_columns", t.file + " has " + std::to_string(t.data.size()) +
+                                        " data columns: the 3 magnetometer columns are needed");
+  if (!positive(req.counts_per_unit)) throw UsageError("counts_per_unit", "must be a positive number of counts per unit");
+  if (req.field_norm && !positive(*req.field_norm))
+    throw UsageError("field_norm", "must be a positive field magnitude (in the units of the values after the scaling)");
+  if (req.noise && !positive(*req.noise))
+    throw UsageError("noise", "must be a positive standard deviation per axis (leave it out to estimate it)");
+  if (!(req.reject_sigma >= 0.0) || !std::isfinite(req.reject_sigma))
+    throw UsageError("reject_sigma", "must be a positive number of standard deviations (0: no rejection)");
+  if (req.field_column && req.field_norm)
+    throw UsageError("field_column", "a field norm per point and one field norm for all cannot both be used");
+  if (req.field_column && req.method == mag::Method::ellipsoid)
+    throw UsageError("field_column", "a field norm per point needs the TWOSTEP methods");
+  if (req.field_column && t.extra.size() != 1)
+    throw UsageError("field_column", "the field column was not read");
+}
+
+}  // namespace
+
+MagResult calibrate_mag(const io::Table& table, const MagRequest& req) {
+  check_request(table, req);
+  MagResult r;
+  r.file = table.file;
+  r.unit = req.unit.empty() ? std::string("input units") : req.unit;
+  r.field_source = req.field_column ? FieldNormSource::column
+                   : req.field_norm ? FieldNormSource::given
+                                    : FieldNormSource::mean_raw_norm;
+  r.first_data_line = table.first_data_line;
+  r.points.resize(table.rows());
+  const double lsb = req.counts_per_unit;
+  for (std::size_t i = 0; i < r.points.size(); ++i)
+    r.points[i] = {table.data[0][i] / lsb, table.data[1][i] / lsb, table.data[2][i] / lsb};
+  if (req.field_column) r.field_norms = table.extra[0];
+
+  mag::Options opt;
+  opt.method = req.method;
+  opt.field_norm = req.field_norm.value_or(0.0);
+  opt.field_norms = r.field_norms;
+  opt.noise = req.noise.value_or(0.0);
+  opt.reject_sigma = req.reject_sigma;
+  opt.check_coverage = !req.allow_partial;
+  r.calibration = mag::calibrate(r.points, opt);
+  return r;
+}
+
+}  // namespace cubecal::pipeline

@@ -1,0 +1,101 @@
+#include "cubecal/pipeline/calibrate_rate_table.hpp"
+
+#include <numbers>
+#include <stdexcept>
+
+#include "cubecal/error.hpp"
+
+namespace cubecal::pipeline {
+
+std::string_view to_string(PlateauSource s) noexcept {
+  switch (s) {
+    case PlateauSource::reference: return "reference";
+    case PlateauSource::schedule: return "schedule";
+    case PlateauSource::signal_schedule: return "signal+schedule";
+  }
+  return "";
+}
+
+std::optional<PlateauSource> parse_plateau_source(std::string_view s) noexcept {
+  for (PlateauSource p : {PlateauSource::reference, PlateauSource::schedule, PlateauSource::signal_schedule})
+    if (to_string(p) == s) return p;
+  return std::nullopt;
+}
+
+std::string_view describe(PlateauSource s) noexcept {
+  switch (s) {
+    case PlateauSource::reference: return "the reference columns";
+    case PlateauSource::schedule: return "the schedule";
+    case PlateauSource::signal_schedule: return "the gyro signal, rates from the schedule";
+  }
+  return "";
+}
+
+namespace {
+
+void check_request(const io::Series& series, const RateTableRequest& req) {
+  if (series.channels.size() != 3)
+    throw UsageError("columns", "a rate table needs exactly 3 gyro columns, " + std::to_string(series.channels.size()) +
+                                    " selected");
+  if (req.source == PlateauSource::reference && series.extra.size() != 3)
+    throw UsageError("reference_columns", "the 3 reference rate columns are needed, " +
+                                              std::to_string(series.extra.size()) + " given");
+  if (req.source != PlateauSource::reference && req.schedule.empty())
+    throw UsageError("schedule", "the plateau schedule is empty");
+  const PlateauOptions& p = req.plateaus;
+  if (!(p.margin_s >= 0.0) || !(p.min_plateau_s >= 0.0) || !(p.ref_tolerance >= 0.0) || !(p.window_s > 0.0))
+    throw UsageError("plateaus", "margin, shortest plateau and reference tolerance must be >= 0 and the window > 0 s");
+  if (req.unit != "deg/s" && req.unit != "rad/s") throw UsageError("unit", "must be deg/s or rad/s, not " + req.unit);
+}
+
+PlateauDetection detect(const io::Series& series, const RateTableRequest& req) {
+  TriadRecord rec;
+  for (int a = 0; a < 3; ++a) rec.axes[a] = series.channels[a];
+  rec.time = series.time;
+  rec.dt = series.tau0;
+  std::vector<std::size_t> breaks;
+  for (std::size_t s = 1; s < series.segments.size(); ++s) breaks.push_back(series.segments[s].begin);
+  rec.breaks = breaks;
+  switch (req.source) {
+    case PlateauSource::reference:
+      return plateaus_from_reference(rec, {series.extra[0], series.extra[1], series.extra[2]}, req.plateaus);
+    case PlateauSource::signal_schedule:
+      return label_with_schedule(plateaus_from_signal(rec, req.plateaus), req.schedule);
+    case PlateauSource::schedule: break;
+  }
+  return plateaus_from_schedule(rec, req.schedule, req.plateaus);
+}
+
+}  // namespace
+
+RateTableResult calibrate_rate_table(const io::Series& series, const RateTableRequest& req) {
+  check_request(series, req);
+  RateTableResult r;
+  r.file = series.file;
+  r.unit = req.unit;
+  r.source = req.source;
+  const double unit_per_rad_s = req.unit == "deg/s" ? 180.0 / std::numbers::pi : 1.0;
+  if (req.earth_axis) r.earth_rate = earth_rate_along(*req.earth_axis, unit_per_rad_s);
+
+  // A failure of the detection is a missing plateau whatever the core says;
+  // a failure of the fit keeps the core's reason when it gives one.
+  try {
+    r.found = detect(series, req);
+  } catch (const CalibrationError&) {
+    throw;
+  } catch (const std::invalid_argument& e) {
+    throw CalibrationError(CalibrationReason::no_plateaus, e.what());
+  }
+  RateTableOptions opt;
+  opt.earth_rate = r.earth_rate;
+  try {
+    r.calibration = cubecal::calibrate_rate_table(r.found.plateaus, opt);
+  } catch (const CalibrationError&) {
+    throw;
+  } catch (const std::invalid_argument& e) {
+    throw CalibrationError(CalibrationReason::degenerate, e.what());
+  }
+  return r;
+}
+
+}  // namespace cubecal::pipeline

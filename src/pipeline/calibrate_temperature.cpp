@@ -1,0 +1,36 @@
+#include "cubecal/pipeline/calibrate_temperature.hpp"
+
+#include <stdexcept>
+
+#include "cubecal/error.hpp"
+
+namespace cubecal::pipeline {
+
+TemperatureResult calibrate_temperature(const io::Series& s, const TemperatureRequest& req) {
+  if (req.order < 1 || req.order > 5) throw UsageError("polynomial_order", "the polynomial order must be 1 to 5");
+  if (req.temp_index >= s.extra.size()) throw UsageError("temp_index", "the temperature column was not read");
+  const auto& temp = s.extra[req.temp_index];
+  TemperatureResult r;
+  r.file = s.file;
+  r.temperature_column = req.temp_index < s.extra_names.size() ? s.extra_names[req.temp_index] : std::string();
+  r.order = req.order;
+  r.unit = req.unit;
+  r.samples = s.samples();
+  for (std::size_t c = 0; c < s.channels.size(); ++c) {
+    TemperatureChannel ch;
+    ch.name = c < s.names.size() ? s.names[c] : "col" + std::to_string(c + 1);
+    try {
+      ch.fit = fit_temperature(s.channels[c], temp, req.order);
+    } catch (const CalibrationError& e) {
+      throw CalibrationError(e.reason(), ch.name + ": " + e.what());
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(ch.name + ": " + e.what());
+    }
+    for (std::size_t p = 0; p < ch.fit.coeff.size(); ++p)
+      ch.coeff_units.push_back(p == 0 ? req.unit : req.unit + (p == 1 ? "/degC" : "/degC^" + std::to_string(p)));
+    r.channels.push_back(std::move(ch));
+  }
+  return r;
+}
+
+}  // namespace cubecal::pipeline
