@@ -93,9 +93,11 @@ struct ScheduleProblem {
 };
 std::optional<ScheduleProblem> check_schedule(std::span<const ScheduleRow> rows);
 
-// Every function below throws std::invalid_argument for inconsistent input
-// (spans of different lengths, dt <= 0, a bad schedule) and when no plateau
-// is left: the message says what was looked for.
+// Every function below throws CalibrationError (cubecal/error.hpp): bad_data
+// for inconsistent input (spans of different lengths, dt <= 0, gap positions
+// not ascending, a bad schedule); bad_option for options out of range;
+// no_plateaus when no plateau is left (the message says what was looked for;
+// also a record shorter than one detection window, an empty schedule).
 
 // (a) Plateaus where ref[0..2] (data unit, one per sample) is constant.
 PlateauDetection plateaus_from_reference(const TriadRecord& rec,

@@ -105,9 +105,10 @@ struct RateTableCalibration {
 };
 
 // Calibrates from plateaus that carry a reference rate (has_ref). Throws
-// std::invalid_argument with fewer than 4 plateaus, a plateau without a
-// reference, non-finite values, or plateau rates that are not affinely
-// independent in 4 ways (rank [w 1] < 4, e.g. all about one axis).
+// CalibrationError (cubecal/error.hpp): too_few_points (fewer than 4
+// plateaus); bad_data (a plateau without a reference, non-finite values or
+// no samples); degenerate (plateau rates not affinely independent in 4 ways,
+// rank [w 1] < 4, e.g. all about one axis; or a singular fitted S).
 RateTableCalibration calibrate_rate_table(std::span<const Plateau> plateaus, const RateTableOptions& opt = {});
 
 }  // namespace cubecal

@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <stdexcept>
 #include <unsupported/Eigen/LevenbergMarquardt>
 #include <utility>
 
@@ -61,6 +60,13 @@ VectorXd column_scale(const MatrixXd& J) {
   return d;
 }
 
+// The statuses of a convergence test that held (MINPACK's info 1-8 but 5).
+bool converged(Eigen::LevenbergMarquardtSpace::Status s) {
+  using namespace Eigen::LevenbergMarquardtSpace;
+  return s == RelativeReductionTooSmall || s == RelativeErrorTooSmall || s == RelativeErrorAndReductionTooSmall ||
+         s == CosinusTooSmall || s == FtolTooSmall || s == XtolTooSmall || s == GtolTooSmall;
+}
+
 }  // namespace
 
 LmOutcome levenberg_marquardt(const EvalFn& eval, VectorXd p, std::size_t max_iterations) {
@@ -84,18 +90,22 @@ LmOutcome levenberg_marquardt(const EvalFn& eval, VectorXd p, std::size_t max_it
   lm.setXtol(1e-12);
   lm.setGtol(1e-15);
   lm.setMaxfev(static_cast<Eigen::Index>(100 * (max_iterations + 1)));
-  Eigen::LevenbergMarquardtSpace::Status status = lm.minimizeInit(p);
-  if (status == Eigen::LevenbergMarquardtSpace::ImproperInputParameters)
-    throw std::invalid_argument("least squares: fewer residuals than parameters");
+  Eigen::LevenbergMarquardtSpace::Status status = Eigen::LevenbergMarquardtSpace::Running;
   std::size_t steps = 0;
-  do {
-    status = lm.minimizeOneStep(p);
-    ++steps;
-  } while (status == Eigen::LevenbergMarquardtSpace::Running && steps < max_iterations);
+  // Fewer residuals than parameters: nothing to iterate, and the parameters
+  // are not determined (J^T J singular below).
+  if (r.size() >= p.size()) {
+    status = lm.minimizeInit(p);  // NotStarted, or ImproperInputParameters
+    if (status == Eigen::LevenbergMarquardtSpace::NotStarted) {
+      do {
+        status = lm.minimizeOneStep(p);
+        ++steps;
+      } while (status == Eigen::LevenbergMarquardtSpace::Running && steps < max_iterations);
+    }
+  }
   if (f.jacobian_failed) throw CalibrationError(CalibrationReason::degenerate, "non-finite Jacobian during the fit");
   out.iterations = steps;
-  out.converged = lm.info() == Eigen::Success && status != Eigen::LevenbergMarquardtSpace::Running &&
-                  status != Eigen::LevenbergMarquardtSpace::TooManyFunctionEvaluation;
+  out.converged = steps > 0 && converged(status);
 
   out.p = p;
   MatrixXd J;
