@@ -1,4 +1,4 @@
-// Li & Griffiths (2004) ellipsoid-specific fit, k = 4 (formulas.md 2.1-2.2).
+// Li & Griffiths (2004) ellipsoid-specific fit, k = 4 (docs/formulas/magnetometer.md §2.1-2.2).
 #include "cubecal/calib/ellipsoid_fit.hpp"
 
 #include <Eigen/Dense>

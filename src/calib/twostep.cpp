@@ -5,7 +5,7 @@
 //              theta = [c; E11 E22 E33 E12 E13 E23],   phi = c^T (I+E)^-1 c.
 // The weighted cost splits exactly into a centred part, linear in theta, and
 // one centre equation; step 1 solves the centred part, step 2 runs Fisher
-// scoring on both (formulas.md 1.3-1.6).
+// scoring on both (docs/formulas/magnetometer.md §1.3-1.6).
 #include "cubecal/calib/twostep.hpp"
 
 #include <Eigen/Dense>

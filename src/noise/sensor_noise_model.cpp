@@ -4,9 +4,9 @@
 // Both models are sampled processes, so their Allan variances are written
 // for the averaging factor m (tau = m dt), not for continuous tau:
 //   white (with quantization as white noise):  (sigma_n^2 + q^2) / m,  q^2 = 1/(12 lsb^2)
-//   random-walk bias, step s = sigma_mu dt:    s^2 (2 m^2 + 1) / (6 m)      (formulas.md 5.3)
+//   random-walk bias, step s = sigma_mu dt:    s^2 (2 m^2 + 1) / (6 m)      (docs/formulas/noise-terms.md §4.2)
 //   AR(1) bias, phi = exp(-dt/T_c):            sigma_b^2 / (m^2 (1-phi)^2)
-//                                              * [m (1-phi^2) - phi (1-phi^m)(3-phi^m)]  (5.2)
+//                                              * [m (1-phi^2) - phi (1-phi^m)(3-phi^m)]  (§5.2)
 #include "cubecal/noise/sensor_noise_model.hpp"
 
 #include <algorithm>
@@ -209,7 +209,7 @@ double avar(const GaussMarkovModel& model, std::size_t m) noexcept {
   return white / md + gm;
 }
 
-// The paper's adjustment (section 2): "tangent to the left arm of AV and the
+// The paper's adjustment (docs/paper.md §2.4): "tangent to the left arm of AV and the
 // same bias instability (minimum point of the AV)".
 //
 // Minimum point: the bottom of the V (v_bottom above), not blindly the

@@ -1,5 +1,5 @@
 // Li & Griffiths (2004) ellipsoid-specific least-squares fit with k = 4, as
-// in Magneto (formulas.md section 2), and its conversion to a hard-iron
+// in Magneto (docs/formulas/magnetometer.md §2), and its conversion to a hard-iron
 // offset b = -M^-1 n and a symmetric soft-iron correction
 // A^-1 = F / sqrt(n^T M^-1 n - d) * sqrtm(M), so that h_cal = A^-1 (h - b)
 // has |h_cal| = F on the fitted ellipsoid.

@@ -1,8 +1,8 @@
 // Magnetometer calibration from points measured over many orientations:
 // the common result of TWOSTEP (bias only, or bias + symmetric D) and of the
 // Li-Griffiths ellipsoid fit, and the checks every method shares (point
-// count, field norm, Magneto's outlier rule, sphere coverage). formulas.md
-// sections 1 and 2.
+// count, field norm, Magneto's outlier rule, sphere coverage).
+// docs/formulas/magnetometer.md §1-2, the shared checks §3.
 //
 // Every method gives the calibration in one form,
 //     h_cal = A^-1 (h - b),
@@ -84,7 +84,7 @@ void check_coverage(const Coverage& c, Method m, double field_norm);
 // Magneto's outlier rule, one pass: with m and sd the mean and (population)
 // standard deviation of |h_k| over all points, reject k when
 // ||h_k| - m| / sd > sigma_level. Reproduces Magneto 1.4's choice on
-// jremington's ICM-20948 run (formulas.md 2.4).
+// jremington's ICM-20948 run (docs/formulas/magnetometer.md §3.3).
 struct OutlierRejection {
   double mean_norm = 0.0;
   double std_norm = 0.0;

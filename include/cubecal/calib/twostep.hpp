@@ -1,5 +1,5 @@
 // TWOSTEP attitude-independent magnetometer calibration (Alonso & Shuster
-// 2002; formulas.md section 1): bias only, or bias + symmetric D.
+// 2002; docs/formulas/magnetometer.md §1): bias only, or bias + symmetric D.
 //
 // Model: B_k = (I+D)^-1 (O^T A_k H_k + b + eps_k), eps_k ~ N(0, s^2 I);
 // scalar measurement z_k = |B_k|^2 - |H_k|^2, noise variance

@@ -1,5 +1,5 @@
 // Temperature dependence of a bias: polynomial least squares of the channel
-// on temperature (formulas.md section 4), with the covariance of the
+// on temperature (docs/formulas/drift-covariance-temperature.md §3), with the covariance of the
 // coefficients, and the compensated series.
 #pragma once
 #include <cstddef>
