@@ -3,8 +3,11 @@
 
 #include <cmath>
 #include <random>
+#include <string>
 #include <vector>
 
+#include "cubecal/error.hpp"
+#include "cubecal/noise/temperature.hpp"
 #include "cubecal/stats/confidence.hpp"
 #include "cubecal/stats/edf.hpp"
 #include "cubecal/stats/kernels.hpp"
@@ -196,6 +199,49 @@ TEST(Stability, RejectsNonFiniteSamples) {
   EXPECT_THROW(StabilityRecord(y, DataType::freq, 1.0, Stat::oadev), std::invalid_argument);
   y[42] = HUGE_VAL;
   EXPECT_THROW(StabilityRecord(y, DataType::phase, 1.0, Stat::oadev), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace cubecal
+
+namespace cubecal {
+namespace {
+
+// The reason of the CalibrationError f throws, "(none)" when it throws none.
+template <class F>
+std::string reason_of(F f) {
+  try {
+    f();
+  } catch (const CalibrationError& e) {
+    return std::string(to_string(e.reason()));
+  }
+  return "(none)";
+}
+
+TEST(TemperatureFit, ErrorsCarryTheirReason) {
+  // A bias of 0.02 per degree over a ramp from 10 to 40 degrees.
+  std::vector<double> temp, y;
+  for (int i = 0; i < 200; ++i) {
+    temp.push_back(10.0 + 0.15 * i);
+    y.push_back(0.5 + 0.02 * temp.back());
+  }
+  auto reason = [](const std::vector<double>& yy, const std::vector<double>& tt, std::size_t order) {
+    return reason_of([&] { (void)fit_temperature(yy, tt, order); });
+  };
+  EXPECT_EQ(reason(y, temp, 1), "(none)");
+  EXPECT_NEAR(fit_temperature(y, temp, 1).coeff[1], 0.02, 1e-12);
+  // bad_option: order 0 or 6.
+  EXPECT_EQ(reason(y, temp, 0), "bad_option");
+  EXPECT_EQ(reason(y, temp, 6), "bad_option");
+  // bad_data: lengths differ.
+  EXPECT_EQ(reason(std::vector<double>(y.begin(), y.end() - 1), temp, 1), "bad_data");
+  // too_few_points: 3 samples for order 2.
+  EXPECT_EQ(reason({1.0, 2.0, 3.0}, {10.0, 20.0, 30.0}, 2), "too_few_points");
+  // degenerate: a constant temperature; two distinct temperatures for order 3.
+  EXPECT_EQ(reason(y, std::vector<double>(temp.size(), 25.0), 1), "degenerate");
+  std::vector<double> two_levels(temp.size());
+  for (std::size_t i = 0; i < two_levels.size(); ++i) two_levels[i] = i % 2 ? 20.0 : 30.0;
+  EXPECT_EQ(reason(y, two_levels, 3), "degenerate");
 }
 
 }  // namespace

@@ -26,6 +26,7 @@
 #include "cubecal/calib/ellipsoid_fit.hpp"
 #include "cubecal/calib/mag_calibration.hpp"
 #include "cubecal/calib/twostep.hpp"
+#include "cubecal/error.hpp"
 #include "cubecal/io/delimited_reader.hpp"
 
 namespace {
@@ -499,6 +500,96 @@ TEST(MagCalibration, FieldNormAndNoiseMustBePositive) {
   bad[3][1] = std::nan("");
   o.field_norms.clear();
   EXPECT_NE(error_of([&] { calibrate(bad, o); }).find("non-finite"), std::string::npos);
+}
+
+// The reason of the CalibrationError f throws, "(none)" when it throws none.
+template <class F>
+std::string reason_of(F f) {
+  try {
+    f();
+  } catch (const cubecal::CalibrationError& e) {
+    return std::string(cubecal::to_string(e.reason()));
+  }
+  return "(none)";
+}
+
+TEST(MagCalibration, ErrorsCarryTheirReason) {
+  const auto h = synthetic_ellipsoid();
+  auto calib_reason = [](const std::vector<Vec3>& pts, const Options& o) {
+    return reason_of([&] { (void)calibrate(pts, o); });
+  };
+  Options o;
+  o.field_norm = 50.0;
+  EXPECT_EQ(calib_reason(h, o), "(none)");
+  // too_few_points: 9 points; too few left after rejection; the ellipsoid
+  // and TWOSTEP alone.
+  EXPECT_EQ(calib_reason(synthetic_ellipsoid(9), o), "too_few_points");
+  Options strict = o;
+  strict.reject_sigma = 1e-9;
+  EXPECT_EQ(calib_reason(h, strict), "too_few_points");
+  const std::vector<Vec3> nine(h.begin(), h.begin() + 9);
+  EXPECT_EQ(reason_of([&] { (void)fit_ellipsoid(nine, 50.0); }), "too_few_points");
+  EXPECT_EQ(reason_of([&] { (void)twostep(std::span<const Vec3>(h).first(3), std::vector<double>{50.0}); }),
+            "too_few_points");
+  // bad_data: a non-finite point.
+  auto bad = h;
+  bad[3][1] = std::nan("");
+  EXPECT_EQ(calib_reason(bad, o), "bad_data");
+  EXPECT_EQ(reason_of([&] { (void)twostep(bad, std::vector<double>{50.0}); }), "bad_data");
+  // field_norm: negative; per-point norms of the wrong count or not positive;
+  // all points zero (no default norm); the ellipsoid and TWOSTEP alone.
+  Options f = o;
+  f.field_norm = -50.0;
+  EXPECT_EQ(calib_reason(h, f), "field_norm");
+  f = o;
+  f.method = Method::twostep;
+  f.field_norms.assign(h.size() - 1, 50.0);
+  EXPECT_EQ(calib_reason(h, f), "field_norm");
+  f.field_norms.assign(h.size(), 50.0);
+  f.field_norms[5] = 0.0;
+  EXPECT_EQ(calib_reason(h, f), "field_norm");
+  Options zero_default;
+  zero_default.check_coverage = false;
+  EXPECT_EQ(calib_reason(std::vector<Vec3>(20, Vec3{0.0, 0.0, 0.0}), zero_default), "field_norm");
+  EXPECT_EQ(reason_of([&] { (void)fit_ellipsoid(h, 0.0); }), "field_norm");
+  EXPECT_EQ(reason_of([&] { (void)ellipsoid_from_quadric({1, 1, 1, 0, 0, 0, 0, 0, 0, -1}, 0.0); }), "field_norm");
+  EXPECT_EQ(reason_of([&] { (void)twostep(h, std::vector<double>{-1.0}); }), "field_norm");
+  EXPECT_EQ(reason_of([&] { (void)twostep(h, std::vector<double>{50.0, 50.0}); }), "field_norm");
+  // bad_option: negative noise or rejection level; per-point norms with the
+  // ellipsoid.
+  Options opt = o;
+  opt.noise = -1.0;
+  EXPECT_EQ(calib_reason(h, opt), "bad_option");
+  opt = o;
+  opt.reject_sigma = -1.0;
+  EXPECT_EQ(calib_reason(h, opt), "bad_option");
+  opt = o;
+  opt.method = Method::ellipsoid;
+  opt.field_norms.assign(h.size(), 50.0);
+  EXPECT_EQ(calib_reason(h, opt), "bad_option");
+  EXPECT_EQ(reason_of([&] { (void)reject_outliers(h, -1.0); }), "bad_option");
+  TwostepOptions to;
+  to.eta_tol = 0.0;
+  EXPECT_EQ(reason_of([&] { (void)twostep(h, std::vector<double>{50.0}, to); }), "bad_option");
+  // poor_coverage: one circle, every method.
+  std::vector<Vec3> circle;
+  for (int k = 0; k < 100; ++k)
+    circle.push_back(add(kB, {50.0 * std::cos(0.0628 * k), 50.0 * std::sin(0.0628 * k), 0.0}));
+  for (Method m : {Method::twostep, Method::twostep_full, Method::ellipsoid}) {
+    Options c = o;
+    c.method = m;
+    EXPECT_EQ(calib_reason(circle, c), "poor_coverage") << static_cast<int>(m);
+  }
+  // degenerate: the coplanar circle without the coverage check; a quadric
+  // that is no ellipsoid; all points equal for TWOSTEP.
+  Options nocheck = o;
+  nocheck.method = Method::ellipsoid;
+  nocheck.check_coverage = false;
+  EXPECT_EQ(calib_reason(circle, nocheck), "degenerate");
+  EXPECT_EQ(reason_of([&] { (void)fit_ellipsoid(circle, 50.0); }), "degenerate");
+  EXPECT_EQ(reason_of([&] { (void)ellipsoid_from_quadric({1, 1, -1, 0, 0, 0, 0, 0, 0, -1}, 1.0); }), "degenerate");
+  const std::vector<Vec3> same(20, kB);
+  EXPECT_EQ(reason_of([&] { (void)twostep(same, std::vector<double>{50.0}); }), "degenerate");
 }
 
 TEST(MagCalibration, PointsInOnePlaneDoNotCoverTheSphere) {

@@ -23,6 +23,7 @@
 
 #include "cli_runner.hpp"
 #include "cubecal/calib/multiposition.hpp"
+#include "cubecal/error.hpp"
 #include "cubecal/io/delimited_reader.hpp"
 
 namespace {
@@ -380,6 +381,108 @@ TEST(MultiPosition, BadInputsAreRejected) {
   const AccResult a = calibrate_accelerometer({s.acc, {}, 100.0}, o);
   const AccResult b = calibrate_accelerometer(series(s, false), o);
   for (std::size_t i = 0; i < 9; ++i) EXPECT_NEAR(a.values[i], b.values[i], 1e-9 * std::abs(b.values[i]) + 1e-12);
+}
+
+// The reason of the CalibrationError f throws, "(none)" when it throws none.
+template <class F>
+std::string reason_of(F f) {
+  try {
+    f();
+  } catch (const cubecal::CalibrationError& e) {
+    return std::string(cubecal::to_string(e.reason()));
+  }
+  return "(none)";
+}
+
+TEST(MultiPosition, ErrorsCarryTheirReason) {
+  const Truth tr = make_truth();
+  const Synthetic s = make_sequence(tr, 14, 1.0, 2.0, 3);
+  const Options o = synthetic_options(tr);
+  auto acc_reason = [&](const TriadSeries& a, const Options& opt) {
+    return reason_of([&] { (void)calibrate_accelerometer(a, opt); });
+  };
+  // bad_data: stamps not increasing, of the wrong count; a non-finite sample.
+  std::vector<double> t = s.t;
+  t[100] = t[99];
+  EXPECT_EQ(acc_reason({s.acc, t, 0.0}, o), "bad_data");
+  EXPECT_EQ(acc_reason({s.acc, std::span<const double>(s.t).first(10), 0.0}, o), "bad_data");
+  std::vector<Vec3> nan_acc = s.acc;
+  nan_acc[7][1] = std::nan("");
+  EXPECT_EQ(acc_reason({nan_acc, s.t, 0.0}, o), "bad_data");
+  // bad_option: no rate, g, window below 11.
+  EXPECT_EQ(acc_reason({s.acc, {}, 0.0}, o), "bad_option");
+  Options bad = o;
+  bad.g = -1.0;
+  EXPECT_EQ(acc_reason(series(s, false), bad), "bad_option");
+  bad = o;
+  bad.window = 5;
+  EXPECT_EQ(acc_reason(series(s, false), bad), "bad_option");
+  EXPECT_EQ(reason_of([] { (void)normalised_window(10); }), "bad_option");
+  // too_few_points: no samples; one sample has no variance.
+  EXPECT_EQ(acc_reason({std::span<const Vec3>(), {}, 100.0}, o), "too_few_points");
+  EXPECT_EQ(reason_of([&] { (void)block_variance_norm(std::span<const Vec3>(s.acc).first(1)); }), "too_few_points");
+  // initial_static: record not longer than the period, a period shorter than
+  // the window, a constant period.
+  bad = o;
+  bad.init_static_s = 1e4;
+  EXPECT_EQ(acc_reason(series(s, false), bad), "initial_static");
+  bad = o;
+  bad.init_static_s = 0.5;  // 50 samples < 101
+  EXPECT_EQ(acc_reason(series(s, false), bad), "initial_static");
+  const std::vector<Vec3> flat(s.acc.size(), Vec3{1.0, 2.0, 3.0});
+  EXPECT_EQ(acc_reason({flat, s.t, 0.0}, o), "initial_static");
+  // scale_guess: a scale guess whose residuals overflow.
+  bad = o;
+  bad.acc_scale_guess = 1e300;
+  EXPECT_EQ(acc_reason(series(s, false), bad), "scale_guess");
+  // too_few_intervals: 10 poses for the 12 required.
+  const Synthetic ten = make_sequence(tr, 10, 1.0, 2.0, 5);
+  EXPECT_EQ(acc_reason(series(ten, false), o), "too_few_intervals");
+  // degenerate: 13 static poses, all in the same orientation (exact readings
+  // between bursts of motion): the scales and misalignments are not
+  // determined.
+  {
+    std::vector<Vec3> same;
+    const Vec3 a0{32768.0 + 150.0, 32768.0 - 220.0, 32768.0 + 4090.0};
+    std::mt19937_64 rng(9);
+    std::normal_distribution<double> gauss(0.0, 1.0);
+    for (int k = 0; k < 1000; ++k) same.push_back({a0[0] + 1e-6 * gauss(rng), a0[1] + 1e-6 * gauss(rng), a0[2]});
+    for (int pose = 0; pose < 13; ++pose) {
+      for (int k = 0; k < 200; ++k)
+        same.push_back({a0[0] + 2000.0 * std::sin(0.1 * k), a0[1] + 1500.0 * std::cos(0.13 * k), a0[2] - 300.0});
+      for (int k = 0; k < 300; ++k) same.push_back(a0);
+    }
+    EXPECT_EQ(acc_reason({same, {}, 100.0}, o), "degenerate");
+  }
+
+  // The gyroscope, given a good accelerometer result.
+  const AccResult ar = calibrate_accelerometer(series(s, false), o);
+  auto gyro_reason = [&](const AccResult& a, const TriadSeries& g, const Options& opt) {
+    return reason_of([&] { (void)calibrate_gyroscope(series(s, false), a, g, opt); });
+  };
+  EXPECT_EQ(gyro_reason(ar, series(s, true), o), "(none)");
+  // too_few_intervals: one interval; intervals beyond the record.
+  AccResult one = ar;
+  one.intervals.resize(1);
+  EXPECT_EQ(gyro_reason(one, series(s, true), o), "too_few_intervals");
+  AccResult beyond = ar;
+  beyond.intervals.back().end = s.acc.size() + 10;
+  EXPECT_EQ(gyro_reason(beyond, series(s, true), o), "too_few_intervals");
+  // initial_static: one gyro sample in the 10 s period (a sample every 20 s).
+  EXPECT_EQ(gyro_reason(ar, {s.gyro, {}, 0.05}, o), "initial_static");
+  // bad_data: the gyro record stops before the first motion ends.
+  EXPECT_EQ(
+      gyro_reason(ar, {std::span<const Vec3>(s.gyro).first(1100), std::span<const double>(s.t).first(1100), 0.0}, o),
+      "bad_data");
+  // scale_guess: a scale guess whose integration overflows.
+  bad = o;
+  bad.gyro_scale_guess = 1e300;
+  EXPECT_EQ(gyro_reason(ar, series(s, true), bad), "scale_guess");
+  // degenerate: a gyro that reads its bias throughout senses no rotation.
+  const std::vector<Vec3> still(s.gyro.size(), Vec3{32768.0, 32768.0, 32768.0});
+  std::vector<Vec3> still_noisy = still;
+  for (std::size_t k = 0; k < 1000; ++k) still_noisy[k][k % 3] += (k % 2 ? 1.0 : -1.0);
+  EXPECT_EQ(gyro_reason(ar, {still_noisy, s.t, 0.0}, o), "degenerate");
 }
 
 // ---------------------------------------------------------------------------

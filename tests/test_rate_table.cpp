@@ -29,6 +29,7 @@
 
 #include "cubecal/calib/plateaus.hpp"
 #include "cubecal/calib/rate_table.hpp"
+#include "cubecal/error.hpp"
 
 namespace {
 
@@ -537,6 +538,86 @@ TEST(RateTableErrors, NoPlateauFound) {
   const std::string label_msg =
       message_of([&] { cubecal::label_with_schedule(cubecal::plateaus_from_signal(run.record()), later); });
   EXPECT_NE(label_msg.find("no plateau found"), std::string::npos) << label_msg;
+}
+
+// The reason of the CalibrationError f throws, "(none)" when it throws none.
+std::string reason_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const cubecal::CalibrationError& e) {
+    return std::string(cubecal::to_string(e.reason()));
+  }
+  return "(none)";
+}
+
+TEST(RateTableErrors, ErrorsCarryTheirReason) {
+  std::vector<Plateau> p;
+  for (int axis = 0; axis < 3; ++axis)
+    for (double r : {10.0, -10.0}) {
+      Vec3 w{};
+      w[axis] = r;
+      p.push_back(exact_plateau(paper_S(), paper_bias(), w));
+    }
+  EXPECT_EQ(reason_of([&] { calibrate_rate_table(p); }), "(none)");
+  // too_few_points: 3 plateaus.
+  EXPECT_EQ(reason_of([&] { calibrate_rate_table(std::span<const Plateau>(p).first(3)); }), "too_few_points");
+  // bad_data: a plateau without a reference rate, a non-finite rate.
+  auto q = p;
+  q[2].has_ref = false;
+  EXPECT_EQ(reason_of([&] { calibrate_rate_table(q); }), "bad_data");
+  q = p;
+  q[4].mean[1] = std::nan("");
+  EXPECT_EQ(reason_of([&] { calibrate_rate_table(q); }), "bad_data");
+  // degenerate: every rate about one axis; a gyro that does not sense z.
+  std::vector<Plateau> x_only;
+  for (double r : {5.0, -5.0, 10.0, -10.0, 100.0, -100.0})
+    x_only.push_back(exact_plateau(paper_S(), paper_bias(), {r, 0.0, 0.0}));
+  EXPECT_EQ(reason_of([&] { calibrate_rate_table(x_only); }), "degenerate");
+  Mat3 blind = paper_S();
+  for (auto& row : blind) row[2] = 0.0;
+  std::vector<Plateau> blind_p;
+  for (int axis = 0; axis < 3; ++axis)
+    for (double r : {10.0, -10.0}) {
+      Vec3 w{};
+      w[axis] = r;
+      blind_p.push_back(exact_plateau(blind, paper_bias(), w));
+    }
+  EXPECT_EQ(reason_of([&] { calibrate_rate_table(blind_p); }), "degenerate");
+
+  // Plateau detection. bad_data: axes of different lengths, dt 0, reference
+  // columns of another length, overlapping schedule rows.
+  const SimLog log = simulate_run(paper_S(), paper_bias(), 0.0, 1);
+  TriadRecord rec = log.record();
+  rec.axes[2] = rec.axes[2].subspan(1);
+  EXPECT_EQ(reason_of([&] { cubecal::plateaus_from_signal(rec); }), "bad_data");
+  rec = log.record();
+  rec.dt = 0.0;
+  EXPECT_EQ(reason_of([&] { cubecal::plateaus_from_signal(rec); }), "bad_data");
+  auto short_ref = log.reference();
+  short_ref[1] = short_ref[1].first(10);
+  EXPECT_EQ(reason_of([&] { cubecal::plateaus_from_reference(log.record(), short_ref); }), "bad_data");
+  const std::vector<ScheduleRow> overlapping{{0, 300, {0, 0, 0}}, {320, 620, {5, 0, 0}}, {600, 900, {-5, 0, 0}}};
+  EXPECT_EQ(reason_of([&] { cubecal::plateaus_from_schedule(log.record(), overlapping); }), "bad_data");
+  EXPECT_EQ(reason_of([&] { cubecal::label_with_schedule(PlateauDetection{}, overlapping); }), "bad_data");
+  // bad_option: a negative margin.
+  PlateauOptions neg;
+  neg.margin_s = -1.0;
+  EXPECT_EQ(reason_of([&] { cubecal::plateaus_from_signal(log.record(), neg); }), "bad_option");
+  // no_plateaus: runs shorter than the minimum; a record shorter than one
+  // detection window; an empty schedule; a schedule outside the record.
+  RunSpec brief;
+  brief.rates = {0.0, 10.0, -10.0};
+  brief.plateau_s = 45.0;
+  const SimLog short_runs = simulate_run(paper_S(), paper_bias(), kNoise, 1, brief);
+  EXPECT_EQ(reason_of([&] { cubecal::plateaus_from_reference(short_runs.record(), short_runs.reference()); }),
+            "no_plateaus");
+  TriadRecord tiny = log.record();
+  for (auto& a : tiny.axes) a = a.first(5);
+  EXPECT_EQ(reason_of([&] { cubecal::plateaus_from_signal(tiny); }), "no_plateaus");
+  EXPECT_EQ(reason_of([&] { cubecal::plateaus_from_schedule(log.record(), std::vector<ScheduleRow>{}); }),
+            "no_plateaus");
+  const std::vector<ScheduleRow> later{{1e6, 1e6 + 300, {1, 0, 0}}};
+  EXPECT_EQ(reason_of([&] { cubecal::plateaus_from_schedule(log.record(), later); }), "no_plateaus");
 }
 
 TEST(RateTableErrors, InconsistentRecord) {

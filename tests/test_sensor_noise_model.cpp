@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "cubecal/stats/allan_curve.hpp"
+#include "cubecal/error.hpp"
 #include "cubecal/noise/noise_terms.hpp"
 #include "cubecal/stats/stability.hpp"
 #include "cubecal/stats/tau_grid.hpp"
@@ -313,6 +314,58 @@ TEST(RandomWalkModelFit, RejectsCurvesWithoutAV) {
   two.edf.resize(2);
   EXPECT_THROW(cubecal::fit_random_walk_model(two, kPaperDt), std::invalid_argument);
   EXPECT_THROW(cubecal::fit_random_walk_model(fine, 0.0), std::invalid_argument);
+}
+
+// The reason of the CalibrationError f throws, "(none)" when it throws none.
+template <class F>
+std::string reason_of(F f) {
+  try {
+    f();
+  } catch (const cubecal::CalibrationError& e) {
+    return std::string(cubecal::to_string(e.reason()));
+  }
+  return "(none)";
+}
+
+TEST(RandomWalkModelFit, ErrorsCarryTheirReason) {
+  const auto ms = log_grid(10500);
+  const auto fine = exact_curve(RandomWalkModel{1e-4, 1e-5, kPaperDt, 0.0}, ms, kPaperSamples);
+  auto rw = [](const AllanCurve& c, double dt, double lsb = 0.0) {
+    return reason_of([&] { (void)cubecal::fit_random_walk_model(c, dt, lsb); });
+  };
+  auto gm = [](const AllanCurve& c, double dt) {
+    return reason_of([&] { (void)cubecal::fit_gauss_markov_model(c, dt); });
+  };
+  EXPECT_EQ(rw(fine, kPaperDt), "(none)");
+  // degenerate: no minimum (white only), no white-noise arm (random walk
+  // only).
+  EXPECT_EQ(rw(exact_curve(RandomWalkModel{0.01, 0.0, kPaperDt, 0.0}, ms, kPaperSamples), kPaperDt), "degenerate");
+  EXPECT_EQ(rw(exact_curve(RandomWalkModel{0.0, 1e-3, kPaperDt, 0.0}, ms, kPaperSamples), kPaperDt), "degenerate");
+  // bad_option: white noise below the LSB's quantization noise; dt 0; a
+  // negative LSB.
+  EXPECT_EQ(rw(fine, kPaperDt, kGyroLsb), "bad_option");
+  EXPECT_EQ(rw(fine, 0.0), "bad_option");
+  EXPECT_EQ(rw(fine, kPaperDt, -1.0), "bad_option");
+  EXPECT_EQ(gm(fine, 0.0), "bad_option");
+  // too_few_points: two points.
+  AllanCurve two = fine;
+  two.tau.resize(2);
+  two.dev.resize(2);
+  two.edf.resize(2);
+  EXPECT_EQ(rw(two, kPaperDt), "too_few_points");
+  EXPECT_EQ(gm(two, kPaperDt), "too_few_points");
+  // bad_data: arrays of different lengths, a non-finite deviation, taus not
+  // ascending.
+  AllanCurve uneven = fine;
+  uneven.dev.pop_back();
+  EXPECT_EQ(rw(uneven, kPaperDt), "bad_data");
+  AllanCurve nan_dev = fine;
+  nan_dev.dev[4] = std::nan("");
+  EXPECT_EQ(rw(nan_dev, kPaperDt), "bad_data");
+  EXPECT_EQ(gm(nan_dev, kPaperDt), "bad_data");
+  AllanCurve swapped = fine;
+  std::swap(swapped.tau[3], swapped.tau[4]);
+  EXPECT_EQ(rw(swapped, kPaperDt), "bad_data");
 }
 
 TEST(RandomWalkModelFit, IgnoresChanceDipInTheTail) {

@@ -1,4 +1,4 @@
-// Li & Griffiths (2004) ellipsoid-specific fit, k = 4 (formulas.md 2.1-2.2).
+// Li & Griffiths (2004) ellipsoid-specific fit, k = 4 (docs/formulas/magnetometer.md §2.1-2.2).
 #include "cubecal/calib/ellipsoid_fit.hpp"
 
 #include <Eigen/Dense>
@@ -7,6 +7,8 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+
+#include "cubecal/error.hpp"
 
 namespace cubecal::mag {
 
@@ -28,7 +30,7 @@ Mat3 to_array(const M3& m) {
 }
 
 [[noreturn]] void degenerate(const std::string& why) {
-  throw std::invalid_argument("degenerate ellipsoid fit: " + why);
+  throw CalibrationError(CalibrationReason::degenerate, "degenerate ellipsoid fit: " + why);
 }
 
 // 4J - I^2 for k = 4.
@@ -42,7 +44,7 @@ double constraint(const std::array<double, 10>& v) {
 
 EllipsoidFit ellipsoid_from_quadric(const std::array<double, 10>& coeff_in, double field_norm) {
   if (!(field_norm > 0.0) || !std::isfinite(field_norm))
-    throw std::invalid_argument("the field norm must be positive");
+    throw CalibrationError(CalibrationReason::field_norm, "the field norm must be positive");
   std::array<double, 10> v = coeff_in;
   for (double x : v)
     if (!std::isfinite(x)) degenerate("non-finite quadric coefficients");
@@ -91,10 +93,11 @@ EllipsoidFit ellipsoid_from_quadric(const std::array<double, 10>& coeff_in, doub
 EllipsoidFit fit_ellipsoid(std::span<const Vec3> h, double field_norm) {
   const std::size_t n = h.size();
   if (n < kMinPoints)
-    throw std::invalid_argument("the ellipsoid fit needs at least " + std::to_string(kMinPoints) + " points, got " +
-                                std::to_string(n));
+    throw CalibrationError(
+        CalibrationReason::too_few_points,
+        "the ellipsoid fit needs at least " + std::to_string(kMinPoints) + " points, got " + std::to_string(n));
   if (!(field_norm > 0.0) || !std::isfinite(field_norm))
-    throw std::invalid_argument("the field norm must be positive");
+    throw CalibrationError(CalibrationReason::field_norm, "the field norm must be positive");
   // Centre on the mean and scale to unit RMS radius: the fit is similarity
   // invariant and the scatter matrix is then well conditioned.
   V3 m = V3::Zero();

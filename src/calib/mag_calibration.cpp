@@ -12,6 +12,7 @@
 
 #include "cubecal/calib/ellipsoid_fit.hpp"
 #include "cubecal/calib/twostep.hpp"
+#include "cubecal/error.hpp"
 
 namespace cubecal::mag {
 
@@ -41,8 +42,8 @@ const char* const kSoftNames[6] = {"W11", "W22", "W33", "W12", "W13", "W23"};
 double field_at(std::span<const double> F, std::size_t k) { return F.size() == 1 ? F[0] : F[k]; }
 
 [[noreturn]] void no_coverage(const std::string& why) {
-  throw std::invalid_argument("points do not cover the sphere: rotate the sensor through all orientations (" + why +
-                              ")");
+  throw CalibrationError(CalibrationReason::poor_coverage,
+                         "points do not cover the sphere: rotate the sensor through all orientations (" + why + ")");
 }
 
 }  // namespace
@@ -100,7 +101,8 @@ NormError raw_norm_error(std::span<const Vec3> h, std::span<const double> F) {
 
 OutlierRejection reject_outliers(std::span<const Vec3> h, double sigma_level) {
   if (!(sigma_level > 0.0) || !std::isfinite(sigma_level))
-    throw std::invalid_argument("the outlier rejection level must be a positive number of standard deviations");
+    throw CalibrationError(CalibrationReason::bad_option,
+                           "the outlier rejection level must be a positive number of standard deviations");
   OutlierRejection r;
   const std::size_t n = h.size();
   if (n < 2) {
@@ -202,26 +204,31 @@ void check_coverage(const Coverage& c, Method m, double F) {
 Result calibrate(std::span<const Vec3> h_in, const Options& opt) {
   const std::size_t n_in = h_in.size();
   if (n_in < kMinPoints)
-    throw std::invalid_argument("magnetometer calibration needs at least " + std::to_string(kMinPoints) +
-                                " points, got " + std::to_string(n_in));
+    throw CalibrationError(CalibrationReason::too_few_points, "magnetometer calibration needs at least " +
+                                                                  std::to_string(kMinPoints) + " points, got " +
+                                                                  std::to_string(n_in));
   for (const Vec3& p : h_in)
     for (double v : p)
-      if (!std::isfinite(v)) throw std::invalid_argument("non-finite magnetometer value");
+      if (!std::isfinite(v)) throw CalibrationError(CalibrationReason::bad_data, "non-finite magnetometer value");
   if (opt.field_norm < 0.0 || !std::isfinite(opt.field_norm))
-    throw std::invalid_argument("the field norm must be positive");
+    throw CalibrationError(CalibrationReason::field_norm, "the field norm must be positive");
   if (opt.noise < 0.0 || !std::isfinite(opt.noise))
-    throw std::invalid_argument("the noise must be a positive standard deviation");
+    throw CalibrationError(CalibrationReason::bad_option, "the noise must be a positive standard deviation");
   if (opt.reject_sigma < 0.0 || !std::isfinite(opt.reject_sigma))
-    throw std::invalid_argument("the outlier rejection level must be a positive number of standard deviations");
+    throw CalibrationError(CalibrationReason::bad_option,
+                           "the outlier rejection level must be a positive number of standard deviations");
   const bool per_point = !opt.field_norms.empty();
   if (per_point) {
     if (opt.method == Method::ellipsoid)
-      throw std::invalid_argument("per-point field norms apply to TWOSTEP only (the ellipsoid fit takes one norm)");
+      throw CalibrationError(CalibrationReason::bad_option,
+                             "per-point field norms apply to TWOSTEP only (the ellipsoid fit takes one norm)");
     if (opt.field_norms.size() != n_in)
-      throw std::invalid_argument("one field norm per point: expected " + std::to_string(n_in) + ", got " +
-                                  std::to_string(opt.field_norms.size()));
+      throw CalibrationError(CalibrationReason::field_norm, "one field norm per point: expected " +
+                                                                std::to_string(n_in) + ", got " +
+                                                                std::to_string(opt.field_norms.size()));
     for (double f : opt.field_norms)
-      if (!(f > 0.0) || !std::isfinite(f)) throw std::invalid_argument("the field norm must be positive");
+      if (!(f > 0.0) || !std::isfinite(f))
+        throw CalibrationError(CalibrationReason::field_norm, "the field norm must be positive");
   }
 
   Result r;
@@ -248,8 +255,9 @@ Result calibrate(std::span<const Vec3> h_in, const Options& opt) {
   r.points_used = h.size();
   r.points_rejected = r.rejected.size();
   if (h.size() < kMinPoints)
-    throw std::invalid_argument("only " + std::to_string(h.size()) + " points left after outlier rejection, " +
-                                std::to_string(kMinPoints) + " needed (raise the rejection level)");
+    throw CalibrationError(CalibrationReason::too_few_points,
+                           "only " + std::to_string(h.size()) + " points left after outlier rejection, " +
+                               std::to_string(kMinPoints) + " needed (raise the rejection level)");
 
   // Field norm.
   if (per_point) {
@@ -271,7 +279,8 @@ Result calibrate(std::span<const Vec3> h_in, const Options& opt) {
                       (opt.method == Method::twostep ? std::string(" (bias-only TWOSTEP takes |h - b| = F: the bias "
                                                                    "depends on it)")
                                                      : std::string()));
-    if (!(r.field_norm > 0.0)) throw std::invalid_argument("the field norm must be positive (all points are zero)");
+    if (!(r.field_norm > 0.0))
+      throw CalibrationError(CalibrationReason::field_norm, "the field norm must be positive (all points are zero)");
   }
   if (!per_point) Hk.assign(1, r.field_norm);
 

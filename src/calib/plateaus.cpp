@@ -7,6 +7,8 @@
 #include <string>
 #include <utility>
 
+#include "cubecal/error.hpp"
+
 namespace cubecal {
 
 namespace {
@@ -29,22 +31,23 @@ std::size_t samples(const TriadRecord& rec) { return rec.axes[0].size(); }
 void check_record(const TriadRecord& rec) {
   const std::size_t n = samples(rec);
   if (rec.axes[1].size() != n || rec.axes[2].size() != n)
-    throw std::invalid_argument("plateaus: the three gyro axes have different lengths");
+    throw CalibrationError(CalibrationReason::bad_data, "plateaus: the three gyro axes have different lengths");
   if (!rec.time.empty() && rec.time.size() != n)
-    throw std::invalid_argument("plateaus: the time column and the gyro have different lengths");
+    throw CalibrationError(CalibrationReason::bad_data,
+                           "plateaus: the time column and the gyro have different lengths");
   if (!(rec.dt > 0.0) || !std::isfinite(rec.dt))
-    throw std::invalid_argument("plateaus: the sampling period must be positive");
+    throw CalibrationError(CalibrationReason::bad_data, "plateaus: the sampling period must be positive");
   for (std::size_t i = 0; i < rec.breaks.size(); ++i)
     if (rec.breaks[i] > n || (i > 0 && rec.breaks[i] <= rec.breaks[i - 1]))
-      throw std::invalid_argument("plateaus: gap positions must be ascending sample indices");
+      throw CalibrationError(CalibrationReason::bad_data, "plateaus: gap positions must be ascending sample indices");
 }
 
 void check_options(const PlateauOptions& opt) {
   if (!(opt.margin_s >= 0.0) || !(opt.min_plateau_s >= 0.0) || !(opt.ref_tolerance >= 0.0) ||
       !(opt.window_s > 0.0) || !(opt.steady_factor > 0.0) || !(opt.jump_sigma > 0.0) ||
       !std::isfinite(opt.margin_s) || !std::isfinite(opt.min_plateau_s) || !std::isfinite(opt.window_s))
-    throw std::invalid_argument(
-        "plateaus: margin, minimum length and tolerance must be >= 0, window and thresholds > 0");
+    throw CalibrationError(CalibrationReason::bad_option,
+                           "plateaus: margin, minimum length and tolerance must be >= 0, window and thresholds > 0");
 }
 
 double time_at(const TriadRecord& rec, std::size_t k) {
@@ -229,8 +232,9 @@ double quiet_level(std::span<const double> x, const std::vector<Range>& parts, s
 }
 
 [[noreturn]] void throw_none_found(const std::string& what, const PlateauOptions& opt) {
-  throw std::invalid_argument("no plateau found: " + what + " lasts " + fmt_s(opt.min_plateau_s) + " after dropping " +
-                              fmt_s(opt.margin_s) + " at both ends");
+  throw CalibrationError(CalibrationReason::no_plateaus, "no plateau found: " + what + " lasts " +
+                                                             fmt_s(opt.min_plateau_s) + " after dropping " +
+                                                             fmt_s(opt.margin_s) + " at both ends");
 }
 
 }  // namespace
@@ -265,7 +269,8 @@ PlateauDetection plateaus_from_reference(const TriadRecord& rec, const std::arra
   check_options(opt);
   for (const auto& r : ref)
     if (r.size() != samples(rec))
-      throw std::invalid_argument("plateaus: the reference columns and the gyro have different lengths");
+      throw CalibrationError(CalibrationReason::bad_data,
+                             "plateaus: the reference columns and the gyro have different lengths");
 
   PlateauDetection out;
   for (const Range& piece : pieces(rec)) {
@@ -313,8 +318,9 @@ PlateauDetection plateaus_from_signal(const TriadRecord& rec, const PlateauOptio
   for (int a = 0; a < 3; ++a) {
     out.noise[a] = quiet_level(rec.axes[a], parts, window);
     if (out.noise[a] < 0.0)
-      throw std::invalid_argument("no plateau found: the record is shorter than one detection window (" +
-                                  fmt_s(static_cast<double>(window) * rec.dt) + ")");
+      throw CalibrationError(CalibrationReason::no_plateaus,
+                             "no plateau found: the record is shorter than one detection window (" +
+                                 fmt_s(static_cast<double>(window) * rec.dt) + ")");
     double peak = 0.0;
     for (double v : rec.axes[a]) peak = std::max(peak, std::fabs(v));
     floor[a] = 1e-9 * peak;
@@ -392,8 +398,9 @@ PlateauDetection plateaus_from_schedule(const TriadRecord& rec, std::span<const 
                                         const PlateauOptions& opt) {
   check_record(rec);
   check_options(opt);
-  if (const auto problem = check_schedule(rows)) throw std::invalid_argument(problem->what);
-  if (rows.empty()) throw std::invalid_argument("no plateau found: the schedule has no rows");
+  if (const auto problem = check_schedule(rows)) throw CalibrationError(CalibrationReason::bad_data, problem->what);
+  if (rows.empty())
+    throw CalibrationError(CalibrationReason::no_plateaus, "no plateau found: the schedule has no rows");
 
   PlateauDetection out;
   const std::vector<Range> parts = pieces(rec);
@@ -423,7 +430,7 @@ PlateauDetection plateaus_from_schedule(const TriadRecord& rec, std::span<const 
 }
 
 PlateauDetection label_with_schedule(PlateauDetection found, std::span<const ScheduleRow> rows) {
-  if (const auto problem = check_schedule(rows)) throw std::invalid_argument(problem->what);
+  if (const auto problem = check_schedule(rows)) throw CalibrationError(CalibrationReason::bad_data, problem->what);
   const std::size_t detected = found.plateaus.size();
   std::vector<Plateau> labelled;
   for (Plateau p : found.plateaus) {
@@ -447,8 +454,9 @@ PlateauDetection label_with_schedule(PlateauDetection found, std::span<const Sch
   }
   found.plateaus = std::move(labelled);
   if (found.plateaus.empty())
-    throw std::invalid_argument("no plateau found: none of the " + std::to_string(detected) +
-                                " plateaus found in the gyro signal lies within a schedule interval");
+    throw CalibrationError(CalibrationReason::no_plateaus,
+                           "no plateau found: none of the " + std::to_string(detected) +
+                               " plateaus found in the gyro signal lies within a schedule interval");
   return found;
 }
 

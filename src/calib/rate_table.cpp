@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "cubecal/error.hpp"
+
 namespace cubecal {
 
 namespace {
@@ -67,15 +69,19 @@ std::array<double, 3> earth_rate_along(const std::array<double, 3>& axis, double
 
 RateTableCalibration calibrate_rate_table(std::span<const Plateau> plateaus, const RateTableOptions& opt) {
   const std::size_t P = plateaus.size();
-  if (P < 4) throw std::invalid_argument(std::to_string(P) + " plateau" + (P == 1 ? " is" : "s are") + " not enough: " + kNeed);
+  if (P < 4)
+    throw CalibrationError(CalibrationReason::too_few_points,
+                           std::to_string(P) + " plateau" + (P == 1 ? " is" : "s are") + " not enough: " + kNeed);
   for (std::size_t j = 0; j < P; ++j) {
     const Plateau& p = plateaus[j];
     if (!p.has_ref)
-      throw std::invalid_argument("plateau " + std::to_string(j + 1) + " has no reference rate (label it from a schedule)");
+      throw CalibrationError(CalibrationReason::bad_data,
+                             "plateau " + std::to_string(j + 1) + " has no reference rate (label it from a schedule)");
     bool finite = p.n > 0;
     for (int a = 0; a < 3; ++a) finite = finite && std::isfinite(p.mean[a]) && std::isfinite(p.ref[a]);
     if (!finite)
-      throw std::invalid_argument("plateau " + std::to_string(j + 1) + " has a non-finite rate or no samples");
+      throw CalibrationError(CalibrationReason::bad_data,
+                             "plateau " + std::to_string(j + 1) + " has a non-finite rate or no samples");
   }
 
   // Y = X Theta, row j: [w_j^T 1] -> w_g,j^T.
@@ -89,7 +95,8 @@ RateTableCalibration calibrate_rate_table(std::span<const Plateau> plateaus, con
     }
     X(j, 3) = 1.0;
   }
-  if (const Index rank = affine_rank(X); rank < 4) throw std::invalid_argument(degenerate_message(P, rank));
+  if (const Index rank = affine_rank(X); rank < 4)
+    throw CalibrationError(CalibrationReason::degenerate, degenerate_message(P, rank));
 
   const Eigen::HouseholderQR<Mat> qr(X);
   const Mat theta = qr.solve(Y);  // 4x3: [S^T; b_g^T]
@@ -128,7 +135,8 @@ RateTableCalibration calibrate_rate_table(std::span<const Plateau> plateaus, con
 
   const Eigen::FullPivLU<Eigen::Matrix3d> lu(S);
   if (!lu.isInvertible())
-    throw std::invalid_argument("the fitted scale-factor matrix S is singular: the gyro does not sense every axis");
+    throw CalibrationError(CalibrationReason::degenerate,
+                           "the fitted scale-factor matrix S is singular: the gyro does not sense every axis");
   const Eigen::Matrix3d A = lu.inverse();
   const Eigen::Vector3d beta = -A * bg;
 

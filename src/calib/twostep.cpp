@@ -5,7 +5,7 @@
 //              theta = [c; E11 E22 E33 E12 E13 E23],   phi = c^T (I+E)^-1 c.
 // The weighted cost splits exactly into a centred part, linear in theta, and
 // one centre equation; step 1 solves the centred part, step 2 runs Fisher
-// scoring on both (formulas.md 1.3-1.6).
+// scoring on both (docs/formulas/magnetometer.md §1.3-1.6).
 #include "cubecal/calib/twostep.hpp"
 
 #include <Eigen/Dense>
@@ -14,6 +14,8 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+
+#include "cubecal/error.hpp"
 
 namespace cubecal::mag {
 
@@ -109,7 +111,8 @@ MatrixXd checked_inverse(const MatrixXd& F) {
   const Eigen::SelfAdjointEigenSolver<MatrixXd> es(Fs);
   const VectorXd ev = es.eigenvalues();
   if (es.info() != Eigen::Success || !F.allFinite() || !(ev(0) > 1e-13 * ev(p - 1)))
-    throw std::invalid_argument(
+    throw CalibrationError(
+        CalibrationReason::degenerate,
         "TWOSTEP: singular information matrix (the points do not determine the parameters; rotate the sensor "
         "through all orientations)");
   MatrixXd inv = dg.asDiagonal().inverse() * es.eigenvectors() * ev.cwiseInverse().asDiagonal() *
@@ -179,7 +182,8 @@ Solution solve(const Problem& pr, double s2, bool mean_correction, const Twostep
     // information: it is not scaled up (that would hide the degeneracy).
     const double dmax = Ft.diagonal().maxCoeff();
     if (!(dmax > 0.0))
-      throw std::invalid_argument("TWOSTEP: all points are equal (rotate the sensor through all orientations)");
+      throw CalibrationError(CalibrationReason::degenerate,
+                             "TWOSTEP: all points are equal (rotate the sensor through all orientations)");
     const VectorXd dg = Ft.diagonal().cwiseMax(1e-12 * dmax).cwiseSqrt();
     const MatrixXd Fs = dg.asDiagonal().inverse() * Ft * dg.asDiagonal().inverse();
     const Eigen::SelfAdjointEigenSolver<MatrixXd> es(Fs);
@@ -201,7 +205,8 @@ Solution solve(const Problem& pr, double s2, bool mean_correction, const Twostep
   double phi = 0.0;
   auto information = [&](const VectorXd& t, VectorXd& g) {
     if (!pr.model.phi(t, phi, grad))
-      throw std::invalid_argument("TWOSTEP: I + E became singular (the points do not fit a linear calibration)");
+      throw CalibrationError(CalibrationReason::degenerate,
+                             "TWOSTEP: I + E became singular (the points do not fit a linear calibration)");
     const VectorXd a = Lbar - grad;
     const double e = zbar - mu - Lbar.dot(t) + phi;  // centre residual
     g = Ft * t - yt - (W * e) * a;
@@ -242,20 +247,23 @@ TwostepResult twostep(std::span<const Vec3> Bin, std::span<const double> Hin, co
   const auto p = static_cast<std::size_t>(model.params());
   const std::size_t n = Bin.size();
   if (n < p + 1)
-    throw std::invalid_argument("TWOSTEP" + std::string(opt.full ? " (full)" : "") + " needs at least " +
-                                std::to_string(p + 1) + " points, got " + std::to_string(n));
+    throw CalibrationError(CalibrationReason::too_few_points, "TWOSTEP" + std::string(opt.full ? " (full)" : "") +
+                                                                  " needs at least " + std::to_string(p + 1) +
+                                                                  " points, got " + std::to_string(n));
   if (Hin.size() != 1 && Hin.size() != n)
-    throw std::invalid_argument("TWOSTEP: give one field norm or one per point (" + std::to_string(n) + "), got " +
-                                std::to_string(Hin.size()));
+    throw CalibrationError(
+        CalibrationReason::field_norm,
+        "TWOSTEP: give one field norm or one per point (" + std::to_string(n) + "), got " + std::to_string(Hin.size()));
   for (double h : Hin)
-    if (!(h > 0.0) || !std::isfinite(h)) throw std::invalid_argument("TWOSTEP: field norms must be positive");
+    if (!(h > 0.0) || !std::isfinite(h))
+      throw CalibrationError(CalibrationReason::field_norm, "TWOSTEP: field norms must be positive");
   if (!(opt.noise >= 0.0) || !std::isfinite(opt.noise))
-    throw std::invalid_argument("TWOSTEP: the noise must be a positive standard deviation");
+    throw CalibrationError(CalibrationReason::bad_option, "TWOSTEP: the noise must be a positive standard deviation");
   if (!(opt.eta_tol > 0.0) || opt.max_iterations == 0)
-    throw std::invalid_argument("TWOSTEP: eta_tol and max_iterations must be positive");
+    throw CalibrationError(CalibrationReason::bad_option, "TWOSTEP: eta_tol and max_iterations must be positive");
   for (const Vec3& b : Bin)
     for (double v : b)
-      if (!std::isfinite(v)) throw std::invalid_argument("TWOSTEP: non-finite measurement");
+      if (!std::isfinite(v)) throw CalibrationError(CalibrationReason::bad_data, "TWOSTEP: non-finite measurement");
 
   // Work in units of the mean field norm: c and E then have the same scale.
   double kappa = 0.0;
@@ -345,7 +353,8 @@ TwostepResult twostep(std::span<const Vec3> Bin, std::span<const double> Hin, co
   M3 D;
   V3 b;
   if (!recover(theta, false, D, b))
-    throw std::invalid_argument(
+    throw CalibrationError(
+        CalibrationReason::degenerate,
         "TWOSTEP (full): I + E is not positive definite (the points do not fit a linear calibration; "
         "check the field norms and the coverage)");
   M3 Dc;

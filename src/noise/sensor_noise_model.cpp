@@ -4,9 +4,9 @@
 // Both models are sampled processes, so their Allan variances are written
 // for the averaging factor m (tau = m dt), not for continuous tau:
 //   white (with quantization as white noise):  (sigma_n^2 + q^2) / m,  q^2 = 1/(12 lsb^2)
-//   random-walk bias, step s = sigma_mu dt:    s^2 (2 m^2 + 1) / (6 m)      (formulas.md 5.3)
+//   random-walk bias, step s = sigma_mu dt:    s^2 (2 m^2 + 1) / (6 m)      (docs/formulas/noise-terms.md §4.2)
 //   AR(1) bias, phi = exp(-dt/T_c):            sigma_b^2 / (m^2 (1-phi)^2)
-//                                              * [m (1-phi^2) - phi (1-phi^m)(3-phi^m)]  (5.2)
+//                                              * [m (1-phi^2) - phi (1-phi^m)(3-phi^m)]  (§5.2)
 #include "cubecal/noise/sensor_noise_model.hpp"
 
 #include <algorithm>
@@ -17,6 +17,8 @@
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include "cubecal/error.hpp"
 
 namespace cubecal {
 
@@ -75,38 +77,39 @@ double ar1_avar_unit(double a, double m) noexcept {
   return std::max(b, 0.0) / denom;
 }
 
-void require(bool ok, const std::string& what) {
-  if (!ok) throw std::invalid_argument(what);
+void require(bool ok, CalibrationReason reason, const std::string& what) {
+  if (!ok) throw CalibrationError(reason, what);
 }
 
 // Checks the parallel arrays the fits read (tau, dev, edf; lo/hi unused).
 void validate_curve(const AllanCurve& c, const char* who, std::size_t min_points) {
   const std::string w(who);
-  require(c.dev.size() == c.tau.size(),
-          w + ": Allan curve has " + std::to_string(c.tau.size()) + " taus but " +
-              std::to_string(c.dev.size()) + " deviations");
-  require(c.edf.empty() || c.edf.size() == c.tau.size(),
-          w + ": Allan curve has " + std::to_string(c.tau.size()) + " taus but " +
-              std::to_string(c.edf.size()) + " EDF values");
-  require(c.size() >= min_points, w + ": Allan curve has " + std::to_string(c.size()) +
-                                      " points; at least " + std::to_string(min_points) +
-                                      " are needed");
+  using R = CalibrationReason;
+  require(c.dev.size() == c.tau.size(), R::bad_data,
+          w + ": Allan curve has " + std::to_string(c.tau.size()) + " taus but " + std::to_string(c.dev.size()) +
+              " deviations");
+  require(c.edf.empty() || c.edf.size() == c.tau.size(), R::bad_data,
+          w + ": Allan curve has " + std::to_string(c.tau.size()) + " taus but " + std::to_string(c.edf.size()) +
+              " EDF values");
+  require(c.size() >= min_points, R::too_few_points,
+          w + ": Allan curve has " + std::to_string(c.size()) + " points; at least " + std::to_string(min_points) +
+              " are needed");
   for (std::size_t i = 0; i < c.size(); ++i) {
-    require(std::isfinite(c.tau[i]) && c.tau[i] > 0.0,
+    require(std::isfinite(c.tau[i]) && c.tau[i] > 0.0, R::bad_data,
             w + ": tau[" + std::to_string(i) + "] is not a positive finite number");
-    require(std::isfinite(c.dev[i]) && c.dev[i] > 0.0,
+    require(std::isfinite(c.dev[i]) && c.dev[i] > 0.0, R::bad_data,
             w + ": deviation at tau[" + std::to_string(i) + "] is not a positive finite number");
-    require(i == 0 || c.tau[i] > c.tau[i - 1], w + ": taus are not strictly ascending");
+    require(i == 0 || c.tau[i] > c.tau[i - 1], R::bad_data, w + ": taus are not strictly ascending");
     if (!c.edf.empty())
-      require(std::isfinite(c.edf[i]) && c.edf[i] > 0.0,
+      require(std::isfinite(c.edf[i]) && c.edf[i] > 0.0, R::bad_data,
               w + ": EDF at tau[" + std::to_string(i) + "] is not a positive finite number");
   }
 }
 
 void validate_period(double dt, double lsb, const char* who) {
   const std::string w(who);
-  require(std::isfinite(dt) && dt > 0.0, w + ": the sample period must be positive");
-  require(std::isfinite(lsb) && lsb >= 0.0,
+  require(std::isfinite(dt) && dt > 0.0, CalibrationReason::bad_option, w + ": the sample period must be positive");
+  require(std::isfinite(lsb) && lsb >= 0.0, CalibrationReason::bad_option,
           w + ": the LSB (counts per unit) must be positive, or 0 for no quantization");
 }
 
@@ -206,7 +209,7 @@ double avar(const GaussMarkovModel& model, std::size_t m) noexcept {
   return white / md + gm;
 }
 
-// The paper's adjustment (section 2): "tangent to the left arm of AV and the
+// The paper's adjustment (docs/paper.md §2.4): "tangent to the left arm of AV and the
 // same bias instability (minimum point of the AV)".
 //
 // Minimum point: the bottom of the V (v_bottom above), not blindly the
@@ -240,15 +243,16 @@ RandomWalkModel fit_random_walk_model(const AllanCurve& curve, double dt, double
   const std::size_t n = curve.size();
   const std::size_t imin = v_bottom(curve);
   if (imin == 0)
-    throw std::invalid_argument(
-        "random-walk model fit: the Allan curve has no white-noise arm (it rises from the first "
-        "tau, " + std::to_string(curve.tau.front()) +
-        " s); the model needs a falling left arm and a minimum");
+    throw CalibrationError(CalibrationReason::degenerate,
+                           "random-walk model fit: the Allan curve has no white-noise arm (it rises from the first "
+                           "tau, " +
+                               std::to_string(curve.tau.front()) +
+                               " s); the model needs a falling left arm and a minimum");
   if (imin == n - 1)
-    throw std::invalid_argument(
-        "random-walk model fit: the Allan curve has no minimum inside its tau range (it still "
-        "falls at the last tau, " + std::to_string(curve.tau.back()) +
-        " s); use a longer record or a larger maximum tau");
+    throw CalibrationError(CalibrationReason::degenerate,
+                           "random-walk model fit: the Allan curve has no minimum inside its tau range (it still "
+                           "falls at the last tau, " +
+                               std::to_string(curve.tau.back()) + " s); use a longer record or a larger maximum tau");
 
   double n2 = std::numeric_limits<double>::infinity();
   for (const std::size_t i : well_measured(curve, 0, imin - 1))
@@ -257,10 +261,11 @@ RandomWalkModel fit_random_walk_model(const AllanCurve& curve, double dt, double
   const double q2 = quantization_variance(lsb);
   const double white = n2 / dt;  // sigma_n^2 + q^2
   if (!(white > q2))
-    throw std::invalid_argument(
-        "random-walk model fit: the white noise of the curve (" + std::to_string(std::sqrt(white)) +
-        " per sample) is below the quantization step's own noise (" + std::to_string(std::sqrt(q2)) +
-        "); check the LSB (counts per unit) and the sample period");
+    throw CalibrationError(CalibrationReason::bad_option,
+                           "random-walk model fit: the white noise of the curve (" + std::to_string(std::sqrt(white)) +
+                               " per sample) is below the quantization step's own noise (" +
+                               std::to_string(std::sqrt(q2)) +
+                               "); check the LSB (counts per unit) and the sample period");
 
   const double smin2 = curve.dev[imin] * curve.dev[imin];
   double big_s = -std::numeric_limits<double>::infinity();
@@ -269,9 +274,9 @@ RandomWalkModel fit_random_walk_model(const AllanCurve& curve, double dt, double
     big_s = std::max(big_s, (smin2 - white / m) / rw_factor(m));
   }
   if (!(big_s > 0.0))
-    throw std::invalid_argument(
-        "random-walk model fit: the white-noise line alone lies above the curve's minimum at "
-        "every tau; the curve has no random-walk arm to fit");
+    throw CalibrationError(CalibrationReason::degenerate,
+                           "random-walk model fit: the white-noise line alone lies above the curve's minimum at "
+                           "every tau; the curve has no random-walk arm to fit");
 
   RandomWalkModel model;
   model.sigma_n = std::sqrt(white - q2);

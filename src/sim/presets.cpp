@@ -29,7 +29,7 @@ TriadModel sport_gyro() {
     a.bias_sigma = sigma_mu[i];
     a.temp_coeff = 0.0;  // the paper gives no gyro temperature coefficient
   }
-  m.lsb = 145.6;  // g_lsb, LSB/(deg/s), eq. 3
+  m.lsb = 145.6;  // g_lsb, LSB/(deg/s), the paper's eq. 3 (docs/paper.md §2.2)
   m.quantizer = Quantizer::truncate;
   // MPU-3300 full scale at 145.6 LSB/(deg/s) is +-225 deg/s (FS_SEL = 0;
   // the +-450 deg/s range has 72.8 LSB/(deg/s)); 225 * 145.6 = 32760 counts,
@@ -60,7 +60,7 @@ TriadModel sport_mag() {
     // not in the paper, so every axis uses 0.7.
     a.temp_coeff = 0.7;
   }
-  m.lsb = 1.30;  // m_lsb, LSB/mGauss, eq. 16
+  m.lsb = 1.30;  // m_lsb, LSB/mGauss, the paper's eq. 16 (docs/paper.md §2.2)
   m.quantizer = Quantizer::truncate;
   // HMC5843 data registers span -2048..2047 counts (0xF800..0x07FF): at the
   // paper's 1.30 LSB/mGauss that is +-2047/1.30 = +-1574.6 mGauss. Not from

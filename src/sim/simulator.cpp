@@ -1,6 +1,7 @@
 // Simulated sensor triads (simulator.hpp): the paper's measurement model
-// (eq. 1-3 gyro, 14-16 magnetometer) with turn-on bias, temperature, scale
-// factor / misalignment and saturation.
+// (eq. 1-3 gyro, 14-16 magnetometer: docs/paper.md §2.2;
+// docs/formulas/simulator.md) with turn-on bias, temperature, scale factor /
+// misalignment and saturation.
 //
 // Random-number stream (kept stable so a seed reproduces a run across
 // versions; changing any of this changes every simulated record):
@@ -27,8 +28,9 @@
 //                                     gain = sigma_b sqrt(1 - phi^2)
 //                                   none: phi = 1, gain = 0 (b stays 0)
 //   out    = clamp(Q(w), -saturation, saturation)
-// with u = M * true (row-major) and Q(w) = trunc(w lsb)/lsb (eq. 3) or
-// round(w lsb)/lsb, Q = identity for lsb == 0. The random walk starts at
+// with u = M * true (row-major) and Q(w) = trunc(w lsb)/lsb (the paper's
+// eq. 3; docs/formulas/simulator.md §1.2) or round(w lsb)/lsb, Q = identity
+// for lsb == 0. The random walk starts at
 // b_0 = 0 (the paper's model: the starting level is the fixed + turn-on
 // bias), the Gauss-Markov process at b_0 = sigma_b n, its stationary law.
 // step() and run() evaluate the same inlined kernel, so they produce the same
@@ -208,7 +210,8 @@ TriadSimulator::TriadSimulator(const TriadModel& model, double dt, std::uint64_t
         break;
       case BiasProcess::random_walk:
         k.phi[i] = 1.0;
-        k.gain[i] = a.bias_sigma * dt;  // Euler step of db/dt = mu (eq. 2/15)
+        // Euler step of db/dt = mu (the paper's eq. 2/15; docs/formulas/simulator.md §2.1).
+        k.gain[i] = a.bias_sigma * dt;
         k.b[i] = 0.0;
         break;
       case BiasProcess::gauss_markov:

@@ -1,5 +1,5 @@
 // Li & Griffiths (2004) ellipsoid-specific least-squares fit with k = 4, as
-// in Magneto (formulas.md section 2), and its conversion to a hard-iron
+// in Magneto (docs/formulas/magnetometer.md §2), and its conversion to a hard-iron
 // offset b = -M^-1 n and a symmetric soft-iron correction
 // A^-1 = F / sqrt(n^T M^-1 n - d) * sqrtm(M), so that h_cal = A^-1 (h - b)
 // has |h_cal| = F on the fitted ellipsoid.
@@ -33,14 +33,16 @@ struct EllipsoidFit {
   double eigenvalue = 0.0;  // the generalised eigenvalue chosen (algebraic residual)
 };
 
-// At least 10 points that are not coplanar. Throws std::invalid_argument
-// "degenerate ellipsoid fit: ..." when no eigenvector satisfies the
-// constraint, when M is not positive definite or when the quadric has no
-// real points (n^T M^-1 n - d <= 0); field_norm must be positive.
+// At least 10 points that are not coplanar. Throws CalibrationError
+// (cubecal/error.hpp): too_few_points (fewer than 10 points); field_norm
+// (field_norm not positive); degenerate ("degenerate ellipsoid fit: ...":
+// all points equal, coplanar points, no eigenvector satisfying the
+// constraint, M not positive definite, or a quadric without real points,
+// n^T M^-1 n - d <= 0).
 EllipsoidFit fit_ellipsoid(std::span<const Vec3> h, double field_norm);
 
 // The conversion alone, from quadric coefficients a b c f g h p q r d (any
-// scale and sign). Same errors.
+// scale and sign). Throws CalibrationError: field_norm, degenerate.
 EllipsoidFit ellipsoid_from_quadric(const std::array<double, 10>& coeff, double field_norm);
 
 }  // namespace cubecal::mag

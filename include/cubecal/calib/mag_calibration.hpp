@@ -1,8 +1,8 @@
 // Magnetometer calibration from points measured over many orientations:
 // the common result of TWOSTEP (bias only, or bias + symmetric D) and of the
 // Li-Griffiths ellipsoid fit, and the checks every method shares (point
-// count, field norm, Magneto's outlier rule, sphere coverage). formulas.md
-// sections 1 and 2.
+// count, field norm, Magneto's outlier rule, sphere coverage).
+// docs/formulas/magnetometer.md §1-2, the shared checks §3.
 //
 // Every method gives the calibration in one form,
 //     h_cal = A^-1 (h - b),
@@ -65,8 +65,8 @@ inline constexpr double kMinSpreadBiasOnly = 0.05; // smallest spread / F
 
 Coverage sphere_coverage(std::span<const Vec3> h);
 
-// Throws std::invalid_argument "points do not cover the sphere: rotate the
-// sensor through all orientations (...)" when the points cannot determine the
+// Throws CalibrationError (poor_coverage) "points do not cover the sphere:
+// rotate the sensor through all orientations (...)" when the points cannot determine the
 // method's parameters:
 // - ellipsoid and twostep-full (9 parameters): the points are not coplanar
 //   (the sphere fit exists), smallest spread >= 0.1 F (not a small cluster:
@@ -84,13 +84,14 @@ void check_coverage(const Coverage& c, Method m, double field_norm);
 // Magneto's outlier rule, one pass: with m and sd the mean and (population)
 // standard deviation of |h_k| over all points, reject k when
 // ||h_k| - m| / sd > sigma_level. Reproduces Magneto 1.4's choice on
-// jremington's ICM-20948 run (formulas.md 2.4).
+// jremington's ICM-20948 run (docs/formulas/magnetometer.md §3.3).
 struct OutlierRejection {
   double mean_norm = 0.0;
   double std_norm = 0.0;
   std::vector<std::size_t> kept;      // indices into the input, ascending
   std::vector<std::size_t> rejected;  // indices into the input, ascending
 };
+// Throws CalibrationError (bad_option) when sigma_level is not positive.
 OutlierRejection reject_outliers(std::span<const Vec3> h, double sigma_level);
 
 Vec3 apply(const Vec3& h, const Vec3& bias, const Mat3& correction);  // A^-1 (h - b)
@@ -150,11 +151,17 @@ struct Result {
   std::vector<std::string> notes;  // what the reader must know (defaults taken, degeneracies)
 };
 
-// Runs the chosen method. Throws std::invalid_argument, with a message fit
-// for the user, for: fewer than kMinPoints points (before or after
-// rejection), non-finite values, a non-positive field norm or noise, per-point
-// norms of the wrong count or with the ellipsoid, insufficient sphere
-// coverage, a degenerate fit.
+// Runs the chosen method. Throws CalibrationError (cubecal/error.hpp), with a
+// message fit for the user:
+//   too_few_points  fewer than kMinPoints points (before or after rejection);
+//   bad_data        non-finite values;
+//   field_norm      a negative or non-finite field norm, per-point norms of
+//                   the wrong count or not positive, all points zero (no
+//                   default norm);
+//   bad_option      a negative noise or rejection level, per-point norms
+//                   with the ellipsoid method;
+//   poor_coverage   insufficient sphere coverage (check_coverage);
+//   degenerate      a degenerate fit (ellipsoid_fit.hpp, twostep.hpp).
 Result calibrate(std::span<const Vec3> h, const Options& opt);
 
 }  // namespace cubecal::mag

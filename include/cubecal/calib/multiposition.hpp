@@ -1,6 +1,6 @@
 // Multi-position calibration of an accelerometer and a gyroscope without a
 // turntable (Tedaldi, Pretto & Menegatti, ICRA 2014; the imu_tk code):
-// formulas.md section 3.2.
+// docs/formulas/multiposition.md.
 //
 // Model of each triad (raw X in counts or any unit, calibrated X'):
 //     X' = T K (X - B),   K = diag(s_x, s_y, s_z),
@@ -44,12 +44,11 @@
 #include <string>
 #include <vector>
 
+#include "cubecal/calib/static_detection.hpp"
 #include "cubecal/math/vec3.hpp"
 
 namespace cubecal::multipos {
 
-inline constexpr std::size_t kDefaultWindow = 101;
-inline constexpr std::size_t kMinWindow = 11;
 inline constexpr std::size_t kIntervalSamples = 100;
 inline constexpr std::size_t kMinIntervals = 12;
 
@@ -71,20 +70,6 @@ struct TriadSeries {
   std::span<const double> t;
   double rate_hz = 0.0;
 };
-
-// The window rule: window must be at least kMinWindow; an even window is
-// made odd (+1), as imu_tk does. Throws std::invalid_argument below 11.
-std::size_t normalised_window(std::size_t window);
-
-// v(i) for every sample; +infinity for the h samples at each end, whose
-// centred window does not fit (never static).
-std::vector<double> variance_norm(std::span<const Vec3> x, std::size_t window = kDefaultWindow);
-
-// |(var_x, var_y, var_z)| over all of x (unbiased variance).
-double block_variance_norm(std::span<const Vec3> x);
-
-// Maximal runs of v(i) < threshold, in order, of any length.
-std::vector<IndexRange> static_intervals(std::span<const double> v, double threshold);
 
 struct Options {
   double g = 9.80665;           // local gravity: |calibrated acceleration| (sets its unit)
@@ -174,18 +159,32 @@ struct Result {
   GyroResult gyro;
 };
 
-// Accelerometer calibration (steps 1-2). Throws std::invalid_argument, with a
-// message fit for the user, for: empty or non-finite data, time stamps of the
-// wrong count or not increasing, no rate, an initial static period shorter
-// than the window or than the record allows, a constant initial period, bad
-// options, fewer than min_intervals static intervals for every th_mult, or
-// poses that do not determine the parameters.
+// Accelerometer calibration (steps 1-2). Throws CalibrationError
+// (cubecal/error.hpp), with a message fit for the user:
+//   bad_data           non-finite samples or time stamps, stamps of the wrong
+//                      count or not increasing;
+//   bad_option         no time stamps and no positive rate, an option out of
+//                      range (g, init_static_s, window, th_mult range, ...);
+//   too_few_points     no samples;
+//   initial_static     the record is not longer than the initial static
+//                      period, the period holds fewer samples than the
+//                      window, or the accelerometer is constant over it;
+//   scale_guess        the period reads the bias guess exactly (no automatic
+//                      scale), or the initial guess gives non-finite residuals;
+//   too_few_intervals  fewer than min_intervals static intervals for every
+//                      th_mult;
+//   degenerate         the poses do not determine the parameters.
 AccResult calibrate_accelerometer(const TriadSeries& acc, const Options& opt);
 
 // Gyroscope calibration (step 3) given the accelerometer result on `acc`.
 // The gyro is matched to the accelerometer intervals by time. Throws
-// std::invalid_argument as above, and when the gyro record does not cover the
-// intervals.
+// CalibrationError: bad_data, bad_option, too_few_points as above (for either
+// record); too_few_intervals (fewer than 2 intervals in acc_result, or
+// intervals that do not match the accelerometer record); initial_static (fewer
+// than 2 gyro samples in the initial period); bad_data (the gyro record does
+// not cover the motion between two intervals); scale_guess (non-finite
+// residuals at the guess, or a fit converged to a non-positive scale);
+// degenerate (the motions do not determine the parameters).
 GyroResult calibrate_gyroscope(const TriadSeries& acc, const AccResult& acc_result, const TriadSeries& gyro,
                                const Options& opt);
 

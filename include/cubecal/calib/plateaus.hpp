@@ -1,6 +1,7 @@
 // Plateaus of a rate-table run: the segments where the table turned at a
 // constant rate, with the gyro mean over each (the input of the rate-table
-// calibration, formulas.md section 3.1; the paper's section 2, fourth test).
+// calibration, docs/formulas/rate-table.md §6; the paper's fourth test,
+// docs/paper.md §2.1 and §2.6).
 //
 // Three ways to find them:
 //  (a) from reference-rate columns logged with the gyro (table encoder or
@@ -44,7 +45,8 @@ struct Plateau {
   std::array<double, 3> mean{};  // gyro mean per axis
   std::array<double, 3> stddev{};  // gyro sample standard deviation per axis (n - 1)
   // Sample covariance of the gyro axes (n - 1), for the covariance of the
-  // calibrated errors over all plateau samples (the paper's eq. 12).
+  // calibrated errors over all plateau samples (the paper's eq. 12,
+  // docs/formulas/rate-table.md §4.2).
   std::array<std::array<double, 3>, 3> cov{};
   std::array<double, 3> ref{};   // true rate (reference or schedule), data unit
   bool has_ref = false;
@@ -93,9 +95,11 @@ struct ScheduleProblem {
 };
 std::optional<ScheduleProblem> check_schedule(std::span<const ScheduleRow> rows);
 
-// Every function below throws std::invalid_argument for inconsistent input
-// (spans of different lengths, dt <= 0, a bad schedule) and when no plateau
-// is left: the message says what was looked for.
+// Every function below throws CalibrationError (cubecal/error.hpp): bad_data
+// for inconsistent input (spans of different lengths, dt <= 0, gap positions
+// not ascending, a bad schedule); bad_option for options out of range;
+// no_plateaus when no plateau is left (the message says what was looked for;
+// also a record shorter than one detection window, an empty schedule).
 
 // (a) Plateaus where ref[0..2] (data unit, one per sample) is constant.
 PlateauDetection plateaus_from_reference(const TriadRecord& rec,

@@ -1,5 +1,5 @@
-// Gyro calibration on a rate table (formulas.md section 3.1; the paper's
-// eq. 6-12): scale factors, misalignment and bias from the gyro means of
+// Gyro calibration on a rate table (docs/formulas/rate-table.md; the paper's
+// eq. 6-13, docs/paper.md §2.6): scale factors, misalignment and bias from the gyro means of
 // several constant-rate plateaus.
 //
 // What is fitted is the FORWARD model, noise on the observed side:
@@ -8,7 +8,7 @@
 // Theta = [S^T; b_g^T] (4x3), solved by QR. Fitting the paper's inverse form
 // directly would put the gyro noise in the regressors and bias the fit.
 // The paper's form follows by inversion:
-//     w = A w_g + beta,   A = S^-1,   beta = -S^-1 b_g        (eq. 6-9)
+//     w = A w_g + beta,   A = S^-1,   beta = -S^-1 b_g        (docs/formulas/rate-table.md §2)
 //
 // Uncertainty: the plateau noise R (3x3, across axes) is estimated from the
 // fit residuals with P - 4 degrees of freedom, so it includes whatever the
@@ -98,16 +98,18 @@ struct RateTableCalibration {
   ResidualStats residual_after;
   std::vector<std::array<double, 3>> residuals_after;
 
-  // The paper's eq. (12): covariance of the calibrated error A w_g + beta - w
-  // over every sample of every plateau (pooled from the plateaus' means and
-  // covariances, unbiased), data unit^2. The paper's eq. (13) is this matrix.
+  // The paper's eq. 12 (docs/formulas/rate-table.md §4.2): covariance of
+  // the calibrated error A w_g + beta - w over every sample of every plateau
+  // (pooled from the plateaus' means and covariances, unbiased), data
+  // unit^2. The paper's eq. 13 is this matrix (docs/paper.md §2.6).
   Mat3 error_covariance{};
 };
 
 // Calibrates from plateaus that carry a reference rate (has_ref). Throws
-// std::invalid_argument with fewer than 4 plateaus, a plateau without a
-// reference, non-finite values, or plateau rates that are not affinely
-// independent in 4 ways (rank [w 1] < 4, e.g. all about one axis).
+// CalibrationError (cubecal/error.hpp): too_few_points (fewer than 4
+// plateaus); bad_data (a plateau without a reference, non-finite values or
+// no samples); degenerate (plateau rates not affinely independent in 4 ways,
+// rank [w 1] < 4, e.g. all about one axis; or a singular fitted S).
 RateTableCalibration calibrate_rate_table(std::span<const Plateau> plateaus, const RateTableOptions& opt = {});
 
 }  // namespace cubecal

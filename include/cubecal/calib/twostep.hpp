@@ -1,5 +1,5 @@
 // TWOSTEP attitude-independent magnetometer calibration (Alonso & Shuster
-// 2002; formulas.md section 1): bias only, or bias + symmetric D.
+// 2002; docs/formulas/magnetometer.md §1): bias only, or bias + symmetric D.
 //
 // Model: B_k = (I+D)^-1 (O^T A_k H_k + b + eps_k), eps_k ~ N(0, s^2 I);
 // scalar measurement z_k = |B_k|^2 - |H_k|^2, noise variance
@@ -62,9 +62,12 @@ struct TwostepResult {
 };
 
 // B: measured points; H_norm: |H_k|, one value for all points (lab run) or
-// one per point. Throws std::invalid_argument for fewer points than
-// parameters + 1, sizes that do not match, non-positive norms or noise, a
-// singular information matrix, or (full) I + E not positive definite.
+// one per point. Throws CalibrationError (cubecal/error.hpp): too_few_points
+// (fewer points than parameters + 1); field_norm (H_norm neither one value
+// nor one per point, or a norm not positive); bad_option (negative noise,
+// eta_tol or max_iterations not positive); bad_data (non-finite points);
+// degenerate (all points equal, a singular information matrix, I + E
+// singular or, full, not positive definite).
 TwostepResult twostep(std::span<const Vec3> B, std::span<const double> H_norm,
                       const TwostepOptions& opt = {});
 

@@ -1,4 +1,5 @@
-// Sample covariance matrix of several channels (the paper's eq. 12).
+// Sample covariance matrix of several channels (the paper's eq. 12;
+// docs/formulas/drift-covariance-temperature.md §2).
 #pragma once
 #include <cstddef>
 #include <span>

@@ -1,4 +1,5 @@
-// Bias drift as the paper plots it (Figs. 3 and 5): a moving average of the
+// Bias drift as the paper plots it (Figs. 3 and 5, docs/paper.md §2.5;
+// docs/formulas/drift-covariance-temperature.md §1): a moving average of the
 // static record over a window, minus the fixed bias (the record mean).
 #pragma once
 #include <cstddef>

@@ -1,4 +1,5 @@
-// The paper's sensor noise model (eq. 1-3, 14-16) and the bounded
+// The paper's sensor noise model (eq. 1-3, 14-16: docs/paper.md §2.2;
+// docs/formulas/noise-terms.md §4) and the bounded
 // alternative its conclusion asks for, fitted to a measured Allan curve.
 //
 // Random-walk model: w_k = true + beta + b_k + sigma_n * n_k, with
@@ -9,7 +10,8 @@
 // (continuous limit sigma_n^2 dt / tau + sigma_mu^2 dt tau / 3).
 //
 // Gauss-Markov model: b_{k+1} = phi b_k + w_k, phi = exp(-dt/T), stationary
-// sigma_b; exact discrete AVAR (formulas.md 5.2) plus the same white part.
+// sigma_b; exact discrete AVAR (docs/formulas/noise-terms.md §5.2) plus the
+// same white part.
 #pragma once
 #include <cstddef>
 
@@ -36,15 +38,21 @@ struct GaussMarkovModel {
 double avar(const RandomWalkModel& model, std::size_t m) noexcept;
 double avar(const GaussMarkovModel& model, std::size_t m) noexcept;
 
-// The paper's adjustment: the model's Allan curve tangent to the measured
+// The paper's adjustment (docs/paper.md §2.4; docs/formulas/noise-terms.md
+// §4.5): the model's Allan curve tangent to the measured
 // white-noise arm and with the same minimum. `curve` is the measured OADEV
 // (tau in s); `dt` the sample period; `lsb` > 0 removes the quantization
-// share from sigma_n. Throws std::invalid_argument when the curve has no
-// minimum inside its tau range or no white-noise arm.
+// share from sigma_n. Throws CalibrationError (cubecal/error.hpp): bad_data
+// (curve arrays of different lengths, taus or deviations not positive and
+// finite, taus not ascending); too_few_points (fewer than 3 points);
+// bad_option (dt not positive, lsb negative, or a white noise below the
+// quantization noise of lsb); degenerate (no minimum inside the tau range,
+// no white-noise arm, no random-walk arm).
 RandomWalkModel fit_random_walk_model(const AllanCurve& curve, double dt, double lsb = 0.0);
 
 // Weighted least squares of the Gauss-Markov model (white + first-order GM)
-// to the measured curve: sigma_n, sigma_b, T_c.
+// to the measured curve: sigma_n, sigma_b, T_c. Throws CalibrationError:
+// bad_data, too_few_points (fewer than 3 points), bad_option (dt, lsb).
 GaussMarkovModel fit_gauss_markov_model(const AllanCurve& curve, double dt, double lsb = 0.0);
 
 // How well a model reproduces the curve: RMS over the curve's points of
@@ -53,6 +61,8 @@ struct ModelResidual {
   double rms_log = 0.0;
   double chi2 = 0.0;
 };
+// Throws CalibrationError (bad_data, bad_option) for a curve or a model
+// period the fits would reject.
 ModelResidual residual(const RandomWalkModel& model, const AllanCurve& curve);
 ModelResidual residual(const GaussMarkovModel& model, const AllanCurve& curve);
 

@@ -1,5 +1,5 @@
 // Temperature dependence of a bias: polynomial least squares of the channel
-// on temperature (formulas.md section 4), with the covariance of the
+// on temperature (docs/formulas/drift-covariance-temperature.md §3), with the covariance of the
 // coefficients, and the compensated series.
 #pragma once
 #include <cstddef>
@@ -21,8 +21,10 @@ struct TemperatureFit {
   std::size_t order = 1;
 };
 
-// Throws std::invalid_argument when the temperature does not vary enough
-// for the order asked (fewer distinct values than order + 1, or order > 5).
+// Throws CalibrationError (cubecal/error.hpp): bad_option (order not 1 to 5);
+// bad_data (y and temp of different lengths); too_few_points (no more
+// samples than order + 1); degenerate (the temperature is constant, or takes
+// too few distinct values for the order).
 TemperatureFit fit_temperature(std::span<const double> y, std::span<const double> temp,
                                std::size_t order = 1);
 

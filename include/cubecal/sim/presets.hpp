@@ -7,7 +7,7 @@
 
 namespace cubecal {
 
-// The paper's sensors (PRODUCT.md): "sport-gyro" (MPU-3300 adjusted model,
+// The paper's sensors (docs/paper.md §3 and §5.1): "sport-gyro" (MPU-3300 adjusted model,
 // 145.6 LSB/(deg/s), turn-on bias std of the five power cycles) and
 // "sport-mag" (HMC5843, 1.30 LSB/mGauss, 0.7 mGauss/degC). Throws
 // std::invalid_argument for an unknown name.

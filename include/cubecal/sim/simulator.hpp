@@ -1,17 +1,20 @@
 // Simulated sensor triads: the paper's measurement model (eq. 1-3 for the
-// gyro, 14-16 for the magnetometer) and its extensions, for ADCS simulators
-// and for checking the analysis on data with known parameters.
+// gyro, 14-16 for the magnetometer; docs/paper.md §2.2) and its extensions,
+// for ADCS simulators and for checking the analysis on data with known
+// parameters. The model: docs/formulas/simulator.md §1-2.
 //
 // Per axis i, sample k (period dt):
 //   u_k      = M * true_k                      (scale factor and misalignment)
 //   w_k[i]   = u_k[i] + fixed_bias[i] + turn_on[i] + b_k[i]
 //              + temp_coeff[i] * (T_k - temp_ref) + white[i] * n_k
 //   out_k[i] = clamp(Q(w_k[i]), -saturation, +saturation)
-// with Q(w) = int(w * lsb) / lsb (truncation toward zero, eq. 3) or rounding,
-// none when lsb == 0; turn_on drawn once per run (N(0, turn_on_sigma^2)); and
-// the bias process b either a random walk b_{k+1} = b_k + sigma_mu dt n'_k
-// (eq. 2/15) or a first-order Gauss-Markov b_{k+1} = phi b_k + sigma_b
-// sqrt(1 - phi^2) n'_k, phi = exp(-dt/T_c), started in its stationary state.
+// with Q(w) = int(w * lsb) / lsb (truncation toward zero, the paper's eq. 3;
+// docs/formulas/simulator.md §1.2) or rounding, none when lsb == 0; turn_on
+// drawn once per run (N(0, turn_on_sigma^2)); and the bias process b either a
+// random walk b_{k+1} = b_k + sigma_mu dt n'_k (the paper's eq. 2/15;
+// docs/formulas/simulator.md §2.1) or a first-order Gauss-Markov
+// b_{k+1} = phi b_k + sigma_b sqrt(1 - phi^2) n'_k, phi = exp(-dt/T_c),
+// started in its stationary state.
 // Deterministic for a seed; no allocation per sample.
 #pragma once
 #include <array>
