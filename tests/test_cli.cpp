@@ -316,9 +316,8 @@ TEST_F(Cli, CalibrateTemperatureRecoversCoefficient) {
 
 // ---------------------------------------------------------------------------
 // Hints by CalibrationReason (src/cli/calibration_hints.cpp): the table
-// itself, then end to end. The end-to-end tests need a core that throws
-// CalibrationError with these reasons (on this branch it throws
-// std::invalid_argument, which gets no hint): they are DISABLED_ until it does.
+// itself, then end to end (the core throws CalibrationError with the reason;
+// a plain std::invalid_argument would get no hint).
 
 using cubecal::CalibrationReason;
 using cubecal::cli::CalibrationCommand;
@@ -362,7 +361,7 @@ std::string cap_points() {
   return text;
 }
 
-TEST_F(Cli, DISABLED_CalibrateMagPoorCoverageHintsAllowPartial) {
+TEST_F(Cli, CalibrateMagPoorCoverageHintsAllowPartial) {
   const std::string cap = write("cap.csv", cap_points());
   const Result two = run("calibrate mag " + cap + " --method twostep");
   EXPECT_EQ(two.code, 2);
@@ -375,7 +374,7 @@ TEST_F(Cli, DISABLED_CalibrateMagPoorCoverageHintsAllowPartial) {
   EXPECT_EQ(run("calibrate mag " + cap + " --method twostep --allow-partial").code, 0);
 }
 
-TEST_F(Cli, DISABLED_CalibrateMagBadFieldColumnHintsFieldCol) {
+TEST_F(Cli, CalibrateMagBadFieldColumnHintsFieldCol) {
   std::string text = "mx,my,mz,F\n";
   for (int k = 0; k < 200; ++k) {
     const double th = 3.14159 * (k % 19) / 18.0, ph = 0.37 * k;
@@ -389,7 +388,7 @@ TEST_F(Cli, DISABLED_CalibrateMagBadFieldColumnHintsFieldCol) {
   EXPECT_NE(r.err.find("(check --field-col)"), std::string::npos) << r.err;
 }
 
-TEST_F(Cli, DISABLED_CalibrateMultipositionTooFewPosesHintsInitStatic) {
+TEST_F(Cli, CalibrateMultipositionTooFewPosesHintsInitStatic) {
   const Result r = run("calibrate multiposition " + std::string(CUBECAL_SHARED_DATA) +
                        "/imu/mpu6050/example_data_calibration.csv --skip-rows 4 --acc-columns ax,ay,az "
                        "--gyro-columns gx,gy,gz --rate 100 --g 9.81 --init-static 30 --gyro-scale 1.3323e-4");
