@@ -77,24 +77,12 @@ RateTableResult calibrate_rate_table(const io::Series& series, const RateTableRe
   const double unit_per_rad_s = req.unit == "deg/s" ? 180.0 / std::numbers::pi : 1.0;
   if (req.earth_axis) r.earth_rate = earth_rate_along(*req.earth_axis, unit_per_rad_s);
 
-  // A failure of the detection is a missing plateau whatever the core says;
-  // a failure of the fit keeps the core's reason when it gives one.
-  try {
-    r.found = detect(series, req);
-  } catch (const CalibrationError&) {
-    throw;
-  } catch (const std::invalid_argument& e) {
-    throw CalibrationError(CalibrationReason::no_plateaus, e.what());
-  }
+  // The core throws CalibrationError with its reason (no_plateaus,
+  // too_few_points, degenerate, ...) for data that cannot give the calibration.
+  r.found = detect(series, req);
   RateTableOptions opt;
   opt.earth_rate = r.earth_rate;
-  try {
-    r.calibration = cubecal::calibrate_rate_table(r.found.plateaus, opt);
-  } catch (const CalibrationError&) {
-    throw;
-  } catch (const std::invalid_argument& e) {
-    throw CalibrationError(CalibrationReason::degenerate, e.what());
-  }
+  r.calibration = cubecal::calibrate_rate_table(r.found.plateaus, opt);
   return r;
 }
 
