@@ -178,8 +178,11 @@ void expect_same(const pipeline::MagResult& b, const pipeline::MagResult& m) {
   EXPECT_EQ(b.unit, m.unit);
   EXPECT_EQ(b.field_source, m.field_source);
   EXPECT_EQ(b.first_data_line, m.first_data_line);
-  EXPECT_EQ(b.points, m.points);
-  EXPECT_EQ(b.field_norms, m.field_norms);
+  // The input points and per-point field norms are the input file's
+  // content: the JSON names the file and leaves them out.
+  EXPECT_TRUE(b.points.empty());
+  EXPECT_EQ(m.points.size(), m.calibration.points_used + m.calibration.points_rejected);
+  EXPECT_TRUE(b.field_norms.empty());
   const mag::Result &r = m.calibration, &q = b.calibration;
   EXPECT_EQ(q.method, r.method);
   EXPECT_EQ(q.bias, r.bias);

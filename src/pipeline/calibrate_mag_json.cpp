@@ -60,8 +60,6 @@ nlohmann::json to_json(const MagResult& m) {
                    {"octants", r.coverage.octants}};
   j["covariance"] = {{"names", r.covariance_names}, {"matrix", r.covariance}};
   j["notes"] = r.notes;
-  j["input_points"] = m.points;
-  j["field_norms"] = m.field_norms;
   return j;
 }
 
@@ -72,8 +70,6 @@ void from_json(const nlohmann::json& j, MagResult& m) {
   m.field_source =
       parse_field_norm_source(j.at("field_norm_source").get<std::string>()).value_or(FieldNormSource::mean_raw_norm);
   m.first_data_line = j.at("first_data_line").get<std::size_t>();
-  m.points = j.at("input_points").get<std::vector<Vec3>>();
-  m.field_norms = j.at("field_norms").get<std::vector<double>>();
   mag::Result& r = m.calibration;
   r.method = mag::parse_method(j.at("method").get<std::string>()).value_or(mag::Method::ellipsoid);
   r.bias = j.at("bias").get<Vec3>();

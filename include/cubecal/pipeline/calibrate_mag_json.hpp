@@ -6,7 +6,9 @@
 // rejected_lines, iterations, converged, semi_axes, axis_ratio, coverage
 // {...}, covariance {names, matrix}, notes; and what from_json needs besides
 // (eta, field_norm_default, field_norm_per_point, first_data_line,
-// input_points, field_norms, coverage.centre_from_sphere_fit).
+// coverage.centre_from_sphere_fit). The input points and per-point field
+// norms are the input file's content and are not written: from_json leaves
+// MagResult::points and ::field_norms empty.
 #pragma once
 #include <nlohmann/json.hpp>
 
