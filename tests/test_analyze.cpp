@@ -36,7 +36,7 @@ std::vector<double> white_plus_walk(std::size_t n, double dt, double sigma, doub
 }
 
 TEST(Temperature, ExactPolynomialFromNoiseFreeData) {
-  // formulas.md section 4: b(T) = 0.01 + 2e-4 (T-25) - 3e-6 (T-25)^2 over -20..60 degC.
+  // docs/formulas/drift-covariance-temperature.md §3.5: b(T) = 0.01 + 2e-4 (T-25) - 3e-6 (T-25)^2 over -20..60 degC.
   std::vector<double> T, y;
   for (int i = 0; i <= 800; ++i) {
     const double t = -20.0 + 0.1 * i;

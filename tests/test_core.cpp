@@ -134,7 +134,7 @@ TEST(NoiseId, IdentifiesPureNoises) {
 }
 
 TEST(Edf, GreenhallMatchesStable32GpsVectors) {
-  // formulas.md 7.3: Stable32 OADEV of the GPS record, N = 241 218 phase points.
+  // docs/formulas/stability.md §7.1: Stable32 OADEV of the GPS record, N = 241 218 phase points.
   const std::size_t N = 241218;
   EXPECT_NEAR(edf_greenhall(0, 2, 8192, N, true, false), 41.93, 0.01);
   EXPECT_NEAR(edf_greenhall(0, 2, 16384, N, true, false), 19.87, 0.01);
@@ -144,7 +144,7 @@ TEST(Edf, GreenhallMatchesStable32GpsVectors) {
 }
 
 TEST(Edf, SimpleFormulasOfSp1065) {
-  // formulas.md 7.4, N = 10 001 phase points.
+  // docs/formulas/stability.md §7.2, N = 10 001 phase points.
   EXPECT_NEAR(edf_simple(0, 1, 10001), 6665.8, 0.1);
   EXPECT_NEAR(edf_simple(0, 100, 10001), 148.0, 0.05);
   EXPECT_NEAR(edf_simple(-2, 10, 10001), 997.3, 0.05);
@@ -152,7 +152,7 @@ TEST(Edf, SimpleFormulasOfSp1065) {
 }
 
 TEST(Confidence, ChiSquaredFactors) {
-  // formulas.md 7.1, 68.27 % factors.
+  // docs/formulas/stability.md §6.2, 68.27 % factors.
   const struct {
     double edf, lo, hi;
   } ref[] = {{1, 0.7094, 4.9957}, {2, 0.7370, 2.4059}, {5, 0.7927, 1.5595},

@@ -1,5 +1,5 @@
 // Magnetometer calibration: TWOSTEP (bias only and full) and the Li-Griffiths
-// ellipsoid fit against the exact cases of formulas.md 1.8 and 2.4, Monte
+// ellipsoid fit against the exact cases of docs/formulas/magnetometer.md §1.8 and §2.4, Monte
 // Carlo consistency of the covariances, every bad-input path, the real
 // cubesat-adcs points, and the `calibrate mag` command.
 #include <gtest/gtest.h>
@@ -101,7 +101,7 @@ const Mat3 kD{{{0.05, 0.01, -0.02}, {0.01, -0.03, 0.015}, {-0.02, 0.015, 0.08}}}
 // TWOSTEP, bias only
 
 TEST(Twostep, SixPointBiasOnlyExactWithKnownCovariance) {
-  // formulas.md 1.8.1: B_k = +-e_i + b, |H| = 1, s = 0.01.
+  // docs/formulas/magnetometer.md §1.8.1: B_k = +-e_i + b, |H| = 1, s = 0.01.
   const Vec3 b{0.1, -0.2, 0.3};
   std::vector<Vec3> B;
   for (std::size_t i = 0; i < 3; ++i)
@@ -128,7 +128,7 @@ TEST(Twostep, SixPointBiasOnlyExactWithKnownCovariance) {
 }
 
 TEST(Twostep, FibonacciBiasOnlyExact) {
-  // formulas.md 1.8.2: 200 points, B = 0.5 u + b, s = 1e-3.
+  // docs/formulas/magnetometer.md §1.8.2: 200 points, B = 0.5 u + b, s = 1e-3.
   const auto u = fibonacci(200);
   std::vector<Vec3> B;
   for (const auto& x : u) B.push_back(add(scale(0.5, x), kBias));
@@ -179,7 +179,7 @@ std::vector<Vec3> full_points(const std::vector<Vec3>& H) {
 }
 
 TEST(Twostep, FullConstantNormStepOneWrongStepTwoExact) {
-  // formulas.md 1.8.3: 500 Fibonacci points, |H| = 0.5 for all.
+  // docs/formulas/magnetometer.md §1.8.3: 500 Fibonacci points, |H| = 0.5 for all.
   std::vector<Vec3> H;
   for (const auto& x : fibonacci(500)) H.push_back(scale(0.5, x));
   const auto B = full_points(H);
@@ -238,8 +238,8 @@ TEST(Twostep, FullVaryingNormCentredAlreadyExact) {
 // about +-3.5 standard errors.
 
 TEST(Twostep, MonteCarloNeesBiasOnly) {
-  // 300 points inside a 60-degree cone (a cap of the field sphere; formulas.md
-  // 1.5 reports 3.12 for points on the cone), s = 1e-3.
+  // 300 points inside a 60-degree cone (a cap of the field sphere;
+  // docs/formulas/magnetometer.md §1.5 reports 3.12 for points on the cone), s = 1e-3.
   std::mt19937_64 rng(20240611);
   std::normal_distribution<double> g(0.0, 1.0);
   const double s = 1e-3, F = 0.5;
@@ -332,7 +332,7 @@ std::vector<Vec3> synthetic_ellipsoid(std::size_t n = 300) {
 }
 
 TEST(Ellipsoid, SyntheticVectorExact) {
-  // formulas.md 2.4: raw = A (F u) + b, 300 Fibonacci points, F = 50.
+  // docs/formulas/magnetometer.md §2.4: raw = A (F u) + b, 300 Fibonacci points, F = 50.
   const auto h = synthetic_ellipsoid();
   const EllipsoidFit f = fit_ellipsoid(h, 50.0);
   const double db = max_abs_diff(f.centre, kB);

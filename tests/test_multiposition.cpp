@@ -1,4 +1,4 @@
-// Multi-position calibration without a turntable (formulas.md 3.2): the
+// Multi-position calibration without a turntable (docs/formulas/multiposition.md): the
 // model layout, static detection on planted poses, recovery of known
 // accelerometer and gyroscope parameters from synthetic sequences (exact and
 // noisy), the error paths, the real imu_tk xsens sequence, the MPU-6050

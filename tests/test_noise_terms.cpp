@@ -1,4 +1,4 @@
-// Noise-term estimators against closed-form Allan curves (formulas.md 5.3)
+// Noise-term estimators against closed-form Allan curves (docs/formulas/noise-terms.md §6)
 // and a seeded Monte-Carlo of white noise plus a random-walk bias.
 #include <gtest/gtest.h>
 
@@ -553,7 +553,7 @@ TEST(NoiseTerms, IndependentOfTheDataScale) {
 }
 
 // ---------------------------------------------------------------------------
-// The paper's adjusted gyro model (x axis), PRODUCT.md: sigma_n = 13.9e-3
+// The paper's adjusted gyro model (x axis), docs/paper.md §3.1: sigma_n = 13.9e-3
 // deg/s, sigma_mu = 3.5e-3 deg/s^2, dt = 0.1 s.
 
 TEST(PaperModel, ReadOffsAndFitMatchTheClosedForm) {

@@ -1,4 +1,4 @@
-// Rate-table calibration (formulas.md section 3.1, the paper's eq. 6-13):
+// Rate-table calibration (docs/formulas/rate-table.md, the paper's eq. 6-13: docs/paper.md §2.6):
 // plateau detection from reference columns, from the gyro signal and from a
 // schedule; the forward fit and its inversion against exact and simulated
 // data; the reported covariance against Monte Carlo; every bad-input path;
@@ -56,7 +56,7 @@ Vec3 paper_bias() {
   return {-sb[0], -sb[1], -sb[2]};
 }
 // The paper's table rates about each axis (deg/s) and its gyro noise per
-// sample at 10 Hz (sigma_n, PRODUCT.md).
+// sample at 10 Hz (sigma_n, docs/paper.md §3.1).
 const std::vector<double> kPaperRates{0, 5, -5, 10, -10, 20, -20, 30, -30, 100, -100};
 constexpr double kNoise = 14e-3;
 
@@ -189,7 +189,7 @@ double nees(const std::array<double, 12>& e, const Covariance12& P) {
 }
 
 // ---------------------------------------------------------------------------
-// (1) formulas.md section 3.1: exact recovery from noise-free +-1 rad/s plateaus.
+// (1) docs/formulas/rate-table.md §7.1: exact recovery from noise-free +-1 rad/s plateaus.
 
 TEST(RateTable, FormulasTestCaseIsRecoveredExactly) {
   const Mat3 S{{{1.01, .002, -.003}, {.001, .99, .004}, {-.002, .003, 1.005}}};
@@ -206,7 +206,7 @@ TEST(RateTable, FormulasTestCaseIsRecoveredExactly) {
                             {-0.001008081, 1.010115240, -0.004023368},
                             {0.001973371, -0.003019268, 0.995042783}}};
   const Mat3 A_exact = inverse(S);
-  // As printed in formulas.md: A to 9 significant digits (A_yy = 1.010115240
+  // As given to 9 significant digits in the reference values: A to 9 significant digits (A_yy = 1.010115240
   // is 1.0101152387 rounded, hence 2e-9 below), beta to 6.
   const Vec3 beta_expected{-0.00995607, 0.0202325, -0.00505533};
   for (int i = 0; i < 3; ++i) {
@@ -233,7 +233,7 @@ TEST(RateTable, FormulasTestCaseIsRecoveredExactly) {
 }
 
 TEST(RateTable, SymmetricDesignMatchesTheClosedForm) {
-  // formulas.md: S col i = (w_+i - w_-i) / 2w, b_g = mean of the 6 plateaus;
+  // docs/formulas/rate-table.md §1.4: S col i = (w_+i - w_-i) / 2w, b_g = mean of the 6 plateaus;
   // with an unequal rate per axis the least-squares fit must still agree.
   const Mat3 S = paper_S();
   const Vec3 bg = paper_bias();

@@ -1,7 +1,7 @@
 // The paper's sensor noise model (random-walk bias) and the Gauss-Markov
 // alternative: exact discrete Allan variances against published values and
 // closed forms, the paper's adjustment (fit), and a seeded Monte Carlo of the
-// paper's own model row (PRODUCT.md, "Numbers from the paper").
+// paper's own model row (docs/paper.md §3).
 #include "cubecal/noise/sensor_noise_model.hpp"
 
 #include <gtest/gtest.h>
@@ -31,7 +31,7 @@ constexpr std::size_t kPaperSamples = 42000;  // section 2: "reduced to 42000"
 constexpr double kPaperDt = 0.1;              // 10 Hz
 constexpr double kGyroLsb = 145.6;            // LSB/(deg/s), eq. 3
 
-// The paper's adjusted gyro model (PRODUCT.md; sigma_mu y = 0.87e-3).
+// The paper's adjusted gyro model (docs/paper.md §3.1; sigma_mu y = 0.87e-3).
 constexpr std::array<double, 3> kSigmaN{13.9e-3, 14.5e-3, 13.0e-3};
 constexpr std::array<double, 3> kSigmaMu{3.50e-3, 0.87e-3, 0.66e-3};
 constexpr std::array<double, 3> kFixedBias{182.3e-3, 1509.3e-3, -1501.5e-3};
@@ -122,7 +122,7 @@ TEST(RandomWalkAvar, DiscreteRandomWalkAgainstClosedForms) {
   const double sigma_mu = 3.5e-3;
   const RandomWalkModel rw{0.0, sigma_mu, dt, 0.0};
   const double k2 = sigma_mu * sigma_mu * dt;  // K^2 with K^2 dt = (sigma_mu dt)^2
-  // formulas.md 5.3: K^2 tau / 3 + K^2 dt^2 / (6 tau).
+  // docs/formulas/noise-terms.md §6.2: K^2 tau / 3 + K^2 dt^2 / (6 tau).
   for (std::size_t m : {1u, 2u, 3u, 10u, 1000u, 100000u}) {
     const double tau = static_cast<double>(m) * dt;
     EXPECT_NEAR(cubecal::avar(rw, m) / (k2 * tau / 3.0 + k2 * dt * dt / (6.0 * tau)), 1.0, 1e-12)
@@ -201,11 +201,11 @@ TEST(GaussMarkovAvar, ContinuousValuesAndPeak) {
 }
 
 TEST(GaussMarkovAvar, DiscreteAtSmallAndLongCorrelation) {
-  // formulas.md 5.2: dt = 0.01, T = 100, sigma = 1, m = 1 (continuous 6.670e-5).
-  // At m = 1 the AVAR is E[(y1 - y0)^2] / 2 = sigma^2 (1 - phi) = 9.99950e-5;
-  // formulas.md prints 9.99936e-5, 1.4e-5 off its own formula (av_ar1 at n = 1
-  // also gives (1 - phi) sigma_w^2 / (1 - phi^2)). Discrete and continuous
-  // agree to 1e-6 for m >= 1000.
+  // docs/formulas/noise-terms.md §5.4: dt = 0.01, T = 100, sigma = 1, m = 1 (continuous 6.670e-5).
+  // At m = 1 the AVAR is E[(y1 - y0)^2] / 2 = sigma^2 (1 - phi) = 9.99950e-5
+  // (av_ar1 at n = 1 also gives (1 - phi) sigma_w^2 / (1 - phi^2)); a naive
+  // double-precision evaluation of the closed form gives 9.99936e-5, 1.4e-5
+  // off. Discrete and continuous agree to 1e-6 for m >= 1000.
   const GaussMarkovModel gm{0.0, 1.0, 100.0, 0.01, 0.0};
   EXPECT_NEAR(cubecal::avar(gm, 1) / 9.99950e-5, 1.0, 1e-6);
   EXPECT_NEAR(gm_continuous(0.01 / 100.0) / 6.670e-5, 1.0, 1e-3);

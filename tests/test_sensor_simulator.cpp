@@ -3,7 +3,7 @@
 // factor and misalignment, saturation, turn-on, step() == run(), seeds), and
 // statistically where it is random: the OADEV of simulated records, with its
 // Stable32-style 68.3 % confidence intervals, must cover the exact discrete
-// closed form (sensor_noise_model.hpp, formulas.md 5) as often as the nominal
+// closed form (sensor_noise_model.hpp, docs/formulas/noise-terms.md §4-5) as often as the nominal
 // confidence says -- and must NOT when the closed form is deliberately wrong.
 #include "cubecal/sim/presets.hpp"
 #include "cubecal/sim/simulator.hpp"

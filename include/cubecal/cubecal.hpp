@@ -40,4 +40,5 @@
 #include "cubecal/calib/multiposition.hpp"
 #include "cubecal/calib/plateaus.hpp"
 #include "cubecal/calib/rate_table.hpp"
+#include "cubecal/calib/static_detection.hpp"
 #include "cubecal/calib/twostep.hpp"

@@ -1,6 +1,6 @@
 // cubecal calibrate multiposition: accelerometer (and gyroscope) calibration
 // from a sequence of static poses, without a turntable (Tedaldi, Pretto &
-// Menegatti 2014; formulas.md 3.2). X' = T K (X - B) for each triad.
+// Menegatti 2014; docs/formulas/multiposition.md). X' = T K (X - B) for each triad.
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 

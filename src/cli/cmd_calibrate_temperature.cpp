@@ -1,5 +1,5 @@
 // cubecal calibrate temperature: polynomial bias(T) per channel with the
-// covariance of its coefficients (formulas.md section 4), in the form a
+// covariance of its coefficients (docs/formulas/drift-covariance-temperature.md §3), in the form a
 // flight computer applies: corrected = raw - sum_{p>=1} c_p (T - T_ref)^p.
 #include <fmt/format.h>
 #include <fmt/ostream.h>

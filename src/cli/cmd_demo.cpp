@@ -37,7 +37,7 @@ struct DemoOptions {
   bool force = false;
 };
 
-// The paper's numbers (PRODUCT.md): adjusted gyro model row and its model
+// The paper's numbers (docs/paper.md §3.1): adjusted gyro model row and its model
 // parameters; magnetometer measured row and model.
 constexpr std::array<double, 3> kGyroN{0.2683, 0.2723, 0.2469};    // deg/sqrt(h)
 constexpr std::array<double, 3> kGyroB{12.649, 6.853, 5.3007};     // deg/h
