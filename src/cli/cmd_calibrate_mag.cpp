@@ -149,15 +149,8 @@ int run_calibrate_mag(const MagCliOptions& o) {
   hints.field_col = req.field_column;
   const pipeline::MagResult r = with_calibration_hints(o.file, hints, [&] { return pipeline::calibrate_mag(t, req); });
 
-  std::ostream& out = result.stream();
-  if (o.format == "json") {
-    nlohmann::json j = pipeline::to_json(r);
-    j["invocation"] = invocation();
-    out << j.dump(2) << '\n';
-  } else {
-    print_table(out, r);
-  }
-  result.finish();
+  write_result(result, o.format == "json", r, invocation(),
+               [](std::ostream& os, const auto& res) { print_table(os, res); });
   if (!o.report.empty()) write_report_option(report::mag_report(r, invocation()), o.report);
   return 0;
 }

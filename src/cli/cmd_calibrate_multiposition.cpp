@@ -195,15 +195,8 @@ int run_calibrate_multiposition(const MultiposCliOptions& o) {
   if (gyro)
     with_calibration_hints(gyro->file, hints, [&] { pipeline::add_multiposition_gyroscope(r, acc, *gyro, req); });
 
-  std::ostream& out = result.stream();
-  if (o.format == "json") {
-    nlohmann::json j = pipeline::to_json(r);
-    j["invocation"] = invocation();
-    out << j.dump(2) << '\n';
-  } else {
-    print_table(out, r);
-  }
-  result.finish();
+  write_result(result, o.format == "json", r, invocation(),
+               [](std::ostream& os, const auto& res) { print_table(os, res); });
   if (!o.report.empty()) write_report_option(report::multiposition_report(r, invocation()), o.report);
   return 0;
 }

@@ -169,15 +169,8 @@ int run_rate_table_command(const RateTableCliOptions& o) {
   const pipeline::RateTableResult r =
       with_calibration_hints(o.input.file, hints, [&] { return pipeline::calibrate_rate_table(series, req); });
 
-  std::ostream& out = result.stream();
-  if (o.format == "json") {
-    nlohmann::json j = pipeline::to_json(r);
-    j["invocation"] = invocation();
-    out << j.dump(2) << '\n';
-  } else {
-    print_table(out, r);
-  }
-  result.finish();
+  write_result(result, o.format == "json", r, invocation(),
+               [](std::ostream& os, const auto& res) { print_table(os, res); });
   if (!o.report.empty()) write_report_option(report::rate_table_report(r, invocation()), o.report);
   return 0;
 }

@@ -2,6 +2,7 @@
 // programs. Also the rule that nothing the user has is overwritten unasked.
 #pragma once
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -55,5 +56,21 @@ class ResultOutput {
   std::string path_;
   std::unique_ptr<OutputFile> file_;
 };
+
+// A calibration command's result on `out`: its to_json with the invocation
+// added (json), or the table print_table(stream, r) writes; then finished.
+template <class Result, class PrintTable>
+void write_result(ResultOutput& out, bool json, const Result& r, const std::string& invocation,
+                  PrintTable&& print_table) {
+  std::ostream& os = out.stream();
+  if (json) {
+    nlohmann::json j = to_json(r);
+    j["invocation"] = invocation;
+    os << j.dump(2) << '\n';
+  } else {
+    print_table(os, r);
+  }
+  out.finish();
+}
 
 }  // namespace cubecal::cli
