@@ -335,9 +335,13 @@ TEST(CalibrationHints, OneHintPerCommandAndReason) {
   EXPECT_EQ(calibration_hint(CalibrationReason::field_norm, mag), "check --field-col");
   EXPECT_EQ(calibration_hint(CalibrationReason::not_converged, mag), "");
 
-  const HintContext mp{CalibrationCommand::multiposition};
+  HintContext mp{CalibrationCommand::multiposition};
   for (auto r : {CalibrationReason::too_few_intervals, CalibrationReason::initial_static})
     EXPECT_EQ(calibration_hint(r, mp), "check --init-static (the sensor must be still then) and --rate/--time-col");
+  // A scale guess that leads nowhere: the accelerometer's guesses in the
+  // accelerometer step, the gyroscope's in the gyroscope step.
+  EXPECT_NE(calibration_hint(CalibrationReason::scale_guess, mp).find("--acc-scale"), std::string::npos);
+  mp.gyroscope = true;
   EXPECT_EQ(calibration_hint(CalibrationReason::scale_guess, mp), "give --gyro-scale in rad/s per count");
   EXPECT_EQ(calibration_hint(CalibrationReason::poor_coverage, mp), "");
 

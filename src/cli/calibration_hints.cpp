@@ -26,12 +26,14 @@ std::string mag_hint(CalibrationReason reason, const HintContext& ctx) {
   }
 }
 
-std::string multiposition_hint(CalibrationReason reason) {
+std::string multiposition_hint(CalibrationReason reason, const HintContext& ctx) {
   switch (reason) {
     case CalibrationReason::too_few_intervals:
     case CalibrationReason::initial_static:
       return "check --init-static (the sensor must be still then) and --rate/--time-col";
-    case CalibrationReason::scale_guess: return "give --gyro-scale in rad/s per count";
+    case CalibrationReason::scale_guess:
+      return ctx.gyroscope ? "give --gyro-scale in rad/s per count"
+                           : "give --acc-bias (raw units) and --acc-scale (calibrated unit per raw unit)";
     case CalibrationReason::bad_data: return "check --time-col";
     default: return {};
   }
@@ -51,7 +53,7 @@ std::string calibration_hint(CalibrationReason reason, const HintContext& ctx) {
   switch (ctx.command) {
     case CalibrationCommand::rate_table: return rate_table_hint(reason, ctx);
     case CalibrationCommand::mag: return mag_hint(reason, ctx);
-    case CalibrationCommand::multiposition: return multiposition_hint(reason);
+    case CalibrationCommand::multiposition: return multiposition_hint(reason, ctx);
     case CalibrationCommand::temperature: return temperature_hint(reason);
   }
   return {};

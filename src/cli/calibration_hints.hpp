@@ -16,6 +16,7 @@ struct HintContext {
   bool reference_columns = false;  // rate-table: plateaus from --ref-columns (else a schedule)
   bool bias_only = false;          // mag: --method twostep
   bool field_col = false;          // mag: --field-col given
+  bool gyroscope = false;          // multiposition: the gyroscope step (else the accelerometer's)
 };
 
 // Empty when there is nothing better to say than the message.

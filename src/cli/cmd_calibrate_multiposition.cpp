@@ -192,8 +192,12 @@ int run_calibrate_multiposition(const MultiposCliOptions& o) {
   const HintContext hints{CalibrationCommand::multiposition};
   pipeline::MultipositionResult r = with_calibration_hints(
       o.acc_file, hints, [&] { return pipeline::calibrate_multiposition_accelerometer(acc, req); });
-  if (gyro)
-    with_calibration_hints(gyro->file, hints, [&] { pipeline::add_multiposition_gyroscope(r, acc, *gyro, req); });
+  if (gyro) {
+    HintContext gyro_hints = hints;
+    gyro_hints.gyroscope = true;
+    with_calibration_hints(gyro->file, gyro_hints,
+                           [&] { pipeline::add_multiposition_gyroscope(r, acc, *gyro, req); });
+  }
 
   write_result(result, o.format == "json", r, invocation(),
                [](std::ostream& os, const auto& res) { print_table(os, res); });
