@@ -75,4 +75,42 @@ TEST_F(CliHardening, SimulateModelRescalesToTheRequestedRate) {
   EXPECT_NE(s_own.err.find("60000 samples at 100 Hz"), std::string::npos) << s_own.err;
 }
 
+// --- 2. default columns skip time and temperature ------------------------
+
+TEST_F(CliHardening, DefaultColumnsLeaveOutTimeAndTemperature) {
+  // simulate writes t,gx,gy,gz,temp: analyze without --columns took temp as
+  // a fourth gyro channel.
+  const std::string rec = path("s.csv");
+  ASSERT_EQ(run("simulate --preset sport-gyro --rate 10 --duration 20m --seed 3 --out " + rec).code, 0);
+  const Result an = run("analyze " + rec + " --unit deg/s --format json");
+  ASSERT_EQ(an.code, 0) << an.err;
+  const auto j = nlohmann::json::parse(an.out);
+  ASSERT_EQ(j["channels"].size(), 3u);
+  for (std::size_t c = 0; c < 3; ++c) EXPECT_EQ(j["channels"][c]["name"], std::string("g") + "xyz"[c]);
+  EXPECT_NE(an.err.find("columns gx,gy,gz (left out: t,temp;"), std::string::npos) << an.err;
+
+  // The temperature column named by --temp-col is still the temperature.
+  const Result tc = run("analyze " + rec + " --unit deg/s --temp-col temp --format json");
+  ASSERT_EQ(tc.code, 0) << tc.err;
+  EXPECT_EQ(nlohmann::json::parse(tc.out)["channels"].size(), 3u);
+
+  // dev: a time column chosen by --time-col and a "Temperature" column are left out too.
+  const std::string f = write("clock.csv", "clock,Temperature,y\n0,20,1\n1,20,2\n2,20,1.5\n3,20,1.2\n4,21,1.1\n");
+  const Result d = run("dev " + f + " --time-col clock --taus 1 --format json");
+  ASSERT_EQ(d.code, 0) << d.err;
+  const auto dj = nlohmann::json::parse(d.out)["columns"];
+  ASSERT_EQ(dj.size(), 1u);
+  EXPECT_EQ(dj[0]["name"], "y");
+  EXPECT_NE(d.err.find("columns y (left out: clock,Temperature;"), std::string::npos) << d.err;
+
+  // Nothing left: one line saying so, exit 2.
+  const std::string only = write("only.csv", "t,temp\n0,20\n0.1,20\n0.2,20\n0.3,20\n");
+  const Result o = run("dev " + only);
+  EXPECT_EQ(o.code, 2);
+  EXPECT_TRUE(one_error_line(o)) << o.err;
+  EXPECT_NE(o.err.find("only.csv: no data columns besides the time and temperature columns (t, temp)"),
+            std::string::npos)
+      << o.err;
+}
+
 }  // namespace

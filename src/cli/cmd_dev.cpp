@@ -49,6 +49,7 @@ int run_dev_command(const DevOptions& o) {
   Progress progress(bytes > 50'000'000);
   progress.stage(fmt::format("reading {} ({:.0f} MB)", o.input.file, static_cast<double>(bytes) / 1e6));
   const io::Series series = io::read_series(o.input.file, to_series_options(o.input));
+  note_default_columns(series);
   progress.stage(fmt::format("{} of {} channels", to_string(req.stat), series.channels.size()));
   const pipeline::DevResult res = pipeline::run_dev(series, req);
   progress.done();

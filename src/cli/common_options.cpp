@@ -1,6 +1,7 @@
 #include "common_options.hpp"
 
 #include <cmath>
+#include <iostream>
 #include <stdexcept>
 
 #include "cubecal/error.hpp"
@@ -23,6 +24,17 @@ std::vector<std::string> split_list(const std::string& s) {
   return out;
 }
 
+void note_default_columns(const io::Series& s) {
+  if (!s.default_columns || s.left_out.empty()) return;
+  const auto join = [](const std::vector<std::string>& v) {
+    std::string r;
+    for (const auto& x : v) r += (r.empty() ? "" : ",") + x;
+    return r;
+  };
+  std::cerr << "cubecal: note: " << s.file << ": columns " << join(s.names) << " (left out: " << join(s.left_out)
+            << "; --columns chooses others)\n";
+}
+
 void add_input_options(CLI::App& app, InputOptions& opt, bool several) {
   if (several)
     app.add_option("files", opt.files, "Input files (one record each): delimited text, optionally gzip")
@@ -33,7 +45,8 @@ void add_input_options(CLI::App& app, InputOptions& opt, bool several) {
         ->required();
   app.add_option("--columns", opt.columns,
                  "Columns to analyse, by header name or 1-based index (gx,gy,gz or 2,3,4); "
-                 "default: every column except the time column");
+                 "default: every column except the time and temperature columns (t, time, "
+                 "timestamp..., temp, temperature and those named by --time-col / --temp-col)");
   app.add_option("--time-col", opt.time_col,
                  "Time column (seconds), by name or index; default: a column named t, time, "
                  "t_s, timestamp...");

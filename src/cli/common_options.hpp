@@ -30,6 +30,10 @@ io::SeriesOptions to_series_options(const InputOptions& opt);
 
 std::vector<std::string> split_list(const std::string& s);
 
+// Says on stderr which columns were taken when none were named and some were
+// left out (time, temperature), so a default never silently picks a channel.
+void note_default_columns(const io::Series& s);
+
 // "deg/s,mGauss" -> units; throws UsageError naming the unknown one.
 std::vector<Unit> parse_units(const std::string& list);
 // --taus value; throws UsageError.

@@ -43,6 +43,47 @@ std::string duration(double v) {
 // worth showing.
 std::string period_text(double v) { return to_text(v, std::chars_format::general, 6); }
 
+std::string lower_case(std::string s) {
+  for (char& c : s) {
+    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
+  }
+  return s;
+}
+
+// Whether a column spec (name or 1-based index, as TableOptions resolves
+// it) designates header column i.
+bool designates(const std::string& spec, const std::vector<std::string>& header, std::size_t i) {
+  if (spec == header[i]) return true;
+  if (std::find(header.begin(), header.end(), spec) != header.end()) return false;
+  if (spec == std::to_string(i + 1)) return true;
+  return lower_case(spec) == lower_case(header[i]);
+}
+
+// The default channels of a file with a header: every column but the time
+// column, the extra columns and (when asked) the temperature columns.
+void default_columns(const Table& layout, const std::string& time_spec, const SeriesOptions& opt, TableOptions& topt,
+                     Series& s) {
+  if (!opt.table.columns.empty() || !layout.has_header) return;
+  s.default_columns = true;
+  for (std::size_t i = 0; i < layout.header.size(); ++i) {
+    const std::string& name = layout.header[i];
+    bool out = !time_spec.empty() && designates(time_spec, layout.header, i);
+    for (const auto& e : opt.table.extra_columns) out = out || designates(e, layout.header, i);
+    out = out || (opt.skip_temperature && looks_like_temperature_column(name));
+    (out ? s.left_out : topt.columns).push_back(name);
+  }
+  const bool temperature = std::any_of(s.left_out.begin(), s.left_out.end(), [&](const std::string& n) {
+    return opt.skip_temperature && looks_like_temperature_column(n);
+  });
+  if (topt.columns.empty() && temperature) {
+    std::string left;
+    for (const auto& n : s.left_out) left += (left.empty() ? "" : ", ") + n;
+    throw InputError(s.file, 0, 0, "no data columns besides the time and temperature columns (" + left + ")",
+                     "name the columns to analyze");
+  }
+  if (topt.columns.empty()) throw InputError(s.file, 0, 0, "no data columns besides the time column", "name the columns to analyze");
+}
+
 void check_options(const SeriesOptions& opt) {
   if (!(opt.lsb > 0.0) || !std::isfinite(opt.lsb)) {
     throw UsageError("the LSB (counts per unit) must be a positive finite number, got " + stamp(opt.lsb));
@@ -157,13 +198,14 @@ void check_timing(Series& s, const Table& t, std::size_t time_field, const Serie
 
 }  // namespace
 
+bool looks_like_temperature_column(const std::string& name) {
+  static constexpr std::string_view kNames[] = {"temp", "temperature", "temp_c", "temp_degc", "t_degc"};
+  return std::find(std::begin(kNames), std::end(kNames), lower_case(name)) != std::end(kNames);
+}
+
 bool looks_like_time_column(const std::string& name) {
   static constexpr std::string_view kNames[] = {"t", "time", "t_s", "time_s", "timestamp", "sec", "seconds"};
-  std::string lower = name;
-  for (char& c : lower) {
-    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
-  }
-  return std::find(std::begin(kNames), std::end(kNames), lower) != std::end(kNames);
+  return std::find(std::begin(kNames), std::end(kNames), lower_case(name)) != std::end(kNames);
 }
 
 Series read_series(const std::string& path, const SeriesOptions& opt) {
@@ -174,13 +216,14 @@ Series read_series(const std::string& path, const SeriesOptions& opt) {
 
   // The time column is read as an extra column, which also keeps it out of
   // the channels when all columns are wanted.
+  Series s;
+  s.file = path;
   TableOptions topt = opt.table;
+  default_columns(layout, time.spec, opt, topt, s);
   const std::size_t time_slot = topt.extra_columns.size();
   if (!time.spec.empty()) topt.extra_columns.push_back(time.spec);
   Table t = parse_table(buf.view(), path, topt);
 
-  Series s;
-  s.file = path;
   s.gaps = opt.gaps;
   s.gzip = buf.was_gzip();
   s.bytes = t.bytes;
