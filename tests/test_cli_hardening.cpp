@@ -113,4 +113,31 @@ TEST_F(CliHardening, DefaultColumnsLeaveOutTimeAndTemperature) {
       << o.err;
 }
 
+// --- 3. --rate must agree with the time column -----------------------------
+
+TEST_F(CliHardening, RateContradictingTheTimeColumnIsAnError) {
+  const std::string rec = path("r.csv");
+  ASSERT_EQ(run("simulate --preset sport-gyro --rate 10 --duration 10m --seed 3 --out " + rec).code, 0);
+  for (const std::string cmd : {"dev", "analyze"}) {
+    for (const std::string extra : {"", " --time-col t"}) {
+      const Result r = run(cmd + " " + rec + " --columns gx --rate 20" + extra + (cmd == "analyze" ? " --unit deg/s" : ""));
+      EXPECT_EQ(r.code, 2) << cmd << extra << ": " << r.err;
+      EXPECT_TRUE(one_error_line(r)) << r.err;
+      if (!extra.empty()) continue;  // --time-col: each stamp is checked against --rate (a "gap" at line 3)
+      EXPECT_NE(r.err.find("--rate: " + rec + ": the rate 20 Hz contradicts the time column 't' (10 Hz, median "
+                           "interval 0.1 s): leave the rate out to take it from the time stamps, or fix the time column"),
+                std::string::npos)
+          << r.err;
+    }
+  }
+  EXPECT_EQ(run("dev " + rec + " --columns gx --rate 5").code, 2);
+  // Agreeing within the 1 % jitter tolerance, or without --rate: accepted.
+  const Result ok = run("dev " + rec + " --columns gx --rate 10.05 --taus 1");
+  EXPECT_EQ(ok.code, 0) << ok.err;
+  EXPECT_EQ(run("dev " + rec + " --columns gx --taus 1").code, 0);
+  // A file without a time column still takes --rate.
+  const std::string nt = write("nt.csv", "y\n1\n2\n1.5\n1.2\n1.1\n");
+  EXPECT_EQ(run("dev " + nt + " --rate 20 --taus 0.05").code, 0);
+}
+
 }  // namespace

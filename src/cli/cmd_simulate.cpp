@@ -70,6 +70,7 @@ TemperatureProfile parse_temperature(const std::string& spec) {
     io::SeriesOptions so;
     so.rate_hz = 1.0;  // one value per sample; the time stamps, if any, are not used
     so.skip_temperature = false;  // the file is read for its temperature column
+    so.check_rate_against_time = false;
     so.min_samples = 1;
     const auto s = io::read_series(spec, so);
     p.kind = TemperatureProfile::Kind::series;

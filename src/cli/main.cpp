@@ -19,6 +19,7 @@ std::string usage_message(const cubecal::UsageError& e) {
   static constexpr std::pair<const char*, const char*> kFlags[] = {
       {"units", "--unit"},          {"lsb", "--model-lsb"}, {"temp_index", "--temp-col"},
       {"temp_order", "--temp-order"}, {"bias", "--bias"},     {"columns", "--columns"},
+      {"rate", "--rate"},
   };
   for (const auto& [option, flag] : kFlags)
     if (e.option() == option) return std::string(flag) + ": " + e.what();

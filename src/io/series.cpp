@@ -129,6 +129,24 @@ TimeChoice choose_time_column(const SeriesOptions& opt, const Table& layout) {
   return {*it, opt.rate_hz == 0.0};
 }
 
+// A rate given beside a time column must be the rate of its stamps: a 2x
+// error would otherwise halve or double every tau silently.
+void check_rate_agrees(const std::string& file, const std::string& time_name, const std::vector<double>& time,
+                       const SeriesOptions& opt) {
+  if (!opt.check_rate_against_time || opt.rate_hz <= 0.0 || time.size() < 2) return;
+  std::vector<double> dt;
+  dt.reserve(time.size() - 1);
+  for (std::size_t i = 1; i < time.size(); ++i) dt.push_back(time[i] - time[i - 1]);
+  const double period = median(std::move(dt));
+  if (!(period > 0.0) || !std::isfinite(period)) return;  // not increasing: check_timing says where
+  const double from_time = 1.0 / period;
+  if (std::fabs(opt.rate_hz * period - 1.0) <= opt.tolerance) return;
+  throw UsageError("rate", file + ": the rate " + period_text(opt.rate_hz) + " Hz contradicts the time column '" +
+                               time_name + "' (" + period_text(from_time) + " Hz, median interval " +
+                               period_text(period) + " s): leave the rate out to take it from the time stamps, "
+                               "or fix the time column");
+}
+
 // Checks the time stamps against the period (given, or inferred from the
 // median interval) and cuts the record into segments.
 void check_timing(Series& s, const Table& t, std::size_t time_field, const SeriesOptions& opt) {
@@ -236,6 +254,9 @@ Series read_series(const std::string& path, const SeriesOptions& opt) {
     s.extra_names.push_back(t.extra_names[k]);
     s.extra.push_back(std::move(t.extra[k]));
   }
+  // (A time column named explicitly is checked stamp by stamp against the
+  // given rate in check_timing.)
+  if (!time.spec.empty() && !time.timing) check_rate_agrees(path, t.extra_names[time_slot], t.extra[time_slot], opt);
   const std::size_t n = s.samples();
   if (n < opt.min_samples) throw_too_short(path, n, opt.min_samples, "a longer record is needed");
 

@@ -25,6 +25,10 @@ struct SeriesOptions {
   // temperature (looks_like_temperature_column). False for a file that is
   // read for its temperature.
   bool skip_temperature = true;
+  // A given rate_hz must agree with the time column, when there is one,
+  // within `tolerance` of its median interval (UsageError("rate") if not).
+  // False where the time stamps are not used at all.
+  bool check_rate_against_time = true;
 };
 
 struct Segment {
