@@ -140,4 +140,53 @@ TEST_F(CliHardening, RateContradictingTheTimeColumnIsAnError) {
   EXPECT_EQ(run("dev " + nt + " --rate 20 --taus 0.05").code, 0);
 }
 
+// --- 4. every printed number finite, or one clear error -------------------
+
+TEST_F(CliHardening, RatesAndMagnitudesOutOfRangeAreRefused) {
+  const std::string y = write("y.csv", "y\n1\n2\n1.5\n1.2\n1.1\n1.3\n1.7\n");
+  for (const std::string rate : {"1e-300", "1e300"}) {
+    // dev --rate 1e-300 printed -nan with exit 0.
+    const Result r = run("dev " + y + " --rate " + rate);
+    EXPECT_EQ(r.code, 2) << rate << ": " << r.out;
+    EXPECT_TRUE(one_error_line(r)) << r.err;
+    EXPECT_NE(r.err.find("--rate: the sampling rate " + rate.substr(0, 1) + "e"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("Hz is outside the range 1e-09 to 1e+09 Hz"), std::string::npos) << r.err;
+  }
+  // Values near 1e300: analyze printed inf and -nan with exit 0.
+  const std::string big = write("big.csv", "y\n1e300\n-1e300\n1.5e300\n1.2e300\n-1e300\n1.3e300\n1.7e300\n");
+  for (const std::string& cmd : {"dev " + big + " --rate 1", "analyze " + big + " --rate 1 --unit deg/s"}) {
+    const Result r = run(cmd);
+    EXPECT_EQ(r.code, 2) << cmd << ": " << r.out;
+    EXPECT_TRUE(one_error_line(r)) << r.err;
+    EXPECT_NE(r.err.find("big.csv:2:1: value 1e+300 exceeds the magnitude 1e+100"), std::string::npos) << r.err;
+  }
+  const std::string tiny = write("tiny.csv", "y\n1e-300\n2e-300\n1e-300\n3e-300\n");
+  const Result t = run("dev " + tiny + " --rate 1");
+  EXPECT_EQ(t.code, 2) << t.out;
+  EXPECT_NE(t.err.find("tiny.csv:5:1: value 3e-300 is the largest of its column"), std::string::npos) << t.err;
+  // Time stamps 1 ps apart: a 1e12 Hz rate, refused at the time column.
+  const std::string ps = write("ps.csv", "t,y\n0,1\n1e-12,2\n2e-12,3\n3e-12,4\n");
+  const Result p = run("dev " + ps);
+  EXPECT_EQ(p.code, 2) << p.out;
+  EXPECT_NE(p.err.find("ps.csv:3:1: time stamps 1e-12 s apart give a rate of 1e+12 Hz"), std::string::npos) << p.err;
+
+  // Inside the range, at both ends of rate and magnitude: every number printed is finite.
+  std::string text = "y\n";
+  std::uint64_t x = 12345;
+  for (int i = 0; i < 3000; ++i) {
+    x = x * 6364136223846793005ULL + 1442695040888963407ULL;
+    text += std::to_string(static_cast<double>(x >> 11) / 9007199254740992.0 - 0.5) + "e99\n";
+  }
+  const std::string edge = write("edge.csv", text);
+  for (const std::string rate : {"1e-9", "1e9"})
+    for (const std::string cmd : {"dev", "analyze"}) {
+      const Result r = run(cmd + " " + edge + " --rate " + rate + (cmd == "analyze" ? " --unit deg/s" : "") +
+                           " --format json");
+      ASSERT_EQ(r.code, 0) << cmd << " " << rate << ": " << r.err;
+      EXPECT_EQ(r.out.find("nan"), std::string::npos) << cmd << " " << rate;
+      EXPECT_EQ(r.out.find("inf"), std::string::npos) << cmd << " " << rate;
+      EXPECT_EQ(r.out.find("NaN"), std::string::npos) << cmd << " " << rate;
+    }
+}
+
 }  // namespace

@@ -91,6 +91,10 @@ void check_options(const SeriesOptions& opt) {
   if (!(opt.rate_hz >= 0.0) || !std::isfinite(opt.rate_hz)) {
     throw UsageError("the sampling rate must be a positive finite number of Hz, got " + stamp(opt.rate_hz));
   }
+  if (opt.rate_hz != 0.0 && !(opt.rate_hz >= kMinRateHz && opt.rate_hz <= kMaxRateHz)) {
+    throw UsageError("rate", "the sampling rate " + stamp(opt.rate_hz) + " Hz is outside the range " +
+                                 stamp(kMinRateHz) + " to " + stamp(kMaxRateHz) + " Hz");
+  }
   if (!(opt.tolerance >= 0.0) || !std::isfinite(opt.tolerance)) {
     throw UsageError("the interval tolerance must be a non-negative fraction, got " + stamp(opt.tolerance));
   }
@@ -127,6 +131,36 @@ TimeChoice choose_time_column(const SeriesOptions& opt, const Table& layout) {
   // A given rate overrides time stamps that were found by name only (e.g.
   // PC clocks with jitter), but a time column is never a useful channel.
   return {*it, opt.rate_hz == 0.0};
+}
+
+// Values whose squares overflow make every variance inf or NaN, and a
+// column whose largest value is so small that its squares underflow makes
+// them 0/0: refused at their place, after the LSB scaling.
+void check_magnitudes(const Series& s, const Table& t, const SeriesOptions& opt) {
+  const auto fail = [&](const std::vector<double>& v, std::size_t i, std::size_t field, double scale,
+                        const std::string& what) {
+    const Location loc = locate(t, i, field);
+    throw InputError(s.file, loc.line, loc.column,
+                     "value " + stamp(v[i]) + (scale != 1.0 ? " (" + stamp(v[i] / scale) + " after the LSB)" : "") +
+                         what,
+                     "rescale the column, e.g. to other units");
+  };
+  const auto check = [&](const std::vector<double>& v, std::size_t field, double scale) {
+    std::size_t largest = 0;
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      const double a = std::fabs(v[i] / scale);
+      if (a > kMaxMagnitude)
+        fail(v, i, field, scale, " exceeds the magnitude " + stamp(kMaxMagnitude) + " whose square a variance can hold");
+      if (a > std::fabs(v[largest] / scale)) largest = i;
+    }
+    const double top = v.empty() ? 0.0 : std::fabs(v[largest] / scale);
+    if (top != 0.0 && top < kMinMagnitude)
+      fail(v, largest, field, scale,
+           " is the largest of its column, below the magnitude " + stamp(kMinMagnitude) +
+               " whose square a variance can hold");
+  };
+  for (std::size_t c = 0; c < t.data.size(); ++c) check(t.data[c], t.indices[c], opt.lsb);
+  for (std::size_t c = 0; c < t.extra.size(); ++c) check(t.extra[c], t.extra_indices[c], 1.0);
 }
 
 // A rate given beside a time column must be the rate of its stamps: a 2x
@@ -178,6 +212,11 @@ void check_timing(Series& s, const Table& t, std::size_t time_field, const Serie
     // the period in the last bits (5.3 - 5.2 = 0.0999999999999996): keep nine
     // significant digits of the rate, far below the 1 % interval tolerance.
     const double raw = 1.0 / median(std::move(dt));
+    if (!(raw >= kMinRateHz && raw <= kMaxRateHz)) {
+      fail_at(1, "time stamps " + stamp(1.0 / raw) + " s apart give a rate of " + stamp(raw) +
+                     " Hz, outside the range " + stamp(kMinRateHz) + " to " + stamp(kMaxRateHz) + " Hz",
+              "the time column must be in seconds");
+    }
     const double scale = std::pow(10.0, 8.0 - std::floor(std::log10(raw)));
     s.rate_hz = std::round(raw * scale) / scale;
     s.tau0 = 1.0 / s.rate_hz;
@@ -248,6 +287,7 @@ Series read_series(const std::string& path, const SeriesOptions& opt) {
   if (t.data.empty()) {
     throw InputError(path, 0, 0, "no data columns besides the time column", "name the columns to analyze");
   }
+  check_magnitudes(s, t, opt);
   s.names = t.names;
   s.channels = std::move(t.data);
   for (std::size_t k = 0; k < time_slot; ++k) {

@@ -12,6 +12,17 @@ namespace cubecal::io {
 
 enum class GapPolicy { error, split };
 
+// The range of sampling rates and data magnitudes every statistic can take
+// without its sums of squares overflowing or underflowing: a rate (given or
+// inferred from the time stamps) outside [kMinRateHz, kMaxRateHz] is a
+// UsageError("rate") or an InputError at the time column; a value (after the
+// LSB) whose magnitude exceeds kMaxMagnitude, or is non-zero below
+// kMinMagnitude, an InputError at its place.
+inline constexpr double kMinRateHz = 1e-9;
+inline constexpr double kMaxRateHz = 1e9;
+inline constexpr double kMaxMagnitude = 1e100;
+inline constexpr double kMinMagnitude = 1e-100;
+
 struct SeriesOptions {
   TableOptions table;          // columns, skip_rows, threads
   std::string time_col;        // name or 1-based index; empty: auto-detect by name
