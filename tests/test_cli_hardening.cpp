@@ -189,4 +189,53 @@ TEST_F(CliHardening, RatesAndMagnitudesOutOfRangeAreRefused) {
     }
 }
 
+// --- 5. every numeric option validated -----------------------------------
+
+TEST_F(CliHardening, NumericOptionsOutOfRangeAreRefusedWithTheirName) {
+  // analyze --drift-window -5 silently became 1000 s; negative counts wrapped
+  // to 2^64 - 1 (--skip-rows, --cov-samples, --max-samples, --seed).
+  const std::string rec = path("s.csv");
+  ASSERT_EQ(run("simulate --preset sport-gyro --rate 10 --duration 10m --seed 3 --out " + rec).code, 0);
+  const std::string a = "analyze " + rec + " --unit deg/s ";
+  const std::string d = "dev " + rec + " --columns gx ";
+  const std::string sim = "simulate --preset sport-gyro --duration 1m --out " + path("n.csv") + " ";
+  const std::string demo = "demo --out " + path("demo") + " ";
+  const struct {
+    std::string args, expect;
+  } cases[] = {
+      {a + "--drift-window -5", "--drift-window: '-5' is not a positive number"},
+      {a + "--drift-window 0", "--drift-window: '0' is not a positive number"},
+      {a + "--cov-samples 1", "--cov-samples: '1' is not a whole number from 2 to"},
+      {a + "--cov-samples -1", "--cov-samples: '-1' is not a whole number from 2 to"},
+      {a + "--max-samples -1", "--max-samples: '-1' is not a whole number from 3 to"},
+      {a + "--ci 1.5", "--ci: '1.5' is not a number from 0 to 1"},
+      {a + "--temp-order 0", "--temp-order"},
+      {d + "--ci -0.5", "--ci: '-0.5' is not a number from 0 to 1"},
+      {d + "--alpha 7", "--alpha"},
+      {d + "--rate -1", "--rate: '-1' is not a positive number"},
+      {d + "--rate nan", "--rate: 'nan' is not a positive number"},
+      {d + "--lsb -2", "--lsb: '-2' is not a positive number"},
+      {d + "--skip-rows -1", "--skip-rows: '-1' is not a whole number from 0 to"},
+      {d + "--threads 99999", "--threads: '99999' is not a whole number from 0 to 4096"},
+      {sim + "--rate 1e300", "--rate: '1e300' is not a number from 1e-09 to 1e+09"},
+      {sim + "--rate 0", "--rate: '0' is not a number from 1e-09 to 1e+09"},
+      {sim + "--seed -1", "--seed: '-1' is not a whole number from 0 to"},
+      {sim + "--seed 1.5", "--seed: '1.5' is not a whole number from 0 to"},
+      {demo + "--seed -1", "--seed: '-1' is not a whole number from 0 to"},
+      {demo + "--hours -1", "--hours: '-1' is not a number from 0.5 to 1000"},
+  };
+  for (const auto& c : cases) {
+    const Result r = run(c.args);
+    EXPECT_EQ(r.code, 2) << c.args;
+    EXPECT_TRUE(one_error_line(r)) << c.args << ": " << r.err;
+    EXPECT_NE(r.err.find(c.expect), std::string::npos) << c.args << ": " << r.err;
+  }
+  EXPECT_FALSE(fs::exists(path("n.csv")));
+  EXPECT_FALSE(fs::exists(path("demo")));
+  // In range: accepted.
+  const Result ok = run(a + "--drift-window 60 --cov-samples 100 --max-samples 3000 --ci 0.95 --format json");
+  EXPECT_EQ(ok.code, 0) << ok.err;
+  EXPECT_EQ(run(d + "--skip-rows 0 --threads 1 --lsb 2 --taus 1").code, 0);
+}
+
 }  // namespace

@@ -156,9 +156,12 @@ CLI::App* add_simulate_command(CLI::App& app, Command& run) {
   CLI::Option* rate = cmd->add_option("--rate", opt->rate_hz,
                                       "Sampling rate in Hz (default: the rate of --model, else 10 Hz); a model is "
                                       "rescaled to it, keeping its N and K")
+                          ->check(number_between(io::kMinRateHz, io::kMaxRateHz))
                           ->capture_default_str();
   cmd->add_option("--duration", opt->duration, "Record length: 72h, 30m, 3600s, 2d")->capture_default_str();
-  cmd->add_option("--seed", opt->seed, "Random seed (same seed, same bytes)")->capture_default_str();
+  cmd->add_option("--seed", opt->seed, "Random seed (same seed, same bytes)")
+      ->check(whole_number(0, 1e18))
+      ->capture_default_str();
   cmd->add_option("--temp", opt->temp,
                   "Temperature profile: const:T, sine:MEAN,AMPLITUDE[,PERIOD_S] (default period one day) "
                   "or a file with one temperature per sample")

@@ -1,7 +1,11 @@
 #include "common_options.hpp"
 
+#include <fmt/format.h>
+
+#include <charconv>
 #include <cmath>
 #include <iostream>
+#include <optional>
 #include <stdexcept>
 
 #include "cubecal/error.hpp"
@@ -22,6 +26,53 @@ std::vector<std::string> split_list(const std::string& s) {
     start = comma + 1;
   }
   return out;
+}
+
+namespace {
+
+// The option's text as a finite double, or nullopt (strict: the whole text).
+std::optional<double> finite_number(const std::string& text) {
+  double x = 0.0;
+  const char* b = text.data();
+  const char* e = b + text.size();
+  if (b != e && *b == '+') ++b;
+  const auto [p, ec] = std::from_chars(b, e, x);
+  if (ec != std::errc() || p != e || !std::isfinite(x)) return std::nullopt;
+  return x;
+}
+
+std::string shown(double x) { return fmt::format("{:g}", x); }
+
+}  // namespace
+
+CLI::Validator positive_number() {
+  return CLI::Validator(
+      [](std::string& s) -> std::string {
+        const auto x = finite_number(s);
+        return x && *x > 0.0 ? std::string() : "'" + s + "' is not a positive number";
+      },
+      "POSITIVE");
+}
+
+CLI::Validator number_between(double lo, double hi) {
+  return CLI::Validator(
+      [lo, hi](std::string& s) -> std::string {
+        const auto x = finite_number(s);
+        return x && *x >= lo && *x <= hi ? std::string()
+                                         : "'" + s + "' is not a number from " + shown(lo) + " to " + shown(hi);
+      },
+      "NUMBER in [" + shown(lo) + ", " + shown(hi) + "]");
+}
+
+CLI::Validator whole_number(double lo, double hi) {
+  return CLI::Validator(
+      [lo, hi](std::string& s) -> std::string {
+        const auto x = finite_number(s);
+        return x && *x == std::floor(*x) && *x >= lo && *x <= hi
+                   ? std::string()
+                   : "'" + s + "' is not a whole number from " + shown(lo) + " to " + shown(hi);
+      },
+      "INTEGER in [" + shown(lo) + ", " + shown(hi) + "]");
 }
 
 void note_default_columns(const io::Series& s) {
@@ -51,15 +102,18 @@ void add_input_options(CLI::App& app, InputOptions& opt, bool several) {
                  "Time column (seconds), by name or index; default: a column named t, time, "
                  "t_s, timestamp...");
   app.add_option("--rate", opt.rate_hz, "Sampling rate in Hz (inferred from the time column "
-                                        "when not given)");
-  app.add_option("--skip-rows", opt.skip_rows, "Lines to skip before the header/data (preamble)");
+                                        "when not given)")
+      ->check(positive_number());
+  app.add_option("--skip-rows", opt.skip_rows, "Lines to skip before the header/data (preamble)")
+      ->check(whole_number(0, 1e9));
   app.add_option("--lsb", opt.lsb, "Counts per unit: values are divided by this (raw counts "
-                                   "to physical units)");
+                                   "to physical units)")
+      ->check(positive_number());
   app.add_option("--gaps", opt.gaps, "What to do with time gaps or jitter beyond 1 % of the "
                                      "period: error (default) or split (analyse contiguous "
                                      "segments and combine)")
       ->check(CLI::IsMember({"error", "split"}));
-  app.add_option("--threads", opt.threads, "Worker threads (default: all cores)");
+  app.add_option("--threads", opt.threads, "Worker threads (default: all cores)")->check(whole_number(0, 4096));
 }
 
 std::vector<Unit> parse_units(const std::string& list) {
