@@ -2,6 +2,7 @@
 // sections 2 and 3): noise terms, sensor models, drift, covariance,
 // temperature dependence.
 #include <fmt/format.h>
+
 #include <fmt/ostream.h>
 
 #include <algorithm>
@@ -149,6 +150,7 @@ int run_analyze_command(const AnalyzeOptions& o) {
   Progress progress(bytes > 50'000'000);
   progress.stage(fmt::format("reading {} ({:.0f} MB)", o.input.file, static_cast<double>(bytes) / 1e6));
   const io::Series series = io::read_series(o.input.file, so);
+  note_default_columns(series);
   progress.stage(fmt::format("analyzing {} channels", series.channels.size()));
   const pipeline::AnalysisResult r = pipeline::run_analyze(series, req);
   progress.done();
@@ -191,15 +193,20 @@ CLI::App* add_analyze_command(CLI::App& app, Command& run) {
       ->capture_default_str();
   cmd->add_option("--drift-window", opt->drift_window,
                   "Moving-average window of the bias drift in seconds (default 300 s for rate sensors, "
-                  "1000 s otherwise, as the paper)");
-  cmd->add_option("--cov-samples", opt->cov_samples, "Covariance from the first N samples (default all)");
+                  "1000 s otherwise, as the paper)")
+      ->check(positive_number());
+  cmd->add_option("--cov-samples", opt->cov_samples, "Covariance from the first N samples (default all)")
+      ->check(whole_number(2, 1e15));
   cmd->add_option("--max-samples", opt->max_samples,
-                  "Fit the sensor model on the first N samples (the paper used 42000)");
+                  "Fit the sensor model on the first N samples (the paper used 42000)")
+      ->check(whole_number(3, 1e15));
   cmd->add_option("--model-lsb", opt->model_lsb,
                   "Quantizer of the model in counts per unit, one for all columns or one per column "
                   "(default: --lsb when given), eq. (3)");
   cmd->add_option("--taus", opt->taus, "Tau grid of the Allan curve")->capture_default_str();
-  cmd->add_option("--ci", opt->ci, "Confidence factor of the intervals")->capture_default_str();
+  cmd->add_option("--ci", opt->ci, "Confidence factor of the intervals")
+      ->check(number_between(0.0, 1.0))
+      ->capture_default_str();
   CLI::Option* out_opt =
       cmd->add_option("--out", opt->out, "Directory for analysis.json, adev.csv, drift.csv and (gyro) imu.yaml");
   cmd->add_flag("--force", opt->force, "Replace files in --out");

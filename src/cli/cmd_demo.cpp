@@ -16,6 +16,7 @@
 #include <iostream>
 
 #include "commands.hpp"
+#include "common_options.hpp"
 #include "cubecal/io/csv_writer.hpp"
 #include "cubecal/sim/presets.hpp"
 #include "cubecal/error.hpp"
@@ -184,9 +185,9 @@ CLI::App* add_demo_command(CLI::App& app, Command& run) {
               "beside the recovered ones");
   cmd->add_option("--out", opt->out, "Output directory")->capture_default_str();
   cmd->add_option("--hours", opt->hours, "Record length in hours")
-      ->check(CLI::Range(0.5, 1000.0))
+      ->check(number_between(0.5, 1000.0))
       ->capture_default_str();
-  cmd->add_option("--seed", opt->seed, "Random seed")->capture_default_str();
+  cmd->add_option("--seed", opt->seed, "Random seed")->check(whole_number(0, 1e18))->capture_default_str();
   cmd->add_flag("--force", opt->force, "Replace files in --out that an earlier demo did not write");
   cmd->callback([opt, &run] { run = [opt] { return run_demo(*opt); }; });
   return cmd;

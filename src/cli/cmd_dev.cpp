@@ -49,6 +49,7 @@ int run_dev_command(const DevOptions& o) {
   Progress progress(bytes > 50'000'000);
   progress.stage(fmt::format("reading {} ({:.0f} MB)", o.input.file, static_cast<double>(bytes) / 1e6));
   const io::Series series = io::read_series(o.input.file, to_series_options(o.input));
+  note_default_columns(series);
   progress.stage(fmt::format("{} of {} channels", to_string(req.stat), series.channels.size()));
   const pipeline::DevResult res = pipeline::run_dev(series, req);
   progress.done();
@@ -90,7 +91,9 @@ CLI::App* add_dev_command(CLI::App& app, Command& run) {
                   "Tau grid: octave, decade, all, log:K (K per decade) or a list of seconds "
                   "(1,10,100)")
       ->capture_default_str();
-  cmd->add_option("--ci", opt->ci, "Confidence factor of the intervals")->capture_default_str();
+  cmd->add_option("--ci", opt->ci, "Confidence factor of the intervals")
+      ->check(number_between(0.0, 1.0))
+      ->capture_default_str();
   cmd->add_option("--edf", opt->edf, "EDF: greenhall (as Stable32) or simple (SP 1065 Table 5)")
       ->check(CLI::IsMember({"greenhall", "simple"}))
       ->capture_default_str();

@@ -26,6 +26,7 @@ struct SimulateOptions {
   std::string model_file;
   std::string bias = "random-walk";
   double rate_hz = 10.0;
+  bool rate_given = false;   // --rate on the command line (else: the model's rate, or 10 Hz)
   std::string duration = "1h";
   std::uint64_t seed = 1;
   std::string temp = "sine:25,5";
@@ -68,6 +69,8 @@ TemperatureProfile parse_temperature(const std::string& spec) {
   } else {
     io::SeriesOptions so;
     so.rate_hz = 1.0;  // one value per sample; the time stamps, if any, are not used
+    so.skip_temperature = false;  // the file is read for its temperature column
+    so.check_rate_against_time = false;
     so.min_samples = 1;
     const auto s = io::read_series(spec, so);
     p.kind = TemperatureProfile::Kind::series;
@@ -100,18 +103,22 @@ int run_simulate(const SimulateOptions& o) {
       throw UsageError("unknown preset '" + name + "' (known: " + known + ")");
     }
   }
+  if (!(o.rate_hz > 0.0) || !std::isfinite(o.rate_hz)) throw UsageError("--rate must be positive");
+  req.rate_hz = o.rate_hz;
   if (!o.model_file.empty()) {
     std::ifstream in(o.model_file);
     if (!in) throw UsageError("cannot read " + o.model_file);
     std::stringstream ss;
     ss << in.rdbuf();
     const pipeline::AnalysisDocument doc = pipeline::parse_analysis_json(ss.str(), o.model_file);
-    for (auto& m : pipeline::models_from_analysis(doc.result, o.model_file, o.bias == "gauss-markov"))
+    // The model's sigma_n and sigma_mu hold per sample at the rate it was
+    // measured at; without --rate (and without presets, whose parameters are
+    // the paper's 10 Hz ones) simulate at that rate, else rescale to --rate.
+    if (!o.rate_given && req.triads.empty()) req.rate_hz = doc.result.rate_hz;
+    for (auto& m : pipeline::models_from_analysis(doc.result, o.model_file, o.bias == "gauss-markov", req.rate_hz))
       req.triads.push_back(std::move(m));
   }
   if (req.triads.empty()) throw UsageError("nothing to simulate: give --preset and/or --model");
-  if (!(o.rate_hz > 0.0) || !std::isfinite(o.rate_hz)) throw UsageError("--rate must be positive");
-  req.rate_hz = o.rate_hz;
   req.duration_s = pipeline::parse_duration(o.duration);
   req.seed = o.seed;
   req.temperature = parse_temperature(o.temp);
@@ -126,7 +133,7 @@ int run_simulate(const SimulateOptions& o) {
   write_simulation(req, w);
   w.commit();
   progress.done();
-  std::cerr << fmt::format("cubecal: wrote {} ({} samples at {:g} Hz, {} columns, seed {})\n", o.out, n, o.rate_hz,
+  std::cerr << fmt::format("cubecal: wrote {} ({} samples at {:g} Hz, {} columns, seed {})\n", o.out, n, req.rate_hz,
                            pipeline::channel_names(req).size() + 1, o.seed);
   return 0;
 }
@@ -146,9 +153,15 @@ CLI::App* add_simulate_command(CLI::App& app, Command& run) {
   cmd->add_option("--bias", opt->bias, "Bias process taken from --model: random-walk (the paper's) or gauss-markov")
       ->check(CLI::IsMember({"random-walk", "gauss-markov"}))
       ->capture_default_str();
-  cmd->add_option("--rate", opt->rate_hz, "Sampling rate in Hz")->capture_default_str();
+  CLI::Option* rate = cmd->add_option("--rate", opt->rate_hz,
+                                      "Sampling rate in Hz (default: the rate of --model, else 10 Hz); a model is "
+                                      "rescaled to it, keeping its N and K")
+                          ->check(number_between(io::kMinRateHz, io::kMaxRateHz))
+                          ->capture_default_str();
   cmd->add_option("--duration", opt->duration, "Record length: 72h, 30m, 3600s, 2d")->capture_default_str();
-  cmd->add_option("--seed", opt->seed, "Random seed (same seed, same bytes)")->capture_default_str();
+  cmd->add_option("--seed", opt->seed, "Random seed (same seed, same bytes)")
+      ->check(whole_number(0, 1e18))
+      ->capture_default_str();
   cmd->add_option("--temp", opt->temp,
                   "Temperature profile: const:T, sine:MEAN,AMPLITUDE[,PERIOD_S] (default period one day) "
                   "or a file with one temperature per sample")
@@ -157,7 +170,10 @@ CLI::App* add_simulate_command(CLI::App& app, Command& run) {
                   "Rate profile for the gyro (CSV: t and three rates), held between its time stamps");
   cmd->add_option("--out", opt->out, "Output file (.csv, or .csv.gz for gzip)")->required();
   cmd->add_flag("--force", opt->force, "Replace --out if it exists");
-  cmd->callback([opt, &run] { run = [opt] { return run_simulate(*opt); }; });
+  cmd->callback([opt, rate, &run] {
+    opt->rate_given = rate->count() > 0;
+    run = [opt] { return run_simulate(*opt); };
+  });
   return cmd;
 }
 

@@ -1,6 +1,11 @@
 #include "common_options.hpp"
 
+#include <fmt/format.h>
+
+#include <charconv>
 #include <cmath>
+#include <iostream>
+#include <optional>
 #include <stdexcept>
 
 #include "cubecal/error.hpp"
@@ -23,6 +28,64 @@ std::vector<std::string> split_list(const std::string& s) {
   return out;
 }
 
+namespace {
+
+// The option's text as a finite double, or nullopt (strict: the whole text).
+std::optional<double> finite_number(const std::string& text) {
+  double x = 0.0;
+  const char* b = text.data();
+  const char* e = b + text.size();
+  if (b != e && *b == '+') ++b;
+  const auto [p, ec] = std::from_chars(b, e, x);
+  if (ec != std::errc() || p != e || !std::isfinite(x)) return std::nullopt;
+  return x;
+}
+
+std::string shown(double x) { return fmt::format("{:g}", x); }
+
+}  // namespace
+
+CLI::Validator positive_number() {
+  return CLI::Validator(
+      [](std::string& s) -> std::string {
+        const auto x = finite_number(s);
+        return x && *x > 0.0 ? std::string() : "'" + s + "' is not a positive number";
+      },
+      "POSITIVE");
+}
+
+CLI::Validator number_between(double lo, double hi) {
+  return CLI::Validator(
+      [lo, hi](std::string& s) -> std::string {
+        const auto x = finite_number(s);
+        return x && *x >= lo && *x <= hi ? std::string()
+                                         : "'" + s + "' is not a number from " + shown(lo) + " to " + shown(hi);
+      },
+      "NUMBER in [" + shown(lo) + ", " + shown(hi) + "]");
+}
+
+CLI::Validator whole_number(double lo, double hi) {
+  return CLI::Validator(
+      [lo, hi](std::string& s) -> std::string {
+        const auto x = finite_number(s);
+        return x && *x == std::floor(*x) && *x >= lo && *x <= hi
+                   ? std::string()
+                   : "'" + s + "' is not a whole number from " + shown(lo) + " to " + shown(hi);
+      },
+      "INTEGER in [" + shown(lo) + ", " + shown(hi) + "]");
+}
+
+void note_default_columns(const io::Series& s) {
+  if (!s.default_columns || s.left_out.empty()) return;
+  const auto join = [](const std::vector<std::string>& v) {
+    std::string r;
+    for (const auto& x : v) r += (r.empty() ? "" : ",") + x;
+    return r;
+  };
+  std::cerr << "cubecal: note: " << s.file << ": columns " << join(s.names) << " (left out: " << join(s.left_out)
+            << "; --columns chooses others)\n";
+}
+
 void add_input_options(CLI::App& app, InputOptions& opt, bool several) {
   if (several)
     app.add_option("files", opt.files, "Input files (one record each): delimited text, optionally gzip")
@@ -33,20 +96,24 @@ void add_input_options(CLI::App& app, InputOptions& opt, bool several) {
         ->required();
   app.add_option("--columns", opt.columns,
                  "Columns to analyse, by header name or 1-based index (gx,gy,gz or 2,3,4); "
-                 "default: every column except the time column");
+                 "default: every column except the time and temperature columns (t, time, "
+                 "timestamp..., temp, temperature and those named by --time-col / --temp-col)");
   app.add_option("--time-col", opt.time_col,
                  "Time column (seconds), by name or index; default: a column named t, time, "
                  "t_s, timestamp...");
   app.add_option("--rate", opt.rate_hz, "Sampling rate in Hz (inferred from the time column "
-                                        "when not given)");
-  app.add_option("--skip-rows", opt.skip_rows, "Lines to skip before the header/data (preamble)");
+                                        "when not given)")
+      ->check(positive_number());
+  app.add_option("--skip-rows", opt.skip_rows, "Lines to skip before the header/data (preamble)")
+      ->check(whole_number(0, 1e9));
   app.add_option("--lsb", opt.lsb, "Counts per unit: values are divided by this (raw counts "
-                                   "to physical units)");
+                                   "to physical units)")
+      ->check(positive_number());
   app.add_option("--gaps", opt.gaps, "What to do with time gaps or jitter beyond 1 % of the "
                                      "period: error (default) or split (analyse contiguous "
                                      "segments and combine)")
       ->check(CLI::IsMember({"error", "split"}));
-  app.add_option("--threads", opt.threads, "Worker threads (default: all cores)");
+  app.add_option("--threads", opt.threads, "Worker threads (default: all cores)")->check(whole_number(0, 4096));
 }
 
 std::vector<Unit> parse_units(const std::string& list) {

@@ -30,6 +30,16 @@ io::SeriesOptions to_series_options(const InputOptions& opt);
 
 std::vector<std::string> split_list(const std::string& s);
 
+// CLI11 checks of numeric options with a message a user can act on
+// ("--drift-window: -5 is not a positive number").
+CLI::Validator positive_number();                     // finite, > 0
+CLI::Validator number_between(double lo, double hi);  // finite, lo <= x <= hi
+CLI::Validator whole_number(double lo, double hi);    // an integer, lo <= n <= hi (no sign wrap)
+
+// Says on stderr which columns were taken when none were named and some were
+// left out (time, temperature), so a default never silently picks a channel.
+void note_default_columns(const io::Series& s);
+
 // "deg/s,mGauss" -> units; throws UsageError naming the unknown one.
 std::vector<Unit> parse_units(const std::string& list);
 // --taus value; throws UsageError.

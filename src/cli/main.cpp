@@ -31,6 +31,7 @@ std::string usage_message(const cubecal::UsageError& e) {
       {"reject_sigma", "--reject"},
       {"sampling", "--time-col/--rate"},
       {"polynomial_order", "--order"},
+      {"rate", "--rate"},
   };
   for (const auto& [option, flag] : kFlags)
     if (e.option() == option) return std::string(flag) + ": " + e.what();

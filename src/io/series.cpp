@@ -43,12 +43,57 @@ std::string duration(double v) {
 // worth showing.
 std::string period_text(double v) { return to_text(v, std::chars_format::general, 6); }
 
+std::string lower_case(std::string s) {
+  for (char& c : s) {
+    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
+  }
+  return s;
+}
+
+// Whether a column spec (name or 1-based index, as TableOptions resolves
+// it) designates header column i.
+bool designates(const std::string& spec, const std::vector<std::string>& header, std::size_t i) {
+  if (spec == header[i]) return true;
+  if (std::find(header.begin(), header.end(), spec) != header.end()) return false;
+  if (spec == std::to_string(i + 1)) return true;
+  return lower_case(spec) == lower_case(header[i]);
+}
+
+// The default channels of a file with a header: every column but the time
+// column, the extra columns and (when asked) the temperature columns.
+void default_columns(const Table& layout, const std::string& time_spec, const SeriesOptions& opt, TableOptions& topt,
+                     Series& s) {
+  if (!opt.table.columns.empty() || !layout.has_header) return;
+  s.default_columns = true;
+  for (std::size_t i = 0; i < layout.header.size(); ++i) {
+    const std::string& name = layout.header[i];
+    bool out = !time_spec.empty() && designates(time_spec, layout.header, i);
+    for (const auto& e : opt.table.extra_columns) out = out || designates(e, layout.header, i);
+    out = out || (opt.skip_temperature && looks_like_temperature_column(name));
+    (out ? s.left_out : topt.columns).push_back(name);
+  }
+  const bool temperature = std::any_of(s.left_out.begin(), s.left_out.end(), [&](const std::string& n) {
+    return opt.skip_temperature && looks_like_temperature_column(n);
+  });
+  if (topt.columns.empty() && temperature) {
+    std::string left;
+    for (const auto& n : s.left_out) left += (left.empty() ? "" : ", ") + n;
+    throw InputError(s.file, 0, 0, "no data columns besides the time and temperature columns (" + left + ")",
+                     "name the columns to analyze");
+  }
+  if (topt.columns.empty()) throw InputError(s.file, 0, 0, "no data columns besides the time column", "name the columns to analyze");
+}
+
 void check_options(const SeriesOptions& opt) {
   if (!(opt.lsb > 0.0) || !std::isfinite(opt.lsb)) {
     throw UsageError("the LSB (counts per unit) must be a positive finite number, got " + stamp(opt.lsb));
   }
   if (!(opt.rate_hz >= 0.0) || !std::isfinite(opt.rate_hz)) {
     throw UsageError("the sampling rate must be a positive finite number of Hz, got " + stamp(opt.rate_hz));
+  }
+  if (opt.rate_hz != 0.0 && !(opt.rate_hz >= kMinRateHz && opt.rate_hz <= kMaxRateHz)) {
+    throw UsageError("rate", "the sampling rate " + stamp(opt.rate_hz) + " Hz is outside the range " +
+                                 stamp(kMinRateHz) + " to " + stamp(kMaxRateHz) + " Hz");
   }
   if (!(opt.tolerance >= 0.0) || !std::isfinite(opt.tolerance)) {
     throw UsageError("the interval tolerance must be a non-negative fraction, got " + stamp(opt.tolerance));
@@ -88,6 +133,54 @@ TimeChoice choose_time_column(const SeriesOptions& opt, const Table& layout) {
   return {*it, opt.rate_hz == 0.0};
 }
 
+// Values whose squares overflow make every variance inf or NaN, and a
+// column whose largest value is so small that its squares underflow makes
+// them 0/0: refused at their place, after the LSB scaling.
+void check_magnitudes(const Series& s, const Table& t, const SeriesOptions& opt) {
+  const auto fail = [&](const std::vector<double>& v, std::size_t i, std::size_t field, double scale,
+                        const std::string& what) {
+    const Location loc = locate(t, i, field);
+    throw InputError(s.file, loc.line, loc.column,
+                     "value " + stamp(v[i]) + (scale != 1.0 ? " (" + stamp(v[i] / scale) + " after the LSB)" : "") +
+                         what,
+                     "rescale the column, e.g. to other units");
+  };
+  const auto check = [&](const std::vector<double>& v, std::size_t field, double scale) {
+    std::size_t largest = 0;
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      const double a = std::fabs(v[i] / scale);
+      if (a > kMaxMagnitude)
+        fail(v, i, field, scale, " exceeds the magnitude " + stamp(kMaxMagnitude) + " whose square a variance can hold");
+      if (a > std::fabs(v[largest] / scale)) largest = i;
+    }
+    const double top = v.empty() ? 0.0 : std::fabs(v[largest] / scale);
+    if (top != 0.0 && top < kMinMagnitude)
+      fail(v, largest, field, scale,
+           " is the largest of its column, below the magnitude " + stamp(kMinMagnitude) +
+               " whose square a variance can hold");
+  };
+  for (std::size_t c = 0; c < t.data.size(); ++c) check(t.data[c], t.indices[c], opt.lsb);
+  for (std::size_t c = 0; c < t.extra.size(); ++c) check(t.extra[c], t.extra_indices[c], 1.0);
+}
+
+// A rate given beside a time column must be the rate of its stamps: a 2x
+// error would otherwise halve or double every tau silently.
+void check_rate_agrees(const std::string& file, const std::string& time_name, const std::vector<double>& time,
+                       const SeriesOptions& opt) {
+  if (!opt.check_rate_against_time || opt.rate_hz <= 0.0 || time.size() < 2) return;
+  std::vector<double> dt;
+  dt.reserve(time.size() - 1);
+  for (std::size_t i = 1; i < time.size(); ++i) dt.push_back(time[i] - time[i - 1]);
+  const double period = median(std::move(dt));
+  if (!(period > 0.0) || !std::isfinite(period)) return;  // not increasing: check_timing says where
+  const double from_time = 1.0 / period;
+  if (std::fabs(opt.rate_hz * period - 1.0) <= opt.tolerance) return;
+  throw UsageError("rate", file + ": the rate " + period_text(opt.rate_hz) + " Hz contradicts the time column '" +
+                               time_name + "' (" + period_text(from_time) + " Hz, median interval " +
+                               period_text(period) + " s): leave the rate out to take it from the time stamps, "
+                               "or fix the time column");
+}
+
 // Checks the time stamps against the period (given, or inferred from the
 // median interval) and cuts the record into segments.
 void check_timing(Series& s, const Table& t, std::size_t time_field, const SeriesOptions& opt) {
@@ -119,6 +212,11 @@ void check_timing(Series& s, const Table& t, std::size_t time_field, const Serie
     // the period in the last bits (5.3 - 5.2 = 0.0999999999999996): keep nine
     // significant digits of the rate, far below the 1 % interval tolerance.
     const double raw = 1.0 / median(std::move(dt));
+    if (!(raw >= kMinRateHz && raw <= kMaxRateHz)) {
+      fail_at(1, "time stamps " + stamp(1.0 / raw) + " s apart give a rate of " + stamp(raw) +
+                     " Hz, outside the range " + stamp(kMinRateHz) + " to " + stamp(kMaxRateHz) + " Hz",
+              "the time column must be in seconds");
+    }
     const double scale = std::pow(10.0, 8.0 - std::floor(std::log10(raw)));
     s.rate_hz = std::round(raw * scale) / scale;
     s.tau0 = 1.0 / s.rate_hz;
@@ -157,13 +255,14 @@ void check_timing(Series& s, const Table& t, std::size_t time_field, const Serie
 
 }  // namespace
 
+bool looks_like_temperature_column(const std::string& name) {
+  static constexpr std::string_view kNames[] = {"temp", "temperature", "temp_c", "temp_degc", "t_degc"};
+  return std::find(std::begin(kNames), std::end(kNames), lower_case(name)) != std::end(kNames);
+}
+
 bool looks_like_time_column(const std::string& name) {
   static constexpr std::string_view kNames[] = {"t", "time", "t_s", "time_s", "timestamp", "sec", "seconds"};
-  std::string lower = name;
-  for (char& c : lower) {
-    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
-  }
-  return std::find(std::begin(kNames), std::end(kNames), lower) != std::end(kNames);
+  return std::find(std::begin(kNames), std::end(kNames), lower_case(name)) != std::end(kNames);
 }
 
 Series read_series(const std::string& path, const SeriesOptions& opt) {
@@ -174,25 +273,30 @@ Series read_series(const std::string& path, const SeriesOptions& opt) {
 
   // The time column is read as an extra column, which also keeps it out of
   // the channels when all columns are wanted.
+  Series s;
+  s.file = path;
   TableOptions topt = opt.table;
+  default_columns(layout, time.spec, opt, topt, s);
   const std::size_t time_slot = topt.extra_columns.size();
   if (!time.spec.empty()) topt.extra_columns.push_back(time.spec);
   Table t = parse_table(buf.view(), path, topt);
 
-  Series s;
-  s.file = path;
   s.gaps = opt.gaps;
   s.gzip = buf.was_gzip();
   s.bytes = t.bytes;
   if (t.data.empty()) {
     throw InputError(path, 0, 0, "no data columns besides the time column", "name the columns to analyze");
   }
+  check_magnitudes(s, t, opt);
   s.names = t.names;
   s.channels = std::move(t.data);
   for (std::size_t k = 0; k < time_slot; ++k) {
     s.extra_names.push_back(t.extra_names[k]);
     s.extra.push_back(std::move(t.extra[k]));
   }
+  // (A time column named explicitly is checked stamp by stamp against the
+  // given rate in check_timing.)
+  if (!time.spec.empty() && !time.timing) check_rate_agrees(path, t.extra_names[time_slot], t.extra[time_slot], opt);
   const std::size_t n = s.samples();
   if (n < opt.min_samples) throw_too_short(path, n, opt.min_samples, "a longer record is needed");
 

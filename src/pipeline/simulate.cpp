@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <stdexcept>
 
 #include "cubecal/error.hpp"
 
@@ -182,6 +183,32 @@ std::vector<TriadModel> models_from_analysis(const AnalysisResult& r, const std:
       if (!t.coeff.empty()) ax.fixed_bias = t.coeff[0];
     }
   }
+  return out;
+}
+
+TriadModel model_at_rate(const TriadModel& model, double from_hz, double to_hz) {
+  if (!(from_hz > 0.0) || !std::isfinite(from_hz) || !(to_hz > 0.0) || !std::isfinite(to_hz))
+    throw std::invalid_argument("model_at_rate: rates must be positive and finite");
+  // docs/formulas/simulator.md §2.1, noise-terms.md §4: N = sigma_n sqrt(dt) and
+  // K = sigma_mu sqrt(dt) are the sensor's; the per-sample sigmas scale as
+  // 1/sqrt(dt), i.e. by sqrt(dt_from / dt_to) = sqrt(to_hz / from_hz). The
+  // Gauss-Markov sigma_b (stationary, u) and T_c (s) do not depend on dt.
+  const double s = std::sqrt(to_hz / from_hz);
+  TriadModel m = model;
+  for (auto& a : m.axes) {
+    a.white_sigma *= s;
+    if (a.bias == BiasProcess::random_walk) a.bias_sigma *= s;
+  }
+  return m;
+}
+
+std::vector<TriadModel> models_from_analysis(const AnalysisResult& r, const std::string& label, bool gm,
+                                             double rate_hz) {
+  if (!(rate_hz > 0.0) || !std::isfinite(rate_hz)) throw UsageError("rate", "the sampling rate must be positive");
+  std::vector<TriadModel> out = models_from_analysis(r, label, gm);
+  if (!(r.rate_hz > 0.0) || !std::isfinite(r.rate_hz))
+    throw UsageError(label + ": the analysis has no sampling rate (re-run analyze)");
+  for (auto& m : out) m = model_at_rate(m, r.rate_hz, rate_hz);
   return out;
 }
 

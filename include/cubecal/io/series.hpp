@@ -12,6 +12,17 @@ namespace cubecal::io {
 
 enum class GapPolicy { error, split };
 
+// The range of sampling rates and data magnitudes every statistic can take
+// without its sums of squares overflowing or underflowing: a rate (given or
+// inferred from the time stamps) outside [kMinRateHz, kMaxRateHz] is a
+// UsageError("rate") or an InputError at the time column; a value (after the
+// LSB) whose magnitude exceeds kMaxMagnitude, or is non-zero below
+// kMinMagnitude, an InputError at its place.
+inline constexpr double kMinRateHz = 1e-9;
+inline constexpr double kMaxRateHz = 1e9;
+inline constexpr double kMaxMagnitude = 1e100;
+inline constexpr double kMinMagnitude = 1e-100;
+
 struct SeriesOptions {
   TableOptions table;          // columns, skip_rows, threads
   std::string time_col;        // name or 1-based index; empty: auto-detect by name
@@ -20,6 +31,15 @@ struct SeriesOptions {
   GapPolicy gaps = GapPolicy::error;
   std::size_t min_samples = 3; // fewer samples (after splitting, the longest segment) is an error
   double tolerance = 0.01;     // allowed |dt - period| / period
+  // With no columns named (table.columns empty): leave out, besides the time
+  // column and the extra columns, the columns whose header name looks like a
+  // temperature (looks_like_temperature_column). False for a file that is
+  // read for its temperature.
+  bool skip_temperature = true;
+  // A given rate_hz must agree with the time column, when there is one,
+  // within `tolerance` of its median interval (UsageError("rate") if not).
+  // False where the time stamps are not used at all.
+  bool check_rate_against_time = true;
 };
 
 struct Segment {
@@ -35,6 +55,10 @@ struct Series {
   bool rate_from_time = false;     // rate inferred from the time column
   std::string time_name;           // empty: no time column used
   std::vector<std::string> names;  // channel names (header names, or "col3")
+  // No columns were named: the channels are every column but these (the time
+  // column, the extra columns, the temperature columns), named as in the header.
+  bool default_columns = false;
+  std::vector<std::string> left_out;
   std::vector<std::vector<double>> channels;  // channels[c][i], in units (value / lsb)
   std::vector<double> time;        // seconds, empty when no time column
   // Auxiliary columns asked for in SeriesOptions::table.extra_columns (e.g. a
@@ -56,5 +80,9 @@ Series read_series(const std::string& path, const SeriesOptions& opt);
 // Names that are taken as a time column when none is named: t, time, t_s,
 // time_s, timestamp, sec, seconds (case-insensitive).
 bool looks_like_time_column(const std::string& name);
+
+// Names taken as a temperature column: temp, temperature, temp_c, temp_degc,
+// t_degc (case-insensitive).
+bool looks_like_temperature_column(const std::string& name);
 
 }  // namespace cubecal::io

@@ -62,6 +62,21 @@ void write_record(const SimulatedRecord& rec, io::CsvWriter& out);
 std::vector<TriadModel> models_from_analysis(const AnalysisResult& analysis, const std::string& label,
                                              bool gauss_markov);
 
+// The same sensors sampled at `rate_hz`: an analysis.json carries its
+// rate (rate_hz) and each channel's unit; its sigma_n and sigma_mu are per
+// sample at that rate (noise-terms.md §4), so they are rescaled to keep the
+// sensor's N, K (and hence B) whatever rate is asked (model_at_rate).
+// Throws UsageError("rate", ...) for a rate that is not positive.
+std::vector<TriadModel> models_from_analysis(const AnalysisResult& analysis, const std::string& label,
+                                             bool gauss_markov, double rate_hz);
+
+// A model whose per-sample parameters hold at `from_hz`, for sampling at
+// `to_hz`: white_sigma and the random walk's bias_sigma (sigma_mu) scale by
+// sqrt(to_hz / from_hz), which keeps N = sigma_n sqrt(dt) and
+// K = sigma_mu sqrt(dt); a Gauss-Markov sigma_b and tau_c are kept. The
+// quantizer (lsb) is per sample and kept as it is.
+TriadModel model_at_rate(const TriadModel& model, double from_hz, double to_hz);
+
 // "72h", "30m", "90s", "2d" or a number of seconds.
 double parse_duration(const std::string& s);
 
