@@ -15,6 +15,7 @@
 #include "cubecal/stats/phase.hpp"
 #include "cubecal/stats/stability.hpp"
 #include "cubecal/stats/tau_grid.hpp"
+#include "reason_of.hpp"
 
 namespace cubecal {
 namespace {
@@ -207,16 +208,7 @@ TEST(Stability, RejectsNonFiniteSamples) {
 namespace cubecal {
 namespace {
 
-// The reason of the CalibrationError f throws, "(none)" when it throws none.
-template <class F>
-std::string reason_of(F f) {
-  try {
-    f();
-  } catch (const CalibrationError& e) {
-    return std::string(to_string(e.reason()));
-  }
-  return "(none)";
-}
+using cubecal::test::reason_of;
 
 TEST(TemperatureFit, ErrorsCarryTheirReason) {
   // A bias of 0.02 per degree over a ramp from 10 to 40 degrees.

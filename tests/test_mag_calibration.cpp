@@ -28,6 +28,7 @@
 #include "cubecal/calib/twostep.hpp"
 #include "cubecal/error.hpp"
 #include "cubecal/io/delimited_reader.hpp"
+#include "reason_of.hpp"
 
 namespace {
 
@@ -502,16 +503,7 @@ TEST(MagCalibration, FieldNormAndNoiseMustBePositive) {
   EXPECT_NE(error_of([&] { calibrate(bad, o); }).find("non-finite"), std::string::npos);
 }
 
-// The reason of the CalibrationError f throws, "(none)" when it throws none.
-template <class F>
-std::string reason_of(F f) {
-  try {
-    f();
-  } catch (const cubecal::CalibrationError& e) {
-    return std::string(cubecal::to_string(e.reason()));
-  }
-  return "(none)";
-}
+using cubecal::test::reason_of;
 
 TEST(MagCalibration, ErrorsCarryTheirReason) {
   const auto h = synthetic_ellipsoid();

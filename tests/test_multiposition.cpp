@@ -25,6 +25,7 @@
 #include "cubecal/calib/multiposition.hpp"
 #include "cubecal/error.hpp"
 #include "cubecal/io/delimited_reader.hpp"
+#include "reason_of.hpp"
 
 namespace {
 
@@ -383,16 +384,7 @@ TEST(MultiPosition, BadInputsAreRejected) {
   for (std::size_t i = 0; i < 9; ++i) EXPECT_NEAR(a.values[i], b.values[i], 1e-9 * std::abs(b.values[i]) + 1e-12);
 }
 
-// The reason of the CalibrationError f throws, "(none)" when it throws none.
-template <class F>
-std::string reason_of(F f) {
-  try {
-    f();
-  } catch (const cubecal::CalibrationError& e) {
-    return std::string(cubecal::to_string(e.reason()));
-  }
-  return "(none)";
-}
+using cubecal::test::reason_of;
 
 TEST(MultiPosition, ErrorsCarryTheirReason) {
   const Truth tr = make_truth();

@@ -30,6 +30,7 @@
 #include "cubecal/calib/plateaus.hpp"
 #include "cubecal/calib/rate_table.hpp"
 #include "cubecal/error.hpp"
+#include "reason_of.hpp"
 
 namespace {
 
@@ -540,15 +541,7 @@ TEST(RateTableErrors, NoPlateauFound) {
   EXPECT_NE(label_msg.find("no plateau found"), std::string::npos) << label_msg;
 }
 
-// The reason of the CalibrationError f throws, "(none)" when it throws none.
-std::string reason_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const cubecal::CalibrationError& e) {
-    return std::string(cubecal::to_string(e.reason()));
-  }
-  return "(none)";
-}
+using cubecal::test::reason_of;
 
 TEST(RateTableErrors, ErrorsCarryTheirReason) {
   std::vector<Plateau> p;

@@ -20,6 +20,7 @@
 #include "cubecal/noise/noise_terms.hpp"
 #include "cubecal/stats/stability.hpp"
 #include "cubecal/stats/tau_grid.hpp"
+#include "reason_of.hpp"
 
 namespace {
 
@@ -316,16 +317,7 @@ TEST(RandomWalkModelFit, RejectsCurvesWithoutAV) {
   EXPECT_THROW(cubecal::fit_random_walk_model(fine, 0.0), std::invalid_argument);
 }
 
-// The reason of the CalibrationError f throws, "(none)" when it throws none.
-template <class F>
-std::string reason_of(F f) {
-  try {
-    f();
-  } catch (const cubecal::CalibrationError& e) {
-    return std::string(cubecal::to_string(e.reason()));
-  }
-  return "(none)";
-}
+using cubecal::test::reason_of;
 
 TEST(RandomWalkModelFit, ErrorsCarryTheirReason) {
   const auto ms = log_grid(10500);

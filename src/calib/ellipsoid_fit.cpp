@@ -9,6 +9,7 @@
 #include <string>
 
 #include "cubecal/error.hpp"
+#include "detail/eigen_vec3.hpp"
 
 namespace cubecal::mag {
 
@@ -20,14 +21,9 @@ using M6 = Eigen::Matrix<double, 6, 6>;
 using V6 = Eigen::Matrix<double, 6, 1>;
 using M10 = Eigen::Matrix<double, 10, 10>;
 using V10 = Eigen::Matrix<double, 10, 1>;
+using calib::detail::to_array;
+using calib::detail::to_eigen;
 
-Vec3 to_array(const V3& v) { return {v(0), v(1), v(2)}; }
-Mat3 to_array(const M3& m) {
-  Mat3 r{};
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) r[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)] = m(i, j);
-  return r;
-}
 
 [[noreturn]] void degenerate(const std::string& why) {
   throw CalibrationError(CalibrationReason::degenerate, "degenerate ellipsoid fit: " + why);

@@ -13,6 +13,7 @@
 #include "cubecal/calib/ellipsoid_fit.hpp"
 #include "cubecal/calib/twostep.hpp"
 #include "cubecal/error.hpp"
+#include "detail/eigen_vec3.hpp"
 
 namespace cubecal::mag {
 
@@ -20,14 +21,9 @@ namespace {
 
 using M3 = Eigen::Matrix3d;
 using V3 = Eigen::Vector3d;
+using calib::detail::to_array;
+using calib::detail::to_eigen;
 
-V3 to_eigen(const Vec3& v) { return {v[0], v[1], v[2]}; }
-M3 to_eigen(const Mat3& m) {
-  M3 r;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) r(i, j) = m[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)];
-  return r;
-}
 
 std::string fmt_g(double v) {
   char buf[32];

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "cubecal/error.hpp"
+#include "detail/eigen_vec3.hpp"
 
 namespace cubecal {
 
@@ -14,15 +15,10 @@ namespace {
 
 using Eigen::Index;
 using Mat = Eigen::MatrixXd;
+using calib::detail::to_array;
+using calib::detail::to_eigen;
 
 const char* const kNeed = "need rates about at least 3 independent axes plus one more (4 affinely independent)";
-
-Mat3 to_array(const Eigen::Matrix3d& m) {
-  Mat3 out{};
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) out[i][j] = m(i, j);
-  return out;
-}
 
 Covariance12 to_array(const Eigen::Matrix<double, 12, 12>& m) {
   Covariance12 out{};

@@ -16,6 +16,7 @@
 #include <string>
 
 #include "cubecal/error.hpp"
+#include "detail/eigen_vec3.hpp"
 
 namespace cubecal::mag {
 
@@ -26,15 +27,9 @@ using Eigen::MatrixXd;
 using Eigen::VectorXd;
 using M3 = Eigen::Matrix3d;
 using V3 = Eigen::Vector3d;
+using calib::detail::to_array;
+using calib::detail::to_eigen;
 
-V3 to_eigen(const Vec3& v) { return {v[0], v[1], v[2]}; }
-Vec3 to_array(const V3& v) { return {v(0), v(1), v(2)}; }
-Mat3 to_array(const M3& m) {
-  Mat3 r{};
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) r[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)] = m(i, j);
-  return r;
-}
 std::vector<std::vector<double>> to_rows(const MatrixXd& m) {
   std::vector<std::vector<double>> r(static_cast<std::size_t>(m.rows()), std::vector<double>(static_cast<std::size_t>(m.cols())));
   for (Index i = 0; i < m.rows(); ++i)
