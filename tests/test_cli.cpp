@@ -24,21 +24,7 @@ namespace fs = std::filesystem;
 using Result = cubecal::test::CliRun;
 Result run(const std::string& args) { return cubecal::test::run_cubecal(args); }
 
-class Cli : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("cubecal_cli_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string write(const std::string& name, const std::string& text) {
-    const fs::path p = dir_ / name;
-    std::ofstream(p) << text;
-    return p.string();
-  }
-  fs::path dir_;
-};
+class Cli : public cubecal::test::TempDirTest {};
 
 const std::string kPhaseDat = std::string(CUBECAL_SHARED_DATA) + "/stable32/phasedat/PHASE.DAT";
 

@@ -20,22 +20,7 @@ using Result = cubecal::test::CliRun;
 using cubecal::test::one_error_line;
 Result run(const std::string& args) { return cubecal::test::run_cubecal(args); }
 
-class CliHardening : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("cubecal_hard_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string write(const std::string& name, const std::string& text) {
-    const fs::path p = dir_ / name;
-    std::ofstream(p) << text;
-    return p.string();
-  }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  fs::path dir_;
-};
+class CliHardening : public cubecal::test::TempDirTest {};
 
 [[maybe_unused]] std::string read_file(const std::string& p) {
   std::ifstream in(p);
