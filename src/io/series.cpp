@@ -146,16 +146,27 @@ void check_magnitudes(const Series& s, const Table& t, const SeriesOptions& opt)
                      "rescale the column, e.g. to other units");
   };
   const auto check = [&](const std::vector<double>& v, std::size_t field, double scale) {
-    std::size_t largest = 0;
-    for (std::size_t i = 0; i < v.size(); ++i) {
-      const double a = std::fabs(v[i] / scale);
-      if (a > kMaxMagnitude)
-        fail(v, i, field, scale, " exceeds the magnitude " + stamp(kMaxMagnitude) + " whose square a variance can hold");
-      if (a > std::fabs(v[largest] / scale)) largest = i;
+    // One pass for the largest magnitude (four running maxima, no division:
+    // this runs over every value of the record); the place only on failure.
+    double m[4] = {0.0, 0.0, 0.0, 0.0};
+    std::size_t i = 0;
+    for (; i + 4 <= v.size(); i += 4)
+      for (std::size_t k = 0; k < 4; ++k) m[k] = std::max(m[k], std::fabs(v[i + k]));
+    for (; i < v.size(); ++i) m[0] = std::max(m[0], std::fabs(v[i]));
+    const double raw_top = std::max(std::max(m[0], m[1]), std::max(m[2], m[3]));
+    const double top = raw_top / scale;
+    const auto first_with = [&](double magnitude) {
+      std::size_t j = 0;
+      while (j + 1 < v.size() && std::fabs(v[j]) != magnitude) ++j;
+      return j;
+    };
+    if (top > kMaxMagnitude) {
+      std::size_t j = 0;
+      while (j + 1 < v.size() && !(std::fabs(v[j] / scale) > kMaxMagnitude)) ++j;
+      fail(v, j, field, scale, " exceeds the magnitude " + stamp(kMaxMagnitude) + " whose square a variance can hold");
     }
-    const double top = v.empty() ? 0.0 : std::fabs(v[largest] / scale);
     if (top != 0.0 && top < kMinMagnitude)
-      fail(v, largest, field, scale,
+      fail(v, first_with(raw_top), field, scale,
            " is the largest of its column, below the magnitude " + stamp(kMinMagnitude) +
                " whose square a variance can hold");
   };
