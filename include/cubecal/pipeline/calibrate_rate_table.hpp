@@ -47,9 +47,9 @@ struct RateTableResult {
 // `series` holds the 3 gyro channels, and for PlateauSource::reference the 3
 // reference columns as Series::extra (in `unit`, not scaled). Throws
 // UsageError (option "columns": not 3 gyro channels; "reference_columns",
-// "schedule", "plateaus", "unit"); CalibrationError with reason no_plateaus
-// when plateau detection fails, and the core's reason (degenerate,
-// too_few_points when the core says so) when the fit fails.
+// "schedule", "plateaus", "unit"); the core's CalibrationError as it is
+// (no_plateaus from the detection; too_few_points, degenerate or bad_data from
+// the fit: calib/plateaus.hpp, calib/rate_table.hpp).
 RateTableResult calibrate_rate_table(const io::Series& series, const RateTableRequest& request);
 
 }  // namespace cubecal::pipeline
