@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "cubecal/error.hpp"
+#include "detail/curve_json.hpp"
 
 namespace cubecal::pipeline {
 
@@ -29,30 +30,7 @@ json term(const TermEstimate& t, Term which, const Unit& u) {
   return j;
 }
 
-// Parallel arrays of a curve; the interval fields only when computed.
-json curve_json(const std::vector<StabilityPoint>& pts, bool intervals = true) {
-  std::vector<double> tau, dev, lo, hi, edf;
-  std::vector<std::size_t> n, af;
-  std::vector<int> alpha;
-  for (const auto& p : pts) {
-    af.push_back(p.m);
-    tau.push_back(p.tau);
-    dev.push_back(p.dev);
-    lo.push_back(p.lo);
-    hi.push_back(p.hi);
-    n.push_back(p.n);
-    edf.push_back(p.edf);
-    alpha.push_back(p.alpha);
-  }
-  json j{{"af", af}, {"tau", tau}, {"dev", dev}, {"n", n}};
-  if (intervals) {
-    j["lo"] = lo;
-    j["hi"] = hi;
-    j["edf"] = edf;
-    j["alpha"] = alpha;
-  }
-  return j;
-}
+using detail::curve_json;
 
 json noise_json(const NoiseAnalysis& n, const Unit& u) {
   json j;

@@ -2,6 +2,8 @@
 
 #include <string>
 
+#include "detail/curve_json.hpp"
+
 namespace cubecal::pipeline {
 
 namespace {
@@ -56,22 +58,6 @@ Unit unit_of(const std::string& name, const nlohmann::json& si) {
   return u;
 }
 
-nlohmann::json adev_json(const std::vector<StabilityPoint>& adev) {
-  std::vector<double> tau, dev, lo, hi, edf;
-  std::vector<std::size_t> m, n;
-  std::vector<int> alpha;
-  for (const auto& p : adev) {
-    tau.push_back(p.tau);
-    dev.push_back(p.dev);
-    lo.push_back(p.lo);
-    hi.push_back(p.hi);
-    m.push_back(p.m);
-    n.push_back(p.n);
-    edf.push_back(p.edf);
-    alpha.push_back(p.alpha);
-  }
-  return {{"tau", tau}, {"dev", dev}, {"lo", lo}, {"hi", hi}, {"m", m}, {"n", n}, {"edf", edf}, {"alpha", alpha}};
-}
 
 std::vector<StabilityPoint> adev_of(const nlohmann::json& j) {
   const auto tau = j.at("tau").get<std::vector<double>>(), dev = j.at("dev").get<std::vector<double>>(),
@@ -99,7 +85,7 @@ nlohmann::json to_json(const RunSummary& r) {
                              {"bias_instability", quantity_json(display(ro.B, Term::B, c.unit), ro.B.valid)},
                              {"time_constant_s", ro.B.valid ? nlohmann::json(ro.tau_min) : nlohmann::json(nullptr)},
                              {"readoffs", readoffs_json(ro)},
-                             {"adev", adev_json(c.adev)}});
+                             {"adev", detail::curve_json(c.adev, true, "m")}});
   }
   return j;
 }
