@@ -570,6 +570,47 @@ TEST(MultiPosition, XsensSequence) {
   for (std::size_t c = 0; c < 3; ++c) EXPECT_LT(std::abs(r.gyro.model.scale[c] - Kg_ref[c]), r.gyro.sigma[6 + c]);
 }
 
+// Samples [from, from + count) taken out of a record: a logger that lost them.
+Loaded without(const Loaded& l, std::size_t from, std::size_t count) {
+  Loaded o = l;
+  o.x.erase(o.x.begin() + static_cast<std::ptrdiff_t>(from), o.x.begin() + static_cast<std::ptrdiff_t>(from + count));
+  o.t.erase(o.t.begin() + static_cast<std::ptrdiff_t>(from), o.t.begin() + static_cast<std::ptrdiff_t>(from + count));
+  return o;
+}
+
+// On the xsens sequence the first two static intervals are samples
+// [50, 5191) and [5522, 6334); between them the board turns.
+TEST(MultiPosition, GyroscopeGapDuringMotionIsRefusedGapWhileStaticIsNot) {
+  const Loaded acc = load(kXsens + "xsens_acc.txt", {"2", "3", "4"}, "1", 0);
+  const Loaded gyro = load(kXsens + "xsens_gyro.txt", {"2", "3", "4"}, "1", 0);
+  Options o;
+  o.g = 9.81744;
+  o.init_static_s = 50.0;
+  o.acc_bias_guess = {32768.0, 32768.0, 32768.0};
+  o.gyro_scale_guess = 1.0 / 6258.0;
+  const AccResult ar = calibrate_accelerometer({acc.x, acc.t, 0.0}, o);
+  ASSERT_EQ(ar.intervals[0].end, 5191u);
+  ASSERT_EQ(ar.intervals[1].begin, 5522u);
+
+  const Loaded moving = without(gyro, 5300, 50);  // 0.5 s of the turn lost
+  try {
+    calibrate_gyroscope({acc.x, acc.t, 0.0}, ar, {moving.x, moving.t, 0.0}, o);
+    ADD_FAILURE() << "a gap during a motion was integrated";
+  } catch (const cubecal::CalibrationError& e) {
+    EXPECT_EQ(e.reason(), cubecal::CalibrationReason::bad_data);
+    EXPECT_NE(std::string(e.what()).find("gap of 0.51 s"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("between static intervals 1 and 2"), std::string::npos) << e.what();
+  }
+  // The same loss inside the second pose touches no integral: the result is
+  // that of the whole record.
+  const Loaded still = without(gyro, 5700, 50);
+  const GyroResult whole = calibrate_gyroscope({acc.x, acc.t, 0.0}, ar, {gyro.x, gyro.t, 0.0}, o);
+  const GyroResult cut = calibrate_gyroscope({acc.x, acc.t, 0.0}, ar, {still.x, still.t, 0.0}, o);
+  ASSERT_EQ(cut.values.size(), whole.values.size());
+  for (std::size_t i = 0; i < whole.values.size(); ++i)
+    EXPECT_NEAR(cut.values[i], whole.values[i], 1e-9 * (1.0 + std::abs(whole.values[i]))) << whole.names[i];
+}
+
 TEST(MultiPosition, Mpu6050ExampleHasTooFewPoses) {
   // example_data_calibration.csv: still for 37 s, then 9 poses of 2-4 s: 10
   // static intervals, below the 12 the method requires.
@@ -629,6 +670,40 @@ TEST(MultiPositionCli, XsensJsonAndTable) {
   std::printf("%s", t.out.c_str());
   EXPECT_NE(t.out.find("static intervals: 38 (th_mult 6"), std::string::npos);
   EXPECT_NE(t.out.find("s_x        0.0024127846 ±"), std::string::npos);
+}
+
+// A copy of an xsens file with `count` samples from `from` taken out.
+std::string xsens_without(const std::string& name, std::size_t from, std::size_t count, const std::string& dir) {
+  std::ifstream in(kXsens + name);
+  const std::string path = dir + "/" + name;
+  std::ofstream out(path);
+  std::string line;
+  for (std::size_t i = 0; std::getline(in, line); ++i)
+    if (i < from || i >= from + count) out << line << '\n';
+  return path;
+}
+
+TEST(MultiPositionCli, GapInTheTimeColumnIsRefusedAtItsLineJitterIsSaid) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("cubecal_mpgap_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::string acc = xsens_without("xsens_acc.txt", 5300, 50, dir.string());
+  const std::string gyro = xsens_without("xsens_gyro.txt", 5300, 50, dir.string());
+  const std::string opts = " --acc-columns 2,3,4 --time-col 1 --g 9.81744 --init-static 50 --acc-bias 32768 "
+                           "--gyro-scale 1.598e-4";
+  const CliRun r = run_cli("calibrate multiposition " + acc + " " + gyro + opts);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(one_error_line(r)) << r.err;
+  // Sample 5300 of the cut file (line 5301) follows 0.51 s after the last kept one.
+  EXPECT_NE(r.err.find(acc + ":5301:4: gap of 0.51 s (51 periods of 0.01 s)"), std::string::npos) << r.err;
+  // The real record's irregular intervals (up to 10 % off) are used and said.
+  const CliRun ok = run_cli(kXsensArgs);
+  ASSERT_EQ(ok.code, 0) << ok.err;
+  EXPECT_NE(ok.err.find("xsens_gyro.txt:6472: 53 of 51174 time intervals differ from the period 0.01 s by more "
+                        "than 1 % (largest 10 %)"),
+            std::string::npos)
+      << ok.err;
+  fs::remove_all(dir);
 }
 
 TEST(MultiPositionCli, OneFileWithBothTriadsAndTooFewPoses) {

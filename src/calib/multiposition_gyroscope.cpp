@@ -13,6 +13,7 @@
 
 #include "cubecal/calib/multiposition.hpp"
 #include "cubecal/error.hpp"
+#include "cubecal/stats/sampling.hpp"
 #include "detail/levenberg_marquardt.hpp"
 #include "detail/multiposition_common.hpp"
 #include "detail/quaternion_rk4.hpp"
@@ -134,6 +135,9 @@ GyroResult calibrate_gyroscope(const TriadSeries& acc, const AccResult& ar, cons
   };
   const std::vector<Eigen::Vector3d> u = directions(ar.model);
 
+  // A gap in the gyroscope record during a motion loses part of the rotation:
+  // the integral across it would be a guess.
+  const double gap_s = gyro.t.empty() ? 0.0 : kGapPeriods * check_sampling(tg).period_s;
   std::vector<GyroPair> pairs;
   for (std::size_t k = 1; k < ar.intervals.size(); ++k) {
     const double ts0 = ta[ar.intervals[k - 1].end];
@@ -148,6 +152,11 @@ GyroResult calibrate_gyroscope(const TriadSeries& acc, const AccResult& ar, cons
       p.raw.push_back(
           {gyro.x[j][0] - res.init_bias[0], gyro.x[j][1] - res.init_bias[1], gyro.x[j][2] - res.init_bias[2]});
       if (j > j0) p.dt.push_back(tg[j] - tg[j - 1]);
+      if (j > j0 && gap_s > 0.0 && p.dt.back() >= gap_s)
+        fail(R::bad_data, "gap of " + fmt_g(p.dt.back()) + " s in the gyroscope record at sample " + std::to_string(j) +
+                              " (t = " + fmt_g(tg[j - 1]) + " s) during the motion between static intervals " +
+                              std::to_string(k) + " and " + std::to_string(k + 1) +
+                              ": the rotation cannot be integrated across missing samples");
     }
     pairs.push_back(std::move(p));
   }

@@ -15,6 +15,7 @@
 #include "commands.hpp"
 #include "common_options.hpp"
 #include "cubecal/error.hpp"
+#include "cubecal/io/output_path.hpp"
 #include "cubecal/pipeline/analysis_output.hpp"
 #include "cubecal/pipeline/analyze.hpp"
 #include "cubecal/report/plot.hpp"
@@ -134,16 +135,12 @@ int run_analyze_command(const AnalyzeOptions& o) {
     req.temp_index = 0;
   }
 
-  // Refuse to replace results before spending any time.
-  namespace fs = std::filesystem;
-  if (!o.out.empty() && !o.force)
-    for (const char* f : pipeline::kAnalysisFiles)
-      if (fs::exists(fs::path(o.out) / f))
-        throw UsageError((fs::path(o.out) / f).string() +
-                             " already exists (choose another --out or add --force to replace it)");
-  if (o.report && !o.force)
-    for (const auto& f : report::existing_report_outputs(o.out))
-      throw UsageError(f + " already exists (choose another --out or add --force to replace it)");
+  // Every output checked (and --out created) before any time is spent.
+  if (!o.out.empty()) {
+    std::vector<std::string> files(std::begin(pipeline::kAnalysisFiles), std::end(pipeline::kAnalysisFiles));
+    if (o.report) files.insert(files.end(), {"report.html", "plots"});
+    io::prepare_output_dir(o.out, o.force, files);
+  }
   if (o.report && !report::find_gnuplot()) throw UsageError(report::kGnuplotMissing);
 
   const std::size_t bytes = file_size_or_zero(o.input.file);

@@ -19,6 +19,7 @@
 #include "cubecal/pipeline/calibrate_multiposition_json.hpp"
 #include "cubecal/io/delimited_reader.hpp"
 #include "cubecal/error.hpp"
+#include "cubecal/stats/sampling.hpp"
 #include "cubecal/report/command_reports.hpp"
 #include "output.hpp"
 #include "report_option.hpp"
@@ -70,13 +71,32 @@ std::vector<pipeline::TriadSamples> read_triads(const std::string& path, const s
                                      o.time_col.empty() ? "" : " besides the time column", what_columns));
   if (!o.time_col.empty()) {
     const auto& t = tab.extra[0];
+    const auto at = [&](std::size_t i) { return io::locate(tab, i, tab.extra_indices[0]); };
     for (std::size_t i = 1; i < t.size(); ++i)
-      if (!(t[i] > t[i - 1])) {
-        const io::Location at = io::locate(tab, i, tab.extra_indices[0]);
-        throw InputError(path, at.line, at.column,
-                             fmt::format("time stamps not increasing ({} s after {} s)", t[i], t[i - 1]),
-                             "check --time-col");
-      }
+      if (!(t[i] > t[i - 1]) || !std::isfinite(t[i] - t[i - 1]))
+        throw InputError(path, at(i).line, at(i).column,
+                         fmt::format("time stamps not increasing ({} s after {} s)", t[i], t[i - 1]),
+                         "check --time-col");
+    // The gyroscope is integrated over the stamped intervals between poses:
+    // a missing sample loses rotation, so a gap is refused; jitter is used
+    // as stamped, and said.
+    const SamplingCheck sc = check_sampling(t);
+    if (sc.gaps > 0) {
+      const std::size_t i = sc.first_gap;
+      throw InputError(path, at(i).line, at(i).column,
+                       fmt::format("gap of {:.6g} s ({:.0f} periods of {:.6g} s) after t = {:.10g} s{}",
+                                   t[i] - t[i - 1], (t[i] - t[i - 1]) / sc.period_s, sc.period_s, t[i - 1],
+                                   sc.gaps > 1 ? fmt::format(", and {} more gaps", sc.gaps - 1) : ""),
+                       "the calibration integrates the gyroscope between poses and needs every sample: record "
+                       "again, or cut the file to a stretch without gaps");
+    }
+    if (sc.jittered > 0) {
+      const io::Location j = at(sc.first_jitter);
+      std::cerr << fmt::format(
+          "cubecal: note: {}:{}: {} of {} time intervals differ from the period {:.6g} s by more than 1 % (largest "
+          "{:.3g} %); they are used as stamped\n",
+          path, j.line, sc.jittered, sc.intervals, sc.period_s, 100.0 * sc.max_jitter);
+    }
   }
   std::vector<pipeline::TriadSamples> out(want / 3);
   for (std::size_t k = 0; k < out.size(); ++k) {
@@ -156,6 +176,8 @@ int run_calibrate_multiposition(const MultiposCliOptions& o) {
   if (!acc_cols.empty() && acc_cols.size() != 3) throw UsageError("--acc-columns takes three columns");
   if (!gyro_cols.empty() && gyro_cols.size() != 3) throw UsageError("--gyro-columns takes three columns");
 
+  ResultOutput result(o.out, o.force);  // every output checked before the files are read
+  check_report_option(o.report, o.force);
   pipeline::TriadSamples acc;
   std::optional<pipeline::TriadSamples> gyro;
   if (o.gyro_file.empty() && !gyro_cols.empty()) {
@@ -187,8 +209,6 @@ int run_calibrate_multiposition(const MultiposCliOptions& o) {
   opt.refine_gyro_bias = o.refine_gyro_bias;
   req.rate_hz = o.rate_hz;
 
-  ResultOutput result(o.out, o.force);  // refuses an existing file before the work
-  check_report_option(o.report, o.force);
   const HintContext hints{CalibrationCommand::multiposition};
   pipeline::MultipositionResult r = with_calibration_hints(
       o.acc_file, hints, [&] { return pipeline::calibrate_multiposition_accelerometer(acc, req); });

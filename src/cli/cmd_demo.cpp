@@ -18,6 +18,7 @@
 #include "commands.hpp"
 #include "common_options.hpp"
 #include "cubecal/io/csv_writer.hpp"
+#include "cubecal/io/output_path.hpp"
 #include "cubecal/sim/presets.hpp"
 #include "cubecal/error.hpp"
 #include "cubecal/io/series.hpp"
@@ -53,19 +54,15 @@ constexpr std::array<double, 3> kMagSmu{0.0034, 0.0042, 0.0036};
 int run_demo(const DemoOptions& o) {
   namespace fs = std::filesystem;
   const auto t0 = std::chrono::steady_clock::now();
-  fs::create_directories(o.out);
   const fs::path dir(o.out);
   const std::string record = (dir / "sport_static.csv.gz").string();
   // A marker tells a directory of earlier demo output (replaced freely) from
   // one holding the user's own files of the same names (never replaced unasked).
   const fs::path marker = dir / ".cubecal-demo";
-  if (!fs::exists(marker) && !o.force) {
-    if (fs::exists(record)) throw UsageError(record + " already exists (use another --out, or --force)");
-    for (const char* f : pipeline::kAnalysisFiles)
-      if (fs::exists(dir / f)) throw UsageError((dir / f).string() + " already exists (use another --out, or --force)");
-    for (const auto& f : report::existing_report_outputs(o.out))
-      throw UsageError(f + " already exists (use another --out, or --force)");
-  }
+  std::vector<std::string> files(std::begin(pipeline::kAnalysisFiles), std::end(pipeline::kAnalysisFiles));
+  files.insert(files.end(), {"sport_static.csv.gz", "report.html", "plots"});
+  std::error_code ec;
+  io::prepare_output_dir(o.out, o.force || fs::exists(marker, ec), files);
   std::ofstream(marker) << "written by cubecal demo; files here are replaced by the next run\n";
 
   pipeline::SimulateRequest sim;

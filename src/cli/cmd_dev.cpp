@@ -45,6 +45,7 @@ int run_dev_command(const DevOptions& o) {
   req.options.intervals = !o.no_ci;
   req.threads = o.input.threads;
 
+  ResultOutput result(o.out, o.force);  // refuses an unusable --out before the work
   const std::size_t bytes = file_size_or_zero(o.input.file);
   Progress progress(bytes > 50'000'000);
   progress.stage(fmt::format("reading {} ({:.0f} MB)", o.input.file, static_cast<double>(bytes) / 1e6));
@@ -55,7 +56,6 @@ int run_dev_command(const DevOptions& o) {
   progress.done();
 
   DevContext ctx{o.input.file, o.ci, o.edf, !o.no_ci};
-  ResultOutput result(o.out, o.force);
   std::ostream& out = result.stream();
   if (res.segments > 1)
     std::cerr << fmt::format("cubecal: note: {} gaps/jitter found; statistics computed per "

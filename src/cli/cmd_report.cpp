@@ -3,10 +3,12 @@
 // gnuplot plots in DIR/plots/.
 #include <fmt/format.h>
 
+#include <filesystem>
 #include <iostream>
 #include <memory>
 
 #include "commands.hpp"
+#include "cubecal/io/output_path.hpp"
 #include "cubecal/report/report.hpp"
 
 namespace cubecal::cli {
@@ -25,6 +27,10 @@ int run_report(const ReportCmdOptions& o) {
   ro.force = o.force;
   ro.keep_scripts = o.keep_scripts;
   ro.gnuplot = o.gnuplot;
+  // The page goes beside the analysis it shows: DIR must be writable before
+  // the plots are drawn (a missing DIR is the reader's to report).
+  std::error_code ec;
+  if (std::filesystem::is_directory(o.dir, ec)) io::prepare_output_dir(o.dir, o.force, {"report.html", "plots"});
   const report::ReportResult r = report::write_report(o.dir, ro);
   std::cerr << fmt::format("cubecal: wrote {} ({:.0f} kB, {} plots in {}/plots/) in {:.1f} s\n", r.html_path,
                            static_cast<double>(r.html_bytes) / 1024.0, r.plots.size(), o.dir, r.seconds);

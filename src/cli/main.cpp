@@ -32,6 +32,8 @@ std::string usage_message(const cubecal::UsageError& e) {
       {"sampling", "--time-col/--rate"},
       {"polynomial_order", "--order"},
       {"rate", "--rate"},
+      {"out", "--out"},
+      {"report", "--report"},
   };
   for (const auto& [option, flag] : kFlags)
     if (e.option() == option) return std::string(flag) + ": " + e.what();

@@ -9,6 +9,7 @@
 #include <iostream>
 
 #include "cubecal/error.hpp"
+#include "cubecal/io/output_path.hpp"
 
 namespace cubecal::cli {
 
@@ -75,9 +76,7 @@ struct OutputFile::Impl {
 };
 
 OutputFile::OutputFile(std::string path, bool force) : path_(std::move(path)), impl_(std::make_unique<Impl>()) {
-  namespace fs = std::filesystem;
-  if (fs::exists(path_) && !force)
-    throw UsageError(path_ + " already exists (choose another --out or add --force to replace it)");
+  io::check_output_file(path_, force);
   tmp_ = path_ + ".partial";
   impl_->out.open(tmp_, std::ios::binary | std::ios::trunc);
   if (!impl_->out) throw UsageError("cannot write " + path_ + " (check the directory exists and is writable)");

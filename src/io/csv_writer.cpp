@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "cubecal/error.hpp"
+#include "cubecal/io/output_path.hpp"
 
 namespace cubecal::io {
 
@@ -23,9 +24,7 @@ struct CsvWriter::Sink {
 };
 
 CsvWriter::CsvWriter(std::string path, bool force) : path_(std::move(path)), sink_(std::make_unique<Sink>()) {
-  namespace fs = std::filesystem;
-  if (fs::exists(path_) && !force)
-    throw UsageError(path_ + " already exists (choose another name or add --force to replace it)");
+  check_output_file(path_, force);
   gzip_ = path_.size() > 3 && path_.compare(path_.size() - 3, 3, ".gz") == 0;
   tmp_ = path_ + ".partial";
   if (gzip_) {

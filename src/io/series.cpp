@@ -13,6 +13,7 @@
 
 #include "cubecal/error.hpp"
 #include "cubecal/io/file_buffer.hpp"
+#include "cubecal/stats/sampling.hpp"
 
 namespace cubecal::io {
 
@@ -248,7 +249,7 @@ void check_timing(Series& s, const Table& t, std::size_t time_field, const Serie
     }
     // A missing sample makes an interval of at least two periods; anything
     // closer to one period is timing noise.
-    if (dt >= 1.5 * period) {
+    if (dt >= kGapPeriods * period) {
       fail_at(i,
               "gap of " + duration(dt) + " s (" + std::to_string(std::llround(dt / period)) + " periods of " +
                   period_text(period) + " s) after t = " + stamp(time[i - 1]) + " s",

@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "cubecal/error.hpp"
+#include "cubecal/io/output_path.hpp"
 #include "cubecal/report/html.hpp"
 
 namespace cubecal::report {
@@ -161,16 +162,8 @@ std::string command_report_html(const CommandReport& r, const std::vector<Render
 }
 
 void check_report_target(const std::string& dir, bool force, const std::string& gnuplot) {
-  std::error_code ec;
-  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
-    throw UsageError(dir + " is a file: --report takes a directory (report.html and plots/ go into it)");
-  if (!force) {
-    const auto existing = existing_report_outputs(dir);
-    if (!existing.empty())
-      throw UsageError(existing.front() + " already exists (choose another --report directory or add --force to "
-                                              "replace the report)");
-  }
   if (!find_gnuplot(gnuplot)) throw UsageError(kGnuplotMissing);
+  io::prepare_output_dir(dir, force, {"report.html", "plots"}, "report");
 }
 
 ReportResult write_command_report(const CommandReport& report, const std::string& dir,

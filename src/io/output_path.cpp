@@ -1,0 +1,77 @@
+#include "cubecal/io/output_path.hpp"
+
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+#include "cubecal/error.hpp"
+
+namespace cubecal::io {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// Creating a file is the only test of writability that holds for root, for
+// read-only mounts and for ACLs alike.
+void probe_writable(const fs::path& dir, const std::string& option, const std::string& shown) {
+  const fs::path probe = dir / (".cubecal-probe-" + std::to_string(::getpid()));
+  errno = 0;
+  { std::ofstream f(probe, std::ios::binary); if (f) { f.close(); std::error_code ec; fs::remove(probe, ec); return; } }
+  const int err = errno;
+  throw UsageError(option, "cannot write in " + shown + (err ? std::string(" (") + std::strerror(err) + ")" : "") +
+                               ": choose a writable place");
+}
+
+std::string parent_text(const fs::path& p) { return p.empty() ? std::string(".") : p.string(); }
+
+}  // namespace
+
+void check_output_file(const std::string& path, bool force, const std::string& option) {
+  std::error_code ec;
+  const fs::path p(path);
+  if (path.empty()) throw UsageError(option, "the output file name is empty");
+  const fs::file_status st = fs::status(p, ec);
+  if (fs::is_directory(st))
+    throw UsageError(option, path + " is a directory: give a file name for the result");
+  if (fs::exists(st) && !force) throw UsageError(option, path + " already exists (choose another name or add --force to replace it)");
+  const fs::path parent = p.parent_path();
+  if (!parent.empty()) {
+    const fs::file_status ps = fs::status(parent, ec);
+    if (!fs::exists(ps))
+      throw UsageError(option, "the directory " + parent.string() + " of " + path + " does not exist: create it first");
+    if (!fs::is_directory(ps)) throw UsageError(option, parent.string() + " is not a directory, so " + path + " cannot be written");
+  }
+  probe_writable(parent.empty() ? fs::path(".") : parent, option, parent_text(parent));
+}
+
+void prepare_output_dir(const std::string& dir, bool force, const std::vector<std::string>& files,
+                        const std::string& option) {
+  std::error_code ec;
+  const fs::path d(dir);
+  if (dir.empty()) throw UsageError(option, "the output directory name is empty");
+  const fs::file_status st = fs::status(d, ec);
+  if (fs::exists(st) && !fs::is_directory(st))
+    throw UsageError(option, dir + " is a file: give a directory for the results");
+  if (!fs::exists(st)) {
+    // Find the first existing ancestor, to say precisely what is in the way.
+    for (fs::path a = d.parent_path(); !a.empty(); a = a.parent_path()) {
+      const fs::file_status as = fs::status(a, ec);
+      if (!fs::exists(as)) continue;
+      if (!fs::is_directory(as)) throw UsageError(option, a.string() + " is a file, so " + dir + " cannot be created");
+      break;
+    }
+    fs::create_directories(d, ec);
+    if (ec) throw UsageError(option, "cannot create " + dir + " (" + ec.message() + "): choose a writable place");
+  }
+  if (!force)
+    for (const std::string& f : files)
+      if (fs::exists(d / f, ec))
+        throw UsageError(option, (d / f).string() + " already exists (choose another directory or add --force to replace it)");
+  probe_writable(d, option, dir);
+}
+
+}  // namespace cubecal::io
