@@ -111,7 +111,7 @@ TEST(SimulateRates, AnalyzeOfSimulateRecoversNBKAtThreeRates) {
   ASSERT_EQ(model.dt, 0.01);
   const double N = model.sigma_n * std::sqrt(model.dt);
   const double K = model.sigma_mu * std::sqrt(model.dt);
-  std::printf("  model (fitted at 100 Hz): N %.5g  K %.5g deg/s/sqrt(Hz)\n", N, K);
+  std::printf("  model (fitted at 100 Hz): N %.5g deg/s/sqrt(Hz), K %.5g deg/s/sqrt(s); B in deg/s\n", N, K);
   std::printf("  %8s %10s %10s %10s %10s %10s %10s\n", "rate Hz", "N", "N model", "B", "B model", "K", "K model");
   std::uint64_t seed = 100;
   for (const double rate : {10.0, 100.0, 1000.0}) {
