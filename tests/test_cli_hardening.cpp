@@ -60,6 +60,31 @@ TEST_F(CliHardening, SimulateModelRescalesToTheRequestedRate) {
   EXPECT_NE(s_own.err.find("60000 samples at 100 Hz"), std::string::npos) << s_own.err;
 }
 
+TEST_F(CliHardening, PresetsKeepTheirNoiseDensityAtAnyRate) {
+  // sport-gyro's x axis: sigma_n = 13.9e-3 deg/s per sample at 10 Hz, so
+  // N = 13.9e-3 * sqrt(0.1 s) = 4.396e-3 deg/s/sqrt(Hz) whatever the rate.
+  // Before, the 10 Hz per-sample sigma was used at every rate: N came out
+  // sqrt(10) times too small at 100 Hz and sqrt(10) too large at 1 Hz. The
+  // preset's quantizer (145.6 LSB per deg/s) stays per sample and adds its
+  // own white noise, q^2/12 per sample: N^2 = 4.396e-3^2 + q^2/12 * dt.
+  const double q = 1.0 / 145.6;
+  for (const char* rate : {"1", "100"}) {
+    const double dt = 1.0 / std::stod(rate);
+    const double truth = std::sqrt(13.9e-3 * 13.9e-3 * 0.1 + q * q / 12.0 * dt);
+    const std::string rec = path(std::string("p") + rate + ".csv");
+    const std::string dur = std::string(rate) == "1" ? "48h" : "1h";
+    ASSERT_EQ(run(std::string("simulate --preset sport-gyro --rate ") + rate + " --duration " + dur +
+                  " --seed 11 --temp const:25 --out " + rec)
+                  .code,
+              0);
+    const Result an = run("analyze " + rec + " --columns gx --unit deg/s --format json");
+    ASSERT_EQ(an.code, 0) << an.err;
+    const auto fit = nlohmann::json::parse(an.out)["channels"][0]["noise"]["densities"]["white"];
+    const double n = fit["value"].get<double>(), s = fit["sigma"].get<double>();
+    EXPECT_LT(std::abs(n - truth), 3.0 * s) << rate << " Hz: N " << n << " ± " << s;
+  }
+}
+
 // --- 2. default columns skip time and temperature ------------------------
 
 TEST_F(CliHardening, DefaultColumnsLeaveOutTimeAndTemperature) {

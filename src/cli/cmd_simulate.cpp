@@ -94,16 +94,17 @@ pipeline::RateProfile read_rate_profile(const std::string& path) {
 
 int run_simulate(const SimulateOptions& o) {
   pipeline::SimulateRequest req;
+  if (!(o.rate_hz > 0.0) || !std::isfinite(o.rate_hz)) throw UsageError("--rate must be positive");
   for (const auto& name : split_list(o.presets)) {
     try {
-      req.triads.push_back(preset(name));
+      // The same sensor at --rate: its N and K, not its per-sample sigmas.
+      req.triads.push_back(pipeline::model_at_rate(preset(name), kPresetRateHz, o.rate_hz));
     } catch (const std::invalid_argument&) {
       std::string known;
       for (const auto& n : preset_names()) known += (known.empty() ? "" : ", ") + n;
       throw UsageError("unknown preset '" + name + "' (known: " + known + ")");
     }
   }
-  if (!(o.rate_hz > 0.0) || !std::isfinite(o.rate_hz)) throw UsageError("--rate must be positive");
   req.rate_hz = o.rate_hz;
   if (!o.model_file.empty()) {
     std::ifstream in(o.model_file);
@@ -112,8 +113,8 @@ int run_simulate(const SimulateOptions& o) {
     ss << in.rdbuf();
     const pipeline::AnalysisDocument doc = pipeline::parse_analysis_json(ss.str(), o.model_file);
     // The model's sigma_n and sigma_mu hold per sample at the rate it was
-    // measured at; without --rate (and without presets, whose parameters are
-    // the paper's 10 Hz ones) simulate at that rate, else rescale to --rate.
+    // measured at; without --rate (and without presets, which then keep the
+    // default 10 Hz) simulate at that rate, else rescale to --rate.
     if (!o.rate_given && req.triads.empty()) req.rate_hz = doc.result.rate_hz;
     for (auto& m : pipeline::models_from_analysis(doc.result, o.model_file, o.bias == "gauss-markov", req.rate_hz))
       req.triads.push_back(std::move(m));
