@@ -43,7 +43,20 @@ struct AnalyzeOptions {
   bool report = false;
   std::string format = "table";
   std::string rostopic = "/imu0";
+  std::vector<std::string> estimators;  // --for
+  double inflate = 1.0;
 };
+
+// --for names, in the order given, without repeats.
+std::vector<pipeline::Estimator> parse_estimators(const std::vector<std::string>& names) {
+  std::vector<pipeline::Estimator> list;
+  for (const auto& n : names) {
+    const auto e = pipeline::parse_estimator(n);
+    if (!e) throw UsageError("--for: '" + n + "' is not one of " + pipeline::estimator_names());
+    if (std::find(list.begin(), list.end(), *e) == list.end()) list.push_back(*e);
+  }
+  return list;
+}
 
 std::string pm(const Quantity& q, bool valid, int digits = 4) {
   if (!valid) return "—";
@@ -135,9 +148,11 @@ int run_analyze_command(const AnalyzeOptions& o) {
     req.temp_index = 0;
   }
 
+  pipeline::OutputContext ctx{invocation(), o.rostopic, parse_estimators(o.estimators), o.inflate};
+
   // Every output checked (and --out created) before any time is spent.
   if (!o.out.empty()) {
-    std::vector<std::string> files(std::begin(pipeline::kAnalysisFiles), std::end(pipeline::kAnalysisFiles));
+    std::vector<std::string> files = pipeline::analysis_file_names(ctx.estimators);
     if (o.report) files.insert(files.end(), {"report.html", "plots"});
     io::prepare_output_dir(o.out, o.force, files);
   }
@@ -151,7 +166,6 @@ int run_analyze_command(const AnalyzeOptions& o) {
   progress.stage(fmt::format("analyzing {} channels", series.channels.size()));
   const pipeline::AnalysisResult r = pipeline::run_analyze(series, req);
   progress.done();
-  pipeline::OutputContext ctx{invocation(), o.rostopic};
 
   if (o.format == "json")
     std::cout << pipeline::analysis_json(r, ctx);
@@ -204,15 +218,26 @@ CLI::App* add_analyze_command(CLI::App& app, Command& run) {
   cmd->add_option("--ci", opt->ci, "Confidence factor of the intervals")
       ->check(number_between(0.0, 1.0))
       ->capture_default_str();
-  CLI::Option* out_opt =
-      cmd->add_option("--out", opt->out, "Directory for analysis.json, adev.csv, drift.csv and (gyro) imu.yaml");
+  CLI::Option* out_opt = cmd->add_option(
+      "--out", opt->out, "Directory for analysis.json, adev.csv, drift.csv, (gyro) imu.yaml and the --for files");
   cmd->add_flag("--force", opt->force, "Replace files in --out");
   cmd->add_flag("--report", opt->report, "Also write --out/report.html with its plots (as `cubecal report`)")
       ->needs(out_opt);
   cmd->add_option("--format", opt->format, "Standard output: table or json")
       ->check(CLI::IsMember({"table", "json"}))
       ->capture_default_str();
-  cmd->add_option("--rostopic", opt->rostopic, "rostopic written to imu.yaml")->capture_default_str();
+  cmd->add_option("--rostopic", opt->rostopic, "rostopic written to imu.yaml and kalibr_imu_chain.yaml")
+      ->capture_default_str();
+  cmd->add_option("--for", opt->estimators,
+                  "Also write the noise parameters in an estimator's format into --out: " +
+                      pipeline::estimator_names() + " (comma list or repeated)")
+      ->delimiter(',')
+      ->needs(out_opt);
+  cmd->add_option("--inflate", opt->inflate,
+                  "Multiply the noise densities, random walks and bias terms of the estimator files by K >= 1")
+      ->check(number_between(1.0, 1e6))
+      ->needs(out_opt)
+      ->capture_default_str();
   cmd->callback([opt, &run] { run = [opt] { return run_analyze_command(*opt); }; });
   return cmd;
 }

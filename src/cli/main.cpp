@@ -40,6 +40,16 @@ std::string usage_message(const cubecal::UsageError& e) {
   return e.what();
 }
 
+// CLI11's "INI was not able to parse analyze.bogus" as a hint on the file.
+std::string config_message(const CLI::ConfigError& e, const std::string& file) {
+  const std::string what = e.what();
+  const std::string prefix = "INI was not able to parse ";
+  if (what.rfind(prefix, 0) != 0) return file + ": " + what;
+  return file + ": unknown key '" + what.substr(prefix.size()) +
+         "' (keys are a command's long option names in its section, e.g. [analyze] inflate = 2; see "
+         "cubecal analyze --help)";
+}
+
 int fail(const std::string& msg, int code) {
   std::fflush(stdout);
   std::fprintf(stderr, "cubecal: error: %s\n", msg.c_str());
@@ -53,6 +63,15 @@ int main(int argc, char** argv) {
                "magnetometers, accelerometers and clocks"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "cubecal 0.1.0");
+  // Repeatable runs: options from a TOML/INI file, one section per command
+  // ([analyze] inflate = 2); flags on the command line override it, a key no
+  // command knows is an error. Fallthrough lets `cubecal analyze --config F`
+  // reach this top-level option.
+  CLI::Option* config = app.set_config("--config", "",
+                                       "Read options from a TOML/INI file, a section per command ([analyze] "
+                                       "for = [\"kalibr\"]); command-line flags override it");
+  app.allow_config_extras(CLI::config_extras_mode::error);
+  app.fallthrough();
   cubecal::cli::Command run;
   cubecal::cli::set_invocation(argc, argv);
   cubecal::cli::add_dev_command(app, run);
@@ -72,6 +91,9 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
+  } catch (const CLI::ConfigError& e) {
+    return fail(config_message(e, config->count() ? config->as<std::string>() : std::string("--config")),
+                kExitBadInput);
   } catch (const CLI::ParseError& e) {
     std::string where = app.get_subcommands().empty() ? std::string("cubecal --help")
                                                       : "cubecal " + app.get_subcommands().front()->get_name() + " --help";

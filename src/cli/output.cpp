@@ -57,16 +57,17 @@ void write_dev_csv(std::ostream& out, const pipeline::DevResult& r, const DevCon
 std::vector<std::string> write_analysis_files(const std::string& dir, const pipeline::AnalysisResult& r,
                                               const pipeline::OutputContext& ctx) {
   namespace fs = std::filesystem;
+  const auto files = pipeline::analysis_files(r, ctx);  // every text first: an error writes nothing
   fs::create_directories(dir);
-  const std::string texts[] = {pipeline::analysis_json(r, ctx), pipeline::adev_csv(r), pipeline::drift_csv(r),
-                               pipeline::kalibr_yaml(r, ctx)};
   std::vector<std::string> written;
-  for (std::size_t k = 0; k < std::size(texts); ++k) {
-    if (texts[k].empty()) continue;  // imu.yaml only with rate channels
-    OutputFile f((fs::path(dir) / pipeline::kAnalysisFiles[k]).string(), true);
-    f.stream() << texts[k];
+  for (const auto& file : files) {
+    OutputFile f((fs::path(dir) / file.name).string(), true);
+    f.stream() << file.text;
     f.commit();
-    written.emplace_back(pipeline::kAnalysisFiles[k]);
+    written.push_back(file.name);
+    if (!file.missing.empty())
+      std::cerr << "cubecal: note: " << file.name << " has no " << file.missing << " terms (no " << file.missing
+                << " channel in the record): the keys are commented out, fill them before use\n";
   }
   return written;
 }

@@ -21,8 +21,8 @@ struct DevContext {
 
 void write_dev_table(std::ostream& out, const pipeline::DevResult& r, const DevContext& ctx);
 void write_dev_csv(std::ostream& out, const pipeline::DevResult& r, const DevContext& ctx);
-// analysis.json, adev.csv, drift.csv and imu.yaml into dir (created);
-// returns the names written (imu.yaml only with rate channels).
+// pipeline::analysis_files into dir (created); returns the names written
+// and notes on stderr each estimator file that lacks a sensor's terms.
 std::vector<std::string> write_analysis_files(const std::string& dir, const pipeline::AnalysisResult& r,
                                               const pipeline::OutputContext& ctx);
 

@@ -27,6 +27,9 @@ std::string num(double v) {
 std::string analysis_json(const AnalysisResult& r, const OutputContext& ctx) {
   json j = r;
   j["command"] = ctx.command;
+  json names = json::array();
+  for (const Estimator e : ctx.estimators) names.push_back(std::string(estimator_name(e)));
+  j["estimator_files"] = {{"for", std::move(names)}, {"inflate", ctx.inflate}};
   return j.dump(1) + "\n";
 }
 
@@ -81,58 +84,34 @@ bool read_drift_csv(const std::string& path, const std::vector<std::size_t>& poi
 }
 
 std::string kalibr_yaml(const AnalysisResult& r, const OutputContext& ctx) {
-  struct Worst {
-    double white = 0, walk = 0;
-    bool any = false, walk_bound = false;
-    std::string axis_white, axis_walk;
+  const bool rate = std::any_of(r.channels.begin(), r.channels.end(),
+                                [](const ChannelAnalysis& c) { return c.unit.kind == SensorKind::rate; });
+  if (!rate) return {};
+  return estimator_config(Estimator::kalibr, r, {ctx.command, ctx.rostopic, ctx.inflate}).text;
+}
+
+std::vector<EstimatorFile> analysis_files(const AnalysisResult& r, const OutputContext& ctx) {
+  const auto asked = [&](Estimator e) {
+    return std::find(ctx.estimators.begin(), ctx.estimators.end(), e) != ctx.estimators.end();
   };
-  Worst gyro, accel;
-  for (const auto& c : r.channels) {
-    Worst* w = c.unit.kind == SensorKind::rate ? &gyro : c.unit.kind == SensorKind::acceleration ? &accel : nullptr;
-    if (!w) continue;
-    const auto& f = c.noise.fit;
-    const auto& ro = c.noise.readoffs;
-    const TermEstimate& N = f.N.valid ? f.N : ro.N;
-    const double white = white_density(N, c.unit, true).value;
-    double walk;
-    bool bound = false;
-    if (f.K.valid || ro.K.valid) {
-      walk = random_walk_density(f.K.valid ? f.K : ro.K, c.unit, true).value;
-    } else {
-      // No +1/2 slope in the record: K is at most what the last point allows.
-      const auto& last = c.noise.adev.back();
-      walk = last.dev * std::sqrt(3.0 / last.tau) * c.unit.to_si;
-      bound = true;
-    }
-    w->any = true;
-    if (white > w->white) {
-      w->white = white;
-      w->axis_white = c.name;
-    }
-    if (walk > w->walk) {
-      w->walk = walk;
-      w->axis_walk = c.name;
-      w->walk_bound = bound;
-    }
-  }
-  if (!gyro.any) return {};
-  std::string y = "# Kalibr / OpenVINS IMU noise model written by cubecal analyze\n";
-  y += "# " + ctx.command + "\n";
-  y += "# Noise densities from the white-noise term N, random walks from the rate random walk K\n";
-  y += "# (continuous-time, SI units), worst axis of each sensor.\n";
-  auto line = [&](const char* key, double v, const std::string& unit, const std::string& axis, bool bound) {
-    y += std::string(key) + ": " + num(v) + "  # " + unit + ", axis " + axis +
-         (bound ? " (upper bound: no +1/2 slope within the record)" : "") + "\n";
-  };
-  line("gyroscope_noise_density", gyro.white, "rad/s/sqrt(Hz)", gyro.axis_white, false);
-  line("gyroscope_random_walk", gyro.walk, "rad/s^2/sqrt(Hz)", gyro.axis_walk, gyro.walk_bound);
-  if (accel.any) {
-    line("accelerometer_noise_density", accel.white, "m/s^2/sqrt(Hz)", accel.axis_white, false);
-    line("accelerometer_random_walk", accel.walk, "m/s^3/sqrt(Hz)", accel.axis_walk, accel.walk_bound);
-  }
-  y += "update_rate: " + num(r.rate_hz) + "  # Hz\n";
-  y += "rostopic: " + ctx.rostopic + "\n";
-  return y;
+  const EstimatorContext ec{ctx.command, ctx.rostopic, ctx.inflate};
+  std::vector<EstimatorFile> files{{kAnalysisFiles[0], analysis_json(r, ctx), {}},
+                                   {kAnalysisFiles[1], adev_csv(r), {}},
+                                   {kAnalysisFiles[2], drift_csv(r), {}}};
+  if (asked(Estimator::kalibr))
+    files.push_back(estimator_config(Estimator::kalibr, r, ec));
+  else if (std::string y = kalibr_yaml(r, ctx); !y.empty())
+    files.push_back({kAnalysisFiles[3], std::move(y), {}});
+  for (const Estimator e : {Estimator::openvins, Estimator::vins, Estimator::kf_gins})
+    if (asked(e)) files.push_back(estimator_config(e, r, ec));
+  return files;
+}
+
+std::vector<std::string> analysis_file_names(const std::vector<Estimator>& estimators) {
+  std::vector<std::string> names(std::begin(kAnalysisFiles), std::end(kAnalysisFiles));
+  for (const Estimator e : estimators)
+    if (e != Estimator::kalibr) names.emplace_back(estimator_file(e));
+  return names;
 }
 
 }  // namespace cubecal::pipeline

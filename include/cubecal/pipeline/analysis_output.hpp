@@ -1,5 +1,6 @@
 // Files written by `cubecal analyze --out DIR`: analysis.json (stable keys,
-// every number with its unit), adev.csv, drift.csv and a Kalibr imu.yaml.
+// every number with its unit), adev.csv, drift.csv, a Kalibr imu.yaml and the
+// estimator files asked for (estimator_config.hpp).
 #pragma once
 #include <cstddef>
 #include <string>
@@ -7,15 +8,19 @@
 
 #include "cubecal/pipeline/analyze.hpp"
 #include "cubecal/pipeline/dev_pipeline.hpp"
+#include "cubecal/pipeline/estimator_config.hpp"
 
 namespace cubecal::pipeline {
 
 struct OutputContext {
   std::string command;   // the command line that reproduces the result
   std::string rostopic = "/imu0";
+  std::vector<Estimator> estimators{};  // estimator files asked for (analyze --for)
+  double inflate = 1.0;               // factor on their noise terms (analyze --inflate)
 };
 
-// analysis.json: to_json(AnalysisResult) of analysis_json.hpp and the command.
+// analysis.json: to_json(AnalysisResult) of analysis_json.hpp, the command
+// and "estimator_files": {"for": [names], "inflate": K}.
 std::string analysis_json(const AnalysisResult& r, const OutputContext& ctx);
 
 // `cubecal dev --format json` (to_json(DevResult) of analysis_json.hpp) with
@@ -45,9 +50,18 @@ std::string drift_csv(const AnalysisResult& r);
 // InputError for a malformed file.
 bool read_drift_csv(const std::string& path, const std::vector<std::size_t>& points, AnalysisResult& r);
 
-// Kalibr/OpenVINS IMU noise file, SI units, the worst axis of each sensor:
-// noise densities from the white-noise term N, random walks from K (not from
-// the bias instability). Empty string when no rate channel is present.
+// The Kalibr imu.yaml written by default: estimator_config(kalibr) with
+// ctx.inflate when a rate channel is present, else an empty string.
 std::string kalibr_yaml(const AnalysisResult& r, const OutputContext& ctx);
+
+// Every file `analyze --out` writes for `ctx`, in order, computed before any
+// is written (so an error leaves no partial set): analysis.json, adev.csv,
+// drift.csv, imu.yaml (Kalibr: with rate channels, or always when asked for),
+// then the other estimator files asked for. Throws as estimator_config.
+std::vector<EstimatorFile> analysis_files(const AnalysisResult& r, const OutputContext& ctx);
+
+// The names analysis_files may write for `estimators`, for the check that
+// none exists before the work starts.
+std::vector<std::string> analysis_file_names(const std::vector<Estimator>& estimators);
 
 }  // namespace cubecal::pipeline

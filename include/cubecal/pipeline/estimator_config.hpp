@@ -1,0 +1,89 @@
+// Noise parameters of an analysis in the configuration formats of state
+// estimators: Kalibr's imu.yaml, OpenVINS's kalibr_imu_chain.yaml, the IMU
+// block of a VINS-Mono/VINS-Fusion config and the imunoise block of a KF-GINS
+// config. Each file states in its comments the continuous-time definitions,
+// the units, where every number came from and the rules applied (one value
+// per sensor, terms not identified, inflation). docs/formulas/noise-terms.md
+// §8 gives the formulas.
+#pragma once
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "cubecal/pipeline/analyze.hpp"
+
+namespace cubecal::pipeline {
+
+enum class Estimator { kalibr, openvins, vins, kf_gins };
+
+// "kalibr", "openvins", "vins", "kf-gins"; nullopt for anything else.
+std::optional<Estimator> parse_estimator(std::string_view name);
+std::string_view estimator_name(Estimator e);   // as parse_estimator takes it
+std::string estimator_names();                  // "kalibr|openvins|vins|kf-gins"
+// The file written for each: imu.yaml, kalibr_imu_chain.yaml, vins_imu.yaml,
+// kf-gins_imunoise.yaml.
+std::string_view estimator_file(Estimator e);
+
+// Where a number came from.
+enum class TermSource {
+  fit,            // the weighted five-term fit (noise_terms.hpp NoiseFit)
+  read_off,       // the slope read-off (SlopeReadOffs)
+  upper_bound,    // not identified in the record: the largest value the curve allows
+};
+std::string_view to_string(TermSource s) noexcept;
+
+// One channel's terms in SI units (rad/s or m/s^2 based), not inflated.
+struct AxisNoise {
+  std::string channel;
+  double white = 0.0;         // noise density sigma_w = N, u/sqrt(Hz)
+  TermSource white_source = TermSource::fit;
+  double walk = 0.0;          // bias random walk sigma_bw = K, u/s/sqrt(Hz)
+  TermSource walk_source = TermSource::fit;
+  double bias_std = 0.0;      // bias as a first-order Gauss-Markov process: std (bias instability B), u
+  double bias_tc = 0.0;       // and correlation time (T, the tau of the curve's minimum), s
+  TermSource bias_source = TermSource::read_off;
+  double mean = 0.0;          // mean of the record, u
+};
+
+// Channels with a rate unit (gyroscope) and an acceleration unit
+// (accelerometer), in column order; other kinds are not IMU channels.
+struct ImuNoise {
+  std::vector<AxisNoise> gyroscope, accelerometer;
+  double rate_hz = 0.0;
+};
+
+// The rules (docs/formulas/noise-terms.md §8.2):
+// - white: N of the fit when it found one, else the read-off N, else the
+//   upper bound min over tau of sigma(tau) sqrt(tau) (AVAR >= N^2/tau);
+// - walk: K of the fit, else the read-off K, else the upper bound
+//   min over tau of sigma(tau) sqrt(3/tau) (AVAR >= K^2 tau/3);
+// - Gauss-Markov bias (KF-GINS): the bias instability B (read-off, else fit)
+//   with the time T of the curve's minimum, else the upper bound sigma at the
+//   last tau / 0.664 with that tau (the curve still falls). Not the
+//   Gauss-Markov model fit: without a minimum it runs to T_c = 2 dt.
+// Throws InputError naming the channel when its Allan deviation is zero at
+// every tau (a constant record has no noise to report).
+ImuNoise imu_noise(const AnalysisResult& r);
+
+struct EstimatorContext {
+  std::string command;          // the command line, written in the header
+  std::string rostopic = "/imu0";
+  double inflate = 1.0;         // >= 1: multiplies every density, random walk and bias std
+};
+
+// One estimator file. `missing` names the sensor whose terms the file lacks
+// ("accelerometer", "gyroscope") because the record has no such channel;
+// the keys are then written commented out with the reason. Empty otherwise.
+struct EstimatorFile {
+  std::string name;
+  std::string text;
+  std::string missing;
+};
+
+// The file of `e`. Throws UsageError (option "estimators") when the record
+// has neither a rate nor an acceleration channel, or when ctx.inflate is
+// below 1 or not finite; InputError as imu_noise.
+EstimatorFile estimator_config(Estimator e, const AnalysisResult& r, const EstimatorContext& ctx);
+
+}  // namespace cubecal::pipeline
