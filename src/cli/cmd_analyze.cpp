@@ -18,6 +18,7 @@
 #include "cubecal/io/output_path.hpp"
 #include "cubecal/pipeline/analysis_output.hpp"
 #include "cubecal/pipeline/analyze.hpp"
+#include "cubecal/pipeline/estimator_config.hpp"
 #include "cubecal/report/plot.hpp"
 #include "cubecal/report/report.hpp"
 #include "output.hpp"
@@ -149,6 +150,7 @@ int run_analyze_command(const AnalyzeOptions& o) {
   }
 
   pipeline::OutputContext ctx{invocation(), o.rostopic, parse_estimators(o.estimators), o.inflate};
+  if (!ctx.estimators.empty() && !req.units.empty()) pipeline::require_imu_units(req.units);
 
   // Every output checked (and --out created) before any time is spent.
   if (!o.out.empty()) {

@@ -178,12 +178,11 @@ Sensors sensors(const AnalysisResult& r, const EstimatorContext& ctx) {
     throw UsageError("inflate", plain(ctx.inflate) + " is not a factor >= 1");
   Sensors s;
   s.noise = imu_noise(r);
+  std::vector<Unit> units;
+  for (const auto& c : r.channels) units.push_back(c.unit);
+  require_imu_units(units);
   s.gyro = !s.noise.gyroscope.empty();
   s.accel = !s.noise.accelerometer.empty();
-  if (!s.gyro && !s.accel)
-    throw UsageError("estimators",
-                     "the record has no gyroscope (deg/s, rad/s) or accelerometer (g, m/s^2) channel: "
-                     "give --unit of the IMU columns");
   s.missing = !s.gyro ? "gyroscope" : !s.accel ? "accelerometer" : "";
   return s;
 }
@@ -395,6 +394,15 @@ std::string_view to_string(TermSource s) noexcept {
     case TermSource::upper_bound: return "UPPER BOUND";
   }
   return "fit";
+}
+
+void require_imu_units(const std::vector<Unit>& units) {
+  if (std::none_of(units.begin(), units.end(), [](const Unit& u) {
+        return u.kind == SensorKind::rate || u.kind == SensorKind::acceleration;
+      }))
+    throw UsageError("estimators",
+                     "the record has no gyroscope (deg/s, rad/s) or accelerometer (g, m/s^2) channel: "
+                     "give --unit of the IMU columns");
 }
 
 ImuNoise imu_noise(const AnalysisResult& r) {

@@ -66,6 +66,11 @@ struct ImuNoise {
 // every tau (a constant record has no noise to report).
 ImuNoise imu_noise(const AnalysisResult& r);
 
+// Throws UsageError (option "estimators") when none of `units` is a rate or
+// an acceleration unit: no estimator file can be written from such channels.
+// The CLI calls it with the --unit list before the work starts.
+void require_imu_units(const std::vector<Unit>& units);
+
 struct EstimatorContext {
   std::string command;          // the command line, written in the header
   std::string rostopic = "/imu0";
