@@ -60,9 +60,9 @@ TEST_F(EstimatorCli, ForWritesEachFormatAndInflateScalesIt) {
   // analysis.json records the request, and its ARW gives the Kalibr density:
   // N [rad/s/sqrt(Hz)] = ARW [deg/sqrt(h)] / 60 * pi / 180, the largest axis.
   const auto j = nlohmann::json::parse(slurp(dir_ / "b" / "analysis.json"));
-  EXPECT_EQ(j["estimator_files"]["inflate"], 3.0);
+  EXPECT_EQ(j["estimator_files"]["noise_factor"], 3.0);
   EXPECT_EQ(j["estimator_files"]["for"], nlohmann::json({"kalibr", "openvins", "vins", "kf-gins"}));
-  EXPECT_EQ(nlohmann::json::parse(slurp(dir_ / "a" / "analysis.json"))["estimator_files"]["inflate"], 1.0);
+  EXPECT_EQ(nlohmann::json::parse(slurp(dir_ / "a" / "analysis.json"))["estimator_files"]["noise_factor"], 1.0);
   double arw = 0.0;
   for (int c = 0; c < 3; ++c) {
     const auto& n = j["channels"][c]["noise"];
@@ -130,10 +130,10 @@ TEST_F(EstimatorCli, ConfigFileSetsOptionsAndTheCommandLineOverridesIt) {
   ASSERT_EQ(one.code, 0) << one.err;
   EXPECT_TRUE(fs::exists(dir_ / "c" / "vins_imu.yaml")) << "--for from the file";
   EXPECT_FALSE(fs::exists(dir_ / "c" / "kf-gins_imunoise.yaml"));
-  EXPECT_EQ(nlohmann::json::parse(slurp(dir_ / "c" / "analysis.json"))["estimator_files"]["inflate"], 2.0);
+  EXPECT_EQ(nlohmann::json::parse(slurp(dir_ / "c" / "analysis.json"))["estimator_files"]["noise_factor"], 2.0);
   const auto two = run_cubecal("analyze --config " + cfg + " --out " + path("d") + " --inflate 5");
   ASSERT_EQ(two.code, 0) << two.err;
-  EXPECT_EQ(nlohmann::json::parse(slurp(dir_ / "d" / "analysis.json"))["estimator_files"]["inflate"], 5.0);
+  EXPECT_EQ(nlohmann::json::parse(slurp(dir_ / "d" / "analysis.json"))["estimator_files"]["noise_factor"], 5.0);
   const auto c = yaml_keys(slurp(dir_ / "c" / "vins_imu.yaml"));
   const auto d = yaml_keys(slurp(dir_ / "d" / "vins_imu.yaml"));
   EXPECT_NEAR(number(d, "gyr_n") / number(c, "gyr_n"), 2.5, 2.5e-9);

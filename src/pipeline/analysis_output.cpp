@@ -29,7 +29,7 @@ std::string analysis_json(const AnalysisResult& r, const OutputContext& ctx) {
   j["command"] = ctx.command;
   json names = json::array();
   for (const Estimator e : ctx.estimators) names.push_back(std::string(estimator_name(e)));
-  j["estimator_files"] = {{"for", std::move(names)}, {"inflate", ctx.inflate}};
+  j["estimator_files"] = {{"for", std::move(names)}, {"noise_factor", ctx.inflate}};
   return j.dump(1) + "\n";
 }
 

@@ -20,7 +20,7 @@ struct OutputContext {
 };
 
 // analysis.json: to_json(AnalysisResult) of analysis_json.hpp, the command
-// and "estimator_files": {"for": [names], "inflate": K}.
+// and "estimator_files": {"for": [names], "noise_factor": K (--inflate)}.
 std::string analysis_json(const AnalysisResult& r, const OutputContext& ctx);
 
 // `cubecal dev --format json` (to_json(DevResult) of analysis_json.hpp) with
