@@ -65,11 +65,19 @@ std::string calibration_hint(CalibrationReason reason, const HintContext& ctx) {
 }
 
 std::string field_norm_warning(double field_norm, const std::vector<std::vector<double>>& xyz, double lsb) {
+  // Half the 5-95 % range of each axis (0.9 F on points spread over the
+  // sphere), so that a few outliers do not inflate it.
   double radius = 0.0;
   for (const auto& axis : xyz) {
-    if (axis.empty()) continue;
-    const auto [lo, hi] = std::minmax_element(axis.begin(), axis.end());
-    radius = std::max(radius, 0.5 * (*hi - *lo) / lsb);
+    if (axis.size() < 2) continue;
+    std::vector<double> v(axis);
+    const auto at = [&](double q) {
+      const auto k = static_cast<std::ptrdiff_t>(q * static_cast<double>(v.size() - 1));
+      std::nth_element(v.begin(), v.begin() + k, v.end());
+      return v[static_cast<std::size_t>(k)];
+    };
+    const double lo = at(0.05), hi = at(0.95);
+    radius = std::max(radius, 0.5 * (hi - lo) / lsb);
   }
   constexpr double kFar = 4.0;
   if (!(radius > 0.0) || !(field_norm > 0.0) || !std::isfinite(radius)) return {};

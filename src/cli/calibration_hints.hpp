@@ -24,8 +24,9 @@ struct HintContext {
 std::string calibration_hint(CalibrationReason reason, const HintContext& ctx);
 
 // A given field norm far (over 4x either way) from the data's own field
-// magnitude, taken as the largest half-range of an axis after --lsb (the
-// radius of the points' sphere, whatever the hard-iron offset): says so and
+// magnitude, taken as the largest half 5-95 % range of an axis after --lsb
+// (about the radius of the points' sphere, whatever the hard-iron offset and
+// a few outliers): says so and
 // asks whether both are in the same unit. Empty when they are comparable.
 std::string field_norm_warning(double field_norm, const std::vector<std::vector<double>>& xyz, double lsb);
 

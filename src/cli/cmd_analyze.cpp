@@ -180,8 +180,10 @@ int run_analyze_command(const AnalyzeOptions& o) {
   Progress progress(bytes > 50'000'000);
   progress.stage(fmt::format("reading {} ({:.0f} MB)", o.input.file, static_cast<double>(bytes) / 1e6));
   const io::Series series = io::read_series(o.input.file, so);
+  ChannelUnits units = units_for(o.unit, series);  // a column without a unit stops here
   note_default_columns(series);
-  req.units = units_for(o.unit, series);
+  if (!units.note.empty()) std::cerr << units.note << '\n';
+  req.units = std::move(units.units);
   progress.stage(fmt::format("analyzing {} channels", series.channels.size()));
   const pipeline::AnalysisResult r = pipeline::run_analyze(series, req);
   progress.done();

@@ -53,7 +53,8 @@ std::vector<io::Series> read_runs(const RunsOptions& o) {
 pipeline::AnalyzeRequest request_for(const RunsOptions& o, const std::vector<io::Series>& runs) {
   pipeline::AnalyzeRequest req = request_of(o);
   if (!o.unit.empty() || runs.empty()) return req;
-  req.units = units_for(o.unit, runs.front());
+  ChannelUnits first = units_for(o.unit, runs.front());
+  req.units = std::move(first.units);
   for (std::size_t k = 1; k < runs.size(); ++k) {
     const InferredUnits other = infer_units(runs[k].names);
     bool same = other.missing.empty() && other.units.size() == req.units.size();
@@ -62,6 +63,7 @@ pipeline::AnalyzeRequest request_for(const RunsOptions& o, const std::vector<io:
       throw UsageError("units", runs[k].file + ": its column names do not announce the units of " +
                                     runs.front().file + "'s: give --unit");
   }
+  std::cerr << first.note << '\n';
   return req;
 }
 

@@ -134,17 +134,17 @@ std::string unit_option_help() {
          "for raw values)";
 }
 
-std::vector<Unit> units_for(const std::string& unit_option, const io::Series& s) {
-  if (!unit_option.empty()) return parse_units(unit_option);
+ChannelUnits units_for(const std::string& unit_option, const io::Series& s) {
+  if (!unit_option.empty()) return {parse_units(unit_option), {}};
   const InferredUnits inferred = infer_units(s.names);
   if (!inferred.missing.empty()) {
     std::string cols;
     for (const auto& n : inferred.missing) cols += (cols.empty() ? "" : ", ") + n;
     throw UsageError("units", s.file + ": no unit in the name" + (inferred.missing.size() > 1 ? "s" : "") +
                                   " of column" + (inferred.missing.size() > 1 ? "s " : " ") + cols +
-                                  ": give --unit (" + known_units() +
-                                  ", one for all columns or one per column; --unit counts for raw values), or "
-                                  "name the columns with a unit suffix: " + known_unit_suffixes());
+ + ": give --unit (" + known_units() +
+                                  "; one for all columns or one per column; counts for raw values) or end the names "
+                                  "with a unit (" + known_unit_suffixes() + ")");
   }
   // Which unit for which columns, runs of the same unit together.
   std::string said;
@@ -156,8 +156,7 @@ std::vector<Unit> units_for(const std::string& unit_option, const io::Series& s)
     said += (said.empty() ? "" : "; ") + cols + " " + inferred.units[i].name;
     i = j;
   }
-  std::cerr << "cubecal: note: " << s.file << ": units from the column names: " << said << " (--unit overrides)\n";
-  return inferred.units;
+  return {inferred.units, "cubecal: note: " + s.file + ": units from the column names: " + said + " (--unit overrides)"};
 }
 
 TauGrid parse_taus(const std::string& spec) {

@@ -93,9 +93,6 @@ InferredUnits infer_units(const std::vector<std::string>& names) {
   return r;
 }
 
-std::string known_unit_suffixes() {
-  return "_dps/_degps/_deg_s (deg/s), _rads/_rad_s (rad/s), _dph (deg/h), _g (g), _mps2/_ms2 (m/s^2), "
-         "_uT (uT), _mG/_mgauss (mGauss), _nT (nT), _counts (counts), or the unit in brackets: gx[deg/s]";
-}
+std::string known_unit_suffixes() { return "_dps, _rads, _dph, _g, _mps2, _uT, _mG, _nT, _counts, or gx[deg/s]"; }
 
 }  // namespace cubecal

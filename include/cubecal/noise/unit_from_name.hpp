@@ -29,7 +29,7 @@ struct InferredUnits {
 // unit_from_column_name() over every name.
 InferredUnits infer_units(const std::vector<std::string>& names);
 
-// The suffixes above, as a user reads them in a message: "_dps, _rads, ...".
+// The common suffixes, as a message lists them: "_dps, _rads, ...".
 std::string known_unit_suffixes();
 
 }  // namespace cubecal
