@@ -75,7 +75,7 @@ TEST_F(FirstHour, AnalyzeAsksForTheUnitInsteadOfCounts) {
   const std::string f = record("plain.csv", "t,gx,gy", 2);
   const auto r = run("analyze " + f);
   EXPECT_TRUE(one_error_line(r)) << r.code << " " << r.err;
-  EXPECT_TRUE(has(r.err, "--unit: " + f + ": no unit in the names of columns gx, gy: give --unit (")) << r.err;
+  EXPECT_TRUE(has(r.err, "cubecal: error: " + f + ": no unit in the names of columns gx, gy: give --unit (")) << r.err;
   EXPECT_TRUE(has(r.err, "deg/s|rad/s")) << r.err;
   EXPECT_TRUE(has(r.err, "_dps")) << r.err;
   EXPECT_TRUE(r.out.empty());
@@ -180,7 +180,7 @@ TEST_F(FirstHour, FieldNormFarFromTheDataSaysSo) {
 TEST_F(FirstHour, GnuplotPathThatDoesNotExistIsAClearError) {
   const std::string rec = record("g.csv", "t,gx_dps,gy_dps,gz_dps", 3);
   const std::string bad = path("no/such/gnuplot");
-  const std::string want = "cubecal: error: --gnuplot " + bad + ": no executable gnuplot there";
+  const std::string want = "cubecal: error: --gnuplot: no executable gnuplot at " + bad + " (give the path";
   const std::vector<std::string> cmds{
       "analyze " + rec + " --out " + path("o1") + " --report --gnuplot " + bad,
       "turnon " + rec + " " + rec + " --report " + path("o2") + " --gnuplot " + bad,

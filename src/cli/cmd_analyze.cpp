@@ -169,7 +169,7 @@ int run_analyze_command(const AnalyzeOptions& o) {
   }
 
   // Every output checked (and --out created) before any time is spent.
-  if (o.report && !report::find_gnuplot(o.gnuplot)) throw UsageError(report::gnuplot_missing(o.gnuplot));
+  if (o.report && !report::find_gnuplot(o.gnuplot)) report::throw_gnuplot_missing(o.gnuplot);
   if (!o.out.empty()) {
     std::vector<std::string> files(std::begin(pipeline::kAnalysisFiles), std::end(pipeline::kAnalysisFiles));
     if (o.report) files.insert(files.end(), {"report.html", "plots"});

@@ -58,7 +58,7 @@ int run_demo(const DemoOptions& o) {
   namespace fs = std::filesystem;
   const auto t0 = std::chrono::steady_clock::now();
   // A gnuplot named explicitly must be there; none on PATH only leaves the plots out.
-  if (!o.gnuplot.empty() && !report::find_gnuplot(o.gnuplot)) throw UsageError(report::gnuplot_missing(o.gnuplot));
+  if (!o.gnuplot.empty() && !report::find_gnuplot(o.gnuplot)) report::throw_gnuplot_missing(o.gnuplot);
   const fs::path dir(o.out);
   const std::string record = (dir / "sport_static.csv.gz").string();
   // A marker tells a directory of earlier demo output (replaced freely) from

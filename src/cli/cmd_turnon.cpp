@@ -60,8 +60,8 @@ pipeline::AnalyzeRequest request_for(const RunsOptions& o, const std::vector<io:
     bool same = other.missing.empty() && other.units.size() == req.units.size();
     for (std::size_t c = 0; same && c < req.units.size(); ++c) same = other.units[c].name == req.units[c].name;
     if (!same)
-      throw UsageError("units", runs[k].file + ": its column names do not announce the units of " +
-                                    runs.front().file + "'s: give --unit");
+      throw UsageError(runs[k].file + ": its column names do not announce the units of " + runs.front().file +
+                       "'s: give --unit");
   }
   std::cerr << first.note << '\n';
   return req;

@@ -140,11 +140,11 @@ ChannelUnits units_for(const std::string& unit_option, const io::Series& s) {
   if (!inferred.missing.empty()) {
     std::string cols;
     for (const auto& n : inferred.missing) cols += (cols.empty() ? "" : ", ") + n;
-    throw UsageError("units", s.file + ": no unit in the name" + (inferred.missing.size() > 1 ? "s" : "") +
-                                  " of column" + (inferred.missing.size() > 1 ? "s " : " ") + cols +
- + ": give --unit (" + known_units() +
-                                  "; one for all columns or one per column; counts for raw values) or end the names "
-                                  "with a unit (" + known_unit_suffixes() + ")");
+    const bool several = inferred.missing.size() > 1;
+    throw UsageError(s.file + ": no unit in the name" + (several ? "s of columns " : " of column ") + cols +
+                     ": give --unit (" + known_units() +
+                     "; one for all columns or one per column; counts for raw values) or end the names with a unit (" +
+                     known_unit_suffixes() + ")");
   }
   // Which unit for which columns, runs of the same unit together.
   std::string said;

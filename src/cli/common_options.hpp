@@ -47,7 +47,7 @@ std::string unit_option_help();
 // The units of the channels of `s`: parse_units(unit_option) when given,
 // else the units the column names announce (unit_from_column_name), with a
 // note saying which (for standard error, after any other note on the
-// columns); a column whose name announces none is a UsageError("units")
+// columns); a column whose name announces none is a UsageError
 // naming it and the known units (never a silent "counts").
 struct ChannelUnits {
   std::vector<Unit> units;

@@ -34,6 +34,7 @@ std::string usage_message(const cubecal::UsageError& e) {
       {"rate", "--rate"},
       {"out", "--out"},
       {"report", "--report"},
+      {"gnuplot", "--gnuplot"},
   };
   for (const auto& [option, flag] : kFlags)
     if (e.option() == option) return std::string(flag) + ": " + e.what();
