@@ -250,7 +250,10 @@ TEST(AnalysisJson, KeysAddedLaterTakeTheirDefaults) {
   j.erase("ci");
   j["input"].erase("gaps");
   for (auto& c : j["channels"]) {
+    EXPECT_TRUE(c["noise"].contains("bias_instability_choice"));
     c["noise"].erase("curve_minimum");
+    c["noise"].erase("bias_instability_choice");
+    c["noise"].erase("accelerometer");
     c["model"].erase("adev");
   }
   const auto r = j.get<pipeline::AnalysisResult>();

@@ -297,7 +297,9 @@ TEST(CommandReportPage, RefusesAnExistingReportAndAMissingGnuplot) {
     report::check_report_target(d.string(), false, (d / "no-such" / "gnuplot").string());
     FAIL() << "no error";
   } catch (const UsageError& e) {
-    EXPECT_STREQ(e.what(), report::kGnuplotMissing);
+    // The path given is named.
+    EXPECT_EQ(std::string(e.what()), report::gnuplot_missing((d / "no-such" / "gnuplot").string()));
+    EXPECT_EQ(e.option(), "gnuplot");
   }
   // Without gnuplot and require_plots = false: the page, saying why.
   report::ReportOptions o;
@@ -307,7 +309,7 @@ TEST(CommandReportPage, RefusesAnExistingReportAndAMissingGnuplot) {
   o.require_plots = false;
   const auto r = report::write_command_report(evil_report(), d.string(), o);
   EXPECT_TRUE(r.plots.empty());
-  EXPECT_NE(slurp(d / "report.html").find("Plots not rendered: gnuplot not found"), std::string::npos);
+  EXPECT_NE(slurp(d / "report.html").find("Plots not rendered: no executable gnuplot at "), std::string::npos);
   try {
     report::check_report_target(d.string(), false);
     FAIL() << "no error for an existing report";

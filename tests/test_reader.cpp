@@ -564,13 +564,37 @@ TEST_F(Reader, BadOptionsAreUsageErrors) {
   EXPECT_THROW(read_series(path, neg), UsageError);
 }
 
+TEST(ReaderHints, PreambleNotSkippedSuggestsTheRightSkipRows) {
+  // The MPU-6050 logger's preamble: "Fs,100" is taken for the first data row.
+  const auto hint_of = [](const std::string& text, std::size_t skip = 0) {
+    TableOptions o;
+    o.skip_rows = skip;
+    try {
+      parse_table(text, "log.csv", o);
+    } catch (const InputError& e) {
+      return e.hint();
+    }
+    return std::string("no error");
+  };
+  const std::string mpu = "Fs,100\nLogging Type,1\nInitialization time,-1\nWaiting time,-1\nax,ay,az\n1,2,3\n4,5,6\n";
+  EXPECT_EQ(hint_of(mpu), "the table seems to start on line 5 after a preamble: add --skip-rows 4");
+  // Too few lines skipped: N still counts from the top of the file.
+  EXPECT_EQ(hint_of(mpu, 2), "the table seems to start on line 5 after a preamble: add --skip-rows 4");
+  // A preamble line taken for the header: a field-count fault.
+  EXPECT_EQ(hint_of("logger,v2,x\nt,gx\n0,1\n0.1,2\n"),
+            "the table seems to start on line 2 after a preamble: add --skip-rows 1");
+  // A bad value further down is no preamble.
+  EXPECT_EQ(hint_of("t,gx\n0,1\n0.1,x\n0.2,3\n"), "fix the row, remove it or comment it out with '#'");
+}
+
 TEST_F(Reader, NoRateAndNoTimeColumnIsAUsageError) {
   const std::string path = write("nr.csv", "a,b\n1,2\n3,4\n5,6\n");
   try {
     read_series(path, {});
     FAIL() << "no UsageError";
   } catch (const UsageError& e) {
-    EXPECT_STREQ(e.what(), "no sampling rate: give --rate HZ or --time-col NAME");
+    EXPECT_EQ(std::string(e.what()), path + ": no sampling rate: no column is named as a time column (t, time, t_s, "
+                                         "timestamp...): give --rate HZ or --time-col NAME");
   }
 }
 

@@ -254,7 +254,10 @@ TEST_F(ReportTest, MissingGnuplotIsAClearError) {
     report::write_report(d.string(), o);
     FAIL() << "no error";
   } catch (const UsageError& e) {
-    EXPECT_STREQ(e.what(), "gnuplot not found: install gnuplot-nox (scripts/install-deps.sh)");
+    // The path given is named (it used to say "install gnuplot-nox" for a typo in it).
+    EXPECT_EQ(std::string(e.what()), report::gnuplot_missing(o.gnuplot));
+    EXPECT_EQ(e.option(), "gnuplot");
+    EXPECT_NE(std::string(e.what()).find("no executable gnuplot at " + o.gnuplot), std::string::npos);
   }
   EXPECT_FALSE(fs::exists(d / "report.html"));
   // The demo's way: the page without plots, saying why.
@@ -262,7 +265,7 @@ TEST_F(ReportTest, MissingGnuplotIsAClearError) {
   const auto r = report::write_report(d.string(), o);
   EXPECT_TRUE(r.plots.empty());
   const std::string html = slurp(d / "report.html");
-  EXPECT_NE(html.find("Plots not rendered: gnuplot not found"), std::string::npos);
+  EXPECT_NE(html.find("Plots not rendered: no executable gnuplot at "), std::string::npos);
   EXPECT_NE(html.find("fixed bias"), std::string::npos);
 }
 

@@ -1,5 +1,10 @@
 #include "calibration_hints.hpp"
 
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
 namespace cubecal::cli {
 
 namespace {
@@ -57,6 +62,32 @@ std::string calibration_hint(CalibrationReason reason, const HintContext& ctx) {
     case CalibrationCommand::temperature: return temperature_hint(reason);
   }
   return {};
+}
+
+std::string field_norm_warning(double field_norm, const std::vector<std::vector<double>>& xyz, double lsb) {
+  // Half the 5-95 % range of each axis (0.9 F on points spread over the
+  // sphere), so that a few outliers do not inflate it.
+  double radius = 0.0;
+  for (const auto& axis : xyz) {
+    if (axis.size() < 2) continue;
+    std::vector<double> v(axis);
+    const auto at = [&](double q) {
+      const auto k = static_cast<std::ptrdiff_t>(q * static_cast<double>(v.size() - 1));
+      std::nth_element(v.begin(), v.begin() + k, v.end());
+      return v[static_cast<std::size_t>(k)];
+    };
+    const double lo = at(0.05), hi = at(0.95);
+    radius = std::max(radius, 0.5 * (hi - lo) / lsb);
+  }
+  constexpr double kFar = 4.0;
+  if (!(radius > 0.0) || !(field_norm > 0.0) || !std::isfinite(radius)) return {};
+  const double ratio = field_norm / radius;
+  if (ratio <= kFar && ratio >= 1.0 / kFar) return {};
+  return fmt::format(
+      "--field-norm {:g} is {:.3g}x the data's field magnitude (about {:.3g}: half the spread of the points{}): "
+      "give the field norm in the unit of the values{}",
+      field_norm, ratio, radius, lsb != 1.0 ? fmt::format(" after --lsb {:g}", lsb) : std::string(),
+      lsb != 1.0 ? " after --lsb" : ", or --lsb to convert counts to that unit");
 }
 
 }  // namespace cubecal::cli

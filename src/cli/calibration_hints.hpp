@@ -3,6 +3,7 @@
 // flags. The only place that maps reasons to advice; never by message text.
 #pragma once
 #include <string>
+#include <vector>
 
 #include "cubecal/error.hpp"
 
@@ -21,6 +22,13 @@ struct HintContext {
 
 // Empty when there is nothing better to say than the message.
 std::string calibration_hint(CalibrationReason reason, const HintContext& ctx);
+
+// A given field norm far (over 4x either way) from the data's own field
+// magnitude, taken as the largest half 5-95 % range of an axis after --lsb
+// (about the radius of the points' sphere, whatever the hard-iron offset and
+// a few outliers): says so and
+// asks whether both are in the same unit. Empty when they are comparable.
+std::string field_norm_warning(double field_norm, const std::vector<std::vector<double>>& xyz, double lsb);
 
 // Runs `f`; a CalibrationError becomes InputError(file, "what (hint)"), a
 // plain std::invalid_argument InputError(file, "what") without a hint.

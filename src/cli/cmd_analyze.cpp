@@ -16,6 +16,7 @@
 #include "common_options.hpp"
 #include "cubecal/error.hpp"
 #include "cubecal/io/output_path.hpp"
+#include "cubecal/noise/bias_verdict.hpp"
 #include "cubecal/pipeline/analysis_output.hpp"
 #include "cubecal/pipeline/analyze.hpp"
 #include "cubecal/pipeline/estimator_config.hpp"
@@ -23,6 +24,7 @@
 #include "cubecal/report/report.hpp"
 #include "output.hpp"
 #include "progress.hpp"
+#include "report_option.hpp"
 
 namespace cubecal::cli {
 
@@ -30,7 +32,7 @@ namespace {
 
 struct AnalyzeOptions {
   InputOptions input;
-  std::string unit = "counts";
+  std::string unit;  // empty: from the column names (units_for)
   std::string temp_col;
   std::size_t temp_order = 1;
   double drift_window = 0.0;
@@ -42,6 +44,7 @@ struct AnalyzeOptions {
   std::string out;
   bool force = false;
   bool report = false;
+  std::string gnuplot;  // --gnuplot PATH; empty: gnuplot on PATH
   std::string format = "table";
   std::string rostopic = "/imu0";
   std::vector<std::string> estimators;  // --for
@@ -64,8 +67,36 @@ std::string pm(const Quantity& q, bool valid, int digits = 4) {
   return fmt::format("{:.{}g} ± {:.2g} {}", q.value, digits, q.sigma, q.unit);
 }
 
+// The accelerometer terms as inertial navigation quotes them (units.hpp).
+void print_accelerometer_terms(std::ostream& out, const pipeline::NoiseAnalysis& n, const Unit& u) {
+  if (u.kind != SensorKind::acceleration) return;
+  const auto both = [&](const TermEstimate& t, Term which) {
+    if (!t.valid) return std::string("—");
+    const auto q = accelerometer_display(t, which, u);
+    return pm(q[0], true) + " = " + pm(q[1], true);
+  };
+  const auto line = [&](const char* label, const TermEstimate& N, const TermEstimate& B, const TermEstimate& K) {
+    fmt::print(out, "  {:<9} VRW {}   B {}   AccRW {}\n", label, both(N, Term::N), both(B, Term::B),
+               both(K, Term::K));
+  };
+  line("read-off", n.readoffs.N, n.readoffs.B, n.readoffs.K);
+  line("fit", n.fit.N, n.fit.B, n.fit.K);
+}
+
+// One line when the read-off and the fit disagree on B: which to use and why.
+void print_bias_verdict(std::ostream& out, const pipeline::NoiseAnalysis& n, const Unit& u) {
+  const BiasVerdict v = judge_bias_instability(n.readoffs, n.fit);
+  if (v.trust != BiasTrust::read_off && v.trust != BiasTrust::fit) return;
+  const std::string ro = pm(display(n.readoffs.B, Term::B, u), true);
+  const std::string fit = n.fit.B.valid ? pm(display(n.fit.B, Term::B, u), true) : std::string("—");
+  fmt::print(out, "  B         read-off {} vs fit {}{}: use the {}: {}\n", ro, fit,
+             v.compared ? fmt::format(" (x{:.2g}{})", v.ratio, v.beyond_sigma ? ", beyond their uncertainty" : "")
+                        : std::string(),
+             v.trust == BiasTrust::fit ? "fit" : "read-off", v.reason);
+}
+
 void print_summary(std::ostream& out, const pipeline::AnalysisResult& r) {
-  fmt::print(out, "{}: {} samples at {:g} Hz ({:.2f} h){}\n", r.file, r.samples, r.rate_hz,
+  fmt::print(out, "{}: {} samples at {} Hz ({:.2f} h){}\n", r.file, r.samples, rate_text(r.rate_hz),
              r.duration_s / 3600.0, r.segments > 1 ? fmt::format(", {} segments split at gaps", r.segments) : "");
   for (const auto& c : r.channels) {
     const auto& ro = c.noise.readoffs;
@@ -87,6 +118,8 @@ void print_summary(std::ostream& out, const pipeline::AnalysisResult& r) {
                pm(display(f.N, Term::N, u), f.N.valid), pm(display(f.B, Term::B, u), f.B.valid),
                pm(display(f.K, Term::K, u), f.K.valid), pm(display(f.Q, Term::Q, u), f.Q.valid),
                pm(display(f.R, Term::R, u), f.R.valid), 100.0 * f.rms_rel_residual);
+    print_accelerometer_terms(out, c.noise, u);
+    print_bias_verdict(out, c.noise, u);
     if (c.model.ok)
       fmt::print(out, "  model     sigma_n {:.4g} {}  sigma_mu {:.4g} {}/s  (paper eq. 1-3; {} samples; AV residual {:.3f})\n",
                  c.model.random_walk.sigma_n, u.name, c.model.random_walk.sigma_mu, u.name, c.model.samples,
@@ -125,7 +158,7 @@ void print_summary(std::ostream& out, const pipeline::AnalysisResult& r) {
 
 int run_analyze_command(const AnalyzeOptions& o) {
   pipeline::AnalyzeRequest req;
-  req.units = parse_units(o.unit);
+  if (!o.unit.empty()) req.units = parse_units(o.unit);  // before the reading: a typo fails at once
   req.grid = parse_taus(o.taus);
   if (!(o.ci > 0.0 && o.ci < 1.0)) throw UsageError("--ci must be between 0 and 1");
   req.ci = o.ci;
@@ -153,18 +186,21 @@ int run_analyze_command(const AnalyzeOptions& o) {
   if (!ctx.estimators.empty() && !req.units.empty()) pipeline::require_imu_units(req.units);
 
   // Every output checked (and --out created) before any time is spent.
+  if (o.report && !report::find_gnuplot(o.gnuplot)) report::throw_gnuplot_missing(o.gnuplot);
   if (!o.out.empty()) {
     std::vector<std::string> files = pipeline::analysis_file_names(ctx.estimators);
     if (o.report) files.insert(files.end(), {"report.html", "plots"});
     io::prepare_output_dir(o.out, o.force, files);
   }
-  if (o.report && !report::find_gnuplot()) throw UsageError(report::kGnuplotMissing);
 
   const std::size_t bytes = file_size_or_zero(o.input.file);
   Progress progress(bytes > 50'000'000);
   progress.stage(fmt::format("reading {} ({:.0f} MB)", o.input.file, static_cast<double>(bytes) / 1e6));
   const io::Series series = io::read_series(o.input.file, so);
+  ChannelUnits units = units_for(o.unit, series);  // a column without a unit stops here
   note_default_columns(series);
+  if (!units.note.empty()) std::cerr << units.note << '\n';
+  req.units = std::move(units.units);
   progress.stage(fmt::format("analyzing {} channels", series.channels.size()));
   const pipeline::AnalysisResult r = pipeline::run_analyze(series, req);
   progress.done();
@@ -181,9 +217,10 @@ int run_analyze_command(const AnalyzeOptions& o) {
     if (o.report) {
       report::ReportOptions ro;
       ro.force = true;  // existing report files were refused above unless --force
+      ro.gnuplot = o.gnuplot;
       const auto rep = report::write_report(r, {ctx.command, {}}, o.out, ro);
-      std::cerr << "cubecal: wrote " << rep.html_path << " (" << rep.plots.size() << " plots in " << o.out
-                << "/plots/)\n";
+      std::cerr << "cubecal: wrote " << rep.html_path << " (" << rep.plots.size() << " plots in "
+                << (std::filesystem::path(o.out) / "plots/").string() << ")\n";
     }
   }
   return 0;
@@ -197,9 +234,7 @@ CLI::App* add_analyze_command(CLI::App& app, Command& run) {
       "analyze", "Static characterization: noise terms (N, B, T, K, Q, R) with uncertainties, the paper's "
                  "sensor model and a Gauss-Markov alternative, bias drift, covariance, temperature");
   add_input_options(*cmd, opt->input);
-  cmd->add_option("--unit", opt->unit,
-                  "Unit of the values (after --lsb): " + known_units() + "; one for all columns or one per column")
-      ->capture_default_str();
+  cmd->add_option("--unit", opt->unit, unit_option_help());
   cmd->add_option("--temp-col", opt->temp_col, "Temperature column (degC): regress each channel on it");
   cmd->add_option("--temp-order", opt->temp_order, "Polynomial order of the temperature fit")
       ->check(CLI::Range(1, 5))
@@ -225,6 +260,7 @@ CLI::App* add_analyze_command(CLI::App& app, Command& run) {
   cmd->add_flag("--force", opt->force, "Replace files in --out");
   cmd->add_flag("--report", opt->report, "Also write --out/report.html with its plots (as `cubecal report`)")
       ->needs(out_opt);
+  add_gnuplot_option(*cmd, opt->gnuplot);
   cmd->add_option("--format", opt->format, "Standard output: table or json")
       ->check(CLI::IsMember({"table", "json"}))
       ->capture_default_str();

@@ -45,7 +45,7 @@ struct MagCliOptions {
   std::string out;
   bool force = false;
   unsigned threads = 0;
-  std::string report;  // --report DIR
+  ReportTarget report;  // --report DIR, --gnuplot PATH
 };
 
 const char* method_text(mag::Method m) {
@@ -81,9 +81,9 @@ void print_table(std::ostream& out, const pipeline::MagResult& m) {
   }
   fmt::print(out, "  semi-axes of the raw ellipsoid {:.6g} {:.6g} {:.6g} {}, axis ratio {:.5f}\n", r.semi_axes[0],
              r.semi_axes[1], r.semi_axes[2], u, r.axis_ratio);
-  fmt::print(out, "\n|h| - F, {}:  before mean {:.4g} rms {:.4g} max {:.4g};  after mean {:.4g} rms {:.4g} max {:.4g} "
+  fmt::print(out, "\n|h| - F{}:  before mean {:.4g} rms {:.4g} max {:.4g};  after mean {:.4g} rms {:.4g} max {:.4g} "
              "({:.3g} % of F)\n",
-             u, r.before.mean, r.before.rms, r.before.max, r.after.mean, r.after.rms, r.after.max,
+             u.empty() ? std::string() : " [" + u + "]", r.before.mean, r.before.rms, r.before.max, r.after.mean, r.after.rms, r.after.max,
              100.0 * r.after.rms / r.field_norm);
   if (r.noise_estimated)
     fmt::print(out, "noise      s = {:.4g} {} per axis, estimated from the residuals (chi2 = dof = {})\n", r.noise, u,
@@ -133,6 +133,11 @@ int run_calibrate_mag(const MagCliOptions& o) {
     throw UsageError(o.file + " has " + std::to_string(t.data.size()) +
                      " data columns: name the 3 magnetometer columns with --columns mx,my,mz");
 
+  if (o.field_norm_given) {
+    const std::string w = field_norm_warning(o.field_norm, t.data, o.lsb);
+    if (!w.empty()) std::cerr << "cubecal: warning: " << o.file << ": " << w << '\n';
+  }
+
   pipeline::MagRequest req;
   req.method = *method;
   req.counts_per_unit = o.lsb;
@@ -151,7 +156,7 @@ int run_calibrate_mag(const MagCliOptions& o) {
 
   write_result(result, o.format == "json", r, invocation(),
                [](std::ostream& os, const auto& res) { print_table(os, res); });
-  if (!o.report.empty()) write_report_option(report::mag_report(r, invocation()), o.report);
+  if (!o.report.dir.empty()) write_report_option(report::mag_report(r, invocation()), o.report);
   return 0;
 }
 

@@ -52,7 +52,7 @@ struct MultiposCliOptions {
   std::string out;
   bool force = false;
   unsigned threads = 0;
-  std::string report;  // --report DIR
+  ReportTarget report;  // --report DIR, --gnuplot PATH
 };
 
 // Reads one file: the given columns (3 or 6), split into triads, and the time
@@ -221,7 +221,7 @@ int run_calibrate_multiposition(const MultiposCliOptions& o) {
 
   write_result(result, o.format == "json", r, invocation(),
                [](std::ostream& os, const auto& res) { print_table(os, res); });
-  if (!o.report.empty()) write_report_option(report::multiposition_report(r, invocation()), o.report);
+  if (!o.report.dir.empty()) write_report_option(report::multiposition_report(r, invocation()), o.report);
   return 0;
 }
 

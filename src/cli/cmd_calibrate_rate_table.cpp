@@ -44,7 +44,7 @@ struct RateTableCliOptions {
   std::string format = "table";
   std::string out;
   bool force = false;
-  std::string report;  // --report DIR
+  ReportTarget report;  // --report DIR, --gnuplot PATH
 };
 
 constexpr const char* kAxes = "xyz";
@@ -171,7 +171,7 @@ int run_rate_table_command(const RateTableCliOptions& o) {
 
   write_result(result, o.format == "json", r, invocation(),
                [](std::ostream& os, const auto& res) { print_table(os, res); });
-  if (!o.report.empty()) write_report_option(report::rate_table_report(r, invocation()), o.report);
+  if (!o.report.dir.empty()) write_report_option(report::rate_table_report(r, invocation()), o.report);
   return 0;
 }
 

@@ -30,7 +30,7 @@ struct TemperatureOptions {
   std::string format = "table";
   std::string out;
   bool force = false;
-  std::string report;  // --report DIR
+  ReportTarget report;  // --report DIR, --gnuplot PATH
 };
 
 std::string table_text(const pipeline::TemperatureResult& r) {
@@ -60,7 +60,7 @@ int run_calibrate_temperature(const TemperatureOptions& o) {
       o.input.file, {CalibrationCommand::temperature}, [&] { return pipeline::calibrate_temperature(s, req); });
   result.stream() << (o.format == "json" ? pipeline::to_json(r).dump(1) + "\n" : table_text(r));
   result.finish();
-  if (!o.report.empty()) write_report_option(report::temperature_report(r, invocation()), o.report);
+  if (!o.report.dir.empty()) write_report_option(report::temperature_report(r, invocation()), o.report);
   return 0;
 }
 

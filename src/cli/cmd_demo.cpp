@@ -26,7 +26,9 @@
 #include "cubecal/pipeline/analyze.hpp"
 #include "cubecal/pipeline/simulate.hpp"
 #include "cubecal/report/report.hpp"
+#include "cubecal/report/plot.hpp"
 #include "output.hpp"
+#include "report_option.hpp"
 
 namespace cubecal::cli {
 
@@ -37,6 +39,7 @@ struct DemoOptions {
   double hours = 72.0;
   std::uint64_t seed = 1;
   bool force = false;
+  std::string gnuplot;  // --gnuplot PATH; empty: gnuplot on PATH
 };
 
 // The paper's numbers (docs/paper.md §3.1): adjusted gyro model row and its model
@@ -54,6 +57,8 @@ constexpr std::array<double, 3> kMagSmu{0.0034, 0.0042, 0.0036};
 int run_demo(const DemoOptions& o) {
   namespace fs = std::filesystem;
   const auto t0 = std::chrono::steady_clock::now();
+  // A gnuplot named explicitly must be there; none on PATH only leaves the plots out.
+  if (!o.gnuplot.empty() && !report::find_gnuplot(o.gnuplot)) report::throw_gnuplot_missing(o.gnuplot);
   const fs::path dir(o.out);
   const std::string record = (dir / "sport_static.csv.gz").string();
   // A marker tells a directory of earlier demo output (replaced freely) from
@@ -158,18 +163,19 @@ int run_demo(const DemoOptions& o) {
   report::ReportOptions ro;
   ro.force = true;           // the marker makes the directory the demo's
   ro.require_plots = false;  // without gnuplot: the page without plots, and a warning
+  ro.gnuplot = o.gnuplot;
   const report::ReportResult rep = report::write_report(r, {cmd, {}}, o.out, ro);
   if (!rep.note.empty()) std::cerr << "cubecal: warning: " << rep.note << '\n';
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::cout << fmt::format(
-      "\nDone in {:.1f} s. Output in {}/:\n"
+      "\nDone in {:.1f} s. Output in {}:\n"
       "  sport_static.csv.gz  the simulated record (t, gx, gy, gz, mx, my, mz, temp)\n"
       "  analysis.json        every number above, with units and uncertainties\n"
       "  adev.csv, drift.csv  Allan curves with the fitted models, bias drift (300 s / 1000 s windows)\n"
       "  imu.yaml             Kalibr noise parameters of the gyro\n"
       "  report.html          all of it on one page, with the paper's figures (gnuplot files in plots/)\n"
       "Reproduce the analysis: {}\n",
-      secs, o.out, cmd);
+      secs, (dir / "").string(), cmd);
   return 0;
 }
 
@@ -186,6 +192,7 @@ CLI::App* add_demo_command(CLI::App& app, Command& run) {
       ->capture_default_str();
   cmd->add_option("--seed", opt->seed, "Random seed")->check(whole_number(0, 1e18))->capture_default_str();
   cmd->add_flag("--force", opt->force, "Replace files in --out that an earlier demo did not write");
+  add_gnuplot_option(*cmd, opt->gnuplot);
   cmd->callback([opt, &run] { run = [opt] { return run_demo(*opt); }; });
   return cmd;
 }

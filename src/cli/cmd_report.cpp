@@ -32,8 +32,9 @@ int run_report(const ReportCmdOptions& o) {
   std::error_code ec;
   if (std::filesystem::is_directory(o.dir, ec)) io::prepare_output_dir(o.dir, o.force, {"report.html", "plots"});
   const report::ReportResult r = report::write_report(o.dir, ro);
-  std::cerr << fmt::format("cubecal: wrote {} ({:.0f} kB, {} plots in {}/plots/) in {:.1f} s\n", r.html_path,
-                           static_cast<double>(r.html_bytes) / 1024.0, r.plots.size(), o.dir, r.seconds);
+  std::cerr << fmt::format("cubecal: wrote {} ({:.0f} kB, {} plots in {}) in {:.1f} s\n", r.html_path,
+                           static_cast<double>(r.html_bytes) / 1024.0, r.plots.size(),
+                           (std::filesystem::path(o.dir) / "plots/").string(), r.seconds);
   return 0;
 }
 

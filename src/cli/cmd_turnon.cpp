@@ -9,6 +9,7 @@
 #include "commands.hpp"
 #include "common_options.hpp"
 #include "cubecal/error.hpp"
+#include "cubecal/noise/unit_from_name.hpp"
 #include "cubecal/pipeline/turnon.hpp"
 #include "cubecal/pipeline/turnon_json.hpp"
 #include "cubecal/report/command_reports.hpp"
@@ -21,18 +22,18 @@ namespace {
 
 struct RunsOptions {
   InputOptions input;
-  std::string unit = "counts";
+  std::string unit;  // empty: from the column names (units_for)
   std::string taus = "log:10";
   double ci = 0.683;
   std::string format = "table";
   std::string out;
   bool force = false;
-  std::string report;  // --report DIR
+  ReportTarget report;  // --report DIR, --gnuplot PATH
 };
 
 pipeline::AnalyzeRequest request_of(const RunsOptions& o) {
   pipeline::AnalyzeRequest req;
-  req.units = parse_units(o.unit);
+  if (!o.unit.empty()) req.units = parse_units(o.unit);  // else from the column names: runs_units()
   req.grid = parse_taus(o.taus);
   if (!(o.ci > 0.0 && o.ci < 1.0)) throw UsageError("--ci must be between 0 and 1");
   req.ci = o.ci;
@@ -45,6 +46,25 @@ std::vector<io::Series> read_runs(const RunsOptions& o) {
   const io::SeriesOptions so = to_series_options(o.input);
   for (const auto& f : o.input.files) runs.push_back(io::read_series(f, so));
   return runs;
+}
+
+// The request with its units: --unit, or those the first run's column names
+// announce, which every other run's names must announce too.
+pipeline::AnalyzeRequest request_for(const RunsOptions& o, const std::vector<io::Series>& runs) {
+  pipeline::AnalyzeRequest req = request_of(o);
+  if (!o.unit.empty() || runs.empty()) return req;
+  ChannelUnits first = units_for(o.unit, runs.front());
+  req.units = std::move(first.units);
+  for (std::size_t k = 1; k < runs.size(); ++k) {
+    const InferredUnits other = infer_units(runs[k].names);
+    bool same = other.missing.empty() && other.units.size() == req.units.size();
+    for (std::size_t c = 0; same && c < req.units.size(); ++c) same = other.units[c].name == req.units[c].name;
+    if (!same)
+      throw UsageError(runs[k].file + ": its column names do not announce the units of " + runs.front().file +
+                       "'s: give --unit");
+  }
+  std::cerr << first.note << '\n';
+  return req;
 }
 
 std::string term(const TermEstimate& t, Term which, const Unit& u) {
@@ -93,27 +113,28 @@ std::string compare_text(const RunsOptions& o, const std::vector<pipeline::RunSu
 int run_turnon_command(const RunsOptions& o) {
   check_report_option(o.report, o.force);
   ResultOutput result(o.out, o.force);  // refuses an existing file before the work
-  const auto t = pipeline::run_turnon(read_runs(o), request_of(o));
+  const auto runs = read_runs(o);
+  const auto t = pipeline::run_turnon(runs, request_for(o, runs));
   result.stream() << turnon_text(o, t);
   result.finish();
-  if (!o.report.empty()) write_report_option(report::turnon_report(t, report_context(o)), o.report);
+  if (!o.report.dir.empty()) write_report_option(report::turnon_report(t, report_context(o)), o.report);
   return 0;
 }
 
 int run_compare_command(const RunsOptions& o) {
   check_report_option(o.report, o.force);
   ResultOutput result(o.out, o.force);
-  const auto runs = pipeline::run_compare(read_runs(o), request_of(o));
+  const auto records = read_runs(o);
+  const auto runs = pipeline::run_compare(records, request_for(o, records));
   result.stream() << compare_text(o, runs);
   result.finish();
-  if (!o.report.empty()) write_report_option(report::compare_report(runs, report_context(o)), o.report);
+  if (!o.report.dir.empty()) write_report_option(report::compare_report(runs, report_context(o)), o.report);
   return 0;
 }
 
 void add_runs_options(CLI::App& cmd, RunsOptions& o) {
   add_input_options(cmd, o.input, true);
-  cmd.add_option("--unit", o.unit, "Unit of the values: " + known_units() + "; one for all or one per column")
-      ->capture_default_str();
+  cmd.add_option("--unit", o.unit, unit_option_help());
   cmd.add_option("--taus", o.taus, "Tau grid")->capture_default_str();
   cmd.add_option("--ci", o.ci, "Confidence factor")->capture_default_str();
   cmd.add_option("--format", o.format, "table or json")->check(CLI::IsMember({"table", "json"}))->capture_default_str();

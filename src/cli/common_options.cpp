@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "cubecal/error.hpp"
+#include "cubecal/noise/unit_from_name.hpp"
 
 namespace cubecal::cli {
 
@@ -124,6 +125,38 @@ std::vector<Unit> parse_units(const std::string& list) {
     units.push_back(*u);
   }
   return units;
+}
+
+std::string unit_option_help() {
+  return "Unit of the values (after --lsb): " + known_units() +
+         "; one for all columns or one per column. Default: from the column names' suffixes (_dps, _rads, _dph, "
+         "_g, _mps2, _uT, _mG, _nT, gx[deg/s]...), said on stderr; an error when a name has none (--unit counts "
+         "for raw values)";
+}
+
+ChannelUnits units_for(const std::string& unit_option, const io::Series& s) {
+  if (!unit_option.empty()) return {parse_units(unit_option), {}};
+  const InferredUnits inferred = infer_units(s.names);
+  if (!inferred.missing.empty()) {
+    std::string cols;
+    for (const auto& n : inferred.missing) cols += (cols.empty() ? "" : ", ") + n;
+    const bool several = inferred.missing.size() > 1;
+    throw UsageError(s.file + ": no unit in the name" + (several ? "s of columns " : " of column ") + cols +
+                     ": give --unit (" + known_units() +
+                     "; one for all columns or one per column; counts for raw values) or end the names with a unit (" +
+                     known_unit_suffixes() + ")");
+  }
+  // Which unit for which columns, runs of the same unit together.
+  std::string said;
+  for (std::size_t i = 0; i < s.names.size();) {
+    std::size_t j = i;
+    std::string cols;
+    while (j < s.names.size() && inferred.units[j].name == inferred.units[i].name)
+      cols += (cols.empty() ? "" : ",") + s.names[j++];
+    said += (said.empty() ? "" : "; ") + cols + " " + inferred.units[i].name;
+    i = j;
+  }
+  return {inferred.units, "cubecal: note: " + s.file + ": units from the column names: " + said + " (--unit overrides)"};
 }
 
 TauGrid parse_taus(const std::string& spec) {

@@ -42,6 +42,18 @@ void note_default_columns(const io::Series& s);
 
 // "deg/s,mGauss" -> units; throws UsageError naming the unknown one.
 std::vector<Unit> parse_units(const std::string& list);
+// Help text of --unit for the commands that infer it.
+std::string unit_option_help();
+// The units of the channels of `s`: parse_units(unit_option) when given,
+// else the units the column names announce (unit_from_column_name), with a
+// note saying which (for standard error, after any other note on the
+// columns); a column whose name announces none is a UsageError
+// naming it and the known units (never a silent "counts").
+struct ChannelUnits {
+  std::vector<Unit> units;
+  std::string note;  // empty when --unit was given
+};
+ChannelUnits units_for(const std::string& unit_option, const io::Series& s);
 // --taus value; throws UsageError.
 TauGrid parse_taus(const std::string& spec);
 

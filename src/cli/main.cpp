@@ -36,6 +36,7 @@ std::string usage_message(const cubecal::UsageError& e) {
       {"report", "--report"},
       {"estimators", "--for"},
       {"inflate", "--inflate"},
+      {"gnuplot", "--gnuplot"},
   };
   for (const auto& [option, flag] : kFlags)
     if (e.option() == option) return std::string(flag) + ": " + e.what();

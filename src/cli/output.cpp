@@ -19,12 +19,14 @@ std::string g(double v) { return fmt::format("{:.6e}", v); }
 
 }  // namespace
 
+std::string rate_text(double hz) { return fmt::format("{:.6g}", hz); }
+
 void write_dev_table(std::ostream& out, const pipeline::DevResult& r, const DevContext& ctx) {
   for (std::size_t c = 0; c < r.channels.size(); ++c) {
     const auto& ch = r.channels[c];
     if (c > 0) out << '\n';
     fmt::print(out, "{} — {} ({} data), {} samples at {} Hz", ch.name, to_string(r.stat),
-               to_string(r.type), r.samples, r.rate_hz);
+               to_string(r.type), r.samples, rate_text(r.rate_hz));
     if (r.segments > 1)
       fmt::print(out, ", {} segments split at gaps ({} long enough)", r.segments, r.segments_used);
     if (ctx.intervals)

@@ -19,6 +19,11 @@ struct DevContext {
   bool intervals = true;
 };
 
+// A sampling rate as a user reads it: six significant digits, so the
+// rounding of a rate taken from time stamps (10.0010001) shows as 10.001 and
+// a rate within that of a round value as the round value (10).
+std::string rate_text(double hz);
+
 void write_dev_table(std::ostream& out, const pipeline::DevResult& r, const DevContext& ctx);
 void write_dev_csv(std::ostream& out, const pipeline::DevResult& r, const DevContext& ctx);
 // pipeline::analysis_files into dir (created); returns the names written

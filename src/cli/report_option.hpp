@@ -9,15 +9,23 @@
 
 namespace cubecal::cli {
 
-// Registers --report DIR on `cmd`.
-void add_report_option(CLI::App& cmd, std::string& dir);
+struct ReportTarget {
+  std::string dir;      // --report DIR; empty: no report
+  std::string gnuplot;  // --gnuplot PATH; empty: gnuplot on PATH
+};
 
-// Before any work, when `dir` is not empty: an existing DIR/report.html or
-// DIR/plots without `force`, or a missing gnuplot, is a one-line error.
-void check_report_option(const std::string& dir, bool force);
+// Registers --report DIR and --gnuplot PATH on `cmd`.
+void add_report_option(CLI::App& cmd, ReportTarget& target);
+// Registers --gnuplot PATH alone (commands whose --report is a flag).
+void add_gnuplot_option(CLI::App& cmd, std::string& gnuplot);
 
-// Writes the page and its plots into `dir` (when not empty) and says so on
-// standard error.
-void write_report_option(const report::CommandReport& page, const std::string& dir);
+// Before any work, when a report is asked for: an existing DIR/report.html or
+// DIR/plots without `force`, or no gnuplot (on PATH, or at --gnuplot), is a
+// one-line error.
+void check_report_option(const ReportTarget& target, bool force);
+
+// Writes the page and its plots (with the --gnuplot program) when a report is
+// asked for, and says so on standard error.
+void write_report_option(const report::CommandReport& page, const ReportTarget& target);
 
 }  // namespace cubecal::cli

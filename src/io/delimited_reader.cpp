@@ -467,6 +467,53 @@ std::string column_label(const Layout& lay, std::size_t field) {
   return s;
 }
 
+// Where the table seems to start when a fault sits in its first rows: the
+// number of physical lines before the first content line that is a header
+// (names only) or a row of numbers, followed by a row of numbers with as many
+// fields. nullopt when the first lines show no such start.
+std::optional<std::size_t> table_start(std::string_view text) {
+  constexpr std::size_t kScannedLines = 200;
+  struct Row {
+    std::size_t line;  // 0-based physical line
+    std::size_t fields;
+    bool names;        // every field a name (a header)
+    bool numbers;      // every field a number
+  };
+  std::vector<Row> rows;
+  const char* p = text.data();
+  const char* const end = p + text.size();
+  for (std::size_t n = 0; p != end && n < kScannedLines; ++n) {
+    const Line line = next_line(p, end);
+    p = line.next;
+    if (!line.is_content()) continue;
+    const std::vector<FieldSpan> fields = split_fields(line, detect_delimiter(line));
+    bool names = true, numbers = true;
+    for (const FieldSpan& f : fields) {
+      const bool name = is_name(f);
+      names = names && name;
+      const char* c = f.begin;
+      double v = 0;
+      numbers = numbers && f.begin != f.end && parse_number(c, f.end, v) == Fault::none && c == f.end;
+    }
+    rows.push_back({n, fields.size(), names, numbers});
+  }
+  for (std::size_t i = 0; i + 1 < rows.size(); ++i)
+    if ((rows[i].names || rows[i].numbers) && rows[i + 1].numbers && rows[i + 1].fields == rows[i].fields &&
+        rows[i].fields > 1)
+      return rows[i].line;
+  return std::nullopt;
+}
+
+// " (a preamble of N lines: add --skip-rows N)" when the table seems to start
+// after line `first_data_line` was taken for its first row; else empty.
+std::string preamble_hint(std::string_view text, const Layout& lay) {
+  const auto start = table_start(text);
+  const std::size_t first_row = lay.has_header ? lay.header_line : lay.first_data_line;  // 1-based
+  if (!start || *start + 1 <= first_row) return {};
+  return "the table seems to start on line " + std::to_string(*start + 1) + " after a preamble: add --skip-rows " +
+         std::to_string(*start);
+}
+
 [[noreturn]] void throw_fault(std::string_view text, const std::string& file, const Layout& lay,
                               const ChunkResult& r) {
   const Position pos = position_of(text, r.where);
@@ -476,11 +523,13 @@ std::string column_label(const Layout& lay, std::size_t field) {
   if (r.fault == Fault::field_count) {
     const std::size_t found = split_fields(line, lay.delimiter).size();
     const std::string expected = std::to_string(lay.total_columns);
+    const std::string preamble = preamble_hint(text, lay);
     throw InputError(file, pos.line, pos.column,
                      "row has " + std::to_string(found) + " fields, expected " + expected,
-                     lay.has_header ? "header has " + expected
-                                    : "the first data row, line " + std::to_string(lay.first_data_line) +
-                                          ", has " + expected);
+                     !preamble.empty() ? preamble
+                     : lay.has_header  ? "header has " + expected
+                                       : "the first data row, line " + std::to_string(lay.first_data_line) +
+                                            ", has " + expected);
   }
 
   const std::vector<FieldSpan> fields = split_fields(line, lay.delimiter);
@@ -511,6 +560,8 @@ std::string column_label(const Layout& lay, std::size_t field) {
   const std::string_view f(field.begin, static_cast<std::size_t>(field.end - field.begin));
   if (lay.delimiter != Delimiter::comma && f.find(',') != std::string_view::npos) {
     hint = "decimal commas are not accepted; write numbers with a '.'";
+  } else if (const std::string preamble = preamble_hint(text, lay); !preamble.empty()) {
+    hint = preamble;
   } else if (pos.line == lay.first_data_line) {
     hint += "; a preamble before the header can be skipped with --skip-rows N";
   }

@@ -126,7 +126,9 @@ TimeChoice choose_time_column(const SeriesOptions& opt, const Table& layout) {
   if (!opt.time_col.empty()) return {opt.time_col, true};
   const auto it = std::find_if(layout.header.begin(), layout.header.end(), looks_like_time_column);
   if (it == layout.header.end()) {
-    if (opt.rate_hz == 0.0) throw UsageError("no sampling rate: give --rate HZ or --time-col NAME");
+    if (opt.rate_hz == 0.0)
+      throw UsageError(layout.file + ": no sampling rate: no column is named as a time column (t, time, "
+                                                 "t_s, timestamp...): give --rate HZ or --time-col NAME");
     return {};
   }
   // A given rate overrides time stamps that were found by name only (e.g.

@@ -18,10 +18,12 @@ struct UnitRow {
   std::string_view si;
 };
 
-constexpr std::array<UnitRow, 10> kUnits{{
+constexpr std::array<UnitRow, 12> kUnits{{
     {"deg/s", SensorKind::rate, kDeg, "rad/s"},
     {"dps", SensorKind::rate, kDeg, "rad/s"},
     {"rad/s", SensorKind::rate, 1.0, "rad/s"},
+    {"deg/h", SensorKind::rate, kDeg / 3600.0, "rad/s"},
+    {"dph", SensorKind::rate, kDeg / 3600.0, "rad/s"},
     {"mGauss", SensorKind::field, 1e-7, "T"},
     {"mG", SensorKind::field, 1e-7, "T"},
     {"uT", SensorKind::field, 1e-6, "T"},
@@ -37,13 +39,16 @@ std::optional<Unit> parse_unit(std::string_view s) {
   for (const auto& r : kUnits)
     if (r.name == s) {
       // Aliases report the canonical spelling.
-      std::string name(r.name == "dps" ? "deg/s" : r.name == "mG" ? "mGauss" : r.name);
+      std::string name(r.name == "dps"   ? "deg/s"
+                       : r.name == "dph" ? "deg/h"
+                       : r.name == "mG"  ? "mGauss"
+                                         : r.name);
       return Unit{name, r.kind, r.to_si, std::string(r.si)};
     }
   return std::nullopt;
 }
 
-std::string known_units() { return "deg/s|rad/s|mGauss|uT|nT|g|m/s^2|counts"; }
+std::string known_units() { return "deg/s|rad/s|deg/h|mGauss|uT|nT|g|m/s^2|counts"; }
 
 std::string_view to_string(SensorKind k) noexcept {
   switch (k) {
@@ -58,8 +63,8 @@ std::string_view to_string(SensorKind k) noexcept {
 Quantity display(const TermEstimate& t, Term term, const Unit& unit) {
   Quantity q;
   if (unit.kind == SensorKind::rate) {
-    // Work in degrees whatever the input angle unit.
-    const double to_deg = unit.name == "rad/s" ? 180.0 / std::numbers::pi : 1.0;
+    // Work in deg/s whatever the input rate unit (rad/s, deg/h).
+    const double to_deg = unit.to_si / kDeg;
     double f = 1.0;
     switch (term) {
       case Term::Q: f = 1.0; q.unit = "deg"; break;                    // deg/s * s
@@ -94,6 +99,23 @@ Quantity white_density(const TermEstimate& N, const Unit& unit, bool si) {
 Quantity random_walk_density(const TermEstimate& K, const Unit& unit, bool si) {
   const double f = si ? unit.to_si : 1.0;
   return {K.value * f, K.sigma * f, (si ? unit.si_name : unit.name) + "/s/sqrt(Hz)"};
+}
+
+std::vector<Quantity> accelerometer_display(const TermEstimate& t, Term term, const Unit& unit) {
+  if (unit.kind != SensorKind::acceleration) return {};
+  const double si = unit.to_si;                    // m/s^2 per data unit
+  const double micro_g = si / kStandardGravity * 1e6;  // ug per data unit
+  const auto q = [&](double f, const char* name) { return Quantity{t.value * f, t.sigma * f, name}; };
+  switch (term) {
+    // u*sqrt(s) = u/sqrt(Hz); (m/s^2)*sqrt(s) = m/s/sqrt(s) = 60 m/s/sqrt(h)
+    case Term::N: return {q(si * 60.0, "m/s/sqrt(h)"), q(micro_g, "ug/sqrt(Hz)")};
+    case Term::B: return {q(micro_g, "ug"), q(micro_g * 1e-3, "mg")};
+    // u/sqrt(s) = 60 u/sqrt(h)
+    case Term::K: return {q(si * 60.0, "m/s^2/sqrt(h)"), q(micro_g, "ug/sqrt(s)")};
+    case Term::Q:
+    case Term::R: break;
+  }
+  return {};
 }
 
 }  // namespace cubecal

@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "cubecal/error.hpp"
+#include "cubecal/noise/bias_verdict.hpp"
 #include "detail/curve_json.hpp"
 
 namespace cubecal::pipeline {
@@ -68,6 +69,28 @@ json noise_json(const NoiseAnalysis& n, const Unit& u) {
                     {"random_walk", quantity(random_walk_density(K, u, false), K.valid)},
                     {"white_si", quantity(white_density(N, u, true), N.valid)},
                     {"random_walk_si", quantity(random_walk_density(K, u, true), K.valid)}};
+  if (u.kind == SensorKind::acceleration) {
+    // The same terms in the units inertial navigation quotes (added fields:
+    // readers of the terms above need nothing from them).
+    const auto accel = [&](const TermEstimate& t, Term which) {
+      json a = json::array();
+      for (const Quantity& q : accelerometer_display(t, which, u)) a.push_back(quantity(q, t.valid));
+      return a;
+    };
+    j["accelerometer"] = {
+        {"read_off", {{"velocity_random_walk", accel(r.N, Term::N)},
+                      {"bias_instability", accel(r.B, Term::B)},
+                      {"acceleration_random_walk", accel(r.K, Term::K)}}},
+        {"fit", {{"velocity_random_walk", accel(f.N, Term::N)},
+                 {"bias_instability", accel(f.B, Term::B)},
+                 {"acceleration_random_walk", accel(f.K, Term::K)}}}};
+  }
+  const BiasVerdict v = judge_bias_instability(r, f);
+  j["bias_instability_choice"] = {{"trust", to_string(v.trust)},
+                                  {"fit_over_read_off", v.compared ? json(v.ratio) : json(nullptr)},
+                                  {"beyond_combined_sigma", v.beyond_sigma},
+                                  {"other_terms_share_at_minimum", v.other_terms_share},
+                                  {"reason", v.reason}};
   return j;
 }
 

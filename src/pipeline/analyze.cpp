@@ -1,5 +1,7 @@
 #include "cubecal/pipeline/analyze.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -52,8 +54,8 @@ void fit_models(ModelAnalysis& m, double dt, double lsb) {
     // the "fit" is white noise or a random walk in disguise.
     const double tc = m.gauss_markov.tau_c;
     if (!(m.gauss_markov.sigma_b > 0.0) || tc < 2.0 * dt || tc > 2.0 * curve.tau.back()) {
-      m.gm_error = "no Gauss-Markov correlation time between " + std::to_string(2.0 * dt) + " s and " +
-                   std::to_string(2.0 * curve.tau.back()) + " s fits the curve";
+      m.gm_error = fmt::format("no Gauss-Markov correlation time between {:.4g} s and {:.4g} s fits the curve",
+                               2.0 * dt, 2.0 * curve.tau.back());
     } else {
       m.gm_ok = true;
     }

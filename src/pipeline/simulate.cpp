@@ -22,7 +22,10 @@ std::uint64_t triad_seed(std::uint64_t seed, std::size_t k) {
   return z ^ (z >> 31);
 }
 
-bool is_rate(const TriadModel& m) { return m.unit == "deg/s" || m.unit == "rad/s"; }
+bool is_rate(const TriadModel& m) {
+  const auto u = parse_unit(m.unit);
+  return u && u->kind == SensorKind::rate;
+}
 
 struct Generator {
   const SimulateRequest& r;

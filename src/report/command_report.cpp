@@ -162,7 +162,7 @@ std::string command_report_html(const CommandReport& r, const std::vector<Render
 }
 
 void check_report_target(const std::string& dir, bool force, const std::string& gnuplot) {
-  if (!find_gnuplot(gnuplot)) throw UsageError(kGnuplotMissing);
+  if (!find_gnuplot(gnuplot)) throw_gnuplot_missing(gnuplot);
   io::prepare_output_dir(dir, force, {"report.html", "plots"}, "report");
 }
 
@@ -184,8 +184,8 @@ ReportResult write_command_report(const CommandReport& report, const std::string
   const auto plots = report_plots(report);
   std::vector<RenderedPlot> rendered;
   if (!find_gnuplot(options.gnuplot)) {
-    if (options.require_plots) throw UsageError(kGnuplotMissing);
-    res.note = std::string("Plots not rendered: ") + kGnuplotMissing + ".";
+    if (options.require_plots) throw_gnuplot_missing(options.gnuplot);
+    res.note = "Plots not rendered: " + gnuplot_missing(options.gnuplot) + ".";
   } else if (!plots.empty()) {
     RenderOptions ro;
     ro.gnuplot = options.gnuplot;

@@ -280,6 +280,17 @@ std::optional<std::string> find_gnuplot(const std::string& explicit_path) {
   return std::nullopt;
 }
 
+std::string gnuplot_missing(const std::string& explicit_path) {
+  if (explicit_path.empty()) return kGnuplotMissing;
+  return "no executable gnuplot at " + explicit_path +
+         " (give the path of the gnuplot program, or leave the option out to use gnuplot on PATH)";
+}
+
+void throw_gnuplot_missing(const std::string& explicit_path) {
+  if (explicit_path.empty()) throw UsageError(kGnuplotMissing);
+  throw UsageError("gnuplot", gnuplot_missing(explicit_path));
+}
+
 void decimate_minmax(std::vector<double>& x, std::vector<double>& y, std::size_t max_points) {
   const std::size_t n = std::min(x.size(), y.size());
   if (max_points < 2 || n <= max_points) return;
@@ -370,7 +381,7 @@ pid_t spawn_gnuplot(const std::string& gnuplot, const fs::path& dir, const std::
 std::vector<RenderedPlot> render_plots(const std::vector<Plot>& plots, const fs::path& dir_in,
                                        const RenderOptions& options) {
   const auto gnuplot = find_gnuplot(options.gnuplot);
-  if (!gnuplot) throw UsageError(kGnuplotMissing);
+  if (!gnuplot) throw_gnuplot_missing(options.gnuplot);
   std::error_code ec;
   fs::create_directories(dir_in, ec);
   if (ec) throw UsageError("cannot create " + dir_in.string() + ": " + ec.message());

@@ -4,6 +4,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "cubecal/noise/noise_terms.hpp"
 
@@ -18,10 +19,11 @@ struct Unit {
   std::string si_name;       // "rad/s", "T", "m/s^2", or the unit itself
 };
 
-// deg/s, rad/s, mGauss (also mG), uT, nT, g, m/s^2, counts. Case-sensitive
-// except for the aliases listed in units.cpp. nullopt for anything else.
+// deg/s (also dps), rad/s, deg/h (also dph), mGauss (also mG), uT, nT, g,
+// m/s^2, counts. Case-sensitive; the aliases report the canonical name.
+// nullopt for anything else.
 std::optional<Unit> parse_unit(std::string_view s);
-std::string known_units();  // "deg/s|rad/s|mGauss|uT|nT|g|m/s^2|counts"
+std::string known_units();  // "deg/s|rad/s|deg/h|mGauss|uT|nT|g|m/s^2|counts"
 
 struct Quantity {
   double value = 0.0;
@@ -32,7 +34,7 @@ struct Quantity {
 // A noise term (value and sigma in the data unit and seconds, as
 // noise_terms.hpp defines them) in the unit people quote for this sensor:
 // rate sensors: Q deg, N deg/sqrt(h), B deg/h, K deg/h/sqrt(h), R deg/h^2
-// (rad/s data are converted to degrees); other sensors, as the paper does for
+// (rad/s and deg/h data are converted to deg/s first); other sensors, as the paper does for
 // its magnetometer: Q u*s, N u*sqrt(h), B u, K u/sqrt(h), R u/h.
 enum class Term { Q, N, B, K, R };
 Quantity display(const TermEstimate& t, Term term, const Unit& unit);
@@ -41,6 +43,14 @@ Quantity display(const TermEstimate& t, Term term, const Unit& unit);
 // and random walk u/s/sqrt(Hz) (= K in u/sqrt(s)); in SI when `si`.
 Quantity white_density(const TermEstimate& N, const Unit& unit, bool si);
 Quantity random_walk_density(const TermEstimate& K, const Unit& unit, bool si);
+
+// The accelerometer terms in the units inertial navigation quotes them, for
+// acceleration data (g, m/s^2; 1 g = 9.80665 m/s^2); empty for other sensors:
+//   N  velocity random walk      m/s/sqrt(h), ug/sqrt(Hz)
+//   B  bias instability          ug, mg
+//   K  acceleration random walk  m/s^2/sqrt(h), ug/sqrt(s)
+// and nothing for Q and R.
+std::vector<Quantity> accelerometer_display(const TermEstimate& t, Term term, const Unit& unit);
 
 std::string_view to_string(SensorKind k) noexcept;
 

@@ -85,6 +85,13 @@ std::optional<std::string> find_gnuplot(const std::string& explicit_path = {});
 inline constexpr const char* kGnuplotMissing =
     "gnuplot not found: install gnuplot-nox (scripts/install-deps.sh)";
 
+// The message when find_gnuplot(explicit_path) finds none: kGnuplotMissing
+// when no path was given, else one naming the path.
+std::string gnuplot_missing(const std::string& explicit_path);
+// Throws UsageError(gnuplot_missing(explicit_path)), naming the option
+// "gnuplot" when a path was given.
+[[noreturn]] void throw_gnuplot_missing(const std::string& explicit_path);
+
 // Writes NAME.dat and NAME.gp of every plot into `dir` (created), runs
 // gnuplot on the scripts (several at once, each in `dir`) and reads the SVGs
 // back. Throws UsageError when gnuplot is missing or a script fails (the
