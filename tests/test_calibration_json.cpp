@@ -568,6 +568,20 @@ TEST(CalibrationJson, TurnOnRoundTrip) {
   for (std::size_t k = 0; k < t.runs.size(); ++k) expect_same(b.runs[k], t.runs[k]);
 }
 
+// Each sensor kind comes back as itself: acceleration was written as
+// "field" and a magnetometer read back as an accelerometer.
+TEST(CalibrationJson, TurnOnUnitKindsRoundTrip) {
+  const std::vector<io::Series> runs{gyro_run(1, "run1.csv"), gyro_run(2, "run2.csv")};
+  for (const char* unit : {"deg/s", "mGauss", "g", "counts"}) {
+    pipeline::AnalyzeRequest req = runs_request();
+    req.units = {*parse_unit(unit)};
+    const pipeline::TurnOnResult t = pipeline::run_turnon(runs, req);
+    const pipeline::TurnOnResult b = round_trip(t);
+    ASSERT_EQ(b.units.size(), t.units.size());
+    for (std::size_t c = 0; c < t.units.size(); ++c) EXPECT_EQ(b.units[c].kind, t.units[c].kind) << unit;
+  }
+}
+
 TEST(CalibrationJson, CompareRoundTrip) {
   const std::vector<io::Series> runs{gyro_run(4, "a.csv"), gyro_run(5, "b.csv")};
   const std::vector<pipeline::RunSummary> r = pipeline::run_compare(runs, runs_request());

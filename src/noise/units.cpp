@@ -54,7 +54,7 @@ std::string_view to_string(SensorKind k) noexcept {
   switch (k) {
     case SensorKind::rate: return "rate";
     case SensorKind::field: return "field";
-    case SensorKind::acceleration: return "field";  // non-rate: quoted like the magnetometer
+    case SensorKind::acceleration: return "acceleration";
     case SensorKind::generic: return "generic";
   }
   return "generic";
