@@ -96,10 +96,12 @@ void inflate_gzip(const std::string& path, std::string_view in, HeapBlock& out) 
     ~Guard() { inflateEnd(zs); }
   } guard{&zs};
 
-  // Text compresses ~4-10x; past kMaxFirstReserve growth by realloc (which
-  // remaps large blocks rather than copying them) is cheap.
+  // Text compresses ~4-10x: four times the compressed size (which is real,
+  // unlike the trailer) is reserved, mapped lazily, up to 1 GiB; more grows
+  // by realloc, which remaps large blocks rather than copying them. (A 64 MiB
+  // cap cost 13 % more user time reading a 86 MB .gz of 212 MB.)
   constexpr std::size_t kMinFirstReserve = std::size_t{1} << 16;
-  constexpr std::size_t kMaxFirstReserve = std::size_t{1} << 26;
+  constexpr std::size_t kMaxFirstReserve = std::size_t{1} << 30;
   out.reserve(std::clamp(in.size() * 4, kMinFirstReserve, kMaxFirstReserve));
   static_assert(kMinFirstReserve >= detail::kTextProbeBytes);
 
