@@ -4,7 +4,11 @@ BUILD   ?= build
 JOBS    ?= $(shell nproc 2>/dev/null || echo 2)
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release -DCUBECAL_WERROR=ON
 
-.PHONY: all deps configure build demo test bench clean
+# Seconds per fuzz target: `make fuzz`, and the short pass `make test` ends with.
+FUZZ_SECONDS      ?= 300
+TEST_FUZZ_SECONDS ?= 20
+
+.PHONY: all deps configure build demo test fuzz bench clean
 
 all: build
 
@@ -22,9 +26,14 @@ demo: build
 
 test: build
 	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+	@FUZZ_SECONDS=$(TEST_FUZZ_SECONDS) JOBS=$(JOBS) bash fuzz/run.sh
+
+# libFuzzer targets (fuzz/): clang, ASan + UBSan, in build-fuzz/.
+fuzz: deps
+	@FUZZ_SECONDS=$(FUZZ_SECONDS) JOBS=$(JOBS) bash fuzz/run.sh
 
 bench: build
 	@bash bench/run.sh $(BUILD)
 
 clean:
-	rm -rf $(BUILD)
+	rm -rf $(BUILD) build-fuzz

@@ -10,6 +10,7 @@ PACKAGES=(
   libboost-math-dev zlib1g-dev libfast-float-dev libeigen3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 gzip bc
+  clang libclang-rt-14-dev libomp-dev   # fuzzers (make fuzz): libFuzzer, ASan, UBSan
   gnuplot-nox             # plots (SVG/PNG) of the report
   chromium                # browser test of report.html (headless)
 )

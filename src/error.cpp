@@ -1,8 +1,11 @@
 // The error types (error.hpp). One-line error messages in the compiler style "FILE:LINE:COL: problem (hint)"
-// so that editors and terminals can jump to the offending field.
+// so that editors and terminals can jump to the offending field; printable (printable_text.hpp), since
+// they quote file contents.
 #include "cubecal/error.hpp"
 
 #include <utility>
+
+#include "cubecal/printable_text.hpp"
 
 namespace cubecal {
 
@@ -27,7 +30,7 @@ std::string format_message(const std::string& file, std::size_t line, std::size_
     msg += hint;
     msg += ')';
   }
-  return msg;
+  return printable_text(msg);
 }
 
 }  // namespace

@@ -474,7 +474,7 @@ TEST_F(Reader, CorruptGzip) {
   for (std::size_t i = 100; i < 140; ++i) bytes[i] = static_cast<char>(bytes[i] ^ 0x5a);
   const std::string path = write("bad.gz", bytes);
   const InputError e = input_error([&] { read_table(path); });
-  EXPECT_EQ(e.problem().rfind("corrupt gzip data: ", 0), 0u) << e.what();
+  EXPECT_EQ(e.problem().rfind("corrupt gzip data at byte offset ", 0), 0u) << e.what();
 }
 
 // ---------------------------------------------------------------------------

@@ -8,6 +8,7 @@
 
 #include "commands.hpp"
 #include "cubecal/error.hpp"
+#include "cubecal/printable_text.hpp"
 
 namespace {
 
@@ -53,9 +54,12 @@ std::string config_message(const CLI::ConfigError& e, const std::string& file) {
          "cubecal analyze --help)";
 }
 
+// One line on the terminal whatever the message quotes (a column name, a
+// library's message): never raw bytes, never cut at a NUL.
 int fail(const std::string& msg, int code) {
   std::fflush(stdout);
-  std::fprintf(stderr, "cubecal: error: %s\n", msg.c_str());
+  const std::string line = cubecal::printable_text(msg);
+  std::fprintf(stderr, "cubecal: error: %s\n", line.c_str());
   return code;
 }
 

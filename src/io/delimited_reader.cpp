@@ -26,6 +26,7 @@
 
 #include "cubecal/error.hpp"
 #include "cubecal/io/file_buffer.hpp"
+#include "detail/binary_input.hpp"
 
 namespace cubecal::io {
 
@@ -169,6 +170,7 @@ struct Layout {
   std::size_t header_line = 0;      // 0 without header
   std::size_t first_data_line = 0;  // 1-based
   std::size_t body_offset = 0;      // byte offset of the first data row
+  std::size_t text_offset = 0;      // bytes of the file before the text parsed (a byte-order mark)
 };
 
 // Spreadsheet programs start UTF-8 CSV files with a byte-order mark; it
@@ -519,6 +521,11 @@ std::string preamble_hint(std::string_view text, const Layout& lay) {
   const Position pos = position_of(text, r.where);
   const char* const text_end = text.data() + text.size();
   const Line line = next_line(pos.line_begin, text_end);
+  // A binary byte anywhere in the row (the fault is where it broke the
+  // parse, or its field count) says more than the fault, and is not echoed.
+  if (const char* b = detail::find_binary_byte(pos.line_begin, line.end)) {
+    detail::throw_binary_byte(text, b, file, pos.line, column_in_line(pos.line_begin, b), lay.text_offset);
+  }
 
   if (r.fault == Fault::field_count) {
     const std::size_t found = split_fields(line, lay.delimiter).size();
@@ -651,14 +658,17 @@ Table table_from_layout(const Layout& lay, const std::string& file, const TableO
 }  // namespace
 
 Table parse_layout(std::string_view text, const std::string& file_label, const TableOptions& opt) {
+  detail::check_text_start(text, file_label, false);
   const std::string_view body = strip_bom(text);
   return table_from_layout(detect_layout(body, file_label, opt.skip_rows), file_label, opt, text.size());
 }
 
 Table parse_table(std::string_view text, const std::string& file_label, const TableOptions& opt) {
   const std::size_t bytes = text.size();
+  detail::check_text_start(text, file_label, false);
   text = strip_bom(text);
-  const Layout lay = detect_layout(text, file_label, opt.skip_rows);
+  Layout lay = detect_layout(text, file_label, opt.skip_rows);
+  lay.text_offset = bytes - text.size();
   Table t = table_from_layout(lay, file_label, opt, bytes);
 
   std::vector<std::size_t>& extra_idx = t.extra_indices;
