@@ -64,7 +64,7 @@ int run_dev_command(const DevOptions& o) {
     const pipeline::DevWorkEstimate quick = pipeline::estimate_dev(series, sparse);
     std::cerr << fmt::format(
         "cubecal: warning: {} at {} taus on {} channel(s) of {} samples is about {:.2g} terms: "
-        "estimated {} on {} thread(s); --taus log:20 ({} taus) takes about {}, --taus octave less\n",
+        "estimated {} on {} thread(s); --taus log:20 ({} taus) would take {}, --taus octave less\n",
         to_string(req.stat), work.taus, series.channels.size(), samples_of(series), work.terms,
         format_duration(work.seconds), work.threads, quick.taus, format_duration(quick.seconds));
   }

@@ -45,7 +45,7 @@ void Progress::fraction(double f) {
   const double elapsed =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - stage_start_).count();
   std::string eta;
-  if (f >= 0.01 && f < 1.0) eta = ", about " + format_duration(elapsed * (1.0 - f) / f) + " left";
+  if (f >= 0.01 && f < 1.0) eta = ", " + format_duration(elapsed * (1.0 - f) / f) + " left";
   if (terminal_)
     std::fprintf(stderr, "\r\033[K%s %3d %%%s", stage_.c_str(), pct, eta.c_str());
   else

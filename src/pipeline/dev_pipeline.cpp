@@ -179,7 +179,8 @@ DevResult run(const std::vector<std::string>& names,
                 evals.begin() + static_cast<std::ptrdiff_t>((k / blocks_per_piece) * nm + j0));
     }
     const double now = done.fetch_add(task_terms(k)) + task_terms(k);
-    if (req.progress && omp_get_thread_num() == 0 && total > 0.0) req.progress(now / total);
+    if (req.progress && omp_get_thread_num() == 0 && total > 0.0)
+      req.progress(std::min(now / total, 1.0));  // the sum may round past the total
   }
   if (req.progress) req.progress(1.0);
 
