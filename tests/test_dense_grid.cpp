@@ -13,6 +13,7 @@
 
 #include "cubecal/pipeline/dev_pipeline.hpp"
 #include "cubecal/stats/deviation.hpp"
+#include "cubecal/stats/kernels.hpp"
 #include "cubecal/stats/phase.hpp"
 
 namespace cubecal {
@@ -131,11 +132,17 @@ TEST(DenseGrid, AllTausMatchTheDefinitionForEveryStatistic) {
   }
 }
 
-// Groups of close but not consecutive factors, unsorted, and factors past
-// the end of the record: each point is the single-factor kernel's.
-TEST(DenseGrid, IrregularGroupsMatchOneFactorAtATime) {
+// A grid in any order with whole groups (9..16, 225..232), a group that
+// runs past the end of the record (449..456) and factors around them: each
+// point is the single-factor kernel's.
+TEST(DenseGrid, GroupsInAnyGridMatchOneFactorAtATime) {
   const std::vector<double> y = record(900, 5);
-  const std::vector<std::size_t> ms = {40, 3, 17, 64, 5, 9, 33, 60, 61, 62, 63, 1, 2, 7, 8, 200, 224, 230, 225, 226, 227, 228, 229, 400, 449, 450, 451};
+  const std::vector<std::size_t> ms = {40,  3,   17,  64,  5,   9,   10,  11,  12,  13,  14,  15,
+                                       16,  1,   2,   225, 226, 227, 228, 229, 230, 231, 232, 200,
+                                       449, 450, 451, 452, 453, 454, 455, 456, 57,  58,  59,  60};
+  EXPECT_TRUE(kernel_group_at(ms, 5));
+  EXPECT_TRUE(kernel_group_at(ms, 15));
+  EXPECT_FALSE(kernel_group_at(ms, 32));  // 57..60 only
   for (Stat stat : {Stat::oadev, Stat::ohdev, Stat::totdev}) {
     SCOPED_TRACE(std::string(to_string(stat)));
     const StabilityRecord rec(y, DataType::freq, 1.0, stat);

@@ -151,13 +151,20 @@ DevResult run(const std::vector<std::string>& names,
   // thread (OpenMP thread 0) reports the progress between its blocks.
   const std::size_t nm = ms.size();
   const std::size_t block = block_size(nm, pieces.size(), static_cast<unsigned>(threads));
-  const std::size_t blocks_per_piece = (nm + block - 1) / block;
-  const std::size_t tasks = pieces.size() * blocks_per_piece;
+  // Ranges of the grid per task; a kernel group is never cut, so a point is
+  // the same bits for any thread count and as the front door's.
+  std::vector<std::pair<std::size_t, std::size_t>> ranges;
+  for (std::size_t j = 0; j < nm;) {
+    const std::size_t start = j;
+    while (j < nm && j - start < block) j += kernel_group_at(ms, j) ? kKernelGroup : 1;
+    ranges.emplace_back(start, j);
+  }
+  const std::size_t tasks = pieces.size() * ranges.size();
   auto task_terms = [&](std::size_t k) {
-    const auto& rec = *pieces[k / blocks_per_piece].record;
-    const std::size_t j0 = (k % blocks_per_piece) * block;
+    const auto& rec = *pieces[k / ranges.size()].record;
+    const auto [j0, j1] = ranges[k % ranges.size()];
     double t = 0.0;
-    for (std::size_t j = j0; j < std::min(nm, j0 + block); ++j)
+    for (std::size_t j = j0; j < j1; ++j)
       if (ms[j] <= rec.max_m())
         t += terms_at(req.stat, ms[j], rec.phase_points(), req.options.intervals);
     return t;
@@ -168,15 +175,16 @@ DevResult run(const std::vector<std::string>& names,
   std::vector<StabilityPoint> evals(pieces.size() * nm);
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
   for (std::size_t k = 0; k < tasks; ++k) {
-    const auto& rec = *pieces[k / blocks_per_piece].record;
-    const std::size_t j0 = (k % blocks_per_piece) * block;
-    std::size_t j1 = std::min(nm, j0 + block);
+    const std::size_t piece = k / ranges.size();
+    const auto& rec = *pieces[piece].record;
+    const std::size_t j0 = ranges[k % ranges.size()].first;
+    std::size_t j1 = ranges[k % ranges.size()].second;
     while (j1 > j0 && ms[j1 - 1] > rec.max_m()) --j1;  // ms ascending
     if (j1 > j0) {
       const auto points =
           rec.evaluate(std::span<const std::size_t>(ms.data() + j0, j1 - j0), req.options);
       std::copy(points.begin(), points.end(),
-                evals.begin() + static_cast<std::ptrdiff_t>((k / blocks_per_piece) * nm + j0));
+                evals.begin() + static_cast<std::ptrdiff_t>(piece * nm + j0));
     }
     const double now = done.fetch_add(task_terms(k)) + task_terms(k);
     if (req.progress && omp_get_thread_num() == 0 && total > 0.0)
@@ -263,7 +271,7 @@ DevWorkEstimate estimate_dev(const io::Series& series, const DevRequest& req) {
     e.terms_per_second = trial_terms / seconds;
     const std::size_t pieces = series.channels.size() * series.segments.size();
     const std::size_t block = block_size(ms.size(), pieces, e.threads);
-    const std::size_t tasks = pieces * ((ms.size() + block - 1) / block);
+    const std::size_t tasks = pieces * ((ms.size() + block - 1) / block);  // about
     const double parallel = static_cast<double>(std::min<std::size_t>(e.threads, tasks));
     e.seconds = e.terms / (e.terms_per_second * parallel);
   }

@@ -236,11 +236,19 @@ VarianceTerm totvar(const TotvarExtension& e, std::size_t m, double tau0) {
 // accumulators in flight the loop is no longer bound by one add chain
 // either: the `all` grid runs about twice as fast as one call per factor.
 // Each factor's sum is its own (four lanes, then the tail), so the results
-// equal the single-factor kernels up to rounding.
+// equal the single-factor kernels up to rounding. Which factors form a group
+// depends on their values only (kernel_group_at), so a factor's result is
+// the same bits whichever way a caller cuts its grid into calls.
+bool kernel_group_at(std::span<const std::size_t> ms, std::size_t j) noexcept {
+  if (j + kKernelGroup > ms.size() || ms[j] % kKernelGroup != 1) return false;
+  for (std::size_t k = 1; k < kKernelGroup; ++k)
+    if (ms[j + k] != ms[j] + k) return false;
+  return true;
+}
+
 namespace {
 
-constexpr std::size_t kGroup = 8;
-constexpr std::size_t kMaxSpread = 64;  // largest m[last] - m[first] of a group
+constexpr std::size_t kGroup = kKernelGroup;
 
 using Lanes = double __attribute__((vector_size(4 * sizeof(double))));
 
@@ -305,24 +313,19 @@ void third_difference_energies(const double* x, std::size_t count, const std::si
 
 #undef CUBECAL_LOAD_LANES
 
-// Walks ms (ascending or not) in groups of kGroup factors within kMaxSpread
-// of each other; `group(first)` handles ms[first .. first+kGroup), `single(j)`
+// Walks ms: `group(j)` for each group of kernel_group_at, `single(j)` for
 // the factors left over.
 template <class Group, class Single>
 void by_groups(std::span<const std::size_t> ms, Group group, Single single) {
   std::size_t j = 0;
   while (j < ms.size()) {
-    if (j + kGroup <= ms.size()) {
-      const auto [lo, hi] = std::minmax_element(ms.begin() + static_cast<std::ptrdiff_t>(j),
-                                                ms.begin() + static_cast<std::ptrdiff_t>(j + kGroup));
-      if (*hi - *lo <= kMaxSpread && *lo > 0) {
-        group(j);
-        j += kGroup;
-        continue;
-      }
+    if (kernel_group_at(ms, j)) {
+      group(j);
+      j += kGroup;
+    } else {
+      single(j);
+      ++j;
     }
-    single(j);
-    ++j;
   }
 }
 
