@@ -33,6 +33,8 @@ struct DevOptions {
   bool force = false;
 };
 
+std::size_t samples_of(const io::Series& s) { return s.channels.empty() ? 0 : s.channels[0].size(); }
+
 int run_dev_command(const DevOptions& o) {
   pipeline::DevRequest req;
   req.stat = *parse_stat(o.stat);
@@ -47,11 +49,30 @@ int run_dev_command(const DevOptions& o) {
 
   ResultOutput result(o.out, o.force);  // refuses an unusable --out before the work
   const std::size_t bytes = file_size_or_zero(o.input.file);
-  Progress progress(bytes > 50'000'000);
-  progress.stage(fmt::format("reading {} ({:.0f} MB)", o.input.file, static_cast<double>(bytes) / 1e6));
-  const io::Series series = io::read_series(o.input.file, to_series_options(o.input));
+  const io::Series series = [&] {
+    Progress reading(bytes > 50'000'000);
+    reading.stage(fmt::format("reading {} ({:.0f} MB)", o.input.file, static_cast<double>(bytes) / 1e6));
+    return io::read_series(o.input.file, to_series_options(o.input));
+  }();
   note_default_columns(series);
-  progress.stage(fmt::format("{} of {} channels", to_string(req.stat), series.channels.size()));
+
+  // Announce long work before it starts, with what a sparser grid costs.
+  const pipeline::DevWorkEstimate work = pipeline::estimate_dev(series, req);
+  const bool long_work = work.seconds > long_work_seconds();
+  if (long_work) {
+    pipeline::DevRequest sparse = req;
+    sparse.grid = parse_taus("log:20");
+    const pipeline::DevWorkEstimate quick = pipeline::estimate_dev(series, sparse);
+    std::cerr << fmt::format(
+        "cubecal: warning: {} at {} taus on {} channel(s) of {} samples is about {:.2g} terms: "
+        "estimated {} on {} thread(s); --taus log:20 ({} taus) would take {}, --taus octave less\n",
+        to_string(req.stat), work.taus, series.channels.size(), samples_of(series), work.terms,
+        format_duration(work.seconds), work.threads, quick.taus, format_duration(quick.seconds));
+  }
+  Progress progress(work.seconds > 2.0, long_work);
+  progress.stage(fmt::format("{} at {} taus on {} channel(s)", to_string(req.stat), work.taus,
+                             series.channels.size()));
+  req.progress = [&](double f) { progress.fraction(f); };
   const pipeline::DevResult res = pipeline::run_dev(series, req);
   progress.done();
 

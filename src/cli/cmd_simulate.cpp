@@ -4,6 +4,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <iostream>
 #include <sstream>
@@ -14,6 +15,7 @@
 #include "cubecal/io/series.hpp"
 #include "cubecal/pipeline/analysis_json.hpp"
 #include "cubecal/pipeline/simulate.hpp"
+#include "cubecal/pipeline/simulate_size.hpp"
 #include "cubecal/sim/presets.hpp"
 #include "progress.hpp"
 
@@ -92,6 +94,24 @@ pipeline::RateProfile read_rate_profile(const std::string& path) {
   return p;
 }
 
+// Largest record written without --force: 2 GB of text, or the value of the
+// environment variable CUBECAL_SIMULATE_MAX_BYTES.
+double max_output_bytes() {
+  if (const char* v = std::getenv("CUBECAL_SIMULATE_MAX_BYTES")) {
+    char* end = nullptr;
+    const double b = std::strtod(v, &end);
+    if (end != v && *end == '\0' && b >= 0.0) return b;
+  }
+  return 2e9;
+}
+
+std::string format_bytes(double b) {
+  if (b >= 1e12) return fmt::format("{:.3g} TB", b / 1e12);
+  if (b >= 1e9) return fmt::format("{:.3g} GB", b / 1e9);
+  if (b >= 1e6) return fmt::format("{:.3g} MB", b / 1e6);
+  return fmt::format("{:.0f} kB", std::ceil(b / 1e3));
+}
+
 int run_simulate(const SimulateOptions& o) {
   pipeline::SimulateRequest req;
   if (!(o.rate_hz > 0.0) || !std::isfinite(o.rate_hz)) throw UsageError("--rate must be positive");
@@ -124,12 +144,20 @@ int run_simulate(const SimulateOptions& o) {
   req.seed = o.seed;
   req.temperature = parse_temperature(o.temp);
   if (!o.true_input.empty()) req.true_input = read_rate_profile(o.true_input);
+  // Refuse a record no one meant to ask for before any work (and before
+  // sample_count, which an absurd duration would overflow).
+  const double bytes = pipeline::estimated_text_bytes(req);
+  if (bytes > max_output_bytes() && !o.force)
+    throw UsageError(fmt::format(
+        "the record would be about {} of text ({:.3g} samples x {} columns): add --force to write "
+        "it anyway, or shorten --duration or lower --rate",
+        format_bytes(bytes), req.duration_s * req.rate_hz, pipeline::channel_names(req).size() + 1));
   const std::size_t n = pipeline::sample_count(req);
   if (n < 1) throw UsageError("--duration shorter than one sample period");
 
   io::CsvWriter w(o.out, o.force);
-  Progress progress(n > 1'000'000);
-  progress.stage("simulating " + std::to_string(n) + " samples into " + o.out);
+  Progress progress(n > 1'000'000, bytes > 500e6);
+  progress.stage(fmt::format("simulating {} samples into {} (about {})", n, o.out, format_bytes(bytes)));
   req.progress = [&](double f) { progress.fraction(f); };
   write_simulation(req, w);
   w.commit();
@@ -170,7 +198,7 @@ CLI::App* add_simulate_command(CLI::App& app, Command& run) {
   cmd->add_option("--true-input", opt->true_input,
                   "Rate profile for the gyro (CSV: t and three rates), held between its time stamps");
   cmd->add_option("--out", opt->out, "Output file (.csv, or .csv.gz for gzip)")->required();
-  cmd->add_flag("--force", opt->force, "Replace --out if it exists");
+  cmd->add_flag("--force", opt->force, "Replace --out if it exists, and write a record larger than 2 GB of text");
   cmd->callback([opt, rate, &run] {
     opt->rate_given = rate->count() > 0;
     run = [opt] { return run_simulate(*opt); };

@@ -1,41 +1,82 @@
 #include "progress.hpp"
 
+#include <fmt/format.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 
 namespace cubecal::cli {
 
-Progress::Progress(bool worth_it)
-    : active_(worth_it && ::isatty(STDERR_FILENO) == 1), start_(std::chrono::steady_clock::now()) {}
+Progress::Progress(bool worth_it, bool long_work)
+    : terminal_(::isatty(STDERR_FILENO) == 1),
+      start_(std::chrono::steady_clock::now()),
+      stage_start_(start_) {
+  active_ = (worth_it && terminal_) || long_work;
+}
 
 Progress::~Progress() { done(); }
 
 void Progress::stage(const std::string& what) {
   if (!active_) return;
-  if (!stage_.empty()) std::fputc('\n', stderr);
+  if (terminal_ && !stage_.empty()) std::fputc('\n', stderr);
   stage_ = what;
   last_percent_ = -1;
-  const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-  std::fprintf(stderr, "\r\033[K[%6.1f s] %s", t, what.c_str());
+  const auto now = std::chrono::steady_clock::now();
+  stage_start_ = now;
+  const double t = std::chrono::duration<double>(now - start_).count();
+  if (terminal_)
+    std::fprintf(stderr, "\r\033[K[%6.1f s] %s", t, what.c_str());
+  else
+    std::fprintf(stderr, "cubecal: %s\n", what.c_str());
   std::fflush(stderr);
 }
 
 void Progress::fraction(double f) {
-  if (!active_) return;
+  if (!active_ || stage_.empty() || !(f >= 0.0)) return;
+  f = std::min(f, 1.0);
   const int pct = static_cast<int>(f * 100.0);
-  if (pct == last_percent_) return;
+  // A log gets a line per tenth; a terminal every percent.
+  if (pct == last_percent_ || (!terminal_ && pct / 10 == last_percent_ / 10)) return;
   last_percent_ = pct;
-  std::fprintf(stderr, "\r\033[K%s %3d %%", stage_.c_str(), pct);
+  const double elapsed =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - stage_start_).count();
+  std::string eta;
+  if (f >= 0.01 && f < 1.0) eta = ", " + format_duration(elapsed * (1.0 - f) / f) + " left";
+  if (terminal_)
+    std::fprintf(stderr, "\r\033[K%s %3d %%%s", stage_.c_str(), pct, eta.c_str());
+  else
+    std::fprintf(stderr, "cubecal: %s: %d %%%s\n", stage_.c_str(), pct, eta.c_str());
   std::fflush(stderr);
 }
 
 void Progress::done() {
   if (!active_ || stage_.empty()) return;
-  std::fputs("\r\033[K", stderr);
+  if (terminal_) std::fputs("\r\033[K", stderr);
   std::fflush(stderr);
   stage_.clear();
+}
+
+double long_work_seconds() {
+  if (const char* v = std::getenv("CUBECAL_LONG_WORK_SECONDS")) {
+    char* end = nullptr;
+    const double s = std::strtod(v, &end);
+    if (end != v && *end == '\0' && s >= 0.0 && std::isfinite(s)) return s;
+  }
+  return 30.0;
+}
+
+std::string format_duration(double seconds) {
+  if (!(seconds >= 0.0) || !std::isfinite(seconds)) return "an unknown time";
+  if (seconds < 0.1) return "under 0.1 s";
+  if (seconds < 10.0) return fmt::format("{:.1f} s", seconds);
+  const auto s = static_cast<long long>(std::llround(seconds));
+  if (s < 60) return fmt::format("{} s", s);
+  if (s < 3600) return fmt::format("{} min {} s", s / 60, s % 60);
+  return fmt::format("{} h {} min", s / 3600, (s % 3600) / 60);
 }
 
 std::size_t file_size_or_zero(const std::string& path) {

@@ -18,12 +18,8 @@ std::vector<StabilityPoint> deviation(Stat stat, std::span<const double> data, d
   if (ms.empty())
     throw UsageError(std::string(to_string(stat)) + " of " + std::to_string(data.size()) +
                      " samples: no tau of the grid fits the record (use more data or smaller taus)");
-  std::vector<StabilityPoint> points;
-  points.reserve(ms.size());
-  for (std::size_t m : ms) {
-    StabilityPoint p = record.evaluate(m, options);
-    if (p.n > 0) points.push_back(p);
-  }
+  std::vector<StabilityPoint> points = record.evaluate(ms, options);
+  std::erase_if(points, [](const StabilityPoint& p) { return p.n == 0; });
   return points;
 }
 

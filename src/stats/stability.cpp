@@ -23,9 +23,6 @@ std::size_t StabilityRecord::max_m() const noexcept {
 }
 
 StabilityPoint StabilityRecord::evaluate(std::size_t m, const StabilityOptions& opt) const {
-  StabilityPoint p;
-  p.m = m;
-  p.tau = static_cast<double>(m) * tau0_;
   VarianceTerm v;
   switch (stat_) {
     case Stat::adev: v = avar(x_, m, tau0_); break;
@@ -36,6 +33,31 @@ StabilityPoint StabilityRecord::evaluate(std::size_t m, const StabilityOptions& 
     case Stat::ohdev: v = ohvar(x_, m, tau0_); break;
     case Stat::totdev: v = totvar(ext_, m, tau0_); break;
   }
+  return finish(m, v, opt);
+}
+
+std::vector<StabilityPoint> StabilityRecord::evaluate(std::span<const std::size_t> ms,
+                                                      const StabilityOptions& opt) const {
+  std::vector<StabilityPoint> out;
+  out.reserve(ms.size());
+  std::vector<VarianceTerm> v(ms.size());
+  switch (stat_) {
+    case Stat::oadev: oavar(x_, ms, tau0_, v); break;
+    case Stat::ohdev: ohvar(x_, ms, tau0_, v); break;
+    case Stat::totdev: totvar(ext_, ms, tau0_, v); break;
+    default:
+      for (std::size_t j = 0; j < ms.size(); ++j) out.push_back(evaluate(ms[j], opt));
+      return out;
+  }
+  for (std::size_t j = 0; j < ms.size(); ++j) out.push_back(finish(ms[j], v[j], opt));
+  return out;
+}
+
+StabilityPoint StabilityRecord::finish(std::size_t m, VarianceTerm v,
+                                       const StabilityOptions& opt) const {
+  StabilityPoint p;
+  p.m = m;
+  p.tau = static_cast<double>(m) * tau0_;
   p.n = v.n;
   if (v.n == 0) return p;
   p.dev = std::sqrt(std::max(v.var, 0.0)) * scale_;
@@ -54,10 +76,7 @@ std::vector<StabilityPoint> stability(std::span<const double> data, DataType typ
                                       Stat stat, std::span<const std::size_t> ms,
                                       const StabilityOptions& opt) {
   const StabilityRecord rec(data, type, tau0, stat);
-  std::vector<StabilityPoint> out;
-  out.reserve(ms.size());
-  for (std::size_t m : ms) out.push_back(rec.evaluate(m, opt));
-  return out;
+  return rec.evaluate(ms, opt);
 }
 
 }  // namespace cubecal

@@ -3,6 +3,7 @@
 // averaging factors run in parallel.
 #pragma once
 #include <cstddef>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -18,7 +19,23 @@ struct DevRequest {
   TauGrid grid;                  // default octave
   StabilityOptions options;      // ci, edf method, fixed alpha, intervals on/off
   unsigned threads = 0;          // 0: all cores
+  // Called now and then with the fraction of the work done (0..1), always
+  // from the calling thread (optional; must not throw).
+  std::function<void(double)> progress;
 };
+
+// What a run_dev call will cost, before it starts: the terms its kernels sum
+// (about N - 2m per averaging factor m for OADEV, N/m for ADEV, ...; noise
+// identification and intervals included), and the seconds that takes at the
+// rate measured on this machine by a short trial on the record itself.
+struct DevWorkEstimate {
+  std::size_t taus = 0;          // averaging factors of the grid that fit
+  double terms = 0.0;            // over every channel and segment
+  double terms_per_second = 0.0; // measured, one thread
+  unsigned threads = 1;          // the run's threads
+  double seconds = 0.0;          // terms / (terms_per_second * threads)
+};
+DevWorkEstimate estimate_dev(const io::Series& series, const DevRequest& request);
 
 struct DevChannel {
   std::string name;

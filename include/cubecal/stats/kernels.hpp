@@ -34,6 +34,22 @@ struct TotvarExtension {
 TotvarExtension totvar_extend(std::span<const double> x);
 VarianceTerm totvar(const TotvarExtension& ext, std::size_t m, double tau0);
 
+// The overlapping kernels at several averaging factors at once, out[j] for
+// ms[j] (out.size() == ms.size()). Groups of eight consecutive factors
+// 8q+1 .. 8q+8 (the `all` grid) share their loads and run about twice as
+// fast as one call per factor; the results equal the single-factor calls up
+// to rounding, and do not depend on how a grid is cut into calls as long as
+// no cut falls inside a group.
+inline constexpr std::size_t kKernelGroup = 8;
+// True when ms[j .. j+8) is one group: the factors 8q+1 .. 8q+8 in order.
+bool kernel_group_at(std::span<const std::size_t> ms, std::size_t j) noexcept;
+void oavar(std::span<const double> x, std::span<const std::size_t> ms, double tau0,
+           std::span<VarianceTerm> out);
+void ohvar(std::span<const double> x, std::span<const std::size_t> ms, double tau0,
+           std::span<VarianceTerm> out);
+void totvar(const TotvarExtension& ext, std::span<const std::size_t> ms, double tau0,
+            std::span<VarianceTerm> out);
+
 // Sum over i of (x[i+2m] - 2x[i+m] + x[i])^2 for i in [0, count): the
 // overlapping Allan kernel, exposed for benchmarks.
 double second_difference_energy(const double* x, std::size_t count, std::size_t m) noexcept;

@@ -53,8 +53,14 @@ class StabilityRecord {
   // Deviation, n, and (if opt.intervals) noise id, EDF and interval at m.
   // n == 0 when m is beyond what the record supports.
   StabilityPoint evaluate(std::size_t m, const StabilityOptions& opt) const;
+  // The same for every m of `ms`, in order. Close factors share their passes
+  // over the record (stats/kernels.hpp): the way to evaluate a dense grid.
+  std::vector<StabilityPoint> evaluate(std::span<const std::size_t> ms,
+                                       const StabilityOptions& opt) const;
 
  private:
+  StabilityPoint finish(std::size_t m, VarianceTerm v, const StabilityOptions& opt) const;
+
   double scale_;
   std::vector<double> x_;
   DataType type_;
