@@ -161,6 +161,17 @@ TEST_F(LongWork, SimulateRefusesARecordOfGigabytes) {
   EXPECT_FALSE(std::filesystem::exists(out + ".partial"));
 }
 
+// Past any disk even with --force: the sample count would overflow (it
+// started writing 9.2e18 samples before).
+TEST_F(LongWork, SimulateRefusesAnImpossibleDurationEvenWithForce) {
+  ScopedFileSizeLimit limit(50'000'000);
+  const std::string out = path("huge.csv");
+  const test::CliRun r = run_cubecal("simulate --preset sport-gyro --duration 1e300d --force --out " + out);
+  EXPECT_TRUE(test::one_error_line(r)) << r.code << ' ' << r.err;
+  EXPECT_NE(r.err.find("--duration: duration x rate = 8.64e+305 samples"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(out + ".partial"));
+}
+
 // The limit lowered to 1 kB: a 10 s record is refused, and --force writes it.
 TEST_F(LongWork, SimulateForceLiftsTheSizeLimit) {
   ScopedEnv env("CUBECAL_SIMULATE_MAX_BYTES", "1000");

@@ -38,6 +38,7 @@ std::string usage_message(const cubecal::UsageError& e) {
       {"estimators", "--for"},
       {"inflate", "--inflate"},
       {"gnuplot", "--gnuplot"},
+      {"duration", "--duration"},
   };
   for (const auto& [option, flag] : kFlags)
     if (e.option() == option) return std::string(flag) + ": " + e.what();

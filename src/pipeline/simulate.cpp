@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 #include "cubecal/error.hpp"
@@ -74,7 +75,16 @@ std::size_t axes_of(const TriadModel& m) {
 }  // namespace
 
 std::size_t sample_count(const SimulateRequest& r) {
-  return static_cast<std::size_t>(std::llround(r.duration_s * r.rate_hz));
+  const double n = r.duration_s * r.rate_hz;
+  // 1e15 samples (30 000 years at 1 kHz) is past any disk and far below
+  // where the count would overflow.
+  if (!(n >= 0.0) || !(n <= kMaxSimulatedSamples)) {
+    char count[32];
+    std::snprintf(count, sizeof count, "%.3g", n);
+    throw UsageError("duration", std::string("duration x rate = ") + count +
+                                     " samples: more than any record can hold (at most 1e15); shorten it");
+  }
+  return static_cast<std::size_t>(std::llround(n));
 }
 
 std::vector<std::string> channel_names(const SimulateRequest& r) {

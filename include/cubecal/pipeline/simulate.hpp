@@ -37,6 +37,8 @@ struct SimulatedRecord {
   std::vector<std::vector<double>> channels;   // one per name
 };
 
+// round(duration x rate); UsageError("duration") past kMaxSimulatedSamples.
+inline constexpr double kMaxSimulatedSamples = 1e15;
 std::size_t sample_count(const SimulateRequest& r);
 
 // Channel names in output order (axis names of each triad, then "temp").
