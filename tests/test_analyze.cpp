@@ -16,24 +16,14 @@
 #include "cubecal/io/series.hpp"
 #include "cubecal/pipeline/analysis_output.hpp"
 #include "cubecal/pipeline/analyze.hpp"
+#include "white_plus_walk.hpp"
 
 namespace cubecal {
 namespace {
 
 // White noise (sigma per sample) + bias random walk (increment walk*dt per
 // step), the paper's eq. 1-2 without quantization.
-std::vector<double> white_plus_walk(std::size_t n, double dt, double sigma, double walk, std::uint64_t seed,
-                                    double bias = 0.0) {
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<double> g(0.0, 1.0);
-  std::vector<double> y(n);
-  double b = 0.0;
-  for (auto& v : y) {
-    v = bias + b + sigma * g(rng);
-    b += walk * dt * g(rng);
-  }
-  return y;
-}
+using cubecal::test::white_plus_walk;
 
 TEST(Temperature, ExactPolynomialFromNoiseFreeData) {
   // docs/formulas/drift-covariance-temperature.md §3.5: b(T) = 0.01 + 2e-4 (T-25) - 3e-6 (T-25)^2 over -20..60 degC.

@@ -20,6 +20,7 @@
 #include "cubecal/pipeline/analysis_output.hpp"
 #include "cubecal/pipeline/analyze.hpp"
 #include "estimator_yaml.hpp"
+#include "white_plus_walk.hpp"
 
 namespace cubecal {
 namespace {
@@ -32,19 +33,8 @@ constexpr double kDeg = std::numbers::pi / 180.0;
 constexpr double kG = 9.80665;
 constexpr double kRate = 100.0;
 
-// White noise of `sigma` per sample plus a bias random walk (increment
-// walk * dt per step) around `bias`.
 std::vector<double> white_plus_walk(std::size_t n, double sigma, double walk, std::uint64_t seed, double bias = 0.0) {
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<double> g(0.0, 1.0);
-  const double dt = 1.0 / kRate;
-  std::vector<double> y(n);
-  double b = 0.0;
-  for (auto& v : y) {
-    v = bias + b + sigma * g(rng);
-    b += walk * dt * g(rng);
-  }
-  return y;
+  return test::white_plus_walk(n, 1.0 / kRate, sigma, walk, seed, bias);
 }
 
 pipeline::AnalysisResult analyze(std::vector<std::vector<double>> ch, std::vector<std::string> names,
