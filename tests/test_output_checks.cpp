@@ -5,6 +5,7 @@
 // The inputs are broken at their last row: a command that read its input
 // before checking its outputs would report the input instead.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -13,6 +14,8 @@
 #include <vector>
 
 #include "cli_runner.hpp"
+#include "cubecal/error.hpp"
+#include "cubecal/io/output_path.hpp"
 
 namespace {
 
@@ -124,6 +127,18 @@ TEST_F(OutputChecks, ReportIntoAnUnwritableDirectoryIsRefusedBeforeThePlots) {
   EXPECT_EQ(r.code, 2) << r.err;
   EXPECT_TRUE(one_error_line(r)) << r.err;
   EXPECT_NE(r.err.find("cannot write in /proc"), std::string::npos) << r.err;
+}
+
+// The writability probe never touches a file of its own name.
+TEST_F(OutputChecks, TheProbeLeavesAnExistingFileOfItsNameAlone) {
+  const std::string mine = write(".cubecal-probe-" + std::to_string(::getpid()), "the user's\n");
+  cubecal::io::check_output_file(path("result.json"), false);
+  cubecal::io::prepare_output_dir(dir_.string(), false, {"result.json"});
+  std::ifstream in(mine);
+  std::string kept;
+  std::getline(in, kept);
+  EXPECT_EQ(kept, "the user's");
+  EXPECT_THROW(cubecal::io::check_output_file(mine, false), cubecal::UsageError);
 }
 
 // The whole analysis no longer runs before an unusable --out is noticed: the

@@ -1,11 +1,11 @@
 #include "cubecal/io/output_path.hpp"
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 
 #include "cubecal/error.hpp"
 
@@ -16,12 +16,24 @@ namespace fs = std::filesystem;
 namespace {
 
 // Creating a file is the only test of writability that holds for root, for
-// read-only mounts and for ACLs alike.
+// read-only mounts and for ACLs alike; with O_EXCL a file of the probe's
+// name, should one exist, is never touched.
 void probe_writable(const fs::path& dir, const std::string& option, const std::string& shown) {
-  const fs::path probe = dir / (".cubecal-probe-" + std::to_string(::getpid()));
-  errno = 0;
-  { std::ofstream f(probe, std::ios::binary); if (f) { f.close(); std::error_code ec; fs::remove(probe, ec); return; } }
-  const int err = errno;
+  int err = 0;
+  for (int attempt = 0; attempt < 8; ++attempt) {
+    std::string name = ".cubecal-probe-" + std::to_string(::getpid());
+    if (attempt > 0) name.append(1, '-').append(std::to_string(attempt));
+    const fs::path probe = dir / name;
+    const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+    if (fd >= 0) {
+      ::close(fd);
+      std::error_code ec;
+      fs::remove(probe, ec);
+      return;
+    }
+    err = errno;
+    if (err != EEXIST) break;
+  }
   throw UsageError(option, "cannot write in " + shown + (err ? std::string(" (") + std::strerror(err) + ")" : "") +
                                ": choose a writable place");
 }
