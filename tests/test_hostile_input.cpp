@@ -124,6 +124,17 @@ TEST_F(HostileInput, ExecutableIsNamedAsSuch) {
   expect_refused(f, {"ELF executable"});
 }
 
+// Old Mac line ends: the file read as one line and the error was about its
+// first field ("non-numeric field 't'") or a missing sampling rate.
+TEST_F(HostileInput, CarriageReturnLineEndsAreNamed) {
+  const std::string f = write_bytes("mac.csv", "t,gx\r0,1\r0.01,2\r0.02,3\r");
+  expect_refused(f, {f + ":1: ", "lines end in a carriage return alone", "tr '\\r' '\\n'"});
+  // CR LF (Windows) is text as usual.
+  const std::string w = write_bytes("win.csv", "t,gx\r\n0,1\r\n0.01,2\r\n0.02,3\r\n0.03,4\r\n");
+  const cubecal::test::CliRun ok = cubecal::test::run_cubecal("dev " + w + " --format csv");
+  EXPECT_EQ(ok.code, 0) << ok.err;
+}
+
 TEST_F(HostileInput, NulBytesNearTheStart) {
   const std::string f = write_bytes("imu.csv", std::string("t,gx\n0,1\n0.01,2\n0.02,3\0\0\0\n0.03,4\n", 32));
   expect_refused(f, {f + ":4:7: ", "NUL byte at byte offset 22"});

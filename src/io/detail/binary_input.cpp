@@ -113,6 +113,17 @@ void check_text_start(std::string_view head, const std::string& file, bool decom
     throw InputError(file, 0, 0, std::string("not a text file: it looks like ") + s->what,
                      std::string(s->hint != nullptr ? s->hint : "check the file name") + "; " + kReads);
   }
+  // Lines ended by CR alone (classic Mac OS text) would read as one line
+  // and give a misleading error about its first field.
+  if (std::memchr(head.data(), '\n', head.size()) == nullptr) {
+    if (const auto* cr = static_cast<const char*>(std::memchr(head.data(), '\r', head.size()));
+        cr != nullptr && cr + 1 < head.data() + head.size()) {
+      throw InputError(file, 1, 0,
+                       "lines end in a carriage return alone (classic Mac OS text); cubecal reads lines "
+                       "ending in LF or CR LF",
+                       "convert it, e.g. tr '\\r' '\\n' < " + file + " > out.csv");
+    }
+  }
   const auto* nul = static_cast<const char*>(std::memchr(head.data(), '\0', head.size()));
   if (nul == nullptr) return;
   if (looks_like_utf16(head)) {
