@@ -245,6 +245,29 @@ TEST(AnalysisJson, MissingKeyIsAUsageErrorNamingIt) {
   }
 }
 
+// Found by fuzz_analysis_json in CI: an alpha of -1e308 was cast to int
+// (undefined behaviour).
+TEST(AnalysisJson, NoiseExponentOutOfRangeIsAUsageError) {
+  for (const double bad : {-1e308, 1e308, 2.5, 3.0, -5.0}) {
+    json j = analysis();
+    j["channels"][0]["adev"]["alpha"][0] = bad;
+    try {
+      (void)j.get<pipeline::AnalysisResult>();
+      ADD_FAILURE() << "alpha " << bad << " accepted";
+    } catch (const UsageError& e) {
+      EXPECT_NE(std::string(e.what()).find("channels[0].adev.alpha[0]: not a whole number from -4 to 2"),
+                std::string::npos)
+          << e.what();
+    }
+  }
+  json w = analysis();
+  w["channels"][0]["drift"]["window_s"] = -1e300;
+  EXPECT_THROW((void)w.get<pipeline::AnalysisResult>(), UsageError);
+  json ok = analysis();
+  ok["channels"][0]["adev"]["alpha"][0] = -4;
+  EXPECT_EQ(ok.get<pipeline::AnalysisResult>().channels[0].noise.adev[0].alpha, -4);
+}
+
 TEST(AnalysisJson, KeysAddedLaterTakeTheirDefaults) {
   json j = analysis();
   j.erase("ci");

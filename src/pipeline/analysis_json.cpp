@@ -192,6 +192,14 @@ class Node {
     if (!j_.is_number_unsigned() && !(j_.is_number_integer() && j_.get<long long>() >= 0)) fail("not a count");
     return j_.get<std::size_t>();
   }
+  // An integer in [lo, hi]: a number out of range, or with a fraction, is
+  // refused (casting it would be undefined).
+  int integer(int lo, int hi) const {
+    const double v = num();
+    if (!(v >= lo && v <= hi) || v != std::floor(v))
+      fail("not a whole number from " + std::to_string(lo) + " to " + std::to_string(hi));
+    return static_cast<int>(v);
+  }
   std::string str() const {
     if (!j_.is_string()) fail("not a string");
     return j_.get<std::string>();
@@ -235,7 +243,7 @@ std::vector<StabilityPoint> read_curve(const Node& a) {
       pts[i].lo = lo[i];
       pts[i].hi = hi[i];
       pts[i].edf = edf[i];
-      pts[i].alpha = static_cast<int>(alpha.at(i).num());
+      pts[i].alpha = alpha.at(i).integer(-4, 2);  // the power-law noise exponents, +2 WPM .. -4 RRFM
     }
   }
   return pts;
@@ -386,7 +394,9 @@ AnalysisResult read_result(const json& doc, const std::string& label) {
     ch.noise.adev = read_curve(cj.at("adev"));
     ch.model = read_model(cj.at("model"), ch, dt);
     const Node d = cj.at("drift");
-    ch.drift.window = static_cast<std::size_t>(std::llround(d.num("window_s") * r.rate_hz));
+    const double window = d.num("window_s") * r.rate_hz;  // samples
+    if (!(window >= 0.0 && window <= 1e15)) d.at("window_s").fail("not a window length in seconds");
+    ch.drift.window = static_cast<std::size_t>(std::llround(window));
     ch.drift.mean = d.num("fixed_bias");
     if (cj.has("temperature")) {
       const Node t = cj.at("temperature");
