@@ -6,7 +6,8 @@
 # found before; new inputs go to $FUZZ_WORK/corpus/TARGET, never into the
 # repository. A crash, sanitizer report, leak, timeout or oversized
 # allocation stops the run: the reproducer is saved in $FUZZ_WORK/crashes/
-# and its path printed, and the script exits 1.
+# and its path printed, and the script exits 1. FUZZ_SEED fixes libFuzzer's
+# random seed (0, the default: a new one each run).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 SECS=${FUZZ_SECONDS:-300}
@@ -29,7 +30,7 @@ for t in "${TARGETS[@]}"; do
   # -malloc_limit_mb: no single allocation of more than 512 MB (an input is a
   # few kB); -timeout: 10 s for one input.
   if ASAN_OPTIONS=detect_leaks=1 "$BUILD/bin/fuzz_$t" "$corpus" "fuzz/corpus/$t" "${dict[@]}" \
-      -max_total_time="$SECS" -timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=512 \
+      -max_total_time="$SECS" -seed="${FUZZ_SEED:-0}" -timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=512 \
       -artifact_prefix="$crashes/" -print_final_stats=1 >"$log" 2>&1; then
     result=ok
   else
