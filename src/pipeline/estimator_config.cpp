@@ -195,22 +195,22 @@ std::string kalibr_keys(const Sensors& s, const EstimatorContext& ctx, const std
   auto line = [&](const char* key, const Pick& p, const std::string& unit, bool walk) {
     y += indent + key + ": " + num(p.value * k) + note(p, unit, walk, k) + "\n";
   };
-  if (s.accel) {
-    line("accelerometer_noise_density", largest_white(s.noise.accelerometer), "m/s^2/sqrt(Hz)", false);
-    line("accelerometer_random_walk", largest_walk(s.noise.accelerometer), "m/s^3/sqrt(Hz)", true);
-  } else {
-    y += absent("accelerometer", "acceleration (g, m/s^2)", estimator);
-    y += "#" + indent + "accelerometer_noise_density:  # [m/s^2/sqrt(Hz)]\n";
-    y += "#" + indent + "accelerometer_random_walk:    # [m/s^3/sqrt(Hz)]\n";
-  }
-  if (s.gyro) {
-    line("gyroscope_noise_density", largest_white(s.noise.gyroscope), "rad/s/sqrt(Hz)", false);
-    line("gyroscope_random_walk", largest_walk(s.noise.gyroscope), "rad/s^2/sqrt(Hz)", true);
-  } else {
-    y += absent("gyroscope", "rate (deg/s, rad/s)", estimator);
-    y += "#" + indent + "gyroscope_noise_density:  # [rad/s/sqrt(Hz)]\n";
-    y += "#" + indent + "gyroscope_random_walk:    # [rad/s^2/sqrt(Hz)]\n";
-  }
+  // A sensor's two densities, or their keys commented out with the reason.
+  auto sensor = [&](bool present, const std::string& name, const auto& terms, const char* kinds,
+                    const char* white_unit, const char* walk_unit) {
+    const std::string white = name + "_noise_density", walk = name + "_random_walk";
+    if (present) {
+      line(white.c_str(), largest_white(terms), white_unit, false);
+      line(walk.c_str(), largest_walk(terms), walk_unit, true);
+      return;
+    }
+    y += absent(name, kinds, estimator);
+    y += "#" + indent + white + ":  # [" + white_unit + "]\n";
+    y += "#" + indent + walk + ":    # [" + walk_unit + "]\n";
+  };
+  sensor(s.accel, "accelerometer", s.noise.accelerometer, "acceleration (g, m/s^2)", "m/s^2/sqrt(Hz)",
+         "m/s^3/sqrt(Hz)");
+  sensor(s.gyro, "gyroscope", s.noise.gyroscope, "rate (deg/s, rad/s)", "rad/s/sqrt(Hz)", "rad/s^2/sqrt(Hz)");
   return y;
 }
 
