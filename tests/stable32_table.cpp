@@ -1,5 +1,9 @@
 #include "stable32_table.hpp"
 
+#include <zlib.h>
+
+#include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -24,16 +28,18 @@ std::vector<Stable32Row> read_stable32(const std::string& path) {
 }
 
 std::vector<double> read_column(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error("cannot open " + path);
+  // gzopen reads plain files as they are, and .gz files decompressed.
+  gzFile f = gzopen(path.c_str(), "rb");
+  if (!f) throw std::runtime_error("cannot open " + path);
   std::vector<double> v;
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.find('#') != std::string::npos) continue;
-    std::istringstream ss(line);
-    double x;
-    if (ss >> x) v.push_back(x);
+  std::vector<char> buf(4096);
+  while (gzgets(f, buf.data(), static_cast<int>(buf.size()))) {
+    if (std::strchr(buf.data(), '#')) continue;
+    char* end = nullptr;
+    const double x = std::strtod(buf.data(), &end);
+    if (end != buf.data()) v.push_back(x);
   }
+  gzclose(f);
   return v;
 }
 

@@ -128,9 +128,9 @@ TEST(NoiseId, IdentifiesPureNoises) {
   const auto xw = freq_to_phase(wfm, 1.0);
   const auto xr = freq_to_phase(rwfm, 1.0);
   for (std::size_t m : {1u, 4u, 16u}) {
-    EXPECT_EQ(identify_noise(xw, m, DataType::freq, Stat::oadev).alpha, 0) << m;
-    EXPECT_EQ(identify_noise(xr, m, DataType::freq, Stat::oadev).alpha, -2) << m;
-    EXPECT_EQ(identify_noise(wpm, m, DataType::phase, Stat::oadev).alpha, 2) << m;
+    EXPECT_EQ(identify_noise(xw, m, Stat::oadev).alpha, 0) << m;
+    EXPECT_EQ(identify_noise(xr, m, Stat::oadev).alpha, -2) << m;
+    EXPECT_EQ(identify_noise(wpm, m, Stat::oadev).alpha, 2) << m;
   }
 }
 

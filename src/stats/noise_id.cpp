@@ -1,14 +1,34 @@
-// Power-law noise identification (Riley, "Handbook of Frequency Stability
-// Analysis", NIST SP 1065 sec. 5.6; Riley & Greenhall, EFTF 2004).
+// Power-law noise identification as Stable32 does it (Riley, "Handbook of
+// Frequency Stability Analysis", NIST SP 1065 sec. 5.6; Riley & Greenhall,
+// EFTF 2004; Howe, Beard, Greenhall, Riley, PTTI 2000). Each choice below
+// was checked against the Stable32 tables in ../shared/data/stable32
+// (tests/test_stable32.cpp prints the agreement per dataset):
 //
-// Lag-1 ACF method: take the data at the averaging factor (phase decimated,
-// frequency averaged), remove the deterministic part, and difference until
-// delta = r1/(1+r1) < 0.25 or the maximum order (2 for Allan, 3 for
-// Hadamard statistics) is reached; then alpha = -round(2 delta) - 2d (+2 for
-// phase). Fewer than 30 points: Barnes' B1 ratio (N-sample over 2-sample
-// variance) against its expected value for each noise type, with the
-// MVAR/AVAR ratio R(n) separating white from flicker PM for the modified
-// statistics.
+// 1. The data at averaging factor m are the non-overlapping averages of
+//    frequency, for phase input as well (differences of the phase decimated
+//    by m). Only the mean is removed. Decimated phase instead, with its line
+//    or quadratic removed, calls white PM at the long taus of a white-FM
+//    Cs clock record (5071A, 47 AFs per statistic) where Stable32 says white
+//    FM; removing a frequency drift moves rows off Stable32 at the +-0.5
+//    rounding boundary.
+// 2. With at least 30 averages: lag-1 autocorrelation r1, differencing
+//    until delta = r1/(1+r1) < 0.25 or the statistic's maximum order d
+//    (2 for the Allan, 3 for the Hadamard statistics); alpha =
+//    -round(2 delta) - 2d. r1 is the lag-1 sum over N divided by the sum of
+//    squares over N - 1 (a sample variance): (N-1)/N times Riley's r1. This
+//    decides only rows at the rounding boundary, and it is the variant that
+//    reproduces every such row of the tables (14 of them).
+// 3. Fewer than 30 averages: Barnes' B1 ratio, the sample variance of the
+//    averages over their two-sample variance, against its expected value
+//    for each mu (Howe et al. Table 3) with boundaries at the geometric
+//    means. For the non-overlapping statistics N is the number of averages;
+//    for the overlapping ones (OADEV, MDEV, TDEV, OHDEV, TOTDEV) Stable32
+//    evaluates the expected values at the statistic's own number of terms
+//    (N - 2m phase differences for OADEV ...), which reproduces its
+//    overlapping tables (every 5071A row) where the count of averages does
+//    not (65 of 314 OADEV rows off).
+// 4. B1 cannot separate white from flicker PM (both mu = -2): the ratio
+//    R(n) = MVAR/AVAR does, for every statistic.
 #include "cubecal/stats/noise_id.hpp"
 
 #include <algorithm>
@@ -30,13 +50,14 @@ constexpr std::size_t kMinAcfPoints = 30;
 struct LagSums {
   std::size_t n = 0;
   double s1 = 0, s2 = 0, p = 0, first = 0, last = 0;
+  // Stable32's r1: lag-1 sum / N over the sample variance (N - 1).
   double r1() const {
     if (n < 2) return 0.0;
     const double nn = static_cast<double>(n);
     const double mu = s1 / nn;
     const double den = s2 - nn * mu * mu;
     const double num = p - mu * (2.0 * s1 - first - last) + (nn - 1.0) * mu * mu;
-    return den > 0.0 ? num / den : 0.0;
+    return den > 0.0 ? (nn - 1.0) / nn * num / den : 0.0;
   }
 };
 
@@ -77,22 +98,13 @@ void accumulate(LagSums& s, const double* w, std::size_t len) {
   s.n += len;
 }
 
-// Frequency averaged over m samples, from the phase record: (x[(k+1)m] - x[km]).
-// The 1/(m tau0) scale is left out; the ratios below do not depend on it.
-std::vector<double> averaged_frequency(std::span<const double> x, std::size_t m) {
-  const std::size_t count = (x.size() - 1) / m;
-  std::vector<double> y(count);
-  for (std::size_t k = 0; k < count; ++k) y[k] = x[(k + 1) * m] - x[k * m];
-  return y;
-}
-
 int clamp_alpha(int alpha, Stat stat) {
   const int lowest = difference_order(stat) == 3 ? -4 : -2;
   return std::clamp(alpha, lowest, 2);
 }
 
-// Expected B1 for N averaged frequency points and phase-noise exponent mu
-// (Howe, Beard, Greenhall, Riley, PTTI 2000, Table 3).
+// Expected B1 for N points and phase-noise exponent mu (Howe, Beard,
+// Greenhall, Riley, PTTI 2000, Table 3).
 double b1_expected(double N, int mu) {
   switch (mu) {
     case 2: return N * (N + 1.0) / 6.0;
@@ -107,6 +119,24 @@ double b1_expected(double N, int mu) {
 int alpha_from_mu(int mu) {
   // mu = -alpha - 1 for -4 <= alpha <= 0; white and flicker PM share mu = -2.
   return mu == -2 ? 2 : -mu - 1;
+}
+
+// The N at which Stable32 evaluates the expected B1: the number of
+// averages for the non-overlapping statistics, the statistic's number of
+// terms for the overlapping ones (point 3 above). `phase_points` counts the
+// phase record, `averages` the non-overlapping averages at m.
+double b1_points(Stat stat, std::size_t phase_points, std::size_t m, std::size_t averages) {
+  const double np = static_cast<double>(phase_points), mm = static_cast<double>(m);
+  switch (stat) {
+    case Stat::adev:
+    case Stat::hdev: return static_cast<double>(averages);
+    case Stat::oadev: return np - 2.0 * mm;
+    case Stat::mdev:
+    case Stat::tdev: return np - 3.0 * mm + 1.0;
+    case Stat::ohdev: return np - 3.0 * mm;
+    case Stat::totdev: return np - 2.0;
+  }
+  return static_cast<double>(averages);
 }
 
 }  // namespace
@@ -126,37 +156,16 @@ double lag1_autocorrelation(std::span<const double> z) noexcept {
   return den > 0.0 ? num / den : 0.0;
 }
 
-namespace {
-
-NoiseId identify_at(std::span<const double> x, std::size_t m, DataType original, Stat stat) {
+NoiseId identify_noise(std::span<const double> x, std::size_t m, Stat stat) {
   NoiseId out;
   if (m == 0 || x.size() < m + 1) return out;
   const int dmax = difference_order(stat);
-
-  // The data at this averaging factor: decimated phase, or frequency
-  // averaged over m samples (from phase differences).
-  const bool phase = original == DataType::phase;
-  const std::size_t count = phase ? (x.size() - 1) / m + 1 : (x.size() - 1) / m;
-  auto z = [&](std::size_t k) { return phase ? x[k * m] : x[(k + 1) * m] - x[k * m]; };
+  // Non-overlapping averages of frequency, unscaled (x[(k+1)m] - x[km]: the
+  // 1/(m tau0) factor cancels in every ratio below).
+  const std::size_t count = (x.size() - 1) / m;
+  auto z = [&](std::size_t k) { return x[(k + 1) * m] - x[k * m]; };
 
   if (count >= kMinAcfPoints) {
-    // Phase: remove the least-squares line first (a frequency offset); the
-    // mean is removed inside the autocorrelation for every order.
-    double a = 0.0, b = 0.0;
-    if (phase) {
-      const double tc = (static_cast<double>(count) - 1.0) / 2.0;
-      double sz = 0.0, stz = 0.0, stt = 0.0;
-      for (std::size_t k = 0; k < count; ++k) {
-        const double t = static_cast<double>(k) - tc;
-        const double v = z(k);
-        sz += v;
-        stz += t * v;
-        stt += t * t;
-      }
-      a = sz / static_cast<double>(count);
-      b = stz / stt;
-      a -= b * tc;
-    }
     // One pass accumulates the sums of every difference order 0..dmax,
     // block by block. buf[d][0] carries the last value of the previous block.
     constexpr std::size_t kBlock = 1024;
@@ -168,10 +177,7 @@ NoiseId identify_at(std::span<const double> x, std::size_t m, DataType original,
     for (std::size_t k0 = 0; k0 < count; k0 += kBlock) {
       const std::size_t len = std::min(kBlock, count - k0);
       double* w0 = buf[0] + 1;
-      if (phase) {
-        for (std::size_t j = 0; j < len; ++j)
-          w0[j] = x[(k0 + j) * m] - (a + b * static_cast<double>(k0 + j));
-      } else if (m == 1) {
+      if (m == 1) {
         const double* xs = x.data() + k0;
         for (std::size_t j = 0; j < len; ++j) w0[j] = xs[j + 1] - xs[j];
       } else {
@@ -192,79 +198,53 @@ NoiseId identify_at(std::span<const double> x, std::size_t m, DataType original,
       const double r1 = sums[d].r1();
       const double delta = r1 / (1.0 + r1);
       if (delta < 0.25 || d >= dmax) {
-        const int shift = phase ? 2 : 0;
-        out.alpha_est = -2.0 * (delta + d) + shift;
-        out.alpha = clamp_alpha(static_cast<int>(-std::lround(2.0 * delta)) - 2 * d + shift, stat);
+        out.alpha_est = -2.0 * (delta + d);
+        out.alpha = clamp_alpha(static_cast<int>(-std::lround(2.0 * delta)) - 2 * d, stat);
         out.method = NoiseId::Method::acf;
         return out;
       }
     }
   }
 
-  // B1 ratio on the averaged frequency.
-  const std::vector<double> y = averaged_frequency(x, m);
-  const std::size_t nf = y.size();
+  // B1 ratio on the averages.
   out.method = NoiseId::Method::b1;
-  if (nf < 2) return out;
+  if (count < 2) return out;
   double mean = 0.0;
-  for (double v : y) mean += v;
-  mean /= static_cast<double>(nf);
+  for (std::size_t k = 0; k < count; ++k) mean += z(k);
+  mean /= static_cast<double>(count);
   double svar = 0.0, avar2 = 0.0;
-  for (std::size_t i = 0; i < nf; ++i) svar += (y[i] - mean) * (y[i] - mean);
-  svar /= static_cast<double>(nf - 1);
-  for (std::size_t i = 0; i + 1 < nf; ++i) avar2 += (y[i + 1] - y[i]) * (y[i + 1] - y[i]);
-  avar2 /= 2.0 * static_cast<double>(nf - 1);
+  for (std::size_t k = 0; k < count; ++k) svar += (z(k) - mean) * (z(k) - mean);
+  svar /= static_cast<double>(count - 1);
+  for (std::size_t k = 0; k + 1 < count; ++k) avar2 += (z(k + 1) - z(k)) * (z(k + 1) - z(k));
+  avar2 /= 2.0 * static_cast<double>(count - 1);
   if (!(avar2 > 0.0)) return out;
-  const double b1 = svar / avar2;
-  const double N = static_cast<double>(nf);
+  out.b1 = svar / avar2;
+  const double N = b1_points(stat, x.size(), m, count);
 
   int mu = -2;
   for (int cand = 2; cand > -2; --cand) {
     const double hi = b1_expected(N, cand);
     const double lo = b1_expected(N, cand - 1);
     const double boundary = cand == 2 ? 0.5 * (hi + lo) : std::sqrt(hi * lo);
-    if (b1 > boundary) {
+    if (out.b1 > boundary) {
       mu = cand;
       break;
     }
   }
   out.alpha = clamp_alpha(alpha_from_mu(mu), stat);
 
-  if (mu == -2 && (stat == Stat::mdev || stat == Stat::tdev)) {
+  if (mu == -2) {
     // R(n) = MVAR/AVAR: 1/m for white PM, 3.37/(1.04 + 3 ln(pi m)) for flicker PM.
     const VarianceTerm mv = mvar(x, m, 1.0);
     const VarianceTerm av = oavar(x, m, 1.0);
     if (mv.n > 0 && av.n > 0 && av.var > 0.0) {
-      const double rn = mv.var / av.var;
+      out.rn = mv.var / av.var;
       const double md = static_cast<double>(m);
       const double r_fpm = 3.37 / (1.04 + 3.0 * std::log(std::numbers::pi * md));
       const double r_wpm = 1.0 / md;
-      out.alpha = rn > std::sqrt(r_fpm * r_wpm) ? 1 : 2;
+      out.alpha = out.rn > std::sqrt(r_fpm * r_wpm) ? 1 : 2;
       out.method = NoiseId::Method::b1_rn;
     }
-  }
-  return out;
-}
-
-}  // namespace
-
-NoiseId identify_noise(std::span<const double> x, std::size_t m, DataType original, Stat stat) {
-  NoiseId out = identify_at(x, m, original, stat);
-  if (out.method == NoiseId::Method::acf || m == 0 || x.size() < 2) return out;
-  // A B1 ratio from fewer than 30 averages scatters widely, and taking a
-  // random walk for white PM there gives an EDF of the record length and an
-  // interval a hundred times too narrow. The lag-1 ACF at the largest
-  // averaging factor that still has 30 points is trusted instead as a bound:
-  // the noise at longer tau is taken no whiter than it. (This also agrees
-  // with Stable32 on more of its short-series rows than the B1 ratio alone.)
-  const bool phase = original == DataType::phase;
-  const std::size_t intervals = x.size() - 1;
-  const std::size_t m_ref = phase ? intervals / (kMinAcfPoints - 1) : intervals / kMinAcfPoints;
-  if (m_ref == 0 || m_ref >= m) return out;
-  const NoiseId ref = identify_at(x, m_ref, original, stat);
-  if (ref.method == NoiseId::Method::acf && ref.alpha < out.alpha) {
-    out.alpha = ref.alpha;
-    out.method = NoiseId::Method::b1_bounded;
   }
   return out;
 }

@@ -64,7 +64,7 @@ StabilityPoint StabilityRecord::finish(std::size_t m, VarianceTerm v,
   if (stat_ == Stat::tdev) p.dev *= p.tau / std::sqrt(3.0);
   if (!opt.intervals) return p;
 
-  p.alpha = opt.alpha ? *opt.alpha : identify_noise(x_, m, type_, stat_).alpha;
+  p.alpha = opt.alpha ? *opt.alpha : identify_noise(x_, m, stat_).alpha;
   p.edf = edf_for(stat_, p.alpha, m, x_.size(), opt.edf);
   const Interval ci = chi2_interval(p.dev, p.edf, opt.ci);
   p.lo = ci.lo;

@@ -1,8 +1,8 @@
 // Power-law noise identification at one averaging factor, as Stable32 does
-// it: lag-1 autocorrelation (Riley & Greenhall 2004) when at least 30
-// points remain after averaging, otherwise the B1 ratio (Barnes) refined by
-// R(n) for the modified statistics, bounded by the autocorrelation result at
-// the longest tau that still has 30 points (see noise_id.cpp).
+// it: lag-1 autocorrelation (Riley & Greenhall 2004) of the non-overlapping
+// frequency averages when at least 30 remain, otherwise Barnes' B1 ratio,
+// with R(n) = MVAR/AVAR separating white from flicker PM (see noise_id.cpp
+// for each choice and the tables that fixed it).
 #pragma once
 #include <cstddef>
 #include <span>
@@ -14,17 +14,19 @@ namespace cubecal {
 struct NoiseId {
   int alpha = 0;          // exponent of the frequency PSD: +2 WPM ... -4 RRFM
   double alpha_est = 0;   // unrounded estimate (lag-1 ACF method only)
-  // acf: lag-1 autocorrelation; b1 (b1_rn with R(n)): short series;
-  // b1_bounded: B1 overruled by the ACF type at the longest reliable tau.
-  enum class Method { acf, b1, b1_rn, b1_bounded } method = Method::acf;
+  double b1 = 0;          // B1 ratio (b1 and b1_rn methods)
+  double rn = 0;          // R(n) = MVAR/AVAR (b1_rn method only)
+  // acf: lag-1 autocorrelation; b1: B1 ratio (fewer than 30 averages);
+  // b1_rn: B1 said white or flicker PM, R(n) chose which.
+  enum class Method { acf, b1, b1_rn } method = Method::acf;
 };
 
-// x: phase record of the whole series (as used by the statistic, in any
-// unit); original: the type the user supplied, which decides whether the
-// ACF runs on decimated phase or averaged frequency.
-NoiseId identify_noise(std::span<const double> x, std::size_t m, DataType original, Stat stat);
+// x: phase record of the whole series (in any unit; frequency input is
+// integrated first). The identification works on the frequency averages
+// at m whichever type the user supplied.
+NoiseId identify_noise(std::span<const double> x, std::size_t m, Stat stat);
 
-// Lag-1 autocorrelation of a sequence (mean removed).
+// Lag-1 autocorrelation of a sequence (mean removed), as Riley defines it.
 double lag1_autocorrelation(std::span<const double> z) noexcept;
 
 }  // namespace cubecal
