@@ -32,6 +32,7 @@
 #include "cubecal/noise/units.hpp"
 
 // sim: sensor triads with the paper's measurement model, and its sensors.
+#include "cubecal/sim/power_law_noise.hpp"
 #include "cubecal/sim/presets.hpp"
 #include "cubecal/sim/simulator.hpp"
 
