@@ -137,6 +137,7 @@ struct Row {
   std::size_t n;
   std::uint64_t seed;
   std::size_t m;
+  std::size_t from_end;  // 0: the last AF of the grid, 1: the one before, ...
   int id_alpha;
   NoiseId::Method method;
   double alpha_est;
@@ -180,7 +181,7 @@ TEST(NoiseIdPowerLaw, NoIntervalNarrowerThanTheTrueTypesByMoreThan2x) {
                 continue;
               }
               const NoiseId nid = identify_noise(rec.phase(), ms[j], type, stat);
-              const Row r{stat, alpha, type, n, seed, ms[j], p.alpha, nid.method, nid.alpha_est,
+              const Row r{stat, alpha, type, n, seed, ms[j], ms.size() - 1 - j, p.alpha, nid.method, nid.alpha_est,
                           p.edf, q.edf, std::log(p.hi / p.lo), std::log(q.hi / q.lo)};
               t.worst = std::min(t.worst, r.ratio());
               if (r.ratio() < kNarrowest) {
@@ -213,6 +214,9 @@ TEST(NoiseIdPowerLaw, NoIntervalNarrowerThanTheTrueTypesByMoreThan2x) {
     return std::tie(a.stat, a.alpha, a.type) < std::tie(b.stat, b.alpha, b.type) ||
            (std::tie(a.stat, a.alpha, a.type) == std::tie(b.stat, b.alpha, b.type) && a.ratio() < b.ratio());
   });
+  std::size_t rows = 0;
+  for (const auto& [key, t] : tally) rows += t.rows;
+  std::printf("%zu of %zu rows fail\n", failing.size(), rows);
   if (!failing.empty()) {
     std::printf("\n%zu failing rows; the narrowest three per (stat, alpha, type):\n", failing.size());
     std::printf("%-7s %5s %5s %5s %6s %4s %6s %-10s %7s %9s %9s %7s %7s %6s\n", "stat", "alpha", "type", "N",
@@ -231,14 +235,17 @@ TEST(NoiseIdPowerLaw, NoIntervalNarrowerThanTheTrueTypesByMoreThan2x) {
                   static_cast<unsigned long long>(r.seed), r.m, r.id_alpha, method_name(r.method), r.alpha_est,
                   r.edf_id, r.edf_true, r.w_id, r.w_true, r.ratio());
     }
-    std::map<std::size_t, std::size_t> per_n;
+    std::map<std::size_t, std::size_t> per_n, per_end;
     std::map<std::pair<int, int>, std::size_t> per_call;  // (true alpha, identified alpha)
     for (const Row& r : failing) {
       ++per_n[r.n];
+      ++per_end[r.from_end];
       ++per_call[{r.alpha, r.id_alpha}];
     }
     std::printf("failing rows per record length:");
     for (const auto& [n, k] : per_n) std::printf("  N=%zu: %zu", n, k);
+    std::printf("\nfailing rows per AF counted from the grid's last (0: the last):");
+    for (const auto& [e, k] : per_end) std::printf("  %zu: %zu", e, k);
     std::printf("\nfailing rows per (true alpha -> identified alpha):");
     for (const auto& [a, k] : per_call) std::printf("  %d->%d: %zu", a.first, a.second, k);
     std::printf("\n");
