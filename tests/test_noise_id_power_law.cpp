@@ -237,9 +237,11 @@ TEST(NoiseIdPowerLaw, NoIntervalNarrowerThanTheTrueTypesByMoreThan2x) {
     }
     std::map<std::size_t, std::size_t> per_n, per_end;
     std::map<std::pair<int, int>, std::size_t> per_call;  // (true alpha, identified alpha)
+    std::map<std::string, std::size_t> per_method;
     for (const Row& r : failing) {
       ++per_n[r.n];
       ++per_end[r.from_end];
+      ++per_method[method_name(r.method)];
       ++per_call[{r.alpha, r.id_alpha}];
     }
     std::printf("failing rows per record length:");
@@ -248,6 +250,8 @@ TEST(NoiseIdPowerLaw, NoIntervalNarrowerThanTheTrueTypesByMoreThan2x) {
     for (const auto& [e, k] : per_end) std::printf("  %zu: %zu", e, k);
     std::printf("\nfailing rows per (true alpha -> identified alpha):");
     for (const auto& [a, k] : per_call) std::printf("  %d->%d: %zu", a.first, a.second, k);
+    std::printf("\nfailing rows per identification method:");
+    for (const auto& [name, k] : per_method) std::printf("  %s: %zu", name.c_str(), k);
     std::printf("\n");
   }
 
