@@ -375,6 +375,54 @@ TEST(AnalysisJson, DevResultRoundTrip) {
   EXPECT_FALSE(j.get<pipeline::DevResult>().options.intervals);
 }
 
+void expect_tau_list(const TauListOutcome& a, const TauListOutcome& b, const std::string& what) {
+  ASSERT_EQ(b.excluded.size(), a.excluded.size()) << what;
+  for (std::size_t i = 0; i < a.excluded.size(); ++i) {
+    EXPECT_EQ(b.excluded[i].tau, a.excluded[i].tau) << what;
+    EXPECT_EQ(b.excluded[i].m, a.excluded[i].m) << what;
+    EXPECT_EQ(b.excluded[i].needs, a.excluded[i].needs) << what;
+    EXPECT_EQ(b.excluded[i].has, a.excluded[i].has) << what;
+    EXPECT_EQ(b.excluded[i].reason, a.excluded[i].reason) << what;
+  }
+  ASSERT_EQ(b.merged.size(), a.merged.size()) << what;
+  for (std::size_t i = 0; i < a.merged.size(); ++i) {
+    EXPECT_EQ(b.merged[i].tau, a.merged[i].tau) << what;
+    EXPECT_EQ(b.merged[i].kept_tau, a.merged[i].kept_tau) << what;
+    EXPECT_EQ(b.merged[i].m, a.merged[i].m) << what;
+  }
+}
+
+// Listed taus left out or merged travel with the result: `dev --format json`
+// and analysis.json carry them, and a result read back has them.
+TEST(AnalysisJson, ExcludedAndMergedTausRoundTrip) {
+  const io::Series s = simulated_series();
+  pipeline::DevRequest req;
+  req.grid = parse_tau_grid("1,1.04,1e6,1e300");
+  const pipeline::DevResult a = pipeline::run_dev(s, req);
+  ASSERT_EQ(a.tau_list.excluded.size(), 2u);
+  ASSERT_EQ(a.tau_list.merged.size(), 1u);
+  const json j = a;
+  EXPECT_EQ(j["excluded_taus"][0]["af"], 10000000) << "a whole number";
+  EXPECT_EQ(j["excluded_taus"][0]["reason"], a.tau_list.excluded[0].reason);
+  EXPECT_EQ(j["merged_taus"][0]["merged_with_tau_s"], 1.0);
+  expect_tau_list(a.tau_list, json::parse(j.dump()).get<pipeline::DevResult>().tau_list, "dev");
+
+  pipeline::AnalysisResult r = analysis();
+  r.tau_list = a.tau_list;
+  r.model_excluded_taus = {a.tau_list.excluded[0]};
+  const json k = r;
+  ASSERT_TRUE(k.contains("model_excluded_taus"));
+  const pipeline::AnalysisResult b = round_trip(r);
+  expect_tau_list(r.tau_list, b.tau_list, "analysis");
+  expect_tau_list({r.model_excluded_taus, {}}, {b.model_excluded_taus, {}}, "analysis model");
+
+  json old = analysis();  // written before the keys existed
+  for (const char* key : {"excluded_taus", "merged_taus", "model_excluded_taus"}) old.erase(key);
+  const auto c = old.get<pipeline::AnalysisResult>();
+  EXPECT_TRUE(c.tau_list.empty());
+  EXPECT_TRUE(c.model_excluded_taus.empty());
+}
+
 TEST(AnalysisJson, ReportFromMemoryAndFromTheFilesOfAnEarlierRun) {
   char tmpl[] = "/tmp/cubecal-test-areport-XXXXXX";
   ASSERT_NE(::mkdtemp(tmpl), nullptr);

@@ -105,6 +105,80 @@ TEST_F(Cli, TooShortForStatistic) {
   EXPECT_TRUE(one_error_line(r)) << r.err;
 }
 
+// Lines of `text` that contain `what`.
+std::vector<std::string> lines_with(const std::string& text, const std::string& what) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);)
+    if (line.find(what) != std::string::npos) out.push_back(line);
+  return out;
+}
+
+// A listed tau beyond the statistic's largest averaging factor is said on
+// stderr (one warning line for the run, whatever the format) and in the
+// JSON, never dropped silently. PHASE.DAT: 1001 phase points, so OADEV
+// reaches m = 250 and ADEV m = 200.
+TEST_F(Cli, ListedTausBeyondTheLimitAreReported) {
+  const Result j = run("dev " + kPhaseDat + " --type phase --rate 1 --taus 1,10,1e6 --format json");
+  ASSERT_EQ(j.code, 0) << j.err;
+  const auto w = lines_with(j.err, "warning");
+  ASSERT_EQ(w.size(), 1u) << j.err;
+  EXPECT_EQ(w[0], "cubecal: warning: --taus: 1 listed tau not evaluated: 1e+06 s (oadev needs at least "
+                  "4m+1 = 4000001 phase samples for m = 1000000, the record has 1001) (record longer data "
+                  "or list smaller taus)");
+  const auto doc = nlohmann::json::parse(j.out);
+  EXPECT_EQ(doc["columns"][0]["tau"], nlohmann::json({1.0, 10.0}));
+  ASSERT_EQ(doc["excluded_taus"].size(), 1u);
+  EXPECT_EQ(doc["excluded_taus"][0]["tau_s"], 1e6);
+  EXPECT_EQ(doc["excluded_taus"][0]["af"], 1000000);
+  EXPECT_EQ(doc["excluded_taus"][0]["needs_samples"], 4000001);
+  EXPECT_EQ(doc["excluded_taus"][0]["samples"], 1001);
+  EXPECT_TRUE(doc["merged_taus"].empty());
+
+  // Each statistic its own limit: 200 fits ADEV, 201 does not; the table
+  // says it on stderr too, and a merged tau gets a note.
+  const Result t = run("dev " + kPhaseDat + " --type phase --rate 1 --stat adev --taus 200,201,250,10,10.2");
+  ASSERT_EQ(t.code, 0) << t.err;
+  const auto tw = lines_with(t.err, "warning");
+  ASSERT_EQ(tw.size(), 1u) << t.err;
+  EXPECT_NE(tw[0].find("2 listed taus not evaluated: 201 s (adev needs at least 5m+1 = 1006 phase samples for "
+                       "m = 201, the record has 1001); 250 s (adev needs at least 5m+1 = 1251"),
+            std::string::npos)
+      << tw[0];
+  EXPECT_EQ(lines_with(t.err, "note: --taus"),
+            std::vector<std::string>{"cubecal: note: --taus: listed taus on the same averaging factor are one "
+                                     "point: 10.2 s with 10 s (m = 10)"});
+
+  // A generated grid ends at the limit: nothing to say.
+  const Result o = run("dev " + kPhaseDat + " --type phase --rate 1 --taus all --no-ci --format csv");
+  ASSERT_EQ(o.code, 0) << o.err;
+  EXPECT_EQ(o.err.find("--taus"), std::string::npos) << o.err;
+}
+
+TEST_F(Cli, AnalyzeReportsListedTausBeyondTheLimit) {
+  std::string csv = "gx_dps\n";
+  for (int i = 0; i < 2000; ++i) csv += std::to_string(0.01 * std::sin(0.7 * i * i)) + "\n";
+  const std::string f = write("w.csv", csv);
+  const std::string out = path("an");
+  const Result r = run("analyze " + f + " --rate 10 --taus 0.1,1,10,50,100 --max-samples 1000 --out " + out);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto w = lines_with(r.err, "warning: --taus");
+  ASSERT_EQ(w.size(), 1u) << r.err;
+  EXPECT_EQ(w[0], "cubecal: warning: --taus: 1 listed tau not evaluated: 100 s (oadev needs at least 4m = 4000 "
+                  "samples for m = 1000, the record has 2000); 1 listed tau left out of the model fit: 50 s (oadev "
+                  "needs at least 4m = 2000 samples for m = 500, the part the model is fitted on has 1000) (record "
+                  "longer data or list smaller taus)");
+  std::ifstream in(dir_ / "an" / "analysis.json");
+  const auto j = nlohmann::json::parse(in);
+  ASSERT_EQ(j["excluded_taus"].size(), 1u);
+  EXPECT_EQ(j["excluded_taus"][0]["tau_s"], 100.0);
+  EXPECT_EQ(j["excluded_taus"][0]["reason"],
+            "oadev needs at least 4m = 4000 samples for m = 1000, the record has 2000");
+  ASSERT_EQ(j["model_excluded_taus"].size(), 1u);
+  EXPECT_EQ(j["model_excluded_taus"][0]["tau_s"], 50.0);
+  EXPECT_EQ(j["channels"][0]["adev"]["tau"].size(), 4u);
+}
+
 TEST_F(Cli, NeverOverwritesWithoutForce) {
   const std::string out = write("result.json", "precious");
   const Result r = run("dev " + kPhaseDat + " --type phase --rate 1 --format json --out " + out);

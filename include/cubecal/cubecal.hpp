@@ -19,6 +19,7 @@
 #include "cubecal/stats/phase.hpp"
 #include "cubecal/stats/stability.hpp"
 #include "cubecal/stats/statistic.hpp"
+#include "cubecal/stats/tau_exclusions.hpp"
 #include "cubecal/stats/tau_grid.hpp"
 
 // noise: IEEE 952 terms, the paper's sensor models, units, drift, covariance,
@@ -31,6 +32,7 @@
 #include "cubecal/noise/units.hpp"
 
 // sim: sensor triads with the paper's measurement model, and its sensors.
+#include "cubecal/sim/power_law_noise.hpp"
 #include "cubecal/sim/presets.hpp"
 #include "cubecal/sim/simulator.hpp"
 

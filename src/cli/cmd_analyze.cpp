@@ -204,6 +204,9 @@ int run_analyze_command(const AnalyzeOptions& o) {
   progress.stage(fmt::format("analyzing {} channels", series.channels.size()));
   const pipeline::AnalysisResult r = pipeline::run_analyze(series, req);
   progress.done();
+  for (const std::string& line :
+       {excluded_taus_warning(r.tau_list, r.model_excluded_taus), merged_taus_note(r.tau_list)})
+    if (!line.empty()) std::cerr << line << '\n';
 
   if (o.format == "json")
     std::cout << pipeline::analysis_json(r, ctx);

@@ -76,6 +76,9 @@ int run_dev_command(const DevOptions& o) {
   const pipeline::DevResult res = pipeline::run_dev(series, req);
   progress.done();
 
+  for (const std::string& line : {excluded_taus_warning(res.tau_list), merged_taus_note(res.tau_list)})
+    if (!line.empty()) std::cerr << line << '\n';
+
   DevContext ctx{o.input.file, o.ci, o.edf, !o.no_ci};
   std::ostream& out = result.stream();
   if (res.segments > 1)

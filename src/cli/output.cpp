@@ -21,6 +21,31 @@ std::string g(double v) { return fmt::format("{:.6e}", v); }
 
 std::string rate_text(double hz) { return fmt::format("{:.6g}", hz); }
 
+std::string excluded_taus_warning(const TauListOutcome& t, const std::vector<ExcludedTau>& model) {
+  if (t.excluded.empty() && model.empty()) return {};
+  const auto list = [](const std::vector<ExcludedTau>& ex) {
+    std::string s;
+    for (const auto& e : ex) s += fmt::format("{}{:.6g} s ({})", s.empty() ? "" : "; ", e.tau, e.reason);
+    return s;
+  };
+  std::string line = "cubecal: warning: --taus:";
+  if (!t.excluded.empty())
+    line += fmt::format(" {} listed tau{} not evaluated: {}", t.excluded.size(),
+                        t.excluded.size() == 1 ? "" : "s", list(t.excluded));
+  if (!model.empty())
+    line += fmt::format("{} {} listed tau{} left out of the model fit: {}", t.excluded.empty() ? "" : ";",
+                        model.size(), model.size() == 1 ? "" : "s", list(model));
+  return line + " (record longer data or list smaller taus)";
+}
+
+std::string merged_taus_note(const TauListOutcome& t) {
+  if (t.merged.empty()) return {};
+  std::string items;
+  for (const auto& m : t.merged)
+    items += fmt::format("{}{:.6g} s with {:.6g} s (m = {})", items.empty() ? "" : ", ", m.tau, m.kept_tau, m.m);
+  return "cubecal: note: --taus: listed taus on the same averaging factor are one point: " + items;
+}
+
 void write_dev_table(std::ostream& out, const pipeline::DevResult& r, const DevContext& ctx) {
   for (std::size_t c = 0; c < r.channels.size(); ++c) {
     const auto& ch = r.channels[c];

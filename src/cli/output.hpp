@@ -24,6 +24,14 @@ struct DevContext {
 // a rate within that of a round value as the round value (10).
 std::string rate_text(double hz);
 
+// What became of an explicit --taus list, one line each for stderr (empty
+// when there is nothing to say): the warning naming every listed tau the
+// statistic cannot evaluate on the record, with the reason (and, for
+// analyze, those left out of the model's --max-samples part), and the note
+// naming listed taus merged with an earlier one on the same averaging factor.
+std::string excluded_taus_warning(const TauListOutcome& t, const std::vector<ExcludedTau>& model = {});
+std::string merged_taus_note(const TauListOutcome& t);
+
 void write_dev_table(std::ostream& out, const pipeline::DevResult& r, const DevContext& ctx);
 void write_dev_csv(std::ostream& out, const pipeline::DevResult& r, const DevContext& ctx);
 // pipeline::analysis_files into dir (created); returns the names written

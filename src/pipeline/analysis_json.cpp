@@ -1,6 +1,7 @@
 #include "cubecal/pipeline/analysis_json.hpp"
 
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <optional>
 
@@ -222,6 +223,55 @@ class Node {
   const std::string& label_;
 };
 
+// Listed taus left out of a curve ("excluded_taus": tau_s, af, needs_samples,
+// samples, reason) and merged with an earlier one ("merged_taus": tau_s,
+// merged_with_tau_s, af).
+json whole(double v) {  // an integer where a double holds it exactly
+  return v < 9.0e15 ? json(static_cast<std::uint64_t>(v)) : json(v);
+}
+
+json excluded_json(const std::vector<ExcludedTau>& ex) {
+  json a = json::array();
+  for (const auto& e : ex)
+    a.push_back({{"tau_s", e.tau}, {"af", whole(e.m)}, {"needs_samples", whole(e.needs)}, {"samples", e.has},
+                 {"reason", e.reason}});
+  return a;
+}
+
+void write_tau_list(json& j, const TauListOutcome& t) {
+  j["excluded_taus"] = excluded_json(t.excluded);
+  json merged = json::array();
+  for (const auto& m : t.merged)
+    merged.push_back({{"tau_s", m.tau}, {"merged_with_tau_s", m.kept_tau}, {"af", m.m}});
+  j["merged_taus"] = std::move(merged);
+}
+
+// Absent in documents written before the keys existed: nothing excluded.
+std::vector<ExcludedTau> read_excluded(const Node& root, const char* key) {
+  std::vector<ExcludedTau> out;
+  if (!root.has(key)) return out;
+  const Node a = root.at(key);
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const Node e = a.at(i);
+    out.push_back({e.num("tau_s"), e.num("af"), e.num("needs_samples"), e.at("samples").count(),
+                   e.at("reason").str()});
+  }
+  return out;
+}
+
+TauListOutcome read_tau_list(const Node& root) {
+  TauListOutcome t;
+  t.excluded = read_excluded(root, "excluded_taus");
+  if (root.has("merged_taus")) {
+    const Node a = root.at("merged_taus");
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      const Node m = a.at(i);
+      t.merged.push_back({m.num("tau_s"), m.num("merged_with_tau_s"), m.at("af").count()});
+    }
+  }
+  return t;
+}
+
 std::vector<StabilityPoint> read_curve(const Node& a) {
   const auto tau = a.at("tau").nums(), dev = a.at("dev").nums();
   const Node af = a.at("af"), n = a.at("n");
@@ -411,6 +461,8 @@ AnalysisResult read_result(const json& doc, const std::string& label) {
   const Node m = cov.at("matrix");
   for (std::size_t i = 0; i < m.size(); ++i) r.covariance.push_back(m.at(i).nums());
   r.cov_samples = cov.at("samples").count();
+  r.tau_list = read_tau_list(root);
+  r.model_excluded_taus = read_excluded(root, "model_excluded_taus");
   return r;
 }
 
@@ -448,6 +500,8 @@ void to_json(json& j, const AnalysisResult& r) {
   if (!r.channels.empty()) cov_unit = "(" + r.channels[0].unit.name + ")^2";
   j["covariance"] = {{"channels", r.cov_names}, {"matrix", r.covariance}, {"samples", r.cov_samples},
                      {"unit", cov_unit}};
+  write_tau_list(j, r.tau_list);
+  j["model_excluded_taus"] = excluded_json(r.model_excluded_taus);
 }
 
 void from_json(const json& j, AnalysisResult& r) { r = read_result(j, "analysis.json"); }
@@ -489,6 +543,7 @@ void to_json(json& j, const DevResult& r) {
     cols.push_back(std::move(c));
   }
   j["columns"] = std::move(cols);
+  write_tau_list(j, r.tau_list);
 }
 
 void from_json(const json& j, DevResult& r) {
@@ -518,6 +573,7 @@ void from_json(const json& j, DevResult& r) {
     const Node cj = cols.at(c);
     r.channels.push_back({cj.at("name").str(), read_curve(cj)});
   }
+  r.tau_list = read_tau_list(root);
 }
 
 }  // namespace cubecal::pipeline

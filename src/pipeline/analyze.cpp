@@ -95,6 +95,7 @@ AnalysisResult run_analyze(const io::Series& s, const AnalyzeRequest& req) {
   // Allan deviations of all channels in one parallel run.
   const DevResult dev = run_dev(s, oadev_request(req));
   for (std::size_t c = 0; c < nch; ++c) r.channels[c].noise = noise_of(dev.channels[c]);
+  r.tau_list = dev.tau_list;
 
   // The model is fitted on the first max_samples samples when asked (the
   // paper reduced its 72 h record to 42000 samples to get a V-shaped curve).
@@ -103,6 +104,13 @@ AnalysisResult run_analyze(const io::Series& s, const AnalyzeRequest& req) {
     std::vector<std::vector<double>> head;
     for (const auto& ch : s.channels) head.emplace_back(ch.begin(), ch.begin() + static_cast<std::ptrdiff_t>(req.max_samples));
     const DevResult hd = run_dev(s.names, head, s.rate_hz, oadev_request(req));
+    const TauListOutcome head_list = tau_list_outcome(req.grid, Stat::oadev, DataType::freq, req.max_samples,
+                                                      dt, "the part the model is fitted on");
+    for (const ExcludedTau& e : head_list.excluded) {
+      const bool on_curve = std::none_of(r.tau_list.excluded.begin(), r.tau_list.excluded.end(),
+                                         [&](const ExcludedTau& f) { return f.tau == e.tau; });
+      if (on_curve) r.model_excluded_taus.push_back(e);
+    }
     for (std::size_t c = 0; c < nch; ++c) {
       r.channels[c].model.adev = hd.channels[c].points;
       r.channels[c].model.samples = req.max_samples;

@@ -138,14 +138,16 @@ DevResult run(const std::vector<std::string>& names,
     if (mm > 0) ++res.segments_used;
   }
   const std::vector<std::size_t> ms = averaging_factors(req.grid, max_m, res.tau0);
-  if (ms.empty()) {
-    std::size_t longest = 0;
-    for (const auto& s : segments) longest = std::max(longest, s.size());
+  std::size_t longest = 0;
+  for (const auto& s : segments) longest = std::max(longest, s.size());
+  res.tau_list = tau_list_outcome(req.grid, req.stat, req.type, longest, res.tau0,
+                                  nseg > 1 ? "the longest segment" : "the record");
+  if (ms.empty())
     throw UsageError("series too short for " + std::string(to_string(req.stat)) + ": " +
                          std::to_string(longest) +
                          " samples in the longest segment, and no averaging factor of the tau "
-                         "grid fits (record longer data or choose smaller taus)");
-  }
+                         "grid fits (record longer data or choose smaller taus)" +
+                         (res.tau_list.excluded.empty() ? "" : ": " + res.tau_list.excluded.front().reason));
 
   // Every (piece, block of factors) evaluation is independent. The caller's
   // thread (OpenMP thread 0) reports the progress between its blocks.

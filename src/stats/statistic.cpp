@@ -41,22 +41,25 @@ int difference_order(Stat s) noexcept {
   return (s == Stat::hdev || s == Stat::ohdev) ? 3 : 2;
 }
 
-std::size_t max_averaging_factor(Stat s, std::size_t n_phase) noexcept {
-  if (n_phase < 2) return 0;
-  const std::size_t nf = n_phase - 1;  // frequency points
+std::size_t points_per_factor(Stat s) noexcept {
   switch (s) {
     case Stat::adev:
     case Stat::hdev:
-      return nf / 5;
+      return 5;
     case Stat::oadev:
     case Stat::mdev:
     case Stat::tdev:
     case Stat::ohdev:
-      return nf / 4;
+      return 4;
     case Stat::totdev:
-      return nf / 2;
+      return 2;
   }
-  return 0;
+  return 5;
+}
+
+std::size_t max_averaging_factor(Stat s, std::size_t n_phase) noexcept {
+  if (n_phase < 2) return 0;
+  return (n_phase - 1) / points_per_factor(s);  // over the N - 1 frequency points
 }
 
 }  // namespace cubecal

@@ -56,6 +56,10 @@ TauGrid parse_tau_grid(std::string_view spec) {
   return g;
 }
 
+double listed_factor(double tau, double tau0) noexcept {
+  return std::max(1.0, std::round(tau / tau0));
+}
+
 std::vector<std::size_t> averaging_factors(const TauGrid& grid, std::size_t max_m, double tau0) {
   std::vector<std::size_t> ms;
   if (max_m == 0) return ms;
@@ -83,7 +87,7 @@ std::vector<std::size_t> averaging_factors(const TauGrid& grid, std::size_t max_
     }
     case TauGrid::Kind::list:
       for (double tau : grid.taus) {
-        const double v = std::max(1.0, std::round(tau / tau0));
+        const double v = listed_factor(tau, tau0);
         if (v <= static_cast<double>(max_m)) ms.push_back(static_cast<std::size_t>(v));
       }
       break;

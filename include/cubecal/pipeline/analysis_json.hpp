@@ -41,8 +41,12 @@ AnalysisDocument parse_analysis_json(const std::string& text, const std::string&
 
 // `dev --format json`: {"stat","type","rate_hz","file","samples","segments",
 // "ci","edf_method","columns":[{"name","af","tau","dev","n"[,"lo","hi",
-// "edf","alpha"]}]}; "ci" is null and the interval arrays are left out when
-// the intervals were not computed.
+// "edf","alpha"]}],"excluded_taus":[{"tau_s","af","needs_samples","samples",
+// "reason"}],"merged_taus":[{"tau_s","merged_with_tau_s","af"}]}; "ci" is
+// null and the interval arrays are left out when the intervals were not
+// computed. analysis.json carries "excluded_taus" and "merged_taus" of its
+// Allan curve the same way, and "model_excluded_taus" (listed taus on the
+// curve but beyond the --max-samples head the model is fitted on).
 void to_json(nlohmann::json& j, const DevResult& r);
 void from_json(const nlohmann::json& j, DevResult& r);
 

@@ -13,6 +13,7 @@
 #include "cubecal/noise/noise_terms.hpp"
 #include "cubecal/noise/sensor_noise_model.hpp"
 #include "cubecal/stats/stability.hpp"
+#include "cubecal/stats/tau_exclusions.hpp"
 #include "cubecal/stats/tau_grid.hpp"
 #include "cubecal/noise/temperature.hpp"
 #include "cubecal/noise/units.hpp"
@@ -82,6 +83,11 @@ struct AnalysisResult {
   std::vector<std::string> cov_names;
   std::vector<std::vector<double>> covariance;
   std::size_t cov_samples = 0;
+  // Listed taus (an explicit --taus list) the Allan curves leave out, with
+  // the reason, and listed taus merged on one averaging factor; and listed
+  // taus on the curves but beyond the max_samples head the model is fitted on.
+  TauListOutcome tau_list;
+  std::vector<ExcludedTau> model_excluded_taus;
 };
 
 AnalysisResult run_analyze(const io::Series& series, const AnalyzeRequest& request);

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "cubecal/stats/stability.hpp"
+#include "cubecal/stats/tau_exclusions.hpp"
 #include "cubecal/stats/tau_grid.hpp"
 #include "cubecal/io/series.hpp"
 
@@ -52,11 +53,16 @@ struct DevResult {
   std::size_t segments_used = 1; // segments long enough for at least m = 1
   std::string file;              // the record's file (empty for in-memory arrays)
   StabilityOptions options;      // ci, EDF method and intervals of the points
+  // Taus of an explicit list that the statistic cannot evaluate on the
+  // longest segment (with the reason), and listed taus merged with an
+  // earlier one on the same averaging factor. Empty for generated grids.
+  TauListOutcome tau_list;
   std::vector<DevChannel> channels;
 };
 
 // Throws UsageError when no averaging factor of the grid fits the record
-// (the series is too short for the statistic).
+// (the series is too short for the statistic). Listed taus that do not fit
+// are not evaluated and are reported in DevResult::tau_list.
 DevResult run_dev(const io::Series& series, const DevRequest& request);
 
 // The same on raw arrays (one contiguous segment each), for callers that

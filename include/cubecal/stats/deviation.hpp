@@ -24,7 +24,9 @@ namespace cubecal {
 // `data`: frequency samples (rate-like: deg/s, fractional frequency, ...) or
 // phase samples (their integral: deg, s), one every 1/rate_hz seconds.
 // `grid`: the taus (default octave: 1, 2, 4, ... times 1/rate_hz), up to the
-// largest averaging factor Stable32 evaluates for the statistic.
+// largest averaging factor Stable32 evaluates for the statistic (listed taus
+// beyond it are left out: tau_list_outcome in stats/tau_exclusions.hpp says
+// which and why).
 // Throws UsageError when rate_hz is not a positive finite number or no tau of
 // the grid fits the record, std::invalid_argument for a NaN or infinite sample.
 std::vector<StabilityPoint> deviation(Stat stat, std::span<const double> data, double rate_hz,

@@ -26,4 +26,9 @@ int difference_order(Stat s) noexcept;
 // overlapping and modified statistics, (N-1)/2 for TOTDEV.
 std::size_t max_averaging_factor(Stat s, std::size_t n_phase) noexcept;
 
+// Phase points per averaging factor in that limit: max_averaging_factor(s, N)
+// >= m exactly when N >= points_per_factor(s) * m + 1 (5 for ADEV and HDEV,
+// 4 for the overlapping and modified statistics, 2 for TOTDEV).
+std::size_t points_per_factor(Stat s) noexcept;
+
 }  // namespace cubecal
