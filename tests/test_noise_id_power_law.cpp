@@ -31,6 +31,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstdint>
 #include <cstdio>
 #include <map>
@@ -63,7 +64,6 @@ const char* method_name(NoiseId::Method m) {
     case NoiseId::Method::acf: return "acf";
     case NoiseId::Method::b1: return "b1";
     case NoiseId::Method::b1_rn: return "b1_rn";
-    case NoiseId::Method::b1_bounded: return "b1_bounded";
   }
   return "?";
 }
@@ -151,10 +151,19 @@ struct Tally {
   double worst = INFINITY;
 };
 
-TEST(NoiseIdPowerLaw, NoIntervalNarrowerThanTheTrueTypesByMoreThan2x) {
-  std::map<std::tuple<Stat, int, DataType>, Tally> tally;
+using Tallies = std::map<std::tuple<Stat, int, DataType>, Tally>;
+
+// Every (type, alpha, length, seed, statistic, AF) row with the identified
+// type's interval and the true type's; prints the summary and returns the
+// tallies. `widest`: StabilityOptions::conservative_short.
+Tallies run_power_law_check(bool widest) {
+  std::printf("\n== intervals where fewer than 30 averages remain: %s\n",
+              widest ? "widest of the neighbouring types (conservative_short, analyze's default)"
+                     : "the identified type's, as Stable32 (dev's default)");
+  Tallies tally;
   std::vector<Row> failing;
-  StabilityOptions identified;  // the defaults: alpha identified per tau
+  StabilityOptions identified;  // alpha identified per tau
+  identified.conservative_short = widest;
   for (DataType type : {DataType::freq, DataType::phase}) {
     for (int alpha : {2, 1, 0, -1, -2, -3, -4}) {
       for (std::size_t n : kLengths) {
@@ -174,13 +183,13 @@ TEST(NoiseIdPowerLaw, NoIntervalNarrowerThanTheTrueTypesByMoreThan2x) {
             Tally& t = tally[{stat, alpha, type}];
             for (std::size_t j = 0; j < ms.size(); ++j) {
               const StabilityPoint &p = id[j], &q = tr[j];
-              ASSERT_GT(q.edf, 0.0) << to_string(stat) << " has an interval for alpha " << alpha;
+              EXPECT_GT(q.edf, 0.0) << to_string(stat) << " has an interval for alpha " << alpha;
               ++t.rows;
               if (!(p.edf > 0.0)) {  // no interval at all: said, not counted as narrow
                 ++t.no_interval;
                 continue;
               }
-              const NoiseId nid = identify_noise(rec.phase(), ms[j], type, stat);
+              const NoiseId nid = identify_noise(rec.phase(), ms[j], stat);
               const Row r{stat, alpha, type, n, seed, ms[j], ms.size() - 1 - j, p.alpha, nid.method, nid.alpha_est,
                           p.edf, q.edf, std::log(p.hi / p.lo), std::log(q.hi / q.lo)};
               t.worst = std::min(t.worst, r.ratio());
@@ -255,6 +264,15 @@ TEST(NoiseIdPowerLaw, NoIntervalNarrowerThanTheTrueTypesByMoreThan2x) {
     std::printf("\n");
   }
 
+  return tally;
+}
+
+// The target of the noise-identification work: with the conservative
+// intervals no row fails. The Stable32-faithful intervals are printed for
+// the record (they fail at the last AFs, where B1 calls PM for FM).
+TEST(NoiseIdPowerLaw, NoIntervalNarrowerThanTheTrueTypesByMoreThan2x) {
+  run_power_law_check(false);
+  Tallies tally = run_power_law_check(true);
   for (Stat stat : kStats)
     for (int alpha : alphas_of(stat))
       for (DataType type : {DataType::freq, DataType::phase}) {

@@ -28,6 +28,7 @@ struct DevOptions {
   std::string edf = "greenhall";
   std::optional<int> alpha;
   bool no_ci = false;
+  std::string short_ci = "stable32";
   std::string format = "table";
   std::string out;
   bool force = false;
@@ -45,6 +46,7 @@ int run_dev_command(const DevOptions& o) {
   req.options.edf = o.edf == "simple" ? EdfMethod::simple : EdfMethod::greenhall;
   req.options.alpha = o.alpha;
   req.options.intervals = !o.no_ci;
+  req.options.conservative_short = o.short_ci == "widest";
   req.threads = o.input.threads;
 
   ResultOutput result(o.out, o.force);  // refuses an unusable --out before the work
@@ -126,6 +128,12 @@ CLI::App* add_dev_command(CLI::App& app, Command& run) {
                   "identifying it")
       ->check(CLI::Range(-4, 2));
   cmd->add_flag("--no-ci", opt->no_ci, "Deviations only: skip noise identification and intervals");
+  cmd->add_option("--short-ci", opt->short_ci,
+                  "Intervals where fewer than 30 averages remain (the noise type comes from the B1 "
+                  "ratio): stable32 (the identified type's EDF, as Stable32) or widest (the smallest "
+                  "EDF of the identified type and its neighbours: never falsely narrow)")
+      ->check(CLI::IsMember({"stable32", "widest"}))
+      ->capture_default_str();
   cmd->add_option("--format", opt->format, "Output format")
       ->check(CLI::IsMember({"table", "csv", "json"}))
       ->capture_default_str();

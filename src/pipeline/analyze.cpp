@@ -30,6 +30,10 @@ DevRequest oadev_request(const AnalyzeRequest& req) {
   d.type = DataType::freq;
   d.grid = req.grid;
   d.options.ci = req.ci;
+  // The IMU curve's last taus (bias instability, rate random walk) are read
+  // for numbers: their intervals never take a B1 misidentification for
+  // precision (stats/stability.hpp).
+  d.options.conservative_short = true;
   d.threads = req.threads;
   return d;
 }

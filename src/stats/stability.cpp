@@ -1,5 +1,6 @@
 #include "cubecal/stats/stability.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "cubecal/stats/confidence.hpp"
@@ -64,8 +65,19 @@ StabilityPoint StabilityRecord::finish(std::size_t m, VarianceTerm v,
   if (stat_ == Stat::tdev) p.dev *= p.tau / std::sqrt(3.0);
   if (!opt.intervals) return p;
 
-  p.alpha = opt.alpha ? *opt.alpha : identify_noise(x_, m, stat_).alpha;
+  NoiseId id;
+  if (opt.alpha) id.alpha = *opt.alpha;
+  else id = identify_noise(x_, m, stat_);
+  p.alpha = id.alpha;
   p.edf = edf_for(stat_, p.alpha, m, x_.size(), opt.edf);
+  if (opt.conservative_short && !opt.alpha && id.method != NoiseId::Method::acf) {
+    const int lowest = difference_order(stat_) == 3 ? -4 : -2;
+    // The neighbouring B1 classes: alpha +-1, and white FM beside a PM call
+    // (B1 sees white and flicker PM as one class; R(n) split them).
+    const int wfm = id.method == NoiseId::Method::b1_rn ? 0 : p.alpha;
+    for (int a : {p.alpha - 1, p.alpha + 1, wfm})
+      if (a >= lowest && a <= 2) p.edf = std::min(p.edf, edf_for(stat_, a, m, x_.size(), opt.edf));
+  }
   const Interval ci = chi2_interval(p.dev, p.edf, opt.ci);
   p.lo = ci.lo;
   p.hi = ci.hi;

@@ -17,6 +17,12 @@ struct StabilityOptions {
   EdfMethod edf = EdfMethod::greenhall;
   bool intervals = true;             // noise id + EDF + CI
   std::optional<int> alpha;          // fixed noise type instead of identification
+  // Below 30 averages the type comes from the B1 ratio, whose scatter
+  // spans the neighbouring types: true takes the smallest EDF (the widest
+  // interval) of the identified type and its two neighbours, so that a
+  // misidentification cannot make the interval falsely narrow. false (the
+  // default) keeps the identified type's EDF, as Stable32 does.
+  bool conservative_short = false;
 };
 
 struct StabilityPoint {
