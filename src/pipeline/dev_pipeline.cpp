@@ -193,6 +193,10 @@ DevResult run(const std::vector<std::string>& names,
       req.progress(std::min(now / total, 1.0));  // the sum may round past the total
   }
   if (req.progress) req.progress(1.0);
+  // The blocks above ran apart: Stable32's run rule over each whole run.
+  for (std::size_t k = 0; k < pieces.size(); ++k)
+    pieces[k].record->carry_types(
+        std::span<StabilityPoint>(evals.data() + static_cast<std::ptrdiff_t>(k * nm), nm), req.options);
 
   for (std::size_t c = 0; c < channels.size(); ++c) {
     DevChannel ch{names[c], {}};

@@ -21,14 +21,17 @@
 // 3. Fewer than 30 averages: Barnes' B1 ratio, the sample variance of the
 //    averages over their two-sample variance, against its expected value
 //    for each mu (Howe et al. Table 3) with boundaries at the geometric
-//    means. For the non-overlapping statistics N is the number of averages;
-//    for the overlapping ones (OADEV, MDEV, TDEV, OHDEV, TOTDEV) Stable32
-//    evaluates the expected values at the statistic's own number of terms
-//    (N - 2m phase differences for OADEV ...), which reproduces its
-//    overlapping tables (every 5071A row) where the count of averages does
-//    not (65 of 314 OADEV rows off).
+//    means. Stable32 evaluates the expected values at the statistic's own
+//    number of terms (the "#" of its tables: averages - 1 for ADEV,
+//    N - 2m for OADEV, ...), not at the number of averages: with the count
+//    of averages 65 of the 314 5071A OADEV rows and 27 of the 261 ocxo
+//    ADEV rows are off, with the number of terms none and 0.
 // 4. B1 cannot separate white from flicker PM (both mu = -2): the ratio
 //    R(n) = MVAR/AVAR does, for every statistic.
+// 5. Beyond half the largest averaging factor Stable32 does not identify
+//    anew: each factor keeps the previous one's type in the run
+//    (StabilityRecord::carry_types). This is what makes an octave run and
+//    an all-tau run of the same data differ at their last AFs.
 #include "cubecal/stats/noise_id.hpp"
 
 #include <algorithm>
@@ -121,22 +124,22 @@ int alpha_from_mu(int mu) {
   return mu == -2 ? 2 : -mu - 1;
 }
 
-// The N at which Stable32 evaluates the expected B1: the number of
-// averages for the non-overlapping statistics, the statistic's number of
-// terms for the overlapping ones (point 3 above). `phase_points` counts the
-// phase record, `averages` the non-overlapping averages at m.
+// The N at which Stable32 evaluates the expected B1: the statistic's own
+// number of terms at m (the "#" column of its tables), from the phase
+// record's length and the number of averages (point 3 above).
 double b1_points(Stat stat, std::size_t phase_points, std::size_t m, std::size_t averages) {
   const double np = static_cast<double>(phase_points), mm = static_cast<double>(m);
+  const double na = static_cast<double>(averages);
   switch (stat) {
-    case Stat::adev:
-    case Stat::hdev: return static_cast<double>(averages);
+    case Stat::adev: return na - 1.0;
+    case Stat::hdev: return na - 2.0;
     case Stat::oadev: return np - 2.0 * mm;
     case Stat::mdev:
     case Stat::tdev: return np - 3.0 * mm + 1.0;
     case Stat::ohdev: return np - 3.0 * mm;
     case Stat::totdev: return np - 2.0;
   }
-  return static_cast<double>(averages);
+  return na - 1.0;
 }
 
 }  // namespace

@@ -48,9 +48,11 @@ std::vector<StabilityPoint> StabilityRecord::evaluate(std::span<const std::size_
     case Stat::totdev: totvar(ext_, ms, tau0_, v); break;
     default:
       for (std::size_t j = 0; j < ms.size(); ++j) out.push_back(evaluate(ms[j], opt));
+      carry_types(out, opt);
       return out;
   }
   for (std::size_t j = 0; j < ms.size(); ++j) out.push_back(finish(ms[j], v[j], opt));
+  carry_types(out, opt);
   return out;
 }
 
@@ -65,23 +67,40 @@ StabilityPoint StabilityRecord::finish(std::size_t m, VarianceTerm v,
   if (stat_ == Stat::tdev) p.dev *= p.tau / std::sqrt(3.0);
   if (!opt.intervals) return p;
 
-  NoiseId id;
-  if (opt.alpha) id.alpha = *opt.alpha;
-  else id = identify_noise(x_, m, stat_);
-  p.alpha = id.alpha;
+  p.alpha = opt.alpha ? *opt.alpha : identify_noise(x_, m, stat_).alpha;
+  set_interval(p, opt);
+  return p;
+}
+
+void StabilityRecord::set_interval(StabilityPoint& p, const StabilityOptions& opt) const {
+  const std::size_t m = p.m;
   p.edf = edf_for(stat_, p.alpha, m, x_.size(), opt.edf);
-  if (opt.conservative_short && !opt.alpha && id.method != NoiseId::Method::acf) {
+  // Fewer than 30 averages: the type came from the B1 ratio (or was carried).
+  const bool short_series = (x_.size() - 1) / m < 30;
+  if (opt.conservative_short && !opt.alpha && short_series) {
     const int lowest = difference_order(stat_) == 3 ? -4 : -2;
     // The neighbouring B1 classes: alpha +-1, and white FM beside a PM call
-    // (B1 sees white and flicker PM as one class; R(n) split them).
-    const int wfm = id.method == NoiseId::Method::b1_rn ? 0 : p.alpha;
+    // (B1 sees white and flicker PM as one class; R(n) splits them).
+    const int wfm = p.alpha >= 1 ? 0 : p.alpha;
     for (int a : {p.alpha - 1, p.alpha + 1, wfm})
       if (a >= lowest && a <= 2) p.edf = std::min(p.edf, edf_for(stat_, a, m, x_.size(), opt.edf));
   }
   const Interval ci = chi2_interval(p.dev, p.edf, opt.ci);
   p.lo = ci.lo;
   p.hi = ci.hi;
-  return p;
+}
+
+void StabilityRecord::carry_types(std::span<StabilityPoint> run, const StabilityOptions& opt) const {
+  if (!opt.intervals || opt.alpha) return;
+  const std::size_t top = max_m();
+  for (std::size_t i = 1; i < run.size(); ++i) {
+    StabilityPoint& p = run[i];
+    const StabilityPoint& prev = run[i - 1];
+    if (p.n == 0 || prev.n == 0 || 2 * p.m <= top) continue;
+    p.alpha = prev.alpha;
+    p.type_carried = true;
+    set_interval(p, opt);
+  }
 }
 
 std::vector<StabilityPoint> stability(std::span<const double> data, DataType type, double tau0,

@@ -34,6 +34,9 @@ struct StabilityPoint {
   double hi = 0.0;
   double edf = 0.0;
   int alpha = 0;
+  // The noise type is the previous factor's in the run (carry_types), not
+  // identified at this m.
+  bool type_carried = false;
 };
 
 // Prepared record: phase points for the kernels plus what the statistic
@@ -61,11 +64,23 @@ class StabilityRecord {
   StabilityPoint evaluate(std::size_t m, const StabilityOptions& opt) const;
   // The same for every m of `ms`, in order. Close factors share their passes
   // over the record (stats/kernels.hpp): the way to evaluate a dense grid.
+  // A grid evaluation applies carry_types to its points.
   std::vector<StabilityPoint> evaluate(std::span<const std::size_t> ms,
                                        const StabilityOptions& opt) const;
 
+  // Stable32's run rule: beyond half the largest averaging factor the noise
+  // is not identified anew; each factor keeps the type of the one before it
+  // in the run (an octave run carries its last identified octave, an
+  // all-tau run the factor just below half). `run`: one run's points in
+  // ascending m (points with n == 0 are skipped); their EDF and interval
+  // follow the carried type. Nothing changes with a fixed alpha. A single
+  // evaluate(m) has no run: beyond half it is identified at m itself.
+  void carry_types(std::span<StabilityPoint> run, const StabilityOptions& opt) const;
+
  private:
   StabilityPoint finish(std::size_t m, VarianceTerm v, const StabilityOptions& opt) const;
+  // EDF and interval of p for p.alpha (conservative_short applied).
+  void set_interval(StabilityPoint& p, const StabilityOptions& opt) const;
 
   double scale_;
   std::vector<double> x_;
