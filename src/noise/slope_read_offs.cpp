@@ -99,12 +99,9 @@ struct LineTerm {
 // through point i has ordinate dev_i (tau_read / tau_i)^slope, smallest at
 // the point where the curve's own slope equals the line's. Taking the
 // minimum over the region is the paper's "line tangent to the curve".
-TermEstimate read_line(const AllanCurve& c, const std::vector<double>& slope,
-                       const std::vector<double>& rel_sigma, LineTerm term) {
+TermEstimate tangent_in(const AllanCurve& c, const Run& r, const std::vector<double>& rel_sigma,
+                        LineTerm term) {
   TermEstimate e;
-  const auto runs = regions_of_slope(c, slope, term.slope);
-  if (runs.empty()) return e;
-  const Run r = term.at_short_taus ? runs.front() : runs.back();
   std::size_t best = r.first;
   double best_value = std::numeric_limits<double>::infinity();
   for (const std::size_t i : well_measured(c, r.first, r.last)) {
@@ -119,6 +116,61 @@ TermEstimate read_line(const AllanCurve& c, const std::vector<double>& slope,
   return e;
 }
 
+TermEstimate read_line(const AllanCurve& c, const std::vector<double>& slope,
+                       const std::vector<double>& rel_sigma, LineTerm term) {
+  const auto runs = regions_of_slope(c, slope, term.slope);
+  if (runs.empty()) return {};
+  return tangent_in(c, term.at_short_taus ? runs.front() : runs.back(), rel_sigma, term);
+}
+
+// IEEE 952 reads N where the white-noise line crosses tau = 1 s. Where the
+// -1/2 region of the curve contains 1 s, the line is fitted to the curve
+// around it: the points of the region within this factor of 1 s (0.5-2 s),
+// symmetric in log tau so that a slight curvature of the arm does not
+// shift the reading.
+constexpr double kWhiteWindow = 2.0;
+constexpr double kWhiteReadTau = 1.0;
+
+// N. The region of slope -1/2 that contains tau = 1 s, else the one nearest
+// to it (in log tau). Containing 1 s: the line sigma = N / sqrt(tau) through
+// the points within kWhiteWindow of 1 s, N the weighted mean of their
+// sigma(tau) sqrt(tau) (weights 1/rel^2 from the intervals); its
+// uncertainty is the same weighted mean of their relative uncertainties, as
+// if they were fully correlated (overlapping estimates over the same data
+// nearly are). Not containing 1 s: the tangent line from below (read_line),
+// extrapolated to 1 s. The minimum over the whole region is not used when
+// 1 s is inside it: a sensor's anti-alias or averaging filter lowers the
+// curve at the shortest taus (the ADIS16405 by ~7 %), where the tangent
+// would touch it.
+TermEstimate read_white(const AllanCurve& c, const std::vector<double>& slope,
+                        const std::vector<double>& rel_sigma) {
+  const auto runs = regions_of_slope(c, slope, -0.5);
+  if (runs.empty()) return {};
+  const double at = kWhiteReadTau;
+  const auto distance = [&](const Run& r) {
+    if (c.tau[r.first] <= at && at <= c.tau[r.last]) return 0.0;
+    return std::min(std::abs(std::log(c.tau[r.first] / at)), std::abs(std::log(c.tau[r.last] / at)));
+  };
+  const Run r = *std::min_element(runs.begin(), runs.end(),
+                                  [&](const Run& a, const Run& b) { return distance(a) < distance(b); });
+  if (distance(r) > 0.0) return tangent_in(c, r, rel_sigma, {-0.5, at, true});
+  TermEstimate e;
+  double sw = 0.0, swv = 0.0, swr = 0.0;
+  for (std::size_t i = r.first; i <= r.last; ++i) {
+    if (std::abs(std::log(c.tau[i] / at)) > std::log(kWhiteWindow) + 1e-9) continue;
+    const double w = rel_sigma[i] > 0.0 ? 1.0 / (rel_sigma[i] * rel_sigma[i]) : 1.0;
+    sw += w;
+    swv += w * c.dev[i] * std::sqrt(c.tau[i] / at);
+    swr += w * rel_sigma[i];
+    if (!e.valid) e.tau_lo = c.tau[i];
+    e.tau_hi = c.tau[i];
+    e.valid = true;
+  }
+  e.value = swv / sw;
+  e.sigma = e.value * swr / sw;
+  return e;
+}
+
 }  // namespace
 
 SlopeReadOffs read_off_noise_terms(const AllanCurve& curve) {
@@ -129,7 +181,7 @@ SlopeReadOffs read_off_noise_terms(const AllanCurve& curve) {
   const auto slope = local_slopes(curve);
   const auto rel = relative_sigmas(curve);
   out.Q = read_line(curve, slope, rel, {-1.0, std::sqrt(3.0), true});
-  out.N = read_line(curve, slope, rel, {-0.5, 1.0, true});
+  out.N = read_white(curve, slope, rel);
   out.K = read_line(curve, slope, rel, {+0.5, 3.0, false});
   out.R = read_line(curve, slope, rel, {+1.0, std::sqrt(2.0), false});
 
