@@ -102,9 +102,12 @@ std::string source_note(const Pick& p, const std::string& unit, bool walk) {
   switch (p.source) {
     case TermSource::fit: return walk ? "five-term fit, significant (> 2 sigma)" : "five-term fit";
     case TermSource::read_off:
-      return walk ? "slope read-off, significant (> 2 sigma)"
-                  : "slope read-off: the -1/2 line at tau = 1 s, read over " + plain(p.axis->white_tau_lo) + ".." +
-                        plain(p.axis->white_tau_hi) + " s";
+      if (walk) return "slope read-off, significant (> 2 sigma)";
+      if (p.axis->white_tau_lo <= 1.0 && 1.0 <= p.axis->white_tau_hi)
+        return "slope read-off: the -1/2 line at tau = 1 s, read over " + plain(p.axis->white_tau_lo) + ".." +
+               plain(p.axis->white_tau_hi) + " s";
+      return "slope read-off: the -1/2 line of the white arm at " + plain(p.axis->white_tau_lo) + ".." +
+             plain(p.axis->white_tau_hi) + " s, extended to tau = 1 s (the curve is not white at 1 s)";
     case TermSource::upper_bound:
       if (!walk) return "UPPER BOUND: no -1/2 slope (white noise) identified, min over tau of sigma(tau)*sqrt(tau)";
       if (p.axis->walk_estimate_sigma > 0.0)
