@@ -13,6 +13,7 @@
 
 #include "cubecal/stats/allan_curve.hpp"
 #include "cubecal/noise/noise_terms.hpp"
+#include "cubecal/noise/reported_terms.hpp"
 #include "cubecal/stats/stability.hpp"
 #include "cubecal/stats/tau_grid.hpp"
 #include "cubecal/stats/statistic.hpp"
@@ -527,6 +528,121 @@ TEST(ReadOff, DenseGridGivesTheSameRegions) {
   EXPECT_NEAR(r.N.value, t.N, 0.005 * t.N);
   EXPECT_LE(r.N.tau_lo, 0.5 * 1.005);
   EXPECT_GE(r.N.tau_hi, 2.0 / 1.005);
+}
+
+TEST(ReadOff, NIsReadAtOneSecondNotWhereAFilterLowersTheShortTaus) {
+  // White noise whose shortest taus a sensor filter lowers by up to 7 %
+  // (sigma x (1 - 0.07 exp(-tau / 0.05)): the slope stays within 0.03 of
+  // -1/2, so the whole curve is one white region). The line tangent to the
+  // region touches at its shortest tau, 6 % low; IEEE 952 reads N at 1 s,
+  // over 0.5..2 s, where the filter leaves at most 0.07 exp(-10) = 3.2e-6.
+  const double n = 5e-3;
+  const auto avar = [&](double tau) {
+    const double f = 1.0 - 0.07 * std::exp(-tau / 0.05);
+    return n * n / tau * f * f;
+  };
+  const AllanCurve c = synthetic_curve(avar, 0.01, 1e6);
+  const SlopeReadOffs r = read_off_noise_terms(c);
+  ASSERT_TRUE(r.N.valid);
+  EXPECT_NEAR(r.N.value, n, 3.2e-6 * n);
+  EXPECT_LE(r.N.tau_lo, 1.0);
+  EXPECT_GE(r.N.tau_hi, 1.0);
+}
+
+TEST(ReadOff, NOfAnArmThatEndsBeforeOneSecondIsItsTangentExtended) {
+  // White noise onto a flicker floor 0.664 B = 6.6e-3 (the floor has 30 %
+  // of the variance at 0.25 s): 1 s lies outside the white region. N is the
+  // tangent line of the white arm, touching at its shortest tau (1 ms, where
+  // the floor adds 0.09 %), its range is the arm's.
+  const Terms t{0.0, 5e-3, 1e-2, 0.0, 0.0};
+  const AllanCurve c = synthetic_curve(t, 0.001, 1e6);
+  const SlopeReadOffs r = read_off_noise_terms(c);
+  ASSERT_TRUE(r.N.valid);
+  EXPECT_EQ(r.N.tau_lo, c.tau.front());
+  EXPECT_LT(r.N.tau_hi, 1.0);
+  EXPECT_GE(r.N.value, t.N);
+  EXPECT_NEAR(r.N.value, t.N, 0.01 * t.N);
+}
+
+// ---------------------------------------------------------------------------
+// The reported terms (reported_terms.hpp): one N, K only when significant, B
+// only with a minimum in the record.
+
+TEST(ReportedTerms, PureWhiteHasNoMinimumAndNoSignificantK) {
+  const Terms t{0.0, 5e-3, 0.0, 0.0, 0.0};
+  const AllanCurve c = synthetic_curve(t);
+  const SlopeReadOffs r = read_off_noise_terms(c);
+  const ReportedTerms rt = reported_terms(r, fit_noise_terms(c), c);
+  EXPECT_FALSE(rt.constant);
+  EXPECT_EQ(rt.N.source, TermSource::read_off);
+  EXPECT_EQ(rt.N.value(), r.N.value);
+  EXPECT_NEAR(rt.N.value(), t.N, 1e-12 * t.N);
+  // No K anywhere: the bound min sigma sqrt(3 / tau) = N sqrt(3) / tau_last.
+  EXPECT_FALSE(rt.K_candidate.valid);
+  EXPECT_TRUE(rt.K.bound());
+  EXPECT_NEAR(rt.K.value(), t.N * std::sqrt(3.0) / c.tau.back(), 1e-12 * t.N);
+  // Still falling at the last tau: no minimum within the record; B is bounded
+  // by the last (lowest) point.
+  EXPECT_TRUE(rt.no_minimum);
+  EXPECT_TRUE(rt.B.bound());
+  EXPECT_NEAR(rt.B.value(), c.dev.back() / kFloor, 1e-9 * rt.B.value());
+  EXPECT_EQ(rt.B.estimate.tau_lo, c.tau.back());
+}
+
+TEST(ReportedTerms, RisingCurveHasNoMinimumAtItsFirstTau) {
+  const Terms t{0.0, 0.0, 0.0, 1e-4, 0.0};
+  const AllanCurve c = synthetic_curve(t);
+  const ReportedTerms rt = reported_terms(read_off_noise_terms(c), fit_noise_terms(c), c);
+  EXPECT_TRUE(rt.no_minimum);
+  EXPECT_TRUE(rt.B.bound());
+  EXPECT_NEAR(rt.B.value(), c.dev.front() / kFloor, 1e-9 * rt.B.value());
+  EXPECT_EQ(rt.B.estimate.tau_lo, c.tau.front());
+  // K is measured exactly by the fit on this noise-free curve: significant.
+  EXPECT_EQ(rt.K.source, TermSource::fit);
+  EXPECT_NEAR(rt.K.value(), t.K, 1e-6 * t.K);
+}
+
+TEST(ReportedTerms, KIsSignificantOnlyAboveTwoSigma) {
+  const Terms t{0.0, 5e-3, 0.0, 1e-4, 0.0};
+  const AllanCurve c = synthetic_curve(t);
+  SlopeReadOffs r = read_off_noise_terms(c);
+  NoiseFit f = fit_noise_terms(c);
+  ASSERT_TRUE(f.K.valid && r.K.valid);
+  ASSERT_TRUE(significant(f.K));
+  EXPECT_EQ(reported_terms(r, f, c).K.source, TermSource::fit);
+  EXPECT_FALSE(reported_terms(r, f, c).no_minimum);
+
+  // value = 2 sigma exactly is not significant; just above is.
+  f.K.sigma = f.K.value / 2.0;
+  r.K.sigma = r.K.value / 2.0;
+  ReportedTerms rt = reported_terms(r, f, c);
+  EXPECT_FALSE(significant(f.K));
+  EXPECT_TRUE(rt.K.bound());
+  EXPECT_TRUE(rt.K_candidate.valid);
+  EXPECT_EQ(rt.K_candidate_source, TermSource::fit);
+  EXPECT_EQ(rt.K_candidate.value, f.K.value);
+  double bound = INFINITY;
+  for (std::size_t i = 0; i < c.size(); ++i) bound = std::min(bound, c.dev[i] * std::sqrt(3.0 / c.tau[i]));
+  EXPECT_EQ(rt.K.value(), bound);
+
+  // The fit's K not significant, the read-off's is: the read-off is written.
+  r.K.sigma = r.K.value / 2.01;
+  rt = reported_terms(r, f, c);
+  EXPECT_EQ(rt.K.source, TermSource::read_off);
+  EXPECT_EQ(rt.K.value(), r.K.value);
+
+  // An uncertainty 6-7 x the value (a fit coefficient at its noise) is never K.
+  f.K.sigma = 6.5 * f.K.value;
+  r.K.valid = false;
+  EXPECT_TRUE(reported_terms(r, f, c).K.bound());
+}
+
+TEST(ReportedTerms, ConstantCurveReportsNothing) {
+  AllanCurve c = synthetic_curve(Terms{0.0, 5e-3, 0.0, 0.0, 0.0});
+  for (double& d : c.dev) d = 0.0;
+  const ReportedTerms rt = reported_terms(read_off_noise_terms(c), fit_noise_terms(c), c);
+  EXPECT_TRUE(rt.constant);
+  EXPECT_FALSE(rt.N.estimate.valid || rt.K.estimate.valid || rt.B.estimate.valid);
 }
 
 TEST(NoiseTerms, IndependentOfTheDataScale) {
