@@ -71,6 +71,18 @@ TEST_F(EstimatorCli, ForWritesEachFormatAndInflateScalesIt) {
        at = plain.out.find("\n  N         ", at + 1))
     console.push_back(std::stod(plain.out.substr(at + 13)));
   ASSERT_EQ(console.size(), 6u) << plain.out;
+  // White noise only: every channel's curve still falls at its last tau and
+  // shows no random walk; the console says so rather than printing numbers.
+  std::size_t no_min = 0, no_k = 0;
+  for (std::size_t at = plain.out.find("\n  B         no minimum within the record (the curve is lowest at its last tau");
+       at != std::string::npos; at = plain.out.find("\n  B         no minimum within the record", at + 1))
+    ++no_min;
+  for (std::size_t at = plain.out.find("\n  K         not "); at != std::string::npos;
+       at = plain.out.find("\n  K         not ", at + 1))
+    ++no_k;
+  EXPECT_EQ(no_min, 6u) << plain.out;
+  EXPECT_EQ(no_k, 6u) << plain.out;
+  EXPECT_NE(plain.out.find("(upper bound)"), std::string::npos);
   const auto ja = nlohmann::json::parse(slurp(dir_ / "a" / "analysis.json"));
   for (int c = 0; c < 6; ++c) {
     const auto& n = ja["channels"][c]["noise"];
