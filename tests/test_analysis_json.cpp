@@ -287,6 +287,67 @@ TEST(AnalysisJson, KeysAddedLaterTakeTheirDefaults) {
   expect_points(r.channels[0].model.adev, analysis().channels[0].noise.adev, "model curve: the record's");
 }
 
+TEST(AnalysisJson, OneNKSignificanceAndNoMinimumAreWritten) {
+  const auto& r = analysis();
+  json j;
+  to_json(j, r);
+  EXPECT_EQ(j.at("format_version"), 2);
+  for (std::size_t c = 0; c < r.channels.size(); ++c) {
+    const auto& ch = r.channels[c];
+    SCOPED_TRACE(ch.name);
+    const json& n = j["channels"][c]["noise"];
+    // One N: the read-off, in noise.arw, noise.reported and the densities.
+    ASSERT_TRUE(ch.noise.readoffs.N.valid);
+    EXPECT_EQ(n["arw"]["value"], n["reported"]["white_noise"]["value"]);
+    EXPECT_EQ(n["reported"]["white_noise"]["source"], "read-off");
+    EXPECT_EQ(n["arw"]["read_at_tau_s"], 1.0);
+    const double n_unit = ch.noise.readoffs.N.value;  // data unit * sqrt(s) = unit/sqrt(Hz)
+    EXPECT_NEAR(n["densities"]["white"]["value"].get<double>() / n_unit, 1.0, 1e-12);
+    // K: significant only when value > 2 sigma, else an upper bound.
+    const json& k = n["reported"]["rate_random_walk"];
+    const TermEstimate& fk = ch.noise.fit.K;
+    const TermEstimate& rk = ch.noise.readoffs.K;
+    const bool sig = (fk.valid && fk.value > 2.0 * fk.sigma) || (rk.valid && rk.value > 2.0 * rk.sigma);
+    EXPECT_EQ(k["significant"], sig);
+    EXPECT_EQ(k["upper_bound"], !sig);
+    EXPECT_EQ(n["rate_random_walk"]["significant"], rk.valid && rk.value > 2.0 * rk.sigma);
+    EXPECT_EQ(n["fit"]["rate_random_walk"]["significant"], fk.valid && fk.value > 2.0 * fk.sigma);
+    // B: "no minimum within the record" exactly when the curve is lowest at an end.
+    const auto& adev = ch.noise.adev;
+    std::size_t imin = 0;
+    for (std::size_t i = 0; i < adev.size(); ++i)
+      if (adev[i].dev < adev[imin].dev) imin = i;
+    const bool none = imin == 0 || imin + 1 == adev.size();
+    EXPECT_EQ(n["bias_instability"]["no_minimum_within_record"], none);
+    EXPECT_EQ(n["reported"]["bias_instability"]["no_minimum_within_record"], none);
+    EXPECT_EQ(n["reported"]["bias_instability"]["upper_bound"], none);
+  }
+  // The white channel has no minimum and no significant K.
+  const json& w = j["channels"][r.channels.size() - 1]["noise"];
+  EXPECT_TRUE(w["bias_instability"]["no_minimum_within_record"].get<bool>());
+  EXPECT_FALSE(w["reported"]["rate_random_walk"]["significant"].get<bool>());
+}
+
+TEST(AnalysisJson, FileBeforeVersionTwoReadsNAgainFromItsCurve) {
+  const auto& r = analysis();
+  json j;
+  to_json(j, r);
+  j.erase("format_version");
+  // An old file's N: the tangent to the whole -1/2 region, lower than at 1 s.
+  for (auto& ch : j["channels"]) ch["noise"]["arw"]["value"] = ch["noise"]["arw"]["value"].get<double>() * 0.93;
+  pipeline::AnalysisResult back;
+  from_json(j, back);
+  for (std::size_t c = 0; c < r.channels.size(); ++c)
+    EXPECT_NEAR(back.channels[c].noise.readoffs.N.value, r.channels[c].noise.readoffs.N.value,
+                1e-9 * r.channels[c].noise.readoffs.N.value)
+        << r.channels[c].name;
+  // A version 2 file is taken as written.
+  j["format_version"] = 2;
+  from_json(j, back);
+  EXPECT_NEAR(back.channels[0].noise.readoffs.N.value, 0.93 * r.channels[0].noise.readoffs.N.value,
+              1e-9 * r.channels[0].noise.readoffs.N.value);
+}
+
 TEST(AnalysisJson, DocumentKeepsTheCommandAndDriftCounts) {
   const std::string text = pipeline::analysis_json(analysis(), {"cubecal analyze sim/record.csv --ci 0.95", "/imu0"});
   const auto d = pipeline::parse_analysis_json(text, "analysis.json");

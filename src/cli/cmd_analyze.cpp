@@ -17,6 +17,8 @@
 #include "cubecal/error.hpp"
 #include "cubecal/io/output_path.hpp"
 #include "cubecal/noise/bias_verdict.hpp"
+#include "cubecal/noise/reported_terms.hpp"
+#include "cubecal/stats/allan_curve.hpp"
 #include "cubecal/pipeline/analysis_output.hpp"
 #include "cubecal/pipeline/analyze.hpp"
 #include "cubecal/pipeline/estimator_config.hpp"
@@ -67,20 +69,40 @@ std::string pm(const Quantity& q, bool valid, int digits = 4) {
   return fmt::format("{:.{}g} ± {:.2g} {}", q.value, digits, q.sigma, q.unit);
 }
 
+// A reported term: the estimate with its uncertainty, or "< bound".
+std::string reported(const ReportedTerm& t, Term which, const Unit& u) {
+  if (!t.estimate.valid) return "—";
+  const Quantity q = display(t.estimate, which, u);
+  if (t.bound()) return fmt::format("< {:.4g} {} (upper bound)", q.value, q.unit);
+  return pm(q, true);
+}
+
 // The accelerometer terms as inertial navigation quotes them (units.hpp).
-void print_accelerometer_terms(std::ostream& out, const pipeline::NoiseAnalysis& n, const Unit& u) {
+void print_accelerometer_terms(std::ostream& out, const pipeline::NoiseAnalysis& n, const ReportedTerms& t,
+                               const Unit& u) {
   if (u.kind != SensorKind::acceleration) return;
-  const auto both = [&](const TermEstimate& t, Term which) {
-    if (!t.valid) return std::string("—");
-    const auto q = accelerometer_display(t, which, u);
+  const auto both = [&](const TermEstimate& e, Term which, bool bound = false) {
+    if (!e.valid) return std::string("—");
+    const auto q = accelerometer_display(e, which, u);
+    if (bound) return fmt::format("< {:.4g} {} = {:.4g} {}", q[0].value, q[0].unit, q[1].value, q[1].unit);
     return pm(q[0], true) + " = " + pm(q[1], true);
   };
-  const auto line = [&](const char* label, const TermEstimate& N, const TermEstimate& B, const TermEstimate& K) {
-    fmt::print(out, "  {:<9} VRW {}   B {}   AccRW {}\n", label, both(N, Term::N), both(B, Term::B),
-               both(K, Term::K));
-  };
-  line("read-off", n.readoffs.N, n.readoffs.B, n.readoffs.K);
-  line("fit", n.fit.N, n.fit.B, n.fit.K);
+  fmt::print(out, "  {:<10} VRW {}   B {}   AccRW {}\n", "reported", both(t.N.estimate, Term::N, t.N.bound()),
+             both(t.B.estimate, Term::B, t.B.bound()), both(t.K.estimate, Term::K, t.K.bound()));
+  fmt::print(out, "  {:<10} white {}   B {}   AccRW {}\n", "5-term fit", both(n.fit.N, Term::N),
+             both(n.fit.B, Term::B), both(n.fit.K, Term::K));
+}
+
+// The reported K: the estimate when significant, else why not and the bound.
+std::string k_line(const ReportedTerms& t, const Unit& u) {
+  if (!t.K.estimate.valid) return "—";
+  if (!t.K.bound())
+    return fmt::format("{} ({}, significant: > 2 sigma)", reported(t.K, Term::K, u), to_string(t.K.source));
+  if (t.K_candidate.valid)
+    return fmt::format("not significant: {} {} is not above 2 sigma; {}",
+                       t.K_candidate_source == TermSource::fit ? "5-term fit" : "read-off",
+                       pm(display(t.K_candidate, Term::K, u), true), reported(t.K, Term::K, u));
+  return fmt::format("not identified (no +1/2 slope, none in the 5-term fit); {}", reported(t.K, Term::K, u));
 }
 
 // One line when the read-off and the fit disagree on B: which to use and why.
@@ -104,21 +126,33 @@ void print_summary(std::ostream& out, const pipeline::AnalysisResult& r) {
     const Unit& u = c.unit;
     fmt::print(out, "\n{} [{}, {}]  fixed bias {:.6g} {}  std {:.4g} {}\n", c.name, u.name, to_string(u.kind), c.mean,
                u.name, c.stddev, u.name);
-    const std::string T = ro.B.valid ? fmt::format("{:.3g} s ({:.3g}–{:.3g})", ro.tau_min, ro.tau_min_lo, ro.tau_min_hi)
-                                     : std::string("—");
-    fmt::print(out, "  read-off  N {}   B {}   T {}   K {}\n", pm(display(ro.N, Term::N, u), ro.N.valid),
-               pm(display(ro.B, Term::B, u), ro.B.valid), T, pm(display(ro.K, Term::K, u), ro.K.valid));
-    const bool constant = std::none_of(c.noise.adev.begin(), c.noise.adev.end(),
-                                       [](const StabilityPoint& p) { return p.dev > 0.0; });
-    if (constant)
-      fmt::print(out, "            (the record is constant: every Allan deviation is zero)\n");
-    else if (!ro.B.valid)
-      fmt::print(out, "            (no minimum inside the record: the curve still falls at {:.3g} s)\n", ro.tau_min);
-    fmt::print(out, "  fit       N {}   B {}   K {}   Q {}   R {}   (rms residual {:.1f} %)\n",
+    const ReportedTerms rt = reported_terms(ro, f, to_allan_curve(c.noise.adev));
+    if (rt.constant) {
+      fmt::print(out, "  (the record is constant: every Allan deviation is zero)\n");
+    } else {
+      const std::string range =
+          !ro.N.valid ? std::string(" (no -1/2 slope in the curve)")
+          : ro.N.tau_lo <= 1.0 && 1.0 <= ro.N.tau_hi
+              ? fmt::format(" (-1/2 line at tau = 1 s, read over {:.3g}–{:.3g} s)", ro.N.tau_lo, ro.N.tau_hi)
+              : fmt::format(" (-1/2 line of the white arm at {:.3g}–{:.3g} s, extended to tau = 1 s: the curve is "
+                            "not white at 1 s)",
+                            ro.N.tau_lo, ro.N.tau_hi);
+      fmt::print(out, "  N         {}{}\n", reported(rt.N, Term::N, u), range);
+      if (rt.no_minimum)
+        fmt::print(out, "  B         no minimum within the record (the curve is lowest at its {} tau, {:.3g} s): B {}\n",
+                   ro.tau_min == c.noise.adev.back().tau ? "last" : "first", ro.tau_min, reported(rt.B, Term::B, u));
+      else
+        fmt::print(out, "  B         {}   T {:.3g} s ({:.3g}–{:.3g})\n", reported(rt.B, Term::B, u), ro.tau_min,
+                   ro.tau_min_lo, ro.tau_min_hi);
+      fmt::print(out, "  K         {}\n", k_line(rt, u));
+    }
+    fmt::print(out, "  read-off  K {}   Q {}   R {}\n", pm(display(ro.K, Term::K, u), ro.K.valid),
+               pm(display(ro.Q, Term::Q, u), ro.Q.valid), pm(display(ro.R, Term::R, u), ro.R.valid));
+    fmt::print(out, "  5-term fit  white {}   B {}   K {}   Q {}   R {}   (rms residual {:.1f} %)\n",
                pm(display(f.N, Term::N, u), f.N.valid), pm(display(f.B, Term::B, u), f.B.valid),
                pm(display(f.K, Term::K, u), f.K.valid), pm(display(f.Q, Term::Q, u), f.Q.valid),
                pm(display(f.R, Term::R, u), f.R.valid), 100.0 * f.rms_rel_residual);
-    print_accelerometer_terms(out, c.noise, u);
+    print_accelerometer_terms(out, c.noise, rt, u);
     print_bias_verdict(out, c.noise, u);
     if (c.model.ok)
       fmt::print(out, "  model     sigma_n {:.4g} {}  sigma_mu {:.4g} {}/s  (paper eq. 1-3; {} samples; AV residual {:.3f})\n",

@@ -7,6 +7,8 @@
 
 #include "cubecal/error.hpp"
 #include "cubecal/noise/bias_verdict.hpp"
+#include "cubecal/noise/reported_terms.hpp"
+#include "cubecal/stats/allan_curve.hpp"
 #include "detail/curve_json.hpp"
 
 namespace cubecal::pipeline {
@@ -34,12 +36,30 @@ json term(const TermEstimate& t, Term which, const Unit& u) {
 
 using detail::curve_json;
 
+// A reported term (reported_terms.hpp): the estimate or the upper bound,
+// with its source.
+json reported_json(const ReportedTerm& t, Term which, const Unit& u) {
+  json j = term(t.estimate, which, u);
+  j["source"] = to_string(t.source);
+  j["upper_bound"] = t.bound();
+  if (t.bound()) j["sigma"] = nullptr;
+  return j;
+}
+
 json noise_json(const NoiseAnalysis& n, const Unit& u) {
   json j;
   const SlopeReadOffs& r = n.readoffs;
-  j["method"] = "slope read-offs (IEEE 952): N at tau = 1 s, B = sigma_min / 0.664, K at tau = 3 s";
+  const NoiseFit& f = n.fit;
+  const ReportedTerms rt = reported_terms(r, f, to_allan_curve(n.adev));
+  j["method"] =
+      "slope read-offs (IEEE 952): N on the -1/2 line read at tau = 1 s (the line through the curve's points "
+      "within 2x of 1 s when the -1/2 region contains 1 s, else the line tangent to the region; tau_range_s: "
+      "the points it was read over), B = sigma_min / 0.664, K at tau = 3 s";
   j["arw"] = term(r.N, Term::N, u);
+  j["arw"]["read_at_tau_s"] = 1.0;
+  j["arw"]["white_at_read_tau"] = r.N.valid && r.N.tau_lo <= 1.0 && 1.0 <= r.N.tau_hi;
   j["bias_instability"] = term(r.B, Term::B, u);
+  j["bias_instability"]["no_minimum_within_record"] = rt.no_minimum && !rt.constant;
   // T only where the curve has a minimum inside the record.
   j["time_constant_s"] = r.B.valid ? json(r.tau_min) : json(nullptr);
   j["time_constant_range_s"] = r.B.valid ? json({r.tau_min_lo, r.tau_min_hi}) : json(nullptr);
@@ -47,15 +67,17 @@ json noise_json(const NoiseAnalysis& n, const Unit& u) {
   j["curve_minimum"] = {{"tau_s", r.tau_min}, {"tau_range_s", {r.tau_min_lo, r.tau_min_hi}}};
   j["sigma_min"] = {{"value", r.sigma_min}, {"unit", u.name}};
   j["rate_random_walk"] = term(r.K, Term::K, u);
+  j["rate_random_walk"]["significant"] = significant(r.K);
   j["quantization"] = term(r.Q, Term::Q, u);
   j["rate_ramp"] = term(r.R, Term::R, u);
-  const NoiseFit& f = n.fit;
   json fit;
   fit["method"] = "weighted non-negative least squares of sigma^2(tau) = sum C_k tau^k, k = -2..2";
+  fit["note"] = "the fit's own terms; the N reported everywhere is noise.arw (= noise.reported.white_noise)";
   fit["quantization"] = term(f.Q, Term::Q, u);
   fit["arw"] = term(f.N, Term::N, u);
   fit["bias_instability"] = term(f.B, Term::B, u);
   fit["rate_random_walk"] = term(f.K, Term::K, u);
+  fit["rate_random_walk"]["significant"] = significant(f.K);
   fit["rate_ramp"] = term(f.R, Term::R, u);
   fit["coefficients"] = f.c;
   fit["coefficients_sigma"] = f.c_sigma;
@@ -63,13 +85,32 @@ json noise_json(const NoiseAnalysis& n, const Unit& u) {
   fit["dof"] = f.dof;
   fit["rms_rel_residual"] = f.rms_rel_residual;
   j["fit"] = fit;
-  // Densities from the fit when it found the term, else from the read-off.
-  const TermEstimate& N = f.N.valid ? f.N : r.N;
-  const TermEstimate& K = f.K.valid ? f.K : r.K;
+  // The terms every output reports (console, estimator files, report):
+  // one N, K only when significant, B only with a minimum in the record.
+  json rep;
+  rep["white_noise"] = reported_json(rt.N, Term::N, u);
+  rep["rate_random_walk"] = reported_json(rt.K, Term::K, u);
+  rep["rate_random_walk"]["significant"] = !rt.K.bound() && rt.K.estimate.valid;
+  rep["rate_random_walk"]["significance_sigmas"] = kSignificanceSigmas;
+  rep["rate_random_walk"]["estimate"] =
+      rt.K_candidate.valid ? quantity(display(rt.K_candidate, Term::K, u), true) : json(nullptr);
+  if (rt.K_candidate.valid) rep["rate_random_walk"]["estimate"]["source"] = to_string(rt.K_candidate_source);
+  rep["bias_instability"] = reported_json(rt.B, Term::B, u);
+  rep["bias_instability"]["no_minimum_within_record"] = rt.no_minimum && !rt.constant;
+  j["reported"] = rep;
+  // Densities of the reported N and K (an upper bound is marked as such).
+  const TermEstimate& N = rt.N.estimate;
+  const TermEstimate& K = rt.K.estimate;
   j["densities"] = {{"white", quantity(white_density(N, u, false), N.valid)},
                     {"random_walk", quantity(random_walk_density(K, u, false), K.valid)},
                     {"white_si", quantity(white_density(N, u, true), N.valid)},
-                    {"random_walk_si", quantity(random_walk_density(K, u, true), K.valid)}};
+                    {"random_walk_si", quantity(random_walk_density(K, u, true), K.valid)},
+                    {"white_source", to_string(rt.N.source)},
+                    {"random_walk_source", to_string(rt.K.source)}};
+  for (const char* key : {"white", "white_si"})
+    if (rt.N.bound()) j["densities"][key]["sigma"] = nullptr;
+  for (const char* key : {"random_walk", "random_walk_si"})
+    if (rt.K.bound()) j["densities"][key]["sigma"] = nullptr;
   if (u.kind == SensorKind::acceleration) {
     // The same terms in the units inertial navigation quotes (added fields:
     // readers of the terms above need nothing from them).
@@ -412,6 +453,15 @@ TemperatureAnalysis read_temperature(const Node& t, const Unit& u) {
   return a;
 }
 
+// Files before format_version 2 carry in noise.arw the white-noise line
+// tangent to the whole -1/2 region, not the line read at tau = 1 s: N is
+// read again from the stored curve, so that a report of an old file gives
+// the N a new analysis would.
+void reread_white_noise(NoiseAnalysis& n) {
+  if (n.adev.empty()) return;
+  n.readoffs.N = read_off_noise_terms(to_allan_curve(n.adev)).N;
+}
+
 AnalysisResult read_result(const json& doc, const std::string& label) {
   const Node root(doc, "", label);
   if (!doc.is_object() || !doc.contains("input") || !doc.contains("channels"))
@@ -428,6 +478,7 @@ AnalysisResult read_result(const json& doc, const std::string& label) {
   if (gaps != "error" && gaps != "split") in.at("gaps").fail("neither 'error' nor 'split'");
   r.gaps = gaps == "split" ? io::GapPolicy::split : io::GapPolicy::error;
   r.ci = root.num_or("ci", 0.683);
+  const double version = root.num_or("format_version", 1.0);
   const double dt = 1.0 / r.rate_hz;
   const Node chans = root.at("channels");
   for (std::size_t c = 0; c < chans.size(); ++c) {
@@ -442,6 +493,7 @@ AnalysisResult read_result(const json& doc, const std::string& label) {
     ch.stddev = cj.num("stddev");
     ch.noise = read_noise(cj.at("noise"), ch.unit);
     ch.noise.adev = read_curve(cj.at("adev"));
+    if (version < 2) reread_white_noise(ch.noise);
     ch.model = read_model(cj.at("model"), ch, dt);
     const Node d = cj.at("drift");
     const double window = d.num("window_s") * r.rate_hz;  // samples
@@ -451,6 +503,7 @@ AnalysisResult read_result(const json& doc, const std::string& label) {
     if (cj.has("temperature")) {
       const Node t = cj.at("temperature");
       ch.temperature = read_temperature(t, ch.unit);
+      if (version < 2) reread_white_noise(ch.temperature->compensated);
       if (r.temp_name.empty()) r.temp_name = t.str_or("sensor", "");
     }
     r.channels.push_back(std::move(ch));
@@ -470,6 +523,7 @@ AnalysisResult read_result(const json& doc, const std::string& label) {
 
 void to_json(json& j, const AnalysisResult& r) {
   j = json::object();
+  j["format_version"] = kAnalysisFormatVersion;
   j["input"] = {{"file", r.file},
                 {"samples", r.samples},
                 {"rate_hz", r.rate_hz},

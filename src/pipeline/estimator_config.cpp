@@ -39,16 +39,6 @@ std::string plain(double v) {
   return s;
 }
 
-// min over the curve of dev(tau) * f(tau): the largest term value the curve
-// allows when the term's own AVAR arm is f^-2 (the other arms are >= 0).
-template <class F>
-double bound_over_curve(const std::vector<StabilityPoint>& curve, F f) {
-  double b = std::numeric_limits<double>::infinity();
-  for (const auto& p : curve)
-    if (p.tau > 0.0 && std::isfinite(p.dev)) b = std::min(b, p.dev * f(p.tau));
-  return b;
-}
-
 AxisNoise axis_noise(const ChannelAnalysis& c, const std::string& file) {
   const auto& curve = c.noise.adev;
   const bool constant =
@@ -58,37 +48,27 @@ AxisNoise axis_noise(const ChannelAnalysis& c, const std::string& file) {
                      "channel " + c.name + ": the Allan deviation is zero at every tau (a constant record), so "
                      "there is no noise to write into an estimator file",
                      "check --columns, or leave out --for");
-  const auto& f = c.noise.fit;
-  const auto& ro = c.noise.readoffs;
+  const ReportedTerms t = reported_terms(c.noise.readoffs, c.noise.fit, to_allan_curve(curve));
   const double si = c.unit.to_si;
   AxisNoise a;
   a.channel = c.name;
   a.mean = c.mean * si;
-  if (f.N.valid || ro.N.valid) {
-    a.white = (f.N.valid ? f.N : ro.N).value * si;
-    a.white_source = f.N.valid ? TermSource::fit : TermSource::read_off;
-  } else {
-    a.white = bound_over_curve(curve, [](double tau) { return std::sqrt(tau); }) * si;
-    a.white_source = TermSource::upper_bound;
-  }
-  if (f.K.valid || ro.K.valid) {
-    a.walk = (f.K.valid ? f.K : ro.K).value * si;
-    a.walk_source = f.K.valid ? TermSource::fit : TermSource::read_off;
-  } else {
-    a.walk = bound_over_curve(curve, [](double tau) { return std::sqrt(3.0 / tau); }) * si;
-    a.walk_source = TermSource::upper_bound;
+  a.white = t.N.value() * si;
+  a.white_source = t.N.source;
+  a.white_tau_lo = t.N.estimate.tau_lo;
+  a.white_tau_hi = t.N.estimate.tau_hi;
+  a.walk = t.K.value() * si;
+  a.walk_source = t.K.source;
+  if (t.K.bound() && t.K_candidate.valid) {
+    a.walk_estimate = t.K_candidate.value * si;
+    a.walk_estimate_sigma = t.K_candidate.sigma * si;
+    a.walk_estimate_source = t.K_candidate_source;
   }
   // Not the Gauss-Markov model fit: on a record without a minimum it runs to
   // the shortest correlation time it allows (2 dt), a number no filter can use.
-  if (ro.B.valid || f.B.valid) {
-    a.bias_std = (ro.B.valid ? ro.B : f.B).value * si;
-    a.bias_tc = ro.tau_min;
-    a.bias_source = ro.B.valid ? TermSource::read_off : TermSource::fit;
-  } else {
-    a.bias_std = curve.back().dev / kFlickerFloor * si;
-    a.bias_tc = curve.back().tau;
-    a.bias_source = TermSource::upper_bound;
-  }
+  a.bias_std = t.B.value() * si;
+  a.bias_tc = c.noise.readoffs.tau_min;
+  a.bias_source = t.B.source;
   return a;
 }
 
@@ -118,21 +98,32 @@ Pick largest_walk(const std::vector<AxisNoise>& axes) {
   return largest(axes, [](const AxisNoise& a) { return a.walk; }, [](const AxisNoise& a) { return a.walk_source; });
 }
 
-std::string source_note(TermSource s, bool walk) {
-  switch (s) {
-    case TermSource::fit: return "five-term fit";
-    case TermSource::read_off: return "slope read-off";
+std::string source_note(const Pick& p, const std::string& unit, bool walk) {
+  switch (p.source) {
+    case TermSource::fit: return walk ? "five-term fit, significant (> 2 sigma)" : "five-term fit";
+    case TermSource::read_off:
+      if (walk) return "slope read-off, significant (> 2 sigma)";
+      if (p.axis->white_tau_lo <= 1.0 && 1.0 <= p.axis->white_tau_hi)
+        return "slope read-off: the -1/2 line at tau = 1 s, read over " + plain(p.axis->white_tau_lo) + ".." +
+               plain(p.axis->white_tau_hi) + " s";
+      return "slope read-off: the -1/2 line of the white arm at " + plain(p.axis->white_tau_lo) + ".." +
+             plain(p.axis->white_tau_hi) + " s, extended to tau = 1 s (the curve is not white at 1 s)";
     case TermSource::upper_bound:
-      return walk ? "UPPER BOUND: no +1/2 slope (rate random walk) within the record, min over tau of "
-                    "sigma(tau)*sqrt(3/tau)"
-                  : "UPPER BOUND: no -1/2 slope (white noise) identified, min over tau of sigma(tau)*sqrt(tau)";
+      if (!walk) return "UPPER BOUND: no -1/2 slope (white noise) identified, min over tau of sigma(tau)*sqrt(tau)";
+      if (p.axis->walk_estimate_sigma > 0.0)
+        return "UPPER BOUND: K not significant (" +
+               std::string(p.axis->walk_estimate_source == TermSource::fit ? "five-term fit " : "slope read-off ") +
+               num(p.axis->walk_estimate) + " +- " + num(p.axis->walk_estimate_sigma) + " [" + unit +
+               "], not above 2 sigma), min over tau of sigma(tau)*sqrt(3/tau)";
+      return "UPPER BOUND: no +1/2 slope (rate random walk) within the record, min over tau of "
+             "sigma(tau)*sqrt(3/tau)";
   }
   return "";
 }
 
 // " # [unit] axis gx, five-term fit; measured 1.2e-4 x inflate 2"
 std::string note(const Pick& p, const std::string& unit, bool walk, double inflate) {
-  std::string s = "  # [" + unit + "] axis " + p.axis->channel + ", " + source_note(p.source, walk);
+  std::string s = "  # [" + unit + "] axis " + p.axis->channel + ", " + source_note(p, unit, walk);
   if (inflate != 1.0) s += "; measured " + num(p.value) + " x inflate " + plain(inflate);
   return s;
 }
@@ -154,8 +145,10 @@ std::string header(std::string_view title, const AnalysisResult& r, const Estima
        "# random walk sigma_bw is the rate random walk K. Discrete-time equivalents at the\n"
        "# sample rate r: sigma_w * sqrt(r) per sample and sigma_bw / sqrt(r) per step.\n"
        "# One value per sensor: the largest over its axes (conservative); each line names it.\n"
-       "# Sources: N and K from the weighted five-term fit when it found the term, else from\n"
-       "# the slope read-off; when neither identifies it, an upper bound the curve allows,\n"
+       "# Sources: N is the slope read-off, the -1/2 line read at tau = 1 s (IEEE Std 952),\n"
+       "# the same N as the console table, analysis.json and the report. K is the weighted\n"
+       "# five-term fit's, else the read-off's, only when significant (value > 2 sigma). A term\n"
+       "# not identified, or K not significant, is written as the upper bound the curve allows,\n"
        "# marked UPPER BOUND (never 0).\n";
   h += "# Inflation: every density and random walk below is the measured value x " + plain(ctx.inflate) +
        " (--inflate" + (ctx.inflate == 1.0 ? ": not inflated" : "") + ").\n";
@@ -297,10 +290,10 @@ std::string kf_gins(const AnalysisResult& r, const Sensors& s, const EstimatorCo
        "# vrw = sigma_w[m/s^2/sqrt(Hz)] * 60), and models each bias as a first-order\n"
        "# Gauss-Markov process of standard deviation gbstd [deg/h] (gyro), abstd [mGal]\n"
        "# (accelerometer, 1 mGal = 1e-5 m/s^2) and correlation time corrtime [h], driven with\n"
-       "# 2 std^2 / corrtime. Biases: the bias instability B (slope read-off, else five-term fit)\n"
-       "# with the time T of the curve's minimum as corrtime; when the curve has no minimum within\n"
-       "# the record, sigma at the last tau / 0.664 with that tau (UPPER BOUND: B lies below it\n"
-       "# and the correlation time beyond it).\n"
+       "# 2 std^2 / corrtime. Biases: the bias instability B (slope read-off) with the time T of\n"
+       "# the curve's minimum as corrtime; when the curve has no minimum within the record, the\n"
+       "# lowest sigma / 0.664 with its tau, at the end of the record (UPPER BOUND: B lies below\n"
+       "# it and, for a curve still falling, the correlation time beyond it).\n"
        "# corrtime is one value in KF-GINS: the shortest of the axes (the largest driving noise).\n"
        "# Axes: x, y, z in column order when the record has three channels of the sensor; else\n"
        "# the largest value on all three. KF-GINS's axes are forward, right, down: match columns.\n"
@@ -386,15 +379,6 @@ std::string_view estimator_name(Estimator e) { return kNames[static_cast<std::si
 std::string estimator_names() { return "kalibr|openvins|vins|kf-gins"; }
 
 std::string_view estimator_file(Estimator e) { return kFiles[static_cast<std::size_t>(e)]; }
-
-std::string_view to_string(TermSource s) noexcept {
-  switch (s) {
-    case TermSource::fit: return "fit";
-    case TermSource::read_off: return "read-off";
-    case TermSource::upper_bound: return "UPPER BOUND";
-  }
-  return "fit";
-}
 
 void require_imu_units(const std::vector<Unit>& units) {
   if (std::none_of(units.begin(), units.end(), [](const Unit& u) {

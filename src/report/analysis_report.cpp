@@ -11,6 +11,7 @@
 
 #include "analysis_data.hpp"
 #include "cubecal/noise/noise_terms.hpp"
+#include "cubecal/noise/reported_terms.hpp"
 #include "cubecal/noise/sensor_noise_model.hpp"
 #include "cubecal/noise/units.hpp"
 #include "cubecal/report/html.hpp"
@@ -190,14 +191,40 @@ class Table {
 
 std::optional<double> count(std::size_t n) { return static_cast<double>(n); }
 
+// The display unit of a term for the group (its first channel's).
+std::string unit_of(const AnalysisResult& r, const SensorGroup& g, Term which) {
+  if (g.channels.empty()) return "";
+  return display(TermEstimate{}, which, r.channels[g.channels.front()].unit).unit;
+}
+
 std::string noise_table(const AnalysisResult& r, const SensorGroup& g) {
   Table t(r, g);
   t.section("Record");
   t.value("fixed bias β (record mean)", g.unit, [](const ChannelAnalysis& c) { return finite(c.mean); }, 7);
   t.value("standard deviation", g.unit, [](const ChannelAnalysis& c) { return finite(c.stddev); });
-  t.section("Slope read-offs (IEEE 952, as the paper): N at τ = 1 s, B = σ<sub>min</sub> / 0.664, K at τ = 3 s");
-  t.term("N, white noise (angle random walk)", Term::N, [](const ChannelAnalysis& c) { return &c.noise.readoffs.N; });
-  t.term("B, bias instability", Term::B, [](const ChannelAnalysis& c) { return &c.noise.readoffs.B; });
+  t.section("Slope read-offs (IEEE 952, as the paper): N on the −1/2 line at τ = 1 s, B = σ<sub>min</sub> / 0.664, "
+            "K at τ = 3 s");
+  t.term("N, white noise (angle random walk): the reported N", Term::N,
+         [](const ChannelAnalysis& c) { return &c.noise.readoffs.N; });
+  t.row("N read over τ", "s", [](const ChannelAnalysis& c) {
+    const auto& n = c.noise.readoffs.N;
+    if (!n.valid) return Cell{"—", "no −1/2 slope in the curve"};
+    const bool at_1s = n.tau_lo <= 1.0 && 1.0 <= n.tau_hi;
+    return Cell{html_escape(format_num(n.tau_lo, 3) + "–" + format_num(n.tau_hi, 3) + (at_1s ? "" : " (extended to 1 s)")),
+                at_1s ? "the −1/2 line through the curve around τ = 1 s"
+                      : "the curve is not white at 1 s: the line of its white arm extended to 1 s"};
+  });
+  t.row("B, bias instability", unit_of(r, g, Term::B), [](const ChannelAnalysis& c) {
+    const auto& ro = c.noise.readoffs;
+    const ReportedTerms rt = reported_terms(ro, c.noise.fit, to_allan_curve(c.noise.adev));
+    if (rt.constant) return Cell{"—", ""};
+    const Quantity q = display(rt.B.estimate, Term::B, c.unit);
+    if (rt.no_minimum)
+      return Cell{"no minimum within the record (&lt; " + html_escape(format_num(q.value, 4)) + ")",
+                  "the curve is lowest at an end of the record: sigma_min / 0.664 only bounds B from above"};
+    return Cell{html_escape(format_pm(finite(q.value), finite(q.sigma))),
+                "read over tau " + format_num(ro.B.tau_lo, 4) + " to " + format_num(ro.B.tau_hi, 4) + " s"};
+  }, true);
   t.row("T, time constant (τ at the minimum)", "s", [](const ChannelAnalysis& c) {
     const auto& ro = c.noise.readoffs;
     if (!ro.B.valid) return Cell{"—", "no minimum inside the record"};
@@ -207,11 +234,26 @@ std::string noise_table(const AnalysisResult& r, const SensorGroup& g) {
   });
   t.value("σ<sub>min</sub>, minimum of the curve", g.unit,
           [](const ChannelAnalysis& c) { return finite(c.noise.readoffs.sigma_min); });
-  t.term("K, rate random walk", Term::K, [](const ChannelAnalysis& c) { return &c.noise.readoffs.K; });
+  t.term("K, rate random walk (read-off)", Term::K, [](const ChannelAnalysis& c) { return &c.noise.readoffs.K; });
+  t.row("K reported (estimator files): significant when > 2σ", unit_of(r, g, Term::K),
+        [](const ChannelAnalysis& c) {
+          const ReportedTerms rt = reported_terms(c.noise.readoffs, c.noise.fit, to_allan_curve(c.noise.adev));
+          if (!rt.K.estimate.valid) return Cell{"—", ""};
+          const Quantity q = display(rt.K.estimate, Term::K, c.unit);
+          if (!rt.K.bound())
+            return Cell{html_escape(format_pm(finite(q.value), finite(q.sigma))) + " (" +
+                            html_escape(std::string(to_string(rt.K.source))) + ")",
+                        "significant: value > 2 sigma"};
+          return Cell{"&lt; " + html_escape(format_num(q.value, 4)) + " (upper bound)",
+                      rt.K_candidate.valid ? "K estimated but not significant (value <= 2 sigma)"
+                                           : "no K in the record: min over tau of sigma sqrt(3/tau)"};
+        },
+        true);
   t.term("Q, quantization", Term::Q, [](const ChannelAnalysis& c) { return &c.noise.readoffs.Q; });
   t.term("R, rate ramp", Term::R, [](const ChannelAnalysis& c) { return &c.noise.readoffs.R; });
   t.section("Weighted least-squares fit of σ²(τ) = Σ C<sub>k</sub> τ<sup>k</sup>, k = −2…2");
-  t.term("N, white noise", Term::N, [](const ChannelAnalysis& c) { return &c.noise.fit.N; });
+  t.term("white-noise term √C<sub>−1</sub> (the fit's, not the reported N)", Term::N,
+         [](const ChannelAnalysis& c) { return &c.noise.fit.N; });
   t.term("B, bias instability", Term::B, [](const ChannelAnalysis& c) { return &c.noise.fit.B; });
   t.term("K, rate random walk", Term::K, [](const ChannelAnalysis& c) { return &c.noise.fit.K; });
   t.term("Q, quantization", Term::Q, [](const ChannelAnalysis& c) { return &c.noise.fit.Q; });
@@ -234,16 +276,17 @@ std::string noise_table(const AnalysisResult& r, const SensorGroup& g) {
     t.row(
         label, unit,
         [&](const ChannelAnalysis& c) {
-          const auto& f = c.noise.fit;
-          const auto& ro = c.noise.readoffs;
-          const TermEstimate& e = white ? (f.N.valid ? f.N : ro.N) : (f.K.valid ? f.K : ro.K);
+          const ReportedTerms rt = reported_terms(c.noise.readoffs, c.noise.fit, to_allan_curve(c.noise.adev));
+          const ReportedTerm& rep = white ? rt.N : rt.K;
+          const TermEstimate& e = rep.estimate;
           if (!e.valid) return Cell{"—", ""};
           const Quantity q = white ? white_density(e, c.unit, si) : random_walk_density(e, c.unit, si);
+          if (rep.bound()) return Cell{"&lt; " + html_escape(format_num(q.value, 4)) + " (upper bound)", ""};
           return Cell{html_escape(format_pm(finite(q.value), finite(q.sigma))), ""};
         },
         true);
   };
-  t.section("Noise densities (from the fit where it found the term, else the read-off)");
+  t.section("Noise densities of the reported N and K (as in the estimator files)");
   density("white noise density", true, false);
   density("white noise density, SI", true, true);
   density("random-walk density", false, false);

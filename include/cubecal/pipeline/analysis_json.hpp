@@ -16,6 +16,14 @@
 
 namespace cubecal::pipeline {
 
+// analysis.json's "format_version". 2: noise.arw is N read on the -1/2 line
+// at tau = 1 s (before: the line tangent to the whole -1/2 region, often at
+// its shortest taus), and noise.reported holds the terms every output
+// reports (noise/reported_terms.hpp): N, K only when significant, B or
+// "no minimum within the record". A file without the key is version 1:
+// from_json reads its N again from the stored curve.
+inline constexpr int kAnalysisFormatVersion = 2;
+
 // analysis.json without its "command" (see AnalysisDocument). Noise terms
 // are stored in their display units (display() of noise/units.hpp) with the
 // tau range they were read from; densities are derived values, written for

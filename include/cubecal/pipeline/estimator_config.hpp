@@ -11,6 +11,7 @@
 #include <string_view>
 #include <vector>
 
+#include "cubecal/noise/reported_terms.hpp"
 #include "cubecal/pipeline/analyze.hpp"
 
 namespace cubecal::pipeline {
@@ -25,21 +26,21 @@ std::string estimator_names();                  // "kalibr|openvins|vins|kf-gins
 // kf-gins_imunoise.yaml.
 std::string_view estimator_file(Estimator e);
 
-// Where a number came from.
-enum class TermSource {
-  fit,            // the weighted five-term fit (noise_terms.hpp NoiseFit)
-  read_off,       // the slope read-off (SlopeReadOffs)
-  upper_bound,    // not identified in the record: the largest value the curve allows
-};
-std::string_view to_string(TermSource s) noexcept;
+// Where a number came from (noise/reported_terms.hpp).
+using TermSource = cubecal::TermSource;
 
 // One channel's terms in SI units (rad/s or m/s^2 based), not inflated.
 struct AxisNoise {
   std::string channel;
   double white = 0.0;         // noise density sigma_w = N, u/sqrt(Hz)
-  TermSource white_source = TermSource::fit;
+  TermSource white_source = TermSource::read_off;
+  double white_tau_lo = 0.0;  // the tau range N was read over (read-off), s
+  double white_tau_hi = 0.0;
   double walk = 0.0;          // bias random walk sigma_bw = K, u/s/sqrt(Hz)
   TermSource walk_source = TermSource::fit;
+  double walk_estimate = 0.0;       // walk an upper bound because K was not significant: the estimate
+  double walk_estimate_sigma = 0.0; // and its 1-sigma uncertainty (0 when K was not estimated at all)
+  TermSource walk_estimate_source = TermSource::fit;
   double bias_std = 0.0;      // bias as a first-order Gauss-Markov process: std (bias instability B), u
   double bias_tc = 0.0;       // and correlation time (T, the tau of the curve's minimum), s
   TermSource bias_source = TermSource::read_off;
@@ -53,15 +54,15 @@ struct ImuNoise {
   double rate_hz = 0.0;
 };
 
-// The rules (docs/formulas/noise-terms.md §8.2):
-// - white: N of the fit when it found one, else the read-off N, else the
-//   upper bound min over tau of sigma(tau) sqrt(tau) (AVAR >= N^2/tau);
-// - walk: K of the fit, else the read-off K, else the upper bound
-//   min over tau of sigma(tau) sqrt(3/tau) (AVAR >= K^2 tau/3);
-// - Gauss-Markov bias (KF-GINS): the bias instability B (read-off, else fit)
-//   with the time T of the curve's minimum, else the upper bound sigma at the
-//   last tau / 0.664 with that tau (the curve still falls). Not the
-//   Gauss-Markov model fit: without a minimum it runs to T_c = 2 dt.
+// The rules (docs/formulas/noise-terms.md §8.2) are those of every output
+// (noise/reported_terms.hpp): white = the read-off N (the -1/2 line at
+// tau = 1 s), else the upper bound min over tau of sigma(tau) sqrt(tau);
+// walk = K of the fit, else of the read-off, only when significant
+// (value > 2 sigma), else the upper bound min over tau of sigma(tau)
+// sqrt(3/tau); Gauss-Markov bias (KF-GINS): the read-off B with the time T
+// of the curve's minimum, else (no minimum within the record) the upper
+// bound sigma_min / 0.664 with the tau where the curve is lowest. Not the
+// Gauss-Markov model fit: without a minimum it runs to T_c = 2 dt.
 // Throws InputError naming the channel when its Allan deviation is zero at
 // every tau (a constant record has no noise to report).
 ImuNoise imu_noise(const AnalysisResult& r);

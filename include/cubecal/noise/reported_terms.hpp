@@ -1,0 +1,64 @@
+// The noise terms cubecal reports as its result: one N, K only when it is
+// significant, B only when the curve has a minimum. The console table,
+// analysis.json, the estimator files (imu.yaml, --for) and the HTML report
+// all take them from here, so that each prints the same number.
+//
+//   N  the slope read-off: the -1/2 line read at tau = 1 s, with the tau
+//      range it was read over (noise_terms.hpp); when the curve has no -1/2
+//      region, the upper bound min over tau of sigma(tau) sqrt(tau)
+//      (AVAR >= N^2 / tau).
+//   K  the weighted five-term fit's K, else the read-off's (the first of the
+//      two that is significant: value > 2 sigma); when neither is, the upper
+//      bound min over tau of sigma(tau) sqrt(3 / tau) (AVAR >= K^2 tau / 3).
+//      A coefficient whose uncertainty exceeds half its value is not a
+//      measurement of K.
+//   B  the read-off sigma_min / 0.664 when the curve's minimum lies inside
+//      the record; else "no minimum within the record" and the upper bound
+//      sigma_min / 0.664 at the end of the record where the curve is lowest
+//      (AVAR >= (0.664 B)^2 at every tau).
+#pragma once
+#include <string_view>
+
+#include "cubecal/noise/noise_terms.hpp"
+
+namespace cubecal {
+
+// Where a reported number came from.
+enum class TermSource {
+  fit,          // the weighted five-term fit (NoiseFit)
+  read_off,     // the slope read-off (SlopeReadOffs)
+  upper_bound,  // not identified (or not significant) in the record: the largest value the curve allows
+};
+std::string_view to_string(TermSource s) noexcept;  // "fit", "read-off", "UPPER BOUND"
+
+// A term is significant when it was estimated and its value exceeds twice
+// its 1-sigma uncertainty.
+inline constexpr double kSignificanceSigmas = 2.0;
+bool significant(const TermEstimate& t) noexcept;
+
+struct ReportedTerm {
+  TermSource source = TermSource::upper_bound;
+  TermEstimate estimate;     // the estimate (source fit or read_off); for an upper bound, the bound with
+                             // sigma 0 and valid true, tau_lo..tau_hi where the curve sets it
+  double value() const noexcept { return estimate.value; }
+  bool bound() const noexcept { return source == TermSource::upper_bound; }
+};
+
+struct ReportedTerms {
+  ReportedTerm N;
+  ReportedTerm K;
+  // The K estimate that was judged (fit when it found the term, else the
+  // read-off); valid false when neither found one. K.bound() with
+  // K_candidate.valid means "estimated, but not significant".
+  TermEstimate K_candidate;
+  TermSource K_candidate_source = TermSource::fit;
+  ReportedTerm B;
+  bool no_minimum = false;   // the curve has no minimum within the record (still falling at its last
+                             // tau, or rising from its first): B is an upper bound
+  bool constant = false;     // every deviation is zero: nothing to report
+};
+
+// Empty or all-zero curves give constant = true and every term invalid.
+ReportedTerms reported_terms(const SlopeReadOffs& read_off, const NoiseFit& fit, const AllanCurve& curve);
+
+}  // namespace cubecal
