@@ -49,6 +49,58 @@ TEST_F(Cli, JsonShapeAndValuesOnPhaseDat) {
   EXPECT_NEAR(c["hi"][6].get<double>(), 4.3377e-02, 4.3377e-02 * 1e-3);
 }
 
+// The noise type of every AF of an all-tau run, through the pipeline that
+// evaluates the grid in blocks on several threads: Stable32's run rule
+// (beyond half the largest AF, the previous AF's type) must hold across the
+// blocks. Reference: Stable32's phase_dat_oadev.txt, every row.
+TEST_F(Cli, AllTauNoiseTypesFollowStable32sRun) {
+  const Result r = run("dev " + kPhaseDat + " --type phase --rate 1 --stat oadev --taus all --threads 2 --format json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto c = nlohmann::json::parse(r.out)["columns"][0];
+  std::ifstream table(std::string(CUBECAL_SHARED_DATA) + "/stable32/phasedat/phase_dat_oadev.txt");
+  std::string line;
+  std::size_t rows = 0;
+  while (std::getline(table, line)) {
+    if (line.find('#') != std::string::npos) continue;
+    std::istringstream ss(line);
+    double af = 0, tau = 0, n = 0, alpha = 0;
+    if (!(ss >> af >> tau >> n >> alpha)) continue;
+    const auto k = static_cast<std::size_t>(af) - 1;  // --taus all: every AF from 1
+    ASSERT_LT(k, c["alpha"].size());
+    EXPECT_EQ(c["alpha"][k].get<int>(), static_cast<int>(alpha)) << "AF " << af;
+    ++rows;
+  }
+  EXPECT_EQ(rows, 139u);
+}
+
+// --short-ci widest: the same intervals where 30 or more averages remain,
+// wider ones (never narrower) below, on PHASE.DAT's octave OADEV.
+TEST_F(Cli, ShortCiWidestWidensOnlyTheShortSeriesIntervals) {
+  const std::string cmd = "dev " + kPhaseDat + " --type phase --rate 1 --stat oadev --format json";
+  const Result a = run(cmd);
+  const Result b = run(cmd + " --short-ci widest");
+  ASSERT_EQ(a.code, 0) << a.err;
+  ASSERT_EQ(b.code, 0) << b.err;
+  const auto ca = nlohmann::json::parse(a.out)["columns"][0];
+  const auto cb = nlohmann::json::parse(b.out)["columns"][0];
+  ASSERT_EQ(ca["tau"].size(), cb["tau"].size());
+  std::size_t wider = 0;
+  for (std::size_t i = 0; i < ca["tau"].size(); ++i) {
+    const double m = ca["tau"][i].get<double>();
+    const bool short_series = (1000.0 / m) < 30.0;
+    const double la = ca["lo"][i], ha = ca["hi"][i], lb = cb["lo"][i], hb = cb["hi"][i];
+    if (!short_series) {
+      EXPECT_EQ(la, lb) << "tau " << m;
+      EXPECT_EQ(ha, hb) << "tau " << m;
+    } else {
+      EXPECT_LE(lb, la) << "tau " << m;
+      EXPECT_GE(hb, ha) << "tau " << m;
+      wider += (hb - lb) > (ha - la) * 1.01;
+    }
+  }
+  EXPECT_GE(wider, 2u) << "the B1 rows (AF 64, 128) should widen";
+}
+
 TEST_F(Cli, CsvAndTable) {
   const Result csv = run("dev " + kPhaseDat + " --type phase --rate 1 --format csv --taus 1,10");
   ASSERT_EQ(csv.code, 0) << csv.err;
