@@ -109,15 +109,22 @@ TemperatureFit fit_temperature(std::span<const double> y, std::span<const double
   return f;
 }
 
-std::vector<double> compensate_temperature(std::span<const double> y, std::span<const double> temp,
-                                           const TemperatureFit& fit) {
-  std::vector<double> out(y.size());
+void compensate_temperature(std::span<const double> y, std::span<const double> temp, const TemperatureFit& fit,
+                            std::span<double> out) {
+  if (temp.size() != y.size() || out.size() != y.size())
+    throw std::invalid_argument("compensate_temperature: y, temp and out differ in length");
   for (std::size_t i = 0; i < y.size(); ++i) {
     const double d = temp[i] - fit.t_ref;
     double corr = 0.0, pw = d;
     for (std::size_t k = 1; k < fit.coeff.size(); ++k, pw *= d) corr += fit.coeff[k] * pw;
     out[i] = y[i] - corr;
   }
+}
+
+std::vector<double> compensate_temperature(std::span<const double> y, std::span<const double> temp,
+                                           const TemperatureFit& fit) {
+  std::vector<double> out(y.size());
+  compensate_temperature(y, temp, fit, out);
   return out;
 }
 

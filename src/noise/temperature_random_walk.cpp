@@ -218,8 +218,9 @@ TemperatureRandomWalkFit fit_temperature_random_walk(std::span<const double> y, 
   TemperatureRandomWalkFit r;
   r.ols = fit_temperature(y, temp, order);
   const TemperatureFit* current = &r.ols;
+  std::vector<double> comp(y.size());  // one buffer for every iteration: a record can be days long
   for (std::size_t it = 1; it <= max_iterations; ++it) {
-    const std::vector<double> comp = compensate_temperature(y, temp, *current);
+    compensate_temperature(y, temp, *current, comp);
     RandomWalkModel noise = noise_model(comp);
     TemperatureFit gls = fit_temperature_gls(y, temp, order, noise, gaps);
     // Converged when the coefficients moved so little that the compensated
