@@ -409,8 +409,16 @@ TEST(AnalysisJson, SimulateModelsFromTheTypedResult) {
   ASSERT_EQ(m.size(), 2u);
   EXPECT_EQ(m[0].unit, "deg/s");
   EXPECT_EQ(m[1].axis_names[2], "mz");
-  EXPECT_EQ(m[0].axes[1].white_sigma, analysis().channels[1].model.random_walk.sigma_n);
-  EXPECT_EQ(m[0].axes[1].bias_sigma, analysis().channels[1].model.random_walk.sigma_mu);
+  // With a temperature analysis: the model of the compensated series (the
+  // twin simulates the temperature term itself), where it was fitted.
+  const auto& gy = analysis().channels[1];
+  ASSERT_TRUE(gy.temperature->compensated_model.ok);
+  EXPECT_NE(gy.temperature->compensated_model.random_walk.sigma_mu, gy.model.random_walk.sigma_mu);
+  EXPECT_EQ(m[0].axes[1].white_sigma, gy.temperature->compensated_model.random_walk.sigma_n);
+  EXPECT_EQ(m[0].axes[1].bias_sigma, gy.temperature->compensated_model.random_walk.sigma_mu);
+  const auto& mx = analysis().channels[3];
+  ASSERT_FALSE(mx.temperature->compensated_model.ok) << "2 h: no minimum in the compensated curve";
+  EXPECT_EQ(m[1].axes[0].bias_sigma, mx.model.random_walk.sigma_mu) << "the record's model then";
   EXPECT_EQ(m[0].lsb, 145.6);
   EXPECT_EQ(m[1].axes[0].temp_coeff, analysis().channels[3].temperature->fit.coeff[1]);
   EXPECT_EQ(m[1].axes[0].fixed_bias, analysis().channels[3].temperature->fit.coeff[0]);
