@@ -139,6 +139,36 @@ void expect_noise(const pipeline::NoiseAnalysis& a, const pipeline::NoiseAnalysi
   EXPECT_EQ(f.rms_rel_residual, g.rms_rel_residual) << what;
 }
 
+void expect_temperature_fit(const TemperatureFit& t, const TemperatureFit& u, const std::string& w) {
+  EXPECT_EQ(u.t_ref, t.t_ref) << w;
+  EXPECT_EQ(u.coeff, t.coeff) << w;
+  EXPECT_EQ(u.coeff_sigma, t.coeff_sigma) << w;
+  EXPECT_EQ(u.cov, t.cov) << w;
+  EXPECT_EQ(u.residual_rms, t.residual_rms) << w;
+  EXPECT_EQ(u.r2, t.r2) << w;
+  EXPECT_EQ(u.order, t.order) << w;
+}
+
+// The models of the compensated series (the record's are compared in line below).
+void expect_model(const pipeline::ModelAnalysis& m, const pipeline::ModelAnalysis& n, const std::string& w) {
+  EXPECT_EQ(n.ok, m.ok) << w;
+  EXPECT_EQ(n.error, m.error) << w;
+  EXPECT_EQ(n.samples, m.samples) << w;
+  expect_points(m.adev, n.adev, w + " adev");
+  EXPECT_EQ(n.random_walk.sigma_n, m.random_walk.sigma_n) << w;
+  EXPECT_EQ(n.random_walk.sigma_mu, m.random_walk.sigma_mu) << w;
+  EXPECT_EQ(n.random_walk.lsb, m.random_walk.lsb) << w;
+  EXPECT_DOUBLE_EQ(n.random_walk.dt, m.random_walk.dt) << w;
+  EXPECT_EQ(n.random_walk_residual.rms_log, m.random_walk_residual.rms_log) << w;
+  EXPECT_EQ(n.gm_ok, m.gm_ok) << w;
+  EXPECT_EQ(n.gm_error, m.gm_error) << w;
+  if (m.gm_ok) {
+    EXPECT_EQ(n.gauss_markov.sigma_b, m.gauss_markov.sigma_b) << w;
+    EXPECT_EQ(n.gauss_markov.tau_c, m.gauss_markov.tau_c) << w;
+    EXPECT_EQ(n.gauss_markov.sigma_n, m.gauss_markov.sigma_n) << w;
+  }
+}
+
 TEST(AnalysisJson, RoundTripKeepsEveryField) {
   const pipeline::AnalysisResult& a = analysis();
   // The analysis has what the round trip must cover.
@@ -201,15 +231,18 @@ TEST(AnalysisJson, RoundTripKeepsEveryField) {
     EXPECT_TRUE(y.drift.t.empty()) << "drift series live in drift.csv";
     ASSERT_EQ(y.temperature.has_value(), x.temperature.has_value()) << w;
     if (x.temperature) {
-      const auto &t = x.temperature->fit, &u = y.temperature->fit;
-      EXPECT_EQ(u.t_ref, t.t_ref) << w;
-      EXPECT_EQ(u.coeff, t.coeff) << w;
-      EXPECT_EQ(u.coeff_sigma, t.coeff_sigma) << w;
-      EXPECT_EQ(u.cov, t.cov) << w;
-      EXPECT_EQ(u.residual_rms, t.residual_rms) << w;
-      EXPECT_EQ(u.r2, t.r2) << w;
-      EXPECT_EQ(u.order, t.order) << w;
-      expect_noise(x.temperature->compensated, y.temperature->compensated, w + " compensated");
+      const auto &t = *x.temperature, &u = *y.temperature;
+      expect_temperature_fit(t.fit, u.fit, w + " temperature");
+      expect_temperature_fit(t.ols, u.ols, w + " temperature OLS");
+      EXPECT_EQ(u.joint, t.joint) << w;
+      EXPECT_EQ(u.joint_error, t.joint_error) << w;
+      EXPECT_EQ(u.noise.sigma_n, t.noise.sigma_n) << w;
+      EXPECT_EQ(u.noise.sigma_mu, t.noise.sigma_mu) << w;
+      EXPECT_EQ(u.noise.lsb, t.noise.lsb) << w;
+      EXPECT_EQ(u.iterations, t.iterations) << w;
+      EXPECT_EQ(u.converged, t.converged) << w;
+      expect_noise(t.compensated, u.compensated, w + " compensated");
+      expect_model(t.compensated_model, u.compensated_model, w + " compensated model");
     }
   }
 }
@@ -346,6 +379,52 @@ TEST(AnalysisJson, FileBeforeVersionTwoReadsNAgainFromItsCurve) {
   from_json(j, back);
   EXPECT_NEAR(back.channels[0].noise.readoffs.N.value, 0.93 * r.channels[0].noise.readoffs.N.value,
               1e-9 * r.channels[0].noise.readoffs.N.value);
+TEST(AnalysisJson, TemperatureJointFitOlsAndCompensatedModels) {
+  const pipeline::AnalysisResult& a = analysis();
+  // The gyro x axis (a random walk that shows within 2 h): jointly with its
+  // random-walk bias; the white channel, whose curve has no minimum: least
+  // squares, with the reason.
+  const auto& gx = *a.channels[0].temperature;
+  EXPECT_TRUE(gx.joint) << gx.joint_error;
+  EXPECT_GT(gx.noise.sigma_mu, 0.0);
+  EXPECT_GE(gx.iterations, 1u);
+  EXPECT_NE(gx.fit.coeff, gx.ols.coeff);
+  EXPECT_TRUE(gx.compensated_model.ok) << gx.compensated_model.error;
+  EXPECT_EQ(gx.compensated_model.samples, a.channels[0].model.samples) << "fitted as the record's model";
+  const auto& white = *a.channels[6].temperature;
+  EXPECT_FALSE(white.joint);
+  EXPECT_NE(white.joint_error.find("no random-walk model"), std::string::npos) << white.joint_error;
+  EXPECT_EQ(white.fit.coeff, white.ols.coeff);
+  const json j = a;
+  const json& t = j["channels"][0]["temperature"];
+  EXPECT_EQ(t["method"], "random_walk_gls");
+  EXPECT_EQ(t["noise_model"]["sigma_mu"], gx.noise.sigma_mu);
+  EXPECT_EQ(t["ols"]["coeff"][0], gx.ols.coeff[1]);
+  EXPECT_EQ(t["compensated_model"]["sigma_mu"], gx.compensated_model.random_walk.sigma_mu);
+  EXPECT_EQ(j["channels"][6]["temperature"]["method"], "ols");
+  EXPECT_TRUE(j["channels"][6]["temperature"].contains("joint_error"));
+}
+
+TEST(AnalysisJson, TemperatureOfAnEarlierVersionLoads) {
+  // analysis.json of a cubecal that fitted by least squares only and
+  // reported no compensated model.
+  json j = analysis();
+  for (auto& c : j["channels"]) {
+    if (!c.contains("temperature")) continue;
+    for (const char* k : {"method", "method_text", "noise_model", "joint_error", "ols", "compensated_model"})
+      c["temperature"].erase(k);
+  }
+  const auto r = j.get<pipeline::AnalysisResult>();
+  const auto& t = *r.channels[0].temperature;
+  EXPECT_FALSE(t.joint);
+  EXPECT_EQ(t.ols.coeff, t.fit.coeff);
+  EXPECT_EQ(t.fit.coeff, analysis().channels[0].temperature->fit.coeff);
+  EXPECT_FALSE(t.compensated_model.ok);
+  EXPECT_FALSE(t.compensated_model.gm_ok);
+  EXPECT_NE(t.compensated_model.error.find("not in this analysis.json"), std::string::npos);
+  json bad = analysis();
+  bad["channels"][0]["temperature"]["method"] = "kalman";
+  EXPECT_THROW((void)bad.get<pipeline::AnalysisResult>(), UsageError);
 }
 
 TEST(AnalysisJson, DocumentKeepsTheCommandAndDriftCounts) {
@@ -389,8 +468,16 @@ TEST(AnalysisJson, SimulateModelsFromTheTypedResult) {
   ASSERT_EQ(m.size(), 2u);
   EXPECT_EQ(m[0].unit, "deg/s");
   EXPECT_EQ(m[1].axis_names[2], "mz");
-  EXPECT_EQ(m[0].axes[1].white_sigma, analysis().channels[1].model.random_walk.sigma_n);
-  EXPECT_EQ(m[0].axes[1].bias_sigma, analysis().channels[1].model.random_walk.sigma_mu);
+  // With a temperature analysis: the model of the compensated series (the
+  // twin simulates the temperature term itself), where it was fitted.
+  const auto& gy = analysis().channels[1];
+  ASSERT_TRUE(gy.temperature->compensated_model.ok);
+  EXPECT_NE(gy.temperature->compensated_model.random_walk.sigma_mu, gy.model.random_walk.sigma_mu);
+  EXPECT_EQ(m[0].axes[1].white_sigma, gy.temperature->compensated_model.random_walk.sigma_n);
+  EXPECT_EQ(m[0].axes[1].bias_sigma, gy.temperature->compensated_model.random_walk.sigma_mu);
+  const auto& mx = analysis().channels[3];
+  ASSERT_FALSE(mx.temperature->compensated_model.ok) << "2 h: no minimum in the compensated curve";
+  EXPECT_EQ(m[1].axes[0].bias_sigma, mx.model.random_walk.sigma_mu) << "the record's model then";
   EXPECT_EQ(m[0].lsb, 145.6);
   EXPECT_EQ(m[1].axes[0].temp_coeff, analysis().channels[3].temperature->fit.coeff[1]);
   EXPECT_EQ(m[1].axes[0].fixed_bias, analysis().channels[3].temperature->fit.coeff[0]);

@@ -30,6 +30,13 @@ const std::string kPhaseDat = std::string(CUBECAL_SHARED_DATA) + "/stable32/phas
 
 using cubecal::test::one_error_line;
 
+// "sigma_mu X mGauss/s" as the analyze console prints a model (4 digits).
+std::string fmt_sigma_mu(double v) {
+  char b[64];
+  std::snprintf(b, sizeof b, "sigma_mu %.4g mGauss/s", v);
+  return b;
+}
+
 TEST_F(Cli, JsonShapeAndValuesOnPhaseDat) {
   const Result r = run("dev " + kPhaseDat + " --type phase --rate 1 --stat oadev --format json");
   ASSERT_EQ(r.code, 0) << r.err;
@@ -424,6 +431,46 @@ TEST_F(Cli, CalibrateTemperatureRecoversCoefficient) {
     EXPECT_EQ(c["coeff_units"][1], "mGauss/degC");
   }
   EXPECT_EQ(run("calibrate temperature " + f + " --columns mx --temp-col nope").code, 2);
+}
+
+// analyze with a temperature column fits the sensor models to the
+// compensated series as well and reports both. The simulator draws the same
+// noise whatever the model (common random numbers), so the same seed without
+// the temperature term is the compensated record's truth: its model must
+// match the compensated one, while the record's own model is inflated by the
+// temperature swing.
+TEST_F(Cli, AnalyzeWithTemperatureReportsTheCompensatedModel) {
+  const std::string swing = path("swing.csv"), flat = path("flat.csv");
+  ASSERT_EQ(run("simulate --preset sport-mag --rate 1 --duration 24h --temp sine:25,5,21600 --seed 4 --out " + swing).code, 0);
+  ASSERT_EQ(run("simulate --preset sport-mag --rate 1 --duration 24h --temp const:25 --seed 4 --out " + flat).code, 0);
+  const Result r = run("analyze " + swing +
+                       " --columns mx,my,mz --unit mGauss --temp-col temp --model-lsb 1.3 --out " + path("swing"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  ASSERT_EQ(run("analyze " + flat + " --columns mx,my,mz --unit mGauss --model-lsb 1.3 --out " + path("flat")).code, 0);
+  EXPECT_NE(r.out.find("jointly with the random-walk bias (least squares"), std::string::npos) << r.out;
+  const auto read = [&](const std::string& dir) {
+    std::ifstream f(path(dir) + "/analysis.json");
+    return nlohmann::json::parse(f);
+  };
+  const auto j = read("swing"), k = read("flat");
+  for (int a = 0; a < 3; ++a) {
+    const auto& c = j["channels"][a];
+    const auto& t = c["temperature"];
+    const std::string w = c["name"].get<std::string>();
+    EXPECT_EQ(t["method"], "random_walk_gls") << w;
+    EXPECT_NEAR(t["coeff"][0].get<double>(), 0.7, 3 * t["coeff_sigma"][0].get<double>()) << w;
+    EXPECT_TRUE(t["ols"]["coeff"].is_array()) << w;
+    const double comp = t["compensated_model"]["sigma_mu"].get<double>();
+    const double record = c["model"]["sigma_mu"].get<double>();
+    const double truth = k["channels"][a]["model"]["sigma_mu"].get<double>();
+    EXPECT_NEAR(comp / truth, 1.0, 0.05) << w << ": the compensated model is the temperature-free record's";
+    EXPECT_GT(record / truth, 3.0) << w << ": the swing inflates the record's own sigma_mu";
+    EXPECT_NEAR(t["compensated_model"]["sigma_n"].get<double>(), k["channels"][a]["model"]["sigma_n"].get<double>(),
+                0.01 * k["channels"][a]["model"]["sigma_n"].get<double>())
+        << w;
+    // The console line of the compensated model, with this sigma_mu.
+    EXPECT_NE(r.out.find(fmt_sigma_mu(comp)), std::string::npos) << w << "\n" << r.out;
+  }
 }
 
 // ---------------------------------------------------------------------------

@@ -29,6 +29,7 @@
 #include "cubecal/noise/noise_terms.hpp"
 #include "cubecal/noise/sensor_noise_model.hpp"
 #include "cubecal/noise/temperature.hpp"
+#include "cubecal/noise/temperature_random_walk.hpp"
 #include "cubecal/noise/units.hpp"
 
 // sim: sensor triads with the paper's measurement model, and its sensors.

@@ -117,6 +117,37 @@ void print_bias_verdict(std::ostream& out, const pipeline::NoiseAnalysis& n, con
              v.trust == BiasTrust::fit ? "fit" : "read-off", v.reason);
 }
 
+// The temperature coefficient (jointly with the random-walk bias, or least
+// squares when no random-walk model fits), and the compensated series: its
+// noise terms and sensor models beside the record's above.
+void print_temperature(std::ostream& out, const pipeline::TemperatureAnalysis& t, const Unit& u) {
+  const auto c1 = [](const TemperatureFit& f) {
+    return fmt::format("{:.4g} ± {:.2g}", f.coeff.size() > 1 ? f.coeff[1] : 0.0,
+                       f.coeff_sigma.size() > 1 ? f.coeff_sigma[1] : 0.0);
+  };
+  if (t.joint)
+    fmt::print(out, "  temperature  {} {}/degC jointly with the random-walk bias (least squares {}); R^2 {:.3f}, T_ref {:.2f} degC\n",
+               c1(t.fit), u.name, c1(t.ols), t.fit.r2, t.fit.t_ref);
+  else
+    fmt::print(out, "  temperature  {} {}/degC by least squares; R^2 {:.3f}, T_ref {:.2f} degC\n               ({})\n",
+               c1(t.fit), u.name, t.fit.r2, t.fit.t_ref, t.joint_error);
+  fmt::print(out, "  compensated  N {}   B {}   K {}\n", pm(display(t.compensated.readoffs.N, Term::N, u), t.compensated.readoffs.N.valid),
+             pm(display(t.compensated.readoffs.B, Term::B, u), t.compensated.readoffs.B.valid),
+             pm(display(t.compensated.readoffs.K, Term::K, u), t.compensated.readoffs.K.valid));
+  const pipeline::ModelAnalysis& m = t.compensated_model;
+  if (m.ok)
+    fmt::print(out, "               model sigma_n {:.4g} {}  sigma_mu {:.4g} {}/s  ({} samples; AV residual {:.3f})\n",
+               m.random_walk.sigma_n, u.name, m.random_walk.sigma_mu, u.name, m.samples, m.random_walk_residual.rms_log);
+  else
+    fmt::print(out, "               model not fitted: {}\n", m.error);
+  if (m.gm_ok)
+    fmt::print(out, "               Gauss-Markov sigma_b {:.4g} {}  T_c {:.4g} s  sigma_n {:.4g} {}  (AV residual {:.3f})\n",
+               m.gauss_markov.sigma_b, u.name, m.gauss_markov.tau_c, m.gauss_markov.sigma_n, u.name,
+               m.gauss_markov_residual.rms_log);
+  else
+    fmt::print(out, "               Gauss-Markov not fitted: {}\n", m.gm_error);
+}
+
 void print_summary(std::ostream& out, const pipeline::AnalysisResult& r) {
   fmt::print(out, "{}: {} samples at {} Hz ({:.2f} h){}\n", r.file, r.samples, rate_text(r.rate_hz),
              r.duration_s / 3600.0, r.segments > 1 ? fmt::format(", {} segments split at gaps", r.segments) : "");
@@ -168,14 +199,7 @@ void print_summary(std::ostream& out, const pipeline::AnalysisResult& r) {
                  c.model.ok && c.model.gauss_markov_residual.rms_log < c.model.random_walk_residual.rms_log
                      ? ", fits better"
                      : "");
-    if (c.temperature) {
-      const auto& t = *c.temperature;
-      fmt::print(out, "  temperature  {:.4g} ± {:.2g} {}/degC (R^2 {:.3f}, T_ref {:.2f} degC); compensated N {}  B {}\n",
-                 t.fit.coeff.size() > 1 ? t.fit.coeff[1] : 0.0, t.fit.coeff_sigma.size() > 1 ? t.fit.coeff_sigma[1] : 0.0,
-                 u.name, t.fit.r2, t.fit.t_ref,
-                 pm(display(t.compensated.readoffs.N, Term::N, u), t.compensated.readoffs.N.valid),
-                 pm(display(t.compensated.readoffs.B, Term::B, u), t.compensated.readoffs.B.valid));
-    }
+    if (c.temperature) print_temperature(out, *c.temperature, u);
   }
   if (r.covariance.size() > 1) {
     fmt::print(out, "\ncovariance of the first {} samples:\n", r.cov_samples);

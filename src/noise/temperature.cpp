@@ -7,50 +7,19 @@
 #include <string>
 
 #include "cubecal/error.hpp"
+#include "detail/temperature_regressor.hpp"
 
 namespace cubecal {
 
-namespace {
-
-[[noreturn]] void throw_too_few_distinct(std::size_t order) {
-  throw CalibrationError(
-      CalibrationReason::degenerate,
-      "temperature takes too few distinct values for a fit of order " + std::to_string(order) + " (lower the order)");
-}
-
-}  // namespace
-
 TemperatureFit fit_temperature(std::span<const double> y, std::span<const double> temp,
                                std::size_t order) {
-  if (order < 1 || order > 5) throw CalibrationError(CalibrationReason::bad_option, "temperature order must be 1 to 5");
-  if (y.size() != temp.size())
-    throw CalibrationError(CalibrationReason::bad_data, "temperature and data lengths differ");
+  const noise::detail::TemperatureRegressor reg = noise::detail::temperature_regressor(y, temp, order);
   const std::size_t n = y.size();
   const std::size_t p = order + 1;
-  if (n <= p)
-    throw CalibrationError(CalibrationReason::too_few_points,
-                           "too few samples for a temperature fit of order " + std::to_string(order));
   TemperatureFit f;
   f.order = order;
-  double tmin = temp[0], tmax = temp[0], tsum = 0.0;
-  for (double t : temp) {
-    tmin = std::min(tmin, t);
-    tmax = std::max(tmax, t);
-    tsum += t;
-  }
-  f.t_ref = tsum / static_cast<double>(n);
-  const double half_span = 0.5 * (tmax - tmin);
-  if (!(half_span > 0.0))
-    throw CalibrationError(CalibrationReason::degenerate,
-                           "temperature is constant over the record: no coefficient can be estimated");
-  // Fewer distinct temperatures than coefficients: the normal matrix is
-  // exactly singular, which LDLT would quietly solve as a pseudo-inverse.
-  std::vector<double> distinct;
-  for (double t : temp) {
-    if (std::find(distinct.begin(), distinct.end(), t) == distinct.end()) distinct.push_back(t);
-    if (distinct.size() >= p) break;
-  }
-  if (distinct.size() < p) throw_too_few_distinct(order);
+  f.t_ref = reg.t_ref;
+  const double half_span = reg.half_span;
   // Normal equations in the scaled variable u = (T - t_ref) / half_span, which
   // keeps V^T V well conditioned for any order used here; accumulated in one
   // pass so a multi-day record needs no n x p matrix.
@@ -61,7 +30,7 @@ TemperatureFit fit_temperature(std::span<const double> y, std::span<const double
   ymean /= static_cast<double>(n);
   std::vector<double> row(p);
   for (std::size_t i = 0; i < n; ++i) {
-    const double u = (temp[i] - f.t_ref) / half_span;
+    const double u = reg(temp[i]);
     row[0] = 1.0;
     for (std::size_t k = 1; k < p; ++k) row[k] = row[k - 1] * u;
     const double yc = y[i] - ymean;  // centred: no cancellation in aty
@@ -73,7 +42,7 @@ TemperatureFit fit_temperature(std::span<const double> y, std::span<const double
   for (Eigen::Index a = 0; a < ata.rows(); ++a)
     for (Eigen::Index b = 0; b < a; ++b) ata(a, b) = ata(b, a);
   const Eigen::LDLT<Eigen::MatrixXd> ldlt(ata);
-  if (ldlt.info() != Eigen::Success || ldlt.rcond() < 1e-13) throw_too_few_distinct(order);
+  if (ldlt.info() != Eigen::Success || ldlt.rcond() < 1e-13) noise::detail::throw_too_few_distinct(order);
   Eigen::VectorXd cu = ldlt.solve(aty);
   cu(0) += ymean;
 
@@ -84,7 +53,7 @@ TemperatureFit fit_temperature(std::span<const double> y, std::span<const double
   Eigen::MatrixXd g = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(p), static_cast<Eigen::Index>(batches));
   double ss_res = 0.0, ss_tot = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
-    const double u = (temp[i] - f.t_ref) / half_span;
+    const double u = reg(temp[i]);
     const auto b = static_cast<Eigen::Index>(i * batches / n);
     double fit = 0.0, pw = 1.0;
     for (std::size_t k = 0; k < p; ++k, pw *= u) fit += cu(static_cast<Eigen::Index>(k)) * pw;
@@ -140,15 +109,22 @@ TemperatureFit fit_temperature(std::span<const double> y, std::span<const double
   return f;
 }
 
-std::vector<double> compensate_temperature(std::span<const double> y, std::span<const double> temp,
-                                           const TemperatureFit& fit) {
-  std::vector<double> out(y.size());
+void compensate_temperature(std::span<const double> y, std::span<const double> temp, const TemperatureFit& fit,
+                            std::span<double> out) {
+  if (temp.size() != y.size() || out.size() != y.size())
+    throw std::invalid_argument("compensate_temperature: y, temp and out differ in length");
   for (std::size_t i = 0; i < y.size(); ++i) {
     const double d = temp[i] - fit.t_ref;
     double corr = 0.0, pw = d;
     for (std::size_t k = 1; k < fit.coeff.size(); ++k, pw *= d) corr += fit.coeff[k] * pw;
     out[i] = y[i] - corr;
   }
+}
+
+std::vector<double> compensate_temperature(std::span<const double> y, std::span<const double> temp,
+                                           const TemperatureFit& fit) {
+  std::vector<double> out(y.size());
+  compensate_temperature(y, temp, fit, out);
   return out;
 }
 

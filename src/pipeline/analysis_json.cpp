@@ -171,28 +171,56 @@ json model_json(const ModelAnalysis& m, const Unit& u, std::size_t record_sample
   return j;
 }
 
-json temperature_json(const TemperatureAnalysis& t, const Unit& u, const std::string& sensor) {
-  json tj;
-  tj["sensor"] = sensor;
-  tj["t_ref"] = t.fit.t_ref;
-  tj["offset"] = t.fit.coeff.empty() ? 0.0 : t.fit.coeff[0];
-  tj["offset_sigma"] = t.fit.coeff_sigma.empty() ? 0.0 : t.fit.coeff_sigma[0];
+// The coefficients of a temperature fit: offset c_0, coeff c_1.., their
+// sigmas and covariance, and how well the polynomial fits.
+void temperature_fit_json(json& tj, const TemperatureFit& f) {
+  tj["t_ref"] = f.t_ref;
+  tj["offset"] = f.coeff.empty() ? 0.0 : f.coeff[0];
+  tj["offset_sigma"] = f.coeff_sigma.empty() ? 0.0 : f.coeff_sigma[0];
   std::vector<double> coeff, sig;
-  if (!t.fit.coeff.empty()) coeff.assign(t.fit.coeff.begin() + 1, t.fit.coeff.end());
-  if (!t.fit.coeff_sigma.empty()) sig.assign(t.fit.coeff_sigma.begin() + 1, t.fit.coeff_sigma.end());
+  if (!f.coeff.empty()) coeff.assign(f.coeff.begin() + 1, f.coeff.end());
+  if (!f.coeff_sigma.empty()) sig.assign(f.coeff_sigma.begin() + 1, f.coeff_sigma.end());
   tj["coeff"] = coeff;
   tj["coeff_sigma"] = sig;
-  tj["coeff_cov"] = t.fit.cov;
+  tj["coeff_cov"] = f.cov;
+  tj["r2"] = f.r2;
+  tj["residual_rms"] = f.residual_rms;
+}
+
+json temperature_json(const TemperatureAnalysis& t, const Unit& u, const std::string& sensor,
+                      std::size_t record_samples) {
+  json tj;
+  tj["sensor"] = sensor;
+  temperature_fit_json(tj, t.fit);
   tj["order"] = t.fit.order;
   tj["unit"] = u.name + "/degC";
   std::vector<std::string> units;
-  for (std::size_t p = 1; p <= coeff.size(); ++p)
+  for (std::size_t p = 1; p < t.fit.coeff.size(); ++p)
     units.push_back(u.name + (p == 1 ? "/degC" : "/degC^" + std::to_string(p)));
   tj["coeff_units"] = units;
-  tj["r2"] = t.fit.r2;
-  tj["residual_rms"] = t.fit.residual_rms;
+  if (t.joint) {
+    tj["method"] = "random_walk_gls";
+    tj["method_text"] =
+        "generalized least squares with white noise and a random-walk bias (Kalman filter), noise model fitted "
+        "to the compensated record";
+    tj["noise_model"] = {{"sigma_n", t.noise.sigma_n},
+                         {"sigma_mu", t.noise.sigma_mu},
+                         {"sigma_mu_unit", u.name + "/s"},
+                         {"lsb", t.noise.lsb},
+                         {"iterations", t.iterations},
+                         {"converged", t.converged}};
+  } else {
+    tj["method"] = "ols";
+    tj["method_text"] = "ordinary least squares, batch-means sandwich covariance";
+    if (!t.joint_error.empty()) tj["joint_error"] = t.joint_error;
+  }
+  json ols;
+  ols["method_text"] = "ordinary least squares, batch-means sandwich covariance";
+  temperature_fit_json(ols, t.ols);
+  tj["ols"] = ols;
   tj["compensated"] = noise_json(t.compensated, u);
   tj["compensated"]["adev"] = curve_json(t.compensated.adev);
+  tj["compensated_model"] = model_json(t.compensated_model, u, record_samples);
   return tj;
 }
 
@@ -430,9 +458,9 @@ ModelAnalysis read_model(const Node& m, const ChannelAnalysis& ch, double dt) {
   return a;
 }
 
-TemperatureAnalysis read_temperature(const Node& t, const Unit& u) {
-  TemperatureAnalysis a;
-  TemperatureFit& f = a.fit;
+// The inverse of temperature_fit_json.
+TemperatureFit read_temperature_fit(const Node& t, std::size_t order) {
+  TemperatureFit f;
   f.t_ref = t.num("t_ref");
   const auto coeff = t.at("coeff").nums(), sig = t.at("coeff_sigma").nums();
   if (sig.size() != coeff.size()) t.fail("coeff and coeff_sigma differ in length");
@@ -444,12 +472,45 @@ TemperatureAnalysis read_temperature(const Node& t, const Unit& u) {
     const Node cov = t.at("coeff_cov");
     for (std::size_t i = 0; i < cov.size(); ++i) f.cov.push_back(cov.at(i).nums());
   }
-  f.order = t.has("order") ? t.at("order").count() : coeff.size();
+  f.order = order > 0 ? order : coeff.size();
   f.r2 = t.num("r2");
   f.residual_rms = t.num("residual_rms");
+  return f;
+}
+
+TemperatureAnalysis read_temperature(const Node& t, const ChannelAnalysis& ch, std::size_t record_samples,
+                                     double dt) {
+  TemperatureAnalysis a;
+  const std::size_t order = t.has("order") ? t.at("order").count() : 0;
+  a.fit = read_temperature_fit(t, order);
+  // Before the joint estimate, the one fit was the least-squares one.
+  const std::string method = t.str_or("method", "ols");
+  if (method != "ols" && method != "random_walk_gls") t.at("method").fail("neither 'ols' nor 'random_walk_gls'");
+  a.joint = method == "random_walk_gls";
+  a.joint_error = t.str_or("joint_error", "");
+  a.ols = t.has("ols") ? read_temperature_fit(t.at("ols"), a.fit.order) : a.fit;
+  if (a.joint) {
+    const Node m = t.at("noise_model");
+    a.noise = RandomWalkModel{m.num("sigma_n"), m.num("sigma_mu"), dt, m.num_or("lsb", 0.0)};
+    a.iterations = m.at("iterations").count();
+    a.converged = m.has("converged") && m.at("converged").raw().is_boolean() && m.at("converged").raw().get<bool>();
+  }
   const Node comp = t.at("compensated");
-  a.compensated = read_noise(comp, u);
+  a.compensated = read_noise(comp, ch.unit);
   a.compensated.adev = read_curve(comp.at("adev"));
+  if (t.has("compensated_model")) {
+    // The curve the models were fitted to: its own when written, else the
+    // compensated record's.
+    ChannelAnalysis on = ch;
+    on.noise.adev = a.compensated.adev;
+    a.compensated_model = read_model(t.at("compensated_model"), on, dt);
+  } else {
+    a.compensated_model.error = a.compensated_model.gm_error =
+        "not in this analysis.json (written before the compensated series' model was reported)";
+    a.compensated_model.samples = record_samples;
+    a.compensated_model.adev = a.compensated.adev;
+    a.compensated_model.random_walk.dt = a.compensated_model.gauss_markov.dt = dt;
+  }
   return a;
 }
 
@@ -502,7 +563,7 @@ AnalysisResult read_result(const json& doc, const std::string& label) {
     ch.drift.mean = d.num("fixed_bias");
     if (cj.has("temperature")) {
       const Node t = cj.at("temperature");
-      ch.temperature = read_temperature(t, ch.unit);
+      ch.temperature = read_temperature(t, ch, r.samples, dt);
       if (version < 2) reread_white_noise(ch.temperature->compensated);
       if (r.temp_name.empty()) r.temp_name = t.str_or("sensor", "");
     }
@@ -546,7 +607,7 @@ void to_json(json& j, const AnalysisResult& r) {
                    {"fixed_bias", c.drift.mean},
                    {"points", c.drift.t.size()},
                    {"file", "drift.csv"}};
-    if (c.temperature) ch["temperature"] = temperature_json(*c.temperature, c.unit, r.temp_name);
+    if (c.temperature) ch["temperature"] = temperature_json(*c.temperature, c.unit, r.temp_name, r.samples);
     chans.push_back(std::move(ch));
   }
   j["channels"] = std::move(chans);

@@ -8,6 +8,7 @@
 
 #include "cubecal/stats/allan_curve.hpp"
 #include "cubecal/noise/covariance.hpp"
+#include "cubecal/noise/temperature_random_walk.hpp"
 #include "cubecal/error.hpp"
 #include "cubecal/pipeline/dev_pipeline.hpp"
 
@@ -65,6 +66,94 @@ void fit_models(ModelAnalysis& m, double dt, double lsb) {
     }
   } catch (const std::invalid_argument& e) {
     m.gm_error = e.what();
+  }
+}
+
+// Samples missing between the segments of a record, for the bias random walk
+// of the joint temperature fit (none without a time column).
+std::vector<BiasGap> bias_gaps(const io::Series& s) {
+  std::vector<BiasGap> gaps;
+  for (std::size_t g = 1; g < s.segments.size(); ++g) {
+    BiasGap gap;
+    gap.index = s.segments[g].begin;
+    if (!s.time.empty() && s.segments[g - 1].end > 0)
+      gap.steps = std::max(0.0, std::round((s.time[s.segments[g].begin] - s.time[s.segments[g - 1].end - 1]) / s.tau0) - 1.0);
+    gaps.push_back(gap);
+  }
+  return gaps;
+}
+
+// The record's channels replaced by `channels` (same names, segments and rate).
+io::Series with_channels(const io::Series& s, std::vector<std::string> names, std::vector<std::vector<double>> channels) {
+  io::Series cs;
+  cs.names = std::move(names);
+  cs.channels = std::move(channels);
+  cs.rate_hz = s.rate_hz;
+  cs.tau0 = s.tau0;
+  cs.segments = s.segments;
+  return cs;
+}
+
+// Per channel: OLS (its errors are the user's: a constant temperature, too
+// few distinct values), then the joint estimate with the random walk, whose
+// noise model is the paper's random-walk model fitted to the Allan curve of
+// the compensated whole record (request grid); where no such model fits
+// (no minimum in the curve, no random-walk arm), the OLS fit is reported
+// with the reason. Then the compensated series of every channel: its noise
+// terms, and the sensor models on it as on the record.
+template <class LsbOf>
+void analyze_temperature(AnalysisResult& r, const io::Series& s, const AnalyzeRequest& req, const LsbOf& lsb_of) {
+  const std::size_t nch = s.channels.size();
+  const auto& temp = s.extra.at(*req.temp_index);
+  r.temp_name = s.extra_names.at(*req.temp_index);
+  const std::vector<BiasGap> gaps = bias_gaps(s);
+  const double dt = s.tau0;
+  std::vector<TemperatureAnalysis> ta(nch);
+  std::vector<std::vector<double>> comp(nch);
+  for (std::size_t c = 0; c < nch; ++c) {
+    TemperatureAnalysis& t = ta[c];
+    try {
+      t.ols = fit_temperature(s.channels[c], temp, req.temp_order);
+    } catch (const std::invalid_argument& e) {
+      throw UsageError("temp_index", r.temp_name + ": " + e.what());
+    }
+    const CompensatedNoiseModel noise_model = [&](std::span<const double> y) {
+      const DevResult d = run_dev(with_channels(s, {s.names[c]}, {std::vector<double>(y.begin(), y.end())}),
+                                  oadev_request(req));
+      return fit_random_walk_model(to_allan_curve(d.channels[0].points), dt, lsb_of(c));
+    };
+    try {
+      TemperatureRandomWalkFit j = fit_temperature_random_walk(s.channels[c], temp, req.temp_order, noise_model, gaps);
+      t.fit = std::move(j.fit);
+      t.noise = j.noise;
+      t.iterations = j.iterations;
+      t.converged = j.converged;
+      t.joint = true;
+    } catch (const std::invalid_argument& e) {
+      t.fit = t.ols;
+      t.joint_error = std::string("no random-walk model fits the compensated series (") + e.what() +
+                      "): the least-squares fit is reported";
+    }
+    comp[c] = compensate_temperature(s.channels[c], temp, t.fit);
+  }
+  io::Series cs = with_channels(s, s.names, std::move(comp));
+  const DevResult cdev = run_dev(cs, oadev_request(req));
+  const std::size_t first = s.segments.front().size();
+  const bool head = req.max_samples > 0 && req.max_samples < first;
+  DevResult hd;
+  if (head) {
+    std::vector<std::vector<double>> heads;
+    for (const auto& ch : cs.channels)
+      heads.emplace_back(ch.begin(), ch.begin() + static_cast<std::ptrdiff_t>(req.max_samples));
+    hd = run_dev(s.names, heads, s.rate_hz, oadev_request(req));
+  }
+  for (std::size_t c = 0; c < nch; ++c) {
+    TemperatureAnalysis& t = ta[c];
+    t.compensated = noise_of(cdev.channels[c]);
+    t.compensated_model.adev = head ? hd.channels[c].points : cdev.channels[c].points;
+    t.compensated_model.samples = head ? req.max_samples : r.samples;
+    fit_models(t.compensated_model, dt, lsb_of(c));
+    r.channels[c].temperature = std::move(ta[c]);
   }
 }
 
@@ -165,39 +254,9 @@ AnalysisResult run_analyze(const io::Series& s, const AnalyzeRequest& req) {
     r.covariance = covariance_matrix(spans, r.cov_samples);
   }
 
-  // Temperature: regression per channel, then the noise terms again on the
-  // compensated series.
-  if (req.temp_index) {
-    const auto& temp = s.extra.at(*req.temp_index);
-    r.temp_name = s.extra_names.at(*req.temp_index);
-    std::vector<std::vector<double>> comp(nch);
-    std::vector<std::string> errors(nch);
-    std::vector<TemperatureFit> fits(nch);
-#pragma omp parallel for schedule(dynamic, 1) num_threads(req.threads > 0 ? static_cast<int>(req.threads) : 0)
-    for (std::size_t c = 0; c < nch; ++c) {
-      try {
-        fits[c] = fit_temperature(s.channels[c], temp, req.temp_order);
-        comp[c] = compensate_temperature(s.channels[c], temp, fits[c]);
-      } catch (const std::invalid_argument& e) {
-        errors[c] = e.what();
-      }
-    }
-    for (std::size_t c = 0; c < nch; ++c)
-      if (!errors[c].empty()) throw UsageError("temp_index", r.temp_name + ": " + errors[c]);
-    io::Series cs;
-    cs.names = s.names;
-    cs.channels = std::move(comp);
-    cs.rate_hz = s.rate_hz;
-    cs.tau0 = s.tau0;
-    cs.segments = s.segments;
-    const DevResult cdev = run_dev(cs, oadev_request(req));
-    for (std::size_t c = 0; c < nch; ++c) {
-      TemperatureAnalysis t;
-      t.fit = std::move(fits[c]);
-      t.compensated = noise_of(cdev.channels[c]);
-      r.channels[c].temperature = std::move(t);
-    }
-  }
+  // Temperature: the coefficients jointly with the random-walk bias, then the
+  // noise terms and the sensor models again on the compensated series.
+  if (req.temp_index) analyze_temperature(r, s, req, lsb_of);
   return r;
 }
 

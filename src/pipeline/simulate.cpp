@@ -170,24 +170,31 @@ std::vector<TriadModel> models_from_analysis(const AnalysisResult& r, const std:
     m.axis_names[a] = !ch.name.empty() ? ch.name : (std::string{"c"} += std::to_string(c + 1));
     AxisModel& ax = m.axes[a];
     ax.fixed_bias = ch.mean;
+    // With a temperature analysis the twin simulates the temperature term
+    // itself: its noise is the model fitted to the compensated series (the
+    // record's own carries the temperature swing in sigma_mu), where there is one.
+    const ModelAnalysis& model =
+        ch.temperature && (gm ? ch.temperature->compensated_model.gm_ok : ch.temperature->compensated_model.ok)
+            ? ch.temperature->compensated_model
+            : ch.model;
     if (gm) {
-      if (!ch.model.gm_ok)
+      if (!model.gm_ok)
         throw UsageError("bias", label + ": channel " + m.axis_names[a] +
                                      " has no Gauss-Markov model (use the random-walk model, or re-run analyze)");
-      ax.white_sigma = ch.model.gauss_markov.sigma_n;
+      ax.white_sigma = model.gauss_markov.sigma_n;
       ax.bias = BiasProcess::gauss_markov;
-      ax.bias_sigma = ch.model.gauss_markov.sigma_b;
-      ax.tau_c = ch.model.gauss_markov.tau_c;
+      ax.bias_sigma = model.gauss_markov.sigma_b;
+      ax.tau_c = model.gauss_markov.tau_c;
     } else {
-      if (!ch.model.ok)
+      if (!model.ok)
         throw UsageError("bias", label + ": channel " + m.axis_names[a] + " has no fitted random-walk model (" +
-                                     (ch.model.error.empty() ? std::string("no minimum in its Allan curve")
-                                                             : ch.model.error) +
+                                     (model.error.empty() ? std::string("no minimum in its Allan curve")
+                                                          : model.error) +
                                      "; the Gauss-Markov model may have one)");
-      ax.white_sigma = ch.model.random_walk.sigma_n;
+      ax.white_sigma = model.random_walk.sigma_n;
       ax.bias = BiasProcess::random_walk;
-      ax.bias_sigma = ch.model.random_walk.sigma_mu;
-      m.lsb = ch.model.random_walk.lsb;
+      ax.bias_sigma = model.random_walk.sigma_mu;
+      m.lsb = model.random_walk.lsb;
     }
     if (ch.temperature) {
       const TemperatureFit& t = ch.temperature->fit;

@@ -452,6 +452,7 @@ std::vector<ReportFigure> temperature_figures(const AnalysisResult& d, const Sen
   q.x = {"averaging time τ [s]", true, std::nullopt, std::nullopt};
   q.y = {"Allan deviation σ(τ) [" + g.unit + "]", true, std::nullopt, std::nullopt};
   q.key = "outside bottom center horizontal Left reverse maxrows 3";
+  bool comp_model = false;
   for (auto k : with) {
     const ChannelAnalysis& ch = d.channels[g.channels[k]];
     PlotSeries raw;
@@ -477,10 +478,29 @@ std::vector<ReportFigure> temperature_figures(const AnalysisResult& d, const Sen
     s.width = 1.4;
     s.point_size = 0.25;
     if (!s.x.empty()) q.series.push_back(std::move(s));
+    // The random-walk model fitted to the compensated series.
+    const pipeline::ModelAnalysis& cm = ch.temperature->compensated_model;
+    if (cm.ok && d.rate_hz > 0) {
+      PlotSeries m;
+      for (const auto& pt : ch.temperature->compensated.adev) {
+        const auto factor = static_cast<std::size_t>(std::max(1.0, std::round(pt.tau * d.rate_hz)));
+        m.x.push_back(pt.tau);
+        m.y.push_back(std::sqrt(avar(cm.random_walk, factor)));
+      }
+      m.id = ch.name + " compensated, random-walk model";
+      m.color = color(k);
+      m.width = 1.0;
+      m.dash = Dash::dashed;
+      if (!m.x.empty()) {
+        q.series.push_back(std::move(m));
+        comp_model = true;
+      }
+    }
   }
   for (auto k : with) q.series.push_back(legend_entry(d.channels[g.channels[k]].name, color(k)));
   q.series.push_back(legend_entry("as recorded", kInk, Dash::solid, Mark::line, 0.4));
   q.series.push_back(legend_entry("temperature compensated, " + ci + " interval", kInk, Dash::solid, Mark::errorlines));
+  if (comp_model) q.series.push_back(legend_entry("random-walk model of the compensated series", kInk, Dash::dashed));
   h.caption_html = "Allan deviation of the " + html_escape(lower_first(g.title)) +
                    " as recorded (light) and after removing the fitted temperature dependence (with " +
                    html_escape(ci) + " intervals): what the temperature swing adds at long averaging times.";

@@ -348,10 +348,21 @@ std::string temperature_table(const AnalysisResult& r, const SensorGroup& g) {
   auto fit_of = [](const ChannelAnalysis& c) -> const TemperatureFit* {
     return c.temperature ? &c.temperature->fit : nullptr;
   };
+  auto tan_of = [](const ChannelAnalysis& c) -> const pipeline::TemperatureAnalysis* {
+    return c.temperature ? &*c.temperature : nullptr;
+  };
   Table t(r, g);
-  t.section("Polynomial fit of the channel on temperature, y = Σ c<sub>p</sub> (T − T<sub>ref</sub>)<sup>p</sup>");
+  t.section("Polynomial fit of the channel on temperature, y = Σ c<sub>p</sub> (T − T<sub>ref</sub>)<sup>p</sup> + "
+            "random-walk bias + white noise");
   t.row("temperature column", "", [&](const ChannelAnalysis& c) {
     return c.temperature ? Cell{html_escape(r.temp_name), ""} : Cell{"—", ""};
+  });
+  t.row("estimator", "", [&](const ChannelAnalysis& c) {
+    const auto* a = tan_of(c);
+    if (!a) return Cell{"—", ""};
+    return a->joint ? Cell{"jointly with the random-walk bias (GLS, Kalman filter)",
+                           "noise model fitted to the compensated record; docs/formulas/drift-covariance-temperature.md §4"}
+                    : Cell{"least squares", html_escape(a->joint_error)};
   });
   t.value("T<sub>ref</sub> (mean temperature)", "°C", [&](const ChannelAnalysis& c) {
     const auto* f = fit_of(c);
@@ -369,6 +380,17 @@ std::string temperature_table(const AnalysisResult& r, const SensorGroup& g) {
                   ""};
     });
   }
+  t.row("c<sub>1</sub> by least squares (batch-means sandwich σ)", g.unit + "/degC", [&](const ChannelAnalysis& c) {
+    const auto* a = tan_of(c);
+    if (!a || !a->joint || a->ols.coeff.size() < 2) return Cell{"—", ""};
+    return Cell{html_escape(format_pm(finite(a->ols.coeff[1]),
+                                      a->ols.coeff_sigma.size() > 1 ? finite(a->ols.coeff_sigma[1]) : std::nullopt)),
+                "for comparison; scatters more than the joint estimate"};
+  });
+  t.value("σ<sub>μ</sub> the joint estimate weighted with", g.unit + "/s", [&](const ChannelAnalysis& c) {
+    const auto* a = tan_of(c);
+    return a && a->joint ? finite(a->noise.sigma_mu) : std::nullopt;
+  });
   t.value("c<sub>0</sub>, bias at T<sub>ref</sub>", g.unit, [&](const ChannelAnalysis& c) {
     const auto* f = fit_of(c);
     return f && !f->coeff.empty() ? finite(f->coeff[0]) : std::nullopt;
@@ -391,6 +413,36 @@ std::string temperature_table(const AnalysisResult& r, const SensorGroup& g) {
     return comp(c) && comp(c)->B.valid ? finite(comp(c)->tau_min) : std::nullopt;
   }, 4);
   t.term("K, rate random walk", Term::K, [&](const ChannelAnalysis& c) { return comp(c) ? &comp(c)->K : nullptr; });
+  // The sensor models of the compensated series beside the record's (Models
+  // table): a temperature cycle raises the record's σ_μ.
+  auto cm = [&](const ChannelAnalysis& c) -> const pipeline::ModelAnalysis* {
+    return c.temperature ? &c.temperature->compensated_model : nullptr;
+  };
+  t.section("Sensor models after compensation (beside them in the Models table: the same fits to the record)");
+  t.value("σ<sub>n</sub>, white noise per sample", g.unit, [&](const ChannelAnalysis& c) {
+    return cm(c) && cm(c)->ok ? finite(cm(c)->random_walk.sigma_n) : std::nullopt;
+  });
+  t.value("σ<sub>μ</sub>, bias random-walk rate", g.unit + "/s", [&](const ChannelAnalysis& c) {
+    return cm(c) && cm(c)->ok ? finite(cm(c)->random_walk.sigma_mu) : std::nullopt;
+  });
+  t.value("σ<sub>μ</sub> of the record, not compensated", g.unit + "/s", [&](const ChannelAnalysis& c) {
+    return cm(c) && c.model.ok ? finite(c.model.random_walk.sigma_mu) : std::nullopt;
+  });
+  t.value("samples fitted", "", [&](const ChannelAnalysis& c) {
+    return cm(c) ? count(cm(c)->samples) : std::nullopt;
+  }, 10);
+  t.reason("random-walk model of the compensated series", [&](const ChannelAnalysis& c) {
+    return cm(c) && !cm(c)->ok ? cm(c)->error : std::string();
+  });
+  t.value("Gauss–Markov σ<sub>b</sub>", g.unit, [&](const ChannelAnalysis& c) {
+    return cm(c) && cm(c)->gm_ok ? finite(cm(c)->gauss_markov.sigma_b) : std::nullopt;
+  });
+  t.value("Gauss–Markov T<sub>c</sub>", "s", [&](const ChannelAnalysis& c) {
+    return cm(c) && cm(c)->gm_ok ? finite(cm(c)->gauss_markov.tau_c) : std::nullopt;
+  });
+  t.reason("Gauss–Markov model of the compensated series", [&](const ChannelAnalysis& c) {
+    return cm(c) && !cm(c)->gm_ok ? cm(c)->gm_error : std::string();
+  });
   return t.str();
 }
 

@@ -31,5 +31,9 @@ TemperatureFit fit_temperature(std::span<const double> y, std::span<const double
 // y minus the temperature-dependent part (orders >= 1): the bias at t_ref stays.
 std::vector<double> compensate_temperature(std::span<const double> y, std::span<const double> temp,
                                            const TemperatureFit& fit);
+// The same into `out` (y.size() values; std::invalid_argument for a length
+// that differs): no allocation, for a multi-day record compensated repeatedly.
+void compensate_temperature(std::span<const double> y, std::span<const double> temp, const TemperatureFit& fit,
+                            std::span<double> out);
 
 }  // namespace cubecal

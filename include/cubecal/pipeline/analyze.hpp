@@ -54,9 +54,25 @@ struct ModelAnalysis {
   ModelResidual gauss_markov_residual;
 };
 
+// Temperature dependence of a channel (docs/formulas/drift-covariance-temperature.md §3-4).
 struct TemperatureAnalysis {
+  // The coefficients reported and compensated with: estimated jointly with
+  // the random-walk bias (fit_temperature_random_walk) when `joint`, else
+  // the OLS fit below.
   TemperatureFit fit;
+  bool joint = false;
+  std::string joint_error;          // why the OLS fit is reported (no random-walk model fits)
+  TemperatureFit ols;               // ordinary least squares, batch-means sandwich covariance
+  RandomWalkModel noise;            // joint: the noise model the coefficients are weighted with
+                                    // (fitted on the whole compensated record)
+  std::size_t iterations = 0;       // joint: noise-model fits
+  bool converged = false;
   NoiseAnalysis compensated;        // noise terms of the compensated series
+  // The sensor models fitted to the compensated series, as `model` is to the
+  // record (on its first max_samples samples when asked). From an
+  // analysis.json written before it was reported: not ok, with that said in
+  // error.
+  ModelAnalysis compensated_model;
 };
 
 struct ChannelAnalysis {

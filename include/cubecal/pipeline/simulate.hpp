@@ -58,8 +58,10 @@ void write_record(const SimulatedRecord& rec, io::CsvWriter& out);
 // analysis.json; `label` names it in messages): consecutive
 // channels form triads (a last partial triad keeps only its channels); the
 // fixed bias is the measured mean, white noise and bias process come from
-// the fitted random-walk model, or the Gauss-Markov model when asked; the
-// quantizer is the model's LSB. Throws UsageError for a result without
+// the fitted random-walk model, or the Gauss-Markov model when asked (the
+// one fitted to the temperature-compensated series when the channel has a
+// temperature analysis with that model: the twin adds the temperature term
+// itself); the quantizer is the model's LSB. Throws UsageError for a result without
 // channels, and UsageError("bias", ...) for a channel without the fitted model asked for.
 std::vector<TriadModel> models_from_analysis(const AnalysisResult& analysis, const std::string& label,
                                              bool gauss_markov);
