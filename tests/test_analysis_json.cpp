@@ -379,6 +379,8 @@ TEST(AnalysisJson, FileBeforeVersionTwoReadsNAgainFromItsCurve) {
   from_json(j, back);
   EXPECT_NEAR(back.channels[0].noise.readoffs.N.value, 0.93 * r.channels[0].noise.readoffs.N.value,
               1e-9 * r.channels[0].noise.readoffs.N.value);
+}
+
 TEST(AnalysisJson, TemperatureJointFitOlsAndCompensatedModels) {
   const pipeline::AnalysisResult& a = analysis();
   // The gyro x axis (a random walk that shows within 2 h): jointly with its
