@@ -364,6 +364,30 @@ TEST(Ros1Bag, TemperatureTopicIsAnExtraColumnAndTimeCanBeTheRecordTime) {
   EXPECT_THROW(io::read_series(path, o), cubecal::UsageError);
 }
 
+TEST(Ros1Bag, SeveralImuTopicsAreListedNoneTaken) {
+  std::string bag = written_bag(10);
+  // A second IMU topic: one more connection record, in a chunk of its own.
+  const std::string chunk = connection(5, "/imu2", "sensor_msgs/Imu");
+  bag += record(field("op", "\x05") + field("compression", "none") +
+                    field("size", u32(static_cast<std::uint32_t>(chunk.size()))),
+                chunk);
+  const std::string path = std::filesystem::temp_directory_path() / ("cubecal_two_" + std::to_string(::getpid()) + ".bag");
+  std::ofstream(path, std::ios::binary) << bag;
+  struct Remove {
+    std::string p;
+    ~Remove() { std::filesystem::remove(p); }
+  } remove{path};
+  try {
+    io::read_series(path, io::SeriesOptions{});
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("several sensor_msgs/Imu topics: /imu (sensor_msgs/Imu, 10 messages), "
+                                         "/imu2 (sensor_msgs/Imu, 0 messages) (choose one with --topic NAME)"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 // --- the command line ---------------------------------------------------
 
 class Ros1BagCli : public cubecal::test::TempDirTest {};
@@ -399,6 +423,13 @@ TEST_F(Ros1BagCli, AnalyzeTakesTheTemperatureTopicAsTempCol) {
   const auto r = run_cubecal("analyze " + path + " --topic /imu --topic /temp --temp-col temp --columns gx");
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("gx [rad/s, rate]"), std::string::npos) << r.out;
+}
+
+TEST_F(Ros1BagCli, CompareTakesEveryRunsUnitsFromTheBag) {
+  const auto r = run_cubecal("compare " + kRazor + " " + kArdrone + " --gaps split");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("gx"), std::string::npos) << r.out;
+  EXPECT_NE(r.err.find("units from the message types"), std::string::npos) << r.err;
 }
 
 TEST_F(Ros1BagCli, MissingTopicListsTheTopics) {

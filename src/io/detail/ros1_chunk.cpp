@@ -89,8 +89,9 @@ std::string unlz4(std::string_view data, std::size_t size, const BagPlace& at, s
     if (probing && dst_size > 0) size_mismatch(at, pos, "lz4", size + 1, size);
     if (!probing) done += dst_size;
     if (hint == 0) break;  // the frame is complete
-    if (src_size == 0 && dst_size == 0 && in_done == data.size())
-      bag_error(at, pos, "LZ4 chunk data end before the frame does");
+    if (src_size == 0 && dst_size == 0)
+      bag_error(at, pos, in_done == data.size() ? "LZ4 chunk data end before the frame does"
+                                                : "corrupt LZ4 chunk data (no progress)");
   }
   if (done != size) size_mismatch(at, pos, "lz4", done, size);
   out.resize(done);
