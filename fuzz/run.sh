@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets (clang, ASan + UBSan, in $FUZZ_BUILD) and runs
 # each for FUZZ_SECONDS, one after the other:
-#   FUZZ_SECONDS=300 bash fuzz/run.sh [target...]     (targets: text_reader gzip analysis_json)
+#   FUZZ_SECONDS=300 bash fuzz/run.sh [target...]     (targets: text_reader gzip analysis_json ros1_bag)
 # Each starts from its seeds (fuzz/corpus/TARGET, read only) and the inputs it
 # found before; new inputs go to $FUZZ_WORK/corpus/TARGET, never into the
 # repository. A crash, sanitizer report, leak, timeout or oversized
@@ -14,7 +14,7 @@ SECS=${FUZZ_SECONDS:-300}
 BUILD=${FUZZ_BUILD:-build-fuzz}
 WORK=${FUZZ_WORK:-$BUILD/work}
 TARGETS=("$@")
-[ ${#TARGETS[@]} -gt 0 ] || TARGETS=(text_reader gzip analysis_json)
+[ ${#TARGETS[@]} -gt 0 ] || TARGETS=(text_reader gzip analysis_json ros1_bag)
 
 cmake -S . -B "$BUILD" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DCUBECAL_FUZZ=ON -DCUBECAL_WERROR=ON >/dev/null
@@ -26,10 +26,13 @@ for t in "${TARGETS[@]}"; do
   mkdir -p "$corpus" "$crashes"
   dict=()
   [ -f "fuzz/$t.dict" ] && dict=(-dict="fuzz/$t.dict")
+  # The real bags are seeds too (read only), when the shared data are there.
+  seeds=("fuzz/corpus/$t")
+  [ $t = ros1_bag ] && [ -d ../shared/data/rosbag/ros1 ] && seeds+=(../shared/data/rosbag/ros1)
   start=$(date +%s)
   # -malloc_limit_mb: no single allocation of more than 512 MB (an input is a
   # few kB); -timeout: 10 s for one input.
-  if ASAN_OPTIONS=detect_leaks=1 "$BUILD/bin/fuzz_$t" "$corpus" "fuzz/corpus/$t" "${dict[@]}" \
+  if ASAN_OPTIONS=detect_leaks=1 "$BUILD/bin/fuzz_$t" "$corpus" "${seeds[@]}" "${dict[@]}" \
       -max_total_time="$SECS" -seed="${FUZZ_SEED:-0}" -timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=512 \
       -artifact_prefix="$crashes/" -print_final_stats=1 >"$log" 2>&1; then
     result=ok

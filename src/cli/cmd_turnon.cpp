@@ -56,9 +56,14 @@ pipeline::AnalyzeRequest request_for(const RunsOptions& o, const std::vector<io:
   ChannelUnits first = units_for(o.unit, runs.front());
   req.units = std::move(first.units);
   for (std::size_t k = 1; k < runs.size(); ++k) {
-    const InferredUnits other = infer_units(runs[k].names);
-    bool same = other.missing.empty() && other.units.size() == req.units.size();
-    for (std::size_t c = 0; same && c < req.units.size(); ++c) same = other.units[c].name == req.units[c].name;
+    // As the first run's: from the names, or from the format (ROS bags).
+    std::vector<Unit> other;
+    try {
+      other = units_for({}, runs[k]).units;
+    } catch (const UsageError&) {
+    }
+    bool same = other.size() == req.units.size();
+    for (std::size_t c = 0; same && c < req.units.size(); ++c) same = other[c].name == req.units[c].name;
     if (!same)
       throw UsageError(runs[k].file + ": its column names do not announce the units of " + runs.front().file +
                        "'s: give --unit");

@@ -77,6 +77,8 @@ CLI::Validator whole_number(double lo, double hi) {
 }
 
 void note_default_columns(const io::Series& s) {
+  if (s.default_topic && !s.topics.empty())
+    std::cerr << "cubecal: note: " << s.file << ": topic " << s.topics.front() << " (--topic chooses others)\n";
   if (!s.default_columns || s.left_out.empty()) return;
   const auto join = [](const std::vector<std::string>& v) {
     std::string r;
@@ -89,11 +91,11 @@ void note_default_columns(const io::Series& s) {
 
 void add_input_options(CLI::App& app, InputOptions& opt, bool several) {
   if (several)
-    app.add_option("files", opt.files, "Input files (one record each): delimited text, optionally gzip")
+    app.add_option("files", opt.files, "Input files (one record each): delimited text, optionally gzip, or ROS 1 bags")
         ->required();
   else
     app.add_option("file", opt.file, "Input file: delimited text (comma, tab, semicolon or "
-                                     "whitespace), optionally gzip-compressed")
+                                     "whitespace), optionally gzip-compressed, or a ROS 1 bag")
         ->required();
   app.add_option("--columns", opt.columns,
                  "Columns to analyse, by header name or 1-based index (gx,gy,gz or 2,3,4); "
@@ -101,7 +103,8 @@ void add_input_options(CLI::App& app, InputOptions& opt, bool several) {
                  "timestamp..., temp, temperature and those named by --time-col / --temp-col)");
   app.add_option("--time-col", opt.time_col,
                  "Time column (seconds), by name or index; default: a column named t, time, "
-                 "t_s, timestamp...");
+                 "t_s, timestamp...; for a ROS bag: stamp (header.stamp, default) or record (when the bag "
+                 "recorded each message)");
   app.add_option("--rate", opt.rate_hz, "Sampling rate in Hz (inferred from the time column "
                                         "when not given)")
       ->check(positive_number());
@@ -115,6 +118,11 @@ void add_input_options(CLI::App& app, InputOptions& opt, bool several) {
                                      "segments and combine)")
       ->check(CLI::IsMember({"error", "split"}));
   app.add_option("--threads", opt.threads, "Worker threads (default: all cores)")->check(whole_number(0, 4096));
+  app.add_option("--topic", opt.topics,
+                 "ROS bag: topic to read (sensor_msgs/Imu: gx gy gz ax ay az; MagneticField: mx my mz; "
+                 "Temperature: temp); repeat for several. Default: the bag's only Imu topic")
+      ->allow_extra_args(false)
+      ->delimiter(',');
 }
 
 std::vector<Unit> parse_units(const std::string& list) {
@@ -136,6 +144,22 @@ std::string unit_option_help() {
 
 ChannelUnits units_for(const std::string& unit_option, const io::Series& s) {
   if (!unit_option.empty()) return {parse_units(unit_option), {}};
+  if (!s.units.empty()) {
+    // The format says them (ROS messages are in SI units).
+    ChannelUnits r;
+    std::string said;
+    for (std::size_t i = 0; i < s.units.size(); ++i) {
+      const auto u = parse_unit(s.units[i]);
+      if (!u) throw UsageError(s.file + ": channel " + s.names[i] + " is in " + s.units[i] + ", which is not a unit of noise terms: give --unit (" +
+                                 known_units() + ")");
+      r.units.push_back(*u);
+      const bool run = i > 0 && s.units[i] == s.units[i - 1];
+      said += (run ? "," : said.empty() ? "" : "; ") + s.names[i];
+      if (i + 1 == s.units.size() || s.units[i + 1] != s.units[i]) said += " " + s.units[i];
+    }
+    r.note = "cubecal: note: " + s.file + ": units from the message types: " + said + " (--unit overrides)";
+    return r;
+  }
   const InferredUnits inferred = infer_units(s.names);
   if (!inferred.missing.empty()) {
     std::string cols;
@@ -180,6 +204,7 @@ io::SeriesOptions to_series_options(const InputOptions& opt) {
     throw UsageError("--lsb must be a positive number of counts per unit");
   s.lsb = opt.lsb;
   s.gaps = opt.gaps == "split" ? io::GapPolicy::split : io::GapPolicy::error;
+  s.topics = opt.topics;
   return s;
 }
 

@@ -20,6 +20,7 @@ struct InputOptions {
   double lsb = 1.0;
   std::string gaps = "error";
   unsigned threads = 0;
+  std::vector<std::string> topics;  // ROS bags: --topic (repeatable)
 };
 
 // Registers FILE (or FILE... when `several`) and the reader options.

@@ -33,6 +33,7 @@ std::string usage_message(const cubecal::UsageError& e) {
       {"sampling", "--time-col/--rate"},
       {"polynomial_order", "--order"},
       {"rate", "--rate"},
+      {"time_col", "--time-col"},
       {"out", "--out"},
       {"report", "--report"},
       {"estimators", "--for"},

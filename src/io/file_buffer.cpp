@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "cubecal/error.hpp"
+#include "cubecal/io/ros1_bag.hpp"
 #include "detail/binary_input.hpp"
 
 namespace cubecal::io {
@@ -176,7 +177,8 @@ void check_plain_start(const std::string& path, int fd, std::size_t size) {
     got += static_cast<std::size_t>(n);
   }
   const std::string_view start(head.data(), got);
-  if (!is_gzip(start)) detail::check_text_start(start, path, false);
+  // A ROS bag is read by its own reader (read_series); text readers refuse it.
+  if (!is_gzip(start) && !start.starts_with(kRos1BagMagic)) detail::check_text_start(start, path, false);
 }
 
 // Pipes and character devices cannot be mapped: read them to the end.

@@ -13,7 +13,10 @@
 
 #include "cubecal/error.hpp"
 #include "cubecal/io/file_buffer.hpp"
+#include "cubecal/io/ros1_bag.hpp"
 #include "cubecal/stats/sampling.hpp"
+#include "detail/bag_series.hpp"
+#include "detail/series_timing.hpp"
 
 namespace cubecal::io {
 
@@ -197,11 +200,10 @@ void check_rate_agrees(const std::string& file, const std::string& time_name, co
 
 // Checks the time stamps against the period (given, or inferred from the
 // median interval) and cuts the record into segments.
-void check_timing(Series& s, const Table& t, std::size_t time_field, const SeriesOptions& opt) {
+void check_timing(Series& s, const detail::PlaceError& at, const SeriesOptions& opt) {
   const std::vector<double>& time = s.time;
   const auto fail_at = [&](std::size_t row, std::string problem, std::string hint) {
-    const Location loc = locate(t, row, time_field);
-    throw InputError(s.file, loc.line, loc.column, std::move(problem), std::move(hint));
+    throw at(row, std::move(problem), std::move(hint));
   };
 
   for (std::size_t i = 1; i < time.size(); ++i) {
@@ -282,6 +284,7 @@ bool looks_like_time_column(const std::string& name) {
 Series read_series(const std::string& path, const SeriesOptions& opt) {
   check_options(opt);
   const FileBuffer buf = FileBuffer::open(path);
+  if (looks_like_ros_bag(buf.view())) return detail::read_bag_series(parse_ros1_bag(buf.view(), path), buf.was_gzip(), opt);
   const Table layout = parse_layout(buf.view(), path, opt.table);
   const TimeChoice time = choose_time_column(opt, layout);
 
@@ -308,36 +311,55 @@ Series read_series(const std::string& path, const SeriesOptions& opt) {
     s.extra_names.push_back(t.extra_names[k]);
     s.extra.push_back(std::move(t.extra[k]));
   }
-  // (A time column named explicitly is checked stamp by stamp against the
-  // given rate in check_timing.)
-  if (!time.spec.empty() && !time.timing) check_rate_agrees(path, t.extra_names[time_slot], t.extra[time_slot], opt);
-  const std::size_t n = s.samples();
-  if (n < opt.min_samples) throw_too_short(path, n, opt.min_samples, "a longer record is needed");
-
   if (opt.lsb != 1.0) {
     for (auto& c : s.channels) {
       for (double& v : c) v /= opt.lsb;
     }
   }
+  std::vector<double> stamps;
+  std::string time_name;
+  if (!time.spec.empty()) {
+    time_name = t.extra_names[time_slot];
+    stamps = std::move(t.extra[time_slot]);
+  }
+  const std::size_t time_field = time.spec.empty() ? 0 : t.extra_indices[time_slot];
+  detail::finish_series(s, std::move(stamps), time_name, time.timing, opt,
+                        [&](std::size_t row, std::string problem, std::string hint) {
+                          const Location loc = locate(t, row, time_field);
+                          return InputError(path, loc.line, loc.column, std::move(problem), std::move(hint));
+                        });
+  return s;
+}
 
-  if (!time.timing) {
+namespace detail {
+
+void finish_series(Series& s, std::vector<double> time, const std::string& time_name, bool timing,
+                   const SeriesOptions& opt, const PlaceError& at) {
+  // (A time column named explicitly is checked stamp by stamp against the
+  // given rate in check_timing.)
+  if (!timing && !time.empty()) check_rate_agrees(s.file, time_name, time, opt);
+  const std::size_t n = s.samples();
+  if (n < opt.min_samples) throw_too_short(s.file, n, opt.min_samples, "a longer record is needed");
+
+  if (!timing) {
     s.rate_hz = opt.rate_hz;
     s.tau0 = 1.0 / opt.rate_hz;
     s.segments.push_back({0, n});
-    return s;
+    return;
   }
 
-  s.time_name = t.extra_names[time_slot];
-  s.time = std::move(t.extra[time_slot]);
-  check_timing(s, t, t.extra_indices[time_slot], opt);
+  s.time_name = time_name;
+  s.time = std::move(time);
+  check_timing(s, at, opt);
   const auto longest = std::max_element(s.segments.begin(), s.segments.end(),
                                         [](const Segment& a, const Segment& b) { return a.size() < b.size(); });
   if (longest->size() < opt.min_samples) {
-    throw_too_short(path, longest->size(), opt.min_samples,
+    throw_too_short(s.file, longest->size(), opt.min_samples,
                     "longest of " + std::to_string(s.segments.size()) +
                         " contiguous pieces; the record has too many gaps");
   }
-  return s;
 }
+
+}  // namespace detail
 
 }  // namespace cubecal::io

@@ -18,7 +18,7 @@ struct UnitRow {
   std::string_view si;
 };
 
-constexpr std::array<UnitRow, 12> kUnits{{
+constexpr std::array<UnitRow, 13> kUnits{{
     {"deg/s", SensorKind::rate, kDeg, "rad/s"},
     {"dps", SensorKind::rate, kDeg, "rad/s"},
     {"rad/s", SensorKind::rate, 1.0, "rad/s"},
@@ -28,6 +28,7 @@ constexpr std::array<UnitRow, 12> kUnits{{
     {"mG", SensorKind::field, 1e-7, "T"},
     {"uT", SensorKind::field, 1e-6, "T"},
     {"nT", SensorKind::field, 1e-9, "T"},
+    {"T", SensorKind::field, 1.0, "T"},
     {"g", SensorKind::acceleration, kStandardGravity, "m/s^2"},
     {"m/s^2", SensorKind::acceleration, 1.0, "m/s^2"},
     {"counts", SensorKind::generic, 1.0, "counts"},
@@ -48,7 +49,7 @@ std::optional<Unit> parse_unit(std::string_view s) {
   return std::nullopt;
 }
 
-std::string known_units() { return "deg/s|rad/s|deg/h|mGauss|uT|nT|g|m/s^2|counts"; }
+std::string known_units() { return "deg/s|rad/s|deg/h|mGauss|uT|nT|T|g|m/s^2|counts"; }
 
 std::string_view to_string(SensorKind k) noexcept {
   switch (k) {

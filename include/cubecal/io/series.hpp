@@ -40,6 +40,11 @@ struct SeriesOptions {
   // within `tolerance` of its median interval (UsageError("rate") if not).
   // False where the time stamps are not used at all.
   bool check_rate_against_time = true;
+  // ROS bags: the topics to read (sensor_msgs/Imu, MagneticField,
+  // Temperature; at most one of each type). Empty: the bag's only
+  // sensor_msgs/Imu topic. A bag's time is "stamp" (header.stamp, the
+  // default) or "record" (when the bag recorded the message), as time_col.
+  std::vector<std::string> topics;
 };
 
 struct Segment {
@@ -60,6 +65,14 @@ struct Series {
   bool default_columns = false;
   std::vector<std::string> left_out;
   std::vector<std::vector<double>> channels;  // channels[c][i], in units (value / lsb)
+  // The unit of each channel when the format says it ("rad/s", "m/s^2", "T"
+  // for ROS messages); empty when it does not (text).
+  std::vector<std::string> units;
+  // ROS bags: the topics read, as "/imu/data_raw (sensor_msgs/Imu, 13964
+  // messages)"; default_topic when none was asked for and the bag's only
+  // IMU topic was taken.
+  std::vector<std::string> topics;
+  bool default_topic = false;
   std::vector<double> time;        // seconds, empty when no time column
   // Auxiliary columns asked for in SeriesOptions::table.extra_columns (e.g. a
   // temperature), as read: not scaled by lsb.

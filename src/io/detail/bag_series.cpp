@@ -1,0 +1,327 @@
+#include "bag_series.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <string_view>
+
+#include "cubecal/error.hpp"
+#include "ros1_messages.hpp"
+#include "series_timing.hpp"
+
+namespace cubecal::io::detail {
+
+namespace {
+
+constexpr std::string_view kImu = "sensor_msgs/Imu";
+constexpr std::string_view kMag = "sensor_msgs/MagneticField";
+constexpr std::string_view kTemp = "sensor_msgs/Temperature";
+
+struct Topic {
+  std::string name;
+  std::string type;
+  std::size_t messages = 0;
+  std::vector<std::uint32_t> connections;
+  std::string described() const {
+    return name + " (" + type + ", " + std::to_string(messages) + (messages == 1 ? " message)" : " messages)");
+  }
+};
+
+std::vector<Topic> topics_of(const Ros1Bag& bag) {
+  std::vector<Topic> topics;
+  for (const auto& c : bag.connections) {
+    auto it = std::find_if(topics.begin(), topics.end(), [&](const Topic& t) { return t.name == c.topic; });
+    if (it == topics.end()) {
+      topics.push_back({c.topic, c.type, 0, {}});
+      it = topics.end() - 1;
+    }
+    it->messages += c.messages;
+    it->connections.push_back(c.id);
+  }
+  return topics;
+}
+
+std::string listed(const std::vector<const Topic*>& topics) {
+  if (topics.empty()) return "none";
+  std::string s;
+  for (const Topic* t : topics) s += (s.empty() ? "" : ", ") + t->described();
+  return s;
+}
+
+std::string listed(const std::vector<Topic>& topics) {
+  std::vector<const Topic*> all;
+  for (const auto& t : topics) all.push_back(&t);
+  return listed(all);
+}
+
+bool readable(const std::string& type) { return type == kImu || type == kMag || type == kTemp; }
+
+std::vector<const Topic*> choose_topics(const Ros1Bag& bag, const std::vector<Topic>& topics,
+                                        const SeriesOptions& opt, bool& by_default) {
+  std::vector<const Topic*> chosen;
+  by_default = opt.topics.empty();
+  if (opt.topics.empty()) {
+    for (const auto& t : topics)
+      if (t.type == kImu) chosen.push_back(&t);
+    if (chosen.empty())
+      throw InputError(bag.file, 0, 0, "no sensor_msgs/Imu topic; topics are: " + listed(topics),
+                       "choose the topics to read with --topic NAME");
+    if (chosen.size() > 1)
+      throw InputError(bag.file, 0, 0, "several sensor_msgs/Imu topics: " + listed(chosen),
+                       "choose one with --topic NAME");
+    return chosen;
+  }
+  for (const auto& name : opt.topics) {
+    const auto it = std::find_if(topics.begin(), topics.end(), [&](const Topic& t) { return t.name == name; });
+    if (it == topics.end())
+      throw InputError(bag.file, 0, 0, "topic " + name + " not found; topics are: " + listed(topics),
+                       "choose one of them with --topic NAME");
+    if (!readable(it->type))
+      throw InputError(bag.file, 0, 0,
+                       "topic " + it->described() + " is not of a type cubecal reads (" + std::string(kImu) + ", " +
+                           std::string(kMag) + ", " + std::string(kTemp) + ")",
+                       "choose another topic");
+    if (std::find(chosen.begin(), chosen.end(), &*it) != chosen.end()) continue;
+    for (const Topic* t : chosen)
+      if (t->type == it->type)
+        throw InputError(bag.file, 0, 0, "topics " + t->name + " and " + it->name + " are both " + it->type,
+                         "read one " + it->type + " topic per run");
+    chosen.push_back(&*it);
+  }
+  return chosen;
+}
+
+std::string number(double v) {
+  char buf[64];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
+}
+
+struct Column {
+  std::string name;
+  std::string unit;
+  const Topic* topic = nullptr;
+  std::string field;        // "angular_velocity.x"
+  std::vector<double> values;
+};
+
+// One topic's messages decoded: their times and their values.
+struct Decoded {
+  const Topic* topic = nullptr;
+  std::vector<const Ros1Message*> messages;
+  std::vector<double> time;
+  std::vector<Column> columns;
+};
+
+std::string where(const Ros1Message& m) {
+  return m.compressed ? "in the chunk at byte " + std::to_string(m.offset) : "at byte " + std::to_string(m.offset);
+}
+
+InputError message_error(const Ros1Bag& bag, const Decoded& d, std::size_t i, const std::string& what,
+                         std::string hint) {
+  const Ros1Message& m = *d.messages[i];
+  return InputError(bag.file, 0, 0,
+                    "message " + std::to_string(i + 1) + " of " + d.topic->name + " (" + where(m) + "): " + what,
+                    std::move(hint));
+}
+
+Decoded decode(const Ros1Bag& bag, const Topic& topic, bool record_time) {
+  Decoded d;
+  d.topic = &topic;
+  const auto add = [&](const char* name, const char* unit, const char* field) {
+    d.columns.push_back({name, unit, &topic, field, {}});
+  };
+  if (topic.type == kImu) {
+    add("gx", "rad/s", "angular_velocity.x");
+    add("gy", "rad/s", "angular_velocity.y");
+    add("gz", "rad/s", "angular_velocity.z");
+    add("ax", "m/s^2", "linear_acceleration.x");
+    add("ay", "m/s^2", "linear_acceleration.y");
+    add("az", "m/s^2", "linear_acceleration.z");
+  } else if (topic.type == kMag) {
+    add("mx", "T", "magnetic_field.x");
+    add("my", "T", "magnetic_field.y");
+    add("mz", "T", "magnetic_field.z");
+  } else {
+    add("temp", "degC", "temperature");
+  }
+  for (auto& c : d.columns) c.values.reserve(topic.messages);
+  d.time.reserve(topic.messages);
+  for (const auto& m : bag.messages) {
+    if (std::find(topic.connections.begin(), topic.connections.end(), m.connection) == topic.connections.end())
+      continue;
+    d.messages.push_back(&m);
+    const std::string_view bytes = bag.data(m);
+    Stamp stamp;
+    try {
+      if (topic.type == kImu) {
+        const ImuMessage imu = decode_imu(bytes);
+        stamp = imu.stamp;
+        for (int k = 0; k < 3; ++k) d.columns[static_cast<std::size_t>(k)].values.push_back(imu.angular_velocity[k]);
+        for (int k = 0; k < 3; ++k)
+          d.columns[static_cast<std::size_t>(3 + k)].values.push_back(imu.linear_acceleration[k]);
+      } else if (topic.type == kMag) {
+        const MagneticFieldMessage mag = decode_magnetic_field(bytes);
+        stamp = mag.stamp;
+        for (int k = 0; k < 3; ++k) d.columns[static_cast<std::size_t>(k)].values.push_back(mag.magnetic_field[k]);
+      } else {
+        const TemperatureMessage t = decode_temperature(bytes);
+        stamp = t.stamp;
+        d.columns[0].values.push_back(t.temperature);
+      }
+    } catch (const MessageLayoutError& e) {
+      throw message_error(bag, d, d.messages.size() - 1,
+                          std::string(e.what()) + " (byte " + std::to_string(e.position()) + " of its " +
+                              std::to_string(bytes.size()) + ")",
+                          "the bag is corrupt, or the topic's message definition is not the standard " +
+                              topic.type);
+    }
+    if (record_time) stamp = {m.sec, m.nsec};
+    d.time.push_back(static_cast<double>(stamp.sec) + 1e-9 * static_cast<double>(stamp.nsec));
+  }
+  return d;
+}
+
+// Non-finite values and magnitudes no variance can hold, at their message.
+void check_values(const Ros1Bag& bag, const Decoded& d) {
+  for (const auto& c : d.columns) {
+    double top = 0.0;
+    for (std::size_t i = 0; i < c.values.size(); ++i) {
+      const double v = c.values[i];
+      if (std::isnan(v)) {
+        // Drivers mark samples without a new reading with NaN (the Phidgets
+        // magnetometer every other message): say how many there are.
+        const auto nans = std::count_if(c.values.begin(), c.values.end(), [](double x) { return std::isnan(x); });
+        throw message_error(bag, d, i,
+                            c.field + " is NaN, in " + std::to_string(nans) + " of " +
+                                std::to_string(c.values.size()) + " messages",
+                            nans > 1 ? "the driver publishes NaN where it has no reading: leave this topic out"
+                                     : "cut the record before this message");
+      }
+      if (!std::isfinite(v) || std::fabs(v) > kMaxMagnitude)
+        throw message_error(bag, d, i, c.field + " is " + number(v) + ", which no variance can hold",
+                            "cut the record before this message");
+      top = std::max(top, std::fabs(v));
+    }
+    if (top != 0.0 && top < kMinMagnitude) {
+      std::size_t i = 0;
+      while (std::fabs(c.values[i]) != top) ++i;
+      throw message_error(bag, d, i,
+                          c.field + " " + number(c.values[i]) + " is the largest of " + c.name +
+                              ", below the magnitude " + number(kMinMagnitude) + " whose square a variance can hold",
+                          "the topic holds no usable " + c.field);
+    }
+  }
+}
+
+// The index of channel `spec` (name, 1-based index, or name in any case).
+std::size_t resolve(const std::string& file, const std::vector<Column>& columns, const std::string& spec) {
+  const auto lower = [](std::string s) {
+    for (char& ch : s)
+      if (ch >= 'A' && ch <= 'Z') ch = static_cast<char>(ch - 'A' + 'a');
+    return s;
+  };
+  for (std::size_t i = 0; i < columns.size(); ++i)
+    if (columns[i].name == spec) return i;
+  for (std::size_t i = 0; i < columns.size(); ++i)
+    if (spec == std::to_string(i + 1)) return i;
+  for (std::size_t i = 0; i < columns.size(); ++i)
+    if (lower(columns[i].name) == lower(spec)) return i;
+  std::string names;
+  for (const auto& c : columns) names += (names.empty() ? "" : ", ") + c.name;
+  throw InputError(file, 0, 0, "no channel '" + spec + "' in the topics read; channels are: " + names,
+                   "choose among them, or read other topics with --topic NAME");
+}
+
+}  // namespace
+
+Series read_bag_series(const Ros1Bag& bag, bool gzip, const SeriesOptions& opt) {
+  if (opt.lsb != 1.0)
+    throw UsageError("counts_per_unit", bag.file + " is a ROS bag: its values are in SI units already, without an LSB");
+  if (opt.table.skip_rows != 0) throw UsageError(bag.file + " is a ROS bag: it has no rows to skip");
+  bool record_time = false;
+  std::string time_name = "header.stamp";
+  if (opt.time_col == "record") {
+    record_time = true;
+    time_name = "record time";
+  } else if (!opt.time_col.empty() && opt.time_col != "stamp") {
+    throw UsageError("time_col", bag.file + " is a ROS bag: its time is 'stamp' (header.stamp, the default) or "
+                                            "'record' (when the bag recorded each message), not '" +
+                                     opt.time_col + "'");
+  }
+
+  const std::vector<Topic> topics = topics_of(bag);
+  Series s;
+  s.file = bag.file;
+  s.gzip = gzip;
+  s.bytes = bag.payload.size();
+  s.gaps = opt.gaps;
+  const std::vector<const Topic*> chosen = choose_topics(bag, topics, opt, s.default_topic);
+
+  std::vector<Decoded> decoded;
+  for (const Topic* t : chosen) {
+    decoded.push_back(decode(bag, *t, record_time));
+    check_values(bag, decoded.back());
+  }
+  // Channels in a fixed order whatever the order of --topic: IMU, field, temperature.
+  const auto rank = [](const Decoded& d) { return d.topic->type == kImu ? 0 : d.topic->type == kMag ? 1 : 2; };
+  std::stable_sort(decoded.begin(), decoded.end(), [&](const Decoded& a, const Decoded& b) { return rank(a) < rank(b); });
+  const Decoded& first = decoded.front();
+  for (const auto& d : decoded) {
+    if (d.time.size() != first.time.size())
+      throw InputError(bag.file, 0, 0,
+                       "topics " + first.topic->described() + " and " + d.topic->described() +
+                           " differ in length: their samples cannot be paired",
+                       "read them one at a time");
+  }
+  std::vector<Column> all;
+  for (auto& d : decoded)
+    for (auto& c : d.columns) all.push_back(std::move(c));
+  for (const Topic* t : chosen) s.topics.push_back(t->described());
+
+  std::vector<bool> taken(all.size(), false);
+  for (const auto& e : opt.table.extra_columns) {
+    const std::size_t i = resolve(bag.file, all, e);
+    s.extra_names.push_back(all[i].name);
+    s.extra.push_back(all[i].values);
+    taken[i] = true;
+  }
+  std::vector<std::size_t> wanted;
+  if (opt.table.columns.empty()) {
+    s.default_columns = true;
+    for (std::size_t i = 0; i < all.size(); ++i) {
+      const bool out = taken[i] || (opt.skip_temperature && all[i].name == "temp");
+      if (out) s.left_out.push_back(all[i].name);
+      else wanted.push_back(i);
+    }
+    if (wanted.empty())
+      throw InputError(bag.file, 0, 0, "no channels besides the temperature in " + listed(chosen),
+                       "read a sensor_msgs/Imu or MagneticField topic with --topic NAME");
+  } else {
+    for (const auto& spec : opt.table.columns) wanted.push_back(resolve(bag.file, all, spec));
+  }
+  for (const std::size_t i : wanted) {
+    s.names.push_back(all[i].name);
+    s.units.push_back(all[i].unit);
+    s.channels.push_back(all[i].values);
+  }
+
+  const bool timing = !opt.time_col.empty() || opt.rate_hz == 0.0;
+  finish_series(s, first.time, first.topic->name + " " + time_name, timing, opt,
+                [&](std::size_t row, std::string problem, std::string hint) {
+                  return message_error(bag, first, row, problem, std::move(hint));
+                });
+  // The other topics' samples must be the same instants.
+  for (const auto& d : decoded) {
+    for (std::size_t i = 0; i < d.time.size(); ++i) {
+      if (std::fabs(d.time[i] - first.time[i]) <= opt.tolerance * s.tau0) continue;
+      throw message_error(bag, d, i,
+                          "stamped " + number(d.time[i]) + " s, " + first.topic->name + "'s message " +
+                              std::to_string(i + 1) + " " + number(first.time[i]) + " s: the samples do not pair",
+                          "read the topics one at a time");
+    }
+  }
+  return s;
+}
+
+}  // namespace cubecal::io::detail
