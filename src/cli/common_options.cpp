@@ -89,11 +89,13 @@ void note_default_columns(const io::Series& s) {
 
 void add_input_options(CLI::App& app, InputOptions& opt, bool several) {
   if (several)
-    app.add_option("files", opt.files, "Input files (one record each): delimited text, optionally gzip")
+    app.add_option("files", opt.files, "Input files (one record each): delimited text, optionally gzip, "
+                                       "NumPy .npy or raw binary (--binary)")
         ->required();
   else
     app.add_option("file", opt.file, "Input file: delimited text (comma, tab, semicolon or "
-                                     "whitespace), optionally gzip-compressed")
+                                     "whitespace), optionally gzip-compressed, NumPy .npy (1-D or 2-D), or raw "
+                                     "binary (--binary); - reads standard input")
         ->required();
   app.add_option("--columns", opt.columns,
                  "Columns to analyse, by header name or 1-based index (gx,gy,gz or 2,3,4); "
@@ -115,6 +117,12 @@ void add_input_options(CLI::App& app, InputOptions& opt, bool several) {
                                      "segments and combine)")
       ->check(CLI::IsMember({"error", "split"}));
   app.add_option("--threads", opt.threads, "Worker threads (default: all cores)")->check(whole_number(0, 4096));
+  app.add_option("--binary", opt.binary,
+                 "Read raw interleaved binary frames: one sample type per channel, e.g. "
+                 "int16le,int16le,int16le,float32le (int8, uint8, int16, uint16, int32, uint32, int64, uint64, "
+                 "float32, float64; le or be after all but the 8-bit types); columns are col1..colN; needs --rate");
+  app.add_option("--header-bytes", opt.header_bytes, "Bytes to skip before the first --binary frame")
+      ->check(whole_number(0, 1e15));
 }
 
 std::vector<Unit> parse_units(const std::string& list) {
@@ -180,6 +188,13 @@ io::SeriesOptions to_series_options(const InputOptions& opt) {
     throw UsageError("--lsb must be a positive number of counts per unit");
   s.lsb = opt.lsb;
   s.gaps = opt.gaps == "split" ? io::GapPolicy::split : io::GapPolicy::error;
+  if (opt.binary.empty()) {
+    if (opt.header_bytes != 0) throw UsageError("--header-bytes: applies to raw binary input: give --binary TYPES");
+  } else {
+    if (opt.skip_rows != 0)
+      throw UsageError("--skip-rows: counts text lines; for raw binary give --header-bytes N");
+    s.binary = io::parse_raw_layout(opt.binary, opt.header_bytes);
+  }
   return s;
 }
 

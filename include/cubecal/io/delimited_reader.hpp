@@ -40,6 +40,9 @@ struct Table {
   TableOptions options;                    // what was asked (for locate())
   std::size_t rows() const noexcept { return data.empty() ? (extra.empty() ? 0 : extra[0].size()) : data[0].size(); }
   std::size_t bytes = 0;                   // decompressed bytes parsed
+  // Read from a binary format (no lines: locate() gives no place; the
+  // columns are named col1..colN and chosen by 1-based index).
+  bool binary = false;
 };
 
 // Reads a whole file. Every malformed field (non-numeric, NaN/Inf, empty),
@@ -54,6 +57,11 @@ Table parse_table(std::string_view text, const std::string& file_label, const Ta
 // data stay empty. Lets a caller choose columns by header name (e.g. find a
 // time column) before parsing the same text with parse_table().
 Table parse_layout(std::string_view text, const std::string& file_label, const TableOptions& opt = {});
+
+// The columns `opt` asks for (and its extra columns) out of a table that
+// holds every column of a file in order (data[i] is field i, as a binary
+// reader returns it), resolved by the same rules as parse_table.
+Table select_columns(Table all, const TableOptions& opt);
 
 struct Location {
   std::size_t line = 0;    // 1-based physical line in the (decompressed) file

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "cubecal/io/delimited_reader.hpp"
+#include "cubecal/io/raw_binary_reader.hpp"
 
 namespace cubecal::io {
 
@@ -40,6 +41,10 @@ struct SeriesOptions {
   // within `tolerance` of its median interval (UsageError("rate") if not).
   // False where the time stamps are not used at all.
   bool check_rate_against_time = true;
+  // Raw interleaved binary frames of these types (the file is then not
+  // recognised by its content). Empty: delimited text or NumPy .npy, told
+  // apart by the file's first bytes.
+  RawLayout binary;
 };
 
 struct Segment {
@@ -73,7 +78,9 @@ struct Series {
   std::size_t samples() const noexcept { return channels.empty() ? 0 : channels[0].size(); }
 };
 
-// Reads and checks a record. Throws InputError for every problem in the data
+// Reads and checks a record: delimited text, NumPy .npy (by its magic
+// bytes) or raw binary (opt.binary); "-" is the standard input. Binary
+// columns are named col1..colN and go through the same checks. Throws InputError for every problem in the data
 // (location FILE:LINE:COL) and UsageError for contradictory options.
 Series read_series(const std::string& path, const SeriesOptions& opt);
 
