@@ -165,6 +165,14 @@ TEST_F(BinaryInput, NpyRateOrTimeColumn) {
   EXPECT_EQ(dev(f, "--time-col 1"), dev(write_bytes("t.csv", csv(rows)), "--time-col 1"));
   const CliRun r = run_cubecal("dev " + f + " --time-col 1 --format json");
   EXPECT_NE(r.out.find("\"rate_hz\": 50"), std::string::npos) << r.out.substr(0, 400);
+  // The timing checks of text, placed at the row and column of the array.
+  std::string gap;
+  for (std::size_t row = 0; row < kRows; ++row) {
+    put_f64(gap, static_cast<double>(row) * 0.02 + (row >= 200 ? 1.0 : 0.0));
+    put_f64(gap, value(row, 1));
+  }
+  const std::string g = write_bytes("gap.npy", npy("<f8", false, "(400, 2)", gap));
+  expect_error("dev " + g + " --time-col 1", {g + ":201:1: gap of 1.020 s (51 periods of 0.02 s) after t = 3.98 s"});
 }
 
 TEST_F(BinaryInput, NpyDamageIsLocated) {
@@ -257,6 +265,9 @@ TEST_F(BinaryInput, RawDamageAndOptionsAreRefused) {
   expect_error("dev " + f + " --binary int8", {f + ": no sampling rate", "--rate"});
   expect_error("dev " + f + " --rate 100 --header-bytes 4", {"--header-bytes", "--binary"});
   expect_error("dev " + f + " --rate 100 --binary int8 --header-bytes 1000", {"fewer than the 1000 header bytes"});
+  // An empty file: no frames (the fuzzer's first finding).
+  const std::string empty = write_bytes("empty.bin", "");
+  expect_error("dev " + empty + " --rate 100 --binary int16le", {empty + ": series too short: 0 samples"});
   std::string nan;
   put_f32(nan, std::numeric_limits<float>::infinity());
   const std::string inf = write_bytes("inf.bin", std::string(40, '\0') + nan + std::string(36, '\0'));

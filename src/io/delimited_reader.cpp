@@ -756,7 +756,8 @@ Table read_table(const std::string& path, const TableOptions& opt) {
 Location locate(const Table& t, std::size_t row, std::size_t field) {
   // The file may have gone or changed since it was parsed; an unknown
   // location only shortens the message, so that is not an error here.
-  if (t.binary || t.file == kStdinLabel) return {};
+  if (t.binary) return {row + 1, field + 1};
+  if (t.file == kStdinLabel) return {};
   std::optional<FileBuffer> buf;
   try {
     buf.emplace(FileBuffer::open(t.file));

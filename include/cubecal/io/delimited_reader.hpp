@@ -40,8 +40,8 @@ struct Table {
   TableOptions options;                    // what was asked (for locate())
   std::size_t rows() const noexcept { return data.empty() ? (extra.empty() ? 0 : extra[0].size()) : data[0].size(); }
   std::size_t bytes = 0;                   // decompressed bytes parsed
-  // Read from a binary format (no lines: locate() gives no place; the
-  // columns are named col1..colN and chosen by 1-based index).
+  // Read from a binary format (no lines: locate() gives the 1-based row and
+  // column; the columns are named col1..colN and chosen by 1-based index).
   bool binary = false;
 };
 
@@ -69,8 +69,10 @@ struct Location {
 };
 
 // Where data row `row`, field `field` (0-based index into the file's fields)
-// sits in the file. Re-reads the file: meant for error paths only, e.g. a
-// non-monotonic time stamp found after parsing.
+// sits in the file (for a binary table: the 1-based row and column; for
+// the standard input, which cannot be read again: nowhere, {0, 0}).
+// Re-reads the file: meant for error paths only, e.g. a non-monotonic time
+// stamp found after parsing.
 Location locate(const Table& t, std::size_t row, std::size_t field);
 
 }  // namespace cubecal::io

@@ -19,6 +19,7 @@ Table binary_table(std::string_view bytes, const std::string& file, const Binary
     const SampleType type = layout.types[c];
     std::vector<double>& out = t.data[c];
     out.resize(layout.rows);
+    if (layout.rows == 0) continue;  // (the bytes may be empty, their data() null)
     const char* p = bytes.data() + layout.column_offsets[c];
     for (std::size_t r = 0; r < layout.rows; ++r, p += layout.row_stride) out[r] = decode_sample(type, p);
     if (type.kind != SampleKind::floating) continue;
