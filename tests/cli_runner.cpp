@@ -12,12 +12,14 @@
 
 namespace cubecal::test {
 
-CliRun run_cubecal(const std::string& args) {
+namespace {
+
+CliRun run_command(const std::string& before, const std::string& args) {
   static std::atomic<int> counter{0};
   namespace fs = std::filesystem;
   const fs::path errf =
       fs::temp_directory_path() / ("cubecal_err_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-  const std::string cmd = std::string(CUBECAL_BINARY) + " " + args + " 2>" + errf.string();
+  const std::string cmd = before + std::string(CUBECAL_BINARY) + " " + args + " 2>" + errf.string();
   CliRun r;
   FILE* p = ::popen(cmd.c_str(), "r");
   if (!p) return r;
@@ -32,6 +34,14 @@ CliRun run_cubecal(const std::string& args) {
   r.err = ss.str();
   fs::remove(errf);
   return r;
+}
+
+}  // namespace
+
+CliRun run_cubecal(const std::string& args) { return run_command("", args); }
+
+CliRun run_cubecal_piped(const std::string& producer, const std::string& args) {
+  return run_command(producer + " | ", args);
 }
 
 bool one_error_line(const CliRun& r) {

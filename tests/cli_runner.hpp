@@ -18,6 +18,10 @@ struct CliRun {
 // `args` is appended to the binary's path as shell words.
 CliRun run_cubecal(const std::string& args);
 
+// Same, with the standard input read from a pipe fed by the shell command
+// `producer` (e.g. "cat FILE" or "head -c 2G /dev/zero").
+CliRun run_cubecal_piped(const std::string& producer, const std::string& args);
+
 // A bad-input run: exit 2 and exactly one line "cubecal: error: ..." on stderr.
 bool one_error_line(const CliRun& r);
 

@@ -158,7 +158,31 @@ TEST_F(HostileInput, TwoGigabytesOfZeros) {
   ASSERT_GE(fd, 0);
   ASSERT_EQ(::ftruncate(fd, off_t{2} << 30), 0);
   ::close(fd);
-  expect_refused(f, {f + ":1:1: ", "NUL (zero) bytes"});
+  expect_refused(f, {f + ":1:1: ", "not a text or known binary format", "NUL (zero) bytes"});
+}
+
+// Binary without a NUL byte at its start: no line break in the whole probe
+// (1 MB of 0xff bytes was mapped, parsed as one header line and reported as
+// "no data rows").
+TEST_F(HostileInput, NoLineBreakIsNotText) {
+  const std::string f = write_bytes("log.dat", std::string(std::size_t{1} << 20, '\xff'));
+  expect_refused(f, {f + ": not a text or known binary format: no line break in its first 65536 bytes",
+                     "--binary TYPE,TYPE"});
+}
+
+// Lines of bytes that are not UTF-8 (nor mostly ASCII).
+TEST_F(HostileInput, MostlyNonUtf8IsNotText) {
+  std::string bytes;
+  for (int line = 0; line < 200; ++line) bytes += std::string(40, static_cast<char>(0x80 + line % 64)) + "\n";
+  const std::string f = write_bytes("log.dat", bytes);
+  expect_refused(f, {f + ": not a text or known binary format: mostly bytes that are not text"});
+}
+
+// Latin-1 text (a degree sign in the header) is still text.
+TEST_F(HostileInput, Latin1HeaderIsText) {
+  const std::string f = write_bytes("imu.csv", "t,gx,temp \xb0" "C\n0,1,20\n0.01,2,20\n0.02,3,20\n0.03,4,20\n");
+  const cubecal::test::CliRun ok = cubecal::test::run_cubecal("dev " + f + " --columns gx --format csv");
+  EXPECT_EQ(ok.code, 0) << ok.err;
 }
 
 // 1f 8b, then a method byte zlib does not know; read as a trailer, the

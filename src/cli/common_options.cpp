@@ -91,11 +91,13 @@ void note_default_columns(const io::Series& s) {
 
 void add_input_options(CLI::App& app, InputOptions& opt, bool several) {
   if (several)
-    app.add_option("files", opt.files, "Input files (one record each): delimited text, optionally gzip, or ROS 1 bags")
+    app.add_option("files", opt.files, "Input files (one record each): delimited text, optionally gzip, "
+                                       "NumPy .npy, raw binary (--binary) or ROS 1 bags")
         ->required();
   else
     app.add_option("file", opt.file, "Input file: delimited text (comma, tab, semicolon or "
-                                     "whitespace), optionally gzip-compressed, or a ROS 1 bag")
+                                     "whitespace), optionally gzip-compressed, NumPy .npy (1-D or 2-D), raw "
+                                     "binary (--binary) or a ROS 1 bag; - reads standard input")
         ->required();
   app.add_option("--columns", opt.columns,
                  "Columns to analyse, by header name or 1-based index (gx,gy,gz or 2,3,4); "
@@ -123,6 +125,12 @@ void add_input_options(CLI::App& app, InputOptions& opt, bool several) {
                  "Temperature: temp); repeat for several. Default: the bag's only Imu topic")
       ->allow_extra_args(false)
       ->delimiter(',');
+  app.add_option("--binary", opt.binary,
+                 "Read raw interleaved binary frames: one sample type per channel, e.g. "
+                 "int16le,int16le,int16le,float32le (int8, uint8, int16, uint16, int32, uint32, int64, uint64, "
+                 "float32, float64; le or be after all but the 8-bit types); columns are col1..colN; needs --rate");
+  app.add_option("--header-bytes", opt.header_bytes, "Bytes to skip before the first --binary frame")
+      ->check(whole_number(0, 1e15));
 }
 
 std::vector<Unit> parse_units(const std::string& list) {
@@ -205,6 +213,13 @@ io::SeriesOptions to_series_options(const InputOptions& opt) {
   s.lsb = opt.lsb;
   s.gaps = opt.gaps == "split" ? io::GapPolicy::split : io::GapPolicy::error;
   s.topics = opt.topics;
+  if (opt.binary.empty()) {
+    if (opt.header_bytes != 0) throw UsageError("--header-bytes: applies to raw binary input: give --binary TYPES");
+  } else {
+    if (opt.skip_rows != 0)
+      throw UsageError("--skip-rows: counts text lines; for raw binary give --header-bytes N");
+    s.binary = io::parse_raw_layout(opt.binary, opt.header_bytes);
+  }
   return s;
 }
 

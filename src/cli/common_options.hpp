@@ -21,6 +21,8 @@ struct InputOptions {
   std::string gaps = "error";
   unsigned threads = 0;
   std::vector<std::string> topics;  // ROS bags: --topic (repeatable)
+  std::string binary;             // raw binary frame: "int16le,int16le,float32le"
+  std::size_t header_bytes = 0;   // skipped before the first frame (--binary only)
 };
 
 // Registers FILE (or FILE... when `several`) and the reader options.

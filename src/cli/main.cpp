@@ -40,6 +40,7 @@ std::string usage_message(const cubecal::UsageError& e) {
       {"inflate", "--inflate"},
       {"gnuplot", "--gnuplot"},
       {"duration", "--duration"},
+      {"binary", "--binary"},
   };
   for (const auto& [option, flag] : kFlags)
     if (e.option() == option) return std::string(flag) + ": " + e.what();

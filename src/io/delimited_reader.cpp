@@ -706,6 +706,48 @@ Table parse_table(std::string_view text, const std::string& file_label, const Ta
   return t;
 }
 
+Table select_columns(Table all, const TableOptions& opt) {
+  Layout lay;
+  lay.has_header = all.has_header;
+  lay.header = all.header;
+  lay.total_columns = all.total_columns;
+  lay.first_data_line = all.first_data_line;
+  Table t = std::move(all);
+  std::vector<std::vector<double>> columns = std::move(t.data);
+  t.data.clear();
+  t.names.clear();
+  t.indices.clear();
+  t.extra.clear();
+  t.extra_names.clear();
+  t.extra_indices.clear();
+  t.options = opt;
+  for (const std::string& spec : opt.extra_columns) t.extra_indices.push_back(resolve_column(spec, lay, t.file));
+  if (opt.columns.empty()) {
+    for (std::size_t i = 0; i < lay.total_columns; ++i) {
+      if (std::find(t.extra_indices.begin(), t.extra_indices.end(), i) == t.extra_indices.end()) t.indices.push_back(i);
+    }
+  } else {
+    for (const std::string& spec : opt.columns) t.indices.push_back(resolve_column(spec, lay, t.file));
+  }
+  // A column asked for twice is copied; otherwise moved.
+  std::vector<std::size_t> uses(columns.size(), 0);
+  for (std::size_t i : t.indices) ++uses[i];
+  for (std::size_t i : t.extra_indices) ++uses[i];
+  const auto take = [&](std::size_t i) -> std::vector<double> {
+    if (--uses[i] == 0) return std::move(columns[i]);
+    return columns[i];
+  };
+  for (std::size_t i : t.indices) {
+    t.names.push_back(column_name(lay, i));
+    t.data.push_back(take(i));
+  }
+  for (std::size_t i : t.extra_indices) {
+    t.extra_names.push_back(column_name(lay, i));
+    t.extra.push_back(take(i));
+  }
+  return t;
+}
+
 Table read_table(const std::string& path, const TableOptions& opt) {
   const FileBuffer buf = FileBuffer::open(path);
   return parse_table(buf.view(), path, opt);
@@ -714,6 +756,8 @@ Table read_table(const std::string& path, const TableOptions& opt) {
 Location locate(const Table& t, std::size_t row, std::size_t field) {
   // The file may have gone or changed since it was parsed; an unknown
   // location only shortens the message, so that is not an error here.
+  if (t.binary) return {row + 1, field + 1};
+  if (t.file == kStdinLabel) return {};
   std::optional<FileBuffer> buf;
   try {
     buf.emplace(FileBuffer::open(t.file));

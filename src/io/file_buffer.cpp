@@ -87,7 +87,14 @@ bool is_gzip(std::string_view bytes) {
 // can claim any size there (4 GB in five bytes). The block starts from the
 // compressed size and grows geometrically with what was actually inflated,
 // and the start of the text is checked for binary data as soon as it is out.
-void inflate_gzip(const std::string& path, std::string_view in, HeapBlock& out) {
+// The check of a file's first bytes for what it may hold.
+void check_start(std::string_view head, const std::string& label, bool decompressed, Content content) {
+  if (content == Content::raw) return;
+  if (content == Content::series && is_known_binary_format(head)) return;
+  detail::check_text_start(head, label, decompressed);
+}
+
+void inflate_gzip(const std::string& path, std::string_view in, HeapBlock& out, Content content) {
   z_stream zs{};
   // 16 + MAX_WBITS: gzip wrapper only; zlib checks the CRC-32 and length
   // trailer of each member itself.
@@ -118,7 +125,7 @@ void inflate_gzip(const std::string& path, std::string_view in, HeapBlock& out) 
   };
   const auto check_head = [&] {
     head_checked = true;
-    detail::check_text_start(std::string_view(out.data, out.size), path, true);
+    check_start(std::string_view(out.data, out.size), path, true, content);
   };
   for (;;) {
     if (zs.avail_in == 0 && consumed < in.size()) {
@@ -163,7 +170,7 @@ void inflate_gzip(const std::string& path, std::string_view in, HeapBlock& out) 
 // A binary file is refused from its first bytes, before a large one is
 // mapped (a 2 GB file of zeros costs no more than a small one). A gzip file
 // is checked once its start is inflated.
-void check_plain_start(const std::string& path, int fd, std::size_t size) {
+void check_plain_start(const std::string& path, int fd, std::size_t size, Content content) {
   const std::size_t want = std::min(size, detail::kTextProbeBytes);
   std::vector<char> head(want);
   std::size_t got = 0;
@@ -177,26 +184,43 @@ void check_plain_start(const std::string& path, int fd, std::size_t size) {
     got += static_cast<std::size_t>(n);
   }
   const std::string_view start(head.data(), got);
-  // A ROS bag is read by its own reader (read_series); text readers refuse it.
-  if (!is_gzip(start) && !start.starts_with(kRos1BagMagic)) detail::check_text_start(start, path, false);
+  if (!is_gzip(start)) check_start(start, path, false, content);
 }
 
-// Pipes and character devices cannot be mapped: read them to the end.
-void read_all(const std::string& path, int fd, HeapBlock& out) {
+// Pipes and character devices cannot be mapped: read them to the end, into a
+// block that grows geometrically. Their start is checked as soon as it is in
+// (an endless stream of zeros is refused, not read until memory runs out).
+void read_all(const std::string& path, int fd, HeapBlock& out, Content content) {
   out.reserve(std::size_t{1} << 20);
+  static_assert((std::size_t{1} << 20) >= detail::kTextProbeBytes);
+  bool head_checked = false;
+  const auto check_head = [&] {
+    head_checked = true;
+    const std::string_view head(out.data, out.size);
+    if (!is_gzip(head)) check_start(head, path, false, content);
+  };
   for (;;) {
     if (out.size == out.capacity) out.reserve(out.capacity * 2);
     const ssize_t n = ::read(fd, out.data + out.size, out.capacity - out.size);
-    if (n == 0) return;
+    if (n == 0) {
+      if (!head_checked) check_head();
+      return;
+    }
     if (n < 0) {
       if (errno == EINTR) continue;
       throw_os_error(path, "cannot read file", errno);
     }
     out.size += static_cast<std::size_t>(n);
+    if (!head_checked && out.size >= detail::kTextProbeBytes) check_head();
   }
 }
 
 }  // namespace
+
+bool is_known_binary_format(std::string_view head) noexcept {
+  return (head.size() >= 6 && head.substr(0, 6) == std::string_view("\x93NUMPY", 6)) ||
+         head.starts_with(kRos1BagMagic);
+}
 
 struct FileBuffer::Impl {
   void* map = nullptr;
@@ -216,13 +240,15 @@ struct FileBuffer::Impl {
   }
 };
 
-FileBuffer FileBuffer::open(const std::string& path) {
+FileBuffer FileBuffer::open(const std::string& path_arg, Content content) {
   FileBuffer fb;
+  const bool stdin_input = path_arg == kStdinPath;
+  const std::string path = stdin_input ? std::string(kStdinLabel) : path_arg;
   fb.path_ = path;
   fb.impl_ = std::make_unique<Impl>();
   Impl& impl = *fb.impl_;
 
-  const int raw_fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  const int raw_fd = stdin_input ? ::dup(STDIN_FILENO) : ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (raw_fd < 0) throw_os_error(path, "cannot open file", errno);
   const Fd fd(raw_fd);
   struct stat st {};
@@ -232,7 +258,7 @@ FileBuffer FileBuffer::open(const std::string& path) {
   std::string_view raw;
   if (S_ISREG(st.st_mode)) {
     if (st.st_size > 0) {
-      check_plain_start(path, fd.get(), static_cast<std::size_t>(st.st_size));
+      check_plain_start(path, fd.get(), static_cast<std::size_t>(st.st_size), content);
       impl.map_size = static_cast<std::size_t>(st.st_size);
       // MAP_POPULATE maps every page up front in one kernel call instead of one
       // fault per 4 KiB page while parsing (a tenth of the run time on a
@@ -245,7 +271,7 @@ FileBuffer FileBuffer::open(const std::string& path) {
       raw = std::string_view(static_cast<const char*>(impl.map), impl.map_size);
     }
   } else {
-    read_all(path, fd.get(), impl.heap);
+    read_all(path, fd.get(), impl.heap, content);
     raw = std::string_view(impl.heap.data, impl.heap.size);
   }
 
@@ -260,7 +286,7 @@ FileBuffer FileBuffer::open(const std::string& path) {
   fb.gzip_ = true;
   HeapBlock inflated;
   if (impl.map != nullptr) ::madvise(impl.map, impl.map_size, MADV_SEQUENTIAL);
-  inflate_gzip(path, raw, inflated);
+  inflate_gzip(path, raw, inflated, content);
   inflated.shrink_to_fit();
   impl.unmap();
   impl.heap.swap(inflated);

@@ -8,11 +8,13 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <optional>
 #include <string_view>
 #include <utility>
 
 #include "cubecal/error.hpp"
 #include "cubecal/io/file_buffer.hpp"
+#include "cubecal/io/npy_reader.hpp"
 #include "cubecal/io/ros1_bag.hpp"
 #include "cubecal/stats/sampling.hpp"
 #include "detail/bag_series.hpp"
@@ -269,6 +271,14 @@ void check_timing(Series& s, const detail::PlaceError& at, const SeriesOptions& 
   s.segments.push_back({begin, time.size()});
 }
 
+// A binary record as a table of all its columns (then selected like the
+// columns of a text file); none for text.
+std::optional<Table> binary_table(std::string_view bytes, const std::string& file, const SeriesOptions& opt) {
+  if (!opt.binary.channels.empty()) return read_raw_binary(bytes, file, opt.binary);
+  if (is_npy(bytes)) return read_npy(bytes, file);
+  return std::nullopt;
+}
+
 }  // namespace
 
 bool looks_like_temperature_column(const std::string& name) {
@@ -281,22 +291,25 @@ bool looks_like_time_column(const std::string& name) {
   return std::find(std::begin(kNames), std::end(kNames), lower_case(name)) != std::end(kNames);
 }
 
-Series read_series(const std::string& path, const SeriesOptions& opt) {
+Series read_series(const std::string& path_arg, const SeriesOptions& opt) {
   check_options(opt);
-  const FileBuffer buf = FileBuffer::open(path);
-  if (looks_like_ros_bag(buf.view())) return detail::read_bag_series(parse_ros1_bag(buf.view(), path), buf.was_gzip(), opt);
-  const Table layout = parse_layout(buf.view(), path, opt.table);
-  const TimeChoice time = choose_time_column(opt, layout);
+  const FileBuffer buf = FileBuffer::open(path_arg, opt.binary.channels.empty() ? Content::series : Content::raw);
+  const std::string& path = buf.path();  // how errors name it ("<stdin>" for "-")
+  if (opt.binary.channels.empty() && looks_like_ros_bag(buf.view()))
+    return detail::read_bag_series(parse_ros1_bag(buf.view(), path), buf.was_gzip(), opt);
+  std::optional<Table> all = binary_table(buf.view(), path, opt);
+  const Table layout = all ? Table{} : parse_layout(buf.view(), path, opt.table);
+  const TimeChoice time = choose_time_column(opt, all ? *all : layout);
 
   // The time column is read as an extra column, which also keeps it out of
   // the channels when all columns are wanted.
   Series s;
   s.file = path;
   TableOptions topt = opt.table;
-  default_columns(layout, time.spec, opt, topt, s);
+  default_columns(all ? *all : layout, time.spec, opt, topt, s);
   const std::size_t time_slot = topt.extra_columns.size();
   if (!time.spec.empty()) topt.extra_columns.push_back(time.spec);
-  Table t = parse_table(buf.view(), path, topt);
+  Table t = all ? select_columns(std::move(*all), topt) : parse_table(buf.view(), path, topt);
 
   s.gaps = opt.gaps;
   s.gzip = buf.was_gzip();

@@ -40,6 +40,9 @@ struct Table {
   TableOptions options;                    // what was asked (for locate())
   std::size_t rows() const noexcept { return data.empty() ? (extra.empty() ? 0 : extra[0].size()) : data[0].size(); }
   std::size_t bytes = 0;                   // decompressed bytes parsed
+  // Read from a binary format (no lines: locate() gives the 1-based row and
+  // column; the columns are named col1..colN and chosen by 1-based index).
+  bool binary = false;
 };
 
 // Reads a whole file. Every malformed field (non-numeric, NaN/Inf, empty),
@@ -55,14 +58,21 @@ Table parse_table(std::string_view text, const std::string& file_label, const Ta
 // time column) before parsing the same text with parse_table().
 Table parse_layout(std::string_view text, const std::string& file_label, const TableOptions& opt = {});
 
+// The columns `opt` asks for (and its extra columns) out of a table that
+// holds every column of a file in order (data[i] is field i, as a binary
+// reader returns it), resolved by the same rules as parse_table.
+Table select_columns(Table all, const TableOptions& opt);
+
 struct Location {
   std::size_t line = 0;    // 1-based physical line in the (decompressed) file
   std::size_t column = 0;  // 1-based character column where the field starts
 };
 
 // Where data row `row`, field `field` (0-based index into the file's fields)
-// sits in the file. Re-reads the file: meant for error paths only, e.g. a
-// non-monotonic time stamp found after parsing.
+// sits in the file (for a binary table: the 1-based row and column; for
+// the standard input, which cannot be read again: nowhere, {0, 0}).
+// Re-reads the file: meant for error paths only, e.g. a non-monotonic time
+// stamp found after parsing.
 Location locate(const Table& t, std::size_t row, std::size_t field);
 
 }  // namespace cubecal::io

@@ -1,5 +1,6 @@
 // Whole-file access: memory-mapped for plain files, inflated into memory for
-// gzip (detected by its magic bytes, never by the file name).
+// gzip (detected by its magic bytes, never by the file name). "-" is the
+// standard input, read into memory.
 #pragma once
 #include <cstddef>
 #include <memory>
@@ -8,10 +9,27 @@
 
 namespace cubecal::io {
 
+// What a file may hold; anything else is refused from its first bytes
+// (before a large file is mapped or a pipe read to its end).
+enum class Content {
+  text,    // delimited text
+  series,  // text, or a binary format a record reader recognises by its magic bytes (NumPy .npy)
+  raw,     // any bytes (raw binary described by the caller)
+};
+
+// The path that names the standard input, and how errors name it.
+inline constexpr const char* kStdinPath = "-";
+inline constexpr const char* kStdinLabel = "<stdin>";
+
+// Whether `head` starts with the magic bytes of a binary format that
+// read_series recognises.
+bool is_known_binary_format(std::string_view head) noexcept;
+
 class FileBuffer {
  public:
-  // Throws InputError (file not found, unreadable, truncated/corrupt gzip).
-  static FileBuffer open(const std::string& path);
+  // Throws InputError (file not found, unreadable, truncated/corrupt gzip,
+  // content that `content` does not allow).
+  static FileBuffer open(const std::string& path, Content content = Content::text);
 
   FileBuffer(FileBuffer&&) noexcept;
   FileBuffer& operator=(FileBuffer&&) noexcept;

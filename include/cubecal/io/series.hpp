@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "cubecal/io/delimited_reader.hpp"
+#include "cubecal/io/raw_binary_reader.hpp"
 
 namespace cubecal::io {
 
@@ -45,6 +46,10 @@ struct SeriesOptions {
   // sensor_msgs/Imu topic. A bag's time is "stamp" (header.stamp, the
   // default) or "record" (when the bag recorded the message), as time_col.
   std::vector<std::string> topics;
+  // Raw interleaved binary frames of these types (the file is then not
+  // recognised by its content). Empty: delimited text or NumPy .npy, told
+  // apart by the file's first bytes.
+  RawLayout binary;
 };
 
 struct Segment {
@@ -86,7 +91,9 @@ struct Series {
   std::size_t samples() const noexcept { return channels.empty() ? 0 : channels[0].size(); }
 };
 
-// Reads and checks a record. Throws InputError for every problem in the data
+// Reads and checks a record: delimited text, NumPy .npy (by its magic
+// bytes) or raw binary (opt.binary); "-" is the standard input. Binary
+// columns are named col1..colN and go through the same checks. Throws InputError for every problem in the data
 // (location FILE:LINE:COL) and UsageError for contradictory options.
 Series read_series(const std::string& path, const SeriesOptions& opt);
 

@@ -10,7 +10,9 @@ namespace cubecal::io::detail {
 
 namespace {
 
-constexpr const char* kReads = "cubecal reads delimited text: CSV, TSV or whitespace-separated, plain or gzip-compressed";
+constexpr const char* kReads =
+    "cubecal reads delimited text (CSV, TSV or whitespace-separated, plain or gzip-compressed), NumPy .npy, "
+    "and raw interleaved binary described by --binary TYPE,TYPE,...";
 
 struct Signature {
   std::string_view magic;
@@ -92,6 +94,42 @@ bool looks_like_utf16(std::string_view head) {
   return false;
 }
 
+// Bytes that are no part of a well-formed UTF-8 sequence.
+std::size_t invalid_utf8_bytes(std::string_view s) {
+  std::size_t bad = 0;
+  for (std::size_t i = 0; i < s.size();) {
+    const auto c = static_cast<unsigned char>(s[i]);
+    std::size_t len = c < 0x80 ? 1 : c >= 0xc2 && c < 0xe0 ? 2 : c >= 0xe0 && c < 0xf0 ? 3 : c >= 0xf0 && c < 0xf5 ? 4 : 0;
+    bool ok = len != 0 && i + len <= s.size();
+    for (std::size_t k = 1; ok && k < len; ++k) ok = (static_cast<unsigned char>(s[i + k]) & 0xc0) == 0x80;
+    if (ok) {
+      i += len;
+    } else {
+      ++bad;
+      ++i;
+    }
+  }
+  return bad;
+}
+
+// A start free of control bytes that is still no text: no line break in a
+// whole probe (a file of 0xff bytes, compressed or encrypted data without a
+// known signature), or mostly bytes that are not UTF-8 (a Latin-1 degree
+// sign here and there is fine).
+void check_text_like(std::string_view head, const std::string& file, bool decompressed) {
+  const char* what = nullptr;
+  if (head.size() == kTextProbeBytes && head.find_first_of("\n\r") == std::string_view::npos)
+    what = "no line break in its first ";
+  else if (invalid_utf8_bytes(head) * 16 > head.size())
+    what = "mostly bytes that are not text (nor UTF-8) in its first ";
+  if (what == nullptr) return;
+  throw InputError(file, 0, 0,
+                   "not a text or known binary format: " + std::string(what) + std::to_string(head.size()) +
+                       " bytes" + (decompressed ? " of decompressed data" : ""),
+                   "a raw binary log? give its layout with --binary TYPE,TYPE,... (e.g. int16le,int16le,int16le) "
+                   "and --rate; " + std::string(kReads));
+}
+
 }  // namespace
 
 const char* find_binary_byte(const char* begin, const char* end) noexcept {
@@ -106,11 +144,11 @@ void check_text_start(std::string_view head, const std::string& file, bool decom
   head = head.substr(0, std::min(head.size(), kTextProbeBytes));
   if (head.empty()) return;  // (an empty text's data() may be null)
   if (!decompressed && starts_with(head, "\x1f\x8b"sv)) {
-    throw InputError(file, 0, 0, "not a text file: it looks like gzip data",
+    throw InputError(file, 0, 0, "not a text or known binary format: it looks like gzip data",
                      "cubecal decompresses a gzip file it reads from disk; give the file itself");
   }
   if (const Signature* s = signature_of(head)) {
-    throw InputError(file, 0, 0, std::string("not a text file: it looks like ") + s->what,
+    throw InputError(file, 0, 0, std::string("not a text or known binary format: it looks like ") + s->what,
                      std::string(s->hint != nullptr ? s->hint : "check the file name") + "; " + kReads);
   }
   // Lines ended by CR alone (classic Mac OS text) would read as one line
@@ -125,16 +163,19 @@ void check_text_start(std::string_view head, const std::string& file, bool decom
     }
   }
   const auto* nul = static_cast<const char*>(std::memchr(head.data(), '\0', head.size()));
-  if (nul == nullptr) return;
+  if (nul == nullptr) {
+    check_text_like(head, file, decompressed);
+    return;
+  }
   if (looks_like_utf16(head)) {
-    throw InputError(file, 0, 0, "not a text file: it looks like UTF-16 text",
+    throw InputError(file, 0, 0, "not a text or known binary format: it looks like UTF-16 text",
                      "save it as UTF-8, e.g. iconv -f UTF-16LE -t UTF-8 FILE > out.csv");
   }
   const std::size_t zeros = static_cast<std::size_t>(
       std::find_if(head.begin(), head.end(), [](char c) { return c != '\0'; }) - head.begin());
   if (zeros == head.size()) {
     throw InputError(file, 1, 1,
-                     "not a text file: its first " + std::to_string(zeros) + " bytes are all NUL (zero) bytes",
+                     "not a text or known binary format: its first " + std::to_string(zeros) + " bytes are all NUL (zero) bytes",
                      "a file that was allocated but never written, e.g. by a logger that lost power? " +
                          std::string(kReads));
   }
@@ -149,7 +190,7 @@ void check_text_start(std::string_view head, const std::string& file, bool decom
   std::size_t column = 1;
   for (const char* c = line_begin; c < nul; ++c) column += (static_cast<unsigned char>(*c) & 0xc0) != 0x80;
   throw InputError(file, line, column,
-                   "not a text file: NUL byte at " +
+                   "not a text or known binary format: NUL byte at " +
                        offset_text(static_cast<std::size_t>(nul - head.data()), decompressed),
                    "a binary log, or a file cut short by a crash? " + std::string(kReads));
 }
