@@ -167,7 +167,7 @@ const Ros1Connection* Ros1Bag::connection(std::uint32_t id) const noexcept {
 Ros1Bag parse_ros1_bag(std::string_view bytes, const std::string& file) { return BagReader(file).read(bytes); }
 
 Ros1Bag read_ros1_bag(const std::string& path) {
-  const FileBuffer buf = FileBuffer::open(path);
+  const FileBuffer buf = FileBuffer::open(path, Content::series);
   return parse_ros1_bag(buf.view(), path);
 }
 
