@@ -69,6 +69,7 @@ std::vector<pipeline::AnalyzeRequest> requests_for(const RunsOptions& o, const s
   std::vector<pipeline::AnalyzeRequest> reqs(runs.size(), request_of(o));
   const io::Series* reference = nullptr;
   std::vector<Unit> inferred;
+  std::string note;  // said once every run is checked
   for (std::size_t k = 0; k < runs.size(); ++k) {
     if (specs[k].own_unit || !o.unit.empty()) {
       reqs[k].units = parse_units(specs[k].unit);
@@ -78,7 +79,7 @@ std::vector<pipeline::AnalyzeRequest> requests_for(const RunsOptions& o, const s
       ChannelUnits first = units_for({}, runs[k]);
       inferred = std::move(first.units);
       reference = &runs[k];
-      std::cerr << first.note << '\n';
+      note = std::move(first.note);
     } else {
       const InferredUnits other = infer_units(runs[k].names);
       bool same = other.missing.empty() && other.units.size() == inferred.size();
@@ -89,6 +90,7 @@ std::vector<pipeline::AnalyzeRequest> requests_for(const RunsOptions& o, const s
     }
     reqs[k].units = inferred;
   }
+  if (!note.empty()) std::cerr << note << '\n';
   return reqs;
 }
 
