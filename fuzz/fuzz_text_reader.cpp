@@ -50,7 +50,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   sopt.rate_hz = (mode & 16u) != 0 ? 100.0 : 0.0;
   sopt.gaps = (mode & 32u) != 0 ? io::GapPolicy::split : io::GapPolicy::error;
   if ((mode & 64u) != 0) sopt.time_col = "1";
-  if ((mode & 128u) != 0) sopt.lsb = 131.0;
+  if ((mode & 128u) != 0) sopt.lsb = {131.0};
   const fuzz::MemoryFile file(text);
   fuzz::expect_clean([&] {
     const io::Series s = io::read_series(file.path(), sopt);

@@ -507,7 +507,7 @@ TEST(TimeColumnNames, Recognised) {
 TEST_F(Reader, SeriesWithGivenRateAndNoTimeColumn) {
   SeriesOptions opt;
   opt.rate_hz = 200;
-  opt.lsb = 4;
+  opt.lsb = {4};
   const Series s = read_series(write("r.txt", "8 2\n4 6\n0 -2\n"), opt);
   EXPECT_EQ(s.rate_hz, 200.0);
   EXPECT_EQ(s.tau0, 0.005);
@@ -546,17 +546,49 @@ TEST_F(Reader, ExplicitTimeColumnByIndexIsCheckedAgainstGivenRate) {
 
 TEST_F(Reader, LsbScalesChannels) {
   SeriesOptions opt;
-  opt.lsb = 0.05;
+  opt.lsb = {0.05};
   const Series s = read_series(write("l.csv", "t,g\n0,1\n0.5,-2\n1,4\n"), opt);
   EXPECT_EQ(s.channels[0], (std::vector<double>{1 / 0.05, -2 / 0.05, 4 / 0.05}));
   EXPECT_EQ(s.time, (std::vector<double>{0, 0.5, 1}));
+}
+
+// A raw 6-axis log: gyro and accelerometer columns with their own scales.
+TEST_F(Reader, LsbPerColumnScalesEachChannel) {
+  SeriesOptions opt;
+  opt.rate_hz = 100;
+  opt.lsb = {131, 16384};
+  const Series s = read_series(write("p.csv", "gx,az\n262,16384\n-131,8192\n0,-32768\n"), opt);
+  EXPECT_EQ(s.channels, (std::vector<std::vector<double>>{{2, -1, 0}, {1, 0.5, -2}}));
+  // Named columns take the LSBs in the order named.
+  opt.table.columns = {"az", "gx"};
+  opt.lsb = {16384, 131};
+  const Series n = read_series(write("p2.csv", "gx,az\n262,16384\n-131,8192\n0,-32768\n"), opt);
+  EXPECT_EQ(n.channels, (std::vector<std::vector<double>>{{1, 0.5, -2}, {2, -1, 0}}));
+}
+
+TEST_F(Reader, LsbCountMustMatchTheColumns) {
+  SeriesOptions opt;
+  opt.rate_hz = 100;
+  opt.lsb = {131, 131, 16384};
+  const std::string path = write("c.csv", "gx,az\n262,16384\n-131,8192\n0,-32768\n");
+  for (const bool named : {false, true}) {
+    opt.table.columns = named ? std::vector<std::string>{"gx", "az"} : std::vector<std::string>{};
+    try {
+      read_series(path, opt);
+      ADD_FAILURE() << "no error";
+    } catch (const UsageError& e) {
+      EXPECT_EQ(e.option(), "counts_per_unit");
+      EXPECT_EQ(std::string(e.what()),
+                path + ": 3 LSB values for 2 columns (gx,az): give one value for every column, or one per column");
+    }
+  }
 }
 
 TEST_F(Reader, BadOptionsAreUsageErrors) {
   const std::string path = write("o.csv", timed_csv(regular_times(5, 1)));
   for (double lsb : {0.0, -1.0, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
     SeriesOptions opt;
-    opt.lsb = lsb;
+    opt.lsb = {lsb};
     EXPECT_THROW(read_series(path, opt), UsageError) << lsb;
   }
   SeriesOptions neg;

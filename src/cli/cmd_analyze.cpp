@@ -231,10 +231,14 @@ int run_analyze_command(const AnalyzeOptions& o) {
       throw UsageError("--model-lsb: '" + v + "' is not a number of counts per unit");
     req.lsb.push_back(x);
   }
-  if (req.lsb.empty() && o.input.lsb != 1.0) req.lsb.push_back(o.input.lsb);
   req.threads = o.input.threads;
 
   io::SeriesOptions so = to_series_options(o.input);
+  // The quantizer follows --lsb column by column; a column at 1 count per
+  // unit (the default: values already in units) has none.
+  const bool scaled = std::any_of(so.lsb.begin(), so.lsb.end(), [](double x) { return x != 1.0; });
+  if (req.lsb.empty() && scaled)
+    for (const double x : so.lsb) req.lsb.push_back(x == 1.0 ? 0.0 : x);
   if (!o.temp_col.empty()) {
     so.table.extra_columns.push_back(o.temp_col);
     req.temp_index = 0;
@@ -311,7 +315,7 @@ CLI::App* add_analyze_command(CLI::App& app, Command& run) {
       ->check(whole_number(3, 1e15));
   cmd->add_option("--model-lsb", opt->model_lsb,
                   "Quantizer of the model in counts per unit, one for all columns or one per column "
-                  "(default: --lsb when given), eq. (3)");
+                  "(default: --lsb, column by column; none for a column at 1), eq. (3)");
   cmd->add_option("--taus", opt->taus, "Tau grid of the Allan curve")->capture_default_str();
   cmd->add_option("--ci", opt->ci, "Confidence factor of the intervals")
       ->check(number_between(0.0, 1.0))

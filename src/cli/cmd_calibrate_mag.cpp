@@ -178,7 +178,16 @@ CLI::App* add_calibrate_mag_command(CLI::App& calibrate, Command& run) {
                   "The 3 magnetometer columns, by header name or 1-based index (mx,my,mz or 2,3,4); default: "
                   "every column, which must then be 3");
   cmd->add_option("--skip-rows", opt->skip_rows, "Lines to skip before the header/data (preamble)");
-  cmd->add_option("--lsb", opt->lsb, "Counts per unit: values are divided by this");
+  cmd->add_option("--lsb", opt->lsb, "Counts per unit: values are divided by this (one value: the three axes "
+                                     "share the scale the fit solves for)")
+      ->check(CLI::Validator(
+          [](std::string& s) -> std::string {
+            return s.find(',') == std::string::npos
+                       ? std::string()
+                       : "'" + s + "': one value here, for all three axes (the fit's scale factors absorb "
+                                   "any difference between them)";
+          },
+          ""));
   auto* fn = cmd->add_option("--field-norm", opt->field_norm,
                              "Local field magnitude F (e.g. from IGRF), in the units after --lsb; default: the "
                              "mean raw |h| (Magneto's default)");

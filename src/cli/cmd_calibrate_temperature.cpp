@@ -48,6 +48,9 @@ std::string table_text(const pipeline::TemperatureResult& r) {
 }
 
 int run_calibrate_temperature(const TemperatureOptions& o) {
+  if (split_list(o.unit).size() > 1)
+    throw UsageError("unit", "one unit here, the unit of the coefficients of every channel: calibrate the channels "
+                             "of each unit in their own run (--columns)");
   ResultOutput result(o.out, o.force);  // refuses an existing file before the work
   check_report_option(o.report, o.force);
   io::SeriesOptions so = to_series_options(o.input);

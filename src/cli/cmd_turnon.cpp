@@ -8,6 +8,7 @@
 
 #include "commands.hpp"
 #include "common_options.hpp"
+#include "file_options.hpp"
 #include "cubecal/error.hpp"
 #include "cubecal/noise/unit_from_name.hpp"
 #include "cubecal/pipeline/turnon.hpp"
@@ -41,35 +42,61 @@ pipeline::AnalyzeRequest request_of(const RunsOptions& o) {
   return req;
 }
 
-std::vector<io::Series> read_runs(const RunsOptions& o) {
+// The record arguments with their own options (FILE:key=value,...), all
+// checked before any file is read.
+std::vector<FileSpec> file_specs(const RunsOptions& o, bool per_file_unit, const char* command) {
+  std::vector<FileSpec> specs;
+  for (const auto& f : o.input.files) {
+    specs.push_back(parse_file_spec(f, o.input, o.unit));
+    if (specs.back().own_unit && !per_file_unit)
+      throw UsageError(f + ": " + command + " averages the runs' biases, so every run is in the same unit: give "
+                       "--unit (or scale a run with lsb=), not unit= per file");
+  }
+  return specs;
+}
+
+std::vector<io::Series> read_runs(const std::vector<FileSpec>& specs) {
   std::vector<io::Series> runs;
-  const io::SeriesOptions so = to_series_options(o.input);
-  for (const auto& f : o.input.files) runs.push_back(io::read_series(f, so));
+  for (const auto& f : specs) runs.push_back(io::read_series(f.path, to_series_options(f.input)));
   return runs;
 }
 
-// The request with its units: --unit, or those the first run's column names
-// announce, which every other run's names must announce too.
-pipeline::AnalyzeRequest request_for(const RunsOptions& o, const std::vector<io::Series>& runs) {
-  pipeline::AnalyzeRequest req = request_of(o);
-  if (!o.unit.empty() || runs.empty()) return req;
-  ChannelUnits first = units_for(o.unit, runs.front());
-  req.units = std::move(first.units);
-  for (std::size_t k = 1; k < runs.size(); ++k) {
-    // As the first run's: from the names, or from the format (ROS bags).
-    std::vector<Unit> other;
-    try {
-      other = units_for({}, runs[k]).units;
-    } catch (const UsageError&) {
+// The request of each run with its units: its own unit=, else --unit, else
+// those the column names of the first such run announce, which every other
+// such run's names must announce too.
+std::vector<pipeline::AnalyzeRequest> requests_for(const RunsOptions& o, const std::vector<FileSpec>& specs,
+                                                   const std::vector<io::Series>& runs) {
+  std::vector<pipeline::AnalyzeRequest> reqs(runs.size(), request_of(o));
+  const io::Series* reference = nullptr;
+  std::vector<Unit> inferred;
+  std::string note;  // said once every run is checked
+  for (std::size_t k = 0; k < runs.size(); ++k) {
+    if (specs[k].own_unit || !o.unit.empty()) {
+      reqs[k].units = parse_units(specs[k].unit);
+      continue;
     }
-    bool same = other.size() == req.units.size();
-    for (std::size_t c = 0; same && c < req.units.size(); ++c) same = other[c].name == req.units[c].name;
-    if (!same)
-      throw UsageError(runs[k].file + ": its column names do not announce the units of " + runs.front().file +
-                       "'s: give --unit");
+    if (!reference) {
+      ChannelUnits first = units_for({}, runs[k]);
+      inferred = std::move(first.units);
+      reference = &runs[k];
+      note = std::move(first.note);
+    } else {
+      // As the first such run's: from the names, or from the format (ROS bags).
+      std::vector<Unit> other;
+      try {
+        other = units_for({}, runs[k]).units;
+      } catch (const UsageError&) {
+      }
+      bool same = other.size() == inferred.size();
+      for (std::size_t c = 0; same && c < inferred.size(); ++c) same = other[c].name == inferred[c].name;
+      if (!same)
+        throw UsageError(runs[k].file + ": its column names do not announce the units of " + reference->file +
+                         "'s: give --unit, or unit= after the file (FILE:unit=...)");
+    }
+    reqs[k].units = inferred;
   }
-  std::cerr << first.note << '\n';
-  return req;
+  if (!note.empty()) std::cerr << note << '\n';
+  return reqs;
 }
 
 std::string term(const TermEstimate& t, Term which, const Unit& u) {
@@ -118,8 +145,9 @@ std::string compare_text(const RunsOptions& o, const std::vector<pipeline::RunSu
 int run_turnon_command(const RunsOptions& o) {
   check_report_option(o.report, o.force);
   ResultOutput result(o.out, o.force);  // refuses an existing file before the work
-  const auto runs = read_runs(o);
-  const auto t = pipeline::run_turnon(runs, request_for(o, runs));
+  const auto specs = file_specs(o, false, "turnon");
+  const auto runs = read_runs(specs);
+  const auto t = pipeline::run_turnon(runs, requests_for(o, specs, runs).front());
   result.stream() << turnon_text(o, t);
   result.finish();
   if (!o.report.dir.empty()) write_report_option(report::turnon_report(t, report_context(o)), o.report);
@@ -129,8 +157,9 @@ int run_turnon_command(const RunsOptions& o) {
 int run_compare_command(const RunsOptions& o) {
   check_report_option(o.report, o.force);
   ResultOutput result(o.out, o.force);
-  const auto records = read_runs(o);
-  const auto runs = pipeline::run_compare(records, request_for(o, records));
+  const auto specs = file_specs(o, true, "compare");
+  const auto records = read_runs(specs);
+  const auto runs = pipeline::run_compare(records, requests_for(o, specs, records));
   result.stream() << compare_text(o, runs);
   result.finish();
   if (!o.report.dir.empty()) write_report_option(report::compare_report(runs, report_context(o)), o.report);
@@ -139,6 +168,12 @@ int run_compare_command(const RunsOptions& o) {
 
 void add_runs_options(CLI::App& cmd, RunsOptions& o) {
   add_input_options(cmd, o.input, true);
+  cmd.get_option("files")->description(
+      "Input files (one record each): delimited text, optionally gzip. FILE:key=value,... reads one file with its "
+      "own options in place of the command's (keys " + file_option_keys() + "; a list value such as "
+      "columns=gx,gy,lsb=131,131 runs on to the next key=), for runs of different layouts, rates or scales. Only the "
+      "text after the last ':' is taken as options, and only when it starts with key=; a FILE that exists as "
+      "named is always a file");
   cmd.add_option("--unit", o.unit, unit_option_help());
   cmd.add_option("--taus", o.taus, "Tau grid")->capture_default_str();
   cmd.add_option("--ci", o.ci, "Confidence factor")->capture_default_str();

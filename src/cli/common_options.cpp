@@ -113,8 +113,8 @@ void add_input_options(CLI::App& app, InputOptions& opt, bool several) {
   app.add_option("--skip-rows", opt.skip_rows, "Lines to skip before the header/data (preamble)")
       ->check(whole_number(0, 1e9));
   app.add_option("--lsb", opt.lsb, "Counts per unit: values are divided by this (raw counts "
-                                   "to physical units)")
-      ->check(positive_number());
+                                   "to physical units); one for every column or one per column in their "
+                                   "order, e.g. 131,131,131,16384,16384,16384");
   app.add_option("--gaps", opt.gaps, "What to do with time gaps or jitter beyond 1 % of the "
                                      "period: error (default) or split (analyse contiguous "
                                      "segments and combine)")
@@ -199,6 +199,19 @@ TauGrid parse_taus(const std::string& spec) {
   }
 }
 
+std::vector<double> parse_lsb_list(const std::string& list) {
+  std::vector<double> lsb;
+  for (const auto& v : split_list(list)) {
+    const auto x = finite_number(v);
+    if (!x || !(*x > 0.0))
+      throw UsageError("--lsb: '" + v + "' is not a positive number of counts per unit (give one for every "
+                       "column, or one per column: 131,131,131,16384,16384,16384)");
+    lsb.push_back(*x);
+  }
+  if (lsb.empty()) lsb.push_back(1.0);
+  return lsb;
+}
+
 io::SeriesOptions to_series_options(const InputOptions& opt) {
   io::SeriesOptions s;
   s.table.columns = split_list(opt.columns);
@@ -208,9 +221,7 @@ io::SeriesOptions to_series_options(const InputOptions& opt) {
   if (opt.rate_hz < 0.0 || !std::isfinite(opt.rate_hz))
     throw UsageError("--rate must be a positive number of Hz");
   s.rate_hz = opt.rate_hz;
-  if (!(opt.lsb > 0.0) || !std::isfinite(opt.lsb))
-    throw UsageError("--lsb must be a positive number of counts per unit");
-  s.lsb = opt.lsb;
+  s.lsb = parse_lsb_list(opt.lsb);
   s.gaps = opt.gaps == "split" ? io::GapPolicy::split : io::GapPolicy::error;
   s.topics = opt.topics;
   if (opt.binary.empty()) {

@@ -17,7 +17,7 @@ struct InputOptions {
   std::string time_col;
   double rate_hz = 0.0;
   std::size_t skip_rows = 0;
-  double lsb = 1.0;
+  std::string lsb;          // "131" or "131,131,131,16384,16384,16384"; empty: 1
   std::string gaps = "error";
   unsigned threads = 0;
   std::vector<std::string> topics;  // ROS bags: --topic (repeatable)
@@ -27,6 +27,9 @@ struct InputOptions {
 
 // Registers FILE (or FILE... when `several`) and the reader options.
 void add_input_options(CLI::App& app, InputOptions& opt, bool several = false);
+
+// --lsb: one positive number, or one per selected column; throws UsageError.
+std::vector<double> parse_lsb_list(const std::string& list);
 
 // Validated reader options; throws UsageError on contradictions.
 io::SeriesOptions to_series_options(const InputOptions& opt);

@@ -91,9 +91,9 @@ void default_columns(const Table& layout, const std::string& time_spec, const Se
 }
 
 void check_options(const SeriesOptions& opt) {
-  if (!(opt.lsb > 0.0) || !std::isfinite(opt.lsb)) {
-    throw UsageError("the LSB (counts per unit) must be a positive finite number, got " + stamp(opt.lsb));
-  }
+  for (const double lsb : opt.lsb)
+    if (!(lsb > 0.0) || !std::isfinite(lsb))
+      throw UsageError("counts_per_unit", "the LSB (counts per unit) must be a positive finite number, got " + stamp(lsb));
   if (!(opt.rate_hz >= 0.0) || !std::isfinite(opt.rate_hz)) {
     throw UsageError("the sampling rate must be a positive finite number of Hz, got " + stamp(opt.rate_hz));
   }
@@ -104,6 +104,16 @@ void check_options(const SeriesOptions& opt) {
   if (!(opt.tolerance >= 0.0) || !std::isfinite(opt.tolerance)) {
     throw UsageError("the interval tolerance must be a non-negative fraction, got " + stamp(opt.tolerance));
   }
+}
+
+// One LSB for every column, or one per selected column (`names`, in order).
+void check_lsb_count(const SeriesOptions& opt, const std::string& file, const std::vector<std::string>& names) {
+  if (opt.lsb.size() <= 1 || opt.lsb.size() == names.size()) return;
+  std::string list;
+  for (const auto& n : names) list += (list.empty() ? "" : ",") + n;
+  throw UsageError("counts_per_unit", file + ": " + std::to_string(opt.lsb.size()) + " LSB values for " +
+                                          std::to_string(names.size()) + (names.size() == 1 ? " column (" : " columns (") +
+                                          list + "): give one value for every column, or one per column");
 }
 
 [[noreturn]] void throw_too_short(const std::string& file, std::size_t n, std::size_t min, std::string hint) {
@@ -178,7 +188,7 @@ void check_magnitudes(const Series& s, const Table& t, const SeriesOptions& opt)
            " is the largest of its column, below the magnitude " + stamp(kMinMagnitude) +
                " whose square a variance can hold");
   };
-  for (std::size_t c = 0; c < t.data.size(); ++c) check(t.data[c], t.indices[c], opt.lsb);
+  for (std::size_t c = 0; c < t.data.size(); ++c) check(t.data[c], t.indices[c], opt.lsb_of(c));
   for (std::size_t c = 0; c < t.extra.size(); ++c) check(t.extra[c], t.extra_indices[c], 1.0);
 }
 
@@ -307,6 +317,7 @@ Series read_series(const std::string& path_arg, const SeriesOptions& opt) {
   s.file = path;
   TableOptions topt = opt.table;
   default_columns(all ? *all : layout, time.spec, opt, topt, s);
+  if (!topt.columns.empty()) check_lsb_count(opt, path, topt.columns);  // before the parse of a long file
   const std::size_t time_slot = topt.extra_columns.size();
   if (!time.spec.empty()) topt.extra_columns.push_back(time.spec);
   Table t = all ? select_columns(std::move(*all), topt) : parse_table(buf.view(), path, topt);
@@ -317,6 +328,7 @@ Series read_series(const std::string& path_arg, const SeriesOptions& opt) {
   if (t.data.empty()) {
     throw InputError(path, 0, 0, "no data columns besides the time column", "name the columns to analyze");
   }
+  check_lsb_count(opt, path, t.names);
   check_magnitudes(s, t, opt);
   s.names = t.names;
   s.channels = std::move(t.data);
@@ -324,10 +336,10 @@ Series read_series(const std::string& path_arg, const SeriesOptions& opt) {
     s.extra_names.push_back(t.extra_names[k]);
     s.extra.push_back(std::move(t.extra[k]));
   }
-  if (opt.lsb != 1.0) {
-    for (auto& c : s.channels) {
-      for (double& v : c) v /= opt.lsb;
-    }
+  for (std::size_t c = 0; c < s.channels.size(); ++c) {
+    const double lsb = opt.lsb_of(c);
+    if (lsb != 1.0)
+      for (double& v : s.channels[c]) v /= lsb;
   }
   std::vector<double> stamps;
   std::string time_name;

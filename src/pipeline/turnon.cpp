@@ -7,19 +7,33 @@
 
 namespace cubecal::pipeline {
 
+namespace {
+
+RunSummary summarize(const io::Series& s, const AnalyzeRequest& req) {
+  AnalysisResult r = run_analyze(s, req);
+  RunSummary rs;
+  rs.file = s.file;
+  rs.samples = r.samples;
+  rs.rate_hz = r.rate_hz;
+  for (auto& c : r.channels)
+    rs.channels.push_back({std::move(c.name), std::move(c.unit), c.mean, c.stddev, std::move(c.noise.adev),
+                           c.noise.readoffs});
+  return rs;
+}
+
+}  // namespace
+
 std::vector<RunSummary> run_compare(const std::vector<io::Series>& runs, const AnalyzeRequest& req) {
   std::vector<RunSummary> out;
-  for (const auto& s : runs) {
-    AnalysisResult r = run_analyze(s, req);
-    RunSummary rs;
-    rs.file = s.file;
-    rs.samples = r.samples;
-    rs.rate_hz = r.rate_hz;
-    for (auto& c : r.channels)
-      rs.channels.push_back({std::move(c.name), std::move(c.unit), c.mean, c.stddev, std::move(c.noise.adev),
-                             c.noise.readoffs});
-    out.push_back(std::move(rs));
-  }
+  for (const auto& s : runs) out.push_back(summarize(s, req));
+  return out;
+}
+
+std::vector<RunSummary> run_compare(const std::vector<io::Series>& runs, const std::vector<AnalyzeRequest>& requests) {
+  if (requests.size() != runs.size())
+    throw UsageError(std::to_string(requests.size()) + " requests for " + std::to_string(runs.size()) + " runs");
+  std::vector<RunSummary> out;
+  for (std::size_t k = 0; k < runs.size(); ++k) out.push_back(summarize(runs[k], requests[k]));
   return out;
 }
 

@@ -28,7 +28,13 @@ struct SeriesOptions {
   TableOptions table;          // columns, skip_rows, threads
   std::string time_col;        // name or 1-based index; empty: auto-detect by name
   double rate_hz = 0.0;        // 0: infer from the time column
-  double lsb = 1.0;            // counts per unit: value / lsb
+  // Counts per unit of the selected columns (value / lsb): one value for
+  // every column, or one per column in their order (table.columns, or the
+  // default columns); empty is 1. Any other count is a
+  // UsageError("counts_per_unit") naming both counts.
+  std::vector<double> lsb{1.0};
+  // The LSB of channel c (lsb.size() is 0, 1 or the number of channels).
+  double lsb_of(std::size_t c) const { return lsb.empty() ? 1.0 : lsb.size() == 1 ? lsb[0] : lsb.at(c); }
   GapPolicy gaps = GapPolicy::error;
   std::size_t min_samples = 3; // fewer samples (after splitting, the longest segment) is an error
   double tolerance = 0.01;     // allowed |dt - period| / period
@@ -69,7 +75,7 @@ struct Series {
   // column, the extra columns, the temperature columns), named as in the header.
   bool default_columns = false;
   std::vector<std::string> left_out;
-  std::vector<std::vector<double>> channels;  // channels[c][i], in units (value / lsb)
+  std::vector<std::vector<double>> channels;  // channels[c][i], in units (value / lsb_of(c))
   // The unit of each channel when the format says it ("rad/s", "m/s^2", "T"
   // for ROS messages); empty when it does not (text).
   std::vector<std::string> units;

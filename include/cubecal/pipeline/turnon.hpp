@@ -44,5 +44,8 @@ TurnOnResult run_turnon(const std::vector<io::Series>& runs, const AnalyzeReques
 
 // Each run analysed on its own, for side-by-side Allan curves and N, B, T.
 std::vector<RunSummary> run_compare(const std::vector<io::Series>& runs, const AnalyzeRequest& request);
+// The same with a request per run (runs read in different units); a count
+// that differs from the runs' is a UsageError.
+std::vector<RunSummary> run_compare(const std::vector<io::Series>& runs, const std::vector<AnalyzeRequest>& requests);
 
 }  // namespace cubecal::pipeline

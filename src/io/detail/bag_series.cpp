@@ -236,7 +236,7 @@ std::size_t resolve(const std::string& file, const std::vector<Column>& columns,
 }  // namespace
 
 Series read_bag_series(const Ros1Bag& bag, bool gzip, const SeriesOptions& opt) {
-  if (opt.lsb != 1.0)
+  if (std::any_of(opt.lsb.begin(), opt.lsb.end(), [](double v) { return v != 1.0; }))
     throw UsageError("counts_per_unit", bag.file + " is a ROS bag: its values are in SI units already, without an LSB");
   if (opt.table.skip_rows != 0) throw UsageError(bag.file + " is a ROS bag: it has no rows to skip");
   bool record_time = false;
