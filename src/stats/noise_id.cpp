@@ -144,21 +144,6 @@ double b1_points(Stat stat, std::size_t phase_points, std::size_t m, std::size_t
 
 }  // namespace
 
-double lag1_autocorrelation(std::span<const double> z) noexcept {
-  const std::size_t n = z.size();
-  if (n < 2) return 0.0;
-  double mean = 0.0;
-  for (double v : z) mean += v;
-  mean /= static_cast<double>(n);
-  double num = 0.0, den = 0.0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const double a = z[i] - mean;
-    den += a * a;
-    if (i + 1 < n) num += a * (z[i + 1] - mean);
-  }
-  return den > 0.0 ? num / den : 0.0;
-}
-
 NoiseId identify_noise(std::span<const double> x, std::size_t m, Stat stat) {
   NoiseId out;
   if (m == 0 || x.size() < m + 1) return out;

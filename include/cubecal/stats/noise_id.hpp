@@ -26,7 +26,4 @@ struct NoiseId {
 // at m whichever type the user supplied.
 NoiseId identify_noise(std::span<const double> x, std::size_t m, Stat stat);
 
-// Lag-1 autocorrelation of a sequence (mean removed), as Riley defines it.
-double lag1_autocorrelation(std::span<const double> z) noexcept;
-
 }  // namespace cubecal
