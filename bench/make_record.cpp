@@ -4,6 +4,7 @@
 //   make_record OUT.csv HOURS RATE_HZ imu [SEED]
 //     t,gx,gy,gz,mx,my,mz,temp: the paper's gyro (deg/s) and magnetometer
 //     (mGauss, 0.7 mGauss/degC) models under a daily temperature swing
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -47,10 +48,12 @@ int main(int argc, char** argv) {
     std::fprintf(f, "\n");
   }
   std::vector<double> b(ch.size(), 0.0);
+  // Enough decimals for the time stamps to resolve one sample period.
+  const int time_decimals = std::max(2, static_cast<int>(std::ceil(std::log10(rate))) + 1);
   for (std::size_t i = 0; i < n; ++i) {
     const double t = static_cast<double>(i) * dt;
     const double temp = 25.0 + 5.0 * std::sin(2.0 * std::numbers::pi * t / 86400.0);
-    std::fprintf(f, "%.2f", t);
+    std::fprintf(f, "%.*f", time_decimals, t);
     for (std::size_t c = 0; c < ch.size(); ++c) {
       std::fprintf(f, ",%.7g", ch[c].bias + b[c] + ch[c].white * g(rng) + ch[c].tc * (temp - 25.0));
       b[c] += ch[c].walk * dt * g(rng);

@@ -52,6 +52,8 @@ for i in 1 2 3 4 5; do
 done
 printf '%s\n' "${times[@]}" | sort -g | awk '{a[NR]=$1} END {printf "  runs: "; for(i=1;i<=NR;i++) printf "%.3f ", a[i]; printf "\n  median: %.3f s (target <= 1 s)\n", a[int((NR+1)/2)]}'
 
+BENCH_OUT="$OUT" bash "$(dirname "$0")/memory.sh" "$BUILD"
+
 echo "== simulator: Google Benchmark (median of 5; items = axis samples)"
 "$BUILD/bin/bench_simulator" --benchmark_repetitions=5 --benchmark_report_aggregates_only=true \
   --benchmark_display_aggregates_only=true | grep -E "median|Benchmark|---"

@@ -1,7 +1,10 @@
 // The dev pipeline: segment pooling and error paths.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <span>
+#include <stdexcept>
 #include <cstdio>
 #include <string>
 #include <random>
@@ -67,6 +70,57 @@ TEST(DevPipeline, ThreadCountDoesNotChangeResults) {
       EXPECT_EQ(r1.channels[c].points[k].dev, r2.channels[c].points[k].dev);
       EXPECT_EQ(r1.channels[c].points[k].lo, r2.channels[c].points[k].lo);
     }
+}
+
+// The channels are evaluated a batch at a time (one channel when its taus
+// keep the threads busy, one per thread otherwise): every channel's points
+// are those of the channel analysed alone, whatever the grid, the threads
+// and the segments; the progress reaches 1 without going back.
+TEST(DevPipeline, ChannelsInBatchesEqualEachChannelAlone) {
+  const std::size_t n = 6000;
+  io::Series s;
+  s.names = {"a", "b", "c", "d", "e"};
+  for (std::uint64_t k = 0; k < 5; ++k) s.channels.push_back(white(n, 10 + k));
+  s.rate_hz = 10;
+  s.tau0 = 0.1;
+  s.segments = {{0, 2500}, {2500, n}};
+  for (const char* grid : {"log:20", "1,2", "all"}) {
+    for (unsigned threads : {1u, 2u, 3u}) {
+      DevRequest req;
+      req.grid = parse_tau_grid(grid);
+      req.threads = threads;
+      std::vector<double> progress;
+      req.progress = [&](double f) { progress.push_back(f); };
+      const DevResult all = run_dev(s, req);
+      req.progress = nullptr;
+      ASSERT_FALSE(progress.empty());
+      EXPECT_EQ(progress.back(), 1.0);
+      EXPECT_TRUE(std::is_sorted(progress.begin(), progress.end())) << grid << " " << threads;
+      for (std::size_t c = 0; c < s.channels.size(); ++c) {
+        const DevResult one = run_dev({s.names[c]}, {std::span<const double>(s.channels[c])}, s.rate_hz, s.segments, req);
+        const auto& p = all.channels[c].points;
+        const auto& q = one.channels[0].points;
+        ASSERT_EQ(p.size(), q.size()) << grid;
+        for (std::size_t k = 0; k < p.size(); ++k) {
+          EXPECT_EQ(p[k].dev, q[k].dev) << grid << " " << threads << " " << c << " m " << p[k].m;
+          EXPECT_EQ(p[k].lo, q[k].lo);
+          EXPECT_EQ(p[k].alpha, q[k].alpha);
+        }
+      }
+    }
+  }
+}
+
+TEST(DevPipeline, SpanOverloadChecksItsArguments) {
+  const auto a = white(100, 1);
+  const auto b = white(90, 2);
+  DevRequest req;
+  EXPECT_THROW(run_dev({"a"}, {std::span<const double>(a), std::span<const double>(a)}, 1.0, {}, req),
+               std::invalid_argument);
+  EXPECT_THROW(run_dev({"a", "b"}, {std::span<const double>(a), std::span<const double>(b)}, 1.0, {}, req),
+               std::invalid_argument);
+  EXPECT_THROW(run_dev({"a"}, {std::span<const double>(a)}, 1.0, {{0, 101}}, req), std::invalid_argument);
+  EXPECT_EQ(run_dev({"a"}, {std::span<const double>(a)}, 1.0, {}, req).samples, 100u);
 }
 
 TEST(DevPipeline, NonFiniteSampleNamesTheColumn) {

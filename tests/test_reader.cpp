@@ -328,6 +328,41 @@ TEST_F(Reader, EarliestErrorWinsAcrossChunks) {
   EXPECT_EQ(e.line(), 7u);
 }
 
+// A mapped file is parsed a window at a time and its pages dropped behind
+// the parse: the columns, and an error's place found by reading the text
+// again, are those of the same text parsed from memory.
+TEST_F(Reader, FileParsedInWindowsEqualsTheTextInMemory) {
+  const std::string text = big_text(600000);  // ~13 MB: several windows per thread
+  const std::string path = write("big.csv", text);
+  for (unsigned threads : {1u, 2u}) {
+    TableOptions opt;
+    opt.threads = threads;
+    const Table from_file = read_table(path, opt);
+    const Table from_memory = parse_table(text, "mem", opt);
+    ASSERT_EQ(from_file.rows(), 600000u);
+    EXPECT_EQ(from_file.data, from_memory.data) << threads;
+  }
+  std::string bad = text;
+  const std::size_t pos = bad.find("\n599000,") + 8;
+  bad[pos] = 'x';
+  const std::string bad_path = write("bad.csv", bad);
+  const std::size_t line = 1 + static_cast<std::size_t>(std::count(bad.begin(), bad.begin() + static_cast<std::ptrdiff_t>(pos), '\n'));
+  const InputError e = input_error([&] { read_table(bad_path); });
+  EXPECT_EQ(e.line(), line);
+  EXPECT_EQ(e.column(), 8u);
+}
+
+TEST_F(Reader, ReleasedPagesReadTheSameBytesAgain) {
+  const std::string text = big_text(200000);
+  const FileBuffer buf = FileBuffer::open(write("pages.csv", text));
+  const std::string_view v = buf.view();
+  buf.populate(v);
+  buf.release(v.substr(1000, 3 << 20));
+  EXPECT_EQ(std::string(v), text);
+  buf.release(v);
+  EXPECT_EQ(std::string(v), text);
+}
+
 // ---------------------------------------------------------------------------
 // locate()
 

@@ -258,6 +258,7 @@ int run_analyze_command(const AnalyzeOptions& o) {
   const std::size_t bytes = file_size_or_zero(o.input.file);
   Progress progress(bytes > 50'000'000);
   progress.stage(fmt::format("reading {} ({:.0f} MB)", o.input.file, static_cast<double>(bytes) / 1e6));
+  so.keep_time = false;  // one segment's stamps carry nothing the analysis uses beyond the rate
   const io::Series series = io::read_series(o.input.file, so);
   ChannelUnits units = units_for(o.unit, series);  // a column without a unit stops here
   note_default_columns(series);

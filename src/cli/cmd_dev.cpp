@@ -54,7 +54,9 @@ int run_dev_command(const DevOptions& o) {
   const io::Series series = [&] {
     Progress reading(bytes > 50'000'000);
     reading.stage(fmt::format("reading {} ({:.0f} MB)", o.input.file, static_cast<double>(bytes) / 1e6));
-    return io::read_series(o.input.file, to_series_options(o.input));
+    io::SeriesOptions so = to_series_options(o.input);
+    so.keep_time = false;  // the deviations need the rate and the segments, not the stamps
+    return io::read_series(o.input.file, so);
   }();
   note_default_columns(series);
 

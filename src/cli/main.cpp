@@ -1,5 +1,7 @@
 // cubecal — characterize, model, simulate and calibrate attitude sensors.
 #include <CLI/CLI.hpp>
+#include <malloc.h>
+
 #include <cstdio>
 #include <exception>
 #include <iostream>
@@ -69,6 +71,12 @@ int fail(const std::string& msg, int code) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Large arrays (a channel, a phase record: tens of MB each) are mapped and
+  // unmapped on their own. glibc's default raises this threshold to the size
+  // of the first large block freed, after which the channels analysed one at
+  // a time by different threads are kept in per-thread arenas and the peak
+  // memory holds several of them instead of one.
+  mallopt(M_MMAP_THRESHOLD, 1 << 20);
   CLI::App app{"cubecal: stability statistics, noise models and calibration for gyroscopes, "
                "magnetometers, accelerometers and clocks"};
   app.require_subcommand(1);

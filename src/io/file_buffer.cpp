@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <limits>
@@ -260,10 +261,10 @@ FileBuffer FileBuffer::open(const std::string& path_arg, Content content) {
     if (st.st_size > 0) {
       check_plain_start(path, fd.get(), static_cast<std::size_t>(st.st_size), content);
       impl.map_size = static_cast<std::size_t>(st.st_size);
-      // MAP_POPULATE maps every page up front in one kernel call instead of one
-      // fault per 4 KiB page while parsing (a tenth of the run time on a
-      // 200 MB record).
-      impl.map = ::mmap(nullptr, impl.map_size, PROT_READ, MAP_PRIVATE | MAP_POPULATE, fd.get(), 0);
+      // Not MAP_POPULATE: the parser maps a window at a time (populate) and
+      // drops it behind (release), so that a large file never sits in this
+      // process's memory at once.
+      impl.map = ::mmap(nullptr, impl.map_size, PROT_READ, MAP_PRIVATE, fd.get(), 0);
       if (impl.map == MAP_FAILED) {
         impl.map = nullptr;
         throw_os_error(path, "cannot read file", errno);
@@ -300,6 +301,40 @@ FileBuffer::~FileBuffer() = default;
 
 std::string_view FileBuffer::view() const noexcept {
   return impl_ ? impl_->text : std::string_view{};
+}
+
+namespace {
+
+// The whole pages of a mapping that hold [b, e), or nothing when [b, e) is
+// not in the mapping (the text of a gzip file or of the standard input).
+std::pair<char*, std::size_t> pages_of(const void* map, std::size_t map_size, std::string_view part) noexcept {
+  if (map == nullptr || part.empty()) return {nullptr, 0};
+  const auto base = reinterpret_cast<std::uintptr_t>(map);
+  const auto b = reinterpret_cast<std::uintptr_t>(part.data());
+  const std::uintptr_t e = b + part.size();
+  if (b < base || e > base + map_size) return {nullptr, 0};
+  static const auto page = static_cast<std::uintptr_t>(::sysconf(_SC_PAGESIZE));
+  const std::uintptr_t first = b / page * page;
+  const std::uintptr_t last = std::min((e + page - 1) / page * page, (base + map_size + page - 1) / page * page);
+  return {reinterpret_cast<char*>(first), static_cast<std::size_t>(last - first)};
+}
+
+}  // namespace
+
+// Advice only: a kernel without MADV_POPULATE_READ (before Linux 5.14) maps
+// the pages on first touch instead; a failed release leaves them mapped.
+void FileBuffer::populate(std::string_view part) const noexcept {
+  if (!impl_) return;
+  const auto [p, n] = pages_of(impl_->map, impl_->map_size, part);
+#ifdef MADV_POPULATE_READ
+  if (n != 0) ::madvise(p, n, MADV_POPULATE_READ);
+#endif
+}
+
+void FileBuffer::release(std::string_view part) const noexcept {
+  if (!impl_) return;
+  const auto [p, n] = pages_of(impl_->map, impl_->map_size, part);
+  if (n != 0) ::madvise(p, n, MADV_DONTNEED);
 }
 
 }  // namespace cubecal::io

@@ -123,14 +123,6 @@ void check_lsb_count(const SeriesOptions& opt, const std::string& file, const st
                    std::move(hint));
 }
 
-double median(std::vector<double> v) {
-  const std::size_t mid = v.size() / 2;
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid), v.end());
-  if (v.size() % 2 != 0) return v[mid];
-  const double upper = v[mid];
-  return 0.5 * (upper + *std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid)));
-}
-
 // Which column holds the time, and whether its stamps define the timing.
 struct TimeChoice {
   std::string spec;      // column to read; empty for none
@@ -197,10 +189,7 @@ void check_magnitudes(const Series& s, const Table& t, const SeriesOptions& opt)
 void check_rate_agrees(const std::string& file, const std::string& time_name, const std::vector<double>& time,
                        const SeriesOptions& opt) {
   if (!opt.check_rate_against_time || opt.rate_hz <= 0.0 || time.size() < 2) return;
-  std::vector<double> dt;
-  dt.reserve(time.size() - 1);
-  for (std::size_t i = 1; i < time.size(); ++i) dt.push_back(time[i] - time[i - 1]);
-  const double period = median(std::move(dt));
+  const double period = median_interval(time);
   if (!(period > 0.0) || !std::isfinite(period)) return;  // not increasing: check_timing says where
   const double from_time = 1.0 / period;
   if (std::fabs(opt.rate_hz * period - 1.0) <= opt.tolerance) return;
@@ -234,12 +223,10 @@ void check_timing(Series& s, const detail::PlaceError& at, const SeriesOptions& 
     }
     // The median ignores gaps and outliers as long as most intervals are
     // regular, which the checks below then require anyway.
-    std::vector<double> dt(time.size() - 1);
-    for (std::size_t i = 1; i < time.size(); ++i) dt[i - 1] = time[i] - time[i - 1];
     // Time stamps printed with a few decimals make every interval differ from
     // the period in the last bits (5.3 - 5.2 = 0.0999999999999996): keep nine
     // significant digits of the rate, far below the 1 % interval tolerance.
-    const double raw = 1.0 / median(std::move(dt));
+    const double raw = 1.0 / median_interval(time);
     if (!(raw >= kMinRateHz && raw <= kMaxRateHz)) {
       fail_at(1, "time stamps " + stamp(1.0 / raw) + " s apart give a rate of " + stamp(raw) +
                      " Hz, outside the range " + stamp(kMinRateHz) + " to " + stamp(kMaxRateHz) + " Hz",
@@ -320,7 +307,7 @@ Series read_series(const std::string& path_arg, const SeriesOptions& opt) {
   if (!topt.columns.empty()) check_lsb_count(opt, path, topt.columns);  // before the parse of a long file
   const std::size_t time_slot = topt.extra_columns.size();
   if (!time.spec.empty()) topt.extra_columns.push_back(time.spec);
-  Table t = all ? select_columns(std::move(*all), topt) : parse_table(buf.view(), path, topt);
+  Table t = all ? select_columns(std::move(*all), topt) : parse_table(buf, topt);
 
   s.gaps = opt.gaps;
   s.gzip = buf.was_gzip();
@@ -383,6 +370,7 @@ void finish_series(Series& s, std::vector<double> time, const std::string& time_
                     "longest of " + std::to_string(s.segments.size()) +
                         " contiguous pieces; the record has too many gaps");
   }
+  if (!opt.keep_time && s.segments.size() == 1) std::vector<double>().swap(s.time);
 }
 
 }  // namespace detail

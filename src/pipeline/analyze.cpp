@@ -83,17 +83,6 @@ std::vector<BiasGap> bias_gaps(const io::Series& s) {
   return gaps;
 }
 
-// The record's channels replaced by `channels` (same names, segments and rate).
-io::Series with_channels(const io::Series& s, std::vector<std::string> names, std::vector<std::vector<double>> channels) {
-  io::Series cs;
-  cs.names = std::move(names);
-  cs.channels = std::move(channels);
-  cs.rate_hz = s.rate_hz;
-  cs.tau0 = s.tau0;
-  cs.segments = s.segments;
-  return cs;
-}
-
 // Per channel: OLS (its errors are the user's: a constant temperature, too
 // few distinct values), then the joint estimate with the random walk, whose
 // noise model is the paper's random-walk model fitted to the Allan curve of
@@ -108,18 +97,19 @@ void analyze_temperature(AnalysisResult& r, const io::Series& s, const AnalyzeRe
   r.temp_name = s.extra_names.at(*req.temp_index);
   const std::vector<BiasGap> gaps = bias_gaps(s);
   const double dt = s.tau0;
-  std::vector<TemperatureAnalysis> ta(nch);
-  std::vector<std::vector<double>> comp(nch);
+  const std::size_t first = s.segments.front().size();
+  const bool head = req.max_samples > 0 && req.max_samples < first;
+  // A channel at a time: its compensated series lives only while its
+  // deviations are computed, so that the record is not held twice.
   for (std::size_t c = 0; c < nch; ++c) {
-    TemperatureAnalysis& t = ta[c];
+    TemperatureAnalysis t;
     try {
       t.ols = fit_temperature(s.channels[c], temp, req.temp_order);
     } catch (const std::invalid_argument& e) {
       throw UsageError("temp_index", r.temp_name + ": " + e.what());
     }
     const CompensatedNoiseModel noise_model = [&](std::span<const double> y) {
-      const DevResult d = run_dev(with_channels(s, {s.names[c]}, {std::vector<double>(y.begin(), y.end())}),
-                                  oadev_request(req));
+      const DevResult d = run_dev({s.names[c]}, {y}, s.rate_hz, s.segments, oadev_request(req));
       return fit_random_walk_model(to_allan_curve(d.channels[0].points), dt, lsb_of(c));
     };
     try {
@@ -134,26 +124,20 @@ void analyze_temperature(AnalysisResult& r, const io::Series& s, const AnalyzeRe
       t.joint_error = std::string("no random-walk model fits the compensated series (") + e.what() +
                       "): the least-squares fit is reported";
     }
-    comp[c] = compensate_temperature(s.channels[c], temp, t.fit);
-  }
-  io::Series cs = with_channels(s, s.names, std::move(comp));
-  const DevResult cdev = run_dev(cs, oadev_request(req));
-  const std::size_t first = s.segments.front().size();
-  const bool head = req.max_samples > 0 && req.max_samples < first;
-  DevResult hd;
-  if (head) {
-    std::vector<std::vector<double>> heads;
-    for (const auto& ch : cs.channels)
-      heads.emplace_back(ch.begin(), ch.begin() + static_cast<std::ptrdiff_t>(req.max_samples));
-    hd = run_dev(s.names, heads, s.rate_hz, oadev_request(req));
-  }
-  for (std::size_t c = 0; c < nch; ++c) {
-    TemperatureAnalysis& t = ta[c];
-    t.compensated = noise_of(cdev.channels[c]);
-    t.compensated_model.adev = head ? hd.channels[c].points : cdev.channels[c].points;
+    const std::vector<double> comp = compensate_temperature(s.channels[c], temp, t.fit);
+    const DevResult cdev = run_dev({s.names[c]}, {std::span<const double>(comp)}, s.rate_hz, s.segments,
+                                   oadev_request(req));
+    t.compensated = noise_of(cdev.channels[0]);
+    if (head) {
+      const DevResult hd = run_dev({s.names[c]}, {std::span<const double>(comp.data(), req.max_samples)}, s.rate_hz,
+                                   {}, oadev_request(req));
+      t.compensated_model.adev = hd.channels[0].points;
+    } else {
+      t.compensated_model.adev = cdev.channels[0].points;
+    }
     t.compensated_model.samples = head ? req.max_samples : r.samples;
     fit_models(t.compensated_model, dt, lsb_of(c));
-    r.channels[c].temperature = std::move(ta[c]);
+    r.channels[c].temperature = std::move(t);
   }
 }
 

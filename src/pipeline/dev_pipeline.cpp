@@ -54,11 +54,6 @@ std::size_t phase_points(const io::Segment& seg, DataType type) {
   return type == DataType::freq ? seg.size() + 1 : seg.size();
 }
 
-struct Piece {
-  std::size_t channel;
-  std::unique_ptr<StabilityRecord> record;
-};
-
 // With gaps split off, each segment is analysed on its own; a deviation over
 // several segments pools their squared differences (weights n_k), which is
 // the statistic of the whole record with every difference that would span a
@@ -94,7 +89,7 @@ StabilityPoint combine(const std::vector<StabilityPoint>& parts, std::size_t m, 
 }
 
 DevResult run(const std::vector<std::string>& names,
-              const std::vector<std::vector<double>>& channels, double rate_hz,
+              const std::vector<std::span<const double>>& channels, double rate_hz,
               const std::vector<io::Segment>& segments, const DevRequest& req) {
   DevResult res;
   res.stat = req.stat;
@@ -107,33 +102,11 @@ DevResult run(const std::vector<std::string>& names,
 
   const int threads = req.threads > 0 ? static_cast<int>(req.threads) : omp_get_max_threads();
 
-  // Phase records per (channel, segment), built in parallel.
-  std::vector<Piece> pieces;
-  for (std::size_t c = 0; c < channels.size(); ++c)
-    for (std::size_t s = 0; s < segments.size(); ++s) pieces.push_back({c, nullptr});
   const std::size_t nseg = segments.size();
-  // Exceptions must not leave an OpenMP region: keep the first and rethrow.
-  std::vector<std::string> errors(pieces.size());
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-  for (std::size_t k = 0; k < pieces.size(); ++k) {
-    const auto& seg = segments[k % nseg];
-    const auto& ch = channels[pieces[k].channel];
-    std::span<const double> data(ch.data() + seg.begin, seg.size());
-    try {
-      pieces[k].record = std::make_unique<StabilityRecord>(data, req.type, res.tau0, req.stat);
-    } catch (const std::exception& e) {
-      errors[k] = e.what();
-    }
-  }
-  for (std::size_t k = 0; k < pieces.size(); ++k)
-    if (!errors[k].empty())
-      throw UsageError("column " + names[pieces[k].channel] + ": " + errors[k] +
-                           " (remove or repair it before the analysis)");
-
   std::size_t max_m = 0;
   res.segments_used = 0;
-  for (std::size_t s = 0; s < nseg; ++s) {
-    const std::size_t mm = pieces[s].record->max_m();
+  for (const auto& seg : segments) {
+    const std::size_t mm = max_averaging_factor(req.stat, phase_points(seg, req.type));
     max_m = std::max(max_m, mm);
     if (mm > 0) ++res.segments_used;
   }
@@ -149,54 +122,93 @@ DevResult run(const std::vector<std::string>& names,
                          "grid fits (record longer data or choose smaller taus)" +
                          (res.tau_list.excluded.empty() ? "" : ": " + res.tau_list.excluded.front().reason));
 
-  // Every (piece, block of factors) evaluation is independent. The caller's
-  // thread (OpenMP thread 0) reports the progress between its blocks.
-  const std::size_t nm = ms.size();
-  const std::size_t block = block_size(nm, pieces.size(), static_cast<unsigned>(threads));
   // Ranges of the grid per task; a kernel group is never cut, so a point is
   // the same bits for any thread count and as the front door's.
+  const std::size_t nm = ms.size();
+  const std::size_t block = block_size(nm, nseg, static_cast<unsigned>(threads));  // cut for one channel
   std::vector<std::pair<std::size_t, std::size_t>> ranges;
   for (std::size_t j = 0; j < nm;) {
     const std::size_t start = j;
     while (j < nm && j - start < block) j += kernel_group_at(ms, j) ? kKernelGroup : 1;
     ranges.emplace_back(start, j);
   }
-  const std::size_t tasks = pieces.size() * ranges.size();
-  auto task_terms = [&](std::size_t k) {
-    const auto& rec = *pieces[k / ranges.size()].record;
-    const auto [j0, j1] = ranges[k % ranges.size()];
+  const auto range_terms = [&](std::size_t seg, std::size_t r) {
+    const std::size_t n = phase_points(segments[seg], req.type);
+    const std::size_t top = max_averaging_factor(req.stat, n);
     double t = 0.0;
-    for (std::size_t j = j0; j < j1; ++j)
-      if (ms[j] <= rec.max_m())
-        t += terms_at(req.stat, ms[j], rec.phase_points(), req.options.intervals);
+    for (std::size_t j = ranges[r].first; j < ranges[r].second; ++j)
+      if (ms[j] <= top) t += terms_at(req.stat, ms[j], n, req.options.intervals);
     return t;
   };
   double total = 0.0;
-  for (std::size_t k = 0; k < tasks; ++k) total += task_terms(k);
-  std::atomic<double> done{0.0};
-  std::vector<StabilityPoint> evals(pieces.size() * nm);
+  for (std::size_t s = 0; s < nseg; ++s)
+    for (std::size_t r = 0; r < ranges.size(); ++r) total += range_terms(s, r);
+  total *= static_cast<double>(channels.size());
+
+  // A phase record is a copy of its channel: the channels are analysed a
+  // batch at a time, so that the records alive at once hold one channel (or,
+  // when one channel gives too few tasks to keep the threads busy, one
+  // channel per thread) rather than a second copy of the whole record.
+  const std::size_t tasks_per_channel = nseg * ranges.size();
+  const std::size_t batch =
+      tasks_per_channel >= 4 * static_cast<std::size_t>(threads)
+          ? 1
+          : std::min<std::size_t>(channels.size(), static_cast<std::size_t>(threads));
+  std::vector<StabilityPoint> evals(channels.size() * nseg * nm);
+  double done = 0.0;
+  for (std::size_t c0 = 0; c0 < channels.size(); c0 += batch) {
+    const std::size_t c1 = std::min(channels.size(), c0 + batch);
+    // Phase records of the batch's (channel, segment) pieces, built in
+    // parallel. Exceptions must not leave an OpenMP region: keep the first
+    // and rethrow.
+    std::vector<std::unique_ptr<StabilityRecord>> records((c1 - c0) * nseg);
+    std::vector<std::string> errors(records.size());
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-  for (std::size_t k = 0; k < tasks; ++k) {
-    const std::size_t piece = k / ranges.size();
-    const auto& rec = *pieces[piece].record;
-    const std::size_t j0 = ranges[k % ranges.size()].first;
-    std::size_t j1 = ranges[k % ranges.size()].second;
-    while (j1 > j0 && ms[j1 - 1] > rec.max_m()) --j1;  // ms ascending
-    if (j1 > j0) {
-      const auto points =
-          rec.evaluate(std::span<const std::size_t>(ms.data() + j0, j1 - j0), req.options);
-      std::copy(points.begin(), points.end(),
-                evals.begin() + static_cast<std::ptrdiff_t>(piece * nm + j0));
+    for (std::size_t k = 0; k < records.size(); ++k) {
+      const auto& seg = segments[k % nseg];
+      const auto& ch = channels[c0 + k / nseg];
+      try {
+        records[k] = std::make_unique<StabilityRecord>(std::span<const double>(ch.data() + seg.begin, seg.size()),
+                                                       req.type, res.tau0, req.stat);
+      } catch (const std::exception& e) {
+        errors[k] = e.what();
+      }
     }
-    const double now = done.fetch_add(task_terms(k)) + task_terms(k);
-    if (req.progress && omp_get_thread_num() == 0 && total > 0.0)
-      req.progress(std::min(now / total, 1.0));  // the sum may round past the total
+    for (std::size_t k = 0; k < records.size(); ++k)
+      if (!errors[k].empty())
+        throw UsageError("column " + names[c0 + k / nseg] + ": " + errors[k] +
+                         " (remove or repair it before the analysis)");
+
+    // Every (piece, range of factors) evaluation is independent. The
+    // caller's thread (OpenMP thread 0) reports the progress between its
+    // ranges.
+    const std::size_t tasks = records.size() * ranges.size();
+    std::atomic<double> batch_done{0.0};
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+    for (std::size_t k = 0; k < tasks; ++k) {
+      const std::size_t piece = k / ranges.size();
+      const auto& rec = *records[piece];
+      const std::size_t j0 = ranges[k % ranges.size()].first;
+      std::size_t j1 = ranges[k % ranges.size()].second;
+      while (j1 > j0 && ms[j1 - 1] > rec.max_m()) --j1;  // ms ascending
+      if (j1 > j0) {
+        const auto points = rec.evaluate(std::span<const std::size_t>(ms.data() + j0, j1 - j0), req.options);
+        std::copy(points.begin(), points.end(),
+                  evals.begin() + static_cast<std::ptrdiff_t>((c0 * nseg + piece) * nm + j0));
+      }
+      const double t = range_terms(piece % nseg, k % ranges.size());
+      const double now = done + batch_done.fetch_add(t) + t;
+      if (req.progress && omp_get_thread_num() == 0 && total > 0.0)
+        req.progress(std::min(now / total, 1.0));  // the sum may round past the total
+    }
+    done += batch_done.load();
+    // The ranges above ran apart: Stable32's run rule over each whole run.
+    for (std::size_t k = 0; k < records.size(); ++k)
+      records[k]->carry_types(
+          std::span<StabilityPoint>(evals.data() + static_cast<std::ptrdiff_t>((c0 * nseg + k) * nm), nm),
+          req.options);
   }
   if (req.progress) req.progress(1.0);
-  // The blocks above ran apart: Stable32's run rule over each whole run.
-  for (std::size_t k = 0; k < pieces.size(); ++k)
-    pieces[k].record->carry_types(
-        std::span<StabilityPoint>(evals.data() + static_cast<std::ptrdiff_t>(k * nm), nm), req.options);
 
   for (std::size_t c = 0; c < channels.size(); ++c) {
     DevChannel ch{names[c], {}};
@@ -285,7 +297,8 @@ DevWorkEstimate estimate_dev(const io::Series& series, const DevRequest& req) {
 }
 
 DevResult run_dev(const io::Series& series, const DevRequest& request) {
-  DevResult r = run(series.names, series.channels, series.rate_hz, series.segments, request);
+  DevResult r = run(series.names, {series.channels.begin(), series.channels.end()}, series.rate_hz,
+                    series.segments, request);
   r.file = series.file;
   return r;
 }
@@ -294,7 +307,25 @@ DevResult run_dev(const std::vector<std::string>& names,
                   const std::vector<std::vector<double>>& channels, double rate_hz,
                   const DevRequest& request) {
   const std::size_t n = channels.empty() ? 0 : channels[0].size();
-  return run(names, channels, rate_hz, {io::Segment{0, n}}, request);
+  return run(names, {channels.begin(), channels.end()}, rate_hz, {io::Segment{0, n}}, request);
+}
+
+DevResult run_dev(const std::vector<std::string>& names, const std::vector<std::span<const double>>& channels,
+                  double rate_hz, const std::vector<io::Segment>& segments, const DevRequest& request) {
+  if (names.size() != channels.size())
+    throw std::invalid_argument("run_dev: " + std::to_string(names.size()) + " names for " +
+                                std::to_string(channels.size()) + " channels");
+  for (const auto& c : channels)
+    if (c.size() != channels.front().size())
+      throw std::invalid_argument("run_dev: channels of different lengths");
+  if (segments.empty()) {
+    const std::size_t n = channels.empty() ? 0 : channels[0].size();
+    return run(names, channels, rate_hz, {io::Segment{0, n}}, request);
+  }
+  for (const auto& seg : segments)
+    if (seg.begin > seg.end || (!channels.empty() && seg.end > channels[0].size()))
+      throw std::invalid_argument("run_dev: a segment outside the channels");
+  return run(names, channels, rate_hz, segments, request);
 }
 
 }  // namespace cubecal::pipeline

@@ -36,6 +36,14 @@ class FileBuffer {
   ~FileBuffer();
 
   std::string_view view() const noexcept;
+  // A memory-mapped file's pages, for a pass that walks it once: populate()
+  // maps `part` ahead of the pass in one call (instead of a page fault per
+  // few pages) and release() drops it behind, so that the pages stay in the
+  // page cache but not in this process's memory (a later read of `part`
+  // maps them again). `part` must lie in view(). Both do nothing for input
+  // held in memory (gzip, standard input), whose bytes must stay.
+  void populate(std::string_view part) const noexcept;
+  void release(std::string_view part) const noexcept;
   bool was_gzip() const noexcept { return gzip_; }
   const std::string& path() const noexcept { return path_; }
 

@@ -52,6 +52,12 @@ struct SeriesOptions {
   // sensor_msgs/Imu topic. A bag's time is "stamp" (header.stamp, the
   // default) or "record" (when the bag recorded the message), as time_col.
   std::vector<std::string> topics;
+  // false: the time stamps of a record in one contiguous segment are
+  // dropped once they are checked (Series::time is then empty; the rate and
+  // the jitter figures stay), for callers that need no more than those, so
+  // that the stamps do not add a column to the memory. A record cut at gaps
+  // keeps them (the length of each gap is in the stamps).
+  bool keep_time = true;
   // Raw interleaved binary frames of these types (the file is then not
   // recognised by its content). Empty: delimited text or NumPy .npy, told
   // apart by the file's first bytes.

@@ -4,6 +4,7 @@
 #pragma once
 #include <cstddef>
 #include <functional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -70,5 +71,12 @@ DevResult run_dev(const io::Series& series, const DevRequest& request);
 DevResult run_dev(const std::vector<std::string>& names,
                   const std::vector<std::vector<double>>& channels, double rate_hz,
                   const DevRequest& request);
+
+// The same on views of the caller's arrays (all of one length), cut into
+// `segments` as a Series is (empty: one contiguous segment); nothing is
+// copied but the phase record of the channel being evaluated.
+// std::invalid_argument for mismatched names, lengths or segments.
+DevResult run_dev(const std::vector<std::string>& names, const std::vector<std::span<const double>>& channels,
+                  double rate_hz, const std::vector<io::Segment>& segments, const DevRequest& request);
 
 }  // namespace cubecal::pipeline

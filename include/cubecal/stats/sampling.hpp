@@ -26,4 +26,10 @@ struct SamplingCheck {
 // otherwise); tolerance: the allowed |dt - period| / period.
 SamplingCheck check_sampling(std::span<const double> t, double tolerance = 0.01);
 
+// The median of the intervals t[i+1] - t[i] (the mean of the two middle
+// ones for an even count), exactly, with memory for a few per cent of the
+// intervals rather than all of them (a column of a long record).
+// std::invalid_argument for fewer than two stamps.
+double median_interval(std::span<const double> t);
+
 }  // namespace cubecal
