@@ -45,7 +45,14 @@ class Db {
  public:
   explicit Db(const std::string& path) : path_(path) {
     const int rc = sqlite3_open_v2(file_uri(path).c_str(), &db_, SQLITE_OPEN_READONLY | SQLITE_OPEN_URI, nullptr);
-    if (rc != SQLITE_OK) fail("cannot open the database");
+    if (rc != SQLITE_OK) {
+      // The handle is allocated even when opening fails: closed here, as
+      // the destructor of a constructor that throws does not run.
+      const std::string why = db_ != nullptr ? sqlite3_errmsg(db_) : "out of memory";
+      sqlite3_close(db_);
+      db_ = nullptr;
+      throw InputError(path_, 0, 0, "cannot open the database (SQLite: " + why + ")", kHint);
+    }
   }
   Db(const Db&) = delete;
   Db& operator=(const Db&) = delete;
