@@ -59,6 +59,18 @@ TEST_F(Ros2BagCli, AnalyzeReadsABagDirectoryAndKnowsTheUnits) {
   EXPECT_NE(r.out.find("az [m/s^2, acceleration]"), std::string::npos) << r.out;
 }
 
+TEST_F(Ros2BagCli, CompareTakesAnMcapAndABagDirectory) {
+  const auto r = run_cubecal("compare " + kMcap + " " + kDb3Dir + " --gaps split --columns gx");
+  ASSERT_EQ(r.code, 0) << r.err;
+  // One row per run: both read, 13964 samples each.
+  EXPECT_NE(r.out.find("idgets_imu_upside_down.mcap"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("b3/phidgets_imu_upside_down"), std::string::npos) << r.out;
+  std::size_t rows = 0;
+  for (std::size_t p = r.out.find("13964 gx"); p != std::string::npos; p = r.out.find("13964 gx", p + 1)) ++rows;
+  EXPECT_EQ(rows, 2u) << r.out;
+  EXPECT_NE(r.err.find("units from the message types: gx rad/s"), std::string::npos) << r.err;
+}
+
 TEST_F(Ros2BagCli, LogTimeOnRequest) {
   const auto r = run_cubecal("dev " + kMcap + " --time-col record --gaps split --columns gx");
   ASSERT_EQ(r.code, 0) << r.err;
