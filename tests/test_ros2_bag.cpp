@@ -189,6 +189,37 @@ TEST_F(Ros2Bag, LogTimesAreTheRos1RecordTimesRoundedThroughDoubles) {
   }
 }
 
+// MCAP's ros1 profile: the ROS 1 bag's messages, as they are, in an MCAP
+// of message encoding "ros1" and ROS 1 type names read as the bag.
+TEST_F(Ros2Bag, McapOfRos1MessagesReadsAsTheRos1Bag) {
+  const io::MessageLog bag = io::message_log(io::read_ros1_bag(kRos1));
+  std::string out = kMagic + record(0x01, str("ros1") + str("cubecal test"));
+  std::string chunk;
+  for (std::uint16_t t = 0; t < bag.topics.size(); ++t) {
+    chunk += record(0x03, u16(t + 1) + str(bag.topics[t].type) + str("ros1msg") + str(""));
+    chunk += channel_record(static_cast<std::uint16_t>(t + 1), static_cast<std::uint16_t>(t + 1), bag.topics[t].name,
+                            "ros1");
+  }
+  for (std::size_t i = 0; i < bag.messages.size(); ++i) {
+    const io::LogMessage& m = bag.messages[i];
+    chunk += message_record(static_cast<std::uint16_t>(m.topic + 1), static_cast<std::uint32_t>(i),
+                            static_cast<std::uint64_t>(m.sec) * 1000000000u + m.nsec, std::string(bag.data(m)));
+    if (i % 5000 == 4999 || i + 1 == bag.messages.size()) {
+      out += chunk_record(chunk, (i / 5000) % 2 == 0 ? "lz4" : "zstd");
+      chunk.clear();
+    }
+  }
+  const std::string path = put("ros1.mcap", out + footer());
+  io::SeriesOptions o = imu_options();
+  const io::Series s = io::read_series(path, o);
+  const io::Series ros1 = io::read_series(kRos1, o);
+  EXPECT_EQ(s.channels, ros1.channels);
+  EXPECT_EQ(s.time, ros1.time);
+  EXPECT_EQ(s.topics, ros1.topics);
+  o.time_col = "record";
+  EXPECT_EQ(io::read_series(path, o).time, io::read_series(kRos1, o).time);
+}
+
 TEST_F(Ros2Bag, NaNMagnetometerSamplesAreCountedAsInTheRos1Bag) {
   io::SeriesOptions o;
   o.rate_hz = 250;
