@@ -94,4 +94,13 @@ TEST_F(Ros2BagCli, Db3FromStandardInputIsRefusedWithAHint) {
   EXPECT_NE(r.err.find("is read from its file"), std::string::npos) << r.err;
 }
 
+// The check for an SQLite file by path must not read from a pipe: a pipe
+// named by its path (/dev/stdin, a FIFO, <(...)) still reads whole.
+TEST_F(Ros2BagCli, APipeNamedByItsPathIsNotProbedForSqlite) {
+  const std::string csv = write("p.csv", "t,gx_dps\n0,1\n0.01,2\n0.02,3\n0.03,2\n0.04,1\n");
+  const auto r = cubecal::test::run_cubecal_piped("cat " + csv, "dev /dev/stdin");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("gx_dps — oadev (freq data), 5 samples at 100 Hz"), std::string::npos) << r.out;
+}
+
 }  // namespace

@@ -5,6 +5,7 @@
 #include <sqlite3.h>
 
 #include <cstdint>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <memory>
@@ -92,6 +93,10 @@ std::string text(sqlite3_stmt* s, int col) {
 bool looks_like_sqlite(std::string_view head) noexcept { return head.starts_with(kSqliteMagic); }
 
 bool is_sqlite_file(const std::string& path) {
+  // Only a regular file: reading the start of a pipe or device would take
+  // those bytes from the reader that comes after.
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return false;
   std::ifstream in(path, std::ios::binary);
   char head[16] = {};
   if (!in.read(head, sizeof head)) return false;
