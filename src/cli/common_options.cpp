@@ -92,12 +92,12 @@ void note_default_columns(const io::Series& s) {
 void add_input_options(CLI::App& app, InputOptions& opt, bool several) {
   if (several)
     app.add_option("files", opt.files, "Input files (one record each): delimited text, optionally gzip, "
-                                       "NumPy .npy, raw binary (--binary) or ROS 1 bags")
+                                       "NumPy .npy, raw binary (--binary) or ROS bags (ROS 1 .bag, MCAP, .db3 or a ROS 2 bag directory)")
         ->required();
   else
     app.add_option("file", opt.file, "Input file: delimited text (comma, tab, semicolon or "
                                      "whitespace), optionally gzip-compressed, NumPy .npy (1-D or 2-D), raw "
-                                     "binary (--binary) or a ROS 1 bag; - reads standard input")
+                                     "binary (--binary), a ROS bag (ROS 1 .bag, MCAP, .db3 or a ROS 2 bag directory); - reads standard input")
         ->required();
   app.add_option("--columns", opt.columns,
                  "Columns to analyse, by header name or 1-based index (gx,gy,gz or 2,3,4); "
@@ -105,8 +105,8 @@ void add_input_options(CLI::App& app, InputOptions& opt, bool several) {
                  "timestamp..., temp, temperature and those named by --time-col / --temp-col)");
   app.add_option("--time-col", opt.time_col,
                  "Time column (seconds), by name or index; default: a column named t, time, "
-                 "t_s, timestamp...; for a ROS bag: stamp (header.stamp, default) or record (when the bag "
-                 "recorded each message)");
+                 "t_s, timestamp...; for a ROS bag: stamp (header.stamp, default) or record (the log time: when "
+                 "the bag recorded each message)");
   app.add_option("--rate", opt.rate_hz, "Sampling rate in Hz (inferred from the time column "
                                         "when not given)")
       ->check(positive_number());

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <filesystem>
 #include <optional>
 #include <string_view>
 #include <utility>
@@ -15,12 +16,17 @@
 #include "cubecal/error.hpp"
 #include "cubecal/io/file_buffer.hpp"
 #include "cubecal/io/npy_reader.hpp"
+#include "cubecal/io/mcap.hpp"
+#include "cubecal/io/message_log.hpp"
 #include "cubecal/io/ros1_bag.hpp"
+#include "cubecal/io/ros2_bag.hpp"
 #include "cubecal/stats/sampling.hpp"
 #include "detail/bag_series.hpp"
 #include "detail/series_timing.hpp"
 
 namespace cubecal::io {
+
+using namespace std::string_literals;
 
 namespace {
 
@@ -290,10 +296,23 @@ bool looks_like_time_column(const std::string& name) {
 
 Series read_series(const std::string& path_arg, const SeriesOptions& opt) {
   check_options(opt);
+  // ROS 2 bags read from their files: a bag directory, or an SQLite .db3.
+  if (opt.binary.channels.empty() && path_arg != kStdinPath) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path_arg, ec))
+      return detail::read_bag_series(read_ros2_bag_directory(path_arg), false, opt);
+    if (is_sqlite_file(path_arg)) return detail::read_bag_series(read_db3(path_arg), false, opt);
+  }
   const FileBuffer buf = FileBuffer::open(path_arg, opt.binary.channels.empty() ? Content::series : Content::raw);
   const std::string& path = buf.path();  // how errors name it ("<stdin>" for "-")
   if (opt.binary.channels.empty() && looks_like_ros_bag(buf.view()))
-    return detail::read_bag_series(parse_ros1_bag(buf.view(), path), buf.was_gzip(), opt);
+    return detail::read_bag_series(message_log(parse_ros1_bag(buf.view(), path)), buf.was_gzip(), opt);
+  if (opt.binary.channels.empty() && looks_like_mcap(buf.view()))
+    return detail::read_bag_series(parse_mcap(buf.view(), path), buf.was_gzip(), opt);
+  if (opt.binary.channels.empty() && looks_like_sqlite(buf.view()))
+    throw InputError(path, 0, 0, "an SQLite database (a ROS 2 .db3 bag) is read from its file, not "s +
+                                     (buf.was_gzip() ? "gzip-compressed" : "from standard input"),
+                     "give the .db3 file or its bag directory");
   std::optional<Table> all = binary_table(buf.view(), path, opt);
   const Table layout = all ? Table{} : parse_layout(buf.view(), path, opt.table);
   const TimeChoice time = choose_time_column(opt, all ? *all : layout);

@@ -6,6 +6,7 @@
 #include <string_view>
 
 #include "cubecal/error.hpp"
+#include "cdr_messages.hpp"
 #include "ros1_messages.hpp"
 #include "series_timing.hpp"
 
@@ -17,29 +18,22 @@ constexpr std::string_view kImu = "sensor_msgs/Imu";
 constexpr std::string_view kMag = "sensor_msgs/MagneticField";
 constexpr std::string_view kTemp = "sensor_msgs/Temperature";
 
-struct Topic {
-  std::string name;
-  std::string type;
-  std::size_t messages = 0;
-  std::vector<std::uint32_t> connections;
-  std::string described() const {
-    return name + " (" + type + ", " + std::to_string(messages) + (messages == 1 ? " message)" : " messages)");
-  }
-};
+using Topic = LogTopic;
 
-std::vector<Topic> topics_of(const Ros1Bag& bag) {
-  std::vector<Topic> topics;
-  for (const auto& c : bag.connections) {
-    auto it = std::find_if(topics.begin(), topics.end(), [&](const Topic& t) { return t.name == c.topic; });
-    if (it == topics.end()) {
-      topics.push_back({c.topic, c.type, 0, {}});
-      it = topics.end() - 1;
-    }
-    it->messages += c.messages;
-    it->connections.push_back(c.id);
-  }
-  return topics;
+// The message a type name designates, in ROS 1 ("sensor_msgs/Imu") or ROS 2
+// ("sensor_msgs/msg/Imu") spelling.
+enum class Kind { imu, mag, temp, other };
+
+Kind kind_of(const Topic& t) {
+  std::string type = t.type;
+  if (const auto p = type.find("/msg/"); p != std::string::npos) type.erase(p, 4);
+  if (type == kImu) return Kind::imu;
+  if (type == kMag) return Kind::mag;
+  if (type == kTemp) return Kind::temp;
+  return Kind::other;
 }
+
+bool decodable(const Topic& t) { return t.encoding == "ros1" || t.encoding == "cdr"; }
 
 std::string listed(const std::vector<const Topic*>& topics) {
   if (topics.empty()) return "none";
@@ -54,21 +48,27 @@ std::string listed(const std::vector<Topic>& topics) {
   return listed(all);
 }
 
-bool readable(const std::string& type) { return type == kImu || type == kMag || type == kTemp; }
+InputError not_decodable(const MessageLog& bag, const Topic& t) {
+  return InputError(bag.file, 0, 0,
+                    "topic " + t.described() + " is serialized as '" + t.encoding +
+                        "', not as ROS 1 (ros1) or ROS 2 (cdr) messages",
+                    "choose another topic");
+}
 
-std::vector<const Topic*> choose_topics(const Ros1Bag& bag, const std::vector<Topic>& topics,
+std::vector<const Topic*> choose_topics(const MessageLog& bag, const std::vector<Topic>& topics,
                                         const SeriesOptions& opt, bool& by_default) {
   std::vector<const Topic*> chosen;
   by_default = opt.topics.empty();
   if (opt.topics.empty()) {
     for (const auto& t : topics)
-      if (t.type == kImu) chosen.push_back(&t);
+      if (kind_of(t) == Kind::imu) chosen.push_back(&t);
     if (chosen.empty())
       throw InputError(bag.file, 0, 0, "no sensor_msgs/Imu topic; topics are: " + listed(topics),
                        "choose the topics to read with --topic NAME");
     if (chosen.size() > 1)
       throw InputError(bag.file, 0, 0, "several sensor_msgs/Imu topics: " + listed(chosen),
                        "choose one with --topic NAME");
+    if (!decodable(*chosen.front())) throw not_decodable(bag, *chosen.front());
     return chosen;
   }
   for (const auto& name : opt.topics) {
@@ -76,14 +76,15 @@ std::vector<const Topic*> choose_topics(const Ros1Bag& bag, const std::vector<To
     if (it == topics.end())
       throw InputError(bag.file, 0, 0, "topic " + name + " not found; topics are: " + listed(topics),
                        "choose one of them with --topic NAME");
-    if (!readable(it->type))
+    if (kind_of(*it) == Kind::other)
       throw InputError(bag.file, 0, 0,
                        "topic " + it->described() + " is not of a type cubecal reads (" + std::string(kImu) + ", " +
                            std::string(kMag) + ", " + std::string(kTemp) + ")",
                        "choose another topic");
+    if (!decodable(*it)) throw not_decodable(bag, *it);
     if (std::find(chosen.begin(), chosen.end(), &*it) != chosen.end()) continue;
     for (const Topic* t : chosen)
-      if (t->type == it->type)
+      if (kind_of(*t) == kind_of(*it))
         throw InputError(bag.file, 0, 0, "topics " + t->name + " and " + it->name + " are both " + it->type,
                          "read one " + it->type + " topic per run");
     chosen.push_back(&*it);
@@ -108,37 +109,36 @@ struct Column {
 // One topic's messages decoded: their times and their values.
 struct Decoded {
   const Topic* topic = nullptr;
-  std::vector<const Ros1Message*> messages;
+  std::vector<const LogMessage*> messages;
   std::vector<double> time;
   std::vector<Column> columns;
 };
 
-std::string where(const Ros1Message& m) {
-  return m.compressed ? "in the chunk at byte " + std::to_string(m.offset) : "at byte " + std::to_string(m.offset);
-}
-
-InputError message_error(const Ros1Bag& bag, const Decoded& d, std::size_t i, const std::string& what,
+InputError message_error(const MessageLog& bag, const Decoded& d, std::size_t i, const std::string& what,
                          std::string hint) {
-  const Ros1Message& m = *d.messages[i];
+  const LogMessage& m = *d.messages[i];
   return InputError(bag.file, 0, 0,
-                    "message " + std::to_string(i + 1) + " of " + d.topic->name + " (" + where(m) + "): " + what,
+                    "message " + std::to_string(i + 1) + " of " + d.topic->name + " (" + bag.where(m) + "): " + what,
                     std::move(hint));
 }
 
-Decoded decode(const Ros1Bag& bag, const Topic& topic, bool record_time) {
+Decoded decode(const MessageLog& bag, std::uint32_t index, bool record_time) {
+  const Topic& topic = bag.topics[index];
+  const Kind kind = kind_of(topic);
+  const bool cdr = topic.encoding == "cdr";
   Decoded d;
   d.topic = &topic;
   const auto add = [&](const char* name, const char* unit, const char* field) {
     d.columns.push_back({name, unit, &topic, field, {}});
   };
-  if (topic.type == kImu) {
+  if (kind == Kind::imu) {
     add("gx", "rad/s", "angular_velocity.x");
     add("gy", "rad/s", "angular_velocity.y");
     add("gz", "rad/s", "angular_velocity.z");
     add("ax", "m/s^2", "linear_acceleration.x");
     add("ay", "m/s^2", "linear_acceleration.y");
     add("az", "m/s^2", "linear_acceleration.z");
-  } else if (topic.type == kMag) {
+  } else if (kind == Kind::mag) {
     add("mx", "T", "magnetic_field.x");
     add("my", "T", "magnetic_field.y");
     add("mz", "T", "magnetic_field.z");
@@ -148,24 +148,23 @@ Decoded decode(const Ros1Bag& bag, const Topic& topic, bool record_time) {
   for (auto& c : d.columns) c.values.reserve(topic.messages);
   d.time.reserve(topic.messages);
   for (const auto& m : bag.messages) {
-    if (std::find(topic.connections.begin(), topic.connections.end(), m.connection) == topic.connections.end())
-      continue;
+    if (m.topic != index) continue;
     d.messages.push_back(&m);
     const std::string_view bytes = bag.data(m);
     Stamp stamp;
     try {
-      if (topic.type == kImu) {
-        const ImuMessage imu = decode_imu(bytes);
+      if (kind == Kind::imu) {
+        const ImuMessage imu = cdr ? decode_cdr_imu(bytes) : decode_imu(bytes);
         stamp = imu.stamp;
         for (int k = 0; k < 3; ++k) d.columns[static_cast<std::size_t>(k)].values.push_back(imu.angular_velocity[k]);
         for (int k = 0; k < 3; ++k)
           d.columns[static_cast<std::size_t>(3 + k)].values.push_back(imu.linear_acceleration[k]);
-      } else if (topic.type == kMag) {
-        const MagneticFieldMessage mag = decode_magnetic_field(bytes);
+      } else if (kind == Kind::mag) {
+        const MagneticFieldMessage mag = cdr ? decode_cdr_magnetic_field(bytes) : decode_magnetic_field(bytes);
         stamp = mag.stamp;
         for (int k = 0; k < 3; ++k) d.columns[static_cast<std::size_t>(k)].values.push_back(mag.magnetic_field[k]);
       } else {
-        const TemperatureMessage t = decode_temperature(bytes);
+        const TemperatureMessage t = cdr ? decode_cdr_temperature(bytes) : decode_temperature(bytes);
         stamp = t.stamp;
         d.columns[0].values.push_back(t.temperature);
       }
@@ -183,7 +182,7 @@ Decoded decode(const Ros1Bag& bag, const Topic& topic, bool record_time) {
 }
 
 // Non-finite values and magnitudes no variance can hold, at their message.
-void check_values(const Ros1Bag& bag, const Decoded& d) {
+void check_values(const MessageLog& bag, const Decoded& d) {
   for (const auto& c : d.columns) {
     double top = 0.0;
     for (std::size_t i = 0; i < c.values.size(); ++i) {
@@ -235,7 +234,7 @@ std::size_t resolve(const std::string& file, const std::vector<Column>& columns,
 
 }  // namespace
 
-Series read_bag_series(const Ros1Bag& bag, bool gzip, const SeriesOptions& opt) {
+Series read_bag_series(const MessageLog& bag, bool gzip, const SeriesOptions& opt) {
   if (std::any_of(opt.lsb.begin(), opt.lsb.end(), [](double v) { return v != 1.0; }))
     throw UsageError("counts_per_unit", bag.file + " is a ROS bag: its values are in SI units already, without an LSB");
   if (opt.table.skip_rows != 0) throw UsageError(bag.file + " is a ROS bag: it has no rows to skip");
@@ -250,7 +249,7 @@ Series read_bag_series(const Ros1Bag& bag, bool gzip, const SeriesOptions& opt) 
                                      opt.time_col + "'");
   }
 
-  const std::vector<Topic> topics = topics_of(bag);
+  const std::vector<Topic>& topics = bag.topics;
   Series s;
   s.file = bag.file;
   s.gzip = gzip;
@@ -260,11 +259,11 @@ Series read_bag_series(const Ros1Bag& bag, bool gzip, const SeriesOptions& opt) 
 
   std::vector<Decoded> decoded;
   for (const Topic* t : chosen) {
-    decoded.push_back(decode(bag, *t, record_time));
+    decoded.push_back(decode(bag, static_cast<std::uint32_t>(t - topics.data()), record_time));
     check_values(bag, decoded.back());
   }
   // Channels in a fixed order whatever the order of --topic: IMU, field, temperature.
-  const auto rank = [](const Decoded& d) { return d.topic->type == kImu ? 0 : d.topic->type == kMag ? 1 : 2; };
+  const auto rank = [](const Decoded& d) { return static_cast<int>(kind_of(*d.topic)); };
   std::stable_sort(decoded.begin(), decoded.end(), [&](const Decoded& a, const Decoded& b) { return rank(a) < rank(b); });
   const Decoded& first = decoded.front();
   for (const auto& d : decoded) {

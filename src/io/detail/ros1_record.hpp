@@ -20,12 +20,15 @@ struct BagPlace {
   const std::string* file = nullptr;
   std::size_t base = 0;    // file offset of bytes[0] (uncompressed data)
   std::string within;      // e.g. " in the bz2 chunk at byte 4117": positions are not file offsets
+  // What to do about it; null: the ROS 1 bag's advice.
+  const char* repair = nullptr;
 };
 
 [[noreturn]] inline void bag_error(const BagPlace& at, std::size_t pos, const std::string& what) {
   throw InputError(*at.file, 0, 0,
                    "byte " + std::to_string(at.base + pos) + at.within + ": " + what,
-                   "the bag is truncated or corrupt: copy it again, or repair it with `rosbag reindex`");
+                   at.repair != nullptr ? at.repair
+                                        : "the bag is truncated or corrupt: copy it again, or repair it with `rosbag reindex`");
 }
 
 inline std::uint32_t le32(const char* p) noexcept {
