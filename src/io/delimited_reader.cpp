@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <exception>
 #include <optional>
@@ -416,11 +417,16 @@ std::vector<const char*> chunk_bounds(const char* begin, const char* end, std::s
   return b;
 }
 
+// A branch-free count that the compiler vectorises (a memchr call per
+// line costs a call per 50-100 bytes).
 std::size_t count_newlines(const char* p, const char* end) {
   std::size_t n = 0;
-  while (const auto* nl = static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(end - p)))) {
-    ++n;
-    p = nl + 1;
+  while (p < end) {
+    // Blocks of at most 255 bytes: the per-lane byte counters cannot wrap.
+    const char* stop = p + std::min<std::ptrdiff_t>(end - p, 255);
+    unsigned char block = 0;
+    for (; p < stop; ++p) block = static_cast<unsigned char>(block + (*p == '\n'));
+    n += block;
   }
   return n;
 }
@@ -429,22 +435,42 @@ std::size_t count_newlines(const char* p, const char* end) {
 // pages are mapped in one call ahead of the work and dropped behind it, so
 // that the file's pages never all sit in the process's memory at once (a
 // 200 MB record would otherwise add 200 MB to the peak, beside the parsed
-// columns). Windows end just after a newline, as chunks do.
+// columns). Windows end just after a newline, as chunks do, past a multiple
+// of 2 MiB in the file's address space: the kernel can map whole huge pages
+// of the page cache, whose TLB entries make the scan as fast as over a file
+// mapped at once, and no huge page is split by a release in its middle.
 constexpr std::size_t kWindowBytes = std::size_t{4} << 20;
+// The line count's read size (a copy per thread; fits the L2 cache).
+constexpr std::size_t kCopyBytes = std::size_t{256} << 10;
+constexpr std::uintptr_t kHugePage = std::uintptr_t{2} << 20;
+
+const char* huge_floor(const char* p) {
+  return p - reinterpret_cast<std::uintptr_t>(p) % kHugePage;
+}
 
 template <class Work>
 void windowed(const char* b, const char* const e, const FileBuffer* pages, const Work& work) {
+  const char* released = huge_floor(b);  // what lies before this is dropped (or another thread's)
   while (b < e) {
     const char* w = e;
     if (static_cast<std::size_t>(e - b) > kWindowBytes) {
-      const char* target = b + kWindowBytes;
+      const char* target = huge_floor(b + kWindowBytes);
+      if (target <= b) target = b + kWindowBytes;
       const auto* nl = static_cast<const char*>(std::memchr(target, '\n', static_cast<std::size_t>(e - target)));
       w = nl != nullptr ? nl + 1 : e;
     }
-    const std::string_view part(b, static_cast<std::size_t>(w - b));
-    if (pages != nullptr) pages->populate(part);
+    if (pages != nullptr) {
+      const char* from = huge_floor(b);
+      const char* to = huge_floor(w - 1) + kHugePage;  // whole huge pages (clipped to the file by populate)
+      pages->populate(std::string_view(from, static_cast<std::size_t>(to - from)));
+    }
     const bool more = work(b, w);
-    if (pages != nullptr) pages->release(part);
+    if (pages != nullptr && huge_floor(w) > released) {
+      // The whole huge pages behind the window: the one holding w is the
+      // next window's (or the next thread's) first.
+      pages->release(std::string_view(released, static_cast<std::size_t>(huge_floor(w) - released)));
+      released = huge_floor(w);
+    }
     if (!more) return;
     b = w;
   }
@@ -617,11 +643,17 @@ std::vector<std::vector<double>> parse_rows(std::string_view text, const std::st
   // squeeze out what comments and blank lines left unused.
   std::vector<std::size_t> offset(n_chunks + 1, 0);
   run_parallel(n_chunks, [&](std::size_t k) {
+    // A mapped file's lines are counted in copies of its bytes: mapping the
+    // pages here, dropping them and mapping them again for the parse costs
+    // more than reading them.
     std::size_t nl = 0;
-    windowed(bounds[k], bounds[k + 1], pages, [&nl](const char* b, const char* e) {
-      nl += count_newlines(b, e);
-      return true;
-    });
+    std::vector<char> copy(pages != nullptr ? kCopyBytes : 0);
+    for (const char* b = bounds[k]; b < bounds[k + 1];) {
+      const std::size_t len = std::min(kCopyBytes, static_cast<std::size_t>(bounds[k + 1] - b));
+      const bool copied = pages != nullptr && pages->copy(std::string_view(b, len), copy.data());
+      nl += copied ? count_newlines(copy.data(), copy.data() + len) : count_newlines(b, b + len);
+      b += len;
+    }
     const bool unterminated = bounds[k + 1] > bounds[k] && bounds[k + 1][-1] != '\n';
     offset[k + 1] = nl + (unterminated ? 1 : 0);
   });

@@ -228,6 +228,7 @@ bool is_known_binary_format(std::string_view head) noexcept {
 struct FileBuffer::Impl {
   void* map = nullptr;
   std::size_t map_size = 0;
+  int fd = -1;  // the mapped file, for copy()
   HeapBlock heap;
   std::string_view text;
 
@@ -240,6 +241,8 @@ struct FileBuffer::Impl {
     if (map != nullptr) ::munmap(map, map_size);
     map = nullptr;
     map_size = 0;
+    if (fd >= 0) ::close(fd);
+    fd = -1;
   }
 };
 
@@ -272,6 +275,7 @@ FileBuffer FileBuffer::open(const std::string& path_arg, Content content) {
         throw_os_error(path, "cannot read file", errno);
       }
       raw = std::string_view(static_cast<const char*>(impl.map), impl.map_size);
+      impl.fd = ::dup(fd.get());  // copy() reads through it; -1 (no copies) is only slower
     }
   } else {
     read_all(path, fd.get(), impl.heap, content);
@@ -314,10 +318,10 @@ std::pair<char*, std::size_t> pages_of(const void* map, std::size_t map_size, st
   const auto base = reinterpret_cast<std::uintptr_t>(map);
   const auto b = reinterpret_cast<std::uintptr_t>(part.data());
   const std::uintptr_t e = b + part.size();
-  if (b < base || e > base + map_size) return {nullptr, 0};
+  if (e <= base || b >= base + map_size) return {nullptr, 0};
   static const auto page = static_cast<std::uintptr_t>(::sysconf(_SC_PAGESIZE));
-  const std::uintptr_t first = b / page * page;
-  const std::uintptr_t last = std::min((e + page - 1) / page * page, (base + map_size + page - 1) / page * page);
+  const std::uintptr_t first = std::max(b, base) / page * page;
+  const std::uintptr_t last = (std::min(e, base + map_size) + page - 1) / page * page;
   return {reinterpret_cast<char*>(first), static_cast<std::size_t>(last - first)};
 }
 
@@ -331,6 +335,25 @@ void FileBuffer::populate(std::string_view part) const noexcept {
 #ifdef MADV_POPULATE_READ
   if (n != 0) ::madvise(p, n, MADV_POPULATE_READ);
 #endif
+}
+
+bool FileBuffer::copy(std::string_view part, char* out) const noexcept {
+  if (!impl_ || impl_->map == nullptr || impl_->fd < 0 || part.empty()) return false;
+  const auto base = reinterpret_cast<std::uintptr_t>(impl_->map);
+  const auto b = reinterpret_cast<std::uintptr_t>(part.data());
+  if (b < base || b + part.size() > base + impl_->map_size) return false;
+  auto offset = static_cast<off_t>(b - base);
+  std::size_t done = 0;
+  while (done < part.size()) {
+    const ssize_t n = ::pread(impl_->fd, out + done, part.size() - done, offset);
+    if (n <= 0) {
+      if (n < 0 && errno == EINTR) continue;
+      return false;
+    }
+    done += static_cast<std::size_t>(n);
+    offset += n;
+  }
+  return true;
 }
 
 void FileBuffer::release(std::string_view part) const noexcept {

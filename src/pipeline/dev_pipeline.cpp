@@ -146,9 +146,10 @@ DevResult run(const std::vector<std::string>& names,
   total *= static_cast<double>(channels.size());
 
   // A phase record is a copy of its channel: the channels are analysed a
-  // batch at a time, so that the records alive at once hold one channel (or,
-  // when one channel gives too few tasks to keep the threads busy, one
-  // channel per thread) rather than a second copy of the whole record.
+  // batch at a time, so that the records alive at once hold two batches of
+  // one channel (or, when one channel gives too few tasks to keep the
+  // threads busy, one channel per thread) rather than a second copy of the
+  // whole record.
   const std::size_t tasks_per_channel = nseg * ranges.size();
   const std::size_t batch =
       tasks_per_channel >= 4 * static_cast<std::size_t>(threads)
@@ -156,57 +157,87 @@ DevResult run(const std::vector<std::string>& names,
           : std::min<std::size_t>(channels.size(), static_cast<std::size_t>(threads));
   std::vector<StabilityPoint> evals(channels.size() * nseg * nm);
   double done = 0.0;
-  for (std::size_t c0 = 0; c0 < channels.size(); c0 += batch) {
-    const std::size_t c1 = std::min(channels.size(), c0 + batch);
-    // Phase records of the batch's (channel, segment) pieces, built in
-    // parallel. Exceptions must not leave an OpenMP region: keep the first
-    // and rethrow.
-    std::vector<std::unique_ptr<StabilityRecord>> records((c1 - c0) * nseg);
-    std::vector<std::string> errors(records.size());
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-    for (std::size_t k = 0; k < records.size(); ++k) {
-      const auto& seg = segments[k % nseg];
-      const auto& ch = channels[c0 + k / nseg];
-      try {
-        records[k] = std::make_unique<StabilityRecord>(std::span<const double>(ch.data() + seg.begin, seg.size()),
+  double reported = 0.0;  // thread 0's last report: rounding must not make the next one smaller
+  // Records of the batch starting at channel c0, one per (channel, segment).
+  // Exceptions must not leave an OpenMP region: build() keeps the message
+  // and check() rethrows it.
+  struct Batch {
+    std::size_t c0 = 0;
+    std::vector<std::unique_ptr<StabilityRecord>> records;
+    std::vector<std::string> errors;
+  };
+  const auto batch_at = [&](std::size_t c0) {
+    Batch b;
+    b.c0 = c0;
+    const std::size_t size = c0 < channels.size() ? (std::min(channels.size(), c0 + batch) - c0) * nseg : 0;
+    b.records.resize(size);
+    b.errors.resize(size);
+    return b;
+  };
+  const auto build = [&](Batch& b, std::size_t k) {
+    const auto& seg = segments[k % nseg];
+    const auto& ch = channels[b.c0 + k / nseg];
+    try {
+      b.records[k] = std::make_unique<StabilityRecord>(std::span<const double>(ch.data() + seg.begin, seg.size()),
                                                        req.type, res.tau0, req.stat);
-      } catch (const std::exception& e) {
-        errors[k] = e.what();
-      }
+    } catch (const std::exception& e) {
+      b.errors[k] = e.what();
     }
-    for (std::size_t k = 0; k < records.size(); ++k)
-      if (!errors[k].empty())
-        throw UsageError("column " + names[c0 + k / nseg] + ": " + errors[k] +
+  };
+  const auto check = [&](const Batch& b) {
+    for (std::size_t k = 0; k < b.errors.size(); ++k)
+      if (!b.errors[k].empty())
+        throw UsageError("column " + names[b.c0 + k / nseg] + ": " + b.errors[k] +
                          " (remove or repair it before the analysis)");
+  };
 
-    // Every (piece, range of factors) evaluation is independent. The
+  Batch cur = batch_at(0);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+  for (std::size_t k = 0; k < cur.records.size(); ++k) build(cur, k);
+  check(cur);
+  for (; cur.c0 < channels.size();) {
+    // Every (piece, range of factors) evaluation is independent; the next
+    // batch's records are built among them (first, so that a thread builds
+    // while the others evaluate), which keeps two batches alive for a
+    // while rather than leaving threads idle while one is built. The
     // caller's thread (OpenMP thread 0) reports the progress between its
-    // ranges.
-    const std::size_t tasks = records.size() * ranges.size();
+    // tasks.
+    Batch next = batch_at(cur.c0 + batch);
+    const std::size_t builds = next.records.size();
+    const std::size_t tasks = builds + cur.records.size() * ranges.size();
     std::atomic<double> batch_done{0.0};
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-    for (std::size_t k = 0; k < tasks; ++k) {
+    for (std::size_t task = 0; task < tasks; ++task) {
+      if (task < builds) {
+        build(next, task);
+        continue;
+      }
+      const std::size_t k = task - builds;
       const std::size_t piece = k / ranges.size();
-      const auto& rec = *records[piece];
+      const auto& rec = *cur.records[piece];
       const std::size_t j0 = ranges[k % ranges.size()].first;
       std::size_t j1 = ranges[k % ranges.size()].second;
       while (j1 > j0 && ms[j1 - 1] > rec.max_m()) --j1;  // ms ascending
       if (j1 > j0) {
         const auto points = rec.evaluate(std::span<const std::size_t>(ms.data() + j0, j1 - j0), req.options);
         std::copy(points.begin(), points.end(),
-                  evals.begin() + static_cast<std::ptrdiff_t>((c0 * nseg + piece) * nm + j0));
+                  evals.begin() + static_cast<std::ptrdiff_t>((cur.c0 * nseg + piece) * nm + j0));
       }
       const double t = range_terms(piece % nseg, k % ranges.size());
       const double now = done + batch_done.fetch_add(t) + t;
-      if (req.progress && omp_get_thread_num() == 0 && total > 0.0)
-        req.progress(std::min(now / total, 1.0));  // the sum may round past the total
+      if (req.progress && omp_get_thread_num() == 0 && total > 0.0) {
+        reported = std::max(reported, std::min(now / total, 1.0));  // the sum may round past the total
+        req.progress(reported);
+      }
     }
     done += batch_done.load();
     // The ranges above ran apart: Stable32's run rule over each whole run.
-    for (std::size_t k = 0; k < records.size(); ++k)
-      records[k]->carry_types(
-          std::span<StabilityPoint>(evals.data() + static_cast<std::ptrdiff_t>((c0 * nseg + k) * nm), nm),
+    for (std::size_t k = 0; k < cur.records.size(); ++k)
+      cur.records[k]->carry_types(
+          std::span<StabilityPoint>(evals.data() + static_cast<std::ptrdiff_t>((cur.c0 * nseg + k) * nm), nm),
           req.options);
+    check(next);
+    cur = std::move(next);
   }
   if (req.progress) req.progress(1.0);
 

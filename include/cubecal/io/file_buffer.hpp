@@ -40,10 +40,15 @@ class FileBuffer {
   // maps `part` ahead of the pass in one call (instead of a page fault per
   // few pages) and release() drops it behind, so that the pages stay in the
   // page cache but not in this process's memory (a later read of `part`
-  // maps them again). `part` must lie in view(). Both do nothing for input
+  // maps them again); only the part of `part` in the mapping counts. Both do nothing for input
   // held in memory (gzip, standard input), whose bytes must stay.
   void populate(std::string_view part) const noexcept;
   void release(std::string_view part) const noexcept;
+  // Copies the bytes of `part` of a mapped file into `out` by reading the
+  // file, without mapping them: for a first pass that only looks at the
+  // bytes (a second pass maps them once). False, with nothing promised in
+  // `out`, for input held in memory or when the read fails.
+  bool copy(std::string_view part, char* out) const noexcept;
   bool was_gzip() const noexcept { return gzip_; }
   const std::string& path() const noexcept { return path_; }
 
