@@ -21,6 +21,7 @@
 
 #include "cubecal/error.hpp"
 #include "cubecal/io/ros1_bag.hpp"
+#include "cubecal/io/ulog.hpp"
 #include "detail/binary_input.hpp"
 
 namespace cubecal::io {
@@ -219,7 +220,7 @@ void read_all(const std::string& path, int fd, HeapBlock& out, Content content) 
 
 bool is_known_binary_format(std::string_view head) noexcept {
   return (head.size() >= 6 && head.substr(0, 6) == std::string_view("\x93NUMPY", 6)) ||
-         head.starts_with(kRos1BagMagic);
+         head.starts_with(kRos1BagMagic) || looks_like_ulog(head);
 }
 
 struct FileBuffer::Impl {

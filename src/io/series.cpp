@@ -16,9 +16,11 @@
 #include "cubecal/io/file_buffer.hpp"
 #include "cubecal/io/npy_reader.hpp"
 #include "cubecal/io/ros1_bag.hpp"
+#include "cubecal/io/ulog.hpp"
 #include "cubecal/stats/sampling.hpp"
 #include "detail/bag_series.hpp"
 #include "detail/series_timing.hpp"
+#include "detail/ulog_series.hpp"
 
 namespace cubecal::io {
 
@@ -307,6 +309,8 @@ Series read_series(const std::string& path_arg, const SeriesOptions& opt) {
   const std::string& path = buf.path();  // how errors name it ("<stdin>" for "-")
   if (opt.binary.channels.empty() && looks_like_ros_bag(buf.view()))
     return detail::read_bag_series(parse_ros1_bag(buf.view(), path), buf.was_gzip(), opt);
+  if (opt.binary.channels.empty() && looks_like_ulog(buf.view()))
+    return detail::read_ulog_series(parse_ulog(buf.view(), path), buf.view(), buf.was_gzip(), opt);
   std::optional<Table> all = binary_table(buf.view(), path, opt);
   const Table layout = all ? Table{} : parse_layout(buf.view(), path, opt.table);
   const TimeChoice time = choose_time_column(opt, all ? *all : layout);
