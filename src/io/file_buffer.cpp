@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "cubecal/error.hpp"
+#include "cubecal/io/hdf5_reader.hpp"
 #include "cubecal/io/ros1_bag.hpp"
 #include "cubecal/io/ulog.hpp"
 #include "detail/binary_input.hpp"
@@ -220,7 +221,7 @@ void read_all(const std::string& path, int fd, HeapBlock& out, Content content) 
 
 bool is_known_binary_format(std::string_view head) noexcept {
   return (head.size() >= 6 && head.substr(0, 6) == std::string_view("\x93NUMPY", 6)) ||
-         head.starts_with(kRos1BagMagic) || looks_like_ulog(head);
+         head.starts_with(kRos1BagMagic) || looks_like_ulog(head) || looks_like_hdf5(head);
 }
 
 struct FileBuffer::Impl {
