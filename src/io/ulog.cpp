@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cstring>
+#include <map>
+#include <unordered_map>
 
 #include "cubecal/error.hpp"
 #include "detail/ulog_format.hpp"
@@ -155,7 +157,8 @@ class Parser {
         std::string error;
         ULogFormat f = detail::parse_ulog_format(body, error);
         if (!error.empty()) fail(log_.file, pos, error);
-        if (log_.format(f.name) != nullptr) fail(log_.file, pos, "format " + f.name + " defined twice");
+        if (!format_index_.emplace(f.name, log_.formats.size()).second)
+          fail(log_.file, pos, "format " + f.name + " defined twice");
         format_offsets_.push_back(pos);
         log_.formats.push_back(std::move(f));
         break;
@@ -184,35 +187,32 @@ class Parser {
         while (!name.empty() && name.back() == '\0') name.remove_suffix(1);
         if (active(msg_id) != nullptr)
           fail(log_.file, pos, "msg_id " + std::to_string(msg_id) + " added twice without being removed");
-        const auto it = std::find_if(log_.topics.begin(), log_.topics.end(), [&](const ULogTopic& t) {
-          return t.name == name && t.multi_id == multi_id;
-        });
-        std::size_t index = static_cast<std::size_t>(it - log_.topics.begin());
-        if (it == log_.topics.end()) {
+        const auto [it, added] = topic_index_.emplace(std::make_pair(std::string(name), multi_id), log_.topics.size());
+        if (added) {
           ULogTopic t;
           t.name = std::string(name);
           t.multi_id = multi_id;
           log_.topics.push_back(std::move(t));
           topic_offsets_.push_back(pos);
         }
-        ids_.push_back({msg_id, index});
+        ids_[msg_id] = static_cast<std::int32_t>(it->second);
         break;
       }
       case 'R': {
         if (body.size() < 2) fail(log_.file, pos, "remove-logged-message ('R') cut short");
         const std::uint16_t msg_id = le16(body.data());
-        const auto it = std::find_if(ids_.begin(), ids_.end(), [&](const Id& i) { return i.msg_id == msg_id; });
-        if (it == ids_.end()) fail(log_.file, pos, "msg_id " + std::to_string(msg_id) + " removed but never added");
-        ids_.erase(it);
+        if (active(msg_id) == nullptr)
+          fail(log_.file, pos, "msg_id " + std::to_string(msg_id) + " removed but never added");
+        ids_[msg_id] = -1;
         break;
       }
       case 'D': {
         if (body.size() < 2) fail(log_.file, pos, "data message ('D') of " + std::to_string(body.size()) + " bytes");
         const std::uint16_t msg_id = le16(body.data());
-        const std::size_t* topic = active(msg_id);
+        const std::int32_t* topic = active(msg_id);
         if (topic == nullptr)
           fail(log_.file, pos, "data message for msg_id " + std::to_string(msg_id) + ", which no 'A' message added");
-        log_.topics[*topic].messages.push_back({pos, pos + 5, body.size() - 2});
+        log_.topics[static_cast<std::size_t>(*topic)].messages.push_back({pos, pos + 5, body.size() - 2});
         break;
       }
       case 'L':
@@ -244,9 +244,11 @@ class Parser {
     if (bad != log_.formats.size()) fail(log_.file, format_offsets_[bad], error);
     for (std::size_t i = 0; i < log_.topics.size(); ++i) {
       ULogTopic& t = log_.topics[i];
-      const ULogFormat* f = log_.format(t.name);
-      if (f == nullptr) fail(log_.file, topic_offsets_[i], "topic " + t.label() + " has no format definition ('F')");
-      t.format = static_cast<std::size_t>(f - log_.formats.data());
+      const auto found = format_index_.find(t.name);
+      if (found == format_index_.end())
+        fail(log_.file, topic_offsets_[i], "topic " + t.label() + " has no format definition ('F')");
+      t.format = found->second;
+      const ULogFormat* f = &log_.formats[t.format];
       for (const auto& m : t.messages) {
         if (m.size >= f->logged_size && m.size <= f->size) continue;
         fail(log_.file, m.offset,
@@ -257,18 +259,16 @@ class Parser {
     }
   }
 
-  struct Id {
-    std::uint16_t msg_id;
-    std::size_t topic;
-  };
-  const std::size_t* active(std::uint16_t msg_id) const {
-    const auto it = std::find_if(ids_.begin(), ids_.end(), [&](const Id& i) { return i.msg_id == msg_id; });
-    return it == ids_.end() ? nullptr : &it->topic;
-  }
+  // The topic of an added msg_id, or null.
+  const std::int32_t* active(std::uint16_t msg_id) const { return ids_[msg_id] < 0 ? nullptr : &ids_[msg_id]; }
 
   std::string_view b_;
   ULog log_;
-  std::vector<Id> ids_;                    // the msg_ids added and not removed
+  // Per msg_id, the index of its topic while added (and not removed), else -1;
+  // lookups by index and name (a hostile log may hold 65536 ids and as many formats).
+  std::vector<std::int32_t> ids_ = std::vector<std::int32_t>(65536, -1);
+  std::map<std::pair<std::string, std::uint8_t>, std::size_t> topic_index_;
+  std::unordered_map<std::string, std::size_t> format_index_;
   std::vector<std::size_t> format_offsets_;  // where each format was defined
   std::vector<std::size_t> topic_offsets_;   // where each topic was first added
 };

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <charconv>
 #include <limits>
+#include <unordered_map>
+#include <unordered_set>
 
 namespace cubecal::io::detail {
 
@@ -49,6 +51,7 @@ ULogFormat parse_ulog_format(std::string_view text, std::string& error) {
   }
   f.name = std::string(name);
   std::string_view rest = text.substr(colon + 1);
+  std::unordered_set<std::string_view> names;  // (views into `text`)
   while (!rest.empty()) {
     const std::size_t semi = rest.find(';');
     const std::string_view item = trimmed(rest.substr(0, semi));
@@ -85,7 +88,7 @@ ULogFormat parse_ulog_format(std::string_view text, std::string& error) {
     }
     field.type = std::string(type);
     field.name = std::string(fname);
-    if (f.field(field.name) != nullptr) {
+    if (!names.insert(fname).second) {
       error = "format " + f.name + " has two fields named " + field.name;
       return f;
     }
@@ -98,33 +101,37 @@ std::size_t lay_out_ulog_formats(std::vector<ULogFormat>& formats, std::string& 
   // 0: not laid out, 1: being laid out (a nested type naming it is a
   // cycle), 2: done.
   std::vector<int> state(formats.size(), 0);
+  std::unordered_map<std::string_view, std::size_t> by_name;
+  for (std::size_t i = 0; i < formats.size(); ++i) by_name.emplace(formats[i].name, i);
   const auto index_of = [&](std::string_view name) {
-    for (std::size_t i = 0; i < formats.size(); ++i)
-      if (formats[i].name == name) return i;
-    return formats.size();
+    const auto it = by_name.find(name);
+    return it == by_name.end() ? formats.size() : it->second;
   };
-  std::size_t failed = formats.size();
-  // Depth-first, by an explicit stack (a hostile file may nest deeply).
-  for (std::size_t root = 0; root < formats.size() && failed == formats.size(); ++root) {
+  // Depth-first, by an explicit stack (a hostile file may nest deeply);
+  // a format resumes at the field where it met a nested type not yet laid out.
+  std::vector<std::size_t> next(formats.size(), 0);
+  std::vector<std::size_t> offset(formats.size(), 0);
+  for (std::size_t root = 0; root < formats.size(); ++root) {
     if (state[root] == 2) continue;
     std::vector<std::size_t> stack{root};
     state[root] = 1;
     while (!stack.empty()) {
-      ULogFormat& f = formats[stack.back()];
+      const std::size_t fi = stack.back();
+      ULogFormat& f = formats[fi];
       bool pushed = false;
-      std::size_t offset = 0;
-      for (auto& field : f.fields) {
+      for (; next[fi] < f.fields.size(); ++next[fi]) {
+        ULogField& field = f.fields[next[fi]];
         std::size_t size = ulog_basic_size(field.type);
         if (size == 0) {
           const std::size_t n = index_of(field.type);
           if (n == formats.size()) {
             error = "field " + field.name + " of format " + f.name + " is of type " + field.type +
                     ", which no format defines";
-            return stack.back();
+            return fi;
           }
           if (state[n] == 1) {
             error = "format " + f.name + " contains itself (through its field " + field.name + ")";
-            return stack.back();
+            return fi;
           }
           if (state[n] == 0) {
             state[n] = 1;
@@ -134,26 +141,26 @@ std::size_t lay_out_ulog_formats(std::vector<ULogFormat>& formats, std::string& 
           }
           size = formats[n].size;
         }
-        field.offset = offset;
+        field.offset = offset[fi];
         field.element_size = size;
         // size <= 65535 and count <= 65535: no overflow.
-        offset += size * field.count;
-        if (offset > kMaxMessageBytes) {
+        offset[fi] += size * field.count;
+        if (offset[fi] > kMaxMessageBytes) {
           error = "format " + f.name + " is larger than a message can be (" + std::to_string(kMaxMessageBytes) +
                   " bytes)";
-          return stack.back();
+          return fi;
         }
       }
       if (pushed) continue;
-      f.size = offset;
+      f.size = offset[fi];
       f.logged_size = 0;
       for (const auto& field : f.fields)
         if (!field.name.starts_with("_padding")) f.logged_size = field.offset + field.element_size * field.count;
-      state[stack.back()] = 2;
+      state[fi] = 2;
       stack.pop_back();
     }
   }
-  return failed;
+  return formats.size();
 }
 
 }  // namespace cubecal::io::detail
