@@ -322,7 +322,8 @@ std::string ulog_header() { return std::string("ULog\x01\x12\x35\x01", 8) + le(1
 // sensor_combined laid out unlike any PX4 version: a nested type before
 // the gyro, the fields in another order, trailing padding left out of the
 // data. Values are found by name.
-std::string nested_log(std::size_t n, double rate_hz) {
+// Message `invalid` (0-based) is marked as holding no accelerometer sample.
+std::string nested_log(std::size_t n, double rate_hz, std::size_t invalid = SIZE_MAX) {
   std::string s = ulog_header() + msg('B', std::string(40, '\0'));
   s += msg('F', "inner:float[2] a;uint8_t b;uint8_t[3] _padding0;");
   s += msg('F',
@@ -334,7 +335,7 @@ std::string nested_log(std::size_t n, double rate_hz) {
     std::string d = le(7, 2) + le(static_cast<std::uint64_t>(1e6 * static_cast<double>(i) / rate_hz), 8);
     d += std::string(24, '\x55');  // pre
     for (int k = 0; k < 3; ++k) d += f32(static_cast<float>(10 * k + i));
-    d += le(0, 4);
+    d += le(i == invalid ? 0x7fffffff : 0, 4);
     for (int k = 0; k < 3; ++k) {
       const double g = 0.5 * k - static_cast<double>(i);
       std::uint64_t u;
@@ -377,6 +378,29 @@ TEST_F(ULogCli, NestedLayoutValuesReadByName) {
       EXPECT_EQ(s.channels[3 + k][i], static_cast<double>(static_cast<float>(10 * k + i)));
     }
   }
+}
+
+// sensor_combined.accelerometer_timestamp_relative = INT32_MAX: no
+// accelerometer sample in that message. Refused where the accelerometer
+// is read, at the message's byte; the gyro channels alone are read.
+TEST_F(ULogCli, MessageWithoutAnAccelerometerSample) {
+  const std::string log = nested_log(50, 100, 20);
+  const std::string f = write_bytes("inv.ulg", log);
+  const io::ULog parsed = io::parse_ulog(log, f);
+  const std::size_t at = parsed.topics[0].messages[20].offset;
+  std::string e;
+  try {
+    (void)io::read_series(f, {});
+  } catch (const InputError& x) {
+    e = x.what();
+  }
+  EXPECT_NE(e.find("byte " + std::to_string(at) + ": message 21 of sensor_combined: accelerometer_m_s2[0] is NaN "
+                   "(or the sample is marked invalid), in 1 of 50 messages"),
+            std::string::npos)
+      << e;
+  io::SeriesOptions o;
+  o.table.columns = {"gx", "gy", "gz"};
+  EXPECT_EQ(io::read_series(f, o).samples(), 50U);
 }
 
 TEST_F(ULogCli, FormatProblemsAreRefusedAtTheirByte) {

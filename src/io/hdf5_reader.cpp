@@ -21,6 +21,7 @@ bool looks_like_hdf5(std::string_view head) noexcept {
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <mutex>
 #include <optional>
 #include <vector>
@@ -265,6 +266,7 @@ Table read_dataset(hid_t ds, const Dataset& d, const std::string& file, std::siz
       if (name != nullptr) names.emplace_back(name);
       H5free_memory(name);
     }
+    if (rows != 0 && names.size() > SIZE_MAX / 8 / rows) fail(file, "dataset " + d.described() + " is too large");
     const Handle mem(H5Tcreate(H5T_COMPOUND, 8 * names.size()), H5Tclose);
     for (std::size_t i = 0; i < names.size(); ++i)
       if (H5Tinsert(mem.get(), names[i].c_str(), 8 * i, H5T_NATIVE_DOUBLE) < 0)

@@ -223,32 +223,31 @@ Decoded decode(const ULog& log, std::string_view bytes, const ULogTopic& topic, 
   return d;
 }
 
-// Non-finite values and magnitudes no variance can hold, at their message.
-void check_values(const ULog& log, const Decoded& d) {
-  for (const auto& c : d.columns) {
-    double top = 0.0;
-    for (std::size_t i = 0; i < c.values.size(); ++i) {
-      const double v = c.values[i];
-      if (std::isnan(v)) {
-        const auto nans = std::count_if(c.values.begin(), c.values.end(), [](double x) { return std::isnan(x); });
-        throw message_error(log, d, i,
-                            c.field + " is NaN (or the sample is marked invalid), in " + std::to_string(nans) +
-                                " of " + std::to_string(c.values.size()) + " messages",
-                            "cut the log, or read another topic");
-      }
-      if (!std::isfinite(v) || std::fabs(v) > kMaxMagnitude)
-        throw message_error(log, d, i, c.field + " is " + number(v) + ", which no variance can hold",
-                            "cut the log before this message");
-      top = std::max(top, std::fabs(v));
-    }
-    if (top != 0.0 && top < kMinMagnitude) {
-      std::size_t i = 0;
-      while (std::fabs(c.values[i]) != top) ++i;
+// Non-finite values and magnitudes no variance can hold, at their message
+// (of the topic `d` the column `c` came from).
+void check_values(const ULog& log, const Decoded& d, const Column& c) {
+  double top = 0.0;
+  for (std::size_t i = 0; i < c.values.size(); ++i) {
+    const double v = c.values[i];
+    if (std::isnan(v)) {
+      const auto nans = std::count_if(c.values.begin(), c.values.end(), [](double x) { return std::isnan(x); });
       throw message_error(log, d, i,
-                          c.field + " " + number(c.values[i]) + " is the largest of " + c.name +
-                              ", below the magnitude " + number(kMinMagnitude) + " whose square a variance can hold",
-                          "the topic holds no usable " + c.field);
+                          c.field + " is NaN (or the sample is marked invalid), in " + std::to_string(nans) +
+                              " of " + std::to_string(c.values.size()) + " messages",
+                          "cut the log, or read another topic");
     }
+    if (!std::isfinite(v) || std::fabs(v) > kMaxMagnitude)
+      throw message_error(log, d, i, c.field + " is " + number(v) + ", which no variance can hold",
+                          "cut the log before this message");
+    top = std::max(top, std::fabs(v));
+  }
+  if (top != 0.0 && top < kMinMagnitude) {
+    std::size_t i = 0;
+    while (std::fabs(c.values[i]) != top) ++i;
+    throw message_error(log, d, i,
+                        c.field + " " + number(c.values[i]) + " is the largest of " + c.name +
+                            ", below the magnitude " + number(kMinMagnitude) + " whose square a variance can hold",
+                        "the topic holds no usable " + c.field);
   }
 }
 
@@ -304,7 +303,6 @@ Series read_ulog_series(const ULog& log, std::string_view bytes, bool gzip, cons
     if (t.messages.empty())
       throw InputError(log.file, 0, 0, "topic " + t.label() + " has no data messages", "choose another topic with --topic NAME");
     decoded.push_back(decode(log, bytes, t, time_field));
-    check_values(log, decoded.back());
   }
   // One channel name per topic; then the rates must agree.
   for (std::size_t a = 0; a < decoded.size(); ++a)
@@ -327,13 +325,18 @@ Series read_ulog_series(const ULog& log, std::string_view bytes, bool gzip, cons
                        "read them one at a time");
   }
   std::vector<Column> all;
+  std::vector<const Decoded*> source;  // the topic of each column
   for (auto& d : decoded)
-    for (auto& c : d.columns) all.push_back(std::move(c));
+    for (auto& c : d.columns) {
+      all.push_back(std::move(c));
+      source.push_back(&d);
+    }
   for (const auto& d : decoded) s.topics.push_back(described(*d.topic) + ", " + dropout_text(log));
 
   std::vector<bool> taken(all.size(), false);
   for (const auto& e : opt.table.extra_columns) {
     const std::size_t i = resolve(log.file, all, e);
+    check_values(log, *source[i], all[i]);
     s.extra_names.push_back(all[i].name);
     s.extra.push_back(all[i].values);
     taken[i] = true;
@@ -352,7 +355,10 @@ Series read_ulog_series(const ULog& log, std::string_view bytes, bool gzip, cons
   } else {
     for (const auto& spec : opt.table.columns) wanted.push_back(resolve(log.file, all, spec));
   }
+  // Only the channels read are checked: a message without an accelerometer
+  // sample does not stop a run on the gyro channels.
   for (const std::size_t i : wanted) {
+    check_values(log, *source[i], all[i]);
     s.names.push_back(all[i].name);
     s.units.push_back(all[i].unit);
     s.channels.push_back(all[i].values);
