@@ -7,7 +7,7 @@ set -euo pipefail
 PACKAGES=(
   build-essential cmake pkg-config
   libfmt-dev libcli11-dev nlohmann-json3-dev
-  libboost-math-dev zlib1g-dev libbz2-dev liblz4-dev libzstd-dev libsqlite3-dev libfast-float-dev libeigen3-dev
+  libboost-math-dev zlib1g-dev libbz2-dev liblz4-dev libzstd-dev libsqlite3-dev libhdf5-dev libfast-float-dev libeigen3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 gzip bc
   clang libclang-rt-14-dev libomp-dev   # fuzzers (make fuzz): libFuzzer, ASan, UBSan

@@ -92,12 +92,13 @@ void note_default_columns(const io::Series& s) {
 void add_input_options(CLI::App& app, InputOptions& opt, bool several) {
   if (several)
     app.add_option("files", opt.files, "Input files (one record each): delimited text, optionally gzip, "
-                                       "NumPy .npy, raw binary (--binary) or ROS bags (ROS 1 .bag, MCAP, .db3 or a ROS 2 bag directory)")
+                                       "NumPy .npy, HDF5, raw binary (--binary), ROS bags (ROS 1 .bag, MCAP, .db3 or a ROS 2 bag directory) or PX4 ULog")
         ->required();
   else
     app.add_option("file", opt.file, "Input file: delimited text (comma, tab, semicolon or "
-                                     "whitespace), optionally gzip-compressed, NumPy .npy (1-D or 2-D), raw "
-                                     "binary (--binary), a ROS bag (ROS 1 .bag, MCAP, .db3 or a ROS 2 bag directory); - reads standard input")
+                                     "whitespace), optionally gzip-compressed, NumPy .npy (1-D or 2-D), HDF5 "
+                                     "(--dataset), raw binary (--binary), a ROS bag (ROS 1 .bag, MCAP, .db3 or a ROS 2 "
+                                     "bag directory) or a PX4 ULog (.ulg); - reads standard input")
         ->required();
   app.add_option("--columns", opt.columns,
                  "Columns to analyse, by header name or 1-based index (gx,gy,gz or 2,3,4); "
@@ -122,9 +123,14 @@ void add_input_options(CLI::App& app, InputOptions& opt, bool several) {
   app.add_option("--threads", opt.threads, "Worker threads (default: all cores)")->check(whole_number(0, 4096));
   app.add_option("--topic", opt.topics,
                  "ROS bag: topic to read (sensor_msgs/Imu: gx gy gz ax ay az; MagneticField: mx my mz; "
-                 "Temperature: temp); repeat for several. Default: the bag's only Imu topic")
+                 "Temperature: temp); repeat for several. Default: the bag's only Imu topic. PX4 ULog: "
+                 "sensor_combined (default: gx gy gz ax ay az), vehicle_magnetometer (mx my mz, in T), "
+                 "sensor_gyro, sensor_accel, sensor_mag (with temp); instance N of a topic is NAME:N")
       ->allow_extra_args(false)
       ->delimiter(',');
+  app.add_option("--dataset", opt.dataset,
+                 "HDF5: the dataset to read (/imu/data), or a group of equal-length 1-D datasets; default: the "
+                 "file's only numeric 1-D or 2-D dataset");
   app.add_option("--binary", opt.binary,
                  "Read raw interleaved binary frames: one sample type per channel, e.g. "
                  "int16le,int16le,int16le,float32le (int8, uint8, int16, uint16, int32, uint32, int64, uint64, "
@@ -224,6 +230,7 @@ io::SeriesOptions to_series_options(const InputOptions& opt) {
   s.lsb = parse_lsb_list(opt.lsb);
   s.gaps = opt.gaps == "split" ? io::GapPolicy::split : io::GapPolicy::error;
   s.topics = opt.topics;
+  s.dataset = opt.dataset;
   if (opt.binary.empty()) {
     if (opt.header_bytes != 0) throw UsageError("--header-bytes: applies to raw binary input: give --binary TYPES");
   } else {

@@ -21,6 +21,7 @@ struct InputOptions {
   std::string gaps = "error";
   unsigned threads = 0;
   std::vector<std::string> topics;  // ROS bags: --topic (repeatable)
+  std::string dataset;            // HDF5: --dataset PATH
   std::string binary;             // raw binary frame: "int16le,int16le,float32le"
   std::size_t header_bytes = 0;   // skipped before the first frame (--binary only)
 };

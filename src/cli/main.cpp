@@ -43,6 +43,7 @@ std::string usage_message(const cubecal::UsageError& e) {
       {"gnuplot", "--gnuplot"},
       {"duration", "--duration"},
       {"binary", "--binary"},
+      {"dataset", "--dataset"},
   };
   for (const auto& [option, flag] : kFlags)
     if (e.option() == option) return std::string(flag) + ": " + e.what();

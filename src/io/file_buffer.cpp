@@ -21,9 +21,11 @@
 #include <vector>
 
 #include "cubecal/error.hpp"
+#include "cubecal/io/hdf5_reader.hpp"
 #include "cubecal/io/mcap.hpp"
 #include "cubecal/io/ros1_bag.hpp"
 #include "cubecal/io/ros2_bag.hpp"
+#include "cubecal/io/ulog.hpp"
 #include "detail/binary_input.hpp"
 
 namespace cubecal::io {
@@ -222,7 +224,8 @@ void read_all(const std::string& path, int fd, HeapBlock& out, Content content) 
 
 bool is_known_binary_format(std::string_view head) noexcept {
   return (head.size() >= 6 && head.substr(0, 6) == std::string_view("\x93NUMPY", 6)) ||
-         head.starts_with(kRos1BagMagic) || looks_like_mcap(head) || looks_like_sqlite(head);
+         head.starts_with(kRos1BagMagic) || looks_like_mcap(head) || looks_like_sqlite(head) ||
+         looks_like_ulog(head) || looks_like_hdf5(head);
 }
 
 struct FileBuffer::Impl {

@@ -15,14 +15,17 @@
 
 #include "cubecal/error.hpp"
 #include "cubecal/io/file_buffer.hpp"
+#include "cubecal/io/hdf5_reader.hpp"
 #include "cubecal/io/npy_reader.hpp"
 #include "cubecal/io/mcap.hpp"
 #include "cubecal/io/message_log.hpp"
 #include "cubecal/io/ros1_bag.hpp"
 #include "cubecal/io/ros2_bag.hpp"
+#include "cubecal/io/ulog.hpp"
 #include "cubecal/stats/sampling.hpp"
 #include "detail/bag_series.hpp"
 #include "detail/series_timing.hpp"
+#include "detail/ulog_series.hpp"
 
 namespace cubecal::io {
 
@@ -276,9 +279,13 @@ void check_timing(Series& s, const detail::PlaceError& at, const SeriesOptions& 
 
 // A binary record as a table of all its columns (then selected like the
 // columns of a text file); none for text.
-std::optional<Table> binary_table(std::string_view bytes, const std::string& file, const SeriesOptions& opt) {
+// `open_path`: where an HDF5 file can be opened by the library ("" for
+// standard input and inflated gzip, opened from the bytes).
+std::optional<Table> binary_table(std::string_view bytes, const std::string& file, const std::string& open_path,
+                                  const SeriesOptions& opt) {
   if (!opt.binary.channels.empty()) return read_raw_binary(bytes, file, opt.binary);
   if (is_npy(bytes)) return read_npy(bytes, file);
+  if (looks_like_hdf5(bytes)) return read_hdf5(bytes, file, open_path, opt.dataset);
   return std::nullopt;
 }
 
@@ -313,7 +320,12 @@ Series read_series(const std::string& path_arg, const SeriesOptions& opt) {
     throw InputError(path, 0, 0, "an SQLite database (a ROS 2 .db3 bag) is read from its file, not "s +
                                      (buf.was_gzip() ? "gzip-compressed" : "from standard input"),
                      "give the .db3 file or its bag directory");
-  std::optional<Table> all = binary_table(buf.view(), path, opt);
+  if (opt.binary.channels.empty() && looks_like_ulog(buf.view()))
+    return detail::read_ulog_series(parse_ulog(buf.view(), path), buf.view(), buf.was_gzip(), opt);
+  const std::string open_path = path_arg == kStdinPath || buf.was_gzip() ? std::string() : path_arg;
+  std::optional<Table> all = binary_table(buf.view(), path, open_path, opt);
+  if (!opt.dataset.empty() && !looks_like_hdf5(buf.view()))
+    throw UsageError("dataset", path + " is not an HDF5 file: --dataset chooses a dataset of an HDF5 file");
   const Table layout = all ? Table{} : parse_layout(buf.view(), path, opt.table);
   const TimeChoice time = choose_time_column(opt, all ? *all : layout);
 

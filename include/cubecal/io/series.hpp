@@ -58,6 +58,9 @@ struct SeriesOptions {
   // that the stamps do not add a column to the memory. A record cut at gaps
   // keeps them (the length of each gap is in the stamps).
   bool keep_time = true;
+  // HDF5: the dataset to read ("/imu/data"), or a group of 1-D datasets.
+  // Empty: the file's only numeric 1-D or 2-D dataset.
+  std::string dataset;
   // Raw interleaved binary frames of these types (the file is then not
   // recognised by its content). Empty: delimited text or NumPy .npy, told
   // apart by the file's first bytes.
@@ -103,8 +106,8 @@ struct Series {
   std::size_t samples() const noexcept { return channels.empty() ? 0 : channels[0].size(); }
 };
 
-// Reads and checks a record: delimited text, NumPy .npy (by its magic
-// bytes) or raw binary (opt.binary); "-" is the standard input. Binary
+// Reads and checks a record: delimited text, NumPy .npy, HDF5, a ROS 1 bag
+// or a PX4 ULog (by their magic bytes) or raw binary (opt.binary); "-" is the standard input. Binary
 // columns are named col1..colN and go through the same checks. Throws InputError for every problem in the data
 // (location FILE:LINE:COL) and UsageError for contradictory options.
 Series read_series(const std::string& path, const SeriesOptions& opt);
