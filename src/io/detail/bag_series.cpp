@@ -9,6 +9,7 @@
 #include "cdr_messages.hpp"
 #include "ros1_messages.hpp"
 #include "series_timing.hpp"
+#include "topic_channels.hpp"
 
 namespace cubecal::io::detail {
 
@@ -92,26 +93,12 @@ std::vector<const Topic*> choose_topics(const MessageLog& bag, const std::vector
   return chosen;
 }
 
-std::string number(double v) {
-  char buf[64];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, r.ptr);
-}
-
-struct Column {
-  std::string name;
-  std::string unit;
-  const Topic* topic = nullptr;
-  std::string field;        // "angular_velocity.x"
-  std::vector<double> values;
-};
-
 // One topic's messages decoded: their times and their values.
 struct Decoded {
   const Topic* topic = nullptr;
   std::vector<const LogMessage*> messages;
   std::vector<double> time;
-  std::vector<Column> columns;
+  std::vector<TopicColumn> columns;
 };
 
 InputError message_error(const MessageLog& bag, const Decoded& d, std::size_t i, const std::string& what,
@@ -129,7 +116,7 @@ Decoded decode(const MessageLog& bag, std::uint32_t index, bool record_time) {
   Decoded d;
   d.topic = &topic;
   const auto add = [&](const char* name, const char* unit, const char* field) {
-    d.columns.push_back({name, unit, &topic, field, {}});
+    d.columns.push_back({name, unit, field, {}});
   };
   if (kind == Kind::imu) {
     add("gx", "rad/s", "angular_velocity.x");
@@ -181,57 +168,6 @@ Decoded decode(const MessageLog& bag, std::uint32_t index, bool record_time) {
   return d;
 }
 
-// Non-finite values and magnitudes no variance can hold, at their message.
-void check_values(const MessageLog& bag, const Decoded& d) {
-  for (const auto& c : d.columns) {
-    double top = 0.0;
-    for (std::size_t i = 0; i < c.values.size(); ++i) {
-      const double v = c.values[i];
-      if (std::isnan(v)) {
-        // Drivers mark samples without a new reading with NaN (the Phidgets
-        // magnetometer every other message): say how many there are.
-        const auto nans = std::count_if(c.values.begin(), c.values.end(), [](double x) { return std::isnan(x); });
-        throw message_error(bag, d, i,
-                            c.field + " is NaN, in " + std::to_string(nans) + " of " +
-                                std::to_string(c.values.size()) + " messages",
-                            nans > 1 ? "the driver publishes NaN where it has no reading: leave this topic out"
-                                     : "cut the record before this message");
-      }
-      if (!std::isfinite(v) || std::fabs(v) > kMaxMagnitude)
-        throw message_error(bag, d, i, c.field + " is " + number(v) + ", which no variance can hold",
-                            "cut the record before this message");
-      top = std::max(top, std::fabs(v));
-    }
-    if (top != 0.0 && top < kMinMagnitude) {
-      std::size_t i = 0;
-      while (std::fabs(c.values[i]) != top) ++i;
-      throw message_error(bag, d, i,
-                          c.field + " " + number(c.values[i]) + " is the largest of " + c.name +
-                              ", below the magnitude " + number(kMinMagnitude) + " whose square a variance can hold",
-                          "the topic holds no usable " + c.field);
-    }
-  }
-}
-
-// The index of channel `spec` (name, 1-based index, or name in any case).
-std::size_t resolve(const std::string& file, const std::vector<Column>& columns, const std::string& spec) {
-  const auto lower = [](std::string s) {
-    for (char& ch : s)
-      if (ch >= 'A' && ch <= 'Z') ch = static_cast<char>(ch - 'A' + 'a');
-    return s;
-  };
-  for (std::size_t i = 0; i < columns.size(); ++i)
-    if (columns[i].name == spec) return i;
-  for (std::size_t i = 0; i < columns.size(); ++i)
-    if (spec == std::to_string(i + 1)) return i;
-  for (std::size_t i = 0; i < columns.size(); ++i)
-    if (lower(columns[i].name) == lower(spec)) return i;
-  std::string names;
-  for (const auto& c : columns) names += (names.empty() ? "" : ", ") + c.name;
-  throw InputError(file, 0, 0, "no channel '" + spec + "' in the topics read; channels are: " + names,
-                   "choose among them, or read other topics with --topic NAME");
-}
-
 }  // namespace
 
 Series read_bag_series(const MessageLog& bag, bool gzip, const SeriesOptions& opt) {
@@ -258,10 +194,8 @@ Series read_bag_series(const MessageLog& bag, bool gzip, const SeriesOptions& op
   const std::vector<const Topic*> chosen = choose_topics(bag, topics, opt, s.default_topic);
 
   std::vector<Decoded> decoded;
-  for (const Topic* t : chosen) {
+  for (const Topic* t : chosen)
     decoded.push_back(decode(bag, static_cast<std::uint32_t>(t - topics.data()), record_time));
-    check_values(bag, decoded.back());
-  }
   // Channels in a fixed order whatever the order of --topic: IMU, field, temperature.
   const auto rank = [](const Decoded& d) { return static_cast<int>(kind_of(*d.topic)); };
   std::stable_sort(decoded.begin(), decoded.end(), [&](const Decoded& a, const Decoded& b) { return rank(a) < rank(b); });
@@ -273,37 +207,25 @@ Series read_bag_series(const MessageLog& bag, bool gzip, const SeriesOptions& op
                            " differ in length: their samples cannot be paired",
                        "read them one at a time");
   }
-  std::vector<Column> all;
+  std::vector<TopicColumn> all;
+  std::vector<const Decoded*> source;  // the topic of each column
   for (auto& d : decoded)
-    for (auto& c : d.columns) all.push_back(std::move(c));
-  for (const Topic* t : chosen) s.topics.push_back(t->described());
-
-  std::vector<bool> taken(all.size(), false);
-  for (const auto& e : opt.table.extra_columns) {
-    const std::size_t i = resolve(bag.file, all, e);
-    s.extra_names.push_back(all[i].name);
-    s.extra.push_back(all[i].values);
-    taken[i] = true;
-  }
-  std::vector<std::size_t> wanted;
-  if (opt.table.columns.empty()) {
-    s.default_columns = true;
-    for (std::size_t i = 0; i < all.size(); ++i) {
-      const bool out = taken[i] || (opt.skip_temperature && all[i].name == "temp");
-      if (out) s.left_out.push_back(all[i].name);
-      else wanted.push_back(i);
+    for (auto& c : d.columns) {
+      all.push_back(std::move(c));
+      source.push_back(&d);
     }
-    if (wanted.empty())
-      throw InputError(bag.file, 0, 0, "no channels besides the temperature in " + listed(chosen),
-                       "read a sensor_msgs/Imu or MagneticField topic with --topic NAME");
-  } else {
-    for (const auto& spec : opt.table.columns) wanted.push_back(resolve(bag.file, all, spec));
-  }
-  for (const std::size_t i : wanted) {
-    s.names.push_back(all[i].name);
-    s.units.push_back(all[i].unit);
-    s.channels.push_back(all[i].values);
-  }
+  for (const Topic* t : chosen) s.topics.push_back(t->described());
+  // Drivers mark samples without a new reading with NaN (the Phidgets
+  // magnetometer every other message): the fault says how many there are.
+  const auto check = [&](std::size_t i) {
+    const auto& c = all[i];
+    const auto nans = std::count_if(c.values.begin(), c.values.end(), [](double x) { return std::isnan(x); });
+    if (auto f = value_fault(c, "", nans > 1 ? "the driver publishes NaN where it has no reading: leave this topic out"
+                                              : "cut the record before this message"))
+      throw message_error(bag, *source[i], f->index, f->what, std::move(f->hint));
+  };
+  take_channels(s, all, opt, check, bag.file, "no channels besides the temperature in " + listed(chosen),
+                "read a sensor_msgs/Imu or MagneticField topic with --topic NAME");
 
   const bool timing = !opt.time_col.empty() || opt.rate_hz == 0.0;
   finish_series(s, first.time, first.topic->name + " " + time_name, timing, opt,
@@ -315,8 +237,8 @@ Series read_bag_series(const MessageLog& bag, bool gzip, const SeriesOptions& op
     for (std::size_t i = 0; i < d.time.size(); ++i) {
       if (std::fabs(d.time[i] - first.time[i]) <= opt.tolerance * s.tau0) continue;
       throw message_error(bag, d, i,
-                          "stamped " + number(d.time[i]) + " s, " + first.topic->name + "'s message " +
-                              std::to_string(i + 1) + " " + number(first.time[i]) + " s: the samples do not pair",
+                          "stamped " + shortest(d.time[i]) + " s, " + first.topic->name + "'s message " +
+                              std::to_string(i + 1) + " " + shortest(first.time[i]) + " s: the samples do not pair",
                           "read the topics one at a time");
     }
   }

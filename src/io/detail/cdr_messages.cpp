@@ -99,36 +99,17 @@ class CdrCursor {
 
 ImuMessage decode_cdr_imu(std::string_view bytes) {
   CdrCursor c(bytes);
-  ImuMessage m;
-  m.stamp = c.header();
-  c.skip_f64(4, "orientation");
-  c.skip_f64(9, "orientation_covariance");
-  for (double& v : m.angular_velocity) v = c.f64("angular_velocity");
-  c.skip_f64(9, "angular_velocity_covariance");
-  for (double& v : m.linear_acceleration) v = c.f64("linear_acceleration");
-  c.skip_f64(9, "linear_acceleration_covariance");
-  c.end("sensor_msgs/msg/Imu");
-  return m;
+  return read_imu(c, "sensor_msgs/msg/Imu");
 }
 
 MagneticFieldMessage decode_cdr_magnetic_field(std::string_view bytes) {
   CdrCursor c(bytes);
-  MagneticFieldMessage m;
-  m.stamp = c.header();
-  for (double& v : m.magnetic_field) v = c.f64("magnetic_field");
-  c.skip_f64(9, "magnetic_field_covariance");
-  c.end("sensor_msgs/msg/MagneticField");
-  return m;
+  return read_magnetic_field(c, "sensor_msgs/msg/MagneticField");
 }
 
 TemperatureMessage decode_cdr_temperature(std::string_view bytes) {
   CdrCursor c(bytes);
-  TemperatureMessage m;
-  m.stamp = c.header();
-  m.temperature = c.f64("temperature");
-  c.skip_f64(1, "variance");
-  c.end("sensor_msgs/msg/Temperature");
-  return m;
+  return read_temperature(c, "sensor_msgs/msg/Temperature");
 }
 
 }  // namespace cubecal::io::detail

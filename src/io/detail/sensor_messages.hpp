@@ -40,4 +40,41 @@ struct TemperatureMessage {    // sensor_msgs/Temperature
   double temperature = 0.0;            // degC
 };
 
+// The fields of each message in their order, read through a cursor of
+// either serialization (header(), f64(what), skip_f64(n, what), end(type)
+// checking that the bytes are used up).
+template <class Cursor>
+ImuMessage read_imu(Cursor& c, const char* type) {
+  ImuMessage m;
+  m.stamp = c.header();
+  c.skip_f64(4, "orientation");
+  c.skip_f64(9, "orientation_covariance");
+  for (double& v : m.angular_velocity) v = c.f64("angular_velocity");
+  c.skip_f64(9, "angular_velocity_covariance");
+  for (double& v : m.linear_acceleration) v = c.f64("linear_acceleration");
+  c.skip_f64(9, "linear_acceleration_covariance");
+  c.end(type);
+  return m;
+}
+
+template <class Cursor>
+MagneticFieldMessage read_magnetic_field(Cursor& c, const char* type) {
+  MagneticFieldMessage m;
+  m.stamp = c.header();
+  for (double& v : m.magnetic_field) v = c.f64("magnetic_field");
+  c.skip_f64(9, "magnetic_field_covariance");
+  c.end(type);
+  return m;
+}
+
+template <class Cursor>
+TemperatureMessage read_temperature(Cursor& c, const char* type) {
+  TemperatureMessage m;
+  m.stamp = c.header();
+  m.temperature = c.f64("temperature");
+  c.skip_f64(1, "variance");
+  c.end(type);
+  return m;
+}
+
 }  // namespace cubecal::io::detail

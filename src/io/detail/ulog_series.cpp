@@ -9,6 +9,7 @@
 
 #include "cubecal/error.hpp"
 #include "series_timing.hpp"
+#include "topic_channels.hpp"
 #include "ulog_format.hpp"
 
 namespace cubecal::io::detail {
@@ -74,12 +75,6 @@ std::string readable_list() {
   return s;
 }
 
-std::string number(double v) {
-  char buf[64];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, r.ptr);
-}
-
 std::string rate_text(double hz) {
   char buf[64];
   const auto r = std::to_chars(buf, buf + sizeof buf, hz, std::chars_format::general, 4);
@@ -129,17 +124,10 @@ double value_of(const ULogField& f, std::size_t k, std::string_view d) {
 
 bool numeric(const ULogField& f) { return f.type != "char" && ulog_basic_size(f.type) != 0; }
 
-struct Column {
-  std::string name;
-  std::string unit;
-  std::string field;  // "gyro_rad[0]"
-  std::vector<double> values;
-};
-
 struct Decoded {
   const ULogTopic* topic = nullptr;
   std::vector<double> time;  // seconds
-  std::vector<Column> columns;
+  std::vector<TopicColumn> columns;
 };
 
 InputError message_error(const ULog& log, const Decoded& d, std::size_t i, const std::string& what, std::string hint) {
@@ -223,34 +211,6 @@ Decoded decode(const ULog& log, std::string_view bytes, const ULogTopic& topic, 
   return d;
 }
 
-// Non-finite values and magnitudes no variance can hold, at their message
-// (of the topic `d` the column `c` came from).
-void check_values(const ULog& log, const Decoded& d, const Column& c) {
-  double top = 0.0;
-  for (std::size_t i = 0; i < c.values.size(); ++i) {
-    const double v = c.values[i];
-    if (std::isnan(v)) {
-      const auto nans = std::count_if(c.values.begin(), c.values.end(), [](double x) { return std::isnan(x); });
-      throw message_error(log, d, i,
-                          c.field + " is NaN (or the sample is marked invalid), in " + std::to_string(nans) +
-                              " of " + std::to_string(c.values.size()) + " messages",
-                          "cut the log, or read another topic");
-    }
-    if (!std::isfinite(v) || std::fabs(v) > kMaxMagnitude)
-      throw message_error(log, d, i, c.field + " is " + number(v) + ", which no variance can hold",
-                          "cut the log before this message");
-    top = std::max(top, std::fabs(v));
-  }
-  if (top != 0.0 && top < kMinMagnitude) {
-    std::size_t i = 0;
-    while (std::fabs(c.values[i]) != top) ++i;
-    throw message_error(log, d, i,
-                        c.field + " " + number(c.values[i]) + " is the largest of " + c.name +
-                            ", below the magnitude " + number(kMinMagnitude) + " whose square a variance can hold",
-                        "the topic holds no usable " + c.field);
-  }
-}
-
 // The rate of a topic's time stamps (1 / median interval), 0 when unknown.
 double rate_of(const std::vector<double>& t) {
   if (t.size() < 2) return 0.0;
@@ -259,24 +219,6 @@ double rate_of(const std::vector<double>& t) {
   std::nth_element(dt.begin(), dt.begin() + static_cast<std::ptrdiff_t>(dt.size() / 2), dt.end());
   const double m = dt[dt.size() / 2];
   return m > 0.0 ? 1.0 / m : 0.0;
-}
-
-std::size_t resolve(const std::string& file, const std::vector<Column>& columns, const std::string& spec) {
-  const auto lower = [](std::string s) {
-    for (char& ch : s)
-      if (ch >= 'A' && ch <= 'Z') ch = static_cast<char>(ch - 'A' + 'a');
-    return s;
-  };
-  for (std::size_t i = 0; i < columns.size(); ++i)
-    if (columns[i].name == spec) return i;
-  for (std::size_t i = 0; i < columns.size(); ++i)
-    if (spec == std::to_string(i + 1)) return i;
-  for (std::size_t i = 0; i < columns.size(); ++i)
-    if (lower(columns[i].name) == lower(spec)) return i;
-  std::string names;
-  for (const auto& c : columns) names += (names.empty() ? "" : ", ") + c.name;
-  throw InputError(file, 0, 0, "no channel '" + spec + "' in the topics read; channels are: " + names,
-                   "choose among them, or read other topics with --topic NAME");
 }
 
 }  // namespace
@@ -324,7 +266,7 @@ Series read_ulog_series(const ULog& log, std::string_view bytes, bool gzip, cons
                            " at " + rate_text(rb) + " are not sampled together: their samples cannot be paired",
                        "read them one at a time");
   }
-  std::vector<Column> all;
+  std::vector<TopicColumn> all;
   std::vector<const Decoded*> source;  // the topic of each column
   for (auto& d : decoded)
     for (auto& c : d.columns) {
@@ -332,37 +274,14 @@ Series read_ulog_series(const ULog& log, std::string_view bytes, bool gzip, cons
       source.push_back(&d);
     }
   for (const auto& d : decoded) s.topics.push_back(described(*d.topic) + ", " + dropout_text(log));
-
-  std::vector<bool> taken(all.size(), false);
-  for (const auto& e : opt.table.extra_columns) {
-    const std::size_t i = resolve(log.file, all, e);
-    check_values(log, *source[i], all[i]);
-    s.extra_names.push_back(all[i].name);
-    s.extra.push_back(all[i].values);
-    taken[i] = true;
-  }
-  std::vector<std::size_t> wanted;
-  if (opt.table.columns.empty()) {
-    s.default_columns = true;
-    for (std::size_t i = 0; i < all.size(); ++i) {
-      const bool out = taken[i] || (opt.skip_temperature && all[i].name == "temp");
-      if (out) s.left_out.push_back(all[i].name);
-      else wanted.push_back(i);
-    }
-    if (wanted.empty())
-      throw InputError(log.file, 0, 0, "no channels besides the temperature in the topics read",
-                       "read sensor_combined or a magnetometer topic with --topic NAME");
-  } else {
-    for (const auto& spec : opt.table.columns) wanted.push_back(resolve(log.file, all, spec));
-  }
   // Only the channels read are checked: a message without an accelerometer
   // sample does not stop a run on the gyro channels.
-  for (const std::size_t i : wanted) {
-    check_values(log, *source[i], all[i]);
-    s.names.push_back(all[i].name);
-    s.units.push_back(all[i].unit);
-    s.channels.push_back(all[i].values);
-  }
+  const auto check = [&](std::size_t i) {
+    if (auto f = value_fault(all[i], " (or the sample is marked invalid)", "cut the log, or read another topic"))
+      throw message_error(log, *source[i], f->index, f->what, std::move(f->hint));
+  };
+  take_channels(s, all, opt, check, log.file, "no channels besides the temperature in the topics read",
+                "read sensor_combined or a magnetometer topic with --topic NAME");
 
   const bool timing = !opt.time_col.empty() || opt.rate_hz == 0.0;
   finish_series(s, first.time, first.topic->label() + "." + time_field, timing, opt,
@@ -374,8 +293,8 @@ Series read_ulog_series(const ULog& log, std::string_view bytes, bool gzip, cons
     for (std::size_t i = 0; i < d.time.size(); ++i) {
       if (std::fabs(d.time[i] - first.time[i]) <= opt.tolerance * s.tau0) continue;
       throw message_error(log, d, i,
-                          "stamped " + number(d.time[i]) + " s, " + first.topic->label() + "'s message " +
-                              std::to_string(i + 1) + " " + number(first.time[i]) + " s: the samples do not pair",
+                          "stamped " + shortest(d.time[i]) + " s, " + first.topic->label() + "'s message " +
+                              std::to_string(i + 1) + " " + shortest(first.time[i]) + " s: the samples do not pair",
                           "read the topics one at a time");
     }
   }
