@@ -199,7 +199,7 @@ DevResult run(const std::vector<std::string>& names,
         std::span<StabilityPoint>(evals.data() + static_cast<std::ptrdiff_t>(k * nm), nm), req.options);
 
   for (std::size_t c = 0; c < channels.size(); ++c) {
-    DevChannel ch{names[c], {}};
+    DevChannel ch{names[c], {}, {}};
     for (std::size_t j = 0; j < nm; ++j) {
       StabilityPoint p;
       if (nseg == 1) {
