@@ -82,7 +82,7 @@ class StreamingDeviation {
   struct Lag {  // lag-1 sums of one difference order of the averages
     std::size_t n = 0;
     double s1 = 0, s2 = 0, p = 0, first = 0, last = 0;
-    void push(double v) noexcept;
+    void add(const double* w, std::size_t len) noexcept;
     double r1() const noexcept;
   };
   struct Factor {
@@ -90,12 +90,13 @@ class StreamingDeviation {
     double energy = 0.0, energy_c = 0.0;  // overlapping sum of squares (compensated)
     std::size_t terms = 0;
     Lag lag[4];               // orders 0..3 of the non-overlapping window sums
-    double prev[3] = {0, 0, 0};
     std::size_t averages = 0;
-    void push_average(double z, int dmax) noexcept;
+    // The averages' window sums z (left as scratch), orders 0..dmax.
+    void push_averages(std::vector<double>& z, int dmax, std::vector<double>& scratch) noexcept;
   };
   struct Level {
-    std::vector<double> buf;   // buf[0 .. kept) already processed
+    std::vector<double> buf;   // capacity values once used; buf[0 .. kept) already processed
+    std::size_t fill = 0;      // values in buf
     std::size_t kept = 0;
     std::size_t base = 0;      // index on the level of buf[0]
     std::size_t span = 0;      // values a term spans (difference order x largest k)
@@ -108,6 +109,7 @@ class StreamingDeviation {
   };
 
   void append(std::size_t level, const double* v, std::size_t count);
+  static void grow(Level& lv, std::size_t need);
   void process(std::size_t level);
 
   Stat stat_;
@@ -120,7 +122,7 @@ class StreamingDeviation {
   std::vector<Factor> state_;
   std::vector<Level> levels_;
   std::vector<double> prefix_;  // scratch
-  std::vector<double> shifted_; // scratch
+  std::vector<double> zs_, diff_; // scratch
 };
 
 }  // namespace cubecal
