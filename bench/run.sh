@@ -58,6 +58,8 @@ echo "== simulator: Google Benchmark (median of 5; items = axis samples)"
 "$BUILD/bin/bench_simulator" --benchmark_repetitions=5 --benchmark_report_aggregates_only=true \
   --benchmark_display_aggregates_only=true | grep -E "median|Benchmark|---"
 
+bash "$(dirname "$0")/stream.sh" "$BUILD"
+
 echo "== cubecal demo (72 h simulated in memory, written, analyzed; target < 10 s)"
 s=$(date +%s.%N)
 "$BUILD/bin/cubecal" demo --out "$OUT/demo" > "$OUT/demo.txt"

@@ -12,6 +12,8 @@
 #include "cubecal/pipeline/analysis_json.hpp"
 #include "cubecal/pipeline/analysis_output.hpp"
 #include "cubecal/pipeline/dev_pipeline.hpp"
+#include "cubecal/pipeline/dev_stream.hpp"
+#include "memory_budget.hpp"
 #include "output.hpp"
 #include "progress.hpp"
 
@@ -32,9 +34,40 @@ struct DevOptions {
   std::string format = "table";
   std::string out;
   bool force = false;
+  MemoryOptions memory;
 };
 
 std::size_t samples_of(const io::Series& s) { return s.channels.empty() ? 0 : s.channels[0].size(); }
+
+void write_dev(const DevOptions& o, const pipeline::DevResult& res, ResultOutput& result) {
+  for (const std::string& line : {excluded_taus_warning(res.tau_list), merged_taus_note(res.tau_list)})
+    if (!line.empty()) std::cerr << line << '\n';
+  DevContext ctx{o.input.file, o.ci, o.edf, !o.no_ci};
+  std::ostream& out = result.stream();
+  if (o.format == "json")
+    out << nlohmann::json(res).dump(1) << '\n';
+  else if (o.format == "csv")
+    write_dev_csv(out, res, ctx);
+  else
+    write_dev_table(out, res, ctx);
+  result.finish();
+}
+
+int run_dev_stream_command(const DevOptions& o, pipeline::DevRequest req, const io::SeriesOptions& series_opt,
+                           std::size_t budget, ResultOutput& result) {
+  pipeline::check_streamable(req);  // before the input is opened
+  const auto input = io::SampleStream::open(o.input.file, series_opt);
+  const std::size_t bound = pipeline::window_bound_for(budget, input->names().size());
+  // On a terminal: the share of a file read with the time left, or the
+  // samples of a pipe so far.
+  Progress progress(true);
+  progress.stage(fmt::format("{} of {} channel(s), streamed", to_string(req.stat), input->names().size()));
+  req.progress = [&](double f) { progress.fraction(f); };
+  const pipeline::DevResult res = pipeline::run_dev_stream(*input, req, bound);
+  progress.done();
+  write_dev(o, res, result);
+  return 0;
+}
 
 int run_dev_command(const DevOptions& o) {
   pipeline::DevRequest req;
@@ -50,6 +83,27 @@ int run_dev_command(const DevOptions& o) {
   req.threads = o.input.threads;
 
   ResultOutput result(o.out, o.force);  // refuses an unusable --out before the work
+  const std::size_t budget = memory_budget(o.memory);
+  const io::SeriesOptions series_opt = to_series_options(o.input);
+  bool stream = o.memory.stream;
+  if (!stream) {
+    // Streamed by itself when reading the file whole would exceed the budget
+    // and the request can be streamed (a pipe's size is not known: --stream).
+    const std::size_t need = in_memory_bytes(o.input.file, series_opt);
+    if (need > budget) {
+      try {
+        pipeline::check_streamable(req);
+        stream = true;
+        std::cerr << fmt::format("cubecal: note: reading {} whole would take about {:.0f} MB, more than the "
+                                 "memory budget ({:.0f} MB, --memory): streaming it in one pass\n",
+                                 o.input.file, static_cast<double>(need) / 1e6, static_cast<double>(budget) / 1e6);
+      } catch (const UsageError& e) {
+        std::cerr << "cubecal: warning: " << o.input.file << " may not fit the memory budget (--memory), and it "
+                  << "cannot be streamed: " << e.what() << '\n';
+      }
+    }
+  }
+  if (stream) return run_dev_stream_command(o, req, series_opt, budget, result);
   const std::size_t bytes = file_size_or_zero(o.input.file);
   const io::Series series = [&] {
     Progress reading(bytes > 50'000'000);
@@ -141,6 +195,7 @@ CLI::App* add_dev_command(CLI::App& app, Command& run) {
       ->capture_default_str();
   cmd->add_option("--out", opt->out, "Write the result to this file instead of standard output");
   cmd->add_flag("--force", opt->force, "Replace the --out file if it exists");
+  add_memory_options(*cmd, opt->memory);
   cmd->callback([opt, &run] { run = [opt] { return run_dev_command(*opt); }; });
   return cmd;
 }

@@ -1,8 +1,13 @@
 // cubecal simulate: records from sensor models, in the layout the readers
 // take (t, axes..., temp).
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
+#include <bit>
 #include <charconv>
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -12,6 +17,7 @@
 #include "commands.hpp"
 #include "common_options.hpp"
 #include "cubecal/error.hpp"
+#include "cubecal/io/output_path.hpp"
 #include "cubecal/io/series.hpp"
 #include "cubecal/pipeline/analysis_json.hpp"
 #include "cubecal/pipeline/simulate.hpp"
@@ -34,6 +40,7 @@ struct SimulateOptions {
   std::string temp = "sine:25,5";
   std::string true_input;
   std::string out;
+  std::string format = "csv";
   bool force = false;
 };
 
@@ -112,6 +119,62 @@ std::string format_bytes(double b) {
   return fmt::format("{:.0f} kB", std::ceil(b / 1e3));
 }
 
+// Raw float64 little-endian frames (the channels in channel_names order, no
+// time column), block by block: to a file through NAME.partial, or to the
+// standard output for `cubecal dev - --binary float64le,... --stream`.
+int write_raw(const pipeline::SimulateRequest& req_in, const SimulateOptions& o, std::size_t n, double bytes,
+              std::size_t columns) {
+  pipeline::SimulateRequest req = req_in;
+  const bool to_stdout = o.out == "-";
+  std::string tmp;
+  std::FILE* f = stdout;
+  if (!to_stdout) {
+    io::check_output_file(o.out, o.force);
+    tmp = o.out + ".partial";
+    f = std::fopen(tmp.c_str(), "wb");
+    if (!f) throw UsageError("cannot write " + o.out + " (check that the directory exists and is writable)");
+  }
+  Progress progress(!to_stdout && n > 1'000'000, !to_stdout && bytes > 500e6);
+  progress.stage(fmt::format("simulating {} samples into {} (about {})", n, o.out, format_bytes(bytes)));
+  req.progress = [&](double fr) { progress.fraction(fr); };
+  static_assert(std::endian::native == std::endian::little || std::endian::native == std::endian::big);
+  std::vector<double> swapped;
+  try {
+    pipeline::simulate_blocks(req, [&](std::size_t, std::span<const double> frames) {
+      const double* p = frames.data();
+      if constexpr (std::endian::native == std::endian::big) {
+        swapped.resize(frames.size());
+        for (std::size_t i = 0; i < frames.size(); ++i)
+          swapped[i] = std::bit_cast<double>(__builtin_bswap64(std::bit_cast<std::uint64_t>(frames[i])));
+        p = swapped.data();
+      }
+      if (std::fwrite(p, sizeof(double), frames.size(), f) != frames.size())
+        throw UsageError(to_stdout ? "could not write the standard output (closed pipe?)"
+                                   : "could not write " + o.out + " (disk full?)");
+    });
+  } catch (...) {
+    if (!to_stdout) {
+      std::fclose(f);
+      std::remove(tmp.c_str());
+    }
+    throw;
+  }
+  if (to_stdout) {
+    if (std::fflush(stdout) != 0) throw UsageError("could not write the standard output");
+  } else {
+    if (std::fclose(f) != 0) throw UsageError("could not finish writing " + o.out + " (disk full?)");
+    std::filesystem::rename(tmp, o.out);
+  }
+  progress.done();
+  std::string types;
+  for (std::size_t c = 0; c < columns; ++c) types += c ? ",float64le" : "float64le";
+  std::cerr << fmt::format("cubecal: wrote {} ({} samples at {:g} Hz, {} float64le columns {}, seed {}; read "
+                           "it with --binary {} --rate {:g})\n",
+                           to_stdout ? "the standard output" : o.out, n, req.rate_hz, columns,
+                           fmt::join(pipeline::channel_names(req), ","), o.seed, types, req.rate_hz);
+  return 0;
+}
+
 int run_simulate(const SimulateOptions& o) {
   pipeline::SimulateRequest req;
   if (!(o.rate_hz > 0.0) || !std::isfinite(o.rate_hz)) throw UsageError("--rate must be positive");
@@ -146,23 +209,29 @@ int run_simulate(const SimulateOptions& o) {
   if (!o.true_input.empty()) req.true_input = read_rate_profile(o.true_input);
   // Refuse a record no one meant to ask for before any work (and before
   // sample_count, which an absurd duration would overflow).
-  const double bytes = pipeline::estimated_text_bytes(req);
+  const bool raw = o.format == "raw";
+  const std::size_t columns = pipeline::channel_names(req).size();
+  const double bytes = raw ? req.duration_s * req.rate_hz * 8.0 * static_cast<double>(columns)
+                           : pipeline::estimated_text_bytes(req);
   if (bytes > max_output_bytes() && !o.force)
     throw UsageError(fmt::format(
-        "the record would be about {} of text ({:.3g} samples x {} columns): add --force to write "
+        "the record would be about {} of {} ({:.3g} samples x {} columns): add --force to write "
         "it anyway, or shorten --duration or lower --rate",
-        format_bytes(bytes), req.duration_s * req.rate_hz, pipeline::channel_names(req).size() + 1));
+        format_bytes(bytes), raw ? "float64" : "text", req.duration_s * req.rate_hz, raw ? columns : columns + 1));
   const std::size_t n = pipeline::sample_count(req);
   if (n < 1) throw UsageError("--duration shorter than one sample period");
+  const bool to_stdout = o.out == "-";
+  if (raw) return write_raw(req, o, n, bytes, columns);
 
   io::CsvWriter w(o.out, o.force);
-  Progress progress(n > 1'000'000, bytes > 500e6);
+  // Into a pipe the reader's progress is the one to show.
+  Progress progress(!to_stdout && n > 1'000'000, !to_stdout && bytes > 500e6);
   progress.stage(fmt::format("simulating {} samples into {} (about {})", n, o.out, format_bytes(bytes)));
   req.progress = [&](double f) { progress.fraction(f); };
   write_simulation(req, w);
   w.commit();
   progress.done();
-  std::cerr << fmt::format("cubecal: wrote {} ({} samples at {:g} Hz, {} columns, seed {})\n", o.out, n, req.rate_hz,
+  std::cerr << fmt::format("cubecal: wrote {} ({} samples at {:g} Hz, {} columns, seed {})\n", to_stdout ? "the standard output" : o.out, n, req.rate_hz,
                            pipeline::channel_names(req).size() + 1, o.seed);
   return 0;
 }
@@ -197,7 +266,12 @@ CLI::App* add_simulate_command(CLI::App& app, Command& run) {
       ->capture_default_str();
   cmd->add_option("--true-input", opt->true_input,
                   "Rate profile for the gyro (CSV: t and three rates), held between its time stamps");
-  cmd->add_option("--out", opt->out, "Output file (.csv, or .csv.gz for gzip)")->required();
+  cmd->add_option("--out", opt->out, "Output file (.csv, or .csv.gz for gzip); - for the standard output")->required();
+  cmd->add_option("--format", opt->format,
+                  "csv (a time column and the channels) or raw (float64le frames of the channels, no time "
+                  "column: read back with --binary float64le,... --rate)")
+      ->check(CLI::IsMember({"csv", "raw"}))
+      ->capture_default_str();
   cmd->add_flag("--force", opt->force, "Replace --out if it exists, and write a record larger than 2 GB of text");
   cmd->callback([opt, rate, &run] {
     opt->rate_given = rate->count() > 0;

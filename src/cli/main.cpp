@@ -44,6 +44,12 @@ std::string usage_message(const cubecal::UsageError& e) {
       {"duration", "--duration"},
       {"binary", "--binary"},
       {"dataset", "--dataset"},
+      {"stat", "--stat"},
+      {"type", "--type"},
+      {"taus", "--taus"},
+      {"gaps", "--gaps"},
+      {"topics", "--topic"},
+      {"memory", "--memory"},
   };
   for (const auto& [option, flag] : kFlags)
     if (e.option() == option) return std::string(flag) + ": " + e.what();

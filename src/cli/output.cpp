@@ -70,15 +70,36 @@ void write_dev_table(std::ostream& out, const pipeline::DevResult& r, const DevC
   if (ctx.intervals)
     fmt::print(out, "\nmin/max: {:.1f} % confidence interval, {} EDF, noise type alpha per tau\n",
                100.0 * ctx.ci, ctx.edf_method);
+  if (r.window_bound > 0 && !r.channels.empty()) {
+    // Which factors were summed at which stride (the same for every channel).
+    const auto& ch = r.channels[0];
+    std::size_t first_strided = 0;
+    while (first_strided < ch.strides.size() && ch.strides[first_strided] == 1) ++first_strided;
+    if (first_strided < ch.strides.size() && (r.stat == Stat::oadev || r.stat == Stat::ohdev))
+      fmt::print(out,
+                 "streamed in one pass (window bound {} samples): AF up to {} fully overlapping, from {} on "
+                 "at a stride of 2^L samples ({} at AF {}), AF rounded to a multiple of the stride\n",
+                 r.window_bound, first_strided > 0 ? ch.points[first_strided - 1].m : 0,
+                 ch.points[first_strided].m, ch.strides.back(), ch.points.back().m);
+    else
+      fmt::print(out, "streamed in one pass (window bound {} samples): every AF {}\n", r.window_bound,
+                 r.stat == Stat::oadev || r.stat == Stat::ohdev ? "fully overlapping" : "non-overlapping");
+  }
 }
 
 void write_dev_csv(std::ostream& out, const pipeline::DevResult& r, const DevContext& ctx) {
-  out << "column,af,tau,n,alpha,edf,lo,dev,hi\n";
+  // A streamed run adds the stride of each point's terms as a last column.
+  const bool streamed = r.window_bound > 0;
+  out << (streamed ? "column,af,tau,n,alpha,edf,lo,dev,hi,stride\n" : "column,af,tau,n,alpha,edf,lo,dev,hi\n");
   for (const auto& ch : r.channels)
-    for (const auto& p : ch.points)
-      fmt::print(out, "{},{},{},{},{},{},{},{},{}\n", ch.name, p.m, p.tau, p.n,
+    for (std::size_t k = 0; k < ch.points.size(); ++k) {
+      const auto& p = ch.points[k];
+      fmt::print(out, "{},{},{},{},{},{},{},{},{}", ch.name, p.m, p.tau, p.n,
                  ctx.intervals ? std::to_string(p.alpha) : "", ctx.intervals ? g(p.edf) : "",
                  ctx.intervals ? g(p.lo) : "", g(p.dev), ctx.intervals ? g(p.hi) : "");
+      if (streamed) fmt::print(out, ",{}", k < ch.strides.size() ? ch.strides[k] : 1);
+      out << '\n';
+    }
 }
 
 std::vector<std::string> write_analysis_files(const std::string& dir, const pipeline::AnalysisResult& r,

@@ -24,6 +24,11 @@ struct CsvWriter::Sink {
 };
 
 CsvWriter::CsvWriter(std::string path, bool force) : path_(std::move(path)), sink_(std::make_unique<Sink>()) {
+  if (path_ == "-") {  // the standard output: no file, nothing to rename
+    sink_->file = stdout;
+    buf_.reserve(kFlushAt + 4096);
+    return;
+  }
   check_output_file(path_, force);
   gzip_ = path_.size() > 3 && path_.compare(path_.size() - 3, 3, ".gz") == 0;
   tmp_ = path_ + ".partial";
@@ -40,7 +45,7 @@ CsvWriter::CsvWriter(std::string path, bool force) : path_(std::move(path)), sin
 
 CsvWriter::~CsvWriter() {
   if (sink_->gz) gzclose(sink_->gz);
-  if (sink_->file) std::fclose(sink_->file);
+  if (sink_->file && sink_->file != stdout) std::fclose(sink_->file);
   if (!tmp_.empty()) {
     std::error_code ec;
     std::filesystem::remove(tmp_, ec);
@@ -91,6 +96,11 @@ void CsvWriter::commit() {
   if (gzip_) {
     ok = gzclose(sink_->gz) == Z_OK;
     sink_->gz = nullptr;
+  } else if (sink_->file == stdout) {
+    ok = std::fflush(stdout) == 0;
+    sink_->file = nullptr;
+    if (!ok) throw UsageError("could not write the standard output");
+    return;
   } else {
     ok = std::fclose(sink_->file) == 0;
     sink_->file = nullptr;

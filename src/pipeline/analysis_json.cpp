@@ -655,9 +655,11 @@ void to_json(json& j, const DevResult& r) {
   for (const auto& ch : r.channels) {
     json c = curve_json(ch.points, r.options.intervals);
     c["name"] = ch.name;
+    if (!ch.strides.empty()) c["stride"] = ch.strides;
     cols.push_back(std::move(c));
   }
   j["columns"] = std::move(cols);
+  if (r.window_bound > 0) j["stream"] = {{"window_bound", r.window_bound}};
   write_tau_list(j, r.tau_list);
 }
 
@@ -686,8 +688,13 @@ void from_json(const json& j, DevResult& r) {
   const Node cols = root.at("columns");
   for (std::size_t c = 0; c < cols.size(); ++c) {
     const Node cj = cols.at(c);
-    r.channels.push_back({cj.at("name").str(), read_curve(cj)});
+    r.channels.push_back({cj.at("name").str(), read_curve(cj), {}});
+    if (cj.has("stride")) {
+      const Node st = cj.at("stride");
+      for (std::size_t k = 0; k < st.size(); ++k) r.channels.back().strides.push_back(st.at(k).count());
+    }
   }
+  if (root.has("stream")) r.window_bound = root.at("stream").at("window_bound").count();
   r.tau_list = read_tau_list(root);
 }
 

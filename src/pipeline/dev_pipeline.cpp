@@ -242,7 +242,7 @@ DevResult run(const std::vector<std::string>& names,
   if (req.progress) req.progress(1.0);
 
   for (std::size_t c = 0; c < channels.size(); ++c) {
-    DevChannel ch{names[c], {}};
+    DevChannel ch{names[c], {}, {}};
     for (std::size_t j = 0; j < nm; ++j) {
       StabilityPoint p;
       if (nseg == 1) {

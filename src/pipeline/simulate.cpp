@@ -139,6 +139,27 @@ void write_simulation(const SimulateRequest& r, io::CsvWriter& out) {
   }
 }
 
+void simulate_blocks(const SimulateRequest& r,
+                     const std::function<void(std::size_t k0, std::span<const double> frames)>& sink) {
+  const std::size_t n = sample_count(r);
+  const std::size_t channels = channel_names(r).size();
+  Generator g(r);
+  std::vector<double> frames(kBlock * channels);
+  for (std::size_t k0 = 0; k0 < n; k0 += kBlock) {
+    const std::size_t len = std::min(kBlock, n - k0);
+    g.block(k0, len);
+    for (std::size_t j = 0; j < len; ++j) {
+      std::size_t c = 0;
+      double* row = frames.data() + j * channels;
+      for (std::size_t k = 0; k < g.sims.size(); ++k)
+        for (std::size_t a = 0; a < axes_of(r.triads[k]); ++a) row[c++] = g.out[k * len * 3 + j * 3 + a];
+      if (r.temperature_column) row[c++] = g.temp[j];
+    }
+    sink(k0, std::span<const double>(frames.data(), len * channels));
+    if (r.progress) r.progress(static_cast<double>(k0 + len) / static_cast<double>(n));
+  }
+}
+
 void write_record(const SimulatedRecord& rec, io::CsvWriter& out) {
   std::vector<std::string> header{"t"};
   for (const auto& n : rec.names) header.push_back(n);

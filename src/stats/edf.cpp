@@ -115,13 +115,21 @@ double binomial(int n, int k) {
 
 }  // namespace
 
-double edf_greenhall(int alpha, int d, std::size_t m_, std::size_t n_phase, bool overlapping,
+double edf_greenhall(int alpha, int d, std::size_t m, std::size_t n_phase, bool overlapping,
                      bool modified) {
+  return edf_greenhall_stride(alpha, d, m, n_phase, overlapping ? 1 : m, modified);
+}
+
+double edf_greenhall_stride(int alpha, int d, std::size_t m_, std::size_t n_phase,
+                            std::size_t stride, bool modified) {
   if (d < 1 || d > 3 || alpha > 2 || alpha < -4 || alpha + 2 * d <= 1 || m_ == 0) return 0.0;
+  if (stride == 0 || stride > m_ || m_ % stride != 0) return 0.0;
   const double m = static_cast<double>(m_);
   const double N = static_cast<double>(n_phase);
   const double F = modified ? 1.0 : m;
-  const double S = overlapping ? m : 1.0;
+  // The stride factor of the paper: S = m / stride (m: fully overlapping,
+  // 1: non-overlapping), so that M counts the terms taken every stride.
+  const double S = static_cast<double>(m_ / stride);
   const double L = m / F + m * d;  // span of the filter on phase samples
   if (N < L) return 0.0;
   const double M = 1.0 + std::floor(S * (N - L) / m);
@@ -221,6 +229,18 @@ double edf_for(Stat stat, int alpha, std::size_t m, std::size_t n_phase, EdfMeth
     case Stat::totdev: return edf_totvar(alpha, m, n_phase);
   }
   return 0.0;
+}
+
+double edf_for_stride(Stat stat, int alpha, std::size_t m, std::size_t n_phase, std::size_t stride,
+                      EdfMethod method) {
+  if (method == EdfMethod::simple) return edf_for(stat, alpha, m, n_phase, method);
+  switch (stat) {
+    case Stat::adev: return edf_greenhall_stride(alpha, 2, m, n_phase, m, false);
+    case Stat::oadev: return edf_greenhall_stride(alpha, 2, m, n_phase, stride, false);
+    case Stat::hdev: return edf_greenhall_stride(alpha, 3, m, n_phase, m, false);
+    case Stat::ohdev: return edf_greenhall_stride(alpha, 3, m, n_phase, stride, false);
+    default: return edf_for(stat, alpha, m, n_phase, method);
+  }
 }
 
 }  // namespace cubecal

@@ -144,6 +144,21 @@ double b1_points(Stat stat, std::size_t phase_points, std::size_t m, std::size_t
 
 }  // namespace
 
+NoiseId noise_from_lag1(std::span<const double> r1, Stat stat) {
+  NoiseId out;
+  const int dmax = std::min(difference_order(stat), static_cast<int>(r1.size()) - 1);
+  for (int d = 0; d <= dmax; ++d) {
+    const double delta = r1[static_cast<std::size_t>(d)] / (1.0 + r1[static_cast<std::size_t>(d)]);
+    if (delta < 0.25 || d >= dmax) {
+      out.alpha_est = -2.0 * (delta + d);
+      out.alpha = clamp_alpha(static_cast<int>(-std::lround(2.0 * delta)) - 2 * d, stat);
+      out.method = NoiseId::Method::acf;
+      return out;
+    }
+  }
+  return out;
+}
+
 NoiseId identify_noise(std::span<const double> x, std::size_t m, Stat stat) {
   NoiseId out;
   if (m == 0 || x.size() < m + 1) return out;
@@ -182,16 +197,9 @@ NoiseId identify_noise(std::span<const double> x, std::size_t m, Stat stat) {
       }
       for (int d = 0; d <= dmax; ++d) buf[d][0] = buf[d][len];
     }
-    for (int d = 0;; ++d) {
-      const double r1 = sums[d].r1();
-      const double delta = r1 / (1.0 + r1);
-      if (delta < 0.25 || d >= dmax) {
-        out.alpha_est = -2.0 * (delta + d);
-        out.alpha = clamp_alpha(static_cast<int>(-std::lround(2.0 * delta)) - 2 * d, stat);
-        out.method = NoiseId::Method::acf;
-        return out;
-      }
-    }
+    double r1[4];
+    for (int d = 0; d <= dmax; ++d) r1[d] = sums[d].r1();
+    return noise_from_lag1(std::span<const double>(r1, static_cast<std::size_t>(dmax) + 1), stat);
   }
 
   // B1 ratio on the averages.

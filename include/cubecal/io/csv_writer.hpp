@@ -20,6 +20,7 @@ double csv_round(double v) noexcept;
 class CsvWriter {
  public:
   // Throws UsageError when `path` exists and !force, or cannot be written.
+  // "-" is the standard output (written as it goes, no .partial).
   CsvWriter(std::string path, bool force);
   ~CsvWriter();
   CsvWriter(const CsvWriter&) = delete;

@@ -42,6 +42,9 @@ DevWorkEstimate estimate_dev(const io::Series& series, const DevRequest& request
 struct DevChannel {
   std::string name;
   std::vector<StabilityPoint> points;
+  // Streamed runs (run_dev_stream): the stride of each point's terms (1:
+  // fully overlapping); empty for the in-memory path.
+  std::vector<std::size_t> strides;
 };
 
 struct DevResult {
@@ -59,6 +62,9 @@ struct DevResult {
   // earlier one on the same averaging factor. Empty for generated grids.
   TauListOutcome tau_list;
   std::vector<DevChannel> channels;
+  // > 0: computed in one pass over a stream (pipeline/dev_stream.hpp), the
+  // terms of factors whose span exceeds this many samples taken at a stride.
+  std::size_t window_bound = 0;
 };
 
 // Throws UsageError when no averaging factor of the grid fits the record

@@ -5,6 +5,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -49,6 +50,13 @@ SimulatedRecord simulate(const SimulateRequest& r);
 // Streams the record to `out` (header t,<axes...>,temp) in blocks, so days
 // of data need no more memory than one block.
 void write_simulation(const SimulateRequest& r, io::CsvWriter& out);
+
+// The record in blocks of consecutive samples, for writers of any format:
+// `frames` holds len x channel_names(r).size() values, row-major (one frame
+// per sample, in channel_names order), for samples k0 .. k0 + len. The
+// values are simulate()'s, in the same memory as one block.
+void simulate_blocks(const SimulateRequest& r,
+                     const std::function<void(std::size_t k0, std::span<const double> frames)>& sink);
 
 // A record already in memory to `out`, in write_simulation's layout
 // (t, <names...>): the same file write_simulation writes for its request.

@@ -26,4 +26,11 @@ struct NoiseId {
 // at m whichever type the user supplied.
 NoiseId identify_noise(std::span<const double> x, std::size_t m, Stat stat);
 
+// The lag-1 step of identify_noise on its own: r1[d] is Stable32's lag-1
+// autocorrelation of the d-th differences of the averages (d = 0 ..
+// difference_order(stat)), differencing stops at the first delta =
+// r1/(1+r1) below 0.25. For callers that accumulate the sums themselves
+// (the streamed deviations).
+NoiseId noise_from_lag1(std::span<const double> r1, Stat stat);
+
 }  // namespace cubecal

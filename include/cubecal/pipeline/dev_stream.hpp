@@ -1,0 +1,27 @@
+// `cubecal dev --stream`: the deviations of every channel of a record read
+// in pieces (io::SampleStream), in one pass and in memory bounded by the
+// window bound (stats/streaming_deviation.hpp), whatever the record's length.
+#pragma once
+#include <cstddef>
+
+#include "cubecal/io/sample_stream.hpp"
+#include "cubecal/pipeline/dev_pipeline.hpp"
+
+namespace cubecal::pipeline {
+
+// The largest window bound (a power of two, 2^12 .. 2^20) whose accumulators
+// for `channels` channels fit in a quarter of `memory_bytes` (the rest for
+// the reader's pieces and the program); 2^12 when even that does not fit.
+std::size_t window_bound_for(std::size_t memory_bytes, std::size_t channels);
+
+// Throws UsageError for what a stream cannot compute: a statistic other than
+// adev/oadev/hdev/ohdev (mdev, tdev and totdev need the whole record), phase
+// data, the `all` grid; and as run_dev when no factor fits the record.
+// request.progress, when set, is called with the fraction of the input read
+// (when its size is known) after every piece.
+DevResult run_dev_stream(io::SampleStream& input, const DevRequest& request, std::size_t window_bound);
+
+// The statistics a stream computes, for the refusal before any reading.
+void check_streamable(const DevRequest& request);
+
+}  // namespace cubecal::pipeline

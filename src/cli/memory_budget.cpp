@@ -1,0 +1,75 @@
+#include "memory_budget.hpp"
+
+#include <unistd.h>
+
+#include <cctype>
+#include <cmath>
+
+#include "cubecal/error.hpp"
+#include "progress.hpp"
+
+namespace cubecal::cli {
+
+void add_memory_options(CLI::App& cmd, MemoryOptions& opt) {
+  cmd.add_flag("--stream", opt.stream,
+               "Read the record in pieces and compute in one pass with bounded memory (adev, oadev, hdev, "
+               "ohdev; factors beyond the window bound at a stride). Chosen by itself when reading the file "
+               "whole would exceed --memory");
+  cmd.add_option("--memory", opt.memory,
+                 "Memory budget, e.g. 2G or 512M (default: half the physical memory): a larger record is "
+                 "streamed, and the stream's window bound follows from it");
+}
+
+std::size_t parse_memory_size(const std::string& text) {
+  const auto bad = [&] {
+    return UsageError("memory", "'" + text + "' is not a size: give a number of bytes with an optional k, M, G or T "
+                                "(powers of 1024), e.g. 2G or 512M");
+  };
+  if (text.empty()) throw bad();
+  std::size_t pos = 0;
+  double v = 0.0;
+  try {
+    v = std::stod(text, &pos);
+  } catch (const std::exception&) {
+    throw bad();
+  }
+  double unit = 1.0;
+  if (pos < text.size()) {
+    switch (std::toupper(static_cast<unsigned char>(text[pos]))) {
+      case 'K': unit = 1024.0; break;
+      case 'M': unit = 1024.0 * 1024.0; break;
+      case 'G': unit = 1024.0 * 1024.0 * 1024.0; break;
+      case 'T': unit = 1024.0 * 1024.0 * 1024.0 * 1024.0; break;
+      default: throw bad();
+    }
+    ++pos;
+    if (pos < text.size() && (text[pos] == 'B' || text[pos] == 'b')) ++pos;
+  }
+  if (pos != text.size() || !(v > 0.0) || !std::isfinite(v) || v * unit < 1024.0 * 1024.0 || v * unit > 1e18)
+    throw UsageError("memory", "'" + text + "' is not a usable size: give at least 1M, e.g. 2G or 512M");
+  return static_cast<std::size_t>(v * unit);
+}
+
+std::size_t memory_budget(const MemoryOptions& opt) {
+  if (!opt.memory.empty()) return parse_memory_size(opt.memory);
+  const long pages = ::sysconf(_SC_PHYS_PAGES);
+  const long page = ::sysconf(_SC_PAGESIZE);
+  if (pages <= 0 || page <= 0) return std::size_t{2} << 30;
+  return static_cast<std::size_t>(pages) * static_cast<std::size_t>(page) / 2;
+}
+
+std::size_t in_memory_bytes(const std::string& file, const io::SeriesOptions& opt) {
+  const std::size_t bytes = file_size_or_zero(file);
+  if (bytes == 0) return 0;
+  if (!opt.binary.channels.empty()) {
+    // The mapped file plus 8 bytes per value.
+    const std::size_t frame = opt.binary.frame_bytes();
+    return bytes + (frame > 0 ? bytes / frame * opt.binary.channels.size() * 8 : 0);
+  }
+  // Text: the mapping plus the doubles, about a third of the text's bytes
+  // for typical numbers ("0.0123456," is 10 bytes for 8), and the parse's
+  // working copies: twice the file.
+  return 2 * bytes;
+}
+
+}  // namespace cubecal::cli

@@ -1,0 +1,31 @@
+// --memory SIZE and --stream: how much memory a run may take, and whether a
+// record is read whole or streamed (dev, analyze).
+#pragma once
+#include <cstddef>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "cubecal/io/series.hpp"
+
+namespace cubecal::cli {
+
+struct MemoryOptions {
+  bool stream = false;
+  std::string memory;  // "2G", "512M", "300000k", bytes; empty: half the physical memory
+};
+
+void add_memory_options(CLI::App& cmd, MemoryOptions& opt);
+
+// "2G" -> 2^31 (k, M, G, T: powers of 1024; a plain number is bytes);
+// throws UsageError("memory").
+std::size_t parse_memory_size(const std::string& text);
+
+// The budget: --memory, or half the physical memory (sysconf).
+std::size_t memory_budget(const MemoryOptions& opt);
+
+// The bytes reading `file` whole would take (the mapped text or binary plus
+// the parsed doubles); 0 when unknown (a pipe, the standard input).
+std::size_t in_memory_bytes(const std::string& file, const io::SeriesOptions& opt);
+
+}  // namespace cubecal::cli

@@ -1,0 +1,469 @@
+// Bounded reads of a record (sample_stream.hpp): the file descriptor is read
+// a piece at a time; text pieces end at a line end and are parsed by the
+// delimited reader with the header line put in front; binary pieces are
+// whole frames decoded column by column.
+#include "cubecal/io/sample_stream.hpp"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <bit>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <string_view>
+
+#include "cubecal/error.hpp"
+#include "cubecal/io/file_buffer.hpp"
+#include "cubecal/stats/sampling.hpp"
+
+namespace cubecal::io {
+
+namespace {
+
+std::string stamp(double v) {
+  char buf[64];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
+}
+
+std::string lower_case(std::string s) {
+  for (char& c : s)
+    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
+  return s;
+}
+
+// The file descriptor of the input, read in pieces.
+class ByteSource {
+ public:
+  ByteSource(const std::string& path, std::string& label, std::size_t& total) {
+    const bool stdin_input = path == kStdinPath;
+    label = stdin_input ? std::string(kStdinLabel) : path;
+    fd_ = stdin_input ? STDIN_FILENO : ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    own_ = !stdin_input;
+    if (fd_ < 0)
+      throw InputError(label, 0, 0, std::string("cannot open: ") + std::strerror(errno), "check the path");
+    struct stat st {};
+    if (::fstat(fd_, &st) == 0 && S_ISREG(st.st_mode)) total = static_cast<std::size_t>(st.st_size);
+    label_ = label;
+  }
+  ~ByteSource() {
+    if (own_) ::close(fd_);
+  }
+  ByteSource(const ByteSource&) = delete;
+  ByteSource& operator=(const ByteSource&) = delete;
+  // Up to n bytes (fewer only at the end of the input).
+  std::size_t read(char* dst, std::size_t n) {
+    std::size_t got = 0;
+    while (got < n) {
+      const ssize_t r = ::read(fd_, dst + got, n - got);
+      if (r == 0) break;
+      if (r < 0) {
+        if (errno == EINTR) continue;
+        throw InputError(label_, 0, 0, std::string("read error: ") + std::strerror(errno));
+      }
+      got += static_cast<std::size_t>(r);
+    }
+    return got;
+  }
+
+ private:
+  int fd_ = -1;
+  bool own_ = false;
+  std::string label_;
+};
+
+void check_common(const SeriesOptions& opt) {
+  if (opt.gaps == GapPolicy::split)
+    throw UsageError("gaps", "a streamed record is not split at gaps: leave out --gaps split (a gap is then an "
+                             "error naming its place), or read the record into memory without --stream");
+  if (!opt.topics.empty())
+    throw UsageError("topics", "ROS bags are read into memory: leave out --stream");
+  for (const double lsb : opt.lsb)
+    if (!(lsb > 0.0) || !std::isfinite(lsb))
+      throw UsageError("counts_per_unit", "the LSB (counts per unit) must be a positive finite number, got " + stamp(lsb));
+  if (opt.rate_hz != 0.0 && !(opt.rate_hz >= kMinRateHz && opt.rate_hz <= kMaxRateHz))
+    throw UsageError("rate", "the sampling rate " + stamp(opt.rate_hz) + " Hz is outside the range " +
+                                 stamp(kMinRateHz) + " to " + stamp(kMaxRateHz) + " Hz");
+}
+
+void check_lsb_count(const SeriesOptions& opt, const std::string& file, const std::vector<std::string>& names) {
+  if (opt.lsb.size() <= 1 || opt.lsb.size() == names.size()) return;
+  std::string list;
+  for (const auto& n : names) list += (list.empty() ? "" : ",") + n;
+  throw UsageError("counts_per_unit", file + ": " + std::to_string(opt.lsb.size()) + " LSB values for " +
+                                          std::to_string(names.size()) + " columns (" + list +
+                                          "): give one value for every column, or one per column");
+}
+
+[[noreturn]] void refuse_format(const std::string& file, const std::string& what, const std::string& hint) {
+  throw InputError(file, 0, 0, what + " is not read as a stream", hint);
+}
+
+// ---------------------------------------------------------------------------
+
+class BinaryStream final : public SampleStream {
+ public:
+  BinaryStream(const std::string& path, const SeriesOptions& opt, std::size_t chunk_bytes)
+      : src_(path, file_, total_bytes_), layout_(opt.binary) {
+    if (opt.rate_hz == 0.0)
+      throw UsageError("rate", "raw binary has no time column: give the sampling rate");
+    rate_hz_ = opt.rate_hz;
+    // Resolve the columns as read_series does, on a table without rows.
+    Table all;
+    all.file = file_;
+    all.binary = true;
+    all.total_columns = layout_.channels.size();
+    all.data.resize(all.total_columns);
+    TableOptions topt = opt.table;
+    const Table sel = select_columns(std::move(all), topt);
+    if (sel.indices.empty()) throw InputError(file_, 0, 0, "no data columns", "name the columns to analyze");
+    names_ = sel.names;
+    extra_names_ = sel.extra_names;
+    check_lsb_count(opt, file_, names_);
+    for (std::size_t c = 0; c < names_.size(); ++c) scale_.push_back(opt.lsb_of(c));
+    for (std::size_t c = 0; c < layout_.channels.size(); ++c) {
+      offsets_.push_back(frame_);
+      frame_ += layout_.channels[c].bytes;
+    }
+    columns_ = sel.indices;
+    extras_ = sel.extra_indices;
+    frames_per_chunk_ = std::max<std::size_t>(1, chunk_bytes / frame_);
+    buf_.resize(frames_per_chunk_ * frame_);
+    // The header.
+    std::size_t left = layout_.header_bytes;
+    while (left > 0) {
+      const std::size_t got = src_.read(buf_.data(), std::min(left, buf_.size()));
+      if (got == 0)
+        throw InputError(file_, 0, 0,
+                         "the input has " + std::to_string(layout_.header_bytes - left) + " bytes, fewer than the " +
+                             std::to_string(layout_.header_bytes) + " header bytes to skip",
+                         "check --header-bytes");
+      left -= got;
+      bytes_read_ += got;
+    }
+  }
+
+  bool next(SampleChunk& out) override {
+    const std::size_t got = src_.read(buf_.data(), buf_.size());
+    const std::size_t rows = got / frame_;
+    if (got % frame_ != 0) {
+      throw InputError(file_, 0, 0,
+                       "trailing partial frame: " + std::to_string(got % frame_) + " bytes at byte offset " +
+                           std::to_string(bytes_read_ + rows * frame_) + " after " +
+                           std::to_string(rows_read_ + rows) + " whole frames",
+                       "the frame of " + std::to_string(layout_.channels.size()) + " channels is " +
+                           std::to_string(frame_) + " bytes; check --binary and --header-bytes");
+    }
+    out.channels.resize(columns_.size());
+    out.extra.resize(extras_.size());
+    for (std::size_t c = 0; c < columns_.size(); ++c) decode(columns_[c], rows, scale_[c], out.channels[c]);
+    for (std::size_t c = 0; c < extras_.size(); ++c) decode(extras_[c], rows, 1.0, out.extra[c]);
+    bytes_read_ += got;
+    rows_read_ += rows;
+    return rows > 0;
+  }
+
+ private:
+  void decode(std::size_t col, std::size_t rows, double lsb, std::vector<double>& v) {
+    v.resize(rows);
+    const SampleType t = layout_.channels[col];
+    const char* p = buf_.data() + offsets_[col];
+    if (t == SampleType{SampleKind::floating, 8, false} && std::endian::native == std::endian::little) {
+      for (std::size_t r = 0; r < rows; ++r, p += frame_) std::memcpy(&v[r], p, 8);
+    } else {
+      for (std::size_t r = 0; r < rows; ++r, p += frame_) v[r] = decode_sample(t, p);
+    }
+    bool ok = true;
+    const double top = kMaxMagnitude * lsb;
+    for (std::size_t r = 0; r < rows; ++r) ok &= std::abs(v[r]) <= top;
+    if (!ok) {
+      std::size_t r = 0;
+      while (std::abs(v[r]) <= top) ++r;
+      const std::size_t offset = bytes_read_ + r * frame_ + offsets_[col];
+      const bool finite = std::isfinite(v[r]);
+      throw InputError(file_, 0, 0,
+                       (finite ? "value " + stamp(v[r]) + " exceeds the magnitude " + stamp(kMaxMagnitude)
+                               : std::string(std::isnan(v[r]) ? "NaN" : "infinite value")) +
+                           " at byte offset " + std::to_string(offset) + " (row " +
+                           std::to_string(rows_read_ + r + 1) + ", column " + std::to_string(col + 1) + ")",
+                       finite ? "rescale the column, e.g. to other units"
+                              : "a missing or invalid sample: cut the record there, or fill the gap");
+    }
+    if (lsb != 1.0)
+      for (double& x : v) x /= lsb;
+  }
+
+  ByteSource src_;
+  RawLayout layout_;
+  std::size_t frame_ = 0, frames_per_chunk_ = 0;
+  std::vector<std::size_t> offsets_, columns_, extras_;
+  std::vector<double> scale_;
+  std::vector<char> buf_;
+};
+
+// ---------------------------------------------------------------------------
+
+bool is_comment_or_blank(std::string_view line) {
+  for (char c : line) {
+    if (c == ' ' || c == '\t' || c == '\r') continue;
+    return c == '#';
+  }
+  return true;
+}
+
+class TextStream final : public SampleStream {
+ public:
+  TextStream(const std::string& path, const SeriesOptions& opt, std::size_t chunk_bytes)
+      : src_(path, file_, total_bytes_), opt_(opt), chunk_bytes_(std::max<std::size_t>(chunk_bytes, 4096)) {
+    read_piece();
+    const std::string_view head(text_.data(), std::min<std::size_t>(text_.size(), 64));
+    if (head.size() >= 2 && static_cast<unsigned char>(head[0]) == 0x1f && static_cast<unsigned char>(head[1]) == 0x8b)
+      refuse_format(file_, "gzip-compressed text", "decompress into a pipe: zcat FILE | cubecal ... - --stream");
+    if (is_known_binary_format(head))
+      refuse_format(file_, "a NumPy or ROS bag file", "leave out --stream (it is read into memory)");
+    const Table layout = parse_layout(text_, file_, opt.table);
+    // The time column, as read_series chooses it.
+    std::string time_spec;
+    if (!opt.time_col.empty()) {
+      time_spec = opt.time_col;
+      timing_ = true;
+    } else {
+      const auto it = std::find_if(layout.header.begin(), layout.header.end(), looks_like_time_column);
+      if (it == layout.header.end()) {
+        if (opt.rate_hz == 0.0)
+          throw UsageError(file_ + ": no sampling rate: no column is named as a time column (t, time, t_s, "
+                                   "timestamp...): give --rate HZ or --time-col NAME");
+      } else {
+        time_spec = *it;
+        timing_ = opt.rate_hz == 0.0;
+      }
+    }
+    topt_ = opt.table;
+    if (topt_.columns.empty() && layout.has_header) {  // the default columns
+      default_columns_ = true;
+      for (const std::string& name : layout.header) {
+        bool out = !time_spec.empty() && (name == time_spec || lower_case(name) == lower_case(time_spec));
+        for (const auto& e : opt.table.extra_columns) out = out || name == e;
+        out = out || (opt.skip_temperature && looks_like_temperature_column(name));
+        (out ? left_out_ : topt_.columns).push_back(name);
+      }
+      if (topt_.columns.empty())
+        throw InputError(file_, 0, 0, "no data columns besides the time column", "name the columns to analyze");
+    }
+    extra_count_ = topt_.extra_columns.size();
+    if (!time_spec.empty()) topt_.extra_columns.push_back(time_spec);
+    has_time_ = !time_spec.empty();
+    // The lines in front of the data after the skipped rows (header,
+    // comments), put before every later piece so that it parses as the
+    // first did.
+    const std::size_t skip_end = line_start(opt.table.skip_rows + 1);
+    scan_begin_ = line_start(layout.first_data_line);
+    scan_line_ = layout.first_data_line;
+    prefix_ = text_.substr(skip_end, scan_begin_ - skip_end);
+    prefix_lines_ = static_cast<std::size_t>(std::count(prefix_.begin(), prefix_.end(), '\n'));
+    // The first piece now: names, the rate.
+    pending_ = parse_table(text_, file_, topt_);
+    have_pending_ = true;
+    names_ = pending_.names;
+    check_lsb_count(opt, file_, names_);
+    for (std::size_t c = 0; c < names_.size(); ++c) scale_.push_back(opt.lsb_of(c));
+    for (std::size_t k = 0; k < extra_count_; ++k) extra_names_.push_back(pending_.extra_names[k]);
+    if (has_time_) time_name_ = pending_.extra_names[extra_count_];
+    set_rate();
+  }
+
+  bool next(SampleChunk& out) override {
+    if (!have_pending_) {
+      if (eof_ && carry_.empty()) return false;
+      read_piece();
+      if (text_.empty()) return false;
+      std::string composed = prefix_;
+      composed += text_;
+      TableOptions o = topt_;
+      o.skip_rows = 0;
+      try {
+        pending_ = parse_table(composed, file_, o);
+      } catch (const InputError& e) {
+        if (e.line() <= prefix_lines_) throw;
+        throw InputError(e.file(), e.line() - prefix_lines_ - 1 + piece_line0_, e.column(), e.problem(), e.hint());
+      }
+      scan_begin_ = 0;
+      scan_line_ = piece_line0_;
+    }
+    have_pending_ = false;
+    check_piece(pending_);
+    const std::size_t rows = pending_.rows();
+    out.channels.resize(pending_.data.size());
+    for (std::size_t c = 0; c < pending_.data.size(); ++c) {
+      out.channels[c].swap(pending_.data[c]);
+      if (scale_[c] != 1.0)
+        for (double& v : out.channels[c]) v /= scale_[c];
+    }
+    out.extra.resize(extra_count_);
+    for (std::size_t k = 0; k < extra_count_; ++k) out.extra[k].swap(pending_.extra[k]);
+    rows_read_ += rows;
+    return true;
+  }
+
+ private:
+  // The next piece into text_, ending at a line end (but at the end of the
+  // input); piece_line0_ is the file line of its first character.
+  void read_piece() {
+    piece_line0_ += static_cast<std::size_t>(std::count(text_.begin(), text_.end(), '\n'));
+    text_.swap(carry_);
+    carry_.clear();
+    const std::size_t at = text_.size();
+    text_.resize(at + chunk_bytes_);
+    const std::size_t got = src_.read(text_.data() + at, chunk_bytes_);
+    text_.resize(at + got);
+    bytes_read_ += got;
+    eof_ = got < chunk_bytes_;
+    if (!eof_) {
+      const std::size_t nl = text_.rfind('\n');
+      if (nl == std::string::npos)
+        throw InputError(file_, piece_line0_, 0, "a line longer than " + std::to_string(chunk_bytes_) + " bytes",
+                         "not a delimited text record");
+      carry_ = text_.substr(nl + 1);
+      text_.resize(nl + 1);
+    }
+  }
+
+  // Offset in text_ of the start of 1-based line `line` (its size if beyond).
+  std::size_t line_start(std::size_t line) const {
+    std::size_t pos = 0;
+    for (std::size_t l = 1; l < line && pos < text_.size(); ++l) {
+      const std::size_t nl = text_.find('\n', pos);
+      pos = nl == std::string::npos ? text_.size() : nl + 1;
+    }
+    return pos;
+  }
+
+  // The 1-based line of data row `row` of the piece parsed last.
+  std::size_t line_of(std::size_t row) const {
+    const std::string_view t(text_);
+    std::size_t pos = scan_begin_, line = scan_line_, seen = 0;
+    while (pos < t.size()) {
+      std::size_t nl = t.find('\n', pos);
+      if (nl == std::string_view::npos) nl = t.size();
+      if (!is_comment_or_blank(t.substr(pos, nl - pos))) {
+        if (seen == row) return line;
+        ++seen;
+      }
+      ++line;
+      pos = nl + 1;
+    }
+    return 0;
+  }
+
+  [[noreturn]] void fail_at(std::size_t row, const std::string& problem, const std::string& hint) const {
+    throw InputError(file_, line_of(row), 0, problem, hint);
+  }
+
+  static double median(std::vector<double> v) {
+    const std::size_t mid = v.size() / 2;
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid), v.end());
+    if (v.size() % 2 != 0) return v[mid];
+    const double upper = v[mid];
+    return 0.5 * (upper + *std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid)));
+  }
+
+  // The rate: given, or from the first piece's median interval (nine
+  // significant digits, as read_series).
+  void set_rate() {
+    rate_hz_ = opt_.rate_hz;
+    if (!has_time_) return;
+    const std::vector<double>& t = pending_.extra[extra_count_];
+    std::vector<double> dt;
+    for (std::size_t i = 1; i < t.size(); ++i) dt.push_back(t[i] - t[i - 1]);
+    if (!timing_) {
+      if (opt_.check_rate_against_time && !dt.empty()) {
+        const double period = median(dt);
+        if (period > 0.0 && std::isfinite(period) && std::fabs(opt_.rate_hz * period - 1.0) > opt_.tolerance)
+          throw UsageError("rate", file_ + ": the rate " + stamp(opt_.rate_hz) + " Hz contradicts the time column '" +
+                                       time_name_ + "' (" + stamp(1.0 / period) +
+                                       " Hz): leave the rate out to take it from the time stamps, or fix the time column");
+      }
+      return;
+    }
+    if (opt_.rate_hz > 0.0) return;
+    if (dt.empty())
+      throw InputError(file_, 0, 0, "cannot infer the sampling rate from a single time stamp", "give --rate HZ");
+    const double raw = 1.0 / median(dt);
+    if (!(raw >= kMinRateHz && raw <= kMaxRateHz))
+      fail_at(1, "time stamps " + stamp(1.0 / raw) + " s apart give a rate of " + stamp(raw) +
+                     " Hz, outside the range " + stamp(kMinRateHz) + " to " + stamp(kMaxRateHz) + " Hz",
+              "the time column must be in seconds");
+    const double scale = std::pow(10.0, 8.0 - std::floor(std::log10(raw)));
+    rate_hz_ = std::round(raw * scale) / scale;
+    rate_from_time_ = true;
+  }
+
+  // Magnitudes and time stamps of the piece parsed last.
+  void check_piece(const Table& t) {
+    for (std::size_t c = 0; c < t.data.size(); ++c) {
+      const double top = kMaxMagnitude * scale_[c];
+      const auto& v = t.data[c];
+      bool ok = true;
+      for (double x : v) ok &= std::abs(x) <= top;
+      if (!ok) {
+        std::size_t r = 0;
+        while (std::abs(v[r]) <= top) ++r;
+        fail_at(r, "value " + stamp(v[r]) + " exceeds the magnitude " + stamp(kMaxMagnitude) +
+                       " whose square a variance can hold",
+                "rescale the column, e.g. to other units");
+      }
+    }
+    if (!timing_ || t.extra.size() <= extra_count_) return;
+    const std::vector<double>& time = t.extra[extra_count_];
+    const double period = 1.0 / rate_hz_;
+    const std::string ignore = opt_.time_col.empty() ? ", or give --rate HZ to ignore the time stamps" : "";
+    for (std::size_t i = 0; i < time.size(); ++i) {
+      const double now = time[i];
+      if (have_last_) {
+        const double dt = now - last_;
+        if (!(now > last_))
+          fail_at(i, "time stamp " + stamp(now) + " s is not after the previous one " + stamp(last_) + " s",
+                  now == last_ ? "duplicated time stamp: remove the repeated row or fix the logger clock"
+                               : "sort the file or fix the logger clock");
+        if (std::fabs(dt - period) > opt_.tolerance * period) {
+          if (dt >= kGapPeriods * period)
+            fail_at(i, "gap of " + stamp(dt) + " s (" + std::to_string(std::llround(dt / period)) + " periods of " +
+                           stamp(period) + " s) after t = " + stamp(last_) + " s",
+                    "a streamed record is not split: cut it at the gap, or read it into memory with --gaps split");
+          fail_at(i, "jitter: interval " + stamp(dt) + " s differs from the period " + stamp(period) + " s",
+                  "cut the record at irregular intervals" + ignore);
+        }
+      }
+      last_ = now;
+      have_last_ = true;
+    }
+  }
+
+  ByteSource src_;
+  SeriesOptions opt_;
+  TableOptions topt_;
+  std::size_t chunk_bytes_;
+  std::string text_, carry_, prefix_;
+  std::size_t prefix_lines_ = 0, piece_line0_ = 1, scan_begin_ = 0, scan_line_ = 1;
+  bool eof_ = false, have_pending_ = false;
+  bool timing_ = false, has_time_ = false, have_last_ = false;
+  double last_ = 0.0;
+  std::size_t extra_count_ = 0;
+  std::vector<double> scale_;
+  Table pending_;
+};
+
+}  // namespace
+
+std::unique_ptr<SampleStream> SampleStream::open(const std::string& path, const SeriesOptions& opt,
+                                                 std::size_t chunk_bytes) {
+  check_common(opt);
+  if (!opt.binary.channels.empty()) return std::make_unique<BinaryStream>(path, opt, chunk_bytes);
+  return std::make_unique<TextStream>(path, opt, chunk_bytes);
+}
+
+}  // namespace cubecal::io

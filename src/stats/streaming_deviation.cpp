@@ -1,0 +1,370 @@
+#include "cubecal/stats/streaming_deviation.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include "cubecal/stats/confidence.hpp"
+#include "cubecal/stats/edf.hpp"
+#include "cubecal/stats/kernels.hpp"
+#include "cubecal/stats/noise_id.hpp"
+#include "../detail/simd.hpp"
+
+namespace cubecal {
+
+namespace {
+
+constexpr std::size_t kMinAcfAverages = 30;  // as identify_noise
+constexpr std::size_t kMinBlock = 4096;       // values a level takes per pass at least
+
+bool overlapping(Stat s) noexcept { return s == Stat::oadev || s == Stat::ohdev; }
+
+// Sum over i in [0, count) of (p[i+3k] - 3p[i+2k] + 3p[i+k] - p[i])^2.
+CUBECAL_VECTOR_CLONES
+double third_difference_energy(const double* p, std::size_t count, std::size_t k) noexcept {
+  const double* a = p;
+  const double* b = p + k;
+  const double* c = p + 2 * k;
+  const double* d = p + 3 * k;
+  double s[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+  std::size_t i = 0;
+  for (; i + 8 <= count; i += 8)
+    for (std::size_t j = 0; j < 8; ++j) {
+      const double v = d[i + j] - 3.0 * c[i + j] + 3.0 * b[i + j] - a[i + j];
+      s[j] += v * v;
+    }
+  double tail = 0.0;
+  for (; i < count; ++i) {
+    const double v = d[i] - 3.0 * c[i] + 3.0 * b[i] - a[i];
+    tail += v * v;
+  }
+  return ((s[0] + s[1]) + (s[2] + s[3])) + ((s[4] + s[5]) + (s[6] + s[7])) + tail;
+}
+
+// Level-0 copy less the offset; false when a value is not finite.
+CUBECAL_VECTOR_CLONES
+bool shift(const double* y, std::size_t count, double offset, double* out) noexcept {
+  bool ok = true;
+  for (std::size_t i = 0; i < count; ++i) {
+    ok &= std::abs(y[i]) <= std::numeric_limits<double>::max();
+    out[i] = y[i] - offset;
+  }
+  return ok;
+}
+
+}  // namespace
+
+bool streams(Stat stat) noexcept {
+  return stat == Stat::adev || stat == Stat::oadev || stat == Stat::hdev || stat == Stat::ohdev;
+}
+
+std::vector<StreamedFactor> streamed_factors(Stat stat, std::span<const std::size_t> ms,
+                                             std::size_t window_bound) {
+  const std::size_t order = static_cast<std::size_t>(difference_order(stat));
+  // The values a factor's terms span on its level: order windows for the
+  // overlapping statistics, one window (the averages) for the others.
+  const std::size_t per_k = overlapping(stat) ? order : 1;
+  std::vector<StreamedFactor> out;
+  for (std::size_t m : ms) {
+    if (m == 0) continue;
+    StreamedFactor f;
+    std::size_t level = 0;
+    std::size_t k = m;
+    while (k * per_k > window_bound) {
+      ++level;
+      const std::size_t unit = std::size_t{1} << level;
+      k = std::max<std::size_t>(1, (m + unit / 2) >> level);  // nearest multiple of 2^level
+    }
+    f.level = level;
+    f.m = k << level;
+    f.stride = overlapping(stat) ? (std::size_t{1} << level) : f.m;
+    if (!out.empty() && out.back().m >= f.m) continue;  // merged with the one before
+    out.push_back(f);
+  }
+  return out;
+}
+
+std::size_t streaming_bytes(std::size_t window_bound) noexcept {
+  // A full level holds its span plus a pass (two bounds) and its pair sums;
+  // levels above 2^40 / bound receive fewer values than that.
+  const std::size_t full_levels = 41 - static_cast<std::size_t>(std::countr_zero(window_bound));
+  return (full_levels * 3 + 4) * window_bound * sizeof(double);
+}
+
+// As identify_noise's (noise_id.cpp): the lag-1 sum over N over the sample variance.
+double StreamingDeviation::Lag::r1() const noexcept {
+  if (n < 2) return 0.0;
+  const double nn = static_cast<double>(n);
+  const double mu = s1 / nn;
+  const double den = s2 - nn * mu * mu;
+  const double num = p - mu * (2.0 * s1 - first - last) + (nn - 1.0) * mu * mu;
+  return den > 0.0 ? (nn - 1.0) / nn * num / den : 0.0;
+}
+
+// Lag-1 sums of w[0 .. len) after the values already taken; four
+// independent lanes, so that the loop runs vectorized.
+CUBECAL_VECTOR_CLONES
+void StreamingDeviation::Lag::add(const double* w, std::size_t len) noexcept {
+  if (len == 0) return;
+  if (n > 0) p += last * w[0];
+  else first = w[0];
+  double a1[4] = {0, 0, 0, 0}, a2[4] = {0, 0, 0, 0}, ap[4] = {0, 0, 0, 0};
+  std::size_t i = 0;
+  for (; i + 5 <= len; i += 4)
+    for (std::size_t j = 0; j < 4; ++j) {
+      const double v = w[i + j];
+      a1[j] += v;
+      a2[j] += v * v;
+      ap[j] += v * w[i + j + 1];
+    }
+  double t1 = 0, t2 = 0, tp = 0;
+  for (; i < len; ++i) {
+    t1 += w[i];
+    t2 += w[i] * w[i];
+    if (i + 1 < len) tp += w[i] * w[i + 1];
+  }
+  s1 += ((a1[0] + a1[1]) + (a1[2] + a1[3])) + t1;
+  s2 += ((a2[0] + a2[1]) + (a2[2] + a2[3])) + t2;
+  p += ((ap[0] + ap[1]) + (ap[2] + ap[3])) + tp;
+  last = w[len - 1];
+  n += len;
+}
+
+void StreamingDeviation::Factor::push_averages(std::vector<double>& z, int dmax,
+                                               std::vector<double>& scratch) noexcept {
+  averages += z.size();
+  for (int d = 0; d <= dmax && !z.empty(); ++d) {
+    Lag& l = lag[d];
+    const bool had = l.n > 0;
+    const double before = l.last;
+    l.add(z.data(), z.size());
+    if (d == dmax) break;
+    // The next order: differences, the first against the last value before.
+    scratch.clear();
+    if (had) scratch.push_back(z[0] - before);
+    for (std::size_t i = 0; i + 1 < z.size(); ++i) scratch.push_back(z[i + 1] - z[i]);
+    z.swap(scratch);
+  }
+}
+
+StreamingDeviation::StreamingDeviation(Stat stat, std::span<const std::size_t> ms,
+                                       std::size_t window_bound)
+    : stat_(stat), order_(difference_order(stat)), overlapping_(overlapping(stat)) {
+  if (!streams(stat))
+    throw std::invalid_argument(std::string(to_string(stat)) + " is not computed in a stream");
+  if (window_bound < 16 || (window_bound & (window_bound - 1)) != 0)
+    throw std::invalid_argument("the window bound must be a power of two of at least 16");
+  factors_ = streamed_factors(stat, ms, window_bound);
+  state_.resize(factors_.size());
+  std::size_t top = 0;
+  for (const auto& f : factors_) top = std::max(top, f.level);
+  levels_.resize(factors_.empty() ? 1 : top + 1);
+  const std::size_t per_k = overlapping_ ? static_cast<std::size_t>(order_) : 1;
+  for (std::size_t j = 0; j < factors_.size(); ++j) {
+    Level& lv = levels_[factors_[j].level];
+    state_[j].k = factors_[j].m >> factors_[j].level;
+    lv.factors.push_back(j);
+    lv.span = std::max(lv.span, per_k * state_[j].k);
+  }
+  for (Level& lv : levels_) lv.capacity = lv.span + std::max(lv.span, kMinBlock);
+}
+
+// A level's buffer grows to its capacity as values come: the top levels of
+// a short record stay small.
+void StreamingDeviation::grow(Level& lv, std::size_t need) {
+  if (lv.buf.size() >= need) return;
+  lv.buf.resize(std::min(lv.capacity, std::max(need, 2 * lv.buf.size())));
+}
+
+void StreamingDeviation::push(std::span<const double> y) {
+  if (y.empty()) return;
+  if (!have_offset_) {
+    // A constant offset leaves every difference as it is; removing about the
+    // mean keeps the window sums (and their rounding) at the size of the noise.
+    const std::size_t n = std::min<std::size_t>(y.size(), 1 << 16);
+    double sum = 0.0;
+    for (std::size_t i = 0; i < n; ++i) sum += y[i];
+    offset_ = std::isfinite(sum) ? sum / static_cast<double>(n) : 0.0;
+    have_offset_ = true;
+  }
+  Level& lv = levels_[0];
+  std::size_t done = 0;
+  while (done < y.size()) {
+    const std::size_t room = lv.capacity - lv.fill;
+    const std::size_t take = std::min(room, y.size() - done);
+    grow(lv, lv.fill + take);
+    const std::size_t at = lv.fill;
+    lv.fill += take;
+    if (!shift(y.data() + done, take, offset_, lv.buf.data() + at)) {
+      for (std::size_t i = 0; i < take; ++i)
+        if (!std::isfinite(y[done + i]))
+          throw std::invalid_argument("sample " + std::to_string(samples_ + done + i) +
+                                      " is not a finite number");
+    }
+    done += take;
+    lv.total += take;
+    if (lv.fill == lv.capacity) process(0);
+  }
+  samples_ += y.size();
+}
+
+void StreamingDeviation::append(std::size_t level, const double* v, std::size_t count) {
+  Level& lv = levels_[level];
+  std::size_t done = 0;
+  while (done < count) {
+    const std::size_t take = std::min(lv.capacity - lv.fill, count - done);
+    grow(lv, lv.fill + take);
+    std::copy(v + done, v + done + take, lv.buf.begin() + static_cast<std::ptrdiff_t>(lv.fill));
+    lv.fill += take;
+    done += take;
+    lv.total += take;
+    if (lv.fill == lv.capacity) process(level);
+  }
+}
+
+void StreamingDeviation::process(std::size_t level) {
+  Level& lv = levels_[level];
+  const std::size_t len = lv.fill;
+  if (len == lv.kept) return;
+  // Local prefix sums of the pass less its mean c: P[j] = (buf[0] - c) + ..
+  // + (buf[j-1] - c). Each term is a difference of equal windows of the
+  // pass, so c cancels in it, and P stays at the size of the noise: no
+  // phase is summed over the record.
+  double c = 0.0;
+  for (std::size_t j = 0; j < len; ++j) c += lv.buf[j];
+  c /= static_cast<double>(len);
+  prefix_.resize(len + 1);
+  prefix_[0] = 0.0;
+  double acc = 0.0;
+  for (std::size_t j = 0; j < len; ++j) {
+    acc += lv.buf[j] - c;
+    prefix_[j + 1] = acc;
+  }
+  const double* P = prefix_.data();
+  for (std::size_t idx : lv.factors) {
+    Factor& f = state_[idx];
+    const std::size_t k = f.k;
+    if (overlapping_) {
+      // New terms: those whose last prefix index is past the processed part.
+      const std::size_t span = static_cast<std::size_t>(order_) * k;
+      if (len >= span) {
+        const std::size_t first = lv.kept + 1 > span ? lv.kept + 1 - span : 0;
+        const std::size_t last = len - span;
+        if (last >= first) {
+          const std::size_t count = last - first + 1;
+          const double e = order_ == 2 ? second_difference_energy(P + first, count, k)
+                                       : third_difference_energy(P + first, count, k);
+          // Kahan: the record's sum over many passes.
+          const double yk = e - f.energy_c;
+          const double t = f.energy + yk;
+          f.energy_c = (t - f.energy) - yk;
+          f.energy = t;
+          f.terms += count;
+        }
+      }
+    }
+    // Non-overlapping window sums ending in the new part (boundaries at
+    // multiples of k on the level).
+    const std::size_t lo = lv.base + lv.kept;  // boundaries > lo
+    zs_.clear();
+    for (std::size_t b = (lo / k + 1) * k; b <= lv.base + len; b += k)
+      zs_.push_back((P[b - lv.base] - P[b - lv.base - k]) + static_cast<double>(k) * c);
+    f.push_averages(zs_, order_, diff_);
+  }
+  // Pair sums for the next level, aligned on even indices of this one.
+  if (level + 1 < levels_.size()) {
+    lv.out.clear();
+    std::size_t j = lv.kept;
+    if (lv.odd && j < len) {
+      lv.out.push_back(lv.pending + lv.buf[j]);
+      lv.odd = false;
+      ++j;
+    }
+    for (; j + 1 < len; j += 2) lv.out.push_back(lv.buf[j] + lv.buf[j + 1]);
+    if (j < len) {
+      lv.odd = true;
+      lv.pending = lv.buf[j];
+    }
+  }
+  // Keep the span for the terms that end in the next pass.
+  const std::size_t keep = std::min(lv.span, len);
+  std::copy(lv.buf.begin() + static_cast<std::ptrdiff_t>(len - keep), lv.buf.begin() + static_cast<std::ptrdiff_t>(len),
+            lv.buf.begin());
+  lv.fill = keep;
+  lv.base += len - keep;
+  lv.kept = keep;
+  // The next level touches only its own buffers.
+  if (level + 1 < levels_.size() && !lv.out.empty()) append(level + 1, lv.out.data(), lv.out.size());
+}
+
+StreamingDeviation::Result StreamingDeviation::finish(double tau0, const StabilityOptions& opt) {
+  for (std::size_t l = 0; l < levels_.size(); ++l) process(l);
+  Result res;
+  const std::size_t n_phase = samples_ + 1;
+  const std::size_t top = max_averaging_factor(stat_, n_phase);
+  const double c = order_ == 2 ? 2.0 : 6.0;
+  const bool short_rule = opt.conservative_short && !opt.alpha;
+  int last_alpha = 0;
+  bool have_alpha = false;
+  for (std::size_t j = 0; j < factors_.size(); ++j) {
+    const StreamedFactor& fa = factors_[j];
+    const Factor& f = state_[j];
+    if (fa.m > top) continue;
+    double sum = 0.0;
+    std::size_t n = 0;
+    if (overlapping_) {
+      sum = f.energy;
+      n = f.terms;
+    } else {
+      const Lag& d = f.lag[order_ - 1];  // first (ADEV) or second (HDEV) differences
+      sum = d.s2;
+      n = d.n;
+    }
+    if (n == 0) continue;
+    StabilityPoint p;
+    p.m = fa.m;
+    p.tau = static_cast<double>(fa.m) * tau0;
+    p.n = n;
+    const double md = static_cast<double>(fa.m);
+    p.dev = std::sqrt(std::max(sum, 0.0) / (c * md * md * static_cast<double>(n)));
+    if (opt.intervals) {
+      // The phase points the level's values cover.
+      const std::size_t level_values = levels_[fa.level].total;
+      const std::size_t covered = (level_values << fa.level) + 1;
+      if (opt.alpha) {
+        p.alpha = *opt.alpha;
+      } else if (2 * fa.m > top && have_alpha) {  // Stable32's run rule
+        p.alpha = last_alpha;
+        p.type_carried = true;
+      } else if (f.averages >= kMinAcfAverages) {
+        double r1[4];
+        for (int d = 0; d <= order_; ++d) r1[d] = f.lag[d].r1();
+        p.alpha = noise_from_lag1(std::span<const double>(r1, static_cast<std::size_t>(order_) + 1), stat_).alpha;
+      } else {
+        p.alpha = have_alpha ? last_alpha : 0;
+        p.type_carried = true;
+      }
+      last_alpha = p.alpha;
+      have_alpha = true;
+      p.edf = edf_for_stride(stat_, p.alpha, fa.m, covered, fa.stride, opt.edf);
+      if (short_rule && f.averages < kMinAcfAverages) {
+        const int lowest = order_ == 3 ? -4 : -2;
+        const int wfm = p.alpha >= 1 ? 0 : p.alpha;
+        for (int a : {p.alpha - 1, p.alpha + 1, wfm})
+          if (a >= lowest && a <= 2)
+            p.edf = std::min(p.edf, edf_for_stride(stat_, a, fa.m, covered, fa.stride, opt.edf));
+      }
+      const Interval ci = chi2_interval(p.dev, p.edf, opt.ci);
+      p.lo = ci.lo;
+      p.hi = ci.hi;
+    }
+    res.points.push_back(p);
+    res.strides.push_back(fa.stride);
+  }
+  return res;
+}
+
+}  // namespace cubecal
