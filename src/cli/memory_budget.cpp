@@ -66,10 +66,11 @@ std::size_t in_memory_bytes(const std::string& file, const io::SeriesOptions& op
     const std::size_t frame = opt.binary.frame_bytes();
     return bytes + (frame > 0 ? bytes / frame * opt.binary.channels.size() * 8 : 0);
   }
-  // Text: the mapping plus the doubles, about a third of the text's bytes
-  // for typical numbers ("0.0123456," is 10 bytes for 8), and the parse's
-  // working copies: twice the file.
-  return 2 * bytes;
+  // Text: the parsed doubles, 8 bytes for a number of about 10 characters
+  // ("0.0123456,"), and the phase records beside them, about 1.2x the
+  // doubles (bench/memory.sh); the pages of the text are dropped behind the
+  // parse. Rounded up to the file's size.
+  return bytes;
 }
 
 }  // namespace cubecal::cli
