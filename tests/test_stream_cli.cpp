@@ -5,6 +5,8 @@
 // refuses, as one error line and exit code 2.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -147,6 +149,44 @@ TEST_F(StreamCli, RefusalsAreOneLine) {
   EXPECT_NE(partial.err.find("byte offset 8000"), std::string::npos) << partial.err;
   const CliRun line = run_cubecal("dev " + bad + " --stream");
   EXPECT_NE(line.err.find("bad.csv:4:"), std::string::npos) << line.err;
+}
+
+}  // namespace
+
+namespace {
+
+// --window sets the stream's bound: factors up to half of it exact, the
+// others strided, inside the in-memory intervals; a bound that is not a
+// power of two from 16 is refused in one line.
+TEST_F(StreamCli, WindowSetsTheExactBound) {
+  const std::string raw = path("w.raw");
+  ASSERT_EQ(run_cubecal("simulate --preset sport-gyro --rate 100 --duration 1h --seed 9 --format raw --out " + raw).code, 0);
+  const CliRun mem = run_cubecal("dev " + raw + " " + kFrames + " --columns 1 --taus octave --format json");
+  const CliRun st = run_cubecal("dev " + raw + " " + kFrames + " --columns 1 --taus octave --format json --stream --window 64");
+  ASSERT_EQ(mem.code, 0) << mem.err;
+  ASSERT_EQ(st.code, 0) << st.err;
+  const json a = json::parse(mem.out)["columns"][0], b = json::parse(st.out);
+  EXPECT_EQ(b["stream"]["window_bound"].get<std::size_t>(), 64u);
+  const json& c = b["columns"][0];
+  ASSERT_EQ(c["af"].size(), a["af"].size());
+  for (std::size_t j = 0; j < c["af"].size(); ++j) {
+    const std::size_t m = c["af"][j].get<std::size_t>();
+    ASSERT_EQ(m, a["af"][j].get<std::size_t>());
+    if (2 * m <= 64) {
+      EXPECT_EQ(c["stride"][j].get<std::size_t>(), 1u) << m;
+      EXPECT_NEAR(c["dev"][j].get<double>(), a["dev"][j].get<double>(), 1e-12 * a["dev"][j].get<double>()) << m;
+    } else {
+      EXPECT_GT(c["stride"][j].get<std::size_t>(), 1u) << m;
+      EXPECT_GE(c["dev"][j].get<double>(), a["lo"][j].get<double>()) << m;
+      EXPECT_LE(c["dev"][j].get<double>(), a["hi"][j].get<double>()) << m;
+    }
+  }
+  for (const char* w : {"12", "100", "8"}) {
+    const CliRun r = run_cubecal("dev " + raw + " " + kFrames + " --columns 1 --stream --window " + w);
+    EXPECT_EQ(r.code, 2) << w;
+    EXPECT_EQ(r.err.rfind("cubecal: error: --window: ", 0), 0u) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  }
 }
 
 }  // namespace

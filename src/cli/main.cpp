@@ -50,6 +50,7 @@ std::string usage_message(const cubecal::UsageError& e) {
       {"gaps", "--gaps"},
       {"topics", "--topic"},
       {"memory", "--memory"},
+      {"window", "--window"},
   };
   for (const auto& [option, flag] : kFlags)
     if (e.option() == option) return std::string(flag) + ": " + e.what();

@@ -1,5 +1,7 @@
 #include "memory_budget.hpp"
 
+#include "cubecal/pipeline/dev_stream.hpp"
+
 #include <unistd.h>
 
 #include <cctype>
@@ -18,6 +20,18 @@ void add_memory_options(CLI::App& cmd, MemoryOptions& opt) {
   cmd.add_option("--memory", opt.memory,
                  "Memory budget, e.g. 2G or 512M (default: half the physical memory): a larger record is "
                  "streamed, and the stream's window bound follows from it");
+  cmd.add_option("--window", opt.window,
+                 "Stream's window bound in samples, a power of two >= 16 (default: the largest --memory allows, "
+                 "up to 1048576): factors whose terms span at most this many samples are exact (stride 1), "
+                 "larger ones partially overlapping; a smaller bound is faster");
+}
+
+std::size_t stream_window(const MemoryOptions& opt, std::size_t budget, std::size_t channels) {
+  if (opt.window == 0) return pipeline::window_bound_for(budget, channels);
+  if (opt.window < 16 || (opt.window & (opt.window - 1)) != 0 || opt.window > (std::size_t{1} << 30))
+    throw UsageError("window", std::to_string(opt.window) +
+                                   " is not a power of two from 16 to 2^30 (e.g. 64, 4096 or 1048576)");
+  return opt.window;
 }
 
 std::size_t parse_memory_size(const std::string& text) {

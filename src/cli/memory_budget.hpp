@@ -13,6 +13,7 @@ namespace cubecal::cli {
 struct MemoryOptions {
   bool stream = false;
   std::string memory;  // "2G", "512M", "300000k", bytes; empty: half the physical memory
+  std::size_t window = 0;  // the stream's window bound (a power of two >= 16); 0: from the budget
 };
 
 void add_memory_options(CLI::App& cmd, MemoryOptions& opt);
@@ -20,6 +21,11 @@ void add_memory_options(CLI::App& cmd, MemoryOptions& opt);
 // "2G" -> 2^31 (k, M, G, T: powers of 1024; a plain number is bytes);
 // throws UsageError("memory").
 std::size_t parse_memory_size(const std::string& text);
+
+// The stream's window bound: --window, or the largest the budget allows
+// for `channels` channels (UsageError("window") if --window is not a power
+// of two of at least 16).
+std::size_t stream_window(const MemoryOptions& opt, std::size_t budget, std::size_t channels);
 
 // The budget: --memory, or half the physical memory (sysconf).
 std::size_t memory_budget(const MemoryOptions& opt);
