@@ -40,6 +40,7 @@
 #include <vector>
 
 #include "cubecal/stats/kernels.hpp"
+#include "cubecal/stats/lag_sums.hpp"
 #include "../detail/simd.hpp"
 
 namespace cubecal {
@@ -47,59 +48,6 @@ namespace cubecal {
 namespace {
 
 constexpr std::size_t kMinAcfPoints = 30;
-
-// Running sums of one difference order of the sequence, enough for its
-// lag-1 autocorrelation with the mean removed.
-struct LagSums {
-  std::size_t n = 0;
-  double s1 = 0, s2 = 0, p = 0, first = 0, last = 0;
-  // Stable32's r1: lag-1 sum / N over the sample variance (N - 1).
-  double r1() const {
-    if (n < 2) return 0.0;
-    const double nn = static_cast<double>(n);
-    const double mu = s1 / nn;
-    const double den = s2 - nn * mu * mu;
-    const double num = p - mu * (2.0 * s1 - first - last) + (nn - 1.0) * mu * mu;
-    return den > 0.0 ? (nn - 1.0) / nn * num / den : 0.0;
-  }
-};
-
-// Adds w[0..len) to the sums; independent partial sums let the loops run
-// vectorized (this runs on every averaging factor, over up to N points).
-CUBECAL_VECTOR_CLONES
-void accumulate(LagSums& s, const double* w, std::size_t len) {
-  if (len == 0) return;
-  if (s.n > 0) s.p += s.last * w[0];
-  else s.first = w[0];
-  // 16 lanes = four AVX2 registers per sum: enough independent chains to
-  // hide the add latency.
-  constexpr std::size_t L = 16;
-  double a1[L] = {}, a2[L] = {}, ap[L] = {};
-  std::size_t i = 0;
-  for (; i + L + 1 <= len; i += L)
-    for (std::size_t j = 0; j < L; ++j) {
-      const double v = w[i + j];
-      a1[j] += v;
-      a2[j] += v * v;
-      ap[j] += v * w[i + j + 1];
-    }
-  double t1 = 0, t2 = 0, tp = 0;
-  for (; i < len; ++i) {
-    t1 += w[i];
-    t2 += w[i] * w[i];
-    if (i + 1 < len) tp += w[i] * w[i + 1];
-  }
-  for (std::size_t j = 0; j < L; ++j) {
-    t1 += a1[j];
-    t2 += a2[j];
-    tp += ap[j];
-  }
-  s.s1 += t1;
-  s.s2 += t2;
-  s.p += tp;
-  s.last = w[len - 1];
-  s.n += len;
-}
 
 int clamp_alpha(int alpha, Stat stat) {
   const int lowest = difference_order(stat) == 3 ? -4 : -2;
@@ -186,14 +134,14 @@ NoiseId identify_noise(std::span<const double> x, std::size_t m, Stat stat) {
       } else {
         for (std::size_t j = 0; j < len; ++j) w0[j] = z(k0 + j);
       }
-      accumulate(sums[0], w0, len);
+      sums[0].add(w0, len);
       for (int d = 1; d <= dmax; ++d) {
         const double* src = buf[d - 1];
         double* dst = buf[d] + 1;
         for (std::size_t j = 0; j < len; ++j) dst[j] = src[j + 1] - src[j];
         // The d-th difference starts at index d of the sequence.
         const std::size_t start = k0 == 0 ? static_cast<std::size_t>(d) : 0;
-        if (len > start) accumulate(sums[d], dst + start, len - start);
+        if (len > start) sums[d].add(dst + start, len - start);
       }
       for (int d = 0; d <= dmax; ++d) buf[d][0] = buf[d][len];
     }

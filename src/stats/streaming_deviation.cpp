@@ -94,45 +94,6 @@ std::size_t streaming_bytes(std::size_t window_bound) noexcept {
   return (full_levels * 3 + 4) * window_bound * sizeof(double);
 }
 
-// As identify_noise's (noise_id.cpp): the lag-1 sum over N over the sample variance.
-double StreamingDeviation::Lag::r1() const noexcept {
-  if (n < 2) return 0.0;
-  const double nn = static_cast<double>(n);
-  const double mu = s1 / nn;
-  const double den = s2 - nn * mu * mu;
-  const double num = p - mu * (2.0 * s1 - first - last) + (nn - 1.0) * mu * mu;
-  return den > 0.0 ? (nn - 1.0) / nn * num / den : 0.0;
-}
-
-// Lag-1 sums of w[0 .. len) after the values already taken; four
-// independent lanes, so that the loop runs vectorized.
-CUBECAL_VECTOR_CLONES
-void StreamingDeviation::Lag::add(const double* w, std::size_t len) noexcept {
-  if (len == 0) return;
-  if (n > 0) p += last * w[0];
-  else first = w[0];
-  double a1[4] = {0, 0, 0, 0}, a2[4] = {0, 0, 0, 0}, ap[4] = {0, 0, 0, 0};
-  std::size_t i = 0;
-  for (; i + 5 <= len; i += 4)
-    for (std::size_t j = 0; j < 4; ++j) {
-      const double v = w[i + j];
-      a1[j] += v;
-      a2[j] += v * v;
-      ap[j] += v * w[i + j + 1];
-    }
-  double t1 = 0, t2 = 0, tp = 0;
-  for (; i < len; ++i) {
-    t1 += w[i];
-    t2 += w[i] * w[i];
-    if (i + 1 < len) tp += w[i] * w[i + 1];
-  }
-  s1 += ((a1[0] + a1[1]) + (a1[2] + a1[3])) + t1;
-  s2 += ((a2[0] + a2[1]) + (a2[2] + a2[3])) + t2;
-  p += ((ap[0] + ap[1]) + (ap[2] + ap[3])) + tp;
-  last = w[len - 1];
-  n += len;
-}
-
 void StreamingDeviation::Factor::push_averages(std::vector<double>& z, int dmax,
                                                std::vector<double>& scratch) noexcept {
   averages += z.size();

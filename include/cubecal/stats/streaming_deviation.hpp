@@ -28,6 +28,7 @@
 #include <span>
 #include <vector>
 
+#include "cubecal/stats/lag_sums.hpp"
 #include "cubecal/stats/stability.hpp"
 #include "cubecal/stats/statistic.hpp"
 
@@ -79,12 +80,7 @@ class StreamingDeviation {
   Result finish(double tau0, const StabilityOptions& opt);
 
  private:
-  struct Lag {  // lag-1 sums of one difference order of the averages
-    std::size_t n = 0;
-    double s1 = 0, s2 = 0, p = 0, first = 0, last = 0;
-    void add(const double* w, std::size_t len) noexcept;
-    double r1() const noexcept;
-  };
+  using Lag = LagSums;  // lag-1 sums of one difference order of the averages
   struct Factor {
     std::size_t k = 0;        // window on its level
     double energy = 0.0, energy_c = 0.0;  // overlapping sum of squares (compensated)
