@@ -163,8 +163,6 @@ VarianceTerm hvar(std::span<const double> x, std::size_t m, double tau0) {
 // Overlapping Hadamard variance (SP 1065 eq. 20):
 //   sum_{i=0}^{N-3m-1} (x[i+3m] - 3x[i+2m] + 3x[i+m] - x[i])^2 / (6 (N-3m) tau^2)
 // Same layout as second_difference_energy.
-namespace {
-
 CUBECAL_VECTOR_CLONES
 double third_difference_energy(const double* x, std::size_t count, std::size_t m) noexcept {
   const double* a = x;
@@ -186,8 +184,6 @@ double third_difference_energy(const double* x, std::size_t count, std::size_t m
   }
   return ((s[0] + s[1]) + (s[2] + s[3])) + ((s[4] + s[5]) + (s[6] + s[7])) + tail;
 }
-
-}  // namespace
 
 VarianceTerm ohvar(std::span<const double> x, std::size_t m, double tau0) {
   const std::size_t N = x.size();

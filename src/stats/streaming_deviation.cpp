@@ -22,28 +22,6 @@ constexpr std::size_t kMinBlock = 4096;       // values a level takes per pass a
 
 bool overlapping(Stat s) noexcept { return s == Stat::oadev || s == Stat::ohdev; }
 
-// Sum over i in [0, count) of (p[i+3k] - 3p[i+2k] + 3p[i+k] - p[i])^2.
-CUBECAL_VECTOR_CLONES
-double third_difference_energy(const double* p, std::size_t count, std::size_t k) noexcept {
-  const double* a = p;
-  const double* b = p + k;
-  const double* c = p + 2 * k;
-  const double* d = p + 3 * k;
-  double s[8] = {0, 0, 0, 0, 0, 0, 0, 0};
-  std::size_t i = 0;
-  for (; i + 8 <= count; i += 8)
-    for (std::size_t j = 0; j < 8; ++j) {
-      const double v = d[i + j] - 3.0 * c[i + j] + 3.0 * b[i + j] - a[i + j];
-      s[j] += v * v;
-    }
-  double tail = 0.0;
-  for (; i < count; ++i) {
-    const double v = d[i] - 3.0 * c[i] + 3.0 * b[i] - a[i];
-    tail += v * v;
-  }
-  return ((s[0] + s[1]) + (s[2] + s[3])) + ((s[4] + s[5]) + (s[6] + s[7])) + tail;
-}
-
 // Level-0 copy less the offset; false when a value is not finite.
 CUBECAL_VECTOR_CLONES
 bool shift(const double* y, std::size_t count, double offset, double* out) noexcept {

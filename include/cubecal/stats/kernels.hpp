@@ -53,5 +53,8 @@ void totvar(const TotvarExtension& ext, std::span<const std::size_t> ms, double 
 // Sum over i of (x[i+2m] - 2x[i+m] + x[i])^2 for i in [0, count): the
 // overlapping Allan kernel, exposed for benchmarks.
 double second_difference_energy(const double* x, std::size_t count, std::size_t m) noexcept;
+// Sum over i of (x[i+3m] - 3x[i+2m] + 3x[i+m] - x[i])^2 for i in [0, count):
+// the overlapping Hadamard kernel.
+double third_difference_energy(const double* x, std::size_t count, std::size_t m) noexcept;
 
 }  // namespace cubecal
