@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "cubecal/error.hpp"
+#include "cubecal/stats/sampling.hpp"
 #include "series_timing.hpp"
 #include "topic_channels.hpp"
 #include "ulog_format.hpp"
@@ -214,10 +215,7 @@ Decoded decode(const ULog& log, std::string_view bytes, const ULogTopic& topic, 
 // The rate of a topic's time stamps (1 / median interval), 0 when unknown.
 double rate_of(const std::vector<double>& t) {
   if (t.size() < 2) return 0.0;
-  std::vector<double> dt(t.size() - 1);
-  for (std::size_t i = 1; i < t.size(); ++i) dt[i - 1] = t[i] - t[i - 1];
-  std::nth_element(dt.begin(), dt.begin() + static_cast<std::ptrdiff_t>(dt.size() / 2), dt.end());
-  const double m = dt[dt.size() / 2];
+  const double m = median_interval(t);
   return m > 0.0 ? 1.0 / m : 0.0;
 }
 
