@@ -21,9 +21,12 @@
 #include "cubecal/stats/allan_curve.hpp"
 #include "cubecal/pipeline/analysis_output.hpp"
 #include "cubecal/pipeline/analyze.hpp"
+#include "cubecal/pipeline/analyze_stream.hpp"
+#include "cubecal/io/sample_stream.hpp"
 #include "cubecal/pipeline/estimator_config.hpp"
 #include "cubecal/report/plot.hpp"
 #include "cubecal/report/report.hpp"
+#include "memory_budget.hpp"
 #include "output.hpp"
 #include "progress.hpp"
 #include "report_option.hpp"
@@ -51,6 +54,7 @@ struct AnalyzeOptions {
   std::string rostopic = "/imu0";
   std::vector<std::string> estimators;  // --for
   double inflate = 1.0;
+  MemoryOptions memory;
 };
 
 // --for names, in the order given, without repeats.
@@ -151,6 +155,15 @@ void print_temperature(std::ostream& out, const pipeline::TemperatureAnalysis& t
 void print_summary(std::ostream& out, const pipeline::AnalysisResult& r) {
   fmt::print(out, "{}: {} samples at {} Hz ({:.2f} h){}\n", r.file, r.samples, rate_text(r.rate_hz),
              r.duration_s / 3600.0, r.segments > 1 ? fmt::format(", {} segments split at gaps", r.segments) : "");
+  if (r.window_bound > 0 && !r.channels.empty()) {
+    const auto& st = r.channels[0].adev_strides;
+    const auto strided = std::find_if(st.begin(), st.end(), [](std::size_t x) { return x > 1; });
+    if (strided == st.end())
+      fmt::print(out, "streamed (window bound {} samples): every Allan term summed\n", r.window_bound);
+    else
+      fmt::print(out, "streamed (window bound {} samples): Allan terms from AF {} on at a stride of up to {} samples\n",
+                 r.window_bound, r.channels[0].noise.adev[static_cast<std::size_t>(strided - st.begin())].m, st.back());
+  }
   for (const auto& c : r.channels) {
     const auto& ro = c.noise.readoffs;
     const auto& f = c.noise.fit;
@@ -214,6 +227,57 @@ void print_summary(std::ostream& out, const pipeline::AnalysisResult& r) {
   }
 }
 
+// The record read whole (io::read_series), then pipeline::run_analyze.
+pipeline::AnalysisResult analyze_in_memory(const AnalyzeOptions& o, io::SeriesOptions so, pipeline::AnalyzeRequest req) {
+  const std::size_t bytes = file_size_or_zero(o.input.file);
+  Progress progress(bytes > 50'000'000);
+  progress.stage(fmt::format("reading {} ({:.0f} MB)", o.input.file, static_cast<double>(bytes) / 1e6));
+  so.keep_time = false;  // one segment's stamps carry nothing the analysis uses beyond the rate
+  const io::Series series = io::read_series(o.input.file, so);
+  ChannelUnits units = units_for(o.unit, series);  // a column without a unit stops here
+  note_default_columns(series);
+  if (!units.note.empty()) std::cerr << units.note << '\n';
+  req.units = std::move(units.units);
+  progress.stage(fmt::format("analyzing {} channels", series.channels.size()));
+  pipeline::AnalysisResult r = pipeline::run_analyze(series, req);
+  progress.done();
+  return r;
+}
+
+// The record read in pieces (io::SampleStream), then
+// pipeline::run_analyze_stream: one pass, two with a temperature (the file
+// is opened again).
+pipeline::AnalysisResult analyze_streamed(const AnalyzeOptions& o, const io::SeriesOptions& so,
+                                          pipeline::AnalyzeRequest req, std::size_t budget) {
+  const bool file = o.input.file != "-";
+  pipeline::check_analyze_streamable(req, file);  // before the input is opened
+  const auto input = io::SampleStream::open(o.input.file, so);
+  io::Series header;  // the names the units come from
+  header.file = input->file();
+  header.names = input->names();
+  header.default_columns = input->default_columns();
+  header.left_out = input->left_out();
+  ChannelUnits units = units_for(o.unit, header);
+  note_default_columns(header);
+  if (!units.note.empty()) std::cerr << units.note << '\n';
+  req.units = std::move(units.units);
+  const std::size_t bound = stream_window(o.memory, budget, input->names().size());
+  pipeline::ReopenStream reopen;
+  if (file) reopen = [&] { return io::SampleStream::open(o.input.file, so); };
+  Progress progress(true);
+  progress.stage(fmt::format("analyzing {} channel(s), streamed{}", input->names().size(),
+                             req.temp_index ? " (two passes: the temperature)" : ""));
+  req.progress = [&](double f) {
+    if (input->total_bytes() > 0)
+      progress.fraction(f);
+    else
+      progress.count(static_cast<double>(input->rows_read()), "samples");
+  };
+  pipeline::AnalysisResult r = pipeline::run_analyze_stream(*input, req, bound, reopen);
+  progress.done();
+  return r;
+}
+
 int run_analyze_command(const AnalyzeOptions& o) {
   pipeline::AnalyzeRequest req;
   if (!o.unit.empty()) req.units = parse_units(o.unit);  // before the reading: a typo fails at once
@@ -255,18 +319,20 @@ int run_analyze_command(const AnalyzeOptions& o) {
     io::prepare_output_dir(o.out, o.force, files);
   }
 
-  const std::size_t bytes = file_size_or_zero(o.input.file);
-  Progress progress(bytes > 50'000'000);
-  progress.stage(fmt::format("reading {} ({:.0f} MB)", o.input.file, static_cast<double>(bytes) / 1e6));
-  so.keep_time = false;  // one segment's stamps carry nothing the analysis uses beyond the rate
-  const io::Series series = io::read_series(o.input.file, so);
-  ChannelUnits units = units_for(o.unit, series);  // a column without a unit stops here
-  note_default_columns(series);
-  if (!units.note.empty()) std::cerr << units.note << '\n';
-  req.units = std::move(units.units);
-  progress.stage(fmt::format("analyzing {} channels", series.channels.size()));
-  const pipeline::AnalysisResult r = pipeline::run_analyze(series, req);
-  progress.done();
+  const std::size_t budget = memory_budget(o.memory);
+  bool stream = o.memory.stream;
+  if (!stream) {
+    // Streamed by itself when reading the file whole would exceed the budget
+    // (a pipe's size is not known: --stream).
+    const std::size_t need = in_memory_bytes(o.input.file, so);
+    if (need > budget) {
+      stream = true;
+      std::cerr << fmt::format("cubecal: note: reading {} whole would take about {:.0f} MB, more than the "
+                               "memory budget ({:.0f} MB, --memory): streaming it\n",
+                               o.input.file, static_cast<double>(need) / 1e6, static_cast<double>(budget) / 1e6);
+    }
+  }
+  const pipeline::AnalysisResult r = stream ? analyze_streamed(o, so, req, budget) : analyze_in_memory(o, so, req);
   for (const std::string& line :
        {excluded_taus_warning(r.tau_list, r.model_excluded_taus), merged_taus_note(r.tau_list)})
     if (!line.empty()) std::cerr << line << '\n';
@@ -327,6 +393,7 @@ CLI::App* add_analyze_command(CLI::App& app, Command& run) {
   cmd->add_flag("--report", opt->report, "Also write --out/report.html with its plots (as `cubecal report`)")
       ->needs(out_opt);
   add_gnuplot_option(*cmd, opt->gnuplot);
+  add_memory_options(*cmd, opt->memory);
   cmd->add_option("--format", opt->format, "Standard output: table or json")
       ->check(CLI::IsMember({"table", "json"}))
       ->capture_default_str();

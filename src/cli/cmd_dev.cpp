@@ -62,7 +62,12 @@ int run_dev_stream_command(const DevOptions& o, pipeline::DevRequest req, const 
   // samples of a pipe so far.
   Progress progress(true);
   progress.stage(fmt::format("{} of {} channel(s), streamed", to_string(req.stat), input->names().size()));
-  req.progress = [&](double f) { progress.fraction(f); };
+  req.progress = [&](double f) {
+    if (input->total_bytes() > 0)
+      progress.fraction(f);
+    else
+      progress.count(static_cast<double>(input->rows_read()), "samples");
+  };
   const pipeline::DevResult res = pipeline::run_dev_stream(*input, req, bound);
   progress.done();
   write_dev(o, res, result);

@@ -53,6 +53,21 @@ void Progress::fraction(double f) {
   std::fflush(stderr);
 }
 
+void Progress::count(double done, const char* unit) {
+  if (!active_ || !terminal_ || stage_.empty()) return;
+  const auto now = std::chrono::steady_clock::now();
+  if (now - last_count_ < std::chrono::milliseconds(250)) return;
+  last_count_ = now;
+  const double elapsed = std::chrono::duration<double>(now - stage_start_).count();
+  const auto si = [](double v) {
+    return v >= 1e9 ? fmt::format("{:.2f} G", v / 1e9) : v >= 1e6 ? fmt::format("{:.1f} M", v / 1e6) : fmt::format("{:.0f}", v);
+  };
+  std::string rate;
+  if (elapsed > 0.5) rate = fmt::format(", {} {}/s", si(done / elapsed), unit);
+  std::fprintf(stderr, "\r\033[K%s: %s %s%s", stage_.c_str(), si(done).c_str(), unit, rate.c_str());
+  std::fflush(stderr);
+}
+
 void Progress::done() {
   if (!active_ || stage_.empty()) return;
   if (terminal_) std::fputs("\r\033[K", stderr);

@@ -20,6 +20,9 @@ class Progress {
 
   void stage(const std::string& what);    // "reading log.csv (200 MB)"
   void fraction(double f);                // 0..1 of the current stage: percent and ETA
+  // Work of unknown total (a pipe): on a terminal, the count so far and its
+  // rate, "12.3 M samples, 45.6 M samples/s", at most four times a second.
+  void count(double done, const char* unit);
   void done();
 
  private:
@@ -29,6 +32,7 @@ class Progress {
   int last_percent_ = -1;
   std::chrono::steady_clock::time_point start_;
   std::chrono::steady_clock::time_point stage_start_;
+  std::chrono::steady_clock::time_point last_count_{};
 };
 
 // Work estimated to take longer than this many seconds is announced before

@@ -554,6 +554,11 @@ AnalysisResult read_result(const json& doc, const std::string& label) {
     ch.stddev = cj.num("stddev");
     ch.noise = read_noise(cj.at("noise"), ch.unit);
     ch.noise.adev = read_curve(cj.at("adev"));
+    if (cj.has("adev_stride")) {
+      const Node st = cj.at("adev_stride");
+      if (st.size() != ch.noise.adev.size()) st.fail("not one stride per point of adev");
+      for (std::size_t k = 0; k < st.size(); ++k) ch.adev_strides.push_back(st.at(k).count());
+    }
     if (version < 2) reread_white_noise(ch.noise);
     ch.model = read_model(cj.at("model"), ch, dt);
     const Node d = cj.at("drift");
@@ -577,6 +582,7 @@ AnalysisResult read_result(const json& doc, const std::string& label) {
   r.cov_samples = cov.at("samples").count();
   r.tau_list = read_tau_list(root);
   r.model_excluded_taus = read_excluded(root, "model_excluded_taus");
+  if (root.has("stream")) r.window_bound = root.at("stream").at("window_bound").count();
   return r;
 }
 
@@ -601,6 +607,7 @@ void to_json(json& j, const AnalysisResult& r) {
     ch["mean"] = c.mean;
     ch["stddev"] = c.stddev;
     ch["adev"] = curve_json(c.noise.adev);
+    if (!c.adev_strides.empty()) ch["adev_stride"] = c.adev_strides;
     ch["noise"] = noise_json(c.noise, c.unit);
     ch["model"] = model_json(c.model, c.unit, r.samples);
     ch["drift"] = {{"window_s", static_cast<double>(c.drift.window) / r.rate_hz},
@@ -617,6 +624,9 @@ void to_json(json& j, const AnalysisResult& r) {
                      {"unit", cov_unit}};
   write_tau_list(j, r.tau_list);
   j["model_excluded_taus"] = excluded_json(r.model_excluded_taus);
+  // A streamed run: overlapping terms exact up to the window bound, at the
+  // stride of adev_stride above it.
+  if (r.window_bound > 0) j["stream"] = {{"window_bound", r.window_bound}};
 }
 
 void from_json(const json& j, AnalysisResult& r) { r = read_result(j, "analysis.json"); }

@@ -51,8 +51,10 @@ DevResult run_dev_stream(io::SampleStream& in, const DevRequest& req, std::size_
         throw UsageError("column " + in.names()[c] + ": " + e.what() + " (remove or repair it before the analysis)");
       }
     }
-    if (req.progress && in.total_bytes() > 0)
-      req.progress(std::min(1.0, static_cast<double>(in.bytes_read()) / static_cast<double>(in.total_bytes())));
+    if (req.progress)
+      req.progress(in.total_bytes() > 0
+                       ? std::min(1.0, static_cast<double>(in.bytes_read()) / static_cast<double>(in.total_bytes()))
+                       : 0.0);
   }
   res.samples = acc.empty() ? 0 : acc[0].samples();
   if (res.samples < 3)

@@ -107,6 +107,25 @@ NoiseId noise_from_lag1(std::span<const double> r1, Stat stat) {
   return out;
 }
 
+NoiseId noise_from_b1(double b1, std::size_t phase_points, std::size_t m, std::size_t averages, Stat stat) {
+  NoiseId out;
+  out.method = NoiseId::Method::b1;
+  out.b1 = b1;
+  const double N = b1_points(stat, phase_points, m, averages);
+  int mu = -2;
+  for (int cand = 2; cand > -2; --cand) {
+    const double hi = b1_expected(N, cand);
+    const double lo = b1_expected(N, cand - 1);
+    const double boundary = cand == 2 ? 0.5 * (hi + lo) : std::sqrt(hi * lo);
+    if (b1 > boundary) {
+      mu = cand;
+      break;
+    }
+  }
+  out.alpha = clamp_alpha(alpha_from_mu(mu), stat);
+  return out;
+}
+
 NoiseId identify_noise(std::span<const double> x, std::size_t m, Stat stat) {
   NoiseId out;
   if (m == 0 || x.size() < m + 1) return out;
@@ -162,22 +181,8 @@ NoiseId identify_noise(std::span<const double> x, std::size_t m, Stat stat) {
   for (std::size_t k = 0; k + 1 < count; ++k) avar2 += (z(k + 1) - z(k)) * (z(k + 1) - z(k));
   avar2 /= 2.0 * static_cast<double>(count - 1);
   if (!(avar2 > 0.0)) return out;
-  out.b1 = svar / avar2;
-  const double N = b1_points(stat, x.size(), m, count);
-
-  int mu = -2;
-  for (int cand = 2; cand > -2; --cand) {
-    const double hi = b1_expected(N, cand);
-    const double lo = b1_expected(N, cand - 1);
-    const double boundary = cand == 2 ? 0.5 * (hi + lo) : std::sqrt(hi * lo);
-    if (out.b1 > boundary) {
-      mu = cand;
-      break;
-    }
-  }
-  out.alpha = clamp_alpha(alpha_from_mu(mu), stat);
-
-  if (mu == -2) {
+  out = noise_from_b1(svar / avar2, x.size(), m, count, stat);
+  if (out.alpha == alpha_from_mu(-2)) {  // B1 said white or flicker PM
     // R(n) = MVAR/AVAR: 1/m for white PM, 3.37/(1.04 + 3 ln(pi m)) for flicker PM.
     const VarianceTerm mv = mvar(x, m, 1.0);
     const VarianceTerm av = oavar(x, m, 1.0);

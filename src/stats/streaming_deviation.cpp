@@ -282,6 +282,15 @@ StreamingDeviation::Result StreamingDeviation::finish(double tau0, const Stabili
         double r1[4];
         for (int d = 0; d <= order_; ++d) r1[d] = f.lag[d].r1();
         p.alpha = noise_from_lag1(std::span<const double>(r1, static_cast<std::size_t>(order_) + 1), stat_).alpha;
+      } else if (f.averages >= 2 && f.lag[1].s2 > 0.0) {
+        // Barnes' B1 from the same sums: the sample variance of the averages
+        // over their two-sample variance (R(n), which separates white from
+        // flicker PM, needs the record: flicker PM is kept).
+        const Lag& z = f.lag[0];
+        const double na = static_cast<double>(z.n);
+        const double svar = (z.s2 - z.s1 * z.s1 / na) / (na - 1.0);
+        const double avar2 = f.lag[1].s2 / (2.0 * (na - 1.0));
+        p.alpha = noise_from_b1(svar / avar2, n_phase, fa.m, z.n, stat_).alpha;
       } else {
         p.alpha = have_alpha ? last_alpha : 0;
         p.type_carried = true;

@@ -5,6 +5,7 @@
 // covariance, and temperature dependence.
 #pragma once
 #include <cstddef>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -33,6 +34,9 @@ struct AnalyzeRequest {
   std::vector<double> lsb;          // quantizer of the model, counts per unit: one for all or
                                     // one per channel (empty or 0: no quantization)
   unsigned threads = 0;
+  // Called with the fraction done, from the caller's thread (a streamed
+  // run: after every piece, 0 while the input's size is not known).
+  std::function<void(double)> progress;
 };
 
 struct NoiseAnalysis {
@@ -84,6 +88,9 @@ struct ChannelAnalysis {
   ModelAnalysis model;
   DriftSeries drift;                // concatenated over segments; t from the record start
   std::optional<TemperatureAnalysis> temperature;
+  // A streamed run (analyze_stream.hpp): the stride of each point of
+  // noise.adev (1: every overlapping term); empty in memory.
+  std::vector<std::size_t> adev_strides;
 };
 
 struct AnalysisResult {
@@ -104,6 +111,8 @@ struct AnalysisResult {
   // taus on the curves but beyond the max_samples head the model is fitted on.
   TauListOutcome tau_list;
   std::vector<ExcludedTau> model_excluded_taus;
+  // A streamed run: the window bound (0: the record was held in memory).
+  std::size_t window_bound = 0;
 };
 
 AnalysisResult run_analyze(const io::Series& series, const AnalyzeRequest& request);

@@ -17,8 +17,9 @@ std::size_t window_bound_for(std::size_t memory_bytes, std::size_t channels);
 // Throws UsageError for what a stream cannot compute: a statistic other than
 // adev/oadev/hdev/ohdev (mdev, tdev and totdev need the whole record), phase
 // data, the `all` grid; and as run_dev when no factor fits the record.
-// request.progress, when set, is called with the fraction of the input read
-// (when its size is known) after every piece.
+// request.progress, when set, is called after every piece with the
+// fraction of the input read (0 when its size is not known, a pipe: the
+// caller may count input.rows_read() itself).
 DevResult run_dev_stream(io::SampleStream& input, const DevRequest& request, std::size_t window_bound);
 
 // The statistics a stream computes, for the refusal before any reading.

@@ -33,4 +33,11 @@ NoiseId identify_noise(std::span<const double> x, std::size_t m, Stat stat);
 // (the streamed deviations).
 NoiseId noise_from_lag1(std::span<const double> r1, Stat stat);
 
+// The B1 step of identify_noise on its own (fewer than 30 averages): b1 is
+// the sample variance of the non-overlapping averages at m over their
+// two-sample variance, phase_points the length of the phase record. R(n)
+// is not applied (it needs the record): mu = -2 comes out as flicker PM,
+// which identify_noise then separates from white PM.
+NoiseId noise_from_b1(double b1, std::size_t phase_points, std::size_t m, std::size_t averages, Stat stat);
+
 }  // namespace cubecal

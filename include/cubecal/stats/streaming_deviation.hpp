@@ -19,10 +19,10 @@
 // Noise identification uses the same lag-1 autocorrelation of the
 // non-overlapping averages at m as identify_noise (their sums are
 // accumulated per factor), and the EDF Greenhall's algorithm with the actual
-// stride (edf_for_stride). Where fewer than 30 averages remain (identify_noise
-// would use the B1 ratio and R(n), which need the whole record) the type is
-// carried from the factor before, as Stable32's run rule does beyond half
-// the largest factor. MDEV, TDEV and TOTDEV are not streamed.
+// stride (edf_for_stride). Where fewer than 30 averages remain, Barnes' B1
+// ratio from the same sums, as identify_noise; only its R(n) step (white
+// or flicker PM, which needs MVAR of the record) is not taken: flicker PM
+// stays. MDEV, TDEV and TOTDEV are not streamed.
 #pragma once
 #include <cstddef>
 #include <span>

@@ -1,0 +1,32 @@
+// The steps of `analyze` that the in-memory (analyze.cpp) and the streamed
+// (analyze_stream.cpp) runs share: the OADEV request, the noise terms of a
+// curve, and the sensor models fitted to it. Not an installed header.
+#pragma once
+#include "cubecal/pipeline/analyze.hpp"
+#include "cubecal/pipeline/dev_pipeline.hpp"
+
+namespace cubecal::pipeline::detail {
+
+// Throws UsageError("units" / "lsb") when the request's per-channel lists
+// fit neither one value for all nor one per channel.
+void check_channel_lists(const AnalyzeRequest& req, std::size_t channels);
+// Channel c's unit (counts when none given), quantizer of the model
+// (counts per unit; 0: none), and drift window in samples (the request's,
+// else 300 s for rate sensors and 1000 s otherwise, as the paper).
+Unit unit_of(const AnalyzeRequest& req, std::size_t c);
+double model_lsb(const AnalyzeRequest& req, std::size_t c);
+std::size_t drift_window(const AnalyzeRequest& req, const Unit& unit, double dt);
+
+// The OADEV of every Allan curve analyze reports (intervals at req.ci, the
+// widest neighbouring type below 30 averages).
+DevRequest oadev_request(const AnalyzeRequest& req);
+
+// The noise terms of a curve: slope read-offs and the five-term fit.
+NoiseAnalysis noise_of(std::vector<StabilityPoint> points);
+inline NoiseAnalysis noise_of(const DevChannel& ch) { return noise_of(ch.points); }
+
+// The paper's random-walk model and the Gauss-Markov alternative fitted to
+// m.adev (why not, when they do not fit).
+void fit_models(ModelAnalysis& m, double dt, double lsb);
+
+}  // namespace cubecal::pipeline::detail
