@@ -2,9 +2,11 @@
 # Peak memory of the in-memory path against the doubles it must hold:
 # `dev` and `analyze` on the 72 h x 10 Hz records and `dev` on a 3 h x 1 kHz
 # record, peak RSS from /usr/bin/time (max of 3 runs; memory does not depend
-# on load). Ratios: to every parsed column (time, channels, temperature) and
-# to the channels alone.
+# on load), read whole and streamed (--stream). Ratios: to every parsed
+# column (time, channels, temperature) and to the channels alone. A command
+# that fails stops the script (a failed run's peak says nothing).
 set -euo pipefail
+shopt -s inherit_errexit
 BUILD=${1:-build}
 OUT=${BENCH_OUT:-bench-out}
 CUBECAL=${CUBECAL:-$BUILD/bin/cubecal}
@@ -18,7 +20,10 @@ REC="$OUT/imu_72h_10hz_6ch.csv"; IMU="$OUT/imu_72h_10hz_paper.csv"; FAST="$OUT/r
 peak() {
   local best=0 kb
   for _ in 1 2 3; do
-    kb=$(/usr/bin/time -f "%M" "$@" 2>&1 >/dev/null | tail -1)
+    if ! kb=$(/usr/bin/time -f "%M" "$@" 2>&1 >/dev/null | tail -1); then
+      echo "bench/memory.sh: failed: $*" >&2
+      exit 1
+    fi
     [ "$kb" -gt "$best" ] && best=$kb
   done
   echo "$best"
@@ -37,8 +42,21 @@ echo "== peak memory (in-memory path; max of 3 runs)"
 row "dev 72 h x 10 Hz, 6 ch, log:20" "$REC" 7 6 \
   "$CUBECAL" dev "$REC" --stat oadev --taus log:20 --format json
 row "analyze 72 h x 10 Hz, 6 ch" "$REC" 7 6 \
-  "$CUBECAL" analyze "$REC"
+  "$CUBECAL" analyze "$REC" --unit deg/s
 row "analyze 72 h, 6 ch + temperature" "$IMU" 8 6 \
   "$CUBECAL" analyze "$IMU" --columns gx,gy,gz,mx,my,mz --unit deg/s,deg/s,deg/s,mGauss,mGauss,mGauss --temp-col temp
 row "dev 3 h x 1 kHz, 4 ch, log:20" "$FAST" 5 4 \
   "$CUBECAL" dev "$FAST" --stat oadev --taus log:20 --format json
+echo "== peak memory, streamed (--stream: the default window bound, 2^16 at most; and --window 4096)"
+row "dev --stream 72 h, 6 ch, log:20" "$REC" 7 6 \
+  "$CUBECAL" dev "$REC" --stat oadev --taus log:20 --format json --stream
+row "dev --stream --window 4096" "$REC" 7 6 \
+  "$CUBECAL" dev "$REC" --stat oadev --taus log:20 --format json --stream --window 4096
+row "analyze --stream 72 h, 6 ch" "$REC" 7 6 \
+  "$CUBECAL" analyze "$REC" --unit deg/s --stream
+row "analyze --stream, 6 ch + temperature" "$IMU" 8 6 \
+  "$CUBECAL" analyze "$IMU" --columns gx,gy,gz,mx,my,mz --unit deg/s,deg/s,deg/s,mGauss,mGauss,mGauss --temp-col temp --stream
+row "analyze --stream --window 4096, + temp" "$IMU" 8 6 \
+  "$CUBECAL" analyze "$IMU" --columns gx,gy,gz,mx,my,mz --unit deg/s,deg/s,deg/s,mGauss,mGauss,mGauss --temp-col temp --stream --window 4096
+row "dev --stream 3 h x 1 kHz, 4 ch" "$FAST" 5 4 \
+  "$CUBECAL" dev "$FAST" --stat oadev --taus log:20 --format json --stream

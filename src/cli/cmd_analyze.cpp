@@ -261,7 +261,7 @@ pipeline::AnalysisResult analyze_streamed(const AnalyzeOptions& o, const io::Ser
   note_default_columns(header);
   if (!units.note.empty()) std::cerr << units.note << '\n';
   req.units = std::move(units.units);
-  const std::size_t bound = stream_window(o.memory, budget, input->names().size());
+  const std::size_t bound = stream_window(o.memory, budget, input->names().size(), estimated_samples(o.input.file, so));
   pipeline::ReopenStream reopen;
   if (file) reopen = [&] { return io::SampleStream::open(o.input.file, so); };
   Progress progress(true);

@@ -57,7 +57,7 @@ int run_dev_stream_command(const DevOptions& o, pipeline::DevRequest req, const 
                            std::size_t budget, ResultOutput& result) {
   pipeline::check_streamable(req);  // before the input is opened
   const auto input = io::SampleStream::open(o.input.file, series_opt);
-  const std::size_t bound = stream_window(o.memory, budget, input->names().size());
+  const std::size_t bound = stream_window(o.memory, budget, input->names().size(), estimated_samples(o.input.file, series_opt));
   // On a terminal: the share of a file read with the time left, or the
   // samples of a pipe so far.
   Progress progress(true);

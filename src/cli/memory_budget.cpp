@@ -4,7 +4,10 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+#include <bit>
 #include <cctype>
+#include <fstream>
 #include <cmath>
 
 #include "cubecal/error.hpp"
@@ -22,12 +25,17 @@ void add_memory_options(CLI::App& cmd, MemoryOptions& opt) {
                  "streamed, and the stream's window bound follows from it");
   cmd.add_option("--window", opt.window,
                  "Stream's window bound in samples, a power of two >= 16 (default: the largest --memory allows, "
-                 "up to 1048576): factors whose terms span at most this many samples are exact (stride 1), "
+                 "up to 65536): factors whose terms span at most this many samples are exact (stride 1), "
                  "larger ones partially overlapping; a smaller bound is faster");
 }
 
-std::size_t stream_window(const MemoryOptions& opt, std::size_t budget, std::size_t channels) {
-  if (opt.window == 0) return pipeline::window_bound_for(budget, channels);
+std::size_t stream_window(const MemoryOptions& opt, std::size_t budget, std::size_t channels,
+                          std::size_t samples_hint) {
+  if (opt.window == 0) {
+    const std::size_t bound = pipeline::window_bound_for(budget, channels);
+    if (samples_hint == 0) return bound;
+    return std::min(bound, std::max<std::size_t>(std::bit_ceil(samples_hint), 4096));
+  }
   if (opt.window < 16 || (opt.window & (opt.window - 1)) != 0 || opt.window > (std::size_t{1} << 30))
     throw UsageError("window", std::to_string(opt.window) +
                                    " is not a power of two from 16 to 2^30 (e.g. 64, 4096 or 1048576)");
@@ -70,6 +78,22 @@ std::size_t memory_budget(const MemoryOptions& opt) {
   const long page = ::sysconf(_SC_PAGESIZE);
   if (pages <= 0 || page <= 0) return std::size_t{2} << 30;
   return static_cast<std::size_t>(pages) * static_cast<std::size_t>(page) / 2;
+}
+
+std::size_t estimated_samples(const std::string& file, const io::SeriesOptions& opt) {
+  const std::size_t bytes = file_size_or_zero(file);
+  if (bytes == 0) return 0;
+  if (!opt.binary.channels.empty()) {
+    const std::size_t frame = opt.binary.frame_bytes();
+    return frame > 0 && bytes > opt.binary.header_bytes ? (bytes - opt.binary.header_bytes) / frame : 0;
+  }
+  std::ifstream in(file, std::ios::binary);
+  std::string head(std::min<std::size_t>(bytes, std::size_t{1} << 20), '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  const auto lines = static_cast<std::size_t>(std::count(head.begin(), head.begin() + in.gcount(), '\n'));
+  if (lines == 0 || in.gcount() <= 0) return 0;
+  const double per_line = static_cast<double>(in.gcount()) / static_cast<double>(lines);
+  return static_cast<std::size_t>(1.25 * static_cast<double>(bytes) / per_line) + 1;
 }
 
 std::size_t in_memory_bytes(const std::string& file, const io::SeriesOptions& opt) {

@@ -23,9 +23,16 @@ void add_memory_options(CLI::App& cmd, MemoryOptions& opt);
 std::size_t parse_memory_size(const std::string& text);
 
 // The stream's window bound: --window, or the largest the budget allows
-// for `channels` channels (UsageError("window") if --window is not a power
-// of two of at least 16).
-std::size_t stream_window(const MemoryOptions& opt, std::size_t budget, std::size_t channels);
+// for `channels` channels, but no larger than the power of two at or above
+// `samples_hint` (an estimate of the record's length, 0: unknown): every
+// factor of a shorter record is exact with it. UsageError("window") if
+// --window is not a power of two of at least 16.
+std::size_t stream_window(const MemoryOptions& opt, std::size_t budget, std::size_t channels,
+                          std::size_t samples_hint = 0);
+
+// About the samples of `file` (raw frames: exactly; text: from the lines in
+// its first MiB, a quarter more for a margin); 0 when unknown (a pipe).
+std::size_t estimated_samples(const std::string& file, const io::SeriesOptions& opt);
 
 // The budget: --memory, or half the physical memory (sysconf).
 std::size_t memory_budget(const MemoryOptions& opt);

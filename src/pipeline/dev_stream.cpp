@@ -12,7 +12,7 @@ namespace cubecal::pipeline {
 std::size_t window_bound_for(std::size_t memory_bytes, std::size_t channels) {
   const std::size_t share = memory_bytes / 4 / std::max<std::size_t>(channels, 1);
   std::size_t bound = std::size_t{1} << 12;
-  while (bound < (std::size_t{1} << 20) && streaming_bytes(bound * 2) <= share) bound *= 2;
+  while (bound < (std::size_t{1} << 16) && streaming_bytes(bound * 2) <= share) bound *= 2;
   return bound;
 }
 

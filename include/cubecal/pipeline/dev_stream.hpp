@@ -9,9 +9,12 @@
 
 namespace cubecal::pipeline {
 
-// The largest window bound (a power of two, 2^12 .. 2^20) whose accumulators
+// The largest window bound (a power of two, 2^12 .. 2^16) whose accumulators
 // for `channels` channels fit in a quarter of `memory_bytes` (the rest for
 // the reader's pieces and the program); 2^12 when even that does not fit.
+// 2^16 at most: a stream is for records larger than memory, and a larger
+// bound (every factor up to 2^15 exact) costs about 16 bytes per sample of
+// a shorter record, twice its doubles; --window asks for more.
 std::size_t window_bound_for(std::size_t memory_bytes, std::size_t channels);
 
 // Throws UsageError for what a stream cannot compute: a statistic other than
