@@ -85,10 +85,13 @@ class StreamingDeviation {
     std::size_t k = 0;        // window on its level
     double energy = 0.0, energy_c = 0.0;  // overlapping sum of squares (compensated)
     std::size_t terms = 0;
+    double pass_energy = 0.0;             // this pass's share, summed over its tiles
+    std::size_t first = 0, last = 0;      // this pass's starts of overlapping terms
     Lag lag[4];               // orders 0..3 of the non-overlapping window sums
     std::size_t averages = 0;
-    // The averages' window sums z (left as scratch), orders 0..dmax.
-    void push_averages(std::vector<double>& z, int dmax, std::vector<double>& scratch) noexcept;
+    // The averages' window sums z[0 .. count), orders 0..dmax; z and
+    // scratch (count + 1 values each) are overwritten.
+    void push_averages(double* z, std::size_t count, int dmax, double* scratch) noexcept;
   };
   struct Level {
     std::vector<double> buf;   // capacity values once used; buf[0 .. kept) already processed
