@@ -98,6 +98,12 @@ void centred_prefix(const double* x, std::size_t n, const CentredPrefix& cp, dou
   }
 }
 
+// o[i] = x[2i] + x[2i + 1] for i < n.
+CUBECAL_VECTOR_CLONES
+void pair_sums(const double* x, std::size_t n, double* o) noexcept {
+  for (std::size_t i = 0; i < n; ++i) o[i] = x[2 * i] + x[2 * i + 1];
+}
+
 // d[i] = z[i + 1] - z[i] for i < n - 1.
 CUBECAL_VECTOR_CLONES
 void adjacent_differences(const double* z, std::size_t n, double* d) noexcept {
@@ -327,14 +333,18 @@ void StreamingDeviation::process(std::size_t level) {
   }
   // Pair sums for the next level, aligned on even indices of this one.
   if (level + 1 < levels_.size()) {
-    lv.out.clear();
+    lv.out_n = 0;
     std::size_t j = lv.kept;
+    if (lv.out.size() < (len - j) / 2 + 1) lv.out.resize((len - j) / 2 + 1);
     if (lv.odd && j < len) {
-      lv.out.push_back(lv.pending + lv.buf[j]);
+      lv.out[lv.out_n++] = lv.pending + lv.buf[j];
       lv.odd = false;
       ++j;
     }
-    for (; j + 1 < len; j += 2) lv.out.push_back(lv.buf[j] + lv.buf[j + 1]);
+    const std::size_t pairs = (len - j) / 2;
+    pair_sums(lv.buf.data() + j, pairs, lv.out.data() + lv.out_n);
+    lv.out_n += pairs;
+    j += 2 * pairs;
     if (j < len) {
       lv.odd = true;
       lv.pending = lv.buf[j];
@@ -348,7 +358,7 @@ void StreamingDeviation::process(std::size_t level) {
   lv.base += len - keep;
   lv.kept = keep;
   // The next level touches only its own buffers.
-  if (level + 1 < levels_.size() && !lv.out.empty()) append(level + 1, lv.out.data(), lv.out.size());
+  if (level + 1 < levels_.size() && lv.out_n > 0) append(level + 1, lv.out.data(), lv.out_n);
 }
 
 StreamingDeviation::Result StreamingDeviation::finish(double tau0, const StabilityOptions& opt) {

@@ -104,7 +104,8 @@ class StreamingDeviation {
     bool odd = false;          // a value waits for its pair
     double pending = 0.0;
     std::size_t total = 0;     // values received
-    std::vector<double> out;   // pair sums on their way to the next level
+    std::vector<double> out;   // pair sums on their way to the next level: out[0 .. out_n)
+    std::size_t out_n = 0;
   };
 
   void append(std::size_t level, const double* v, std::size_t count);
