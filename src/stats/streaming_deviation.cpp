@@ -78,13 +78,12 @@ CentredPrefix centre(const double* x, std::size_t n) noexcept {
   return r;
 }
 
-// P[0] = 0, P[j + 1] = (x[0] - c) + .. + (x[j] - c).
+// P[j + 1] = P[0] + (x[0] - c) + .. + (x[j] - c), P[0] given.
 void centred_prefix(const double* x, std::size_t n, const CentredPrefix& cp, double* P) noexcept {
   const double c = cp.c;
-  P[0] = 0.0;
   const std::size_t q = n / kSegments;
   double acc[kSegments];
-  for (std::size_t s = 0; s < kSegments; ++s) acc[s] = cp.start[s];
+  for (std::size_t s = 0; s < kSegments; ++s) acc[s] = P[0] + cp.start[s];
   for (std::size_t i = 0; i < q; ++i)
     for (std::size_t s = 0; s < kSegments; ++s) {
       acc[s] += x[s * q + i] - c;
@@ -96,6 +95,21 @@ void centred_prefix(const double* x, std::size_t n, const CentredPrefix& cp, dou
     last += x[j] - c;
     P[j + 1] = last;
   }
+}
+
+// P[j + 1] = kept[j] - (j + 1) dc for j < n: the prefix sums kept from
+// the pass before, taken about its mean, moved to this pass's mean (dc the
+// change).
+CUBECAL_VECTOR_CLONES
+void recentre(const double* kept, std::size_t n, double dc, double* P) noexcept {
+  for (std::size_t j = 0; j < n; ++j) P[j + 1] = kept[j] - static_cast<double>(j + 1) * dc;
+}
+
+// out[j] = P[j + 1] - P[0] for j < n: prefix sums to keep, from 0.
+CUBECAL_VECTOR_CLONES
+void rebase(const double* P, std::size_t n, double* out) noexcept {
+  const double p0 = P[0];
+  for (std::size_t j = 0; j < n; ++j) out[j] = P[j + 1] - p0;
 }
 
 // o[i] = x[2i] + x[2i + 1] for i < n.
@@ -257,14 +271,20 @@ void StreamingDeviation::process(std::size_t level) {
   Level& lv = levels_[level];
   const std::size_t len = lv.fill;
   if (len == lv.kept) return;
-  // Local prefix sums of the pass less its mean c: P[j] = (buf[0] - c) + ..
-  // + (buf[j-1] - c). Each term is a difference of equal windows of the
-  // pass, so c cancels in it, and P stays at the size of the noise: no
-  // phase is summed over the record.
-  const CentredPrefix cp = centre(lv.buf.data(), len);
+  // Local prefix sums of the pass less a mean c: P[j] = (v[0] - c) + .. +
+  // (v[j-1] - c) over the level's values v of the pass. Each term is a
+  // difference of equal windows of the pass, so c cancels in it, and P
+  // stays at the size of the noise: no phase is summed over the record.
+  // The span kept from the pass before holds its prefix sums (from 0, about
+  // that pass's mean), not its values: they are moved to the mean c of the
+  // new values, and the new ones continue from there.
+  const std::size_t kept = lv.kept;
+  const CentredPrefix cp = centre(lv.buf.data() + kept, len - kept);
   const double c = cp.c;
   if (prefix_.size() < len + 1) prefix_.resize(len + 1);
-  centred_prefix(lv.buf.data(), len, cp, prefix_.data());
+  prefix_[0] = 0.0;
+  recentre(lv.buf.data(), kept, c - lv.mean, prefix_.data());
+  centred_prefix(lv.buf.data() + kept, len - kept, cp, prefix_.data() + kept);
   const double* P = prefix_.data();
   if (overlapping_) {
     // New terms: those whose last prefix index is past the processed part,
@@ -350,10 +370,10 @@ void StreamingDeviation::process(std::size_t level) {
       lv.pending = lv.buf[j];
     }
   }
-  // Keep the span for the terms that end in the next pass.
+  // Keep the span's prefix sums for the terms that end in the next pass.
   const std::size_t keep = std::min(lv.span, len);
-  std::copy(lv.buf.begin() + static_cast<std::ptrdiff_t>(len - keep), lv.buf.begin() + static_cast<std::ptrdiff_t>(len),
-            lv.buf.begin());
+  rebase(P + (len - keep), keep, lv.buf.data());
+  lv.mean = c;
   lv.fill = keep;
   lv.base += len - keep;
   lv.kept = keep;

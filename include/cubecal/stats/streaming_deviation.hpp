@@ -94,7 +94,11 @@ class StreamingDeviation {
     void push_averages(double* z, std::size_t count, int dmax, double* scratch) noexcept;
   };
   struct Level {
-    std::vector<double> buf;   // capacity values once used; buf[0 .. kept) already processed
+    // capacity values once used: buf[0 .. kept) the prefix sums of the
+    // span kept from the last pass (from 0, about its mean `mean`), then
+    // the values not yet processed.
+    std::vector<double> buf;
+    double mean = 0.0;
     std::size_t fill = 0;      // values in buf
     std::size_t kept = 0;
     std::size_t base = 0;      // index on the level of buf[0]
