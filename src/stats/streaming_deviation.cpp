@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -102,7 +103,14 @@ void centred_prefix(const double* x, std::size_t n, const CentredPrefix& cp, dou
 // change).
 CUBECAL_VECTOR_CLONES
 void recentre(const double* kept, std::size_t n, double dc, double* P) noexcept {
-  for (std::size_t j = 0; j < n; ++j) P[j + 1] = kept[j] - static_cast<double>(j + 1) * dc;
+  // A 32-bit index converts to double in vector registers (a span is far
+  // below 2^31).
+  if (n < (std::size_t{1} << 31)) {
+    const auto m = static_cast<std::int32_t>(n);
+    for (std::int32_t j = 0; j < m; ++j) P[j + 1] = kept[j] - static_cast<double>(j + 1) * dc;
+  } else {
+    for (std::size_t j = 0; j < n; ++j) P[j + 1] = kept[j] - static_cast<double>(j + 1) * dc;
+  }
 }
 
 // out[j] = P[j + 1] - P[0] for j < n: prefix sums to keep, from 0.
