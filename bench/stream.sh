@@ -11,6 +11,11 @@
 # dev CPU 62.8 s user + 3.0 s sys (39 M samples per CPU second), peak RSS
 # 51.8 MB; simulated, 1 day (8.64e7): 22.7 s wall (the simulator bound, 3.8 M
 # samples/s), dev CPU 3.0 s, peak RSS 37 MB.
+# After the streaming speed-ups (docs/performance.md), STREAM_DAYS=2
+# (1.728e8 samples), same machine, lighter load: replayed 3.9 s wall (45 M
+# samples/s, emit_raw the bound), dev CPU 1.7 s user + 0.5 s sys (78 M samples
+# per CPU second; main 54 M), peak RSS 33 MB (main 51 MB); simulated 19.7 s
+# wall (8.8 M samples/s, the simulator bound), dev CPU 4.2 s.
 set -euo pipefail
 BUILD=${1:-build}
 DAYS=${STREAM_DAYS:-30}

@@ -99,6 +99,25 @@ TEST_F(SampleStreamTest, BinaryEqualsReadSeries) {
   for (std::size_t c = 0; c < 2; ++c) EXPECT_EQ(all.channels[c], whole.channels[c]) << c;
 }
 
+// One float64 channel (frames copied at once) over several pieces of the
+// default size: binary pieces are cache-sized whatever chunk_bytes says.
+TEST_F(SampleStreamTest, BinarySingleFloat64ChannelInCacheSizedPieces) {
+  const auto a = test::white_plus_walk(100000, 0.01, 0.3, 0.01, 11, 2.0);
+  const std::string file =
+      write("one.bin", std::string(reinterpret_cast<const char*>(a.data()), a.size() * sizeof(double)));
+  io::SeriesOptions opt;
+  opt.binary = io::parse_raw_layout("float64le", 0);
+  opt.rate_hz = 100.0;
+  const io::Series whole = io::read_series(file, opt);
+  const auto stream = io::SampleStream::open(file, opt);  // the default chunk_bytes (8 MiB)
+  std::size_t pieces = 0;
+  const io::SampleChunk all = drain(*stream, &pieces);
+  EXPECT_GE(pieces, 3u);  // 800 kB in pieces of at most 256 KiB
+  ASSERT_EQ(all.channels.size(), 1u);
+  EXPECT_EQ(all.channels[0], whole.channels[0]);
+  EXPECT_EQ(all.channels[0], a);
+}
+
 // The message read_series gives for a record, and the stream's.
 std::pair<std::string, std::string> both_errors(const std::string& file, const io::SeriesOptions& opt) {
   std::string whole, streamed;

@@ -105,6 +105,8 @@ void check_lsb_count(const SeriesOptions& opt, const std::string& file, const st
 
 // ---------------------------------------------------------------------------
 
+constexpr std::size_t kBinaryChunk = std::size_t{256} << 10;
+
 class BinaryStream final : public SampleStream {
  public:
   BinaryStream(const std::string& path, const SeriesOptions& opt, std::size_t chunk_bytes)
@@ -131,7 +133,9 @@ class BinaryStream final : public SampleStream {
     }
     columns_ = sel.indices;
     extras_ = sel.extra_indices;
-    frames_per_chunk_ = std::max<std::size_t>(1, chunk_bytes / frame_);
+    // Pieces that stay in the cache between the read, the decoding and the
+    // consumer (a binary frame needs no look-ahead): at most kBinaryChunk.
+    frames_per_chunk_ = std::max<std::size_t>(1, std::min(chunk_bytes, kBinaryChunk) / frame_);
     buf_.resize(frames_per_chunk_ * frame_);
     // The header.
     std::size_t left = layout_.header_bytes;
@@ -173,7 +177,10 @@ class BinaryStream final : public SampleStream {
     const SampleType t = layout_.channels[col];
     const char* p = buf_.data() + offsets_[col];
     if (t == SampleType{SampleKind::floating, 8, false} && std::endian::native == std::endian::little) {
-      for (std::size_t r = 0; r < rows; ++r, p += frame_) std::memcpy(&v[r], p, 8);
+      if (frame_ == 8)
+        std::memcpy(v.data(), p, rows * 8);  // one channel: the frames are the values
+      else
+        for (std::size_t r = 0; r < rows; ++r, p += frame_) std::memcpy(&v[r], p, 8);
     } else {
       for (std::size_t r = 0; r < rows; ++r, p += frame_) v[r] = decode_sample(t, p);
     }

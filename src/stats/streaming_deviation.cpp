@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "cubecal/stats/confidence.hpp"
 #include "cubecal/stats/edf.hpp"
@@ -19,6 +21,8 @@ namespace {
 
 constexpr std::size_t kMinAcfAverages = 30;  // as identify_noise
 constexpr std::size_t kMinBlock = 4096;       // values a level takes per pass at least
+constexpr std::size_t kTile = 1024;           // starts of overlapping terms per tile
+constexpr std::size_t kZBlock = 2048;         // non-overlapping window sums per block
 
 bool overlapping(Stat s) noexcept { return s == Stat::oadev || s == Stat::ohdev; }
 
@@ -31,6 +35,112 @@ bool shift(const double* y, std::size_t count, double offset, double* out) noexc
     out[i] = y[i] - offset;
   }
   return ok;
+}
+
+// Sum of x[0 .. n): eight independent add chains (the loop runs
+// vectorized instead of waiting on one chain's latency).
+CUBECAL_VECTOR_CLONES
+double sum_of(const double* x, std::size_t n) noexcept {
+  double s[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+  std::size_t i = 0;
+  for (; i + 8 <= n; i += 8)
+    for (std::size_t j = 0; j < 8; ++j) s[j] += x[i + j];
+  double tail = 0.0;
+  for (; i < n; ++i) tail += x[i];
+  return ((s[0] + s[1]) + (s[2] + s[3])) + ((s[4] + s[5]) + (s[6] + s[7])) + tail;
+}
+
+// The local prefix sums of a pass, cut into kSegments segments: their
+// sums first (vectorized; their total gives the mean c), then the
+// segments' prefix sums run interleaved, each from the sum of those before
+// it (that many independent add chains instead of one).
+constexpr std::size_t kSegments = 8;
+
+struct CentredPrefix {
+  double c = 0.0;
+  double start[kSegments + 1] = {};  // P at each segment's start
+};
+
+CentredPrefix centre(const double* x, std::size_t n) noexcept {
+  CentredPrefix r;
+  const std::size_t q = n / kSegments;
+  double seg[kSegments];
+  double total = 0.0;
+  for (std::size_t s = 0; s < kSegments; ++s) {
+    const std::size_t end = s + 1 < kSegments ? (s + 1) * q : n;
+    seg[s] = sum_of(x + s * q, end - s * q);
+    total += seg[s];
+  }
+  r.c = total / static_cast<double>(n);
+  for (std::size_t s = 0; s < kSegments; ++s) {
+    const std::size_t end = s + 1 < kSegments ? (s + 1) * q : n;
+    r.start[s + 1] = r.start[s] + (seg[s] - static_cast<double>(end - s * q) * r.c);
+  }
+  return r;
+}
+
+// P[j + 1] = P[0] + (x[0] - c) + .. + (x[j] - c), P[0] given.
+void centred_prefix(const double* x, std::size_t n, const CentredPrefix& cp, double* P) noexcept {
+  const double c = cp.c;
+  const std::size_t q = n / kSegments;
+  double acc[kSegments];
+  for (std::size_t s = 0; s < kSegments; ++s) acc[s] = P[0] + cp.start[s];
+  for (std::size_t i = 0; i < q; ++i)
+    for (std::size_t s = 0; s < kSegments; ++s) {
+      acc[s] += x[s * q + i] - c;
+      P[s * q + i + 1] = acc[s];
+    }
+  // The remainder continues the last segment.
+  double last = acc[kSegments - 1];
+  for (std::size_t j = kSegments * q; j < n; ++j) {
+    last += x[j] - c;
+    P[j + 1] = last;
+  }
+}
+
+// P[j + 1] = kept[j] - (j + 1) dc for j < n: the prefix sums kept from
+// the pass before, taken about its mean, moved to this pass's mean (dc the
+// change).
+CUBECAL_VECTOR_CLONES
+void recentre(const double* kept, std::size_t n, double dc, double* P) noexcept {
+  // A 32-bit index converts to double in vector registers (a span is far
+  // below 2^31).
+  if (n < (std::size_t{1} << 31)) {
+    const auto m = static_cast<std::int32_t>(n);
+    for (std::int32_t j = 0; j < m; ++j) P[j + 1] = kept[j] - static_cast<double>(j + 1) * dc;
+  } else {
+    for (std::size_t j = 0; j < n; ++j) P[j + 1] = kept[j] - static_cast<double>(j + 1) * dc;
+  }
+}
+
+// out[j] = P[j + 1] - P[0] for j < n: prefix sums to keep, from 0.
+CUBECAL_VECTOR_CLONES
+void rebase(const double* P, std::size_t n, double* out) noexcept {
+  const double p0 = P[0];
+  for (std::size_t j = 0; j < n; ++j) out[j] = P[j + 1] - p0;
+}
+
+// o[i] = x[2i] + x[2i + 1] for i < n.
+CUBECAL_VECTOR_CLONES
+void pair_sums(const double* x, std::size_t n, double* o) noexcept {
+  for (std::size_t i = 0; i < n; ++i) o[i] = x[2 * i] + x[2 * i + 1];
+}
+
+// d[i] = z[i + 1] - z[i] for i < n - 1.
+CUBECAL_VECTOR_CLONES
+void adjacent_differences(const double* z, std::size_t n, double* d) noexcept {
+  for (std::size_t i = 0; i + 1 < n; ++i) d[i] = z[i + 1] - z[i];
+}
+
+// z[i] = (P[b0 + (i + 1) k] - P[b0 + i k]) + k c: the window sums of the
+// values behind P, the pass mean restored.
+CUBECAL_VECTOR_CLONES
+void window_sums(const double* P, std::size_t b0, std::size_t k, std::size_t n, double kc, double* z) noexcept {
+  if (k == 1) {
+    for (std::size_t i = 0; i < n; ++i) z[i] = (P[b0 + i + 1] - P[b0 + i]) + kc;
+  } else {
+    for (std::size_t i = 0; i < n; ++i) z[i] = (P[b0 + (i + 1) * k] - P[b0 + i * k]) + kc;
+  }
 }
 
 }  // namespace
@@ -72,20 +182,21 @@ std::size_t streaming_bytes(std::size_t window_bound) noexcept {
   return (full_levels * 3 + 4) * window_bound * sizeof(double);
 }
 
-void StreamingDeviation::Factor::push_averages(std::vector<double>& z, int dmax,
-                                               std::vector<double>& scratch) noexcept {
-  averages += z.size();
-  for (int d = 0; d <= dmax && !z.empty(); ++d) {
+void StreamingDeviation::Factor::push_averages(double* z, std::size_t count, int dmax,
+                                               double* scratch) noexcept {
+  averages += count;
+  for (int d = 0; d <= dmax && count > 0; ++d) {
     Lag& l = lag[d];
     const bool had = l.n > 0;
     const double before = l.last;
-    l.add(z.data(), z.size());
+    l.add(z, count);
     if (d == dmax) break;
     // The next order: differences, the first against the last value before.
-    scratch.clear();
-    if (had) scratch.push_back(z[0] - before);
-    for (std::size_t i = 0; i + 1 < z.size(); ++i) scratch.push_back(z[i + 1] - z[i]);
-    z.swap(scratch);
+    std::size_t at = 0;
+    if (had) scratch[at++] = z[0] - before;
+    adjacent_differences(z, count, scratch + at);
+    count = at + count - 1;
+    std::swap(z, scratch);
   }
 }
 
@@ -168,75 +279,114 @@ void StreamingDeviation::process(std::size_t level) {
   Level& lv = levels_[level];
   const std::size_t len = lv.fill;
   if (len == lv.kept) return;
-  // Local prefix sums of the pass less its mean c: P[j] = (buf[0] - c) + ..
-  // + (buf[j-1] - c). Each term is a difference of equal windows of the
-  // pass, so c cancels in it, and P stays at the size of the noise: no
-  // phase is summed over the record.
-  double c = 0.0;
-  for (std::size_t j = 0; j < len; ++j) c += lv.buf[j];
-  c /= static_cast<double>(len);
-  prefix_.resize(len + 1);
+  // Local prefix sums of the pass less a mean c: P[j] = (v[0] - c) + .. +
+  // (v[j-1] - c) over the level's values v of the pass. Each term is a
+  // difference of equal windows of the pass, so c cancels in it, and P
+  // stays at the size of the noise: no phase is summed over the record.
+  // The span kept from the pass before holds its prefix sums (from 0, about
+  // that pass's mean), not its values: they are moved to the mean c of the
+  // new values, and the new ones continue from there.
+  const std::size_t kept = lv.kept;
+  const CentredPrefix cp = centre(lv.buf.data() + kept, len - kept);
+  const double c = cp.c;
+  if (prefix_.size() < len + 1) prefix_.resize(len + 1);
   prefix_[0] = 0.0;
-  double acc = 0.0;
-  for (std::size_t j = 0; j < len; ++j) {
-    acc += lv.buf[j] - c;
-    prefix_[j + 1] = acc;
-  }
+  recentre(lv.buf.data(), kept, c - lv.mean, prefix_.data());
+  centred_prefix(lv.buf.data() + kept, len - kept, cp, prefix_.data() + kept);
   const double* P = prefix_.data();
+  if (overlapping_) {
+    // New terms: those whose last prefix index is past the processed part,
+    // starts first .. last of each factor. Taken in tiles of kTile starts,
+    // every factor of the level on one tile before the next: the prefix
+    // values a tile reads (near kTile starts and at +k, +2k, .. of each
+    // factor, and the octave grid shares these) stay in the cache.
+    std::size_t lo_all = len, hi_all = 0;
+    for (std::size_t idx : lv.factors) {
+      Factor& f = state_[idx];
+      const std::size_t span = static_cast<std::size_t>(order_) * f.k;
+      f.pass_energy = 0.0;
+      f.first = 1;
+      f.last = 0;
+      if (len < span) continue;
+      f.first = lv.kept + 1 > span ? lv.kept + 1 - span : 0;
+      f.last = len - span;
+      if (f.last < f.first) continue;
+      lo_all = std::min(lo_all, f.first);
+      hi_all = std::max(hi_all, f.last + 1);
+    }
+    for (std::size_t t0 = lo_all; t0 < hi_all; t0 += kTile) {
+      const std::size_t t1 = std::min(hi_all, t0 + kTile);
+      for (std::size_t idx : lv.factors) {
+        Factor& f = state_[idx];
+        const std::size_t from = std::max(t0, f.first), to = std::min(t1, f.last + 1);
+        if (f.last < f.first || from >= to) continue;
+        f.pass_energy += order_ == 2 ? second_difference_energy(P + from, to - from, f.k)
+                                     : third_difference_energy(P + from, to - from, f.k);
+      }
+    }
+    for (std::size_t idx : lv.factors) {
+      Factor& f = state_[idx];
+      if (f.last < f.first) continue;
+      // Kahan: the record's sum over many passes.
+      const double yk = f.pass_energy - f.energy_c;
+      const double t = f.energy + yk;
+      f.energy_c = (t - f.energy) - yk;
+      f.energy = t;
+      f.terms += f.last - f.first + 1;
+    }
+  }
   for (std::size_t idx : lv.factors) {
     Factor& f = state_[idx];
     const std::size_t k = f.k;
-    if (overlapping_) {
-      // New terms: those whose last prefix index is past the processed part.
-      const std::size_t span = static_cast<std::size_t>(order_) * k;
-      if (len >= span) {
-        const std::size_t first = lv.kept + 1 > span ? lv.kept + 1 - span : 0;
-        const std::size_t last = len - span;
-        if (last >= first) {
-          const std::size_t count = last - first + 1;
-          const double e = order_ == 2 ? second_difference_energy(P + first, count, k)
-                                       : third_difference_energy(P + first, count, k);
-          // Kahan: the record's sum over many passes.
-          const double yk = e - f.energy_c;
-          const double t = f.energy + yk;
-          f.energy_c = (t - f.energy) - yk;
-          f.energy = t;
-          f.terms += count;
-        }
-      }
-    }
     // Non-overlapping window sums ending in the new part (boundaries at
     // multiples of k on the level).
     const std::size_t lo = lv.base + lv.kept;  // boundaries > lo
-    zs_.clear();
-    for (std::size_t b = (lo / k + 1) * k; b <= lv.base + len; b += k)
-      zs_.push_back((P[b - lv.base] - P[b - lv.base - k]) + static_cast<double>(k) * c);
-    f.push_averages(zs_, order_, diff_);
+    const std::size_t b1 = (lo / k + 1) * k;  // the first boundary
+    if (b1 <= lv.base + len) {
+      // In blocks that stay in the cache; the lag sums take them in turn.
+      std::size_t count = (lv.base + len - b1) / k + 1;
+      std::size_t b0 = b1 - k - lv.base;
+      if (zs_.size() < kZBlock + 1) {
+        zs_.resize(kZBlock + 1);
+        diff_.resize(kZBlock + 1);
+      }
+      while (count > 0) {
+        const std::size_t n = std::min(count, kZBlock);
+        window_sums(P, b0, k, n, static_cast<double>(k) * c, zs_.data());
+        f.push_averages(zs_.data(), n, order_, diff_.data());
+        b0 += n * k;
+        count -= n;
+      }
+    }
   }
   // Pair sums for the next level, aligned on even indices of this one.
   if (level + 1 < levels_.size()) {
-    lv.out.clear();
+    lv.out_n = 0;
     std::size_t j = lv.kept;
+    if (lv.out.size() < (len - j) / 2 + 1) lv.out.resize((len - j) / 2 + 1);
     if (lv.odd && j < len) {
-      lv.out.push_back(lv.pending + lv.buf[j]);
+      lv.out[lv.out_n++] = lv.pending + lv.buf[j];
       lv.odd = false;
       ++j;
     }
-    for (; j + 1 < len; j += 2) lv.out.push_back(lv.buf[j] + lv.buf[j + 1]);
+    const std::size_t pairs = (len - j) / 2;
+    pair_sums(lv.buf.data() + j, pairs, lv.out.data() + lv.out_n);
+    lv.out_n += pairs;
+    j += 2 * pairs;
     if (j < len) {
       lv.odd = true;
       lv.pending = lv.buf[j];
     }
   }
-  // Keep the span for the terms that end in the next pass.
+  // Keep the span's prefix sums for the terms that end in the next pass.
   const std::size_t keep = std::min(lv.span, len);
-  std::copy(lv.buf.begin() + static_cast<std::ptrdiff_t>(len - keep), lv.buf.begin() + static_cast<std::ptrdiff_t>(len),
-            lv.buf.begin());
+  rebase(P + (len - keep), keep, lv.buf.data());
+  lv.mean = c;
   lv.fill = keep;
   lv.base += len - keep;
   lv.kept = keep;
   // The next level touches only its own buffers.
-  if (level + 1 < levels_.size() && !lv.out.empty()) append(level + 1, lv.out.data(), lv.out.size());
+  if (level + 1 < levels_.size() && lv.out_n > 0) append(level + 1, lv.out.data(), lv.out_n);
 }
 
 StreamingDeviation::Result StreamingDeviation::finish(double tau0, const StabilityOptions& opt) {

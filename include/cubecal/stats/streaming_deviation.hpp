@@ -85,13 +85,20 @@ class StreamingDeviation {
     std::size_t k = 0;        // window on its level
     double energy = 0.0, energy_c = 0.0;  // overlapping sum of squares (compensated)
     std::size_t terms = 0;
+    double pass_energy = 0.0;             // this pass's share, summed over its tiles
+    std::size_t first = 0, last = 0;      // this pass's starts of overlapping terms
     Lag lag[4];               // orders 0..3 of the non-overlapping window sums
     std::size_t averages = 0;
-    // The averages' window sums z (left as scratch), orders 0..dmax.
-    void push_averages(std::vector<double>& z, int dmax, std::vector<double>& scratch) noexcept;
+    // The averages' window sums z[0 .. count), orders 0..dmax; z and
+    // scratch (count + 1 values each) are overwritten.
+    void push_averages(double* z, std::size_t count, int dmax, double* scratch) noexcept;
   };
   struct Level {
-    std::vector<double> buf;   // capacity values once used; buf[0 .. kept) already processed
+    // capacity values once used: buf[0 .. kept) the prefix sums of the
+    // span kept from the last pass (from 0, about its mean `mean`), then
+    // the values not yet processed.
+    std::vector<double> buf;
+    double mean = 0.0;
     std::size_t fill = 0;      // values in buf
     std::size_t kept = 0;
     std::size_t base = 0;      // index on the level of buf[0]
@@ -101,7 +108,8 @@ class StreamingDeviation {
     bool odd = false;          // a value waits for its pair
     double pending = 0.0;
     std::size_t total = 0;     // values received
-    std::vector<double> out;   // pair sums on their way to the next level
+    std::vector<double> out;   // pair sums on their way to the next level: out[0 .. out_n)
+    std::size_t out_n = 0;
   };
 
   void append(std::size_t level, const double* v, std::size_t count);
