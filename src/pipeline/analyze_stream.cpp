@@ -13,8 +13,11 @@
 #include "cubecal/noise/streaming_temperature.hpp"
 #include "cubecal/stats/streaming_deviation.hpp"
 #include "detail/analysis_parts.hpp"
+#include "detail/for_channels.hpp"
 
 namespace cubecal::pipeline {
+
+using detail::for_channels;
 
 namespace {
 
@@ -35,23 +38,6 @@ struct CurveStreams {
       head->push(y.first(std::min(y.size(), head_samples - head->samples())));
   }
 };
-
-// Runs body(c) for every channel on the request's threads; the first
-// exception (in channel order) is rethrown on the caller's thread.
-template <class Body>
-void for_channels(std::size_t nch, unsigned threads, const Body& body) {
-  std::vector<std::exception_ptr> errors(nch);
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads > 0 ? static_cast<int>(threads) : 0)
-  for (std::size_t c = 0; c < nch; ++c) {
-    try {
-      body(c);
-    } catch (...) {
-      errors[c] = std::current_exception();
-    }
-  }
-  for (const auto& e : errors)
-    if (e) std::rethrow_exception(e);
-}
 
 // A non-finite sample, said as the in-memory dev does.
 [[noreturn]] void throw_sample_error(const std::string& column, const std::invalid_argument& e) {

@@ -6,6 +6,7 @@
 
 #include "cubecal/error.hpp"
 #include "cubecal/stats/streaming_deviation.hpp"
+#include "detail/for_channels.hpp"
 
 namespace cubecal::pipeline {
 
@@ -44,13 +45,13 @@ DevResult run_dev_stream(io::SampleStream& in, const DevRequest& req, std::size_
   for (std::size_t c = 0; c < in.names().size(); ++c) acc.emplace_back(req.stat, ms, window_bound);
   io::SampleChunk chunk;
   while (in.next(chunk)) {
-    for (std::size_t c = 0; c < acc.size(); ++c) {
+    detail::for_channels(acc.size(), req.threads, [&](std::size_t c) {
       try {
         acc[c].push(chunk.channels[c]);
       } catch (const std::invalid_argument& e) {
         throw UsageError("column " + in.names()[c] + ": " + e.what() + " (remove or repair it before the analysis)");
       }
-    }
+    });
     if (req.progress)
       req.progress(in.total_bytes() > 0
                        ? std::min(1.0, static_cast<double>(in.bytes_read()) / static_cast<double>(in.total_bytes()))
