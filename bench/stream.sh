@@ -16,6 +16,10 @@
 # samples/s, emit_raw the bound), dev CPU 1.7 s user + 0.5 s sys (78 M samples
 # per CPU second; main 54 M), peak RSS 33 MB (main 51 MB); simulated 19.7 s
 # wall (8.8 M samples/s, the simulator bound), dev CPU 4.2 s.
+# 30 days replayed after the merge with analyze --stream, the pipe widened to
+# 1 MiB, quiet machine: 41.0 s wall (63 M samples/s; emit_raw | cat alone
+# moves 90 M samples/s), dev CPU 25.8 s user + 6.2 s sys (81 M samples per
+# CPU second), peak RSS 40.4 MB (docs/performance.md).
 set -euo pipefail
 BUILD=${1:-build}
 DAYS=${STREAM_DAYS:-30}
