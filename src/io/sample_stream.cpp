@@ -183,10 +183,11 @@ class BinaryStream final : public SampleStream {
     const SampleType t = layout_.channels[col];
     const char* p = buf_.data() + offsets_[col];
     if (t == SampleType{SampleKind::floating, 8, false} && std::endian::native == std::endian::little) {
-      if (frame_ == 8)
-        std::memcpy(v.data(), p, rows * 8);  // one channel: the frames are the values
-      else
+      if (frame_ == 8) {
+        if (rows > 0) std::memcpy(v.data(), p, rows * 8);  // one channel: the frames are the values
+      } else {
         for (std::size_t r = 0; r < rows; ++r, p += frame_) std::memcpy(&v[r], p, 8);
+      }
     } else {
       for (std::size_t r = 0; r < rows; ++r, p += frame_) v[r] = decode_sample(t, p);
     }
