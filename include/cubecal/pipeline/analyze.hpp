@@ -34,8 +34,9 @@ struct AnalyzeRequest {
   std::vector<double> lsb;          // quantizer of the model, counts per unit: one for all or
                                     // one per channel (empty or 0: no quantization)
   unsigned threads = 0;
-  // Called with the fraction done, from the caller's thread (a streamed
-  // run: after every piece, 0 while the input's size is not known).
+  // run_analyze_stream: called from the caller's thread after every piece
+  // with the fraction of the input read (0 while its size is not known).
+  // run_analyze does not call it.
   std::function<void(double)> progress;
 };
 
