@@ -10,6 +10,7 @@ PACKAGES=(
   libboost-math-dev zlib1g-dev libbz2-dev liblz4-dev libzstd-dev libsqlite3-dev libhdf5-dev libfast-float-dev libeigen3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-numpy gzip bc
+  python3-scipy           # AllanTools (the peer `make bench` times) imports scipy.stats
   clang libclang-rt-14-dev libomp-dev   # fuzzers (make fuzz): libFuzzer, ASan, UBSan
   gnuplot-nox             # plots (SVG/PNG) of the report
   chromium                # browser test of report.html (headless)

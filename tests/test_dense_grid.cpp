@@ -159,5 +159,43 @@ TEST(DenseGrid, GroupsInAnyGridMatchOneFactorAtATime) {
   }
 }
 
+// A sparse grid (log:20, and factors in no group) is walked in tiles with
+// every factor's own accumulators: each OADEV must be the very bits of the
+// single-factor kernel, on records whose length is and is not a multiple of
+// the tile, with factors at, below and beyond the record's limit.
+TEST(DenseGrid, TiledSparseFactorsAreTheBitsOfOneFactorAtATime) {
+  for (const std::size_t n : {std::size_t{20'000}, std::size_t{2048 * 5 + 8}, std::size_t{2048 * 3 + 13}}) {
+    const std::vector<double> x = freq_to_phase(record(n, 11), 0.1);
+    std::vector<std::size_t> ms;
+    for (double f = 1.0; f < static_cast<double>(n); f *= 1.122) {
+      const auto m = static_cast<std::size_t>(f);
+      if (ms.empty() || m != ms.back()) ms.push_back(m);
+    }
+    ms.push_back((x.size() - 1) / 2);  // the largest that fits
+    ms.push_back((x.size() - 1) / 2 + 1);  // does not fit: n == 0
+    std::vector<VarianceTerm> tiled(ms.size());
+    oavar(x, ms, 0.1, tiled);
+    // The first factors 1..8 form a group (its own kernel, equal up to rounding).
+    std::vector<bool> grouped(ms.size(), false);
+    for (std::size_t j = 0; j < ms.size(); ++j)
+      if (kernel_group_at(ms, j)) std::fill_n(grouped.begin() + static_cast<std::ptrdiff_t>(j), kKernelGroup, true);
+    std::size_t checked = 0;
+    for (std::size_t j = 0; j < ms.size(); ++j) {
+      const VarianceTerm one = oavar(x, ms[j], 0.1);
+      ASSERT_EQ(tiled[j].n, one.n) << "n=" << n << " m=" << ms[j];
+      if (!grouped[j]) {
+        EXPECT_EQ(tiled[j].var, one.var) << "n=" << n << " m=" << ms[j];  // bitwise: same terms, same order
+      }
+      if (one.n > 0) {
+        EXPECT_NEAR(tiled[j].var, direct_variance(Stat::oadev, x, ms[j]) / 0.01, 1e-10 * one.var);
+        ++checked;
+      }
+    }
+    EXPECT_GT(checked, 50u);
+    EXPECT_GT(std::count(grouped.begin(), grouped.end(), false), 50);
+    EXPECT_EQ(tiled.back().n, 0u);
+  }
+}
+
 }  // namespace
 }  // namespace cubecal

@@ -30,6 +30,7 @@
 #include "output.hpp"
 #include "progress.hpp"
 #include "report_option.hpp"
+#include "timings.hpp"
 
 namespace cubecal::cli {
 
@@ -55,6 +56,7 @@ struct AnalyzeOptions {
   std::vector<std::string> estimators;  // --for
   double inflate = 1.0;
   MemoryOptions memory;
+  Timings timings;
 };
 
 // --for names, in the order given, without repeats.
@@ -228,17 +230,20 @@ void print_summary(std::ostream& out, const pipeline::AnalysisResult& r) {
 }
 
 // The record read whole (io::read_series), then pipeline::run_analyze.
-pipeline::AnalysisResult analyze_in_memory(const AnalyzeOptions& o, io::SeriesOptions so, pipeline::AnalyzeRequest req) {
+pipeline::AnalysisResult analyze_in_memory(AnalyzeOptions& o, io::SeriesOptions so, pipeline::AnalyzeRequest req) {
   const std::size_t bytes = file_size_or_zero(o.input.file);
   Progress progress(bytes > 50'000'000);
   progress.stage(fmt::format("reading {} ({:.0f} MB)", o.input.file, static_cast<double>(bytes) / 1e6));
   so.keep_time = false;  // one segment's stamps carry nothing the analysis uses beyond the rate
+  StageTimer reading(o.timings.sink(), Stage::read);
   const io::Series series = io::read_series(o.input.file, so);
+  reading.stop();
   ChannelUnits units = units_for(o.unit, series);  // a column without a unit stops here
   note_default_columns(series);
   if (!units.note.empty()) std::cerr << units.note << '\n';
   req.units = std::move(units.units);
   progress.stage(fmt::format("analyzing {} channels", series.channels.size()));
+  req.times = o.timings.sink();
   pipeline::AnalysisResult r = pipeline::run_analyze(series, req);
   progress.done();
   return r;
@@ -278,7 +283,7 @@ pipeline::AnalysisResult analyze_streamed(const AnalyzeOptions& o, const io::Ser
   return r;
 }
 
-int run_analyze_command(const AnalyzeOptions& o) {
+int run_analyze_command(AnalyzeOptions& o) {
   pipeline::AnalyzeRequest req;
   if (!o.unit.empty()) req.units = parse_units(o.unit);  // before the reading: a typo fails at once
   req.grid = parse_taus(o.taus);
@@ -337,6 +342,7 @@ int run_analyze_command(const AnalyzeOptions& o) {
        {excluded_taus_warning(r.tau_list, r.model_excluded_taus), merged_taus_note(r.tau_list)})
     if (!line.empty()) std::cerr << line << '\n';
 
+  StageTimer writing(o.timings.sink(), Stage::output);
   if (o.format == "json")
     std::cout << pipeline::analysis_json(r, ctx);
   else
@@ -355,6 +361,8 @@ int run_analyze_command(const AnalyzeOptions& o) {
                 << (std::filesystem::path(o.out) / "plots/").string() << ")\n";
     }
   }
+  writing.stop();
+  print_timings(o.timings, req.threads);
   return 0;
 }
 
@@ -394,6 +402,7 @@ CLI::App* add_analyze_command(CLI::App& app, Command& run) {
       ->needs(out_opt);
   add_gnuplot_option(*cmd, opt->gnuplot);
   add_memory_options(*cmd, opt->memory);
+  add_timings_option(*cmd, opt->timings);
   cmd->add_option("--format", opt->format, "Standard output: table or json")
       ->check(CLI::IsMember({"table", "json"}))
       ->capture_default_str();

@@ -16,6 +16,7 @@
 #include "memory_budget.hpp"
 #include "output.hpp"
 #include "progress.hpp"
+#include "timings.hpp"
 
 namespace cubecal::cli {
 
@@ -35,6 +36,7 @@ struct DevOptions {
   std::string out;
   bool force = false;
   MemoryOptions memory;
+  Timings timings;
 };
 
 std::size_t samples_of(const io::Series& s) { return s.channels.empty() ? 0 : s.channels[0].size(); }
@@ -74,7 +76,7 @@ int run_dev_stream_command(const DevOptions& o, pipeline::DevRequest req, const 
   return 0;
 }
 
-int run_dev_command(const DevOptions& o) {
+int run_dev_command(DevOptions& o) {
   pipeline::DevRequest req;
   req.stat = *parse_stat(o.stat);
   req.type = *parse_data_type(o.type);
@@ -108,8 +110,13 @@ int run_dev_command(const DevOptions& o) {
       }
     }
   }
-  if (stream) return run_dev_stream_command(o, req, series_opt, budget, result);
+  if (stream) {
+    const int rc = run_dev_stream_command(o, req, series_opt, budget, result);
+    print_timings(o.timings, req.threads);  // a stream's stages are one pass: the wall clock only
+    return rc;
+  }
   const std::size_t bytes = file_size_or_zero(o.input.file);
+  StageTimer reading_time(o.timings.sink(), Stage::read);
   const io::Series series = [&] {
     Progress reading(bytes > 50'000'000);
     reading.stage(fmt::format("reading {} ({:.0f} MB)", o.input.file, static_cast<double>(bytes) / 1e6));
@@ -117,6 +124,7 @@ int run_dev_command(const DevOptions& o) {
     so.keep_time = false;  // the deviations need the rate and the segments, not the stamps
     return io::read_series(o.input.file, so);
   }();
+  reading_time.stop();
   note_default_columns(series);
 
   // Announce long work before it starts, with what a sparser grid costs.
@@ -136,12 +144,14 @@ int run_dev_command(const DevOptions& o) {
   progress.stage(fmt::format("{} at {} taus on {} channel(s)", to_string(req.stat), work.taus,
                              series.channels.size()));
   req.progress = [&](double f) { progress.fraction(f); };
+  req.times = o.timings.sink();
   const pipeline::DevResult res = pipeline::run_dev(series, req);
   progress.done();
 
   for (const std::string& line : {excluded_taus_warning(res.tau_list), merged_taus_note(res.tau_list)})
     if (!line.empty()) std::cerr << line << '\n';
 
+  StageTimer writing(o.timings.sink(), Stage::output);
   DevContext ctx{o.input.file, o.ci, o.edf, !o.no_ci};
   std::ostream& out = result.stream();
   if (res.segments > 1)
@@ -155,6 +165,8 @@ int run_dev_command(const DevOptions& o) {
   else
     write_dev_table(out, res, ctx);
   result.finish();
+  writing.stop();
+  print_timings(o.timings, req.threads);
   return 0;
 }
 
@@ -201,6 +213,7 @@ CLI::App* add_dev_command(CLI::App& app, Command& run) {
   cmd->add_option("--out", opt->out, "Write the result to this file instead of standard output");
   cmd->add_flag("--force", opt->force, "Replace the --out file if it exists");
   add_memory_options(*cmd, opt->memory);
+  add_timings_option(*cmd, opt->timings);
   cmd->callback([opt, &run] { run = [opt] { return run_dev_command(*opt); }; });
   return cmd;
 }

@@ -1,9 +1,11 @@
 #include "cubecal/pipeline/analyze.hpp"
 
 #include <fmt/format.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <stdexcept>
 
 #include "cubecal/stats/allan_curve.hpp"
@@ -35,62 +37,85 @@ std::vector<BiasGap> bias_gaps(const io::Series& s) {
   return gaps;
 }
 
-// Per channel: OLS (its errors are the user's: a constant temperature, too
+// One channel: OLS (its errors are the user's: a constant temperature, too
 // few distinct values), then the joint estimate with the random walk, whose
 // noise model is the paper's random-walk model fitted to the Allan curve of
 // the compensated whole record (request grid); where no such model fits
 // (no minimum in the curve, no random-walk arm), the OLS fit is reported
-// with the reason. Then the compensated series of every channel: its noise
-// terms, and the sensor models on it as on the record.
-template <class LsbOf>
-void analyze_temperature(AnalysisResult& r, const io::Series& s, const AnalyzeRequest& req, const LsbOf& lsb_of) {
-  const std::size_t nch = s.channels.size();
+// with the reason. Then the compensated series: its noise terms, and the
+// sensor models on it as on the record.
+TemperatureAnalysis analyze_temperature_of(std::size_t c, const io::Series& s, const AnalyzeRequest& req,
+                                           const std::string& temp_name, const std::vector<BiasGap>& gaps,
+                                           double lsb) {
   const auto& temp = s.extra.at(*req.temp_index);
-  r.temp_name = s.extra_names.at(*req.temp_index);
-  const std::vector<BiasGap> gaps = bias_gaps(s);
   const double dt = s.tau0;
   const std::size_t first = s.segments.front().size();
   const bool head = req.max_samples > 0 && req.max_samples < first;
-  // A channel at a time: its compensated series lives only while its
-  // deviations are computed, so that the record is not held twice.
-  for (std::size_t c = 0; c < nch; ++c) {
-    TemperatureAnalysis t;
-    try {
-      t.ols = fit_temperature(s.channels[c], temp, req.temp_order);
-    } catch (const std::invalid_argument& e) {
-      throw UsageError("temp_index", r.temp_name + ": " + e.what());
-    }
-    const CompensatedNoiseModel noise_model = [&](std::span<const double> y) {
-      const DevResult d = run_dev({s.names[c]}, {y}, s.rate_hz, s.segments, oadev_request(req));
-      return fit_random_walk_model(to_allan_curve(d.channels[0].points), dt, lsb_of(c));
-    };
-    try {
-      TemperatureRandomWalkFit j = fit_temperature_random_walk(s.channels[c], temp, req.temp_order, noise_model, gaps);
-      t.fit = std::move(j.fit);
-      t.noise = j.noise;
-      t.iterations = j.iterations;
-      t.converged = j.converged;
-      t.joint = true;
-    } catch (const std::invalid_argument& e) {
-      t.fit = t.ols;
-      t.joint_error = std::string("no random-walk model fits the compensated series (") + e.what() +
-                      "): the least-squares fit is reported";
-    }
-    const std::vector<double> comp = compensate_temperature(s.channels[c], temp, t.fit);
-    const DevResult cdev = run_dev({s.names[c]}, {std::span<const double>(comp)}, s.rate_hz, s.segments,
-                                   oadev_request(req));
-    t.compensated = noise_of(cdev.channels[0]);
-    if (head) {
-      const DevResult hd = run_dev({s.names[c]}, {std::span<const double>(comp.data(), req.max_samples)}, s.rate_hz,
-                                   {}, oadev_request(req));
-      t.compensated_model.adev = hd.channels[0].points;
-    } else {
-      t.compensated_model.adev = cdev.channels[0].points;
-    }
-    t.compensated_model.samples = head ? req.max_samples : r.samples;
-    fit_models(t.compensated_model, dt, lsb_of(c));
-    r.channels[c].temperature = std::move(t);
+  TemperatureAnalysis t;
+  try {
+    t.ols = fit_temperature(s.channels[c], temp, req.temp_order);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError("temp_index", temp_name + ": " + e.what());
   }
+  const CompensatedNoiseModel noise_model = [&](std::span<const double> y) {
+    const DevResult d = run_dev({s.names[c]}, {y}, s.rate_hz, s.segments, oadev_request(req));
+    return fit_random_walk_model(to_allan_curve(d.channels[0].points), dt, lsb);
+  };
+  try {
+    TemperatureRandomWalkFit j = fit_temperature_random_walk(s.channels[c], temp, req.temp_order, noise_model, gaps);
+    t.fit = std::move(j.fit);
+    t.noise = j.noise;
+    t.iterations = j.iterations;
+    t.converged = j.converged;
+    t.joint = true;
+  } catch (const std::invalid_argument& e) {
+    t.fit = t.ols;
+    t.joint_error = std::string("no random-walk model fits the compensated series (") + e.what() +
+                    "): the least-squares fit is reported";
+  }
+  const std::vector<double> comp = compensate_temperature(s.channels[c], temp, t.fit);
+  const DevResult cdev = run_dev({s.names[c]}, {std::span<const double>(comp)}, s.rate_hz, s.segments,
+                                 oadev_request(req));
+  t.compensated = noise_of(cdev.channels[0]);
+  if (head) {
+    const DevResult hd = run_dev({s.names[c]}, {std::span<const double>(comp.data(), req.max_samples)}, s.rate_hz,
+                                 {}, oadev_request(req));
+    t.compensated_model.adev = hd.channels[0].points;
+  } else {
+    t.compensated_model.adev = cdev.channels[0].points;
+  }
+  t.compensated_model.samples = head ? req.max_samples : s.samples();
+  fit_models(t.compensated_model, dt, lsb);
+  return t;
+}
+
+// Every channel, on the threads one each: a channel's deviations run on its
+// thread (the whole grid in one task, whose factors share their passes over
+// the record), and its compensated series lives only while they are
+// computed, so that no more than one per thread is alive besides the
+// record. Exceptions must not leave the parallel region: the first
+// channel's in order is rethrown after it.
+template <class LsbOf>
+void analyze_temperature(AnalysisResult& r, const io::Series& s, const AnalyzeRequest& request, const LsbOf& lsb_of) {
+  const StageTimer timer(request.times, Stage::temperature);
+  AnalyzeRequest req = request;
+  req.times = nullptr;  // the compensated series' deviations are the temperature stage's
+  req.threads = 1;
+  const std::size_t nch = s.channels.size();
+  r.temp_name = s.extra_names.at(*req.temp_index);
+  const std::vector<BiasGap> gaps = bias_gaps(s);
+  const int threads = request.threads > 0 ? static_cast<int>(request.threads) : omp_get_max_threads();
+  std::vector<std::exception_ptr> failure(nch);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+  for (std::size_t c = 0; c < nch; ++c) {
+    try {
+      r.channels[c].temperature = analyze_temperature_of(c, s, req, r.temp_name, gaps, lsb_of(c));
+    } catch (...) {
+      failure[c] = std::current_exception();
+    }
+  }
+  for (const std::exception_ptr& e : failure)
+    if (e) std::rethrow_exception(e);
 }
 
 }  // namespace
@@ -118,7 +143,9 @@ AnalysisResult run_analyze(const io::Series& s, const AnalyzeRequest& req) {
 
   // Allan deviations of all channels in one parallel run.
   const DevResult dev = run_dev(s, oadev_request(req));
+  StageTimer reading_off(req.times, Stage::fits);  // read-offs and the 5-term fit
   for (std::size_t c = 0; c < nch; ++c) r.channels[c].noise = noise_of(dev.channels[c]);
+  reading_off.stop();
   r.tau_list = dev.tau_list;
 
   // The model is fitted on the first max_samples samples when asked (the
@@ -150,7 +177,10 @@ AnalysisResult run_analyze(const io::Series& s, const AnalyzeRequest& req) {
   for (std::size_t c = 0; c < nch; ++c) {
     auto& ch = r.channels[c];
     const auto& y = s.channels[c];
+    StageTimer fitting(req.times, Stage::fits);
     fit_models(ch.model, dt, lsb_of(c));
+    fitting.stop();
+    const StageTimer drifting(req.times, Stage::drift);
     double mean = 0.0;
     for (double v : y) mean += v;
     mean /= static_cast<double>(y.size());
@@ -176,6 +206,7 @@ AnalysisResult run_analyze(const io::Series& s, const AnalyzeRequest& req) {
 
   // Covariance of the selected channels (eq. 12).
   if (nch > 0) {
+    const StageTimer timer(req.times, Stage::covariance);
     std::vector<std::span<const double>> spans;
     for (const auto& c : s.channels) spans.emplace_back(c);
     r.cov_names = s.names;

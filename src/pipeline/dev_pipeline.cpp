@@ -42,12 +42,15 @@ unsigned thread_count(const DevRequest& req) {
   return req.threads > 0 ? req.threads : static_cast<unsigned>(std::max(1, omp_get_max_threads()));
 }
 
-// Averaging factors per parallel task: whole groups of the grouped kernels
-// (stats/kernels.hpp, eight factors) on a dense grid, single factors on a
-// sparse one so that a few taus still spread over the threads.
+// Averaging factors per parallel task: about four tasks per thread, and no
+// more than 32 factors, so that the factors of a task share their passes
+// over the record (stats/kernels.hpp: groups of eight on a dense grid, tiles
+// on a sparse one) while a few taus still spread over the threads. A group
+// is never cut whatever the size, and a tiled factor is the bits of its own
+// pass: the points do not depend on the size.
 std::size_t block_size(std::size_t factors, std::size_t pieces, unsigned threads) {
-  const std::size_t groups = factors * pieces / (64 * static_cast<std::size_t>(threads));
-  return groups == 0 ? 1 : 8 * std::min<std::size_t>(groups, 4);
+  const std::size_t per_task = factors * pieces / (4 * static_cast<std::size_t>(threads));
+  return std::clamp<std::size_t>(per_task, 1, 32);
 }
 
 std::size_t phase_points(const io::Segment& seg, DataType type) {
@@ -178,6 +181,7 @@ DevResult run(const std::vector<std::string>& names,
     const auto& seg = segments[k % nseg];
     const auto& ch = channels[b.c0 + k / nseg];
     try {
+      const StageTimer timer(req.times, Stage::phase);
       b.records[k] = std::make_unique<StabilityRecord>(std::span<const double>(ch.data() + seg.begin, seg.size()),
                                                        req.type, res.tau0, req.stat);
     } catch (const std::exception& e) {
@@ -219,7 +223,7 @@ DevResult run(const std::vector<std::string>& names,
       std::size_t j1 = ranges[k % ranges.size()].second;
       while (j1 > j0 && ms[j1 - 1] > rec.max_m()) --j1;  // ms ascending
       if (j1 > j0) {
-        const auto points = rec.evaluate(std::span<const std::size_t>(ms.data() + j0, j1 - j0), req.options);
+        const auto points = rec.evaluate(std::span<const std::size_t>(ms.data() + j0, j1 - j0), req.options, req.times);
         std::copy(points.begin(), points.end(),
                   evals.begin() + static_cast<std::ptrdiff_t>((cur.c0 * nseg + piece) * nm + j0));
       }
@@ -232,10 +236,12 @@ DevResult run(const std::vector<std::string>& names,
     }
     done += batch_done.load();
     // The ranges above ran apart: Stable32's run rule over each whole run.
+    StageTimer carrying(req.times, Stage::intervals);
     for (std::size_t k = 0; k < cur.records.size(); ++k)
       cur.records[k]->carry_types(
           std::span<StabilityPoint>(evals.data() + static_cast<std::ptrdiff_t>((cur.c0 * nseg + k) * nm), nm),
           req.options);
+    carrying.stop();
     check(next);
     cur = std::move(next);
   }

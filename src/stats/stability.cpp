@@ -23,41 +23,57 @@ std::size_t StabilityRecord::max_m() const noexcept {
   return max_averaging_factor(stat_, x_.size());
 }
 
-StabilityPoint StabilityRecord::evaluate(std::size_t m, const StabilityOptions& opt) const {
-  VarianceTerm v;
+VarianceTerm StabilityRecord::variance(std::size_t m) const {
   switch (stat_) {
-    case Stat::adev: v = avar(x_, m, tau0_); break;
-    case Stat::oadev: v = oavar(x_, m, tau0_); break;
+    case Stat::adev: return avar(x_, m, tau0_);
+    case Stat::oadev: return oavar(x_, m, tau0_);
     case Stat::mdev:
-    case Stat::tdev: v = mvar(x_, m, tau0_); break;
-    case Stat::hdev: v = hvar(x_, m, tau0_); break;
-    case Stat::ohdev: v = ohvar(x_, m, tau0_); break;
-    case Stat::totdev: v = totvar(ext_, m, tau0_); break;
+    case Stat::tdev: return mvar(x_, m, tau0_);
+    case Stat::hdev: return hvar(x_, m, tau0_);
+    case Stat::ohdev: return ohvar(x_, m, tau0_);
+    case Stat::totdev: return totvar(ext_, m, tau0_);
   }
-  return finish(m, v, opt);
+  return {};
 }
 
-std::vector<StabilityPoint> StabilityRecord::evaluate(std::span<const std::size_t> ms,
-                                                      const StabilityOptions& opt) const {
+StabilityPoint StabilityRecord::evaluate(std::size_t m, const StabilityOptions& opt) const {
+  StabilityPoint p = point(m, variance(m));
+  if (p.n == 0 || !opt.intervals) return p;
+  identify(p, opt);
+  set_interval(p, opt);
+  return p;
+}
+
+std::vector<StabilityPoint> StabilityRecord::evaluate(std::span<const std::size_t> ms, const StabilityOptions& opt,
+                                                      StageTimes* times) const {
   std::vector<StabilityPoint> out;
   out.reserve(ms.size());
-  std::vector<VarianceTerm> v(ms.size());
-  switch (stat_) {
-    case Stat::oadev: oavar(x_, ms, tau0_, v); break;
-    case Stat::ohdev: ohvar(x_, ms, tau0_, v); break;
-    case Stat::totdev: totvar(ext_, ms, tau0_, v); break;
-    default:
-      for (std::size_t j = 0; j < ms.size(); ++j) out.push_back(evaluate(ms[j], opt));
-      carry_types(out, opt);
-      return out;
+  {
+    StageTimer timer(times, Stage::kernels);
+    std::vector<VarianceTerm> v(ms.size());
+    switch (stat_) {
+      case Stat::oadev: oavar(x_, ms, tau0_, v); break;
+      case Stat::ohdev: ohvar(x_, ms, tau0_, v); break;
+      case Stat::totdev: totvar(ext_, ms, tau0_, v); break;
+      default:
+        for (std::size_t j = 0; j < ms.size(); ++j) v[j] = variance(ms[j]);
+    }
+    for (std::size_t j = 0; j < ms.size(); ++j) out.push_back(point(ms[j], v[j]));
   }
-  for (std::size_t j = 0; j < ms.size(); ++j) out.push_back(finish(ms[j], v[j], opt));
+  if (!opt.intervals) return out;
+  {
+    StageTimer timer(times, Stage::noise_id);
+    for (StabilityPoint& p : out)
+      if (p.n > 0) identify(p, opt);
+  }
+  StageTimer timer(times, Stage::intervals);
+  for (StabilityPoint& p : out)
+    if (p.n > 0) set_interval(p, opt);
   carry_types(out, opt);
   return out;
 }
 
-StabilityPoint StabilityRecord::finish(std::size_t m, VarianceTerm v,
-                                       const StabilityOptions& opt) const {
+StabilityPoint StabilityRecord::point(std::size_t m, VarianceTerm v) const {
   StabilityPoint p;
   p.m = m;
   p.tau = static_cast<double>(m) * tau0_;
@@ -65,11 +81,11 @@ StabilityPoint StabilityRecord::finish(std::size_t m, VarianceTerm v,
   if (v.n == 0) return p;
   p.dev = std::sqrt(std::max(v.var, 0.0)) * scale_;
   if (stat_ == Stat::tdev) p.dev *= p.tau / std::sqrt(3.0);
-  if (!opt.intervals) return p;
-
-  p.alpha = opt.alpha ? *opt.alpha : identify_noise(x_, m, stat_).alpha;
-  set_interval(p, opt);
   return p;
+}
+
+void StabilityRecord::identify(StabilityPoint& p, const StabilityOptions& opt) const {
+  p.alpha = opt.alpha ? *opt.alpha : identify_noise(x_, p.m, stat_).alpha;
 }
 
 void StabilityRecord::set_interval(StabilityPoint& p, const StabilityOptions& opt) const {

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "cubecal/stage_times.hpp"
 #include "cubecal/noise/drift.hpp"
 #include "cubecal/noise/noise_terms.hpp"
 #include "cubecal/noise/sensor_noise_model.hpp"
@@ -38,6 +39,9 @@ struct AnalyzeRequest {
   // with the fraction of the input read (0 while its size is not known).
   // run_analyze does not call it.
   std::function<void(double)> progress;
+  // Where the time goes (optional; run_analyze): the deviations' stages,
+  // fits, drift, covariance and temperature.
+  StageTimes* times = nullptr;
 };
 
 struct NoiseAnalysis {

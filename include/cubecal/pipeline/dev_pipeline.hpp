@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "cubecal/stage_times.hpp"
 #include "cubecal/stats/stability.hpp"
 #include "cubecal/stats/tau_exclusions.hpp"
 #include "cubecal/stats/tau_grid.hpp"
@@ -24,6 +25,8 @@ struct DevRequest {
   // Called now and then with the fraction of the work done (0..1), always
   // from the calling thread (optional; must not throw).
   std::function<void(double)> progress;
+  // Where the time goes (optional): phase, kernels, noise id, intervals.
+  StageTimes* times = nullptr;
 };
 
 // What a run_dev call will cost, before it starts: the terms its kernels sum

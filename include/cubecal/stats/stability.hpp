@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "cubecal/stats/edf.hpp"
+#include "cubecal/stage_times.hpp"
 #include "cubecal/stats/kernels.hpp"
 #include "cubecal/stats/statistic.hpp"
 
@@ -65,8 +66,10 @@ class StabilityRecord {
   // The same for every m of `ms`, in order. Close factors share their passes
   // over the record (stats/kernels.hpp): the way to evaluate a dense grid.
   // A grid evaluation applies carry_types to its points.
-  std::vector<StabilityPoint> evaluate(std::span<const std::size_t> ms,
-                                       const StabilityOptions& opt) const;
+  // `times` (optional) gets the thread's time in the kernels, the noise
+  // identification and the intervals.
+  std::vector<StabilityPoint> evaluate(std::span<const std::size_t> ms, const StabilityOptions& opt,
+                                       StageTimes* times = nullptr) const;
 
   // Stable32's run rule: beyond half the largest averaging factor the noise
   // is not identified anew; each factor keeps the type of the one before it
@@ -78,7 +81,10 @@ class StabilityRecord {
   void carry_types(std::span<StabilityPoint> run, const StabilityOptions& opt) const;
 
  private:
-  StabilityPoint finish(std::size_t m, VarianceTerm v, const StabilityOptions& opt) const;
+  VarianceTerm variance(std::size_t m) const;
+  // The deviation of p from its variance, without noise type or interval.
+  StabilityPoint point(std::size_t m, VarianceTerm v) const;
+  void identify(StabilityPoint& p, const StabilityOptions& opt) const;
   // EDF and interval of p for p.alpha (conservative_short applied).
   void set_interval(StabilityPoint& p, const StabilityOptions& opt) const;
 

@@ -55,6 +55,7 @@ DevRequest oadev_request(const AnalyzeRequest& req) {
   // precision (stats/stability.hpp).
   d.options.conservative_short = true;
   d.threads = req.threads;
+  d.times = req.times;
   return d;
 }
 
