@@ -104,7 +104,7 @@ print("cubecal analyze --temp-col temp on the paper's record (6 channels + tempe
 for name in ["read", "phase", "kernels", "noise id", "intervals", "fits", "drift", "covariance", "temperature",
              "output", "total"]:
     if name in analyze:
-        unit = "wall" if name in ("read", "output", "total") else "thread-s"
+        unit = "wall" if name in ("read", "output", "total", "temperature") else "thread-s"
         print(f"  {name:<12} {fmt(analyze[name], unit)}")
 print(f"  analyze with temperature / dev of the same 6 columns: {analyze['total'][1]:.3f} s / "
       f"{devimu['total'][1]:.3f} s = {analyze['total'][1] / devimu['total'][1]:.2f}x (target <= 1.5)")

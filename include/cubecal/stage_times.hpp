@@ -1,8 +1,9 @@
 // Where a run's time goes, stage by stage, for `--timings` and `make bench`
 // (bench/limits.md relates each stage to what this machine can do at best).
 // A stage's time is summed over the threads that worked on it
-// (thread-seconds); the callers that time a stage outside any parallel
-// region (the reading of a file, the output) time its wall clock. Adding is
+// (thread-seconds); the callers that time a stage around a parallel region
+// or outside any (the reading of a file, the temperature analysis, the
+// output) time its wall clock. Adding is
 // thread-safe; a null StageTimes* makes every StageTimer a no-op, which is
 // what every request holds unless asked.
 #pragma once
@@ -23,7 +24,7 @@ enum class Stage : std::size_t {
   fits,         // slope read-offs, noise terms and the sensor models
   drift,        // bias drift (moving average), mean and standard deviation
   covariance,   // the covariance matrix of the channels
-  temperature,  // temperature fit and the compensated series' analysis (its deviations included)
+  temperature,  // temperature fit and the compensated series' analysis, its deviations included (wall)
   output,       // formatting and writing the result (wall)
 };
 inline constexpr std::size_t kStageCount = 10;

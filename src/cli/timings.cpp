@@ -21,7 +21,7 @@ void print_timings(const Timings& t, unsigned threads) {
     const auto stage = static_cast<Stage>(k);
     const double s = t.times.seconds(stage);
     if (s <= 0.0) continue;
-    const bool walled = stage == Stage::read || stage == Stage::output;
+    const bool walled = stage == Stage::read || stage == Stage::output || stage == Stage::temperature;
     std::cerr << fmt::format("cubecal: timing: {:<12} {:8.4f} s ({})\n", to_string(stage), s,
                              walled ? "wall" : "thread-seconds");
   }
