@@ -25,6 +25,7 @@ cat "$REC" "$IMU" > /dev/null  # both in the page cache
 IMU_COLUMNS=gx,gy,gz,mx,my,mz
 for i in $(seq "$RUNS"); do
   "$BUILD/bin/cubecal" dev "$REC" --taus log:20 --format json --timings > "$T/dev.json" 2> "$T/dev-timings-$i.txt"
+  "$BUILD/bin/cubecal" dev "$REC" --taus log:20 --no-ci --format json --timings > /dev/null 2> "$T/devnoci-timings-$i.txt"
   "$BUILD/bin/cubecal" dev "$IMU" --columns "$IMU_COLUMNS" --taus log:20 --format json --timings \
     > /dev/null 2> "$T/devimu-timings-$i.txt"
   "$BUILD/bin/cubecal" analyze "$IMU" --columns "$IMU_COLUMNS" --unit deg/s,deg/s,deg/s,mGauss,mGauss,mGauss \
