@@ -10,7 +10,11 @@ PACKAGES=(
   libboost-math-dev zlib1g-dev libbz2-dev liblz4-dev libzstd-dev libsqlite3-dev libhdf5-dev libfast-float-dev libeigen3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-numpy gzip bc
-  python3-scipy           # AllanTools (the peer `make bench` times) imports scipy.stats
+  python3-scipy           # AllanTools (the peer `make bench` and the Python tests run) imports scipy.stats
+  pybind11-dev python3-dev   # the Python module (import cubecal)
+  python3-matplotlib      # examples/python: the paper's gyro figure
+  python3-dask python3-distributed   # examples/python/fleet.py: one analysis per log on a Dask cluster
+  help2man                # the man page of the .deb, generated from --help
   clang libclang-rt-14-dev libomp-dev   # fuzzers (make fuzz): libFuzzer, ASan, UBSan
   gnuplot-nox             # plots (SVG/PNG) of the report
   chromium                # browser test of report.html (headless)

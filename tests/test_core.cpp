@@ -94,6 +94,34 @@ TEST(Kernels, CountsMatchStable32) {
   EXPECT_EQ(oavar(x, 501, 1.0).n, 0u);  // beyond the record
 }
 
+// TOTVAR as SP 1065 eq. 25 writes it, term by term on the reflected record:
+// defined for every m up to N - 1 (the reflection holds N - 2 points on
+// each side), as AllanTools evaluates it; m = N is beyond the record.
+TEST(Kernels, TotvarEqualsTheReflectedSumUpToNMinusOne) {
+  const auto x = freq_to_phase(white(60, 1.0, 3), 1.0);  // N = 61
+  const std::size_t N = x.size();
+  const auto at = [&](std::ptrdiff_t i) {
+    const auto n = static_cast<std::ptrdiff_t>(N);
+    if (i < 0) return 2.0 * x[0] - x[static_cast<std::size_t>(-i)];
+    if (i >= n) return 2.0 * x[N - 1] - x[static_cast<std::size_t>(2 * (n - 1) - i)];
+    return x[static_cast<std::size_t>(i)];
+  };
+  const TotvarExtension e = totvar_extend(x);
+  for (std::size_t m = 1; m <= N - 1; ++m) {
+    double sum = 0.0;
+    const auto d = static_cast<std::ptrdiff_t>(m);
+    for (std::ptrdiff_t i = 1; i <= static_cast<std::ptrdiff_t>(N) - 2; ++i) {
+      const double s = at(i - d) - 2.0 * at(i) + at(i + d);
+      sum += s * s;
+    }
+    const double want = sum / (2.0 * static_cast<double>(m * m) * static_cast<double>(N - 2));
+    const VarianceTerm v = totvar(e, m, 1.0);
+    ASSERT_EQ(v.n, N - 2) << "m " << m;
+    EXPECT_NEAR(v.var, want, 1e-12 * want) << "m " << m;
+  }
+  EXPECT_EQ(totvar(e, N, 1.0).n, 0u);
+}
+
 TEST(Kernels, WhiteFmWithinConfidenceIntervalOverSeeds) {
   // White FM: AVAR = sigma^2 tau0 / tau exactly. Over 40 seeds the true value
   // must fall inside the 68.3 % interval about 68 % of the time.

@@ -214,9 +214,10 @@ TotvarExtension totvar_extend(std::span<const double> x) {
 
 VarianceTerm totvar(const TotvarExtension& e, std::size_t m, double tau0) {
   const std::size_t N = e.n;
-  if (m == 0 || N < 3 || m > N - 2) return {};
+  if (m == 0 || N < 3 || m > N - 1) return {};
   const std::size_t n = N - 2;
-  // Terms for i = 1..N-2: x*[i-m] - 2x[i] + x*[i+m].
+  // Terms for i = 1..N-2: x*[i-m] - 2x[i] + x*[i+m]; the reflection reaches
+  // x*[-(N-2)] and x*[2N-3], so every m up to N - 1 is defined.
   const double* base = e.xs.data() + e.offset + 1 - m;
   const double sum = second_difference_energy(base, n, m);
   const double tau = static_cast<double>(m) * tau0;
@@ -483,7 +484,7 @@ void totvar(const TotvarExtension& e, std::span<const std::size_t> ms, double ta
       [&](std::size_t j) {
         const std::size_t* m = ms.data() + j;
         const std::size_t big = *std::max_element(m, m + kGroup);
-        if (N < 3 || big > N - 2) {
+        if (N < 3 || big > N - 1) {
           for (std::size_t k = 0; k < kGroup; ++k) out[j + k] = totvar(e, m[k], tau0);
           return;
         }

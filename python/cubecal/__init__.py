@@ -1,0 +1,26 @@
+"""cubecal: characterize, model, simulate and calibrate inertial sensors and clocks.
+
+The C++ library's calls on NumPy arrays:
+
+    import cubecal                      # instead of: import allantools
+    taus, devs, errs, ns = cubecal.oadev(y, rate=100.0, data_type="freq", taus="octave")
+
+    r = cubecal.dev(y, rate=100.0, taus="log:10")        # Stable32's grid, intervals, EDF, noise type
+    a = cubecal.analyze("log.csv", unit="deg/s", temperature="temp")   # analysis.json as an object
+    rec = cubecal.simulate("sport-gyro", rate=10, duration="1h", seed=1)
+    rec = cubecal.read("log.csv", columns="gx,gy,gz")
+
+Errors the data or the caller can fix raise cubecal.Error subclasses:
+InputError (.file, .line, .column), UsageError (.option), CalibrationError (.reason).
+Long computations release the GIL.
+"""
+from ._cubecal import CalibrationError, Error, InputError, UsageError
+from ._allantools import adev, hdev, mdev, oadev, ohdev, tdev, totdev
+from ._dev import Curve, DevResult, dev
+from ._read import Record, read
+from ._analyze import Analysis, analyze
+from ._simulate import presets, simulate
+from ._result import Result
+from ._calibrate import *  # noqa: F401,F403  (calibrate_* and turnon: see cubecal/_calibrate.py)
+
+__version__ = "0.1.0"

@@ -1,0 +1,109 @@
+"""The statistics in AllanTools' shape: replacing `import allantools` by
+`import cubecal` keeps a script working.
+
+    taus, devs, errs, ns = cubecal.oadev(data, rate=1.0, data_type="phase", taus=None)
+
+Same arguments, defaults (data_type "phase", taus "octave") and return value as
+AllanTools: the averaging factors are chosen as AllanTools chooses them
+(m = round(tau * rate), 0 < m < the number of phase points, "all", "octave",
+"decade", "log10" spaced on the phase record's length), points with fewer than
+two terms are dropped, errs = dev / sqrt(n), and ns is a float array. The
+deviations are cubecal's (docs/formulas/stability.md), equal to AllanTools' to
+rounding; `cubecal.dev` gives Stable32's grids and limits with noise
+identification, EDF and confidence intervals instead.
+"""
+import numpy as np
+
+from . import _cubecal
+
+
+def _phase_points(data, data_type):
+    n = np.shape(data)[0] if np.ndim(data) else 0
+    if data_type == "freq":
+        return n + 1
+    if data_type == "phase":
+        return n
+    raise _cubecal.UsageError(f"data_type must be \"phase\" or \"freq\", not {data_type!r}")
+
+
+def _tau_list(taus, n, rate):
+    """AllanTools' tau_generator on a phase record of n points."""
+    if taus is None or (isinstance(taus, (list, tuple)) and len(taus) == 0):
+        taus = "octave"
+    if isinstance(taus, str):
+        if taus == "all":
+            return (1.0 / rate) * np.linspace(1.0, n, n)
+        if taus == "octave":
+            maxn = np.floor(np.log2(n))
+            return (1.0 / rate) * np.logspace(0, int(maxn), int(maxn + 1), base=2.0)
+        if taus == "log10":
+            maxn = np.log10(n)
+            return (1.0 / rate) * np.logspace(0, maxn, int(10 * maxn), base=10.0)
+        if taus == "decade":
+            maxn = int(np.floor(np.log10(n)))
+            return np.array([f * (1.0 / rate) * 10.0 ** k for k in range(maxn + 1) for f in (1.0, 2.0, 4.0)])
+        if taus.startswith("log:"):
+            try:
+                k = int(taus[4:])
+            except ValueError:
+                k = 0
+            if k < 1:
+                raise _cubecal.UsageError(f"taus: '{taus}': log:K takes a whole number of taus per decade")
+            j = np.arange(0, int(np.ceil(k * np.log10(max(n, 1)))) + 1)
+            return (1.0 / rate) * np.round(10.0 ** (j / k))
+        raise _cubecal.UsageError(
+            f"taus must be \"all\", \"octave\", \"decade\", \"log10\", \"log:K\" or an array of taus, not {taus!r}")
+    return np.asarray(taus, dtype=np.float64)
+
+
+def _factors(taus, n, rate):
+    m = np.round(_tau_list(taus, n, rate) * rate)
+    m = m[(m < n) & (m > 0)]
+    return np.unique(m).astype(np.int64)
+
+
+def _statistic(stat, data, rate, data_type, taus):
+    if not rate:
+        raise _cubecal.UsageError("rate must be a positive number of Hz")
+    rate = float(rate)
+    n = _phase_points(data, data_type)
+    m = _factors(taus, n, rate)
+    devs, ns = _cubecal._deviation(stat, data, rate, data_type, m)
+    keep = ns > 1
+    m, devs, ns = m[keep], devs[keep], ns[keep].astype(np.float64)
+    return m / rate, devs, devs / np.sqrt(ns), ns
+
+
+def adev(data, rate=1.0, data_type="phase", taus=None):
+    """Allan deviation (non-overlapping): (taus, devs, errs, ns)."""
+    return _statistic("adev", data, rate, data_type, taus)
+
+
+def oadev(data, rate=1.0, data_type="phase", taus=None):
+    """Overlapping Allan deviation: (taus, devs, errs, ns)."""
+    return _statistic("oadev", data, rate, data_type, taus)
+
+
+def mdev(data, rate=1.0, data_type="phase", taus=None):
+    """Modified Allan deviation: (taus, devs, errs, ns)."""
+    return _statistic("mdev", data, rate, data_type, taus)
+
+
+def tdev(data, rate=1.0, data_type="phase", taus=None):
+    """Time deviation, tau * MDEV / sqrt(3): (taus, devs, errs, ns)."""
+    return _statistic("tdev", data, rate, data_type, taus)
+
+
+def hdev(data, rate=1.0, data_type="phase", taus=None):
+    """Hadamard deviation (non-overlapping): (taus, devs, errs, ns)."""
+    return _statistic("hdev", data, rate, data_type, taus)
+
+
+def ohdev(data, rate=1.0, data_type="phase", taus=None):
+    """Overlapping Hadamard deviation: (taus, devs, errs, ns)."""
+    return _statistic("ohdev", data, rate, data_type, taus)
+
+
+def totdev(data, rate=1.0, data_type="phase", taus=None):
+    """Total deviation: (taus, devs, errs, ns)."""
+    return _statistic("totdev", data, rate, data_type, taus)

@@ -1,0 +1,94 @@
+"""cubecal.analyze: `cubecal analyze` on a file or on arrays."""
+import json
+import os
+
+import numpy as np
+
+from . import _cubecal
+from ._data import channels_of, number_list, string_list
+from ._read import read_args
+from ._result import Result
+
+
+class Analysis(Result):
+    """The result of cubecal.analyze: the content of analysis.json as
+    attributes (file, samples, rate_hz, channels[i].noise.adev.dev, ...).
+    to_dict() is analysis.json's content; write(dir) writes the files of
+    `cubecal analyze --out DIR`; cubecal.simulate(analysis) simulates the
+    sensors it measured."""
+
+    def __init__(self, handle, command):
+        super().__init__(json.loads(handle.json(command)))
+        object.__setattr__(self, "_handle", handle)
+        object.__setattr__(self, "_command", command)
+
+    def write(self, directory, force=False):
+        """Writes analysis.json, adev.csv, drift.csv and imu.yaml into
+        `directory` (created if missing); an existing file is refused unless
+        force. Returns the paths written."""
+        return self._handle.write(os.fspath(directory), bool(force), self._command)
+
+
+def _call_text(first, kwargs):
+    given = ", ".join(f"{k}={v!r}" for k, v in kwargs.items() if v is not None)
+    return f"cubecal.analyze({first}{', ' + given if given else ''})"
+
+
+def analyze(data, rate=None, unit=None, temperature=None, taus="log:10", ci=0.683, temp_order=1, drift_window=0.0,
+            cov_samples=0, max_samples=0, model_lsb=None, names=None, threads=0, **read_options):
+    """Static characterization of every channel, as `cubecal analyze`: fixed
+    bias, OADEV with intervals, the noise terms (N, B, K, Q, R) by slope
+    read-offs and the five-term fit, the paper's random-walk model and a
+    Gauss-Markov model, bias drift, covariance and, with a temperature, the
+    temperature coefficients and the compensated analysis.
+
+    data: a path (read as the CLI reads it; read_options are cubecal.read's:
+    columns, time, skip_rows, lsb, gaps, topics, dataset, binary, ...), or
+    arrays (a 1-D array, a 2-D array with one channel per column, a list, a
+    dict / cubecal.Record / DataFrame of columns) sampled at `rate` Hz.
+    unit: one for all channels or one per channel ("deg/s", "rad/s",
+    "mGauss", "uT", "g", "m/s^2", "counts", ...); default: from the column
+    names (gx_dps, mag_x_uT, ...). temperature: a column name (of the file or
+    of a dict of columns) or an array, one value per sample, in degC.
+    Returns an Analysis.
+    """
+    args = _cubecal._AnalyzeArgs()
+    args.units = string_list(unit)
+    args.taus = taus
+    args.ci = float(ci)
+    args.temp_order = int(temp_order)
+    args.drift_window = float(drift_window)
+    args.cov_samples = int(cov_samples)
+    args.max_samples = int(max_samples)
+    args.model_lsb = number_list(model_lsb)
+    args.threads = int(threads)
+    shown = {"rate": rate, "unit": unit, "temperature": temperature if isinstance(temperature, str) else None,
+             "taus": taus if taus != "log:10" else None}
+    if isinstance(data, (str, os.PathLike)):
+        if names is not None:
+            raise _cubecal.UsageError("names: give columns= to choose the columns of a file")
+        path = os.fspath(data)
+        if temperature is not None and not isinstance(temperature, str):
+            raise _cubecal.UsageError("temperature: a column name of the file")
+        ro = dict(read_options)
+        if rate is not None:
+            ro["rate"] = rate
+        handle = _cubecal._analyze_file(path, read_args(**ro), args, temperature or "")
+        return Analysis(handle, _call_text(repr(path), {**shown, **ro}))
+    if read_options:
+        raise _cubecal.UsageError(f"{', '.join(read_options)}: options of a file; data are arrays here")
+    temp_name, temp_values, exclude = "temp", None, ()
+    if isinstance(temperature, str):
+        if not (isinstance(data, dict) or hasattr(data, "columns")):
+            raise _cubecal.UsageError("temperature: a column name needs data with named columns (a dict or DataFrame)")
+        temp_name, temp_values, exclude = temperature, np.asarray(data[temperature]), (temperature,)
+    elif temperature is not None:
+        temp_values = np.asarray(temperature)
+    names, arrays = channels_of(data, names, exclude)
+    if rate is None:
+        rate = getattr(data, "rate_hz", None)
+        if not rate:
+            raise _cubecal.UsageError("rate: give the sampling rate of the arrays in Hz")
+    label = getattr(data, "file", None) or "<arrays>"
+    handle = _cubecal._analyze_arrays(arrays, names, float(rate), args, temp_values, temp_name, label)
+    return Analysis(handle, _call_text("<arrays>", shown))

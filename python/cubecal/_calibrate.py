@@ -1,0 +1,2 @@
+"""Calibrations from Python: in the next commit."""
+__all__ = []

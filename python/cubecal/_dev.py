@@ -1,0 +1,82 @@
+"""`cubecal dev` on arrays: one statistic over Stable32's tau grids and
+limits, with noise identification, EDF and confidence intervals per tau."""
+import json
+
+import numpy as np
+
+from . import _cubecal
+from ._data import channels_of
+from ._result import Result
+
+_CURVE = ("af", "tau", "dev", "n", "lo", "hi", "edf", "alpha", "type_carried")
+
+
+class Curve:
+    """One channel's points as NumPy arrays: af (the averaging factor m), tau,
+    dev, n, and with intervals lo, hi, edf, alpha (the identified noise type)
+    and type_carried (the type carried from the previous factor, Stable32's
+    run rule)."""
+
+    def __init__(self, columns):
+        self.name = columns["name"]
+        for key in _CURVE:
+            setattr(self, key, columns.get(key))
+
+    @property
+    def m(self):
+        return self.af
+
+    def to_dict(self):
+        d = {"name": self.name}
+        for key in _CURVE:
+            v = getattr(self, key)
+            if v is not None and key != "type_carried":
+                d[key] = v.tolist()
+        return d
+
+    def __len__(self):
+        return len(self.tau)
+
+    def __repr__(self):
+        return f"Curve({self.name!r}, {len(self)} taus)"
+
+
+class DevResult(Result):
+    """The result of cubecal.dev: the keys of `cubecal dev --format json`
+    (stat, type, rate_hz, samples, ci, edf_method, ...) and `channels`, one
+    Curve per channel. With one channel its arrays are also the result's own
+    (r.tau, r.dev, r.lo, r.hi ...)."""
+
+    def __init__(self, meta, columns):
+        super().__init__(meta)
+        object.__setattr__(self, "channels", [Curve(c) for c in columns])
+
+    def __getattr__(self, key):
+        channels = object.__getattribute__(self, "channels")
+        if (key in _CURVE or key == "m") and len(channels) == 1:
+            return getattr(channels[0], key)
+        return super().__getattr__(key)
+
+    def to_dict(self):
+        """The content of `cubecal dev --format json` for the same data."""
+        d = super().to_dict()
+        d["columns"] = [c.to_dict() for c in self.channels]
+        return d
+
+
+def dev(data, rate=None, stat="oadev", data_type="freq", taus="octave", ci=0.683, alpha=None, edf="greenhall",
+        conservative=False, intervals=True, names=None, threads=0):
+    """One statistic of each channel over a tau grid, as `cubecal dev`.
+
+    data: a 1-D array, a 2-D array (one channel per column), a list of arrays
+    or a dict / DataFrame of columns. taus: "octave", "decade", "all", "log:K"
+    or taus in seconds. rate: Hz (default: a Record's rate, else 1). ci: the confidence factor of the intervals; alpha: a
+    fixed noise type instead of identification; conservative: below 30
+    averages, the widest interval of the identified type and its neighbours.
+    """
+    names, arrays = channels_of(data, names)
+    if rate is None:
+        rate = getattr(data, "rate_hz", None) or 1.0
+    meta, columns = _cubecal._dev(arrays, names, float(rate), stat, data_type, taus, float(ci), alpha, edf,
+                                  bool(conservative), bool(intervals), int(threads))
+    return DevResult(json.loads(meta), columns)

@@ -1,0 +1,68 @@
+"""cubecal.read: every format the CLI reads, into NumPy arrays."""
+import os
+
+from . import _cubecal
+from ._data import number_list, string_list
+
+
+class Record(dict):
+    """Columns of a record (name -> 1-D float64 array, in file order: the time
+    column first when there is one), with what the reader found out:
+    file, rate_hz (given, or from the time stamps), rate_from_time, time (the
+    time column's name, or ""), channels (the channel names), extra (further
+    columns asked for), units (the units the format states; ROS messages),
+    left_out, topics, segments ((begin, end) rows; several when split at gaps)."""
+
+    def __init__(self, columns, meta):
+        super().__init__(columns)
+        for key, value in meta.items():
+            setattr(self, key, value)
+
+    def __repr__(self):
+        return f"Record({self.file!r}, {len(next(iter(self.values()), []))} samples at {self.rate_hz:g} Hz, " \
+               f"columns {list(self)})"
+
+
+def read_args(columns=None, time=None, rate=None, skip_rows=0, lsb=None, gaps="error", topics=None, dataset=None,
+              binary=None, header_bytes=0, extra=None, threads=0):
+    a = _cubecal._ReadArgs()
+    a.columns = string_list(columns)
+    a.time = str(time) if time is not None else ""
+    a.rate = float(rate) if rate is not None else 0.0
+    a.skip_rows = int(skip_rows)
+    a.lsb = number_list(lsb)
+    a.gaps = gaps
+    a.topics = string_list(topics)
+    a.dataset = dataset or ""
+    a.binary = binary or ""
+    a.header_bytes = int(header_bytes)
+    a.extra = string_list(extra)
+    a.threads = int(threads)
+    return a
+
+
+def read(path, columns=None, time=None, rate=None, skip_rows=0, lsb=None, gaps="error", topics=None, dataset=None,
+         binary=None, header_bytes=0, extra=None, frame=False, threads=0):
+    """Reads and checks a record as the CLI does: delimited text (.csv, .gz),
+    NumPy .npy, HDF5, ROS 1 bags, MCAP and rosbag2, PX4 ULog, or raw frames
+    (binary="float64le,int16le,..." with rate=). Returns a Record (a dict of
+    arrays with the reader's findings as attributes), or a pandas DataFrame
+    with frame=True. Errors in the data raise cubecal.InputError with .file,
+    .line and .column.
+
+    columns: names or 1-based indices (default: every column but time,
+    temperature and extra); time: the time column (default: found by name);
+    lsb: counts per unit, one for all or one per column; gaps: "error" or
+    "split"; extra: further columns read as they are (e.g. a temperature).
+    """
+    args = read_args(columns, time, rate, skip_rows, lsb, gaps, topics, dataset, binary, header_bytes, extra,
+                     threads)
+    columns_read, meta = _cubecal._read(os.fspath(path), args)
+    record = Record(columns_read, meta)
+    if not frame:
+        return record
+    try:
+        import pandas
+    except ImportError as e:
+        raise ImportError("cubecal.read(frame=True) needs pandas (Debian: python3-pandas)") from e
+    return pandas.DataFrame(dict(record))

@@ -1,0 +1,66 @@
+"""cubecal.simulate: sensor records from presets or from an analysis."""
+import os
+
+import numpy as np
+
+from . import _cubecal
+from ._analyze import Analysis
+from ._data import string_list
+from ._read import Record
+
+
+def presets():
+    """The names of the built-in sensor models (the paper's gyro and magnetometer, ...)."""
+    return list(_cubecal._preset_names())
+
+
+def simulate(model, rate=None, duration=3600.0, seed=1, temperature="sine:25,5", bias="random-walk",
+             true_input=None):
+    """A simulated record as a cubecal.Record (name -> NumPy array: t, the
+    channels, temp), as `cubecal simulate` writes it.
+
+    model: a preset name or a list of them (cubecal.presets()), an Analysis
+    from cubecal.analyze, or the path of an analysis.json. rate: Hz (default:
+    the analysis's rate, else 10 Hz; a model is rescaled to it, keeping its N
+    and K). duration: seconds, or "72h", "30m", "2d". temperature: "const:T",
+    "sine:MEAN,AMPLITUDE[,PERIOD_S]" (default "sine:25,5": 25 +- 5 degC over a
+    day, as the CLI) or one value per sample. bias: the bias
+    process taken from an analysis, "random-walk" or "gauss-markov".
+    true_input: (t, wx, wy, wz) arrays, the true rate of the gyro triad.
+    Same seed, same record.
+    """
+    a = _cubecal._SimulateArgs()
+    models = model if isinstance(model, (list, tuple)) else [model]
+    for m in models:
+        if isinstance(m, Analysis):
+            if a.analysis is not None:
+                raise _cubecal.UsageError("model: one analysis at a time")
+            a.analysis = m._handle
+        elif isinstance(m, os.PathLike) or (isinstance(m, str) and m.endswith(".json")):
+            a.model_file = os.fspath(m)
+        elif isinstance(m, str):
+            a.presets = a.presets + string_list(m)
+        else:
+            raise _cubecal.UsageError(f"model: a preset name, an Analysis or an analysis.json path, not {type(m).__name__}")
+    if rate is not None:
+        a.rate = float(rate)
+    a.duration = _cubecal._parse_duration(duration) if isinstance(duration, str) else float(duration)
+    a.seed = int(seed)
+    a.bias = bias
+    if isinstance(temperature, str):
+        a.temperature = temperature
+    else:
+        a.temperature_values = np.asarray(temperature, dtype=np.float64)
+    if true_input is not None:
+        t, *w = true_input
+        a.true_t = np.asarray(t, dtype=np.float64)
+        a.true_w = [np.asarray(x, dtype=np.float64) for x in w]
+    names, arrays, rate_hz = _cubecal._simulate(a)
+    n = len(arrays[0]) if arrays else 0
+    columns = {"t": np.arange(n, dtype=np.float64) / rate_hz}
+    columns.update(zip(names, arrays))
+    channels = [x for x in names if x != "temp"]
+    meta = {"file": "<simulated>", "rate_hz": rate_hz, "rate_from_time": False, "time": "t", "channels": channels,
+            "extra": [x for x in names if x == "temp"], "units": [], "left_out": [], "topics": [],
+            "segments": [(0, n)], "bytes": 0}
+    return Record(columns, meta)

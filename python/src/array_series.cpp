@@ -1,0 +1,52 @@
+#include "array_series.hpp"
+
+#include <cmath>
+#include <span>
+#include <stdexcept>
+
+#include "cubecal/error.hpp"
+
+namespace cubecal::python {
+
+io::Series array_series(const std::vector<Doubles>& channels, const std::vector<std::string>& names, double rate,
+                        const std::optional<Doubles>& temperature, const std::string& temp_name,
+                        const std::string& label) {
+  if (!(rate > 0.0) || !std::isfinite(rate) || rate < io::kMinRateHz || rate > io::kMaxRateHz)
+    throw UsageError("rate", "rate must be a positive number of Hz (1e-9 to 1e9)");
+  if (channels.empty()) throw UsageError("data", "no channel to analyze");
+  if (names.size() != channels.size()) throw std::invalid_argument("names: one name per channel");
+  io::Series s;
+  s.file = label;
+  s.rate_hz = rate;
+  s.tau0 = 1.0 / rate;
+  s.names = names;
+  const auto take = [&](const Doubles& a, const std::string& name, std::size_t column) {
+    const std::span<const double> v = view(a, name);
+    for (std::size_t i = 0; i < v.size(); ++i)
+      if (!std::isfinite(v[i]))
+        throw InputError(label, i + 1, column, "non-finite value in " + name + " at sample " + std::to_string(i),
+                         "remove the sample or split the record there");
+    return std::vector<double>(v.begin(), v.end());
+  };
+  for (std::size_t c = 0; c < channels.size(); ++c) {
+    s.channels.push_back(take(channels[c], names[c], c + 1));
+    if (s.channels.back().size() != s.channels.front().size())
+      throw UsageError("data", "every channel must have the same length (" + names[c] + " has " +
+                                   std::to_string(s.channels.back().size()) + " samples, " + names[0] + " " +
+                                   std::to_string(s.channels.front().size()) + ")");
+  }
+  if (temperature) {
+    s.extra_names.push_back(temp_name);
+    s.extra.push_back(take(*temperature, temp_name, channels.size() + 1));
+    if (s.extra[0].size() != s.channels[0].size())
+      throw UsageError("temperature", "the temperature must have one value per sample (" +
+                                          std::to_string(s.extra[0].size()) + " for " +
+                                          std::to_string(s.channels[0].size()) + " samples)");
+  }
+  const std::size_t n = s.channels[0].size();
+  if (n < 3) throw UsageError("data", "a record needs at least 3 samples");
+  s.segments = {{0, n}};
+  return s;
+}
+
+}  // namespace cubecal::python

@@ -1,0 +1,60 @@
+#include "errors.hpp"
+
+#include <exception>
+#include <string>
+
+#include "cubecal/error.hpp"
+
+namespace py = pybind11;
+
+namespace cubecal::python {
+
+namespace {
+
+// Raises `type(message)` with the given attributes set on the instance.
+void raise(PyObject* type, const std::string& message, const py::dict& attributes) {
+  py::object instance = py::reinterpret_borrow<py::object>(type)(message);
+  for (const auto& item : attributes) py::setattr(instance, item.first, item.second);
+  PyErr_SetObject(type, instance.ptr());
+}
+
+}  // namespace
+
+void bind_errors(py::module_& m) {
+  // Handles that live as long as the interpreter (pybind11's own idiom for
+  // exception types: never decremented).
+  static py::exception<std::runtime_error> error(m, "Error", PyExc_ValueError);
+  static py::exception<InputError> input_error(m, "InputError", error.ptr());
+  static py::exception<UsageError> usage_error(m, "UsageError", error.ptr());
+  static py::exception<CalibrationError> calibration_error(m, "CalibrationError", error.ptr());
+  error.doc() = "Base of cubecal's errors (a ValueError): what the caller or the data can fix.";
+  input_error.doc() =
+      "The data are wrong at a place: .file, .line and .column (1-based; 0 when not applicable), "
+      ".problem and .hint.";
+  usage_error.doc() = "What was asked cannot be done as asked; .option names the argument at fault (or is empty).";
+  calibration_error.doc() = "The data cannot determine the calibration or model; .reason says why.";
+
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const InputError& e) {
+      py::dict a;
+      a["file"] = e.file();
+      a["line"] = e.line();
+      a["column"] = e.column();
+      a["problem"] = e.problem();
+      a["hint"] = e.hint();
+      raise(input_error.ptr(), e.what(), a);
+    } catch (const UsageError& e) {
+      py::dict a;
+      a["option"] = e.option();
+      raise(usage_error.ptr(), e.what(), a);
+    } catch (const CalibrationError& e) {
+      py::dict a;
+      a["reason"] = std::string(to_string(e.reason()));
+      raise(calibration_error.ptr(), e.what(), a);
+    }
+  });
+}
+
+}  // namespace cubecal::python

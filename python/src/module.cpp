@@ -1,0 +1,16 @@
+// cubecal._cubecal: the library's calls on NumPy arrays. The public
+// interface is the pure-Python package around it (python/cubecal/).
+#include <pybind11/pybind11.h>
+
+#include "errors.hpp"
+#include "module.hpp"
+
+PYBIND11_MODULE(_cubecal, m) {
+  m.doc() = "cubecal's C++ library on NumPy arrays (use the cubecal package, not this module)";
+  cubecal::python::bind_errors(m);
+  cubecal::python::bind_stats(m);
+  cubecal::python::bind_analyze(m);
+  cubecal::python::bind_simulate(m);
+  cubecal::python::bind_read(m);
+  cubecal::python::bind_calibrate(m);
+}

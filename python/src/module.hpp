@@ -1,0 +1,14 @@
+// The pieces of the extension module cubecal._cubecal, one per face of the
+// library; module.cpp puts them together.
+#pragma once
+#include <pybind11/pybind11.h>
+
+namespace cubecal::python {
+
+void bind_stats(pybind11::module_& m);
+void bind_analyze(pybind11::module_& m);
+void bind_simulate(pybind11::module_& m);
+void bind_read(pybind11::module_& m);
+void bind_calibrate(pybind11::module_& m);
+
+}  // namespace cubecal::python
