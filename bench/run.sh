@@ -68,3 +68,7 @@ s=$(date +%s.%N)
 "$BUILD/bin/cubecal" demo --out "$OUT/demo" > "$OUT/demo.txt"
 e=$(date +%s.%N)
 echo "  $(echo "$e - $s" | bc -l | xargs printf '%.2f') s"
+
+if [ -f "$BUILD/python/cubecal/__init__.py" ]; then
+  PYTHONPATH="$BUILD/python" BENCH_OUT="$OUT" /usr/bin/python3 "$(dirname "$0")/python_speed.py" "$BUILD" 5
+fi

@@ -12,7 +12,8 @@ from ._result import Result
 
 class Analysis(Result):
     """The result of cubecal.analyze: the content of analysis.json as
-    attributes (file, samples, rate_hz, channels[i].noise.adev.dev, ...).
+    attributes (input.file, input.samples, input.rate_hz, channels[i].adev.dev,
+    channels[i].noise.reported, channels[i].model, covariance, ...).
     to_dict() is analysis.json's content; write(dir) writes the files of
     `cubecal analyze --out DIR`; cubecal.simulate(analysis) simulates the
     sensors it measured."""
@@ -62,8 +63,13 @@ def analyze(data, rate=None, unit=None, temperature=None, taus="log:10", ci=0.68
     args.max_samples = int(max_samples)
     args.model_lsb = number_list(model_lsb)
     args.threads = int(threads)
+    # The call as the result's "command": every argument that changes the
+    # analysis, so that it reproduces it (arrays are shown as <arrays>).
     shown = {"rate": rate, "unit": unit, "temperature": temperature if isinstance(temperature, str) else None,
-             "taus": taus if taus != "log:10" else None}
+             "taus": taus if taus != "log:10" else None, "ci": ci if ci != 0.683 else None,
+             "temp_order": temp_order if temp_order != 1 else None,
+             "drift_window": drift_window or None, "cov_samples": cov_samples or None,
+             "max_samples": max_samples or None, "model_lsb": model_lsb, "names": names}
     if isinstance(data, (str, os.PathLike)):
         if names is not None:
             raise _cubecal.UsageError("names: give columns= to choose the columns of a file")
@@ -91,4 +97,6 @@ def analyze(data, rate=None, unit=None, temperature=None, taus="log:10", ci=0.68
             raise _cubecal.UsageError("rate: give the sampling rate of the arrays in Hz")
     label = getattr(data, "file", None) or "<arrays>"
     handle = _cubecal._analyze_arrays(arrays, names, float(rate), args, temp_values, temp_name, label)
+    if temperature is not None and not isinstance(temperature, str):
+        shown["temperature"] = "<array>"
     return Analysis(handle, _call_text("<arrays>", shown))

@@ -1,8 +1,9 @@
 """The shapes of data the Python calls accept, as (names, 1-D arrays).
 
 Accepted: a 1-D array (one channel); a 2-D array, one channel per column; a
-list or tuple of 1-D arrays; a dict of name -> array (a cubecal.Record from
-cubecal.read, whose time column is left out); a pandas DataFrame (or anything
+list or tuple of 1-D arrays; a dict of name -> array (of a cubecal.Record,
+from cubecal.read or cubecal.simulate, its channels: not its time and extra
+columns); a pandas DataFrame (or anything
 with .columns and [name]). Arrays are passed on as they are: a contiguous
 float64 array reaches the library without a copy.
 """
@@ -17,10 +18,9 @@ def channels_of(data, names=None, exclude=()):
     """(names, arrays) of `data`; `exclude` names columns to leave out."""
     if isinstance(data, dict):
         skip = set(exclude)
-        time = getattr(data, "time", None)
-        if time:
-            skip.add(time)
-        keys = [k for k in data if k not in skip]
+        # A Record knows its channels: its time and extra columns are not.
+        listed = getattr(data, "channels", None)
+        keys = [k for k in (listed if listed is not None else data) if k not in skip]
         arrays = [np.asarray(data[k]) for k in keys]
         out_names = [str(k) for k in keys]
     elif _is_frame(data):
