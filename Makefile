@@ -38,5 +38,11 @@ fuzz: deps
 bench: build
 	@bash bench/run.sh $(BUILD)
 
+# Debian package (cmake/Packaging.cmake): $(BUILD)/cubecal_<version>_<arch>.deb
+.PHONY: package
+package: build
+	@cd $(BUILD) && cpack -G DEB
+	@deb=$$(ls -t $(abspath $(BUILD))/cubecal_*.deb | head -n 1); echo "Debian package: $$deb (install: apt install $$deb)"
+
 clean:
 	rm -rf $(BUILD) build-fuzz

@@ -14,7 +14,7 @@ Errors the data or the caller can fix raise cubecal.Error subclasses:
 InputError (.file, .line, .column), UsageError (.option), CalibrationError (.reason).
 Long computations release the GIL.
 """
-from ._cubecal import CalibrationError, Error, InputError, UsageError
+from ._cubecal import CalibrationError, Error, InputError, UsageError, __version__
 from ._allantools import adev, hdev, mdev, oadev, ohdev, tdev, totdev
 from ._dev import Curve, DevResult, dev
 from ._read import Record, read
@@ -23,4 +23,3 @@ from ._simulate import presets, simulate
 from ._result import Result
 from ._calibrate import *  # noqa: F401,F403  (calibrate_* and turnon: see cubecal/_calibrate.py)
 
-__version__ = "0.1.0"

@@ -7,6 +7,7 @@
 
 PYBIND11_MODULE(_cubecal, m) {
   m.doc() = "cubecal's C++ library on NumPy arrays (use the cubecal package, not this module)";
+  m.attr("__version__") = CUBECAL_VERSION;
   cubecal::python::bind_errors(m);
   cubecal::python::bind_stats(m);
   cubecal::python::bind_analyze(m);

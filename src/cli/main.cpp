@@ -88,7 +88,7 @@ int main(int argc, char** argv) {
   CLI::App app{"cubecal: stability statistics, noise models and calibration for gyroscopes, "
                "magnetometers, accelerometers and clocks"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "cubecal 0.1.0");
+  app.set_version_flag("--version", "cubecal " CUBECAL_VERSION);
   // Repeatable runs: options from a TOML/INI file, one section per command
   // ([analyze] inflate = 2); flags on the command line override it, a key no
   // command knows is an error. Fallthrough lets `cubecal analyze --config F`
