@@ -46,3 +46,11 @@ package: build
 
 clean:
 	rm -rf $(BUILD) build-fuzz
+
+# Installs the command, libraries, headers, CMake package, man pages and the
+# Python module under PREFIX (default /usr/local, where Debian's python3
+# finds the module); the install step says where each went.
+PREFIX ?= /usr/local
+.PHONY: install
+install: build
+	@cmake --install $(BUILD) --prefix $(PREFIX)
