@@ -5,7 +5,7 @@ import numpy as np
 
 from . import _cubecal
 from ._analyze import Analysis
-from ._data import string_list
+from ._data import number_list, string_list
 from ._read import Record
 
 
@@ -15,7 +15,7 @@ def presets():
 
 
 def simulate(model, rate=None, duration=3600.0, seed=1, temperature="sine:25,5", bias="random-walk",
-             true_input=None):
+             true_input=None, flicker=None):
     """A simulated record as a cubecal.Record (name -> NumPy array: t, the
     channels, temp), as `cubecal simulate` writes it.
 
@@ -27,7 +27,9 @@ def simulate(model, rate=None, duration=3600.0, seed=1, temperature="sine:25,5",
     day, as the CLI) or one value per sample. bias: the bias
     process taken from an analysis, "random-walk" or "gauss-markov".
     true_input: (t, wx, wy, wz) arrays, the true rate of the gyro triad.
-    Same seed, same record.
+    flicker: bias instability B added as flicker noise to every axis (a
+    flicker floor of 0.664 B in the Allan deviation): one B for all triads
+    or one per triad, in each triad's unit. Same seed, same record.
     """
     a = _cubecal._SimulateArgs()
     models = model if isinstance(model, (list, tuple)) else [model]
@@ -55,6 +57,8 @@ def simulate(model, rate=None, duration=3600.0, seed=1, temperature="sine:25,5",
         t, *w = true_input
         a.true_t = np.asarray(t, dtype=np.float64)
         a.true_w = [np.asarray(x, dtype=np.float64) for x in w]
+    if flicker is not None:
+        a.flicker = number_list(flicker)
     names, arrays, rate_hz = _cubecal._simulate(a)
     n = len(arrays[0]) if arrays else 0
     columns = {"t": np.arange(n, dtype=np.float64) / rate_hz}

@@ -42,6 +42,7 @@ struct SimulateArgs {
   std::optional<Doubles> temperature_values;
   std::optional<Doubles> true_t;     // true-input profile: times and three rates
   std::vector<Doubles> true_w;
+  std::vector<double> flicker;       // bias instability as flicker FM: one for all triads or one per triad
 };
 
 std::vector<double> numbers(const std::string& list, const std::string& what) {
@@ -132,6 +133,16 @@ py::tuple simulate(const SimulateArgs& a) {
                                                   a.bias == "gauss-markov", req.rate_hz))
       req.triads.push_back(std::move(t));
   if (req.triads.empty()) throw UsageError("model", "nothing to simulate: give a preset or an analysis");
+  if (!a.flicker.empty()) {
+    if (a.flicker.size() != 1 && a.flicker.size() != req.triads.size())
+      throw UsageError("flicker", "flicker: one bias instability B for all triads or one per triad (" +
+                                      std::to_string(req.triads.size()) + ")");
+    for (std::size_t k = 0; k < req.triads.size(); ++k) {
+      const double b = a.flicker.size() == 1 ? a.flicker[0] : a.flicker[k];
+      if (!(b >= 0.0) || !std::isfinite(b)) throw UsageError("flicker", "flicker: B must be a finite number >= 0");
+      for (auto& axis : req.triads[k].axes) axis.power_law.push_back(flicker_term(b));
+    }
+  }
   if (!(a.duration > 0.0) || !std::isfinite(a.duration))
     throw UsageError("duration", "duration must be a positive number of seconds");
   req.duration_s = a.duration;
@@ -175,7 +186,8 @@ void bind_simulate(py::module_& m) {
       .def_readwrite("temperature", &SimulateArgs::temperature)
       .def_readwrite("temperature_values", &SimulateArgs::temperature_values)
       .def_readwrite("true_t", &SimulateArgs::true_t)
-      .def_readwrite("true_w", &SimulateArgs::true_w);
+      .def_readwrite("true_w", &SimulateArgs::true_w)
+      .def_readwrite("flicker", &SimulateArgs::flicker);
   m.def("_simulate", &simulate, py::arg("args"), "(names, arrays, rate_hz) of a simulated record");
   m.def("_preset_names", &preset_names);
   m.def("_parse_duration", &pipeline::parse_duration, py::arg("text"));

@@ -22,6 +22,21 @@ class SimulateRead(unittest.TestCase):
                 # The file keeps nine significant digits.
                 np.testing.assert_allclose(rec[name], file[name], rtol=1e-8, atol=1e-12, err_msg=name)
 
+    def test_flicker_equals_cli(self):
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "f.csv")
+            cli("simulate", "--preset", "sport-gyro", "--rate", 10, "--duration", "600s", "--seed", 2,
+                "--flicker", 0.01, "--out", path)
+            file = np.genfromtxt(path, delimiter=",", names=True)
+            rec = cubecal.simulate("sport-gyro", rate=10, duration=600, seed=2, flicker=0.01)
+            plain = cubecal.simulate("sport-gyro", rate=10, duration=600, seed=2)
+            for name in ("gx", "gy", "gz"):
+                np.testing.assert_allclose(rec[name], file[name], rtol=1e-8, atol=1e-12, err_msg=name)
+                self.assertFalse(np.array_equal(rec[name], plain[name]))
+            with self.assertRaises(cubecal.UsageError) as cm:
+                cubecal.simulate("sport-gyro", flicker=[0.01, 0.02])
+            self.assertEqual(cm.exception.option, "flicker")
+
     def test_presets_and_seed(self):
         self.assertIn("sport-gyro", cubecal.presets())
         a = cubecal.simulate(["sport-gyro", "sport-mag"], duration=100, seed=1)

@@ -39,6 +39,7 @@ struct SimulateOptions {
   std::uint64_t seed = 1;
   std::string temp = "sine:25,5";
   std::string true_input;
+  std::string flicker;       // --flicker B[,B...]: bias instability as flicker FM, per triad
   std::string out;
   std::string format = "csv";
   bool force = false;
@@ -203,6 +204,20 @@ int run_simulate(const SimulateOptions& o) {
       req.triads.push_back(std::move(m));
   }
   if (req.triads.empty()) throw UsageError("nothing to simulate: give --preset and/or --model");
+  if (!o.flicker.empty()) {
+    // Bias instability as flicker FM on every axis of a triad (Kasdin &
+    // Walter's generator): one B for all triads or one per triad, in each
+    // triad's unit.
+    const auto b = numbers(o.flicker, "--flicker");
+    if (b.size() != 1 && b.size() != req.triads.size())
+      throw UsageError("--flicker: give one bias instability B for all triads or one per triad (" +
+                       std::to_string(req.triads.size()) + ")");
+    for (std::size_t k = 0; k < req.triads.size(); ++k) {
+      const double bk = b.size() == 1 ? b[0] : b[k];
+      if (!(bk >= 0.0)) throw UsageError("--flicker: B must be 0 or more");
+      for (auto& axis : req.triads[k].axes) axis.power_law.push_back(flicker_term(bk));
+    }
+  }
   req.duration_s = pipeline::parse_duration(o.duration);
   req.seed = o.seed;
   req.temperature = parse_temperature(o.temp);
@@ -256,6 +271,10 @@ CLI::App* add_simulate_command(CLI::App& app, Command& run) {
                                       "rescaled to it, keeping its N and K")
                           ->check(number_between(io::kMinRateHz, io::kMaxRateHz))
                           ->capture_default_str();
+  cmd->add_option("--flicker", opt->flicker,
+                  "Add bias instability B as flicker noise (a flicker floor of 0.664 B in the Allan deviation) to "
+                  "every axis: one B for all triads or one per triad, in the triad's unit (Kasdin & Walter's "
+                  "generator; its 1/f reaches 2^18 samples back)");
   cmd->add_option("--duration", opt->duration, "Record length: 72h, 30m, 3600s, 2d")->capture_default_str();
   cmd->add_option("--seed", opt->seed, "Random seed (same seed, same bytes)")
       ->check(whole_number(0, 1e18))

@@ -38,7 +38,7 @@ struct Generator {
   explicit Generator(const SimulateRequest& req) : r(req) {
     const double dt = 1.0 / r.rate_hz;
     for (std::size_t k = 0; k < r.triads.size(); ++k) {
-      sims.emplace_back(r.triads[k], dt, triad_seed(r.seed, k));
+      sims.emplace_back(r.triads[k], dt, triad_seed(r.seed, k), sample_count(r));
       if (rate_triad == static_cast<std::size_t>(-1) && is_rate(r.triads[k])) rate_triad = k;
     }
   }

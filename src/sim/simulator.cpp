@@ -27,6 +27,8 @@
 //                                   Gauss-Markov: phi = exp(-dt/T_c),
 //                                     gain = sigma_b sqrt(1 - phi^2)
 //                                   none: phi = 1, gain = 0 (b stays 0)
+//   w     += the power-law terms' sample (when the axis has any; their
+//            own streams, power_law_generator.hpp)
 //   out    = clamp(Q(w), -saturation, saturation)
 // with u = M * true (row-major) and Q(w) = trunc(w lsb)/lsb (the paper's
 // eq. 3; docs/formulas/simulator.md §1.2) or round(w lsb)/lsb, Q = identity
@@ -86,8 +88,9 @@ struct Kernel {
   // One triad. `in` is the true input (3 values) when kInput, ignored (zero
   // input) otherwise. For a zero input both paths give the same bytes:
   // M * 0 is +-0 and adding a signed zero to the offset leaves it unchanged.
-  template <QuantMode Q, bool kInput>
-  void sample(Engine& eng, const double* in, double temperature, double* out) noexcept {
+  template <QuantMode Q, bool kInput, bool kExtra = false>
+  void sample(Engine& eng, const double* in, double temperature, double* out,
+              const double* extra = nullptr) noexcept {
     boost::random::normal_distribution<double> normal;  // N(0, 1), stateless
     const double dtemp = temperature - temp_ref;
     for (std::size_t i = 0; i < 3; ++i) {
@@ -95,31 +98,50 @@ struct Kernel {
       if constexpr (kInput) u = m[3 * i] * in[0] + m[3 * i + 1] * in[1] + m[3 * i + 2] * in[2];
       const double n_white = normal(eng);
       const double n_bias = normal(eng);
-      const double w = (((u + offset[i]) + b[i]) + tc[i] * dtemp) + white[i] * n_white;
+      double w = (((u + offset[i]) + b[i]) + tc[i] * dtemp) + white[i] * n_white;
+      if constexpr (kExtra) w += extra[i];
       b[i] = phi[i] * b[i] + gain[i] * n_bias;
       out[i] = finish<Q>(w);
     }
   }
 
-  template <QuantMode Q, bool kInput, bool kTemp>
-  void run(Engine& eng, std::size_t n, const double* in, const double* temp, double* out) noexcept {
+  template <QuantMode Q, bool kInput, bool kTemp, bool kExtra>
+  void run(Engine& eng, std::size_t n, const double* in, const double* temp, double* out,
+           const double* extra) noexcept {
     for (std::size_t k = 0; k < n; ++k) {
       const double t = kTemp ? temp[k] : temp_ref;
-      sample<Q, kInput>(eng, kInput ? in + 3 * k : nullptr, t, out + 3 * k);
+      sample<Q, kInput, kExtra>(eng, kInput ? in + 3 * k : nullptr, t, out + 3 * k,
+                                kExtra ? extra + 3 * k : nullptr);
     }
   }
 };
 
-template <QuantMode Q>
-void dispatch_run(Kernel& kern, Engine& eng, std::size_t n, const double* in, const double* temp,
-                  double* out) noexcept {
+template <QuantMode Q, bool kExtra>
+void dispatch_run(Kernel& kern, Engine& eng, std::size_t n, const double* in, const double* temp, double* out,
+                  const double* extra) noexcept {
   if (in != nullptr) {
-    if (temp != nullptr) kern.run<Q, true, true>(eng, n, in, temp, out);
-    else kern.run<Q, true, false>(eng, n, in, temp, out);
+    if (temp != nullptr) kern.run<Q, true, true, kExtra>(eng, n, in, temp, out, extra);
+    else kern.run<Q, true, false, kExtra>(eng, n, in, temp, out, extra);
   } else {
-    if (temp != nullptr) kern.run<Q, false, true>(eng, n, in, temp, out);
-    else kern.run<Q, false, false>(eng, n, in, temp, out);
+    if (temp != nullptr) kern.run<Q, false, true, kExtra>(eng, n, in, temp, out, extra);
+    else kern.run<Q, false, false, kExtra>(eng, n, in, temp, out, extra);
   }
+}
+
+template <QuantMode Q>
+void dispatch_run(Kernel& kern, Engine& eng, std::size_t n, const double* in, const double* temp, double* out,
+                  const double* extra) noexcept {
+  if (extra != nullptr) dispatch_run<Q, true>(kern, eng, n, in, temp, out, extra);
+  else dispatch_run<Q, false>(kern, eng, n, in, temp, out, nullptr);
+}
+
+// The seed of power-law term `term` of axis `axis`: splitmix64 of the
+// simulator's seed, apart from the main stream's engine.
+std::uint64_t power_law_seed(std::uint64_t seed, std::size_t axis, std::size_t term) noexcept {
+  std::uint64_t z = seed ^ (0xD1B54A32D192ED03ULL * (axis * 64 + term + 1));
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+  return z ^ (z >> 31);
 }
 
 bool finite(double v) noexcept { return std::isfinite(v); }
@@ -135,6 +157,9 @@ void validate(const TriadModel& model, double dt) {
     require(finite(a.white_sigma) && a.white_sigma >= 0.0, ax + "white_sigma must be finite and >= 0");
     require(finite(a.bias_sigma) && a.bias_sigma >= 0.0, ax + "bias_sigma must be finite and >= 0");
     require(finite(a.temp_coeff), ax + "temp_coeff must be finite");
+    for (const PowerLawTerm& t : a.power_law)
+      require(finite(t.alpha) && finite(t.h) && t.h >= 0.0,
+              ax + "a power-law term needs a finite alpha and a finite h >= 0");
     if (a.bias == BiasProcess::gauss_markov)
       require(finite(a.tau_c) && a.tau_c > 0.0,
               ax + "a Gauss-Markov bias needs a positive, finite correlation time tau_c");
@@ -173,9 +198,23 @@ struct TriadSimulator::Impl {
   QuantMode quant = QuantMode::none;
   std::array<double, 3> turn_on{};
   Kernel kern;
+  std::array<std::vector<PowerLawGenerator>, 3> power_law;  // per axis
+  bool has_power_law = false;
+  std::vector<double> extra, term;                            // run()'s scratch
+
+  // The power-law noise of the next n samples, n x 3 row-major, into extra.
+  void power_law_noise(std::size_t n) {
+    extra.assign(3 * n, 0.0);
+    term.resize(n);
+    for (std::size_t i = 0; i < 3; ++i)
+      for (PowerLawGenerator& g : power_law[i]) {
+        g.next(term);
+        for (std::size_t k = 0; k < n; ++k) extra[3 * k + i] += term[k];
+      }
+  }
 };
 
-TriadSimulator::TriadSimulator(const TriadModel& model, double dt, std::uint64_t seed) {
+TriadSimulator::TriadSimulator(const TriadModel& model, double dt, std::uint64_t seed, std::size_t record_samples) {
   validate(model, dt);
   auto p = std::make_unique<Impl>();
   p->model = model;
@@ -221,6 +260,11 @@ TriadSimulator::TriadSimulator(const TriadModel& model, double dt, std::uint64_t
         k.b[i] = a.bias_sigma * n_initial[i];  // stationary N(0, sigma_b^2)
         break;
     }
+    for (std::size_t t = 0; t < a.power_law.size(); ++t) {
+      p->power_law[i].emplace_back(a.power_law[t], dt, PowerLawGenerator::filter_length_for(record_samples),
+                                   power_law_seed(seed, i, t));
+      p->has_power_law = true;
+    }
   }
   impl_ = std::move(p);
 }
@@ -233,6 +277,22 @@ std::array<double, 3> TriadSimulator::step(const std::array<double, 3>& true_inp
                                            double temperature) noexcept {
   std::array<double, 3> out{};
   Impl& s = *impl_;
+  if (s.has_power_law) {
+    s.power_law_noise(1);
+    const double* e = s.extra.data();
+    switch (s.quant) {
+      case QuantMode::none:
+        s.kern.sample<QuantMode::none, true, true>(s.eng, true_input.data(), temperature, out.data(), e);
+        break;
+      case QuantMode::truncate:
+        s.kern.sample<QuantMode::truncate, true, true>(s.eng, true_input.data(), temperature, out.data(), e);
+        break;
+      case QuantMode::round:
+        s.kern.sample<QuantMode::round, true, true>(s.eng, true_input.data(), temperature, out.data(), e);
+        break;
+    }
+    return out;
+  }
   switch (s.quant) {
     case QuantMode::none:
       s.kern.sample<QuantMode::none, true>(s.eng, true_input.data(), temperature, out.data());
@@ -263,15 +323,20 @@ void TriadSimulator::run(std::size_t n, std::span<const double> true_input,
   Kernel kern = s.kern;  // local copy: registers, no aliasing with out
   const double* in = true_input.empty() ? nullptr : true_input.data();
   const double* temp = temperature.empty() ? nullptr : temperature.data();
+  const double* extra = nullptr;
+  if (s.has_power_law) {
+    s.power_law_noise(n);
+    extra = s.extra.data();
+  }
   switch (s.quant) {
     case QuantMode::none:
-      dispatch_run<QuantMode::none>(kern, s.eng, n, in, temp, out.data());
+      dispatch_run<QuantMode::none>(kern, s.eng, n, in, temp, out.data(), extra);
       break;
     case QuantMode::truncate:
-      dispatch_run<QuantMode::truncate>(kern, s.eng, n, in, temp, out.data());
+      dispatch_run<QuantMode::truncate>(kern, s.eng, n, in, temp, out.data(), extra);
       break;
     case QuantMode::round:
-      dispatch_run<QuantMode::round>(kern, s.eng, n, in, temp, out.data());
+      dispatch_run<QuantMode::round>(kern, s.eng, n, in, temp, out.data(), extra);
       break;
   }
   s.kern.b = kern.b;

@@ -25,6 +25,8 @@
 #include <string>
 #include <vector>
 
+#include "cubecal/sim/power_law_generator.hpp"
+
 namespace cubecal {
 
 enum class BiasProcess { none, random_walk, gauss_markov };
@@ -38,6 +40,11 @@ struct AxisModel {
   double bias_sigma = 0.0;      // random walk: sigma_mu (u/s); Gauss-Markov: sigma_b (u)
   double tau_c = 0.0;           // Gauss-Markov correlation time, s
   double temp_coeff = 0.0;      // u per degC
+  // Further power-law noise of the output, S_y(f) = h f^alpha each (e.g.
+  // flicker_term(B): the flicker floor of bias instability B), from
+  // Kasdin & Walter's generator (power_law_generator.hpp), on streams of
+  // their own: the model's other terms see the same normals with or without.
+  std::vector<PowerLawTerm> power_law;
 };
 
 struct TriadModel {
@@ -66,7 +73,10 @@ struct TemperatureProfile {
 
 class TriadSimulator {
  public:
-  TriadSimulator(const TriadModel& model, double dt, std::uint64_t seed);
+  // `record_samples`: the length of the record to be simulated, when known
+  // (0: not), for the power-law terms' filter (the whole record up to
+  // PowerLawGenerator::kMaxFilter samples).
+  TriadSimulator(const TriadModel& model, double dt, std::uint64_t seed, std::size_t record_samples = 0);
   ~TriadSimulator();
   TriadSimulator(TriadSimulator&&) noexcept;
   TriadSimulator& operator=(TriadSimulator&&) noexcept;
