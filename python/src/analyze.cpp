@@ -23,6 +23,7 @@
 #include "cubecal/pipeline/analysis_output.hpp"
 #include "cubecal/pipeline/analyze.hpp"
 #include "module.hpp"
+#include "units.hpp"
 #include "analysis_handle.hpp"
 #include "array_series.hpp"
 
@@ -44,37 +45,18 @@ struct AnalyzeArgs {
   unsigned threads = 0;
 };
 
-// The units of the channels: as given, else as the format says them (ROS
-// messages), else from the column names' suffixes.
+// The units of the channels: as given, else as the record announces them.
 std::vector<Unit> channel_units(const std::vector<std::string>& given, const io::Series& s) {
   std::vector<Unit> units;
   if (!given.empty()) {
     for (const auto& name : given) {
       const auto u = parse_unit(name);
-      if (!u) throw UsageError("units", "unknown unit '" + name + "' (use " + known_units() + ")");
+      if (!u) throw UsageError("unit", "unknown unit '" + name + "' (use " + known_units() + ")");
       units.push_back(*u);
     }
     return units;
   }
-  if (!s.units.empty()) {
-    for (std::size_t i = 0; i < s.units.size(); ++i) {
-      const auto u = parse_unit(s.units[i]);
-      if (!u)
-        throw UsageError("units", s.file + ": channel " + s.names[i] + " is in " + s.units[i] +
-                                      ", which is not a unit of noise terms: give unit= (" + known_units() + ")");
-      units.push_back(*u);
-    }
-    return units;
-  }
-  const InferredUnits inferred = infer_units(s.names);
-  if (!inferred.missing.empty()) {
-    std::string cols;
-    for (const auto& n : inferred.missing) cols += (cols.empty() ? "" : ", ") + n;
-    throw UsageError("units", s.file + ": no unit in the name of " + cols + ": give unit= (" + known_units() +
-                                  "; one for all channels or one per channel) or end the names with a unit (" +
-                                  known_unit_suffixes() + ")");
-  }
-  return inferred.units;
+  return announced_units(s);
 }
 
 pipeline::AnalyzeRequest request(const AnalyzeArgs& a) {

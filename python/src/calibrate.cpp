@@ -53,6 +53,7 @@
 #include "cubecal/pipeline/turnon_json.hpp"
 #include "cubecal/stats/sampling.hpp"
 #include "module.hpp"
+#include "units.hpp"
 
 namespace py = pybind11;
 
@@ -646,32 +647,6 @@ std::vector<Unit> units_of(const std::vector<std::string>& names, const std::str
     units.push_back(*u);
   }
   return units;
-}
-
-// The units a record announces: those its format states (ROS messages),
-// else those of its channel names; a name that announces none is a
-// UsageError naming it.
-std::vector<Unit> announced_units(const io::Series& s) {
-  if (!s.units.empty()) {
-    std::vector<Unit> units;
-    for (std::size_t i = 0; i < s.units.size(); ++i) {
-      const auto u = parse_unit(s.units[i]);
-      if (!u)
-        throw UsageError("unit", s.file + ": channel " + s.names[i] + " is in " + s.units[i] +
-                                     ", which is not a unit of noise terms: give unit= (" + known_units() + ")");
-      units.push_back(*u);
-    }
-    return units;
-  }
-  const InferredUnits inferred = infer_units(s.names);
-  if (!inferred.missing.empty()) {
-    std::string cols;
-    for (const auto& n : inferred.missing) cols += (cols.empty() ? "" : ", ") + n;
-    throw UsageError("unit", s.file + ": no unit in the name of " + cols + ": give unit= (" + known_units() +
-                                 "; one for all channels or one per channel) or end the names with a unit (" +
-                                 known_unit_suffixes() + ")");
-  }
-  return inferred.units;
 }
 
 // The request of each run with its units: its own, else the call's, else

@@ -37,7 +37,7 @@ class Errors(unittest.TestCase):
         for call, option in ((lambda: cubecal.dev(x, stat="xdev"), "stat"),
                              (lambda: cubecal.dev(x, taus="weekly"), "taus"),
                              (lambda: cubecal.dev(x, ci=1.5), "ci"),
-                             (lambda: cubecal.analyze(x, rate=10.0, unit="furlongs"), "units"),
+                             (lambda: cubecal.analyze(x, rate=10.0, unit="furlongs"), "unit"),
                              (lambda: cubecal.simulate("no-such-sensor"), "model")):
             with self.subTest(option=option):
                 with self.assertRaises(cubecal.UsageError) as cm:
