@@ -61,6 +61,10 @@ echo "== simulator: Google Benchmark (median of 5; items = axis samples)"
 "$BUILD/bin/bench_simulator" --benchmark_repetitions=5 --benchmark_report_aggregates_only=true \
   --benchmark_display_aggregates_only=true | grep -E "median|Benchmark|---"
 
+echo "== dynamic Allan deviation: 72 h x 10 Hz, 1 h windows every 60 s, log:10 (target < 2 s; min/median/max of 5)"
+"$BUILD/bin/bench_davar" --benchmark_repetitions=5 --benchmark_report_aggregates_only=true \
+  --benchmark_display_aggregates_only=true | grep -E "_min|_median|_max|Benchmark|---"
+
 bash "$(dirname "$0")/stream.sh" "$BUILD"
 
 echo "== cubecal demo (72 h simulated in memory, written, analyzed; target < 10 s)"

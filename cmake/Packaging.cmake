@@ -32,6 +32,8 @@ elseif(CUBECAL_BUILD_CLI)
     "calibrate multiposition|accelerometer and gyroscope calibration from static poses"
     "turnon|turn-on bias over power-cycled runs"
     "compare|Allan curves of several runs side by side"
+    "davar|dynamic Allan deviation: OADEV over a sliding window, a tau x time matrix per channel"
+    "psd|power spectral density (Welch), its power-law fit and the noise terms it stands for"
     "report|HTML report of an analyze result"
     "demo|the 72 h static experiment of the CubeSat sensor study, simulated and analyzed")
 

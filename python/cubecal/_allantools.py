@@ -107,3 +107,33 @@ def ohdev(data, rate=1.0, data_type="phase", taus=None):
 def totdev(data, rate=1.0, data_type="phase", taus=None):
     """Total deviation: (taus, devs, errs, ns)."""
     return _statistic("totdev", data, rate, data_type, taus)
+
+
+_NOISE_TYPES = {"wp": 2, "fp": 1, "wf": 0, "ff": -1, "rf": -2}
+
+
+def gradev(data, rate=1.0, data_type="phase", taus=None, ci=0.9, noisetype="wp"):
+    """Gap-resistant overlapping Allan deviation, as AllanTools' gradev:
+    (taus, devs, [err_lo, err_hi], ns), NaN marking missing samples.
+
+    The deviations and ns equal AllanTools' for phase data (every term whose
+    three points are there). Frequency data are not turned into phase
+    through the gaps (AllanTools' cumsum carries a NaN to the record's end):
+    a term counts when none of the samples its two averages span is missing.
+    The errors are the distances to cubecal's chi-squared interval at `ci`
+    for the noise type `noisetype` ("wp", "fp", "wf", "ff", "rf"; None: the
+    type identified on the longest stretch without a gap), with the EDF of a
+    record without gaps giving as many terms (docs/formulas/stability.md §7a).
+    """
+    if not rate:
+        raise _cubecal.UsageError("rate must be a positive number of Hz")
+    if noisetype is not None and noisetype not in _NOISE_TYPES:
+        raise _cubecal.UsageError(f"noisetype must be one of {', '.join(_NOISE_TYPES)} or None, not {noisetype!r}")
+    rate = float(rate)
+    n = _phase_points(data, data_type)
+    m = _factors(taus, n, rate)
+    alpha = None if noisetype is None else _NOISE_TYPES[noisetype]
+    devs, ns, lo, hi = _cubecal._deviation_missing(data, rate, data_type, m, float(ci), alpha)
+    keep = ns > 1
+    m, devs, ns, lo, hi = m[keep], devs[keep], ns[keep].astype(np.float64), lo[keep], hi[keep]
+    return m / rate, devs, [devs - lo, hi - devs], ns

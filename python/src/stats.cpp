@@ -12,6 +12,7 @@
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "arrays.hpp"
@@ -19,6 +20,7 @@
 #include "cubecal/error.hpp"
 #include "cubecal/pipeline/analysis_json.hpp"
 #include "cubecal/pipeline/dev_pipeline.hpp"
+#include "cubecal/stats/gap_deviation.hpp"
 #include "cubecal/stats/stability.hpp"
 #include "module.hpp"
 
@@ -28,7 +30,9 @@ namespace cubecal::python {
 
 Stat stat_arg(const std::string& name) {
   if (const auto s = parse_stat(name)) return *s;
-  throw UsageError("stat", "unknown statistic '" + name + "' (adev, oadev, mdev, tdev, hdev, ohdev, totdev)");
+  std::string known;
+  for (std::string_view n : stat_names()) known += (known.empty() ? "" : ", ") + std::string(n);
+  throw UsageError("stat", "unknown statistic '" + name + "' (" + known + ")");
 }
 
 DataType data_type_arg(const std::string& name) {
@@ -94,6 +98,41 @@ py::tuple deviation(const std::string& stat_name, const Doubles& data, double ra
     n[i] = static_cast<std::int64_t>(pts[i].n);
   }
   return py::make_tuple(to_array(std::move(dev)), to_array(std::move(n)));
+}
+
+// OADEV with missing samples (NaN) left out (stats/gap_deviation.hpp) at the
+// given factors: (dev, n, lo, hi) with intervals at `ci` for a fixed noise
+// type `alpha`, or the identified one when alpha is None.
+py::tuple deviation_missing(const Doubles& data, double rate, const std::string& type_name,
+                            const py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>& factors,
+                            double ci, std::optional<int> alpha) {
+  const DataType type = data_type_arg(type_name);
+  check_rate(rate);
+  if (!(ci > 0.0 && ci < 1.0)) throw UsageError("ci", "ci must be between 0 and 1");
+  const std::span<const double> x = view(data, "data");
+  std::vector<std::size_t> ms;
+  for (py::ssize_t i = 0; i < factors.size(); ++i) {
+    if (factors.data()[i] < 1) throw UsageError("taus", "every averaging factor must be at least 1");
+    ms.push_back(static_cast<std::size_t>(factors.data()[i]));
+  }
+  StabilityOptions opt;
+  opt.ci = ci;
+  opt.alpha = alpha;
+  std::vector<StabilityPoint> pts;
+  {
+    py::gil_scoped_release free;
+    pts = oadev_skipping_missing(x, type, 1.0 / rate, ms, opt);
+  }
+  std::vector<double> dev(pts.size()), lo(pts.size()), hi(pts.size());
+  std::vector<std::int64_t> n(pts.size());
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    dev[i] = pts[i].dev;
+    lo[i] = pts[i].lo;
+    hi[i] = pts[i].hi;
+    n[i] = static_cast<std::int64_t>(pts[i].n);
+  }
+  return py::make_tuple(to_array(std::move(dev)), to_array(std::move(n)), to_array(std::move(lo)),
+                        to_array(std::move(hi)));
 }
 
 py::dict curve(const pipeline::DevChannel& ch, bool intervals) {
@@ -177,6 +216,9 @@ void bind_stats(py::module_& m) {
   m.def("_deviation", &deviation, py::arg("stat"), py::arg("data"), py::arg("rate"), py::arg("data_type"),
         py::arg("factors"),
         "Deviation and term count of `stat` at each averaging factor (n == 0: record too short for it).");
+  m.def("_deviation_missing", &deviation_missing, py::arg("data"), py::arg("rate"), py::arg("data_type"),
+        py::arg("factors"), py::arg("ci"), py::arg("alpha"),
+        "OADEV with missing samples (NaN) left out: (dev, n, lo, hi) at each averaging factor.");
   m.def("_dev", &dev, py::arg("channels"), py::arg("names"), py::arg("rate"), py::arg("stat"), py::arg("data_type"),
         py::arg("taus"), py::arg("ci"), py::arg("alpha"), py::arg("edf"), py::arg("conservative"),
         py::arg("intervals"), py::arg("threads"),

@@ -66,6 +66,19 @@ class Parity(unittest.TestCase):
         print("\nlargest relative difference to AllanTools, per statistic:",
               ", ".join(f"{k} {v:.1e}" for k, v in worst.items()), file=sys.stderr)
 
+    def test_gradev(self):
+        # AllanTools' own gradev data: 1000 phase points, 200 of them NaN.
+        folder = os.path.join(os.path.dirname(STABLE32), "allantools", "gradev")
+        for name in ("y.dat", "y_gap.dat"):
+            y = np.loadtxt(os.path.join(folder, name))
+            for taus in ("octave", "all"):
+                with self.subTest(data=name, taus=taus):
+                    t0, d0, e0, n0 = self.at.gradev(y, rate=1.0, data_type="phase", taus=taus)
+                    t1, d1, e1, n1 = cubecal.gradev(y, rate=1.0, data_type="phase", taus=taus)
+                    np.testing.assert_array_equal(t1, t0)
+                    np.testing.assert_array_equal(n1, n0)
+                    self.assertLess(relative(d1, d0), 1e-10)
+
     def test_cs5071a_octave(self):
         # 556,990 phase points: the long record, octave taus.
         with gzip.open(os.path.join(STABLE32, "cs5071a", "5071A_phase.txt.gz"), "rt") as f:

@@ -108,6 +108,26 @@ class SameAsTheCli(unittest.TestCase):
                     self.assertEqual(got, want)
 
 
+class Gradev(unittest.TestCase):
+    """cubecal.gradev (missing samples as NaN) equals `cubecal dev --gaps skip` at the taus both give."""
+
+    def test_same_as_the_cli(self):
+        path = os.path.join(os.path.dirname(STABLE32), "allantools", "gradev", "y_gap.dat")
+        y = np.loadtxt(path)
+        self.assertEqual(int(np.isnan(y).sum()), 200)
+        taus, devs, (err_lo, err_hi), ns = cubecal.gradev(y, rate=1.0, data_type="phase", taus="octave", noisetype=None,
+                                                  ci=0.683)
+        want = cli_json("dev", path, "--type", "phase", "--rate", 1, "--gaps", "skip", "--taus", "octave",
+                        "--format", "json")["columns"][0]
+        k = len(want["tau"])
+        self.assertGreater(len(taus), k)  # AllanTools' octave grid goes further than Stable32's
+        np.testing.assert_array_equal(taus[:k], want["tau"])
+        np.testing.assert_array_equal(ns[:k], want["n"])
+        np.testing.assert_array_equal(devs[:k], want["dev"])
+        np.testing.assert_allclose(devs[:k] - err_lo[:k], want["lo"], rtol=1e-12)
+        np.testing.assert_allclose(devs[:k] + err_hi[:k], want["hi"], rtol=1e-12)
+
+
 class Arrays(unittest.TestCase):
     def test_input_untouched_and_dtypes(self):
         x = phase_dat()

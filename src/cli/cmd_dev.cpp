@@ -4,6 +4,8 @@
 #include <iostream>
 #include <optional>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "commands.hpp"
 #include "common_options.hpp"
@@ -13,6 +15,7 @@
 #include "cubecal/pipeline/analysis_output.hpp"
 #include "cubecal/pipeline/dev_pipeline.hpp"
 #include "cubecal/pipeline/dev_stream.hpp"
+#include "cubecal/pipeline/dev_missing.hpp"
 #include "memory_budget.hpp"
 #include "output.hpp"
 #include "progress.hpp"
@@ -31,6 +34,7 @@ struct DevOptions {
   std::string edf = "greenhall";
   std::optional<int> alpha;
   bool no_ci = false;
+  bool bias_correction = false;
   std::string short_ci = "stable32";
   std::string format = "table";
   std::string out;
@@ -87,8 +91,14 @@ int run_dev_command(DevOptions& o) {
   req.options.alpha = o.alpha;
   req.options.intervals = !o.no_ci;
   req.options.conservative_short = o.short_ci == "widest";
+  req.options.bias_correction = o.bias_correction;
+  if (!has_intervals(req.stat)) o.no_ci = true;  // TIE rms and MTIE have no noise type or interval
   req.threads = o.input.threads;
 
+  if (o.input.gaps == "skip" && req.stat != Stat::oadev)
+    throw UsageError("--gaps skip: missing samples are skipped for OADEV only (as AllanTools' gradev): give "
+                     "--stat oadev, or --gaps split to analyze the contiguous pieces with " +
+                     std::string(to_string(req.stat)));
   ResultOutput result(o.out, o.force);  // refuses an unusable --out before the work
   const std::size_t budget = memory_budget(o.memory);
   const io::SeriesOptions series_opt = to_series_options(o.input);
@@ -126,6 +136,14 @@ int run_dev_command(DevOptions& o) {
   }();
   reading_time.stop();
   note_default_columns(series);
+  if (series.gaps == io::GapPolicy::skip) {
+    const auto missing = pipeline::missing_per_channel(series);
+    std::size_t total = 0;
+    for (const std::size_t m : missing) total += m;
+    std::cerr << fmt::format("cubecal: note: {}: {} missing sample(s) in {} channel(s) of {} samples: the OADEV "
+                             "terms that need one are left out (--gaps skip)\n",
+                             series.file, total, series.channels.size(), samples_of(series));
+  }
 
   // Announce long work before it starts, with what a sparser grid costs.
   const pipeline::DevWorkEstimate work = pipeline::estimate_dev(series, req);
@@ -175,11 +193,14 @@ int run_dev_command(DevOptions& o) {
 CLI::App* add_dev_command(CLI::App& app, Command& run) {
   auto opt = std::make_shared<DevOptions>();
   CLI::App* cmd = app.add_subcommand(
-      "dev", "Allan-family deviations (adev, oadev, mdev, tdev, hdev, ohdev, totdev) with "
-             "Stable32-compatible confidence intervals");
+      "dev", "Stability statistics with Stable32-compatible confidence intervals: the Allan family (adev, "
+             "oadev, mdev, tdev, hdev, ohdev, totdev), the total variances (mtotdev, ttotdev, htotdev), "
+             "Theo1 and the bias-removed TheoBR (theo1, theobr: even averaging factors, tau = 0.75 m tau0), "
+             "and the time-interval errors (tierms, mtie: no intervals)");
   add_input_options(*cmd, opt->input);
+  opt->input.missing_samples = true;  // --gaps skip
   cmd->add_option("--stat", opt->stat, "Statistic")
-      ->check(CLI::IsMember({"adev", "oadev", "mdev", "tdev", "hdev", "ohdev", "totdev"}))
+      ->check(CLI::IsMember(std::vector<std::string>(stat_names().begin(), stat_names().end())))
       ->capture_default_str();
   cmd->add_option("--type", opt->type,
                   "freq: rate-like samples (deg/s, fractional frequency); phase: their "
@@ -201,6 +222,9 @@ CLI::App* add_dev_command(CLI::App& app, Command& run) {
                   "identifying it")
       ->check(CLI::Range(-4, 2));
   cmd->add_flag("--no-ci", opt->no_ci, "Deviations only: skip noise identification and intervals");
+  cmd->add_flag("--bias-correction", opt->bias_correction,
+                "mtotdev, ttotdev, htotdev: divide the variance by its bias for the noise type (identified, or "
+                "--alpha), as Stable32's bias correction");
   cmd->add_option("--short-ci", opt->short_ci,
                   "Intervals where fewer than 30 averages remain (the noise type comes from the B1 "
                   "ratio): stable32 (the identified type's EDF, as Stable32) or widest (the smallest "

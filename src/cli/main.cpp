@@ -51,6 +51,12 @@ std::string usage_message(const cubecal::UsageError& e) {
       {"topics", "--topic"},
       {"memory", "--memory"},
       {"window", "--window"},
+      {"segment_length", "--segment"},
+      {"min_frequency", "--fmin"},
+      {"overlap", "--overlap"},
+      {"bins_per_decade", "--bins-per-decade"},
+      {"fit_range", "--fit-min/--fit-max"},
+      {"step", "--step"},
   };
   for (const auto& [option, flag] : kFlags)
     if (e.option() == option) return std::string(flag) + ": " + e.what();
@@ -106,6 +112,8 @@ int main(int argc, char** argv) {
   cubecal::cli::add_calibrate_command(app, run);
   cubecal::cli::add_turnon_command(app, run);
   cubecal::cli::add_compare_command(app, run);
+  cubecal::cli::add_psd_command(app, run);
+  cubecal::cli::add_davar_command(app, run);
   cubecal::cli::add_report_command(app, run);
   cubecal::cli::add_demo_command(app, run);
 

@@ -12,6 +12,7 @@
 #include "cubecal/io/delimited_reader.hpp"
 
 #include <fast_float/fast_float.h>
+#include <limits>
 
 #include <algorithm>
 #include <charconv>
@@ -353,7 +354,7 @@ inline const char* fast_row(const char* p, const char* end, std::size_t total_co
 // fields not selected). Stops at the first fault.
 template <Delimiter D>
 void parse_chunk(const char* p, const char* end, std::size_t total_columns, double* const* dst,
-                 ChunkResult& r) {
+                 ChunkResult& r, bool missing_as_nan) {
   constexpr bool ws = D == Delimiter::whitespace;
   constexpr char sep = D == Delimiter::comma ? ',' : D == Delimiter::tab ? '\t' : ';';
   const auto fail = [&r](Fault f, const char* where, std::size_t field) {
@@ -392,12 +393,19 @@ void parse_chunk(const char* p, const char* end, std::size_t total_columns, doub
       }
       if (f == total_columns) return fail(Fault::field_count, s, f);
       if (double* out = dst[f]) {
-        if constexpr (!ws) {
-          if (s == e || *s == sep) return fail(Fault::empty, s, f);
-        }
         const char* q = s;
         double v;
-        if (const Fault fault = parse_number(q, e, v); fault != Fault::none) return fail(fault, s, f);
+        bool empty = false;
+        if constexpr (!ws) empty = s == e || *s == sep;
+        if (empty) {
+          if (!missing_as_nan) return fail(Fault::empty, s, f);
+          v = std::numeric_limits<double>::quiet_NaN();  // a missing sample (TableOptions::missing_as_nan)
+        } else if (const Fault fault = parse_number(q, e, v); fault != Fault::none) {
+          // NaN spelled out is a missing sample too when asked; infinities never are.
+          if (!(fault == Fault::not_finite && missing_as_nan && std::isnan(v))) return fail(fault, s, f);
+          q = fast_float::from_chars(s + (*s == '+' ? 1 : 0), e, v).ptr;  // past the NaN; what follows is checked below
+          v = std::numeric_limits<double>::quiet_NaN();
+        }
         if constexpr (ws) {
           if (q < e && *q != ' ' && *q != '\t') return fail(Fault::non_numeric, s, f);
         } else {
@@ -426,7 +434,7 @@ void parse_chunk(const char* p, const char* end, std::size_t total_columns, doub
   r.rows = row;
 }
 
-using ChunkParser = void (*)(const char*, const char*, std::size_t, double* const*, ChunkResult&);
+using ChunkParser = void (*)(const char*, const char*, std::size_t, double* const*, ChunkResult&, bool);
 
 ChunkParser chunk_parser(Delimiter d) {
   switch (d) {
@@ -673,7 +681,7 @@ std::string preamble_hint(std::string_view text, const Layout& lay) {
 // the output column for that field, or kNotParsed.
 std::vector<std::vector<double>> parse_rows(std::string_view text, const std::string& file, const Layout& lay,
                                             const std::vector<std::size_t>& slot, std::size_t n_columns,
-                                            unsigned threads, const FileBuffer* pages) {
+                                            unsigned threads, const FileBuffer* pages, bool missing_as_nan) {
   // Chunks: one per thread, but none smaller than kMinChunkBytes.
   const char* const body = text.data() + lay.body_offset;
   const char* const end = text.data() + text.size();
@@ -730,7 +738,7 @@ std::vector<std::vector<double>> parse_rows(std::string_view text, const std::st
     ChunkResult& r = results[k];
     windowed(bounds[k], bounds[k + 1], pages, [&](const char* b, const char* e) {
       ChunkResult w;
-      parser(b, e, lay.total_columns, out.data(), w);
+      parser(b, e, lay.total_columns, out.data(), w, missing_as_nan);
       r.rows += w.rows;
       for (double*& o : out)
         if (o != nullptr) o += w.rows;
@@ -815,7 +823,8 @@ Table parse_text(std::string_view text, const std::string& file_label, const Tab
       ++uses[slot[i]];
     }
   }
-  std::vector<std::vector<double>> columns = parse_rows(text, file_label, lay, slot, uses.size(), opt.threads, pages);
+  std::vector<std::vector<double>> columns =
+      parse_rows(text, file_label, lay, slot, uses.size(), opt.threads, pages, opt.missing_as_nan);
   const auto take = [&](std::size_t field) -> std::vector<double> {
     const std::size_t s = slot[field];
     if (--uses[s] == 0) return std::move(columns[s]);

@@ -86,6 +86,9 @@ void check_common(const SeriesOptions& opt) {
   if (opt.gaps == GapPolicy::split)
     throw UsageError("gaps", "a streamed record is not split at gaps: leave out --gaps split (a gap is then an "
                              "error naming its place), or read the record into memory without --stream");
+  if (opt.gaps == GapPolicy::skip)
+    throw UsageError("gaps", "missing samples are skipped in a record read into memory: leave out --stream, or "
+                             "--gaps skip (a gap is then an error naming its place)");
   if (!opt.topics.empty())
     throw UsageError("topics", "ROS bags are read into memory: leave out --stream");
   for (const double lsb : opt.lsb)

@@ -6,6 +6,7 @@
 #include "cubecal/io/series.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <charconv>
 #include <cmath>
 #include <filesystem>
@@ -208,6 +209,30 @@ void check_rate_agrees(const std::string& file, const std::string& time_name, co
                                "or fix the time column");
 }
 
+// GapPolicy::skip: the rows of `fills` (row, count) get `count` missing
+// samples (NaN, and the stamps of the periods between) before them, in every
+// channel and extra column.
+void fill_missing(Series& s, const std::vector<std::pair<std::size_t, std::size_t>>& fills) {
+  std::size_t added = 0;
+  for (const auto& f : fills) added += f.second;
+  const auto widen = [&](std::vector<double>& v, bool stamps) {
+    std::vector<double> out;
+    out.reserve(v.size() + added);
+    std::size_t from = 0;
+    for (const auto& [row, count] : fills) {
+      out.insert(out.end(), v.begin() + static_cast<std::ptrdiff_t>(from), v.begin() + static_cast<std::ptrdiff_t>(row));
+      for (std::size_t k = 1; k <= count; ++k)
+        out.push_back(stamps ? v[row - 1] + static_cast<double>(k) * s.tau0 : std::numeric_limits<double>::quiet_NaN());
+      from = row;
+    }
+    out.insert(out.end(), v.begin() + static_cast<std::ptrdiff_t>(from), v.end());
+    v = std::move(out);
+  };
+  for (auto& c : s.channels) widen(c, false);
+  for (auto& c : s.extra) widen(c, false);
+  widen(s.time, true);
+}
+
 // Checks the time stamps against the period (given, or inferred from the
 // median interval) and cuts the record into segments.
 void check_timing(Series& s, const detail::PlaceError& at, const SeriesOptions& opt) {
@@ -250,9 +275,23 @@ void check_timing(Series& s, const detail::PlaceError& at, const SeriesOptions& 
 
   const std::string ignore_stamps = opt.time_col.empty() ? ", or give --rate HZ to ignore the time stamps" : "";
   std::size_t begin = 0;
+  std::vector<std::pair<std::size_t, std::size_t>> fills;  // skip: (row, missing samples before it)
   for (std::size_t i = 1; i < time.size(); ++i) {
     const double dt = time[i] - time[i - 1];
     if (std::fabs(dt - period) <= opt.tolerance * period) continue;
+    if (opt.gaps == GapPolicy::skip) {
+      // A gap of whole periods is that many missing samples; anything else
+      // is jitter, which no sample can fill.
+      const double periods = std::round(dt / period);
+      if (periods >= 2.0 && std::fabs(dt - periods * period) <= opt.tolerance * period) {
+        fills.emplace_back(i, static_cast<std::size_t>(periods) - 1);
+        continue;
+      }
+      fail_at(i,
+              "interval " + duration(dt) + " s is not a whole number of periods of " + period_text(period) +
+                  " s: no missing sample explains it",
+              "use --gaps split to cut the record at irregular intervals" + ignore_stamps);
+    }
     if (opt.gaps == GapPolicy::split) {
       s.segments.push_back({begin, i});
       begin = i;
@@ -274,7 +313,8 @@ void check_timing(Series& s, const detail::PlaceError& at, const SeriesOptions& 
               "use --gaps split to cut the record at irregular intervals" + ignore_stamps);
     }
   }
-  s.segments.push_back({begin, time.size()});
+  if (!fills.empty()) fill_missing(s, fills);
+  s.segments.push_back({begin, s.time.size()});
 }
 
 // A binary record as a table of all its columns (then selected like the
@@ -334,6 +374,7 @@ Series read_series(const std::string& path_arg, const SeriesOptions& opt) {
   Series s;
   s.file = path;
   TableOptions topt = opt.table;
+  topt.missing_as_nan = opt.gaps == GapPolicy::skip;  // empty fields and NaN: missing samples
   default_columns(all ? *all : layout, time.spec, opt, topt, s);
   if (!topt.columns.empty()) check_lsb_count(opt, path, topt.columns);  // before the parse of a long file
   const std::size_t time_slot = topt.extra_columns.size();
@@ -366,6 +407,13 @@ Series read_series(const std::string& path_arg, const SeriesOptions& opt) {
     stamps = std::move(t.extra[time_slot]);
   }
   const std::size_t time_field = time.spec.empty() ? 0 : t.extra_indices[time_slot];
+  // A missing sample still has its time; a missing time stamp places nothing.
+  for (std::size_t row = 0; row < stamps.size(); ++row)
+    if (std::isnan(stamps[row])) {
+      const Location loc = locate(t, row, time_field);
+      throw InputError(path, loc.line, loc.column, "missing time stamp",
+                       "a sample cannot be placed without its time: fill in the stamp or remove the row");
+    }
   detail::finish_series(s, std::move(stamps), time_name, time.timing, opt,
                         [&](std::size_t row, std::string problem, std::string hint) {
                           const Location loc = locate(t, row, time_field);

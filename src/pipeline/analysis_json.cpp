@@ -536,8 +536,8 @@ AnalysisResult read_result(const json& doc, const std::string& label) {
   r.duration_s = in.num("duration_s");
   r.segments = in.at("segments").count();
   const std::string gaps = in.str_or("gaps", "error");
-  if (gaps != "error" && gaps != "split") in.at("gaps").fail("neither 'error' nor 'split'");
-  r.gaps = gaps == "split" ? io::GapPolicy::split : io::GapPolicy::error;
+  if (gaps != "error" && gaps != "split" && gaps != "skip") in.at("gaps").fail("not 'error', 'split' or 'skip'");
+  r.gaps = gaps == "split" ? io::GapPolicy::split : gaps == "skip" ? io::GapPolicy::skip : io::GapPolicy::error;
   r.ci = root.num_or("ci", 0.683);
   const double version = root.num_or("format_version", 1.0);
   const double dt = 1.0 / r.rate_hz;
@@ -596,7 +596,7 @@ void to_json(json& j, const AnalysisResult& r) {
                 {"rate_hz", r.rate_hz},
                 {"duration_s", r.duration_s},
                 {"segments", r.segments},
-                {"gaps", r.gaps == io::GapPolicy::split ? "split" : "error"}};
+                {"gaps", r.gaps == io::GapPolicy::split ? "split" : r.gaps == io::GapPolicy::skip ? "skip" : "error"}};
   j["ci"] = r.ci;
   json chans = json::array();
   for (const auto& c : r.channels) {

@@ -1,4 +1,5 @@
 #include "cubecal/pipeline/dev_pipeline.hpp"
+#include "cubecal/pipeline/dev_missing.hpp"
 
 #include <omp.h>
 
@@ -32,6 +33,15 @@ double terms_at(Stat stat, std::size_t m, std::size_t n, bool intervals) {
     case Stat::tdev:
     case Stat::ohdev: t = N - 3.0 * md; break;
     case Stat::totdev: t = N; break;
+    case Stat::tierms: t = N - md; break;
+    case Stat::mtie: t = 4.0 * N; break;  // running max and min, forward and back
+    // A subsequence of 3m points costs about 12m operations; TheoBR's ratio
+    // is paid once per record, not per factor.
+    case Stat::mtotdev:
+    case Stat::ttotdev:
+    case Stat::htotdev: t = std::max(N - 3.0 * md, 0.0) * 12.0 * md; break;
+    case Stat::theo1:
+    case Stat::theobr: t = factor_allowed(stat, m) ? std::max(N - md, 0.0) * md / 2.0 : 0.0; break;
   }
   t = std::max(t, 0.0) + 64.0;
   if (intervals) t += N / md + 256.0;
@@ -68,10 +78,21 @@ StabilityPoint combine(const std::vector<StabilityPoint>& parts, std::size_t m, 
   out.tau = static_cast<double>(m) * tau0;
   double sum = 0.0;
   std::size_t longest = 0;
+  if (stat == Stat::theo1 || stat == Stat::theobr) out.tau *= 0.75;
+  const bool time_scaled = stat == Stat::tdev || stat == Stat::ttotdev;
+  if (stat == Stat::mtie) {
+    // The largest excursion of any segment's windows.
+    for (const auto& p : parts)
+      if (p.n > 0) {
+        out.n += p.n;
+        out.dev = std::max(out.dev, p.dev);
+      }
+    return out;
+  }
   for (const auto& p : parts) {
     if (p.n == 0) continue;
     double var = p.dev * p.dev;
-    if (stat == Stat::tdev) var *= 3.0 / (out.tau * out.tau);  // back to MVAR
+    if (time_scaled) var *= 3.0 / (out.tau * out.tau);  // back to MVAR
     sum += var * static_cast<double>(p.n);
     out.n += p.n;
     out.edf += p.edf;
@@ -82,8 +103,8 @@ StabilityPoint combine(const std::vector<StabilityPoint>& parts, std::size_t m, 
   }
   if (out.n == 0) return out;
   out.dev = std::sqrt(sum / static_cast<double>(out.n));
-  if (stat == Stat::tdev) out.dev *= out.tau / std::sqrt(3.0);
-  if (opt.intervals) {
+  if (time_scaled) out.dev *= out.tau / std::sqrt(3.0);
+  if (opt.intervals && has_intervals(stat)) {
     const Interval ci = chi2_interval(out.dev, out.edf, opt.ci);
     out.lo = ci.lo;
     out.hi = ci.hi;
@@ -102,6 +123,7 @@ DevResult run(const std::vector<std::string>& names,
   res.samples = channels.empty() ? 0 : channels[0].size();
   res.segments = segments.size();
   res.options = req.options;
+  if (!has_intervals(req.stat)) res.options.intervals = false;  // TIE rms, MTIE
 
   const int threads = req.threads > 0 ? static_cast<int>(req.threads) : omp_get_max_threads();
 
@@ -113,9 +135,14 @@ DevResult run(const std::vector<std::string>& names,
     max_m = std::max(max_m, mm);
     if (mm > 0) ++res.segments_used;
   }
-  const std::vector<std::size_t> ms = averaging_factors(req.grid, max_m, res.tau0);
+  const std::vector<std::size_t> ms = averaging_factors(req.grid, max_m, res.tau0 * tau_per_factor(req.stat));
   std::size_t longest = 0;
   for (const auto& s : segments) longest = std::max(longest, s.size());
+  if (req.stat == Stat::theobr && phase_points(io::Segment{0, longest}, req.type) > StabilityRecord::kTheobrMaxPoints)
+    throw UsageError("stat", "theobr's bias ratio takes Theo1 at every fourth averaging factor up to 2N/3 (about "
+                             "N^3/65 terms): " + std::to_string(longest) + " samples is beyond the " +
+                             std::to_string(StabilityRecord::kTheobrMaxPoints) +
+                             " phase points it is computed for; average the data first, or use theo1");
   res.tau_list = tau_list_outcome(req.grid, req.stat, req.type, longest, res.tau0,
                                   nseg > 1 ? "the longest segment" : "the record");
   if (ms.empty())
@@ -271,7 +298,7 @@ std::vector<std::size_t> grid_for(const std::vector<io::Segment>& segments, doub
   std::size_t max_m = 0;
   for (const auto& seg : segments)
     max_m = std::max(max_m, max_averaging_factor(req.stat, phase_points(seg, req.type)));
-  return averaging_factors(req.grid, max_m, tau0);
+  return averaging_factors(req.grid, max_m, tau0 * tau_per_factor(req.stat));
 }
 
 }  // namespace
@@ -280,6 +307,9 @@ DevWorkEstimate estimate_dev(const io::Series& series, const DevRequest& req) {
   DevWorkEstimate e;
   e.threads = thread_count(req);
   if (series.channels.empty() || series.segments.empty() || !(series.rate_hz > 0.0)) return e;
+  // Missing samples (--gaps skip): one pass per factor of a single thread's
+  // kernel, no trial on the record (its NaNs are for dev_missing alone).
+  if (series.gaps == io::GapPolicy::skip) return e;
   const double tau0 = 1.0 / series.rate_hz;
   const std::vector<std::size_t> ms = grid_for(series.segments, tau0, req);
   e.taus = ms.size();
@@ -291,6 +321,8 @@ DevWorkEstimate estimate_dev(const io::Series& series, const DevRequest& req) {
       if (m <= top) e.terms += terms_at(req.stat, m, n, req.options.intervals);
   }
   e.terms *= static_cast<double>(series.channels.size());
+  // TheoBR's bias ratio (once per record) would dominate a trial: none.
+  if (req.stat == Stat::theobr) return e;
 
   // The trial: a block of the grid's middle factors on (a prefix of) the
   // longest segment of the first channel, timed for a few milliseconds (a prefix of 2^18 samples: 2 MB, in the
@@ -304,7 +336,7 @@ DevWorkEstimate estimate_dev(const io::Series& series, const DevRequest& req) {
   double trial_terms = 0.0, seconds = 0.0;
   try {
     const StabilityRecord rec(data, req.type, tau0, req.stat);
-    const std::vector<std::size_t> trial_grid = averaging_factors(req.grid, rec.max_m(), tau0);
+    const std::vector<std::size_t> trial_grid = averaging_factors(req.grid, rec.max_m(), tau0 * tau_per_factor(req.stat));
     if (!trial_grid.empty()) {
       const std::size_t count = std::min<std::size_t>(8, trial_grid.size());
       const std::size_t first = (trial_grid.size() - count) / 2;
@@ -334,6 +366,8 @@ DevWorkEstimate estimate_dev(const io::Series& series, const DevRequest& req) {
 }
 
 DevResult run_dev(const io::Series& series, const DevRequest& request) {
+  // Read with --gaps skip: missing samples in the channels (dev_missing.hpp).
+  if (series.gaps == io::GapPolicy::skip) return run_dev_skipping_missing(series, request);
   DevResult r = run(series.names, {series.channels.begin(), series.channels.end()}, series.rate_hz,
                     series.segments, request);
   r.file = series.file;

@@ -8,6 +8,7 @@
 // Tables 1-3 give the large-r asymptotes otherwise.
 #include "cubecal/stats/edf.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -214,7 +215,41 @@ double edf_totvar(int alpha, std::size_t m, std::size_t n_phase) {
   }
 }
 
+double edf_mtotvar(int alpha, std::size_t m, std::size_t n_phase) {
+  // SP 1065 Table 8: edf = b (T/tau) - c.
+  struct Bc {
+    double b, c;
+  };
+  constexpr Bc kTable8[5] = {{1.90, 2.1}, {1.20, 1.40}, {1.10, 1.2}, {0.85, 0.50}, {0.75, 0.31}};
+  if (alpha > 2 || alpha < -2 || m == 0) return 0.0;
+  const Bc bc = kTable8[2 - alpha];
+  return std::max(0.0, bc.b * static_cast<double>(n_phase) / static_cast<double>(m) - bc.c);
+}
+
+double edf_theo1(int alpha, std::size_t m, std::size_t n_phase) {
+  if (m == 0 || n_phase <= m) return 0.0;
+  const double N = static_cast<double>(n_phase);
+  const double r = 0.75 * static_cast<double>(m);
+  switch (alpha) {
+    case 2: return 0.86 * (N + 1.0) * (N - 4.0 * r / 3.0) / (N - r) * (r / (r + 1.14));
+    case 0: {
+      const double r15 = r * std::sqrt(r);
+      return std::max(0.0, ((4.1 * N + 0.8) / r - (3.1 * N + 6.5) / N) * (r15 / (r15 + 5.2)));
+    }
+    default: return 0.0;
+  }
+}
+
 double edf_for(Stat stat, int alpha, std::size_t m, std::size_t n_phase, EdfMethod method) {
+  switch (stat) {
+    case Stat::tierms:
+    case Stat::mtie: return 0.0;
+    case Stat::mtotdev:
+    case Stat::ttotdev: return edf_mtotvar(alpha, m, n_phase);
+    case Stat::theo1:
+    case Stat::theobr: return edf_theo1(alpha, m, n_phase);
+    default: break;
+  }
   if (method == EdfMethod::simple) {
     if (stat == Stat::totdev) return edf_totvar(alpha, m, n_phase);
     return edf_simple(alpha, m, n_phase);
@@ -227,8 +262,9 @@ double edf_for(Stat stat, int alpha, std::size_t m, std::size_t n_phase, EdfMeth
     case Stat::hdev: return edf_greenhall(alpha, 3, m, n_phase, false, false);
     case Stat::ohdev: return edf_greenhall(alpha, 3, m, n_phase, true, false);
     case Stat::totdev: return edf_totvar(alpha, m, n_phase);
+    case Stat::htotdev: return edf_greenhall(alpha, 3, m, n_phase, true, false);
+    default: return 0.0;
   }
-  return 0.0;
 }
 
 double edf_for_stride(Stat stat, int alpha, std::size_t m, std::size_t n_phase, std::size_t stride,

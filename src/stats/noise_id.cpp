@@ -86,6 +86,13 @@ double b1_points(Stat stat, std::size_t phase_points, std::size_t m, std::size_t
     case Stat::tdev: return np - 3.0 * mm + 1.0;
     case Stat::ohdev: return np - 3.0 * mm;
     case Stat::totdev: return np - 2.0;
+    case Stat::mtotdev:
+    case Stat::ttotdev: return np - 3.0 * mm + 1.0;
+    case Stat::htotdev: return np - 3.0 * mm;
+    case Stat::theo1:
+    case Stat::theobr: return np - mm;
+    case Stat::tierms:
+    case Stat::mtie: return np - mm;  // not identified (no interval)
   }
   return na - 1.0;
 }

@@ -2,22 +2,78 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 #include "cubecal/stats/confidence.hpp"
 #include "cubecal/stats/noise_id.hpp"
 #include "cubecal/stats/phase.hpp"
+#include "cubecal/stats/theo.hpp"
+#include "cubecal/stats/time_error.hpp"
+#include "cubecal/stats/total_kernels.hpp"
 
 namespace cubecal {
 
 StabilityRecord::StabilityRecord(std::span<const double> data, DataType type, double tau0,
                                  Stat stat)
     : scale_(power_of_two_scale(data)),
-      x_(type == DataType::freq ? freq_to_phase(data, tau0, scale_) : normalize_phase(data, scale_)),
+      x_(type == DataType::phase ? normalize_phase(data, scale_)
+         : has_intervals(stat) ? freq_to_phase(data, tau0, scale_)
+                               : integrate_frequency(data, tau0, scale_)),
       type_(type),
       tau0_(tau0),
       stat_(stat) {
   if (stat_ == Stat::totdev) ext_ = totvar_extend(x_);
+  if (stat_ == Stat::htotdev && x_.size() > 1) {
+    d_.resize(x_.size() - 1);
+    for (std::size_t k = 0; k + 1 < x_.size(); ++k) d_[k] = x_[k + 1] - x_[k];
+  }
+  if (stat_ == Stat::theobr) {
+    // The ratio takes Theo1 at N/6 factors up to 2N/3: about N^3/65 terms.
+    if (x_.size() > kTheobrMaxPoints)
+      throw std::invalid_argument("theobr's bias ratio takes Theo1 at every fourth averaging factor up to 2N/3 "
+                                  "(about N^3/65 terms): " + std::to_string(x_.size()) +
+                                  " phase points is beyond the " + std::to_string(kTheobrMaxPoints) +
+                                  " it is computed for; average the data first, or use theo1");
+    theobr_ratio_ = theobr_ratio(x_);
+  }
 }
+
+namespace {
+
+// Variance bias of MTOT (and TTOT) and of HTOT per noise type: the expected
+// total variance over the variance it estimates (MVAR, HVAR). SP 1065
+// sec. 5.2.12 and 5.2.14; 1 where none is given.
+double total_bias(Stat s, int alpha) {
+  if (s == Stat::mtotdev || s == Stat::ttotdev) {
+    switch (alpha) {
+      case 2: return 0.94;
+      case 1: return 0.83;
+      case 0: return 0.73;
+      case -1: return 0.70;
+      case -2: return 0.69;
+      default: return 1.0;
+    }
+  }
+  if (s == Stat::htotdev) {
+    switch (alpha) {
+      case 0: return 0.995;
+      case -1: return 0.851;
+      case -2: return 0.771;
+      case -3: return 0.717;
+      case -4: return 0.679;
+      default: return 1.0;
+    }
+  }
+  return 1.0;
+}
+
+bool has_bias(Stat s) { return s == Stat::mtotdev || s == Stat::ttotdev || s == Stat::htotdev; }
+
+// HTOT at m = 1 is the overlapping Hadamard variance, which has no bias.
+bool biased_at(Stat s, std::size_t m) { return has_bias(s) && !(s == Stat::htotdev && m == 1); }
+
+}  // namespace
 
 std::size_t StabilityRecord::max_m() const noexcept {
   return max_averaging_factor(stat_, x_.size());
@@ -32,15 +88,38 @@ VarianceTerm StabilityRecord::variance(std::size_t m) const {
     case Stat::hdev: return hvar(x_, m, tau0_);
     case Stat::ohdev: return ohvar(x_, m, tau0_);
     case Stat::totdev: return totvar(ext_, m, tau0_);
+    case Stat::tierms: return tie_mean_square(x_, m);
+    case Stat::mtie: return mtie_square(x_, m);
+    case Stat::mtotdev:
+    case Stat::ttotdev: return mtotvar(x_, m, tau0_);
+    // Riley's HTOT (and Stable32) take the overlapping Hadamard variance at m = 1.
+    case Stat::htotdev: return m == 1 ? ohvar(x_, 1, tau0_) : htotvar(d_, m, tau0_);
+    case Stat::theo1: return theo1var(x_, m, tau0_);
+    case Stat::theobr: {
+      if (!(theobr_ratio_ > 0.0)) return {};
+      VarianceTerm v = theo1var(x_, m, tau0_);
+      v.var *= theobr_ratio_;
+      return v;
+    }
   }
   return {};
 }
 
+bool StabilityRecord::needs_type(const StabilityOptions& opt) const noexcept {
+  if (!has_intervals(stat_)) return false;
+  return opt.intervals || (opt.bias_correction && has_bias(stat_));
+}
+
+void StabilityRecord::describe(StabilityPoint& p, const StabilityOptions& opt) const {
+  if (opt.bias_correction && biased_at(stat_, p.m)) p.dev /= std::sqrt(total_bias(stat_, p.alpha));
+  if (opt.intervals) set_interval(p, opt);
+}
+
 StabilityPoint StabilityRecord::evaluate(std::size_t m, const StabilityOptions& opt) const {
   StabilityPoint p = point(m, variance(m));
-  if (p.n == 0 || !opt.intervals) return p;
+  if (p.n == 0 || !needs_type(opt)) return p;
   identify(p, opt);
-  set_interval(p, opt);
+  describe(p, opt);
   return p;
 }
 
@@ -60,7 +139,7 @@ std::vector<StabilityPoint> StabilityRecord::evaluate(std::span<const std::size_
     }
     for (std::size_t j = 0; j < ms.size(); ++j) out.push_back(point(ms[j], v[j]));
   }
-  if (!opt.intervals) return out;
+  if (!needs_type(opt)) return out;
   {
     StageTimer timer(times, Stage::noise_id);
     for (StabilityPoint& p : out)
@@ -68,7 +147,7 @@ std::vector<StabilityPoint> StabilityRecord::evaluate(std::span<const std::size_
   }
   StageTimer timer(times, Stage::intervals);
   for (StabilityPoint& p : out)
-    if (p.n > 0) set_interval(p, opt);
+    if (p.n > 0) describe(p, opt);
   carry_types(out, opt);
   return out;
 }
@@ -76,11 +155,11 @@ std::vector<StabilityPoint> StabilityRecord::evaluate(std::span<const std::size_
 StabilityPoint StabilityRecord::point(std::size_t m, VarianceTerm v) const {
   StabilityPoint p;
   p.m = m;
-  p.tau = static_cast<double>(m) * tau0_;
+  p.tau = static_cast<double>(m) * tau_per_factor(stat_) * tau0_;
   p.n = v.n;
   if (v.n == 0) return p;
   p.dev = std::sqrt(std::max(v.var, 0.0)) * scale_;
-  if (stat_ == Stat::tdev) p.dev *= p.tau / std::sqrt(3.0);
+  if (stat_ == Stat::tdev || stat_ == Stat::ttotdev) p.dev *= p.tau / std::sqrt(3.0);
   return p;
 }
 
@@ -107,15 +186,17 @@ void StabilityRecord::set_interval(StabilityPoint& p, const StabilityOptions& op
 }
 
 void StabilityRecord::carry_types(std::span<StabilityPoint> run, const StabilityOptions& opt) const {
-  if (!opt.intervals || opt.alpha) return;
+  if (!needs_type(opt) || opt.alpha) return;
   const std::size_t top = max_m();
   for (std::size_t i = 1; i < run.size(); ++i) {
     StabilityPoint& p = run[i];
     const StabilityPoint& prev = run[i - 1];
     if (p.n == 0 || prev.n == 0 || 2 * p.m <= top) continue;
+    if (opt.bias_correction && biased_at(stat_, p.m))  // the bias of the type it had
+      p.dev *= std::sqrt(total_bias(stat_, p.alpha));
     p.alpha = prev.alpha;
     p.type_carried = true;
-    set_interval(p, opt);
+    describe(p, opt);
   }
 }
 

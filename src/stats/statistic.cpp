@@ -6,7 +6,7 @@
 namespace cubecal {
 
 namespace {
-constexpr std::array<std::pair<Stat, std::string_view>, 7> kStatNames{{
+constexpr std::array<std::pair<Stat, std::string_view>, 14> kStatNames{{
     {Stat::adev, "adev"},
     {Stat::oadev, "oadev"},
     {Stat::mdev, "mdev"},
@@ -14,7 +14,22 @@ constexpr std::array<std::pair<Stat, std::string_view>, 7> kStatNames{{
     {Stat::hdev, "hdev"},
     {Stat::ohdev, "ohdev"},
     {Stat::totdev, "totdev"},
+    {Stat::tierms, "tierms"},
+    {Stat::mtie, "mtie"},
+    {Stat::mtotdev, "mtotdev"},
+    {Stat::ttotdev, "ttotdev"},
+    {Stat::htotdev, "htotdev"},
+    {Stat::theo1, "theo1"},
+    {Stat::theobr, "theobr"},
 }};
+
+constexpr std::array<std::string_view, kStatNames.size()> kNames = [] {
+  std::array<std::string_view, kStatNames.size()> a{};
+  for (std::size_t i = 0; i < kStatNames.size(); ++i) a[i] = kStatNames[i].second;
+  return a;
+}();
+
+bool theo_family(Stat s) noexcept { return s == Stat::theo1 || s == Stat::theobr; }
 }  // namespace
 
 std::string_view to_string(Stat s) noexcept {
@@ -37,8 +52,29 @@ std::optional<DataType> parse_data_type(std::string_view s) noexcept {
   return std::nullopt;
 }
 
+std::span<const std::string_view> stat_names() noexcept { return kNames; }
+
+bool has_intervals(Stat s) noexcept { return s != Stat::tierms && s != Stat::mtie; }
+
+double tau_per_factor(Stat s) noexcept { return theo_family(s) ? 0.75 : 1.0; }
+
+bool factor_allowed(Stat s, std::size_t m) noexcept {
+  if (m == 0) return false;
+  return !theo_family(s) || m % 2 == 0;
+}
+
 int difference_order(Stat s) noexcept {
-  return (s == Stat::hdev || s == Stat::ohdev) ? 3 : 2;
+  switch (s) {
+    case Stat::hdev:
+    case Stat::ohdev:
+    case Stat::htotdev:
+      return 3;
+    case Stat::tierms:
+    case Stat::mtie:
+      return 1;
+    default:
+      return 2;
+  }
 }
 
 std::size_t points_per_factor(Stat s) noexcept {
@@ -50,16 +86,27 @@ std::size_t points_per_factor(Stat s) noexcept {
     case Stat::mdev:
     case Stat::tdev:
     case Stat::ohdev:
+    case Stat::tierms:
       return 4;
+    case Stat::mtotdev:
+    case Stat::ttotdev:
+    case Stat::htotdev:
+      return 3;
     case Stat::totdev:
       return 2;
+    case Stat::mtie:
+    case Stat::theo1:
+    case Stat::theobr:
+      return 1;
   }
   return 5;
 }
 
 std::size_t max_averaging_factor(Stat s, std::size_t n_phase) noexcept {
   if (n_phase < 2) return 0;
-  return (n_phase - 1) / points_per_factor(s);  // over the N - 1 frequency points
+  std::size_t m = (n_phase - 1) / points_per_factor(s);  // over the N - 1 frequency points
+  if (theo_family(s)) m -= m % 2;
+  return m;
 }
 
 }  // namespace cubecal

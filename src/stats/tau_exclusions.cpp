@@ -25,7 +25,7 @@ TauListOutcome tau_list_outcome(const TauGrid& grid, Stat stat, DataType type, s
   const double per = static_cast<double>(points_per_factor(stat));
   std::map<double, double> first_tau;  // evaluated factor -> the first listed tau on it
   for (double tau : grid.taus) {
-    const double m = listed_factor(tau, tau0);
+    const double m = listed_factor(tau, tau0 * tau_per_factor(stat));
     if (m > static_cast<double>(max_m)) {
       // Frequency data: N samples are N + 1 phase points, so the limit
       // N + 1 >= per * m + 1 reads N >= per * m.

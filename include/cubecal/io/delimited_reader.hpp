@@ -22,6 +22,9 @@ struct TableOptions {
   // for none. Same name/index rules.
   std::vector<std::string> extra_columns;
   unsigned threads = 0;        // 0: hardware concurrency
+  // An empty field, or NaN spelled out, is a missing sample, read as a quiet
+  // NaN (SeriesOptions: GapPolicy::skip); else it is an error at its place.
+  bool missing_as_nan = false;
 };
 
 struct Table {

@@ -11,7 +11,13 @@
 
 namespace cubecal::io {
 
-enum class GapPolicy { error, split };
+// What a record's irregular time stamps and missing values do: error (the
+// default) refuses them at their place; split cuts the record into
+// contiguous segments at gaps and jitter; skip keeps one segment, reads an
+// empty field or NaN as a missing sample (NaN) and fills a gap of whole
+// periods in the time stamps with missing samples, for the statistics that
+// leave missing samples out (stats/gap_deviation.hpp: `dev --gaps skip`).
+enum class GapPolicy { error, split, skip };
 
 // The range of sampling rates and data magnitudes every statistic can take
 // without its sums of squares overflowing or underflowing: a rate (given or

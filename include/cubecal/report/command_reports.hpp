@@ -30,6 +30,7 @@
 #include "cubecal/pipeline/calibrate_multiposition.hpp"
 #include "cubecal/pipeline/calibrate_rate_table.hpp"
 #include "cubecal/pipeline/calibrate_temperature.hpp"
+#include "cubecal/pipeline/davar_pipeline.hpp"
 #include "cubecal/pipeline/turnon.hpp"
 #include "cubecal/report/command_report.hpp"
 
@@ -112,5 +113,14 @@ CommandReport temperature_report(const pipeline::TemperatureResult& r, const std
 // and residuals)
 
 CommandReport multiposition_report(const pipeline::MultipositionResult& r, const std::string& command);
+
+// ---------------------------------------------------------------------------
+// davar: per channel a heat map of the dynamic Allan deviation (davar_map_<channel>:
+// window centre on x, tau on a log y axis, colour log10 of the deviation) and
+// the deviation over time at up to four taus (davar_time_<channel>), then per
+// tau its spread over the windows
+
+std::vector<ReportFigure> davar_figures(const pipeline::DavarResult& r);
+CommandReport davar_report(const pipeline::DavarResult& r, const std::string& command);
 
 }  // namespace cubecal::report

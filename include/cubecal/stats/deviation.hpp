@@ -69,4 +69,41 @@ inline std::vector<StabilityPoint> totdev(std::span<const double> data, double r
   return deviation(Stat::totdev, data, rate_hz, type, grid, options);
 }
 
+inline std::vector<StabilityPoint> tierms(std::span<const double> data, double rate_hz,
+                                          DataType type = DataType::freq, const TauGrid& grid = {},
+                                          const StabilityOptions& options = {}) {
+  return deviation(Stat::tierms, data, rate_hz, type, grid, options);
+}
+inline std::vector<StabilityPoint> mtie(std::span<const double> data, double rate_hz,
+                                        DataType type = DataType::freq, const TauGrid& grid = {},
+                                        const StabilityOptions& options = {}) {
+  return deviation(Stat::mtie, data, rate_hz, type, grid, options);
+}
+inline std::vector<StabilityPoint> mtotdev(std::span<const double> data, double rate_hz,
+                                           DataType type = DataType::freq, const TauGrid& grid = {},
+                                           const StabilityOptions& options = {}) {
+  return deviation(Stat::mtotdev, data, rate_hz, type, grid, options);
+}
+inline std::vector<StabilityPoint> ttotdev(std::span<const double> data, double rate_hz,
+                                           DataType type = DataType::freq, const TauGrid& grid = {},
+                                           const StabilityOptions& options = {}) {
+  return deviation(Stat::ttotdev, data, rate_hz, type, grid, options);
+}
+inline std::vector<StabilityPoint> htotdev(std::span<const double> data, double rate_hz,
+                                           DataType type = DataType::freq, const TauGrid& grid = {},
+                                           const StabilityOptions& options = {}) {
+  return deviation(Stat::htotdev, data, rate_hz, type, grid, options);
+}
+// Theo1 and TheoBR: even averaging factors only, tau = 0.75 m / rate_hz.
+inline std::vector<StabilityPoint> theo1(std::span<const double> data, double rate_hz,
+                                         DataType type = DataType::freq, const TauGrid& grid = {},
+                                         const StabilityOptions& options = {}) {
+  return deviation(Stat::theo1, data, rate_hz, type, grid, options);
+}
+inline std::vector<StabilityPoint> theobr(std::span<const double> data, double rate_hz,
+                                          DataType type = DataType::freq, const TauGrid& grid = {},
+                                          const StabilityOptions& options = {}) {
+  return deviation(Stat::theobr, data, rate_hz, type, grid, options);
+}
+
 }  // namespace cubecal

@@ -27,9 +27,20 @@ double edf_simple(int alpha, std::size_t m, std::size_t n_phase);
 // NIST SP 1065 Table 11 for TOTVAR (b*T/tau - c), simple formula otherwise.
 double edf_totvar(int alpha, std::size_t m, std::size_t n_phase);
 
+// NIST SP 1065 Table 8 for MTOT and TTOT: b (N/m) - c, alpha 2 .. -2
+// (0 otherwise).
+double edf_mtotvar(int alpha, std::size_t m, std::size_t n_phase);
+
+// Theo1 (and TheoBR) at even factor m, r = 0.75 m (SP 1065 sec. 5.2.15, Howe
+// & Tasset 2004), for white PM (alpha 2) and white FM (alpha 0), the two
+// forms checked here by simulation (tests/test_stable32_more.cpp); 0 (no
+// interval) for the other noise types.
+double edf_theo1(int alpha, std::size_t m, std::size_t n_phase);
+
 enum class EdfMethod { greenhall, simple };
 
-// EDF of a statistic as Stable32 computes it.
+// EDF of a statistic as Stable32 computes it (HTOT: the overlapping
+// Hadamard EDF, a lower bound; TIE rms and MTIE: 0, no interval).
 double edf_for(Stat stat, int alpha, std::size_t m, std::size_t n_phase,
                EdfMethod method = EdfMethod::greenhall);
 

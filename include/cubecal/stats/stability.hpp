@@ -24,6 +24,10 @@ struct StabilityOptions {
   // misidentification cannot make the interval falsely narrow. false (the
   // default) keeps the identified type's EDF, as Stable32 does.
   bool conservative_short = false;
+  // MTOT, TTOT and HTOT are biased low for most noise types; true divides
+  // their variance by the bias of the noise type (identified, or `alpha`),
+  // as Stable32's bias-correction option does (docs/formulas/stability.md).
+  bool bias_correction = false;
 };
 
 struct StabilityPoint {
@@ -41,11 +45,18 @@ struct StabilityPoint {
 };
 
 // Prepared record: phase points for the kernels plus what the statistic
-// needs (the reflected extension for TOTDEV). Build once per channel and
+// needs (the reflected extension for TOTDEV, the phase differences for HTOT,
+// TheoBR's bias ratio). TIE rms and MTIE of frequency data integrate it with
+// its mean (a frequency offset is a time error); every other statistic
+// removes it first. Build once per channel and
 // statistic; evaluate() is const and safe to call from several threads.
 class StabilityRecord {
  public:
-  // Throws std::invalid_argument for a NaN or infinite sample. The data are
+  // TheoBR's bias ratio costs about N^3/65 terms (a second or two at 5000
+  // points, about ten at 10000): records of more phase points are refused.
+  static constexpr std::size_t kTheobrMaxPoints = 10000;
+  // Throws std::invalid_argument for a NaN or infinite sample (and for
+  // TheoBR beyond kTheobrMaxPoints). The data are
   // scaled by an exact power of two internally, so values anywhere in the
   // double range (1e-150 or 1e+150) give correct deviations.
   StabilityRecord(std::span<const double> data, DataType type, double tau0, Stat stat);
@@ -87,6 +98,9 @@ class StabilityRecord {
   void identify(StabilityPoint& p, const StabilityOptions& opt) const;
   // EDF and interval of p for p.alpha (conservative_short applied).
   void set_interval(StabilityPoint& p, const StabilityOptions& opt) const;
+  // Noise type, bias correction and interval of p, as `opt` asks.
+  void describe(StabilityPoint& p, const StabilityOptions& opt) const;
+  bool needs_type(const StabilityOptions& opt) const noexcept;
 
   double scale_;
   std::vector<double> x_;
@@ -94,6 +108,8 @@ class StabilityRecord {
   double tau0_;
   Stat stat_;
   TotvarExtension ext_;  // only for TOTDEV
+  std::vector<double> d_;  // only for HTOT: x[k+1] - x[k]
+  double theobr_ratio_ = 0.0;  // only for TheoBR
 };
 
 // Convenience: every m in `ms` (single-threaded; the pipeline layer runs

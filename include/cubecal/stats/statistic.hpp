@@ -2,6 +2,7 @@
 #pragma once
 #include <cstddef>
 #include <optional>
+#include <span>
 #include <string_view>
 
 namespace cubecal {
@@ -10,25 +11,47 @@ namespace cubecal {
 // Phase data: their time integral (time error in s, angle in deg...).
 enum class DataType { phase, freq };
 
-enum class Stat { adev, oadev, mdev, tdev, hdev, ohdev, totdev };
+// The Allan family (adev .. totdev), the time-interval errors (tierms, mtie),
+// the total variances of SP 1065 (mtotdev, ttotdev, htotdev) and the Theo
+// family (theo1 and the bias-removed theobr). docs/formulas/stability.md defines each.
+enum class Stat { adev, oadev, mdev, tdev, hdev, ohdev, totdev, tierms, mtie, mtotdev, ttotdev, htotdev, theo1, theobr };
 
 std::string_view to_string(Stat s) noexcept;
 std::string_view to_string(DataType t) noexcept;
 std::optional<Stat> parse_stat(std::string_view s) noexcept;
 std::optional<DataType> parse_data_type(std::string_view s) noexcept;
 
+// Every statistic's name, in the order of the enum (for option lists and help).
+std::span<const std::string_view> stat_names() noexcept;
+
+// False for the time-interval errors (TIE rms, MTIE): they have no noise
+// identification, no EDF and no confidence interval.
+bool has_intervals(Stat s) noexcept;
+
+// The tau of averaging factor m is m * tau_per_factor(s) * tau0: 0.75 for the
+// Theo family (Theo1 at m spans 0.75 m tau0), 1 for the others.
+double tau_per_factor(Stat s) noexcept;
+
+// Whether the statistic is defined at averaging factor m (the Theo family
+// takes even m only).
+bool factor_allowed(Stat s, std::size_t m) noexcept;
+
 // Order of the finite difference of phase behind a statistic: 2 for the Allan
-// family (AVAR, MVAR, TVAR, TOTVAR), 3 for the Hadamard family.
+// family (AVAR, MVAR, TVAR, TOTVAR, MTOT, TTOT, the Theo family), 3 for the
+// Hadamard family (HVAR, OHVAR, HTOT), 1 for TIE rms and MTIE.
 int difference_order(Stat s) noexcept;
 
 // Largest averaging factor Stable32 evaluates for a statistic on N phase
 // points (N-1 frequency points): (N-1)/5 for ADEV and HDEV, (N-1)/4 for the
-// overlapping and modified statistics, (N-1)/2 for TOTDEV.
+// overlapping and modified statistics and TIE rms, (N-1)/3 for MTOT, TTOT and
+// HTOT, (N-1)/2 for TOTDEV, N-1 for MTIE and the Theo family (whose largest
+// factor is then the largest even one).
 std::size_t max_averaging_factor(Stat s, std::size_t n_phase) noexcept;
 
 // Phase points per averaging factor in that limit: max_averaging_factor(s, N)
 // >= m exactly when N >= points_per_factor(s) * m + 1 (5 for ADEV and HDEV,
-// 4 for the overlapping and modified statistics, 2 for TOTDEV).
+// 4 for the overlapping and modified statistics and TIE rms, 3 for the
+// modified and Hadamard totals, 2 for TOTDEV, 1 for MTIE and the Theo family).
 std::size_t points_per_factor(Stat s) noexcept;
 
 }  // namespace cubecal

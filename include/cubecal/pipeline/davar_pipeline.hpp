@@ -1,0 +1,81 @@
+// `cubecal davar` as a library call: the dynamic Allan deviation
+// (stats/davar.hpp) of every channel of a record, with the window and the
+// step given as durations or sample counts, and its JSON.
+#pragma once
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "cubecal/io/series.hpp"
+#include "cubecal/stats/davar.hpp"
+#include "cubecal/stats/tau_exclusions.hpp"
+#include "cubecal/stats/tau_grid.hpp"
+
+namespace cubecal::pipeline {
+
+// A window or a step as the user gives it: a duration ("1h", "30m", "30min",
+// "90s", "2d", "0.5h") or a whole number of samples ("36000").
+struct DavarSpan {
+  double seconds = 0.0;     // > 0 for a duration
+  std::size_t samples = 0;  // > 0 for a count
+  std::string text;         // as given
+};
+
+// Throws UsageError(option) naming the text when it is neither.
+DavarSpan parse_davar_span(const std::string& text, const std::string& option);
+
+// The span in samples at `rate_hz` (a duration rounded to the nearest
+// sample); UsageError(option) when that is no sample at all.
+std::size_t span_samples(const DavarSpan& span, double rate_hz, const std::string& option);
+
+struct DavarRequest {
+  DataType type = DataType::freq;
+  std::optional<DavarSpan> window;  // not set: a tenth of the record (the whole record if that is too short)
+  std::optional<DavarSpan> step;    // not set: a tenth of the window (at least one sample)
+  TauGrid grid = [] {
+    TauGrid g;
+    g.kind = TauGrid::Kind::log;
+    g.per_decade = 10;
+    return g;
+  }();
+  DavarIntervals intervals;
+  DavarMethod method = DavarMethod::fast;
+  unsigned threads = 0;             // channels at once; 0: all cores
+};
+
+struct DavarChannel {
+  std::string name;
+  DavarMatrix matrix;
+};
+
+struct DavarResult {
+  std::string file;                 // the record's file (empty for arrays)
+  double rate_hz = 0.0;
+  std::size_t samples = 0;
+  DataType type = DataType::freq;
+  std::size_t window = 0;           // samples
+  std::size_t step = 0;             // samples
+  std::string window_text, step_text;  // as asked ("1h"), or how the default was chosen
+  TauGrid grid;
+  // Listed taus a window cannot evaluate, and listed taus merged on one
+  // factor (empty for generated grids).
+  TauListOutcome tau_list;
+  std::vector<DavarChannel> channels;
+};
+
+// Throws UsageError("gaps") for a record cut at gaps (one window slides along
+// one contiguous record), and the errors of davar() (UsageError "window",
+// "step", "taus", "alpha", "ci").
+DavarResult run_davar(const io::Series& series, const DavarRequest& request);
+
+// {"command": "davar", "file", "rate_hz", "type", "samples", "window": {samples,
+// seconds, asked}, "step": {...}, "windows", "intervals": {...}, "channels": [
+// {"name", "t_start": [...], "t": [...] (centres), "m", "tau", "n",
+// "dev": [[...] one array per tau, over the windows], and with intervals
+// "lo", "hi", "edf", "alpha" in the same layout}]}.
+nlohmann::json to_json(const DavarResult& r);
+
+}  // namespace cubecal::pipeline

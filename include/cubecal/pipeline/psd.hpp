@@ -1,0 +1,78 @@
+// `cubecal psd` as a library call: the Welch power spectral density of every
+// channel of a record (welch_psd.hpp), optionally averaged over logarithmic
+// bands, with its power-law fit and the IEEE 952 terms the fit's
+// coefficients stand for, so that a spectrum can be set beside `analyze`.
+// JSON form: psd_json.hpp. docs/formulas/spectral.md.
+#pragma once
+#include <cstddef>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "cubecal/io/series.hpp"
+#include "cubecal/noise/noise_terms.hpp"
+#include "cubecal/noise/units.hpp"
+#include "cubecal/spectral/power_law_fit.hpp"
+#include "cubecal/spectral/psd.hpp"
+#include "cubecal/spectral/welch_options.hpp"
+
+namespace cubecal::pipeline {
+
+struct PsdRequest {
+  WelchOptions welch;
+  // 0: every bin of the transform in the result; K > 0: averaged over K
+  // logarithmic bands per decade (the fit always uses the raw bins).
+  std::size_t bins_per_decade = 0;
+  bool fit = true;                   // the power-law fit and its IEEE 952 terms
+  PowerLawFitOptions fit_options;
+  std::vector<Unit> units;           // one per channel, one for all, or none (an unnamed unit)
+  unsigned threads = 0;              // 0: all cores
+};
+
+// An IEEE 952 term from a fitted coefficient (Q from h_2 with f_h = rate/2,
+// N from h_0, B from h_-1, K from h_-2), in the data unit and seconds, and
+// in the unit people quote (noise/units.hpp display()).
+struct PsdAllanTerm {
+  Term term = Term::N;
+  int alpha = 0;
+  TermEstimate estimate;
+  Quantity display;
+};
+
+struct PsdChannel {
+  std::string name;
+  Unit unit;                  // name empty: none given
+  Psd spectrum;               // raw, or averaged over log bands (bins_per_decade > 0)
+  PowerLawFit fit;            // terms empty when not asked for or not made
+  std::vector<PsdAllanTerm> allan_terms;
+  // Why the fit was not made: the default band holds too few log bands
+  // (a short record); empty when fitted or not asked for. A band the
+  // request sets is a UsageError instead.
+  std::string fit_error;
+};
+
+struct PsdResult {
+  std::string file;              // empty for arrays
+  double rate_hz = 0.0;
+  std::size_t samples = 0;
+  std::size_t pieces = 1;        // contiguous pieces of the record (> 1 when cut at gaps)
+  std::size_t pieces_used = 1;   // pieces holding at least one segment
+  double overlap = 0.5;          // the fraction asked for (the samples are in each spectrum)
+  std::size_t bins_per_decade = 0;
+  bool fitted = false;
+  std::vector<PsdChannel> channels;
+};
+
+// Throws UsageError for a plan the record cannot take (welch_options.hpp),
+// a unit count that is neither 1 nor one per channel ("units"), and a fit
+// band set in the request that is too narrow ("fit_range"; with the default
+// band the channel says why in fit_error).
+PsdResult run_psd(const io::Series& series, const PsdRequest& request);
+
+// The same on arrays of one length, cut into `segments` as a Series is
+// (empty: one contiguous piece). std::invalid_argument for mismatched names
+// or lengths.
+PsdResult run_psd(const std::vector<std::string>& names, const std::vector<std::span<const double>>& channels,
+                  double rate_hz, const std::vector<io::Segment>& segments, const PsdRequest& request);
+
+}  // namespace cubecal::pipeline

@@ -1,0 +1,21 @@
+// The JSON form of a `cubecal psd` result (what `psd --format json`
+// prints): {command: "psd", file, rate_hz, samples, pieces, pieces_used,
+// welch {window, segment_length, overlap, overlap_samples, detrend,
+// segments, samples_used, resolution_hz, enbw_hz, bins_per_decade},
+// one_sided: true, channels [{name, unit (null when none was given),
+// density_unit, frequency_hz [], density [], edf [], bins [],
+// density_rate {unit: "(deg/h)^2/Hz", values []} (rate sensors), fit {f_lo_hz,
+// f_hi_hz, bands, chi2, dof, scale, terms [{alpha, h, sigma, valid, unit,
+// f_lo_hz, f_hi_hz}], covariance [[...]]} (when fitted; null with fit_error
+// saying why when the default band of a short record was too narrow), allan_terms
+// [{term, alpha, valid, value, sigma, unit, display {value, sigma, unit}}]}]}.
+#pragma once
+#include <nlohmann/json.hpp>
+
+#include "cubecal/pipeline/psd.hpp"
+
+namespace cubecal::pipeline {
+
+nlohmann::json to_json(const PsdResult& r);
+
+}  // namespace cubecal::pipeline

@@ -1,0 +1,113 @@
+// Dynamic Allan deviation: the overlapping Allan deviation (OADEV) of a
+// window sliding along the record, W samples long and moved S samples at a
+// time, on a grid of averaging factors: a tau x time matrix that shows how a
+// sensor's noise changes over a run (Galleani & Tavella's dynamic Allan
+// variance; the fast recursion of Wang et al., Sensors 16, 2078, 2016, the
+// paper's ref. [9]). Definition, recursion and precision argument:
+// docs/formulas/davar.md.
+//
+//   cubecal::DavarOptions o;
+//   o.window = 36000;                         // 1 h at 10 Hz
+//   o.step = 600;                             // 60 s
+//   o.grid = cubecal::parse_tau_grid("log:10");
+//   const auto r = cubecal::davar(y, cubecal::DataType::freq, 0.1, o);
+//   r.dev_at(j, k);                           // tau r.tau[j], window centred at r.centre[k]
+//
+// Spans in, a result out; no I/O, no threads.
+#pragma once
+#include <cstddef>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "cubecal/stats/edf.hpp"
+#include "cubecal/stats/statistic.hpp"
+#include "cubecal/stats/tau_grid.hpp"
+
+namespace cubecal {
+
+// fast: the window sums slide over per-step block sums (docs/formulas/davar.md
+// §3), O(N) per averaging factor for the whole record. direct: the OADEV
+// kernel (stats/kernels.hpp) run on every window anew, O(N W / S) per factor:
+// the definition, kept as the reference the fast method is tested and timed
+// against.
+enum class DavarMethod { fast, direct };
+
+// Confidence intervals per cell (docs/formulas/davar.md §5): the EDF of the
+// window's OADEV at the cell's averaging factor (stats/edf.hpp) for a noise
+// type, and the chi-squared interval (stats/confidence.hpp).
+struct DavarIntervals {
+  bool enabled = false;
+  double ci = 0.683;
+  EdfMethod edf = EdfMethod::greenhall;
+  // The noise type (+2 WPM ... -2 RWFM) of every cell. Not set: identified
+  // in each cell on the window's own data as `dev` identifies it on a record
+  // (stats/noise_id.hpp, with the run rule beyond half the largest factor),
+  // since the noise the dynamic deviation is meant to follow may change type
+  // along the record.
+  std::optional<int> alpha;
+};
+
+struct DavarOptions {
+  std::size_t window = 0;  // W: input samples per window (frequency: W + 1 phase points; phase: W)
+  std::size_t step = 0;    // S: input samples the window moves each time (>= 1)
+  TauGrid grid;            // averaging factors up to the OADEV limit of one window
+  DavarMethod method = DavarMethod::fast;
+  DavarIntervals intervals;
+};
+
+struct DavarMatrix {
+  double tau0 = 0.0;
+  DataType type = DataType::freq;
+  std::size_t samples = 0;         // input samples of the record
+  std::size_t window = 0;          // W, input samples
+  std::size_t step = 0;            // S, input samples
+  std::size_t window_points = 0;   // phase points of one window (W + 1 for frequency, W for phase)
+  // Per window k: the time of its first phase point and of its centre, in
+  // seconds from the record's first phase point (the start of the first
+  // frequency sample).
+  std::vector<double> start;
+  std::vector<double> centre;
+  // Per averaging factor j (ascending).
+  std::vector<std::size_t> m;
+  std::vector<double> tau;
+  // Terms of each cell of row j: window_points - 2 m[j]. Every window has the
+  // same length, so the count of a cell depends on its row only.
+  std::vector<std::size_t> n;
+  // The matrix, row-major by tau: dev[j * windows() + k].
+  std::vector<double> dev;
+  // With intervals (empty without): the same layout.
+  std::vector<double> lo, hi, edf;
+  std::vector<int> alpha;
+  // Per cell: the noise type is the previous factor's in the window's run
+  // (the run rule of docs/formulas/stability.md §4.5), not identified at m.
+  std::vector<bool> alpha_carried;
+  bool intervals = false;
+  double ci = 0.0;
+  EdfMethod edf_method = EdfMethod::greenhall;
+  std::optional<int> fixed_alpha;
+
+  std::size_t windows() const noexcept { return start.size(); }
+  std::size_t taus() const noexcept { return m.size(); }
+  std::size_t cell(std::size_t j, std::size_t k) const noexcept { return j * start.size() + k; }
+  double dev_at(std::size_t j, std::size_t k) const noexcept { return dev[cell(j, k)]; }
+};
+
+// The phase points of a window of `window` input samples of `type`.
+std::size_t davar_window_points(std::size_t window, DataType type) noexcept;
+
+// The windows of a record of `samples` input samples: (samples - W) / S + 1,
+// 0 when W exceeds the record.
+std::size_t davar_window_count(std::size_t samples, std::size_t window, std::size_t step) noexcept;
+
+// The dynamic OADEV of `data` (frequency or phase samples every tau0 s).
+// Throws UsageError("window") for a window shorter than OADEV needs for
+// m = 1 (4 frequency or 5 phase samples) or longer than the record,
+// UsageError("step") for a zero step, UsageError("taus") when no factor of
+// the grid fits a window, UsageError("alpha") for a fixed noise type outside
+// -2..2, UsageError("ci") for a confidence outside (0, 1), and
+// std::invalid_argument for a NaN or infinite sample or a tau0 that is not a
+// positive finite number.
+DavarMatrix davar(std::span<const double> data, DataType type, double tau0, const DavarOptions& options);
+
+}  // namespace cubecal

@@ -1,0 +1,123 @@
+// `cubecal psd`: docs/formulas/spectral.md.
+#include "cubecal/pipeline/psd.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <exception>
+#include <stdexcept>
+
+#include "cubecal/error.hpp"
+#include "cubecal/pipeline/welch_psd.hpp"
+#include "cubecal/spectral/allan_conversion.hpp"
+#include "cubecal/spectral/log_bins.hpp"
+
+namespace cubecal::pipeline {
+
+namespace {
+
+// The IEEE 952 term each exponent of the default model stands for.
+bool term_of(int alpha, Term& term) {
+  switch (alpha) {
+    case 2: term = Term::Q; return true;
+    case 0: term = Term::N; return true;
+    case -1: term = Term::B; return true;
+    case -2: term = Term::K; return true;
+    default: return false;
+  }
+}
+
+std::vector<PsdAllanTerm> allan_terms(const PowerLawFit& fit, const Unit& unit, double rate_hz) {
+  // A unit without a name is shown as u.
+  const Unit shown = unit.name.empty() ? Unit{std::string(1, 'u'), unit.kind, unit.to_si, unit.si_name} : unit;
+  std::vector<PsdAllanTerm> out;
+  for (const PowerLawTerm& t : fit.terms) {
+    Term term{};
+    if (!term_of(t.alpha, term)) continue;
+    PsdAllanTerm a;
+    a.term = term;
+    a.alpha = t.alpha;
+    a.estimate = term_from_power_law(term, t.valid ? t.h : 0.0, t.sigma, 0.5 * rate_hz);
+    a.display = display(a.estimate, term, shown);
+    out.push_back(a);
+  }
+  return out;
+}
+
+}  // namespace
+
+PsdResult run_psd(const std::vector<std::string>& names, const std::vector<std::span<const double>>& channels,
+                  double rate_hz, const std::vector<io::Segment>& segments, const PsdRequest& request) {
+  if (names.size() != channels.size()) throw std::invalid_argument("run_psd: a name per channel");
+  const std::size_t n = channels.empty() ? 0 : channels[0].size();
+  for (const auto& c : channels)
+    if (c.size() != n) throw std::invalid_argument("run_psd: channels of different lengths");
+  const std::size_t units = request.units.size();
+  if (units > 1 && units != channels.size())
+    throw UsageError("units", "give one unit for all channels or one per channel (" + std::to_string(units) +
+                                  " units for " + std::to_string(channels.size()) + " channels)");
+  std::vector<io::Segment> pieces = segments;
+  if (pieces.empty()) pieces.push_back({0, n});
+  for (const auto& p : pieces)
+    if (p.end > n || p.begin > p.end) throw std::invalid_argument("run_psd: a segment outside the record");
+
+  PsdResult r;
+  r.rate_hz = rate_hz;
+  r.samples = n;
+  r.pieces = pieces.size();
+  r.overlap = request.welch.overlap;
+  r.bins_per_decade = request.bins_per_decade;
+  r.fitted = request.fit;
+  r.channels.resize(channels.size());
+  // The plan first, so that a bad request fails before any work and the
+  // pieces used are counted once.
+  std::size_t longest = 0;
+  for (const auto& p : pieces) longest = std::max(longest, p.size());
+  const WelchPlan plan = plan_welch(request.welch, longest, rate_hz);
+  r.pieces_used = 0;
+  for (const auto& p : pieces)
+    if (welch_segments(p.size(), plan) > 0) ++r.pieces_used;
+
+  const int threads = request.threads > 0 ? static_cast<int>(request.threads) : omp_get_max_threads();
+  std::vector<std::exception_ptr> errors(channels.size());
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+  for (std::ptrdiff_t ci = 0; ci < static_cast<std::ptrdiff_t>(channels.size()); ++ci) {
+    const auto c = static_cast<std::size_t>(ci);
+    try {
+      std::vector<std::span<const double>> views;
+      for (const auto& p : pieces) views.push_back(channels[c].subspan(p.begin, p.size()));
+      const Psd raw = welch_psd(std::span<const std::span<const double>>(views), rate_hz, request.welch);
+      PsdChannel& out = r.channels[c];
+      out.name = names[c];
+      if (units == 1) out.unit = request.units[0];
+      if (units > 1) out.unit = request.units[c];
+      if (request.fit) {
+        try {
+          out.fit = fit_power_law(raw, request.fit_options);
+          out.allan_terms = allan_terms(out.fit, out.unit, rate_hz);
+        } catch (const UsageError& e) {
+          const bool band_asked =
+              request.fit_options.min_frequency_hz > 0.0 || request.fit_options.max_frequency_hz > 0.0;
+          if (e.option() != "fit_range" || band_asked) throw;
+          out.fit_error = e.what();  // a short record: the spectrum without its fit
+        }
+      }
+      out.spectrum = request.bins_per_decade > 0 ? log_bin(raw, request.bins_per_decade) : raw;
+    } catch (...) {
+      errors[c] = std::current_exception();
+    }
+  }
+  for (const auto& e : errors)
+    if (e) std::rethrow_exception(e);
+  return r;
+}
+
+PsdResult run_psd(const io::Series& series, const PsdRequest& request) {
+  std::vector<std::span<const double>> views;
+  for (const auto& c : series.channels) views.emplace_back(c);
+  PsdResult r = run_psd(series.names, views, series.rate_hz, series.segments, request);
+  r.file = series.file;
+  return r;
+}
+
+}  // namespace cubecal::pipeline

@@ -1,0 +1,545 @@
+// TIE rms, MTIE, MTOT, TTOT, HTOT, Theo1 and TheoBR against the Stable32
+// tables in ../shared/data/stable32 (tau and n exact, the value within 1e-4
+// relative, the noise type where Stable32 identified it), and each against
+// its definition or a closed form.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <numeric>
+#include <optional>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_runner.hpp"
+#include "cubecal/stats/deviation.hpp"
+#include "cubecal/stats/edf.hpp"
+#include "cubecal/stats/stability.hpp"
+#include "cubecal/stats/tau_grid.hpp"
+#include "cubecal/stats/theo.hpp"
+#include "cubecal/stats/time_error.hpp"
+#include "cubecal/stats/total_kernels.hpp"
+#include "stable32_table.hpp"
+
+namespace cubecal {
+namespace {
+
+using test::read_column;
+using test::shared_data;
+
+double rel(double a, double b) { return std::abs(a - b) / std::abs(b); }
+
+// A row of any Stable32 table: AF, tau, n, then the value (4-column TIE and
+// MTIE tables) or alpha, min, value, max (7 columns; Theo1 prints n as a
+// floating-point number).
+struct Row {
+  std::size_t af = 0;
+  double tau = 0;
+  double n = 0;
+  std::optional<int> alpha;
+  double lo = 0, dev = 0, hi = 0;
+};
+
+std::vector<Row> read_rows(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("cannot open " + path);
+  std::vector<Row> rows;
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.find('#') != std::string::npos) continue;
+    std::istringstream ss(line);
+    std::vector<double> v;
+    double d = 0;
+    while (ss >> d) v.push_back(d);
+    Row r;
+    if (v.size() == 4) {
+      r = {static_cast<std::size_t>(v[0]), v[1], v[2], std::nullopt, 0, v[3], 0};
+    } else if (v.size() == 7) {
+      r = {static_cast<std::size_t>(v[0]), v[1], v[2], static_cast<int>(v[3]), v[4], v[5], v[6]};
+    } else {
+      continue;
+    }
+    rows.push_back(r);
+  }
+  return rows;
+}
+
+const std::vector<double>& phase_dat() {
+  static const std::vector<double> x = read_column(shared_data("stable32/phasedat/PHASE.DAT"));
+  return x;
+}
+const std::vector<double>& cs5071a() {
+  static const std::vector<double> x = read_column(shared_data("stable32/cs5071a/5071A_phase.txt.gz"));
+  return x;
+}
+
+enum class NTerms {
+  exact,   // the table's # is the number of terms
+  record,  // the table's # is the record length (Stable32's MTIE outside its fast mode)
+};
+
+struct Case {
+  const char* table;
+  bool cs5071a;  // else PHASE.DAT
+  Stat stat;
+  std::optional<int> fixed_alpha = std::nullopt;  // the table was made with this type
+  bool bias_correction = false;                   // the table is bias-corrected
+  NTerms n_terms = NTerms::exact;
+};
+
+struct Outcome {
+  std::size_t rows = 0, alpha_rows = 0, alpha_match = 0, ci_rows = 0;
+  double worst_dev = 0, worst_ci = 0;
+};
+
+Outcome compare(const Case& c) {
+  Outcome o;
+  const auto rows = read_rows(shared_data(c.table));
+  EXPECT_FALSE(rows.empty()) << c.table;
+  const std::vector<double>& x = c.cs5071a ? cs5071a() : phase_dat();
+  const StabilityRecord rec(x, DataType::phase, 1.0, c.stat);
+  std::vector<std::size_t> afs;
+  for (const auto& r : rows) afs.push_back(r.af);
+  StabilityOptions opt;
+  opt.alpha = c.fixed_alpha;
+  opt.bias_correction = c.bias_correction;
+  const auto run = rec.evaluate(afs, opt);
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    const Row& row = rows[k];
+    const StabilityPoint& p = run[k];
+    SCOPED_TRACE(std::string(c.table) + " AF " + std::to_string(row.af));
+    EXPECT_LE(row.af, rec.max_m());
+    EXPECT_GT(p.n, 0u);
+    if (p.n == 0) continue;
+    EXPECT_LE(rel(p.tau, row.tau), 5e-5);  // tau printed with 5 digits
+    const double n_want = c.n_terms == NTerms::record ? static_cast<double>(x.size()) : row.n;
+    if (c.n_terms == NTerms::record) {
+      EXPECT_EQ(row.n, n_want);  // the record length
+      EXPECT_EQ(static_cast<double>(p.n), n_want - static_cast<double>(row.af));  // N - m windows
+    } else if (c.stat == Stat::theo1 || c.stat == Stat::theobr) {
+      // Stable32 prints Theo1's # with five significant digits (1.0050e+05).
+      const double unit = std::pow(10.0, std::floor(std::log10(row.n)) - 4.0);
+      EXPECT_LE(std::abs(static_cast<double>(p.n) - n_want), 0.5 * unit) << p.n << " vs " << row.n;
+    } else {
+      EXPECT_EQ(static_cast<double>(p.n), n_want);
+    }
+    const double e = rel(p.dev, row.dev);
+    EXPECT_LE(e, 1e-4) << "value " << p.dev << " vs " << row.dev;
+    o.worst_dev = std::max(o.worst_dev, e);
+    ++o.rows;
+    if (row.alpha && !c.fixed_alpha && has_intervals(c.stat)) {
+      ++o.alpha_rows;
+      if (p.alpha == *row.alpha) ++o.alpha_match;
+      // Where 30 or more averages remain the lag-1 ACF decides, as in Stable32.
+      if ((x.size() - 1) / row.af >= 30) {
+        EXPECT_EQ(p.alpha, *row.alpha) << "noise type";
+      }
+    }
+    if (row.lo > 0 && row.hi > 0) {
+      ++o.ci_rows;
+      StabilityOptions forced = opt;
+      forced.alpha = *row.alpha;
+      const StabilityPoint q = rec.evaluate(row.af, forced);
+      o.worst_ci = std::max(o.worst_ci, std::max(rel(q.lo, row.lo), rel(q.hi, row.hi)));
+    }
+  }
+  return o;
+}
+
+class Stable32More : public ::testing::TestWithParam<Case> {};
+
+TEST_P(Stable32More, MatchesTable) {
+  const Outcome o = compare(GetParam());
+  std::printf("  %-52s rows %3zu  worst value %.2e  alpha %zu/%zu  CI rows %zu (worst %.2e, Stable32's type)\n",
+              GetParam().table, o.rows, o.worst_dev, o.alpha_match, o.alpha_rows, o.ci_rows, o.worst_ci);
+}
+
+const Case kCases[] = {
+    {"stable32/phasedat/phase_dat_tierms.txt", false, Stat::tierms},
+    {"stable32/cs5071a/tierms_all.txt", true, Stat::tierms},
+    {"stable32/cs5071a/tierms_decade.txt", true, Stat::tierms},
+    {"stable32/phasedat/phase_dat_mtie.txt", false, Stat::mtie},
+    {"stable32/cs5071a/mtie_all.txt", true, Stat::mtie},
+    {"stable32/cs5071a/mtie_fast.txt", true, Stat::mtie},
+    // Stable32's MTIE outside its fast mode prints the record length as "#".
+    {"stable32/cs5071a/mtie_decade.txt", true, Stat::mtie, std::nullopt, false, NTerms::record},
+    {"stable32/phasedat/phase_dat_mtotdev_octave.txt", false, Stat::mtotdev},
+    {"stable32/phasedat/phase_dat_mtotdev_decade.txt", false, Stat::mtotdev},
+    {"stable32/phasedat/phase_dat_mtotdev_octave_alpha0.txt", false, Stat::mtotdev, 0},
+    // Stable32 1.53's all-tau run: bias-corrected by the noise type it gives.
+    {"stable32/phasedat/phase_dat_mtotdev.txt", false, Stat::mtotdev, std::nullopt, true},
+    {"stable32/phasedat/phase_dat_ttotdev_octave.txt", false, Stat::ttotdev},
+    {"stable32/phasedat/phase_dat_ttotdev_decade.txt", false, Stat::ttotdev},
+    {"stable32/phasedat/phase_dat_ttotdev_all.txt", false, Stat::ttotdev, std::nullopt, true},
+    {"stable32/phasedat/phase_dat_htotdev_octave.txt", false, Stat::htotdev, std::nullopt, true},
+    // Made without bias correction; Stable32 says alpha 2 on every row.
+    {"stable32/phasedat/phase_dat_htotdev_octave_nobias.txt", false, Stat::htotdev, 2},
+    // Theo1 with the type fixed at white FM (Theo1's bias is 1 there).
+    {"stable32/phasedat/phase_dat_theo1_alpha0.txt", false, Stat::theo1, 0},
+    {"stable32/phasedat/phase_dat_theo1_alpha0_decade.txt", false, Stat::theo1, 0},
+    // Stable32's bias-removed Theo1 ("Alpha = 1" in its header): TheoBR.
+    {"stable32/phasedat/phase_dat_theo1.txt", false, Stat::theobr, 1},
+};
+
+std::string case_name(const ::testing::TestParamInfo<Case>& info) {
+  std::string s = info.param.table;
+  s = s.substr(s.find('/') + 1);
+  for (char& ch : s)
+    if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+  return s;
+}
+
+INSTANTIATE_TEST_SUITE_P(Tables, Stable32More, ::testing::ValuesIn(kCases), case_name);
+
+// ---------------------------------------------------------------------------
+// Definitions, written out term by term (O(N m) and slower), on seeded data.
+
+std::vector<double> random_walk(std::size_t n, unsigned seed, double drift = 0.0) {
+  std::mt19937_64 g(seed);
+  std::normal_distribution<double> w(0.0, 1.0);
+  std::vector<double> x(n);
+  double acc = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    x[i] = acc + drift * static_cast<double>(i);
+    acc += w(g);
+  }
+  return x;
+}
+
+double direct_mtie(const std::vector<double>& x, std::size_t m) {
+  double best = 0;
+  for (std::size_t i = 0; i + m < x.size(); ++i) {
+    const auto [lo, hi] = std::minmax_element(x.begin() + static_cast<std::ptrdiff_t>(i),
+                                              x.begin() + static_cast<std::ptrdiff_t>(i + m + 1));
+    best = std::max(best, *hi - *lo);
+  }
+  return best;
+}
+
+// SP 1065 eq. 27 literally: per subsequence, detrend by half means, extend
+// to 9m by even reflection, average the 6m squared second differences of
+// m-point means.
+double direct_total(const std::vector<double>& v, std::size_t m) {
+  const std::size_t L = 3 * m;
+  double total = 0;
+  std::size_t n = 0;
+  for (std::size_t i = 0; i + L <= v.size(); ++i, ++n) {
+    std::vector<double> y(v.begin() + static_cast<std::ptrdiff_t>(i), v.begin() + static_cast<std::ptrdiff_t>(i + L));
+    const std::size_t h1 = L / 2, h2 = (L + 1) / 2;
+    double a = 0, b = 0;
+    for (std::size_t k = 0; k < h1; ++k) a += y[k];
+    for (std::size_t k = h2; k < L; ++k) b += y[k];
+    a /= static_cast<double>(h1);
+    b /= static_cast<double>(L - h2);
+    const double dist = (L % 2 == 1) ? static_cast<double>(L + 1) / 2.0 : static_cast<double>(L) / 2.0;
+    for (std::size_t k = 0; k < L; ++k) y[k] -= (b - a) / dist * static_cast<double>(k);
+    std::vector<double> ext;
+    for (std::size_t k = L; k-- > 0;) ext.push_back(y[k]);
+    ext.insert(ext.end(), y.begin(), y.end());
+    for (std::size_t k = L; k-- > 0;) ext.push_back(y[k]);
+    double s = 0;
+    for (std::size_t j = 0; j < 6 * m; ++j) {
+      double m1 = 0, m2 = 0, m3 = 0;
+      for (std::size_t k = 0; k < m; ++k) {
+        m1 += ext[j + k];
+        m2 += ext[j + m + k];
+        m3 += ext[j + 2 * m + k];
+      }
+      const double d = (m1 - 2 * m2 + m3) / static_cast<double>(m);
+      s += d * d;
+    }
+    total += s / (6.0 * static_cast<double>(m));
+  }
+  return total / static_cast<double>(n);
+}
+
+double direct_theo1(const std::vector<double>& x, std::size_t m) {
+  const std::size_t N = x.size(), h = m / 2;
+  double sum = 0;
+  for (std::size_t i = 0; i < N - m; ++i)
+    for (std::size_t d = 0; d < h; ++d) {
+      const double t = (x[i] - x[i - d + h]) + (x[i + m] - x[i + d + h]);
+      sum += t * t / static_cast<double>(h - d);
+    }
+  return sum / (0.75 * static_cast<double>(N - m) * static_cast<double>(m * m));
+}
+
+TEST(TimeError, TieRmsAndMtieOfALineAreItsSlope) {
+  // Phase growing 3 ns per s: every window's TIE is 3 m ns.
+  std::vector<double> x(500);
+  for (std::size_t i = 0; i < x.size(); ++i) x[i] = 3e-9 * static_cast<double>(i);
+  for (std::size_t m : {1u, 7u, 100u, 499u}) {
+    const double want = 3e-9 * static_cast<double>(m);
+    EXPECT_NEAR(std::sqrt(tie_mean_square(x, m).var), want, want * 1e-12) << m;
+    EXPECT_NEAR(std::sqrt(mtie_square(x, m).var), want, want * 1e-12) << m;
+  }
+  // The same line given as frequency: TIE keeps the offset.
+  const std::vector<double> y(499, 3e-9);
+  const auto t = cubecal::mtie(y, 1.0, DataType::freq, parse_tau_grid("1,10"));
+  ASSERT_EQ(t.size(), 2u);
+  EXPECT_NEAR(t[1].dev, 30e-9, 30e-9 * 1e-12);
+}
+
+TEST(TimeError, MtieEqualsTheDirectScan) {
+  const auto x = random_walk(3000, 7, 0.01);
+  for (std::size_t m : {1u, 2u, 5u, 63u, 64u, 65u, 1000u, 2999u})
+    EXPECT_DOUBLE_EQ(std::sqrt(mtie_square(x, m).var), direct_mtie(x, m)) << m;
+}
+
+TEST(TimeError, TieRmsOfWhitePhaseIsSqrt2Sigma) {
+  // Independent phase points of variance s^2: E[(x[i+m] - x[i])^2] = 2 s^2,
+  // and the mean of n terms (N - m of them, within m of each other
+  // correlated at most pairwise) has a relative sd below sqrt(4/n).
+  std::mt19937_64 g(11);
+  std::normal_distribution<double> w(0.0, 2.0);
+  std::vector<double> x(200000);
+  for (double& v : x) v = w(g);
+  for (std::size_t m : {1u, 10u, 1000u}) {
+    const VarianceTerm t = tie_mean_square(x, m);
+    EXPECT_NEAR(t.var / 8.0, 1.0, 4.0 * std::sqrt(4.0 / static_cast<double>(t.n))) << m;
+  }
+}
+
+TEST(TotalVariances, MatchTheDefinition) {
+  const auto x = random_walk(400, 3, 0.5);
+  std::vector<double> d(x.size() - 1);
+  for (std::size_t k = 0; k + 1 < x.size(); ++k) d[k] = x[k + 1] - x[k];
+  for (std::size_t m : {1u, 2u, 3u, 8u, 33u, 133u}) {
+    const double tau0 = 0.5, tau = static_cast<double>(m) * tau0;
+    const VarianceTerm mt = mtotvar(x, m, tau0);
+    EXPECT_EQ(mt.n, x.size() - 3 * m + 1);
+    EXPECT_NEAR(mt.var, direct_total(x, m) / (2.0 * tau * tau), 1e-10 * mt.var) << m;
+    if (m < 2) continue;
+    const VarianceTerm ht = htotvar(d, m, tau0);
+    EXPECT_EQ(ht.n, x.size() - 3 * m);
+    EXPECT_NEAR(ht.var, direct_total(d, m) / (6.0 * tau0 * tau0), 1e-10 * ht.var) << m;
+  }
+  // TTOT is tau MTOT / sqrt 3; HTOT at m = 1 is the overlapping HDEV.
+  const StabilityRecord mt(x, DataType::phase, 0.5, Stat::mtotdev);
+  const StabilityRecord tt(x, DataType::phase, 0.5, Stat::ttotdev);
+  const StabilityRecord ht(x, DataType::phase, 0.5, Stat::htotdev);
+  const StabilityRecord oh(x, DataType::phase, 0.5, Stat::ohdev);
+  StabilityOptions none;
+  none.intervals = false;
+  for (std::size_t m : {1u, 4u, 50u}) {
+    const double tau = 0.5 * static_cast<double>(m);
+    EXPECT_NEAR(tt.evaluate(m, none).dev, mt.evaluate(m, none).dev * tau / std::sqrt(3.0),
+                1e-12 * tt.evaluate(m, none).dev);
+  }
+  EXPECT_DOUBLE_EQ(ht.evaluate(1, none).dev, oh.evaluate(1, none).dev);
+}
+
+TEST(TotalVariances, InvariantToPhaseOffsetAndFrequencyOffset) {
+  const auto x = random_walk(300, 5);
+  auto y = x;
+  for (std::size_t i = 0; i < y.size(); ++i) y[i] += 1e3 + 40.0 * static_cast<double>(i);
+  for (Stat s : {Stat::mtotdev, Stat::theo1}) {
+    const StabilityRecord a(x, DataType::phase, 1.0, s), b(y, DataType::phase, 1.0, s);
+    StabilityOptions none;
+    none.intervals = false;
+    for (std::size_t m : {2u, 10u, 50u})
+      EXPECT_NEAR(b.evaluate(m, none).dev, a.evaluate(m, none).dev, 1e-8 * a.evaluate(m, none).dev)
+          << to_string(s) << " m " << m;
+  }
+}
+
+// MTOT's bias for white FM (0.73 of MVAR) and HTOT's for random-walk FM
+// (0.771 of HVAR), the factors of the bias correction, by seeded simulation:
+// the mean over runs of the total variance over the mean of MVAR (OHVAR) of
+// the same runs.
+TEST(TotalVariances, BiasFactorsBySimulation) {
+  constexpr int kRuns = 200;
+  constexpr std::size_t kN = 1025, kM = 32;
+  double mt = 0, mv = 0, ht = 0, hv = 0;
+  std::mt19937_64 g(2024);
+  std::normal_distribution<double> w(0.0, 1.0);
+  std::vector<double> wfm(kN), rwfm(kN);
+  for (int r = 0; r < kRuns; ++r) {
+    double acc = 0, f = 0, acc2 = 0;
+    for (std::size_t i = 0; i < kN; ++i) {
+      wfm[i] = acc;
+      acc += w(g);
+      rwfm[i] = acc2;
+      f += w(g);
+      acc2 += f;
+    }
+    mt += mtotvar(wfm, kM, 1.0).var;
+    mv += mvar(wfm, kM, 1.0).var;
+    std::vector<double> d(kN - 1);
+    for (std::size_t k = 0; k + 1 < kN; ++k) d[k] = rwfm[k + 1] - rwfm[k];
+    ht += htotvar(d, kM, 1.0).var;
+    hv += ohvar(rwfm, kM, 1.0).var;
+  }
+  std::printf("  MTOT/MVAR white FM %.3f (0.73), HTOT/HVAR random-walk FM %.3f (0.771)\n", mt / mv, ht / hv);
+  // Relative sd of a ratio of means over 200 runs of EDF ~ 30..100: ~2 %.
+  EXPECT_NEAR(mt / mv, 0.73, 0.06);
+  EXPECT_NEAR(ht / hv, 0.771, 0.08);
+}
+
+// The EDFs of the total variances against the sample EDF (2 mean^2 / var)
+// of seeded simulations (N = 1001, 400 runs: ~10 % sd): MTOT's SP 1065
+// Table 8 within 30 %, and HTOT's overlapping-Hadamard EDF at most the
+// simulated one (a lower bound, so the interval is never too narrow).
+TEST(TotalVariances, EdfBySimulation) {
+  constexpr int kRuns = 400;
+  constexpr std::size_t kN = 1001;
+  std::mt19937_64 g(99);
+  std::normal_distribution<double> w(0.0, 1.0);
+  for (int alpha : {0, -2}) {
+    for (std::size_t m : {16u, 64u}) {
+      double s1 = 0, s2 = 0, h1 = 0, h2 = 0;
+      std::vector<double> x(kN), d(kN - 1);
+      for (int r = 0; r < kRuns; ++r) {
+        double a = 0, f = 0;
+        for (double& v : x) {
+          v = a;
+          if (alpha == 0) {
+            a += w(g);
+          } else {
+            f += w(g);
+            a += f;
+          }
+        }
+        const double v = mtotvar(x, m, 1.0).var;
+        s1 += v;
+        s2 += v * v;
+        for (std::size_t k = 0; k + 1 < kN; ++k) d[k] = x[k + 1] - x[k];
+        const double hv = htotvar(d, m, 1.0).var;
+        h1 += hv;
+        h2 += hv * hv;
+      }
+      const double mm = s1 / kRuns, mv = s2 / kRuns - mm * mm;
+      const double hm = h1 / kRuns, hvar = h2 / kRuns - hm * hm;
+      const double mtot_sim = 2 * mm * mm / mv, htot_sim = 2 * hm * hm / hvar;
+      const double mtot_edf = edf_for(Stat::mtotdev, alpha, m, kN), htot_edf = edf_for(Stat::htotdev, alpha, m, kN);
+      std::printf("  alpha %2d m %2zu: MTOT EDF simulated %.1f, Table 8 %.1f; HTOT simulated %.1f, OHDEV's %.1f\n",
+                  alpha, m, mtot_sim, mtot_edf, htot_sim, htot_edf);
+      EXPECT_NEAR(mtot_edf / mtot_sim, 1.0, 0.3) << alpha << " " << m;
+      EXPECT_LE(htot_edf, 1.1 * htot_sim) << alpha << " " << m;
+    }
+  }
+}
+
+TEST(Theo1, MatchesTheDefinition) {
+  const auto x = random_walk(300, 9, 0.2);
+  for (std::size_t m : {2u, 10u, 64u, 298u}) {
+    const VarianceTerm t = theo1var(x, m, 2.0);
+    EXPECT_EQ(t.n, (x.size() - m) * (m / 2));
+    EXPECT_NEAR(t.var, direct_theo1(x, m) / 4.0, 1e-10 * t.var) << m;
+  }
+  EXPECT_EQ(theo1var(x, 11, 1.0).n, 0u);  // odd factors are not defined
+  const auto p = cubecal::theo1(x, 2.0, DataType::phase, parse_tau_grid("octave"));
+  ASSERT_FALSE(p.empty());
+  EXPECT_EQ(p.front().m, 2u);
+  EXPECT_DOUBLE_EQ(p.front().tau, 0.75 * 2 / 2.0);
+}
+
+// Theo1 is an unbiased estimator of AVAR at tau = 0.75 m tau0 for white FM,
+// and its EDF (SP 1065) is checked here for white PM and white FM: the
+// sample EDF 2 mean^2 / var of Theo1 over seeded runs against the formula.
+TEST(Theo1, WhiteFmUnbiasedAndEdfBySimulation) {
+  constexpr int kRuns = 600;
+  constexpr std::size_t kN = 501;
+  std::mt19937_64 g(77);
+  std::normal_distribution<double> w(0.0, 1.0);
+  for (int alpha : {2, 0}) {
+    for (std::size_t m : {10u, 40u, 160u}) {
+      std::vector<double> v;
+      std::vector<double> x(kN);
+      double avar_sum = 0;
+      for (int r = 0; r < kRuns; ++r) {
+        double acc = 0;
+        for (std::size_t i = 0; i < kN; ++i) {
+          const double e = w(g);
+          x[i] = alpha == 2 ? e : acc;
+          acc += e;
+        }
+        v.push_back(theo1var(x, m, 1.0).var);
+        avar_sum += alpha == 0 ? oavar(x, 3 * m / 4, 1.0).var : 0.0;
+      }
+      const double mean = std::accumulate(v.begin(), v.end(), 0.0) / kRuns;
+      double var = 0;
+      for (double t : v) var += (t - mean) * (t - mean);
+      var /= kRuns - 1;
+      const double edf_sim = 2 * mean * mean / var, edf = edf_theo1(alpha, m, kN);
+      std::printf("  Theo1 alpha %d m %3zu: EDF simulated %.1f, SP 1065 %.1f\n", alpha, m, edf_sim, edf);
+      // The sample variance of 600 near-chi-squared values: relative sd
+      // ~6 %; the formula is a fit within a few per cent.
+      EXPECT_NEAR(edf_sim / edf, 1.0, 0.2) << "alpha " << alpha << " m " << m;
+      if (alpha == 0) {
+        // White FM of unit frequency variance: AVAR = 1 / tau at tau = 0.75 m
+        // (an integer here): Theo1's mean within 4 sd of its mean over the runs.
+        const double tau = 0.75 * static_cast<double>(m);
+        EXPECT_NEAR(mean * tau, 1.0, 4.0 * std::sqrt(2.0 / (edf * kRuns))) << m;
+        EXPECT_NEAR(avar_sum / kRuns * tau, 1.0, 0.1) << m;
+      }
+    }
+  }
+}
+
+TEST(TheoBr, RatioIsTheMeanAvarOverTheo1) {
+  const auto& x = phase_dat();
+  const double r = theobr_ratio(x);
+  double sum = 0;
+  const std::size_t last = x.size() / 6 - 3;  // floor(N/6 - 3), N = 1001
+  for (std::size_t i = 0; i <= last; ++i) sum += oavar(x, 9 + 3 * i, 1.0).var / direct_theo1(x, 12 + 4 * i);
+  EXPECT_NEAR(r, sum / static_cast<double>(last + 1), 1e-12);
+  std::vector<double> big(StabilityRecord::kTheobrMaxPoints + 1, 0.0);
+  big[5] = 1.0;
+  EXPECT_THROW(StabilityRecord(big, DataType::phase, 1.0, Stat::theobr), std::invalid_argument);
+}
+
+// ---------------------------------------------------------------------------
+// The command line: every statistic by name, JSON without intervals for the
+// time-interval errors, the names in --help.
+
+const std::string kPhaseDat = shared_data("stable32/phasedat/PHASE.DAT");
+
+TEST(Cli, EveryNewStatisticThroughDevJson) {
+  struct Want {
+    const char* stat;
+    double af, tau, dev;  // a row of a Stable32 table
+    bool intervals;
+  };
+  const Want wants[] = {
+      {"tierms", 4, 4, 5.7044e-01, false},  {"mtie", 1, 1, 5.0597e-01, false},
+      {"mtotdev", 4, 4, 9.4613e-02, true},  {"ttotdev", 4, 4, 2.1850e-01, true},
+      {"htotdev", 4, 4, 1.4216e-01, true},  {"theo1", 16, 12, 8.5040e-02, true},
+      {"theobr", 16, 12, 6.6025e-02, true},
+  };
+  for (const Want& w : wants) {
+    const auto r = test::run_cubecal("dev " + kPhaseDat + " --type phase --rate 1 --stat " + w.stat +
+                                     " --taus " + std::to_string(w.tau) + " --format json");
+    ASSERT_EQ(r.code, 0) << w.stat << ": " << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["stat"], w.stat);
+    const auto& c = j["columns"][0];
+    ASSERT_EQ(c["dev"].size(), 1u) << w.stat;
+    EXPECT_EQ(c["af"][0].get<double>(), w.af) << w.stat;
+    EXPECT_NEAR(c["tau"][0].get<double>(), w.tau, 1e-12) << w.stat;
+    EXPECT_LE(rel(c["dev"][0].get<double>(), w.dev), 1e-4) << w.stat;
+    EXPECT_EQ(c.contains("lo"), w.intervals) << w.stat;
+    EXPECT_EQ(j["ci"].is_null(), !w.intervals) << w.stat;
+  }
+  const auto help = test::run_cubecal("dev --help");
+  for (const char* name : {"tierms", "mtie", "mtotdev", "ttotdev", "htotdev", "theo1", "theobr"})
+    EXPECT_NE(help.out.find(name), std::string::npos) << name;
+}
+
+TEST(Cli, BiasCorrectionOption) {
+  // Stable32 1.53's bias-corrected MTOT of PHASE.DAT at AF 4 (white FM).
+  const auto r = test::run_cubecal("dev " + kPhaseDat +
+                                   " --type phase --rate 1 --stat mtotdev --taus 4 --bias-correction --format json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_LE(rel(j["columns"][0]["dev"][0].get<double>(), 1.1074e-01), 1e-4);
+}
+
+}  // namespace
+}  // namespace cubecal
