@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <random>
@@ -12,7 +13,9 @@
 #include <vector>
 
 #include "cli_runner.hpp"
+#include "report_check.hpp"
 #include "cubecal/pipeline/welch_psd.hpp"
+#include "cubecal/report/plot.hpp"
 #include "cubecal/spectral/log_bins.hpp"
 
 namespace cubecal::test {
@@ -188,6 +191,54 @@ TEST_F(PsdCli, OutIsRefusedWhenItExistsUnlessForced) {
   std::ifstream in(out);
   const auto j = nlohmann::json::parse(in);
   EXPECT_EQ(j.at("command"), "psd");
+}
+
+// --report: the page with one spectrum plot per channel (its points the
+// log-binned spectrum, its lines the fitted terms over the fitted band) and
+// the table of terms; an existing page is kept unless --force.
+TEST_F(PsdCli, ReportDrawsTheSpectrumAndTheFittedTerms) {
+  if (!report::find_gnuplot()) GTEST_SKIP() << "gnuplot not installed: install gnuplot-nox (scripts/install-deps.sh)";
+  const std::string file = record(20000);
+  const std::string dir = path("rep");
+  const CliRun r = run_cubecal("psd " + file + " --unit deg/s --format csv --report " + dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  namespace fs = std::filesystem;
+  for (const char* ch : {"gx", "gy"})
+    for (const char* ext : {".dat", ".gp", ".svg", ".png"})
+      EXPECT_TRUE(fs::exists(fs::path(dir) / "plots" / (std::string("psd_") + ch + ext))) << ch << ext;
+  std::ifstream page(fs::path(dir) / "report.html");
+  std::stringstream html;
+  html << page.rdbuf();
+  EXPECT_EQ(count(html.str(), "data:image/svg+xml;base64,"), 2u) << "the plots inline";
+  EXPECT_NE(html.str().find("f^-2 (rate random walk K)"), std::string::npos) << "gx's walk in its table";
+  // The plotted points of gx are the spectrum averaged over 20 bands per
+  // decade: what --bins-per-decade 20 prints, to the nine digits the plot
+  // data keep (bands of zero frequency or density are off the log axes).
+  const CliRun banded = run_cubecal("psd " + file + " --unit deg/s --format json --bins-per-decade 20");
+  ASSERT_EQ(banded.code, 0) << banded.err;
+  const auto bj = nlohmann::json::parse(banded.out);
+  const auto& b = bj.at("channels")[0];
+  std::vector<double> want;
+  const auto f = b.at("frequency_hz").get<std::vector<double>>();
+  const auto d = b.at("density").get<std::vector<double>>();
+  for (std::size_t k = 0; k < f.size(); ++k)
+    if (f[k] > 0.0 && d[k] > 0.0) want.push_back(f[k]);
+  std::ifstream dat(fs::path(dir) / "plots" / "psd_gx.dat");
+  std::string line;
+  std::vector<double> x;
+  bool in_points = false;
+  while (std::getline(dat, line)) {
+    if (line.rfind("# index", 0) == 0) {
+      in_points = line.find("measured") != std::string::npos;
+      continue;
+    }
+    if (!in_points || line.empty() || line[0] == '#') continue;
+    x.push_back(std::stod(line));
+  }
+  ASSERT_EQ(x.size(), want.size());
+  for (std::size_t k = 0; k < x.size(); ++k) EXPECT_NEAR(x[k], want[k], 1e-8 * want[k]) << k;
+  const CliRun again = run_cubecal("psd " + file + " --unit deg/s --report " + dir);
+  EXPECT_TRUE(one_error_line(again)) << again.err;
 }
 
 TEST_F(PsdCli, HelpNamesEveryOption) {

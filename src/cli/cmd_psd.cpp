@@ -7,6 +7,8 @@
 #include <iostream>
 #include <optional>
 
+#include "cubecal/report/command_reports.hpp"
+#include "report_option.hpp"
 #include "commands.hpp"
 #include "common_options.hpp"
 #include "cubecal/error.hpp"
@@ -35,6 +37,7 @@ struct PsdOptions {
   std::string format = "table";
   std::string out;
   bool force = false;
+  ReportTarget report;
 };
 
 constexpr std::size_t kTableBinsPerDecade = 10;
@@ -136,6 +139,7 @@ int run_psd_command(const PsdOptions& o) {
     throw UsageError("fit_range", "the band's upper end must lie above its lower end");
   req.threads = o.input.threads;
 
+  check_report_option(o.report, o.force);
   ResultOutput result(o.out, o.force);  // refuses an unusable --out before the work
   io::SeriesOptions so = to_series_options(o.input);
   so.keep_time = false;  // the spectrum needs the rate and the pieces, not the stamps
@@ -168,6 +172,7 @@ int run_psd_command(const PsdOptions& o) {
   else
     write_table(out, res);
   result.finish();
+  if (!o.report.dir.empty()) write_report_option(report::psd_report(res, invocation()), o.report);
   return 0;
 }
 
@@ -217,7 +222,8 @@ CLI::App* add_psd_command(CLI::App& app, Command& run) {
       ->check(CLI::IsMember({"table", "csv", "json"}))
       ->capture_default_str();
   cmd->add_option("--out", opt->out, "Write the result to this file instead of standard output");
-  cmd->add_flag("--force", opt->force, "Replace the --out file if it exists");
+  cmd->add_flag("--force", opt->force, "Replace the --out file and the --report files if they exist");
+  add_report_option(*cmd, opt->report);
   cmd->callback([opt, &run] { run = [opt] { return run_psd_command(*opt); }; });
   return cmd;
 }

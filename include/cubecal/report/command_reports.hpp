@@ -15,6 +15,7 @@
 //                       mag_norm_error         |h| − F per point, before and after
 //                       mag_norm_error_after   the same after calibration alone
 //   calibrate temperature, calibrate multiposition: tables only, no plots
+//   psd                 psd_<channel>          density, fitted terms and their sum
 // <channel> is the channel's name reduced to letters, digits and '_'.
 #pragma once
 #include <array>
@@ -31,6 +32,7 @@
 #include "cubecal/pipeline/calibrate_rate_table.hpp"
 #include "cubecal/pipeline/calibrate_temperature.hpp"
 #include "cubecal/pipeline/davar_pipeline.hpp"
+#include "cubecal/pipeline/psd.hpp"
 #include "cubecal/pipeline/turnon.hpp"
 #include "cubecal/report/command_report.hpp"
 
@@ -122,5 +124,14 @@ CommandReport multiposition_report(const pipeline::MultipositionResult& r, const
 
 std::vector<ReportFigure> davar_figures(const pipeline::DavarResult& r);
 CommandReport davar_report(const pipeline::DavarResult& r, const std::string& command);
+
+// ---------------------------------------------------------------------------
+// psd: per channel the one-sided density on log-log axes (psd_<channel>,
+// averaged over logarithmic bands when the result holds the raw bins), the
+// fitted power-law terms and their sum over the fitted band, then a table of
+// the coefficients h_alpha and the IEEE 952 terms they stand for
+
+std::vector<ReportFigure> psd_figures(const pipeline::PsdResult& r);
+CommandReport psd_report(const pipeline::PsdResult& r, const std::string& command);
 
 }  // namespace cubecal::report
