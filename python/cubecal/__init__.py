@@ -9,6 +9,7 @@ The C++ library's calls on NumPy arrays:
     a = cubecal.analyze("log.csv", unit="deg/s", temperature="temp")   # analysis.json as an object
     rec = cubecal.simulate("sport-gyro", rate=10, duration="1h", seed=1)
     rec = cubecal.read("log.csv", columns="gx,gy,gz")
+    s = cubecal.psd(rec, unit="deg/s"); d = cubecal.davar(rec, window="1h", step="60s")
 
 Errors the data or the caller can fix raise cubecal.Error subclasses:
 InputError (.file, .line, .column), UsageError (.option), CalibrationError (.reason).
@@ -20,6 +21,7 @@ from ._dev import Curve, DevResult, dev
 from ._read import Record, read
 from ._analyze import Analysis, analyze
 from ._simulate import presets, simulate
+from ._spectral import DynamicAllan, Spectrum, davar, psd
 from ._result import Result
 from ._calibrate import *  # noqa: F401,F403  (calibrate_* and turnon: see cubecal/_calibrate.py)
 

@@ -14,4 +14,5 @@ PYBIND11_MODULE(_cubecal, m) {
   cubecal::python::bind_simulate(m);
   cubecal::python::bind_read(m);
   cubecal::python::bind_calibrate(m);
+  cubecal::python::bind_spectral(m);
 }

@@ -1,0 +1,89 @@
+"""cubecal.psd and cubecal.davar: `cubecal psd` and `cubecal davar` on a
+file or on arrays; each result's to_dict() is the command's JSON."""
+import json
+import os
+
+from . import _cubecal
+from ._data import channels_of, string_list
+from ._read import read_args
+from ._result import Result
+
+
+class Spectrum(Result):
+    """The result of cubecal.psd, as `cubecal psd --format json`: welch {window,
+    segment_length, overlap, detrend, ...} and channels [{name, unit,
+    frequency_hz, density (unit^2/Hz, one-sided), density_rate ((deg/h)^2/Hz for
+    rate sensors), edf, fit {terms [{alpha, h, sigma}], f_lo, f_hi, ...},
+    allan_terms [{term, value, sigma, display}]}]."""
+
+
+class DynamicAllan(Result):
+    """The result of cubecal.davar, as `cubecal davar --format json`: window,
+    step, windows, intervals and channels [{name, t (window centres, s), tau,
+    dev (tau x time), n, and with intervals lo, hi, edf, alpha}]."""
+
+
+def _source(data, rate, names, read_options):
+    """(path, read args, arrays, names, rate) of a call's data."""
+    if isinstance(data, (str, os.PathLike)):
+        if names is not None:
+            raise _cubecal.UsageError("names: give columns= to choose the columns of a file")
+        ro = dict(read_options)
+        if rate is not None:
+            ro["rate"] = rate
+        return os.fspath(data), read_args(**ro), [], [], 0.0
+    if read_options:
+        raise _cubecal.UsageError(f"{', '.join(read_options)}: options of a file; data are arrays here")
+    names, arrays = channels_of(data, names)
+    if rate is None:
+        rate = getattr(data, "rate_hz", None)
+        if not rate:
+            raise _cubecal.UsageError("rate: give the sampling rate of the arrays in Hz")
+    return None, read_args(), arrays, names, float(rate)
+
+
+def psd(data, rate=None, unit=None, window="hann", segment=0, fmin=0.0, overlap=0.5, detrend="constant",
+        bins_per_decade=0, fit=True, fit_min=0.0, fit_max=0.0, names=None, threads=0, **read_options):
+    """One-sided power spectral density of each channel by Welch's method
+    (equal to scipy.signal.welch), its power-law fit and the IEEE 952 terms
+    the fitted coefficients stand for, as `cubecal psd`.
+
+    data: a path (read_options as cubecal.read) or arrays sampled at `rate`
+    Hz. unit: one for all channels or one per channel (default: from the
+    names, else none). window: hann, hamming, blackman, rectangular;
+    segment: samples per segment (0: about n/8, or from fmin); overlap: the
+    fraction shared; detrend: none, constant, linear; bins_per_decade: 0 for
+    every bin, K to average over K log bands per decade; fit_min/fit_max: the
+    fitted band in Hz. Returns a Spectrum.
+    """
+    a = _cubecal._PsdArgs()
+    a.window, a.segment, a.fmin, a.overlap, a.detrend = window, int(segment), float(fmin), float(overlap), detrend
+    a.bins_per_decade, a.fit, a.fit_min, a.fit_max = int(bins_per_decade), bool(fit), float(fit_min), float(fit_max)
+    a.units = string_list(unit)
+    a.threads = int(threads)
+    path, ra, arrays, names, rate = _source(data, rate, names, read_options)
+    return Spectrum(json.loads(_cubecal._psd(path, ra, arrays, names, rate, a)))
+
+
+def davar(data, rate=None, window=None, step=None, taus="log:10", data_type="freq", intervals=True, ci=0.683,
+          alpha=None, names=None, threads=0, **read_options):
+    """Dynamic Allan deviation, as `cubecal davar`: the overlapping Allan
+    deviation of a window sliding along the record, a tau x time matrix per
+    channel (exact, from block sums).
+
+    window, step: a duration ("1h", "60s") or a number of samples (default: a
+    tenth of the record, a tenth of the window); taus: a grid or taus in
+    seconds; alpha: a fixed noise type for the intervals (default:
+    identified in each cell). Returns a DynamicAllan.
+    """
+    a = _cubecal._DavarArgs()
+    a.type = data_type
+    a.window = "" if window is None else str(window)
+    a.step = "" if step is None else str(step)
+    a.taus = taus
+    a.intervals = bool(intervals)
+    a.ci = float(ci)
+    a.alpha = alpha
+    a.threads = int(threads)
+    path, ra, arrays, names, rate = _source(data, rate, names, read_options)
+    return DynamicAllan(json.loads(_cubecal._davar(path, ra, arrays, names, rate, a)))

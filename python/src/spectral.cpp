@@ -1,0 +1,149 @@
+// cubecal._psd and cubecal._davar: `cubecal psd` and `cubecal davar` on a
+// file (read as the CLI reads it) or on arrays, returning the JSON the CLI
+// writes with --format json, which the package wraps as a Result.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "array_series.hpp"
+#include "arrays.hpp"
+#include "common.hpp"
+#include "cubecal/error.hpp"
+#include "cubecal/noise/units.hpp"
+#include "cubecal/pipeline/davar_pipeline.hpp"
+#include "cubecal/pipeline/psd.hpp"
+#include "cubecal/pipeline/psd_json.hpp"
+#include "module.hpp"
+#include "units.hpp"
+
+namespace py = pybind11;
+
+namespace cubecal::python {
+
+namespace {
+
+// The record of a call: the file at `path` (when given), else the arrays.
+io::Series record(const std::optional<std::string>& path, const ReadArgs& read, const std::vector<Doubles>& channels,
+                  const std::vector<std::string>& names, double rate) {
+  if (path) {
+    io::SeriesOptions so = series_options(read);
+    so.keep_time = false;
+    return io::read_series(*path, so);
+  }
+  return array_series(channels, names, rate, std::nullopt, "", "<arrays>");
+}
+
+struct PsdArgs {
+  std::string window = "hann";
+  std::size_t segment = 0;
+  double fmin = 0.0;
+  double overlap = 0.5;
+  std::string detrend = "constant";
+  std::size_t bins_per_decade = 0;
+  bool fit = true;
+  double fit_min = 0.0;
+  double fit_max = 0.0;
+  std::vector<std::string> units;
+  unsigned threads = 0;
+};
+
+std::string psd(const std::optional<std::string>& path, const ReadArgs& read, const std::vector<Doubles>& channels,
+                const std::vector<std::string>& names, double rate, const PsdArgs& a) {
+  pipeline::PsdRequest req;
+  const auto window = parse_window(a.window);
+  if (!window) throw UsageError("window", "window must be hann, hamming, blackman or rectangular, not '" + a.window + "'");
+  const auto detrend = parse_detrend(a.detrend);
+  if (!detrend) throw UsageError("detrend", "detrend must be none, constant or linear, not '" + a.detrend + "'");
+  req.welch.window = *window;
+  req.welch.detrend = *detrend;
+  req.welch.segment_length = a.segment;
+  req.welch.min_frequency_hz = a.fmin;
+  req.welch.overlap = a.overlap;
+  req.bins_per_decade = a.bins_per_decade;
+  req.fit = a.fit;
+  req.fit_options.min_frequency_hz = a.fit_min;
+  req.fit_options.max_frequency_hz = a.fit_max;
+  for (const auto& u : a.units) {
+    const auto unit = parse_unit(u);
+    if (!unit) throw UsageError("unit", "unknown unit '" + u + "' (use " + known_units() + ")");
+    req.units.push_back(*unit);
+  }
+  req.threads = a.threads;
+  py::gil_scoped_release free;
+  const io::Series s = record(path, read, channels, names, rate);
+  if (req.units.empty()) {
+    // As the CLI: the units the record announces, else none (densities in u^2/Hz).
+    try {
+      req.units = announced_units(s);
+    } catch (const UsageError&) {
+      req.units.clear();
+    }
+  }
+  return pipeline::to_json(pipeline::run_psd(s, req)).dump();
+}
+
+struct DavarArgs {
+  std::string type = "freq";
+  std::string window;  // "1h", "3600s" or a number of samples; empty: a tenth of the record
+  std::string step;    // empty: a tenth of the window
+  py::object taus = py::str("log:10");
+  bool intervals = true;
+  double ci = 0.683;
+  std::optional<int> alpha;
+  unsigned threads = 0;
+};
+
+std::string davar(const std::optional<std::string>& path, const ReadArgs& read, const std::vector<Doubles>& channels,
+                  const std::vector<std::string>& names, double rate, const DavarArgs& a) {
+  pipeline::DavarRequest req;
+  req.type = data_type_arg(a.type);
+  if (!a.window.empty()) req.window = pipeline::parse_davar_span(a.window, "window");
+  if (!a.step.empty()) req.step = pipeline::parse_davar_span(a.step, "step");
+  req.grid = taus_arg(a.taus);
+  if (!(a.ci > 0.0 && a.ci < 1.0)) throw UsageError("ci", "ci must be between 0 and 1");
+  req.intervals.enabled = a.intervals;
+  req.intervals.ci = a.ci;
+  req.intervals.alpha = a.alpha;
+  req.threads = a.threads;
+  py::gil_scoped_release free;
+  const io::Series s = record(path, read, channels, names, rate);
+  return pipeline::to_json(pipeline::run_davar(s, req)).dump();
+}
+
+}  // namespace
+
+void bind_spectral(py::module_& m) {
+  py::class_<PsdArgs>(m, "_PsdArgs")
+      .def(py::init<>())
+      .def_readwrite("window", &PsdArgs::window)
+      .def_readwrite("segment", &PsdArgs::segment)
+      .def_readwrite("fmin", &PsdArgs::fmin)
+      .def_readwrite("overlap", &PsdArgs::overlap)
+      .def_readwrite("detrend", &PsdArgs::detrend)
+      .def_readwrite("bins_per_decade", &PsdArgs::bins_per_decade)
+      .def_readwrite("fit", &PsdArgs::fit)
+      .def_readwrite("fit_min", &PsdArgs::fit_min)
+      .def_readwrite("fit_max", &PsdArgs::fit_max)
+      .def_readwrite("units", &PsdArgs::units)
+      .def_readwrite("threads", &PsdArgs::threads);
+  py::class_<DavarArgs>(m, "_DavarArgs")
+      .def(py::init<>())
+      .def_readwrite("type", &DavarArgs::type)
+      .def_readwrite("window", &DavarArgs::window)
+      .def_readwrite("step", &DavarArgs::step)
+      .def_readwrite("taus", &DavarArgs::taus)
+      .def_readwrite("intervals", &DavarArgs::intervals)
+      .def_readwrite("ci", &DavarArgs::ci)
+      .def_readwrite("alpha", &DavarArgs::alpha)
+      .def_readwrite("threads", &DavarArgs::threads);
+  m.def("_psd", &psd, py::arg("path"), py::arg("read"), py::arg("channels"), py::arg("names"), py::arg("rate"),
+        py::arg("args"), "`cubecal psd --format json` of a file or of arrays");
+  m.def("_davar", &davar, py::arg("path"), py::arg("read"), py::arg("channels"), py::arg("names"), py::arg("rate"),
+        py::arg("args"), "`cubecal davar --format json` of a file or of arrays");
+}
+
+}  // namespace cubecal::python
