@@ -16,7 +16,7 @@ InputError (.file, .line, .column), UsageError (.option), CalibrationError (.rea
 Long computations release the GIL.
 """
 from ._cubecal import CalibrationError, Error, InputError, UsageError, __version__
-from ._allantools import adev, gradev, hdev, mdev, oadev, ohdev, tdev, totdev
+from ._allantools import adev, gradev, hdev, htotdev, mdev, mtie, mtotdev, oadev, ohdev, tdev, tierms, totdev, ttotdev
 from ._dev import Curve, DevResult, dev
 from ._read import Record, read
 from ._analyze import Analysis, analyze

@@ -56,18 +56,29 @@ def _tau_list(taus, n, rate):
     return np.asarray(taus, dtype=np.float64)
 
 
-def _factors(taus, n, rate):
+def _factors(taus, n, rate, maximum_m=None):
     m = np.round(_tau_list(taus, n, rate) * rate)
-    m = m[(m < n) & (m > 0)]
+    keep = (m < n) & (m > 0)
+    if maximum_m is not None:
+        keep &= m <= maximum_m
+    m = m[keep]
     return np.unique(m).astype(np.int64)
 
 
-def _statistic(stat, data, rate, data_type, taus):
+def _statistic(stat, data, rate, data_type, taus, total=False):
+    """total: the total statistics' limit, as AllanTools sets it: m up to a
+    third of the record (of the frequency points for HTOT, whose grid
+    AllanTools also spaces on them)."""
     if not rate:
         raise _cubecal.UsageError("rate must be a positive number of Hz")
     rate = float(rate)
     n = _phase_points(data, data_type)
-    m = _factors(taus, n, rate)
+    if not total:
+        m = _factors(taus, n, rate)
+    elif stat == "htotdev":
+        m = _factors(taus, n - 1, rate, (n - 1) / 3.0)
+    else:
+        m = _factors(taus, n, rate, n / 3.0)
     devs, ns = _cubecal._deviation(stat, data, rate, data_type, m)
     keep = ns > 1
     m, devs, ns = m[keep], devs[keep], ns[keep].astype(np.float64)
@@ -107,6 +118,43 @@ def ohdev(data, rate=1.0, data_type="phase", taus=None):
 def totdev(data, rate=1.0, data_type="phase", taus=None):
     """Total deviation: (taus, devs, errs, ns)."""
     return _statistic("totdev", data, rate, data_type, taus)
+
+
+def mtotdev(data, rate=1.0, data_type="phase", taus=None):
+    """Modified total deviation: (taus, devs, errs, ns), m up to a third of the record."""
+    return _statistic("mtotdev", data, rate, data_type, taus, total=True)
+
+
+def ttotdev(data, rate=1.0, data_type="phase", taus=None):
+    """Time total deviation, tau * MTOT / sqrt(3): (taus, devs, errs, ns)."""
+    return _statistic("ttotdev", data, rate, data_type, taus, total=True)
+
+
+def htotdev(data, rate=1.0, data_type="phase", taus=None):
+    """Hadamard total deviation (OHDEV at m = 1): (taus, devs, errs, ns)."""
+    return _statistic("htotdev", data, rate, data_type, taus, total=True)
+
+
+def _offset_free(data, data_type):
+    """AllanTools integrates frequency data to phase with the mean frequency
+    taken out; the time errors depend on it (cubecal.dev keeps the offset)."""
+    if data_type != "freq":
+        return data
+    y = np.asarray(data, dtype=np.float64)
+    return y - np.nanmean(y)
+
+
+def tierms(data, rate=1.0, data_type="phase", taus=None):
+    """Time interval error, rms: (taus, devs, errs, ns); errs are dev / sqrt(n)
+    (AllanTools returns zeros there). Frequency data: the mean frequency
+    taken out first, as AllanTools does."""
+    return _statistic("tierms", _offset_free(data, data_type), rate, data_type, taus)
+
+
+def mtie(data, rate=1.0, data_type="phase", taus=None):
+    """Maximum time interval error: (taus, devs, errs, ns). Frequency data:
+    the mean frequency taken out first, as AllanTools does."""
+    return _statistic("mtie", _offset_free(data, data_type), rate, data_type, taus)
 
 
 _NOISE_TYPES = {"wp": 2, "fp": 1, "wf": 0, "ff": -1, "rf": -2}

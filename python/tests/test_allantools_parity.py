@@ -66,6 +66,21 @@ class Parity(unittest.TestCase):
         print("\nlargest relative difference to AllanTools, per statistic:",
               ", ".join(f"{k} {v:.1e}" for k, v in worst.items()), file=sys.stderr)
 
+    def test_time_error_and_total_statistics(self):
+        # AllanTools' total statistics are slow (pure Python loops): PHASE.DAT
+        # and nbs14 at octave and decade taus.
+        for name, data, rate, dtype, _ in datasets()[:2]:
+            for stat in ("mtotdev", "ttotdev", "htotdev", "tierms", "mtie"):
+                for taus in ("octave", "decade"):
+                    with self.subTest(data=name, stat=stat, taus=taus):
+                        t0, d0, e0, n0 = getattr(self.at, stat)(data, rate=rate, data_type=dtype, taus=taus)
+                        t1, d1, e1, n1 = getattr(cubecal, stat)(data, rate=rate, data_type=dtype, taus=taus)
+                        np.testing.assert_array_equal(t1, t0)
+                        np.testing.assert_array_equal(n1, n0)
+                        self.assertLess(relative(d1, d0), 1e-10)
+                        if stat != "tierms":  # AllanTools gives 0 there
+                            self.assertLess(relative(e1, e0), 1e-10)
+
     def test_gradev(self):
         # AllanTools' own gradev data: 1000 phase points, 200 of them NaN.
         folder = os.path.join(os.path.dirname(STABLE32), "allantools", "gradev")
