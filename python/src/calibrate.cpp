@@ -150,24 +150,6 @@ struct RateTableArgs {
   std::string unit = "deg/s";
 };
 
-// Rows "t_begin,t_end,wx,wy,wz" of a file (a header line is allowed), checked
-// as the CLI's --schedule.
-std::vector<ScheduleRow> read_schedule(const std::string& path) {
-  const io::Table t = io::read_table(path);
-  if (t.data.size() != 5)
-    throw InputError(path, t.first_data_line, 0,
-                     "a schedule has 5 columns (t_begin,t_end,wx,wy,wz), this file has " +
-                         std::to_string(t.data.size()));
-  std::vector<ScheduleRow> rows(t.rows());
-  for (std::size_t i = 0; i < rows.size(); ++i)
-    rows[i] = {t.data[0][i], t.data[1][i], {t.data[2][i], t.data[3][i], t.data[4][i]}};
-  if (const auto problem = check_schedule(rows)) {
-    const io::Location at = io::locate(t, problem->row, t.indices[0]);
-    throw InputError(path, at.line, at.column, problem->what, "one row per plateau, in seconds of the log's time base");
-  }
-  return rows;
-}
-
 std::vector<ScheduleRow> schedule_rows(const Doubles& a) {
   if (a.ndim() != 2 || a.shape(1) != 5)
     throw UsageError("schedule", "the schedule is an array of rows t_begin, t_end, wx, wy, wz (shape (rows, 5))");
@@ -232,7 +214,7 @@ std::string rate_table_file(const std::string& path, const ReadArgs& read, const
   nlohmann::json j;
   {
     py::gil_scoped_release free;
-    if (!a.schedule_file.empty()) req.schedule = read_schedule(a.schedule_file);
+    if (!a.schedule_file.empty()) req.schedule = pipeline::read_schedule(a.schedule_file);
     const io::Series s = io::read_series(path, so);
     j = pipeline::to_json(on_record(path, [&] { return pipeline::calibrate_rate_table(s, req); }));
   }
@@ -275,7 +257,7 @@ std::string rate_table_arrays(const std::vector<Doubles>& channels, const std::v
   nlohmann::json j;
   {
     py::gil_scoped_release free;
-    if (!a.schedule_file.empty()) req.schedule = read_schedule(a.schedule_file);
+    if (!a.schedule_file.empty()) req.schedule = pipeline::read_schedule(a.schedule_file);
     j = pipeline::to_json(on_record(label, [&] { return pipeline::calibrate_rate_table(s, req); }));
   }
   return with_invocation(std::move(j), command);

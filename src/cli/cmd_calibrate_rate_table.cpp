@@ -49,24 +49,6 @@ struct RateTableCliOptions {
 
 constexpr const char* kAxes = "xyz";
 
-// Rows "t_begin,t_end,wx,wy,wz" (a header line is allowed), checked.
-std::vector<ScheduleRow> read_schedule(const std::string& path) {
-  const io::Table t = io::read_table(path);
-  if (t.data.size() != 5)
-    throw InputError(path, t.first_data_line, 0,
-                         "a schedule has 5 columns (t_begin,t_end,wx,wy,wz), this file has " +
-                             std::to_string(t.data.size()));
-  std::vector<ScheduleRow> rows(t.rows());
-  for (std::size_t i = 0; i < rows.size(); ++i)
-    rows[i] = {t.data[0][i], t.data[1][i], {t.data[2][i], t.data[3][i], t.data[4][i]}};
-  if (const auto problem = check_schedule(rows)) {
-    const io::Location at = io::locate(t, problem->row, t.indices[0]);
-    throw InputError(path, at.line, at.column, problem->what,
-                         "one row per plateau, in seconds of the log's time base");
-  }
-  return rows;
-}
-
 std::array<double, 3> parse_axis(const std::string& text) {
   const auto items = split_list(text);
   std::array<double, 3> v{};
@@ -159,7 +141,7 @@ int run_rate_table_command(const RateTableCliOptions& o) {
   ResultOutput result(o.out, o.force);  // refuses an existing file before the work
   check_report_option(o.report, o.force);
 
-  if (use_schedule) req.schedule = read_schedule(o.schedule);
+  if (use_schedule) req.schedule = pipeline::read_schedule(o.schedule);
 
   io::SeriesOptions so = to_series_options(o.input);
   so.table.extra_columns = ref_names;  // the reference is in physical units: not scaled by --lsb

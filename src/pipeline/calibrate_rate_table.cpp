@@ -4,8 +4,25 @@
 #include <stdexcept>
 
 #include "cubecal/error.hpp"
+#include "cubecal/io/delimited_reader.hpp"
 
 namespace cubecal::pipeline {
+
+std::vector<ScheduleRow> read_schedule(const std::string& path) {
+  const io::Table t = io::read_table(path);
+  if (t.data.size() != 5)
+    throw InputError(path, t.first_data_line, 0,
+                     "a schedule has 5 columns (t_begin,t_end,wx,wy,wz), this file has " +
+                         std::to_string(t.data.size()));
+  std::vector<ScheduleRow> rows(t.rows());
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    rows[i] = {t.data[0][i], t.data[1][i], {t.data[2][i], t.data[3][i], t.data[4][i]}};
+  if (const auto problem = check_schedule(rows)) {
+    const io::Location at = io::locate(t, problem->row, t.indices[0]);
+    throw InputError(path, at.line, at.column, problem->what, "one row per plateau, in seconds of the log's time base");
+  }
+  return rows;
+}
 
 std::string_view to_string(PlateauSource s) noexcept {
   switch (s) {

@@ -52,4 +52,9 @@ struct RateTableResult {
 // the fit: calib/plateaus.hpp, calib/rate_table.hpp).
 RateTableResult calibrate_rate_table(const io::Series& series, const RateTableRequest& request);
 
+// A schedule file: rows "t_begin,t_end,wx,wy,wz" (a header line is allowed),
+// checked by check_schedule. InputError at the file's place for another
+// column count or a row check_schedule refuses.
+std::vector<ScheduleRow> read_schedule(const std::string& path);
+
 }  // namespace cubecal::pipeline
