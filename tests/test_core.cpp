@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "cubecal/error.hpp"
+#include "cubecal/math/magnitude.hpp"
 #include "cubecal/noise/temperature.hpp"
 #include "cubecal/stats/confidence.hpp"
 #include "cubecal/stats/edf.hpp"
@@ -262,6 +263,45 @@ TEST(TemperatureFit, ErrorsCarryTheirReason) {
   std::vector<double> two_levels(temp.size());
   for (std::size_t i = 0; i < two_levels.size(); ++i) two_levels[i] = i % 2 ? 20.0 : 30.0;
   EXPECT_EQ(reason(y, two_levels, 3), "degenerate");
+}
+
+}  // namespace
+}  // namespace cubecal
+
+namespace cubecal {
+namespace {
+
+// The vectorised largest magnitude against the plain loop, on every length
+// around its eight lanes, the maximum and a non-finite sample put at each
+// place in turn (a lane or the tail could miss either).
+TEST(LargestMagnitude, EqualsThePlainLoopAtEveryPlace) {
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> g(0.0, 3.0);
+  for (std::size_t n : {0u, 1u, 7u, 8u, 9u, 15u, 16u, 17u, 31u, 100u}) {
+    std::vector<double> v(n);
+    for (double& x : v) x = g(rng);
+    for (std::size_t at = 0; at < n; ++at) {
+      std::vector<double> w = v;
+      w[at] = -1e6;  // the largest, negative
+      const Magnitude m = largest_magnitude(w);
+      EXPECT_EQ(m.largest, 1e6) << n << " " << at;
+      EXPECT_TRUE(m.finite);
+      for (double bad : {std::nan(""), HUGE_VAL, -HUGE_VAL}) {
+        std::vector<double> u = v;
+        u[at] = bad;
+        double plain = 0.0;
+        for (std::size_t k = 0; k < n; ++k)
+          if (std::isfinite(u[k])) plain = std::max(plain, std::fabs(u[k]));
+        const Magnitude b = largest_magnitude(u);
+        EXPECT_FALSE(b.finite) << n << " " << at;
+        if (std::isnan(bad)) EXPECT_EQ(b.largest, plain);  // a NaN is passed over
+        else EXPECT_EQ(b.largest, HUGE_VAL);                // an infinity is the largest
+      }
+    }
+  }
+  EXPECT_EQ(largest_magnitude({}).largest, 0.0);
+  EXPECT_THROW(power_of_two_scale(std::vector<double>{1.0, std::nan("")}), std::invalid_argument);
+  EXPECT_EQ(power_of_two_scale(std::vector<double>{-3.0, 1.0}), 2.0);
 }
 
 }  // namespace

@@ -182,6 +182,15 @@ TEST(TemperatureRandomWalk, IterationStopsWhenTheCoefficientsStandStill) {
   };
   EXPECT_EQ(test::reason_of([&] { fit_temperature_random_walk(rec.y, rec.temp, 1, none); }),
             "degenerate");
+  // Started from the caller's OLS fit: the same iteration, bit for bit; an
+  // OLS fit of another order is refused.
+  const TemperatureFit ols = fit_temperature(rec.y, rec.temp, 1);
+  const TemperatureRandomWalkFit g = fit_temperature_random_walk(rec.y, rec.temp, 1, ols, model);
+  EXPECT_EQ(g.fit.coeff, f.fit.coeff);
+  EXPECT_EQ(g.fit.cov, f.fit.cov);
+  EXPECT_EQ(g.ols.coeff, f.ols.coeff);
+  EXPECT_EQ(g.iterations, f.iterations);
+  EXPECT_THROW(fit_temperature_random_walk(rec.y, rec.temp, 2, ols, model), std::invalid_argument);
 }
 
 // The Monte Carlo of docs/validation.md ("Temperature coefficient with the

@@ -23,6 +23,7 @@
 #include "cubecal/io/ros1_bag.hpp"
 #include "cubecal/io/ros2_bag.hpp"
 #include "cubecal/io/ulog.hpp"
+#include "cubecal/math/magnitude.hpp"
 #include "cubecal/stats/sampling.hpp"
 #include "detail/bag_series.hpp"
 #include "detail/series_timing.hpp"
@@ -166,14 +167,9 @@ void check_magnitudes(const Series& s, const Table& t, const SeriesOptions& opt)
                      "rescale the column, e.g. to other units");
   };
   const auto check = [&](const std::vector<double>& v, std::size_t field, double scale) {
-    // One pass for the largest magnitude (four running maxima, no division:
-    // this runs over every value of the record); the place only on failure.
-    double m[4] = {0.0, 0.0, 0.0, 0.0};
-    std::size_t i = 0;
-    for (; i + 4 <= v.size(); i += 4)
-      for (std::size_t k = 0; k < 4; ++k) m[k] = std::max(m[k], std::fabs(v[i + k]));
-    for (; i < v.size(); ++i) m[0] = std::max(m[0], std::fabs(v[i]));
-    const double raw_top = std::max(std::max(m[0], m[1]), std::max(m[2], m[3]));
+    // One vectorised pass for the largest magnitude (no division: this runs
+    // over every value of the record); the place only on failure.
+    const double raw_top = largest_magnitude(v).largest;
     const double top = raw_top / scale;
     const auto first_with = [&](double magnitude) {
       std::size_t j = 0;

@@ -2,6 +2,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -12,53 +13,90 @@
 
 namespace cubecal {
 
-TemperatureFit fit_temperature(std::span<const double> y, std::span<const double> temp,
-                               std::size_t order) {
-  const noise::detail::TemperatureRegressor reg = noise::detail::temperature_regressor(y, temp, order);
+namespace {
+
+// The two passes of the fit for P = order + 1 coefficients (a template
+// parameter, so that the loops over the powers unroll and the sums live in
+// registers): the normal equations, then the residuals with the per-batch
+// score sums G_b = sum_{t in b} u_t^k e_t of the covariance.
+template <std::size_t P>
+TemperatureFit fit_temperature_p(std::span<const double> y, std::span<const double> temp,
+                                 const noise::detail::TemperatureRegressor& reg, std::size_t order) {
   const std::size_t n = y.size();
-  const std::size_t p = order + 1;
   // Normal equations in the scaled variable u = (T - t_ref) / half_span, which
   // keeps V^T V well conditioned for any order used here; accumulated in one
   // pass so a multi-day record needs no n x p matrix.
-  Eigen::MatrixXd ata = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(p), static_cast<Eigen::Index>(p));
-  Eigen::VectorXd aty = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(p));
   double ymean = 0.0;
   for (double v : y) ymean += v;
   ymean /= static_cast<double>(n);
-  std::vector<double> row(p);
+  std::array<double, P> aty{};
+  std::array<double, P * (P + 1) / 2> ata{};
   for (std::size_t i = 0; i < n; ++i) {
     const double u = reg(temp[i]);
+    std::array<double, P> row;
     row[0] = 1.0;
-    for (std::size_t k = 1; k < p; ++k) row[k] = row[k - 1] * u;
+    for (std::size_t k = 1; k < P; ++k) row[k] = row[k - 1] * u;
     const double yc = y[i] - ymean;  // centred: no cancellation in aty
-    for (std::size_t a = 0; a < p; ++a) {
-      aty(static_cast<Eigen::Index>(a)) += row[a] * yc;
-      for (std::size_t b = a; b < p; ++b) ata(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b)) += row[a] * row[b];
+    std::size_t c = 0;
+    for (std::size_t a = 0; a < P; ++a) {
+      aty[a] += row[a] * yc;
+      for (std::size_t b = a; b < P; ++b) ata[c++] += row[a] * row[b];
     }
   }
-  for (Eigen::Index a = 0; a < ata.rows(); ++a)
-    for (Eigen::Index b = 0; b < a; ++b) ata(a, b) = ata(b, a);
-  const noise::detail::TemperatureSolution sol = noise::detail::solve_temperature(ata, aty, order);
-  Eigen::VectorXd cu = sol.cu;
-  cu(0) += ymean;
+  Eigen::MatrixXd ata_m(static_cast<Eigen::Index>(P), static_cast<Eigen::Index>(P));
+  Eigen::VectorXd aty_v(static_cast<Eigen::Index>(P));
+  std::size_t c = 0;
+  for (std::size_t a = 0; a < P; ++a) {
+    aty_v(static_cast<Eigen::Index>(a)) = aty[a];
+    for (std::size_t b = a; b < P; ++b, ++c) {
+      ata_m(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b)) = ata[c];
+      ata_m(static_cast<Eigen::Index>(b), static_cast<Eigen::Index>(a)) = ata[c];
+    }
+  }
+  const noise::detail::TemperatureSolution sol = noise::detail::solve_temperature(ata_m, aty_v, order);
+  std::array<double, P> cu;
+  for (std::size_t k = 0; k < P; ++k) cu[k] = sol.cu(static_cast<Eigen::Index>(k));
+  cu[0] += ymean;
 
-  // Residuals, and per-batch score sums G_b = sum_{t in b} u_t e_t for the
-  // covariance.
-  const std::size_t batches = noise::detail::temperature_batches(n, p);
-  Eigen::MatrixXd g = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(p), static_cast<Eigen::Index>(batches));
+  // Residuals, and per-batch score sums; batch b holds samples
+  // [b n / batches, (b + 1) n / batches).
+  const std::size_t batches = noise::detail::temperature_batches(n, P);
+  Eigen::MatrixXd g = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(P), static_cast<Eigen::Index>(batches));
   double ss_res = 0.0, ss_tot = 0.0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const double u = reg(temp[i]);
-    const auto b = static_cast<Eigen::Index>(i * batches / n);
-    double fit = 0.0, pw = 1.0;
-    for (std::size_t k = 0; k < p; ++k, pw *= u) fit += cu(static_cast<Eigen::Index>(k)) * pw;
-    const double e = y[i] - fit;
-    pw = 1.0;
-    for (std::size_t k = 0; k < p; ++k, pw *= u) g(static_cast<Eigen::Index>(k), b) += pw * e;
-    ss_res += e * e;
-    ss_tot += (y[i] - ymean) * (y[i] - ymean);
+  for (std::size_t b = 0; b < batches; ++b) {
+    // The first i with i * batches / n == b, as the per-sample rule assigns it.
+    const std::size_t from = (b * n + batches - 1) / batches;
+    const std::size_t to = ((b + 1) * n + batches - 1) / batches;
+    std::array<double, P> gb{};
+    for (std::size_t i = from; i < to; ++i) {
+      const double u = reg(temp[i]);
+      std::array<double, P> pw;
+      pw[0] = 1.0;
+      for (std::size_t k = 1; k < P; ++k) pw[k] = pw[k - 1] * u;
+      double fit = 0.0;
+      for (std::size_t k = 0; k < P; ++k) fit += cu[k] * pw[k];
+      const double e = y[i] - fit;
+      for (std::size_t k = 0; k < P; ++k) gb[k] += pw[k] * e;
+      ss_res += e * e;
+      ss_tot += (y[i] - ymean) * (y[i] - ymean);
+    }
+    for (std::size_t k = 0; k < P; ++k) g(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(b)) = gb[k];
   }
   return noise::detail::temperature_fit_from(sol, ymean, g, ss_res, ss_tot, n, reg, order);
+}
+
+}  // namespace
+
+TemperatureFit fit_temperature(std::span<const double> y, std::span<const double> temp,
+                               std::size_t order) {
+  const noise::detail::TemperatureRegressor reg = noise::detail::temperature_regressor(y, temp, order);
+  switch (order + 1) {  // temperature_regressor took orders 1 to 5
+    case 2: return fit_temperature_p<2>(y, temp, reg, order);
+    case 3: return fit_temperature_p<3>(y, temp, reg, order);
+    case 4: return fit_temperature_p<4>(y, temp, reg, order);
+    case 5: return fit_temperature_p<5>(y, temp, reg, order);
+    default: return fit_temperature_p<6>(y, temp, reg, order);
+  }
 }
 
 void compensate_temperature(std::span<const double> y, std::span<const double> temp, const TemperatureFit& fit,

@@ -32,6 +32,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cubecal/error.hpp"
@@ -129,6 +130,27 @@ Sums filter_sums(std::span<const double> y, std::span<const double> temp,
   return s;
 }
 
+// Residual and total sums of squares of y about the polynomial cu in u
+// (P coefficients, unrolled).
+struct ResidualSums {
+  double ss_res = 0.0, ss_tot = 0.0;
+};
+template <std::size_t P>
+ResidualSums residual_sums(std::span<const double> y, std::span<const double> temp,
+                           const noise::detail::TemperatureRegressor& reg,
+                           const std::array<double, kMaxOrder + 1>& cu, double ymean) {
+  ResidualSums s;
+  for (std::size_t k = 0; k < y.size(); ++k) {
+    const double u = reg(temp[k]);
+    double model = 0.0, pw = 1.0;
+    for (std::size_t j = 0; j < P; ++j, pw *= u) model += cu[j] * pw;
+    const double res = y[k] - model;
+    s.ss_res += res * res;
+    s.ss_tot += (y[k] - ymean) * (y[k] - ymean);
+  }
+  return s;
+}
+
 }  // namespace
 
 TemperatureFit fit_temperature_gls(std::span<const double> y, std::span<const double> temp, std::size_t order,
@@ -184,15 +206,17 @@ TemperatureFit fit_temperature_gls(std::span<const double> y, std::span<const do
   TemperatureFit fit;
   fit.order = order;
   fit.t_ref = reg.t_ref;
-  double ss_res = 0.0, ss_tot = 0.0;
-  for (std::size_t k = 0; k < n; ++k) {
-    const double u = reg(temp[k]);
-    double model = 0.0, pw = 1.0;
-    for (std::size_t j = 0; j < p; ++j, pw *= u) model += cu(static_cast<Eigen::Index>(j)) * pw;
-    const double res = y[k] - model;
-    ss_res += res * res;
-    ss_tot += (y[k] - ymean) * (y[k] - ymean);
+  std::array<double, kMaxOrder + 1> cu_a{};
+  for (std::size_t j = 0; j < p; ++j) cu_a[j] = cu(static_cast<Eigen::Index>(j));
+  ResidualSums res;
+  switch (p) {
+    case 2: res = residual_sums<2>(y, temp, reg, cu_a, ymean); break;
+    case 3: res = residual_sums<3>(y, temp, reg, cu_a, ymean); break;
+    case 4: res = residual_sums<4>(y, temp, reg, cu_a, ymean); break;
+    case 5: res = residual_sums<5>(y, temp, reg, cu_a, ymean); break;
+    default: res = residual_sums<6>(y, temp, reg, cu_a, ymean); break;
   }
+  const double ss_res = res.ss_res, ss_tot = res.ss_tot;
   fit.residual_rms = std::sqrt(ss_res / static_cast<double>(n));
   fit.r2 = ss_tot > 0.0 ? 1.0 - ss_res / ss_tot : 0.0;
   // Back to (T - t_ref)^j: c_j = cu_j / half_span^j.
@@ -213,10 +237,20 @@ TemperatureFit fit_temperature_gls(std::span<const double> y, std::span<const do
 TemperatureRandomWalkFit fit_temperature_random_walk(std::span<const double> y, std::span<const double> temp,
                                                      std::size_t order, const CompensatedNoiseModel& noise_model,
                                                      std::span<const BiasGap> gaps, std::size_t max_iterations) {
+  return fit_temperature_random_walk(y, temp, order, fit_temperature(y, temp, order), noise_model, gaps,
+                                     max_iterations);
+}
+
+TemperatureRandomWalkFit fit_temperature_random_walk(std::span<const double> y, std::span<const double> temp,
+                                                     std::size_t order, TemperatureFit ols,
+                                                     const CompensatedNoiseModel& noise_model,
+                                                     std::span<const BiasGap> gaps, std::size_t max_iterations) {
   if (!noise_model) throw std::invalid_argument("fit_temperature_random_walk: no noise model");
   if (max_iterations < 1) throw std::invalid_argument("fit_temperature_random_walk: max_iterations must be >= 1");
+  if (ols.order != order || ols.coeff.size() != order + 1)
+    throw std::invalid_argument("fit_temperature_random_walk: the OLS start is not a fit of this order");
   TemperatureRandomWalkFit r;
-  r.ols = fit_temperature(y, temp, order);
+  r.ols = std::move(ols);
   const TemperatureFit* current = &r.ols;
   std::vector<double> comp(y.size());  // one buffer for every iteration: a record can be days long
   for (std::size_t it = 1; it <= max_iterations; ++it) {

@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "cubecal/math/magnitude.hpp"
+
 namespace cubecal {
 
 std::vector<double> freq_to_phase(std::span<const double> y, double tau0, double scale) {
@@ -33,13 +35,11 @@ std::vector<double> normalize_phase(std::span<const double> x, double scale) {
 }
 
 double power_of_two_scale(std::span<const double> v) {
-  double big = 0.0;
-  for (std::size_t i = 0; i < v.size(); ++i) {
-    if (!std::isfinite(v[i]))
-      throw std::invalid_argument("sample " + std::to_string(i) + " is not a finite number");
-    big = std::max(big, std::abs(v[i]));
-  }
-  return big > 0.0 ? std::ldexp(1.0, std::ilogb(big)) : 1.0;
+  const Magnitude m = largest_magnitude(v);
+  if (!m.finite)
+    for (std::size_t k = 0; k < v.size(); ++k)
+      if (!std::isfinite(v[k])) throw std::invalid_argument("sample " + std::to_string(k) + " is not a finite number");
+  return m.largest > 0.0 ? std::ldexp(1.0, std::ilogb(m.largest)) : 1.0;
 }
 
 }  // namespace cubecal

@@ -59,4 +59,13 @@ TemperatureRandomWalkFit fit_temperature_random_walk(std::span<const double> y, 
                                                      std::span<const BiasGap> gaps = {},
                                                      std::size_t max_iterations = 5);
 
+// The same iteration started from an OLS fit the caller already has
+// (fit_temperature of the same y, temp and order): a caller that reports the
+// OLS fit too need not compute it twice.
+TemperatureRandomWalkFit fit_temperature_random_walk(std::span<const double> y, std::span<const double> temp,
+                                                     std::size_t order, TemperatureFit ols,
+                                                     const CompensatedNoiseModel& noise_model,
+                                                     std::span<const BiasGap> gaps = {},
+                                                     std::size_t max_iterations = 5);
+
 }  // namespace cubecal
