@@ -75,4 +75,5 @@ echo "  $(echo "$e - $s" | bc -l | xargs printf '%.2f') s"
 
 if [ -f "$BUILD/python/cubecal/__init__.py" ]; then
   PYTHONPATH="$BUILD/python" BENCH_OUT="$OUT" /usr/bin/python3 "$(dirname "$0")/python_speed.py" "$BUILD" 5
+  PYTHONPATH="$BUILD/python" /usr/bin/python3 "$(dirname "$0")/psd_speed.py" 5
 fi

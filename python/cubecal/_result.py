@@ -17,7 +17,25 @@ def _is_number(v):
     return v is None or (isinstance(v, numbers.Number) and not isinstance(v, bool))
 
 
+def _plain(v):
+    """v with the NumPy arrays a result may hold (spectra handed over as
+    arrays, not as JSON text) as the JSON's lists: NaN as null."""
+    if isinstance(v, dict):
+        return {k: _plain(x) for k, x in v.items()}
+    if isinstance(v, list):
+        return [_plain(x) for x in v]
+    if isinstance(v, np.ndarray):
+        if v.dtype.kind == "f" and np.isnan(v).any():
+            return [None if np.isnan(x) else x for x in v.tolist()]
+        return v.tolist()
+    return copy.deepcopy(v)
+
+
 def _wrap(v):
+    if isinstance(v, np.ndarray):
+        out = v.view()
+        out.flags.writeable = False  # results are read-only
+        return out
     if isinstance(v, dict):
         return Result(v)
     if isinstance(v, list):
@@ -60,10 +78,10 @@ class Result:
 
     def to_dict(self):
         """A deep copy of the result as plain Python data (the JSON's content)."""
-        return copy.deepcopy(self._data)
+        return _plain(self._data)
 
     def to_json(self, indent=1):
-        return json.dumps(self._data, indent=indent)
+        return json.dumps(_plain(self._data), indent=indent)
 
     def __repr__(self):
         keys = ", ".join(list(self._data)[:8])

@@ -62,7 +62,11 @@ def psd(data, rate=None, unit=None, window="hann", segment=0, fmin=0.0, overlap=
     a.units = string_list(unit)
     a.threads = int(threads)
     path, ra, arrays, names, rate = _source(data, rate, names, read_options)
-    return Spectrum(json.loads(_cubecal._psd(path, ra, arrays, names, rate, a)))
+    meta, spectra = _cubecal._psd(path, ra, arrays, names, rate, a)
+    d = json.loads(meta)
+    for channel, arrays_of in zip(d["channels"], spectra):
+        channel.update(arrays_of)  # the long arrays come as NumPy arrays, not as JSON text
+    return Spectrum(d)
 
 
 def davar(data, rate=None, window=None, step=None, taus="log:10", data_type="freq", intervals=True, ci=0.683,

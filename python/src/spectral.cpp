@@ -5,6 +5,8 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <cmath>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -51,7 +53,7 @@ struct PsdArgs {
   unsigned threads = 0;
 };
 
-std::string psd(const std::optional<std::string>& path, const ReadArgs& read, const std::vector<Doubles>& channels,
+py::tuple psd(const std::optional<std::string>& path, const ReadArgs& read, const std::vector<Doubles>& channels,
                 const std::vector<std::string>& names, double rate, const PsdArgs& a) {
   pipeline::PsdRequest req;
   const auto window = parse_window(a.window);
@@ -83,7 +85,30 @@ std::string psd(const std::optional<std::string>& path, const ReadArgs& read, co
       req.units.clear();
     }
   }
-  return pipeline::to_json(pipeline::run_psd(s, req)).dump();
+  nlohmann::json j = pipeline::to_json(pipeline::run_psd(s, req));
+  // The spectra (every bin: 10^5 numbers and more) go to Python as arrays:
+  // as JSON text they would cost more to write and parse than the transform.
+  std::vector<std::map<std::string, std::vector<double>>> spectra;
+  for (nlohmann::json& ch : j["channels"]) {
+    auto& arrays = spectra.emplace_back();
+    for (const char* key : {"frequency_hz", "density", "density_rate", "edf"}) {
+      const auto it = ch.find(key);
+      if (it == ch.end() || !it->is_array()) continue;
+      std::vector<double>& v = arrays[key];
+      v.reserve(it->size());
+      for (const nlohmann::json& x : *it) v.push_back(x.is_number() ? x.get<double>() : std::nan(""));
+      ch.erase(it);
+    }
+  }
+  std::string meta = j.dump();
+  py::gil_scoped_acquire held;
+  py::list out;
+  for (auto& arrays : spectra) {
+    py::dict d;
+    for (auto& [key, v] : arrays) d[py::str(key)] = py::array_t<double>(static_cast<py::ssize_t>(v.size()), v.data());
+    out.append(d);
+  }
+  return py::make_tuple(meta, out);
 }
 
 struct DavarArgs {
