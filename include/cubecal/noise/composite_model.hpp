@@ -1,0 +1,68 @@
+// Composite noise models: a sum of independent latent processes, the model
+// class of the Generalized Method of Wavelet Moments (GMWM: Guerrier,
+// Skaloud, Stebler, Victoria-Feser, JASA 2013; the gmwm/simts packages), and
+// the Haar wavelet variance each process has in theory
+// (docs/formulas/noise-terms.md §8a).
+//
+// Parameters are per sample, as the GMWM literature states them:
+//   WN  white noise, variance sigma2                 nu^2(tau) = sigma2 / tau
+//   QN  quantization noise Q2 (X_t = U_{t+1} - U_t,
+//       U white of variance Q2)                       nu^2(tau) = 6 Q2 / tau^2
+//   RW  random walk, innovation variance gamma2      nu^2(tau) = gamma2 (tau^2 + 2) / (12 tau)
+//   DR  drift, omega per sample (X_t = omega t)       nu^2(tau) = omega^2 tau^2 / 16
+//   GM  Gauss-Markov (AR(1) with 0 < phi < 1),
+//       innovation variance sigma2                   nu^2(tau) = AVAR_AR1(tau / 2) / 2
+// with tau = 2^j the dyadic scale in samples. The Haar wavelet variance is
+// half the Allan variance at m = tau / 2 (the MODWT Haar coefficient is half
+// the difference of two adjacent m-sample means), so every form above is the
+// exact discrete AVAR of sensor_noise_model.hpp halved.
+#pragma once
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace cubecal {
+
+enum class ProcessKind { wn, qn, rw, dr, gm };
+
+struct Process {
+  ProcessKind kind = ProcessKind::wn;
+  // wn: sigma2; qn: Q2; rw: gamma2; gm: the innovation variance sigma2;
+  // dr: omega (per sample, any sign).
+  double value = 0.0;
+  double phi = 0.0;  // gm only: the lag-one correlation, 0 < phi < 1
+};
+
+struct CompositeModel {
+  std::vector<Process> processes;
+};
+
+// "WN+QN+RW+DR+2*GM" (case-insensitive; AR1 is a synonym of GM; spaces
+// allowed; k*TERM repeats a term): the processes with zero parameters.
+// Throws UsageError("model") naming what it could not read and the terms it
+// knows; each of WN, QN, RW and DR may appear once.
+CompositeModel parse_composite_model(const std::string& text);
+
+// "WN+QN+RW+2*GM": the model's terms in the order of parse_composite_model.
+std::string model_name(const CompositeModel& model);
+
+// Theoretical Haar wavelet variance at the scale of tau samples (tau >= 2,
+// even): exact for the sampled processes. NaN for a parameter outside its
+// range (a negative variance, phi outside (0, 1)).
+double haar_wavelet_variance(const Process& process, double tau) noexcept;
+double haar_wavelet_variance(const CompositeModel& model, double tau) noexcept;
+
+// Physical forms for a sample period dt (s), in the data unit u:
+//   WN: N = sqrt(sigma2 dt)            (u sqrt(s), the angle random walk for a gyro)
+//   RW: K = sqrt(gamma2 / dt)          (u / sqrt(s), the rate random walk)
+//   QN: Q = sqrt(Q2) dt                (u s: IEEE 952's quantization Q, AVAR 3 Q^2 / tau^2)
+//   DR: R = omega / dt                 (u / s)
+//   GM: correlation time T = -dt / ln(phi), stationary sigma_b = sqrt(sigma2 / (1 - phi^2))
+struct GaussMarkovTerm {
+  double tau_c = 0.0;    // s
+  double sigma_b = 0.0;  // u
+};
+GaussMarkovTerm gauss_markov_term(const Process& gm, double dt);
+Process gm_process(double tau_c, double sigma_b, double dt);
+
+}  // namespace cubecal

@@ -1,0 +1,151 @@
+// Composite noise models and their Haar wavelet variances
+// (composite_model.hpp; docs/formulas/noise-terms.md §8a).
+#include "cubecal/noise/composite_model.hpp"
+
+#include <array>
+#include <cctype>
+#include <cmath>
+#include <limits>
+#include <string_view>
+
+#include "cubecal/error.hpp"
+#include "cubecal/noise/sensor_noise_model.hpp"
+
+namespace cubecal {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+struct Name {
+  std::string_view text;
+  ProcessKind kind;
+};
+constexpr std::array<Name, 6> kNames{{{"WN", ProcessKind::wn},
+                                      {"QN", ProcessKind::qn},
+                                      {"RW", ProcessKind::rw},
+                                      {"DR", ProcessKind::dr},
+                                      {"GM", ProcessKind::gm},
+                                      {"AR1", ProcessKind::gm}}};
+
+std::string_view name_of(ProcessKind k) {
+  for (const Name& n : kNames)
+    if (n.kind == k) return n.text;
+  return "?";
+}
+
+std::string upper_trimmed(std::string_view s) {
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
+  std::string out(s);
+  for (char& c : out) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  return out;
+}
+
+[[noreturn]] void bad_model(const std::string& text, const std::string& why) {
+  throw UsageError("model", "model '" + text + "': " + why +
+                                " (terms: WN, QN, RW, DR, GM or AR1, k*GM for k of them, joined by +; e.g. "
+                                "WN+RW+2*GM)");
+}
+
+}  // namespace
+
+CompositeModel parse_composite_model(const std::string& text) {
+  CompositeModel model;
+  std::array<bool, 5> once{};
+  std::string_view rest(text);
+  if (upper_trimmed(rest).empty()) bad_model(text, "no term");
+  while (true) {
+    const std::size_t plus = rest.find('+');
+    const std::string term = upper_trimmed(rest.substr(0, plus));
+    if (term.empty()) bad_model(text, "an empty term");
+    std::size_t copies = 1;
+    std::string name = term;
+    if (const std::size_t star = term.find('*'); star != std::string::npos) {
+      const std::string count = upper_trimmed(term.substr(0, star));
+      name = upper_trimmed(term.substr(star + 1));
+      if (count.empty() || count.size() > 2 || count.find_first_not_of("0123456789") != std::string::npos ||
+          std::stoul(count) < 1)
+        bad_model(text, "'" + term + "' is not k*TERM with k a whole number from 1 to 99");
+      copies = std::stoul(count);
+    }
+    const Name* found = nullptr;
+    for (const Name& n : kNames)
+      if (n.text == name) found = &n;
+    if (found == nullptr) bad_model(text, "unknown term '" + name + "'");
+    if (found->kind != ProcessKind::gm) {
+      bool& seen = once[static_cast<std::size_t>(found->kind)];
+      if (seen || copies > 1)
+        bad_model(text, std::string(found->text) + " appears more than once (two of them cannot be told apart)");
+      seen = true;
+    }
+    for (std::size_t k = 0; k < copies; ++k) model.processes.push_back(Process{found->kind, 0.0, 0.0});
+    if (plus == std::string_view::npos) break;
+    rest.remove_prefix(plus + 1);
+  }
+  return model;
+}
+
+std::string model_name(const CompositeModel& model) {
+  std::string out;
+  std::size_t i = 0;
+  const auto& p = model.processes;
+  while (i < p.size()) {
+    std::size_t run = 1;
+    while (i + run < p.size() && p[i + run].kind == p[i].kind) ++run;
+    if (!out.empty()) out += '+';
+    if (run > 1) out += std::to_string(run) + '*';
+    out += name_of(p[i].kind);
+    i += run;
+  }
+  return out;
+}
+
+double haar_wavelet_variance(const Process& p, double tau) noexcept {
+  if (!(tau >= 2.0)) return kNaN;
+  const double m = tau / 2.0;  // the Allan averaging factor of the scale
+  switch (p.kind) {
+    case ProcessKind::wn:
+      return p.value >= 0.0 ? p.value / tau : kNaN;
+    case ProcessKind::qn:
+      // AVAR of X_t = U_{t+1} - U_t: 3 Q2 / m^2; halved at m = tau / 2.
+      return p.value >= 0.0 ? 6.0 * p.value / (tau * tau) : kNaN;
+    case ProcessKind::rw:
+      // AVAR gamma2 (2 m^2 + 1) / (6 m); halved at m = tau / 2.
+      return p.value >= 0.0 ? p.value * (tau * tau + 2.0) / (12.0 * tau) : kNaN;
+    case ProcessKind::dr:
+      return p.value * p.value * tau * tau / 16.0;
+    case ProcessKind::gm: {
+      if (!(p.value >= 0.0) || !(p.phi > 0.0 && p.phi < 1.0) || std::floor(m) != m) return kNaN;
+      // The exact AR(1) AVAR of sensor_noise_model.cpp (careful near phi = 1),
+      // stationary variance sigma2 / (1 - phi^2), unit sample period.
+      GaussMarkovModel g;
+      g.dt = 1.0;
+      g.tau_c = -1.0 / std::log(p.phi);
+      g.sigma_b = std::sqrt(p.value / -std::expm1(2.0 * std::log(p.phi)));
+      return 0.5 * avar(g, static_cast<std::size_t>(m));
+    }
+  }
+  return kNaN;
+}
+
+double haar_wavelet_variance(const CompositeModel& model, double tau) noexcept {
+  double sum = 0.0;
+  for (const Process& p : model.processes) sum += haar_wavelet_variance(p, tau);
+  return sum;
+}
+
+GaussMarkovTerm gauss_markov_term(const Process& gm, double dt) {
+  if (gm.kind != ProcessKind::gm || !(gm.phi > 0.0 && gm.phi < 1.0) || !(gm.value >= 0.0) || !(dt > 0.0))
+    throw UsageError("model", "a Gauss-Markov term needs 0 < phi < 1, a variance >= 0 and a positive sample period");
+  return {-dt / std::log(gm.phi), std::sqrt(gm.value / -std::expm1(2.0 * std::log(gm.phi)))};
+}
+
+Process gm_process(double tau_c, double sigma_b, double dt) {
+  if (!(tau_c > 0.0) || !(sigma_b >= 0.0) || !(dt > 0.0) || !std::isfinite(tau_c))
+    throw UsageError("model", "a Gauss-Markov term needs a positive, finite correlation time and sigma_b >= 0");
+  const double a = dt / tau_c;
+  return {ProcessKind::gm, sigma_b * sigma_b * -std::expm1(-2.0 * a), std::exp(-a)};
+}
+
+}  // namespace cubecal
