@@ -196,6 +196,7 @@ CLI::App* add_dev_command(CLI::App& app, Command& run) {
       "dev", "Stability statistics with Stable32-compatible confidence intervals: the Allan family (adev, "
              "oadev, mdev, tdev, hdev, ohdev, totdev), the total variances (mtotdev, ttotdev, htotdev), "
              "Theo1 and the bias-removed TheoBR (theo1, theobr: even averaging factors, tau = 0.75 m tau0), "
+             "TheoH (theoh: OADEV below 20 % of the record, TheoBR beyond), "
              "and the time-interval errors (tierms, mtie: no intervals)");
   add_input_options(*cmd, opt->input);
   opt->input.missing_samples = true;  // --gaps skip

@@ -12,6 +12,7 @@
 
 #include "cubecal/stats/confidence.hpp"
 #include "cubecal/stats/edf.hpp"
+#include "cubecal/stats/theo.hpp"
 #include "cubecal/error.hpp"
 
 namespace cubecal::pipeline {
@@ -42,6 +43,11 @@ double terms_at(Stat stat, std::size_t m, std::size_t n, bool intervals) {
     case Stat::htotdev: t = std::max(N - 3.0 * md, 0.0) * 12.0 * md; break;
     case Stat::theo1:
     case Stat::theobr: t = factor_allowed(stat, m) ? std::max(N - md, 0.0) * md / 2.0 : 0.0; break;
+    case Stat::theoh: {
+      const auto part = theoh_stat_at(stat, m, n);
+      t = !part ? 0.0 : *part == Stat::oadev ? N - 2.0 * md : std::max(N - md, 0.0) * md / 2.0;
+      break;
+    }
   }
   t = std::max(t, 0.0) + 64.0;
   if (intervals) t += N / md + 256.0;
@@ -135,10 +141,19 @@ DevResult run(const std::vector<std::string>& names,
     max_m = std::max(max_m, mm);
     if (mm > 0) ++res.segments_used;
   }
-  const std::vector<std::size_t> ms = averaging_factors(req.grid, max_m, res.tau0 * tau_per_factor(req.stat));
   std::size_t longest = 0;
   for (const auto& s : segments) longest = std::max(longest, s.size());
-  if (req.stat == Stat::theobr && phase_points(io::Segment{0, longest}, req.type) > StabilityRecord::kTheobrMaxPoints)
+  // TheoH's switch and its factors of listed taus follow the record length.
+  if (req.stat == Stat::theoh && res.segments_used > 1)
+    throw UsageError("stat", "theoh switches from OADEV to TheoBR at 20 % of the record's length: it takes one "
+                             "contiguous record, and this one has " + std::to_string(res.segments_used) +
+                             " segments (fill or cut the gaps, or use oadev and theobr)");
+  const TauGrid grid = req.stat == Stat::theoh
+                           ? theoh_factor_grid(req.grid, phase_points(io::Segment{0, longest}, req.type), res.tau0)
+                           : req.grid;
+  const std::vector<std::size_t> ms = averaging_factors(grid, max_m, res.tau0 * tau_per_factor(req.stat));
+  if ((req.stat == Stat::theobr || req.stat == Stat::theoh) &&
+      phase_points(io::Segment{0, longest}, req.type) > StabilityRecord::kTheobrMaxPoints)
     throw UsageError("stat", "theobr's bias ratio takes Theo1 at every fourth averaging factor up to 2N/3 (about "
                              "N^3/65 terms): " + std::to_string(longest) + " samples is beyond the " +
                              std::to_string(StabilityRecord::kTheobrMaxPoints) +
@@ -295,10 +310,13 @@ DevResult run(const std::vector<std::string>& names,
 // The grid as run() builds it, from the segments' sizes alone.
 std::vector<std::size_t> grid_for(const std::vector<io::Segment>& segments, double tau0,
                                   const DevRequest& req) {
-  std::size_t max_m = 0;
-  for (const auto& seg : segments)
+  std::size_t max_m = 0, longest = 0;
+  for (const auto& seg : segments) {
     max_m = std::max(max_m, max_averaging_factor(req.stat, phase_points(seg, req.type)));
-  return averaging_factors(req.grid, max_m, tau0 * tau_per_factor(req.stat));
+    longest = std::max(longest, phase_points(seg, req.type));
+  }
+  const TauGrid grid = req.stat == Stat::theoh ? theoh_factor_grid(req.grid, longest, tau0) : req.grid;
+  return averaging_factors(grid, max_m, tau0 * tau_per_factor(req.stat));
 }
 
 }  // namespace
@@ -322,7 +340,7 @@ DevWorkEstimate estimate_dev(const io::Series& series, const DevRequest& req) {
   }
   e.terms *= static_cast<double>(series.channels.size());
   // TheoBR's bias ratio (once per record) would dominate a trial: none.
-  if (req.stat == Stat::theobr) return e;
+  if (req.stat == Stat::theobr || req.stat == Stat::theoh) return e;
 
   // The trial: a block of the grid's middle factors on (a prefix of) the
   // longest segment of the first channel, timed for a few milliseconds (a prefix of 2^18 samples: 2 MB, in the

@@ -18,6 +18,10 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr int kJmax = 100;
+// Where the total variances' own EDF formulas take over (see edf_mtotvar,
+// edf_htotvar).
+constexpr std::size_t kMtotTableFrom = 10;
+constexpr std::size_t kHtotTableFrom = 16;
 
 // Eq. (7): generalized autocovariance kernel of phase noise with exponent alpha.
 double sw(double t, int alpha) {
@@ -216,28 +220,84 @@ double edf_totvar(int alpha, std::size_t m, std::size_t n_phase) {
 }
 
 double edf_mtotvar(int alpha, std::size_t m, std::size_t n_phase) {
-  // SP 1065 Table 8: edf = b (T/tau) - c.
+  if (alpha > 2 || alpha < -2 || m == 0) return 0.0;
+  // Below m = 10 SP 1065 Table 8 overstates the EDF (at m = 1 it exceeds
+  // N): MDEV's Greenhall-Riley EDF, as Stable32 takes there (below the
+  // spread of MTOT on seeded white and random-walk FM: a lower bound).
+  if (m < kMtotTableFrom) return edf_greenhall(alpha, 2, m, n_phase, true, true);
+  // SP 1065 Table 8: edf = b (N/m) - c.
   struct Bc {
     double b, c;
   };
   constexpr Bc kTable8[5] = {{1.90, 2.1}, {1.20, 1.40}, {1.10, 1.2}, {0.85, 0.50}, {0.75, 0.31}};
-  if (alpha > 2 || alpha < -2 || m == 0) return 0.0;
   const Bc bc = kTable8[2 - alpha];
   return std::max(0.0, bc.b * static_cast<double>(n_phase) / static_cast<double>(m) - bc.c);
 }
 
+double edf_htotvar(int alpha, std::size_t m, std::size_t n_phase) {
+  if (m == 0 || n_phase <= m) return 0.0;
+  const double N = static_cast<double>(n_phase);
+  const double md = static_cast<double>(m);
+  if (m >= kHtotTableFrom && alpha <= 0 && alpha >= -4) {
+    // Howe, Beard, Greenhall, Vernotte & Riley, "A total estimator of the
+    // Hadamard function used for GPS operations", Proc. 32nd PTTI 2000,
+    // Table 1 (white FM to random-run FM): edf = (T/tau) / (b0 + b1 tau/T),
+    // T/tau = N/m. The rows as transcribed in AllanToolkit's tables.yml
+    // (alpha 0 .. -2, which it labels 2 .. -2) and SigmaTau's edf.jl
+    // (alpha 0 .. -4); Stable32's HTOT intervals of white FM follow the
+    // alpha 0 row (tests/test_stable32_more.cpp).
+    struct B01 {
+      double b0, b1;
+    };
+    constexpr B01 kTable[5] = {{0.559, 1.004}, {0.868, 1.140}, {0.938, 1.696}, {0.974, 2.554}, {1.276, 3.149}};
+    const B01 b = kTable[-alpha];
+    return (N / md) / (b.b0 + b.b1 * md / N);
+  }
+  // Below m = 16 (and for phase noise, which the table does not cover):
+  // SP 1065 Table 5, as Stable32; beyond its types the overlapping
+  // Hadamard EDF.
+  if (alpha <= 2 && alpha >= -2) return edf_simple(alpha, m, n_phase);
+  return edf_greenhall(alpha, 3, m, n_phase, true, false);
+}
+
 double edf_theo1(int alpha, std::size_t m, std::size_t n_phase) {
+  // NIST SP 1065 (Riley 2008) sec. 5.2.15, the fits of Howe & Peppler
+  // (Proc. 2003 Joint FCS/EFTF) and Howe & Tasset (EFTF 2004), with
+  // r = 0.75 m and N phase points; the same forms as AllanToolkit's
+  // calc_edf_theo1 and W. J. Riley's TheoBR.cpp (whose white- and
+  // flicker-PM lines divide by the last factor: multiplied, as here, they
+  // follow the simulated spread). The random-walk form falls to 0 (no
+  // interval) near r = 0.6 N.
   if (m == 0 || n_phase <= m) return 0.0;
   const double N = static_cast<double>(n_phase);
   const double r = 0.75 * static_cast<double>(m);
+  double edf = 0.0;
   switch (alpha) {
-    case 2: return 0.86 * (N + 1.0) * (N - 4.0 * r / 3.0) / (N - r) * (r / (r + 1.14));
-    case 0: {
+    case 2:  // white PM
+      edf = 0.86 * (N + 1.0) * (N - 4.0 * r / 3.0) / (N - r) * (r / (r + 1.14));
+      break;
+    case 1:  // flicker PM
+      edf = (4.798 * N * N - 6.374 * N * r + 12.387 * r) / (std::sqrt(r + 36.6) * (N - r)) * (r / (r + 0.3));
+      break;
+    case 0: {  // white FM
       const double r15 = r * std::sqrt(r);
-      return std::max(0.0, ((4.1 * N + 0.8) / r - (3.1 * N + 6.5) / N) * (r15 / (r15 + 5.2)));
+      edf = ((4.1 * N + 0.8) / r - (3.1 * N + 6.5) / N) * (r15 / (r15 + 5.2));
+      break;
+    }
+    case -1: {  // flicker FM
+      const double r3 = r * r * r;
+      edf = (2.0 * N * N - 1.3 * N * r - 3.5 * r) / (N * r) * (r3 / (r3 + 2.3));
+      break;
+    }
+    case -2: {  // random-walk FM
+      const double a = 4.4 * N - 1.0;
+      const double b = 4.4 * N - 3.0;
+      edf = (4.4 * N - 2.0) / (2.9 * r) * ((a * a - 8.6 * r * a + 11.4 * r * r) / (b * b));
+      break;
     }
     default: return 0.0;
   }
+  return std::max(0.0, edf);
 }
 
 double edf_for(Stat stat, int alpha, std::size_t m, std::size_t n_phase, EdfMethod method) {
@@ -246,8 +306,13 @@ double edf_for(Stat stat, int alpha, std::size_t m, std::size_t n_phase, EdfMeth
     case Stat::mtie: return 0.0;
     case Stat::mtotdev:
     case Stat::ttotdev: return edf_mtotvar(alpha, m, n_phase);
+    case Stat::htotdev: return edf_htotvar(alpha, m, n_phase);
     case Stat::theo1:
     case Stat::theobr: return edf_theo1(alpha, m, n_phase);
+    case Stat::theoh: {  // its part's: OADEV's or TheoBR's
+      const auto part = theoh_stat_at(stat, m, n_phase);
+      return part ? edf_for(*part, alpha, m, n_phase, method) : 0.0;
+    }
     default: break;
   }
   if (method == EdfMethod::simple) {
@@ -262,7 +327,6 @@ double edf_for(Stat stat, int alpha, std::size_t m, std::size_t n_phase, EdfMeth
     case Stat::hdev: return edf_greenhall(alpha, 3, m, n_phase, false, false);
     case Stat::ohdev: return edf_greenhall(alpha, 3, m, n_phase, true, false);
     case Stat::totdev: return edf_totvar(alpha, m, n_phase);
-    case Stat::htotdev: return edf_greenhall(alpha, 3, m, n_phase, true, false);
     default: return 0.0;
   }
 }

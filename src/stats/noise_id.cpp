@@ -91,6 +91,7 @@ double b1_points(Stat stat, std::size_t phase_points, std::size_t m, std::size_t
     case Stat::htotdev: return np - 3.0 * mm;
     case Stat::theo1:
     case Stat::theobr: return np - mm;
+    case Stat::theoh: return np - 2.0 * mm;  // identified as its part (StabilityRecord)
     case Stat::tierms:
     case Stat::mtie: return np - mm;  // not identified (no interval)
   }

@@ -28,7 +28,7 @@ StabilityRecord::StabilityRecord(std::span<const double> data, DataType type, do
     d_.resize(x_.size() - 1);
     for (std::size_t k = 0; k + 1 < x_.size(); ++k) d_[k] = x_[k + 1] - x_[k];
   }
-  if (stat_ == Stat::theobr) {
+  if (stat_ == Stat::theobr || stat_ == Stat::theoh) {
     // The ratio takes Theo1 at N/6 factors up to 2N/3: about N^3/65 terms.
     if (x_.size() > kTheobrMaxPoints)
       throw std::invalid_argument("theobr's bias ratio takes Theo1 at every fourth averaging factor up to 2N/3 "
@@ -101,6 +101,7 @@ VarianceTerm StabilityRecord::variance(std::size_t m) const {
       v.var *= theobr_ratio_;
       return v;
     }
+    case Stat::theoh: return theohvar(x_, m, tau0_, theobr_ratio_);
   }
   return {};
 }
@@ -155,7 +156,7 @@ std::vector<StabilityPoint> StabilityRecord::evaluate(std::span<const std::size_
 StabilityPoint StabilityRecord::point(std::size_t m, VarianceTerm v) const {
   StabilityPoint p;
   p.m = m;
-  p.tau = static_cast<double>(m) * tau_per_factor(stat_) * tau0_;
+  p.tau = static_cast<double>(m) * tau_per_factor(stat_, m, x_.size()) * tau0_;
   p.n = v.n;
   if (v.n == 0) return p;
   p.dev = std::sqrt(std::max(v.var, 0.0)) * scale_;
@@ -164,7 +165,8 @@ StabilityPoint StabilityRecord::point(std::size_t m, VarianceTerm v) const {
 }
 
 void StabilityRecord::identify(StabilityPoint& p, const StabilityOptions& opt) const {
-  p.alpha = opt.alpha ? *opt.alpha : identify_noise(x_, p.m, stat_).alpha;
+  // TheoH: as the part it takes at m (OADEV or TheoBR).
+  p.alpha = opt.alpha ? *opt.alpha : identify_noise(x_, p.m, theoh_stat_at(stat_, p.m, x_.size()).value_or(stat_)).alpha;
 }
 
 void StabilityRecord::set_interval(StabilityPoint& p, const StabilityOptions& opt) const {

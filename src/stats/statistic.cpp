@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <array>
 #include <utility>
 
@@ -6,7 +7,7 @@
 namespace cubecal {
 
 namespace {
-constexpr std::array<std::pair<Stat, std::string_view>, 14> kStatNames{{
+constexpr std::array<std::pair<Stat, std::string_view>, 15> kStatNames{{
     {Stat::adev, "adev"},
     {Stat::oadev, "oadev"},
     {Stat::mdev, "mdev"},
@@ -21,6 +22,7 @@ constexpr std::array<std::pair<Stat, std::string_view>, 14> kStatNames{{
     {Stat::htotdev, "htotdev"},
     {Stat::theo1, "theo1"},
     {Stat::theobr, "theobr"},
+    {Stat::theoh, "theoh"},
 }};
 
 constexpr std::array<std::string_view, kStatNames.size()> kNames = [] {
@@ -30,6 +32,7 @@ constexpr std::array<std::string_view, kStatNames.size()> kNames = [] {
 }();
 
 bool theo_family(Stat s) noexcept { return s == Stat::theo1 || s == Stat::theobr; }
+bool theo_limits(Stat s) noexcept { return theo_family(s) || s == Stat::theoh; }
 }  // namespace
 
 std::string_view to_string(Stat s) noexcept {
@@ -77,6 +80,27 @@ int difference_order(Stat s) noexcept {
   }
 }
 
+std::size_t theoh_switch_factor(std::size_t n_phase) noexcept { return n_phase < 2 ? 0 : (n_phase - 1) / 5; }
+
+std::size_t theoh_first_theo_factor(std::size_t n_phase) noexcept {
+  const std::size_t k = theoh_switch_factor(n_phase);
+  std::size_t m = (4 * k + 2) / 3;  // ceil(4k / 3): 0.75 m >= k
+  m += m % 2;
+  return std::max<std::size_t>(m, 2);
+}
+
+std::optional<Stat> theoh_stat_at(Stat s, std::size_t m, std::size_t n_phase) noexcept {
+  if (s != Stat::theoh) return s;
+  if (m >= 1 && m < theoh_switch_factor(n_phase)) return Stat::oadev;
+  if (m >= theoh_first_theo_factor(n_phase) && m % 2 == 0) return Stat::theobr;
+  return std::nullopt;
+}
+
+double tau_per_factor(Stat s, std::size_t m, std::size_t n_phase) noexcept {
+  if (s != Stat::theoh) return tau_per_factor(s);
+  return m < theoh_switch_factor(n_phase) ? 1.0 : 0.75;
+}
+
 std::size_t points_per_factor(Stat s) noexcept {
   switch (s) {
     case Stat::adev:
@@ -97,6 +121,7 @@ std::size_t points_per_factor(Stat s) noexcept {
     case Stat::mtie:
     case Stat::theo1:
     case Stat::theobr:
+    case Stat::theoh:
       return 1;
   }
   return 5;
@@ -105,7 +130,7 @@ std::size_t points_per_factor(Stat s) noexcept {
 std::size_t max_averaging_factor(Stat s, std::size_t n_phase) noexcept {
   if (n_phase < 2) return 0;
   std::size_t m = (n_phase - 1) / points_per_factor(s);  // over the N - 1 frequency points
-  if (theo_family(s)) m -= m % 2;
+  if (theo_limits(s)) m -= m % 2;
   return m;
 }
 

@@ -25,7 +25,10 @@ TauListOutcome tau_list_outcome(const TauGrid& grid, Stat stat, DataType type, s
   const double per = static_cast<double>(points_per_factor(stat));
   std::map<double, double> first_tau;  // evaluated factor -> the first listed tau on it
   for (double tau : grid.taus) {
-    const double m = listed_factor(tau, tau0 * tau_per_factor(stat));
+    double m = listed_factor(tau, tau0 * tau_per_factor(stat));
+    // TheoH: from the switch tau on, the TheoBR factor (tau = 0.75 m tau0).
+    if (stat == Stat::theoh && tau >= static_cast<double>(theoh_switch_factor(n_phase)) * tau0)
+      m = listed_factor(tau, 0.75 * tau0);
     if (m > static_cast<double>(max_m)) {
       // Frequency data: N samples are N + 1 phase points, so the limit
       // N + 1 >= per * m + 1 reads N >= per * m.

@@ -6,11 +6,16 @@
 // The inner sum over i, for one d, is the energy of a four-point filter
 // along the record: vectorised like the other kernels, eight partial sums.
 // O(N m / 2) per factor.
+//
+// TheoH (SP 1065 sec. 5.2.16; D. A. Howe, Metrologia 43, S322, 2006): the
+// overlapping AVAR below the switch factor k/tau0 and TheoBR from
+// k/(0.75 tau0) on, k the largest tau within 20 % of the record.
 #include "cubecal/stats/theo.hpp"
 
 #include <algorithm>
 #include <cmath>
 
+#include "cubecal/stats/statistic.hpp"
 #include "../detail/simd.hpp"
 
 namespace cubecal {
@@ -63,6 +68,25 @@ double theobr_ratio(std::span<const double> x) {
     sum += a.var / t.var;
   }
   return sum / static_cast<double>(last + 1);
+}
+
+VarianceTerm theohvar(std::span<const double> x, std::size_t m, double tau0, double ratio) {
+  const auto part = theoh_stat_at(Stat::theoh, m, x.size());
+  if (!part) return {};
+  if (*part == Stat::oadev) return oavar(x, m, tau0);
+  if (!(ratio > 0.0)) return {};
+  VarianceTerm v = theo1var(x, m, tau0);
+  v.var *= ratio;
+  return v;
+}
+
+TauGrid theoh_factor_grid(const TauGrid& grid, std::size_t n_phase, double tau0) {
+  TauGrid out = grid;
+  if (grid.kind != TauGrid::Kind::list) return out;
+  const double k = static_cast<double>(theoh_switch_factor(n_phase)) * tau0;
+  for (double& tau : out.taus)
+    if (tau >= k) tau /= 0.75;
+  return out;
 }
 
 }  // namespace cubecal

@@ -105,5 +105,12 @@ inline std::vector<StabilityPoint> theobr(std::span<const double> data, double r
                                           const StabilityOptions& options = {}) {
   return deviation(Stat::theobr, data, rate_hz, type, grid, options);
 }
+// TheoH: OADEV below 20 % of the record (tau = m / rate_hz), TheoBR beyond
+// (even m, tau = 0.75 m / rate_hz); statistic.hpp, theoh_stat_at.
+inline std::vector<StabilityPoint> theoh(std::span<const double> data, double rate_hz,
+                                         DataType type = DataType::freq, const TauGrid& grid = {},
+                                         const StabilityOptions& options = {}) {
+  return deviation(Stat::theoh, data, rate_hz, type, grid, options);
+}
 
 }  // namespace cubecal

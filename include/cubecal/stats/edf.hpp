@@ -27,20 +27,28 @@ double edf_simple(int alpha, std::size_t m, std::size_t n_phase);
 // NIST SP 1065 Table 11 for TOTVAR (b*T/tau - c), simple formula otherwise.
 double edf_totvar(int alpha, std::size_t m, std::size_t n_phase);
 
-// NIST SP 1065 Table 8 for MTOT and TTOT: b (N/m) - c, alpha 2 .. -2
-// (0 otherwise).
+// MTOT and TTOT: MDEV's Greenhall-Riley EDF below m = 10, NIST SP 1065
+// Table 8 from m = 10 on (b (N/m) - c), alpha 2 .. -2 (0 otherwise).
+// Stable32 takes MDEV's EDF at the same factors; from m = 10 on its
+// intervals follow other coefficients (docs/formulas/stability.md, 5.6).
 double edf_mtotvar(int alpha, std::size_t m, std::size_t n_phase);
 
-// Theo1 (and TheoBR) at even factor m, r = 0.75 m (SP 1065 sec. 5.2.15, Howe
-// & Tasset 2004), for white PM (alpha 2) and white FM (alpha 0), the two
-// forms checked here by simulation (tests/test_stable32_more.cpp); 0 (no
-// interval) for the other noise types.
+// HTOT: from m = 16 on, for white FM to random-run FM (alpha 0 .. -4),
+// Howe et al.'s (T/tau) / (b0 + b1 tau/T) (PTTI 2000, Table 1); below m = 16, and for phase noise, the SP 1065 Table 5
+// approximation (Stable32's choice); the overlapping Hadamard EDF for
+// alpha -3 and -4 below m = 16.
+double edf_htotvar(int alpha, std::size_t m, std::size_t n_phase);
+
+// Theo1 (and TheoBR) at even factor m on N phase points, r = 0.75 m: the
+// five forms of NIST SP 1065 sec. 5.2.15 (Howe & Peppler 2003, Howe &
+// Tasset 2004) for alpha 2 .. -2; 0 (no interval) for other alpha.
 double edf_theo1(int alpha, std::size_t m, std::size_t n_phase);
 
 enum class EdfMethod { greenhall, simple };
 
-// EDF of a statistic as Stable32 computes it (HTOT: the overlapping
-// Hadamard EDF, a lower bound; TIE rms and MTIE: 0, no interval).
+// EDF of a statistic as Stable32 computes it (MTOT, TTOT, HTOT and the
+// Theo family by the functions above whatever the method, TheoH by its
+// part at m; TIE rms and MTIE: 0, no interval).
 double edf_for(Stat stat, int alpha, std::size_t m, std::size_t n_phase,
                EdfMethod method = EdfMethod::greenhall);
 

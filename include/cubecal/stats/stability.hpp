@@ -109,7 +109,7 @@ class StabilityRecord {
   Stat stat_;
   TotvarExtension ext_;  // only for TOTDEV
   std::vector<double> d_;  // only for HTOT: x[k+1] - x[k]
-  double theobr_ratio_ = 0.0;  // only for TheoBR
+  double theobr_ratio_ = 0.0;  // only for TheoBR and TheoH
 };
 
 // Convenience: every m in `ms` (single-threaded; the pipeline layer runs

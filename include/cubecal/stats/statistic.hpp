@@ -13,8 +13,9 @@ enum class DataType { phase, freq };
 
 // The Allan family (adev .. totdev), the time-interval errors (tierms, mtie),
 // the total variances of SP 1065 (mtotdev, ttotdev, htotdev) and the Theo
-// family (theo1 and the bias-removed theobr). docs/formulas/stability.md defines each.
-enum class Stat { adev, oadev, mdev, tdev, hdev, ohdev, totdev, tierms, mtie, mtotdev, ttotdev, htotdev, theo1, theobr };
+// family (theo1, the bias-removed theobr, and theoh: OADEV at short taus,
+// TheoBR at long ones). docs/formulas/stability.md defines each.
+enum class Stat { adev, oadev, mdev, tdev, hdev, ohdev, totdev, tierms, mtie, mtotdev, ttotdev, htotdev, theo1, theobr, theoh };
 
 std::string_view to_string(Stat s) noexcept;
 std::string_view to_string(DataType t) noexcept;
@@ -33,8 +34,27 @@ bool has_intervals(Stat s) noexcept;
 double tau_per_factor(Stat s) noexcept;
 
 // Whether the statistic is defined at averaging factor m (the Theo family
-// takes even m only).
+// takes even m only; TheoH, whose factors depend on the record, any m here:
+// see theoh_stat_at).
 bool factor_allowed(Stat s, std::size_t m) noexcept;
+
+// TheoH (Howe & Tasset 2006; SP 1065 sec. 5.2.16) on N phase points: AVAR
+// (overlapping) at 1 <= m < k/tau0 with tau = m tau0, TheoBR at even
+// m >= k/(0.75 tau0) with tau = 0.75 m tau0 (Stable32's convention), k the
+// largest tau <= 20 % of the record T = (N - 1) tau0. theoh_switch_factor
+// is k/tau0 = floor((N - 1) / 5); theoh_first_theo_factor the smallest even
+// m with 0.75 m >= k/tau0. Factors in between are not defined.
+std::size_t theoh_switch_factor(std::size_t n_phase) noexcept;
+std::size_t theoh_first_theo_factor(std::size_t n_phase) noexcept;
+
+// The statistic TheoH evaluates at factor m on n_phase points: oadev below
+// the switch, theobr from the first Theo factor on (even m), nullopt in
+// between or at an odd m beyond. Any other statistic: itself.
+std::optional<Stat> theoh_stat_at(Stat s, std::size_t m, std::size_t n_phase) noexcept;
+
+// tau_per_factor at factor m of a record of n_phase points: TheoH's 1 or
+// 0.75 by the part m falls in, tau_per_factor(s) otherwise.
+double tau_per_factor(Stat s, std::size_t m, std::size_t n_phase) noexcept;
 
 // Order of the finite difference of phase behind a statistic: 2 for the Allan
 // family (AVAR, MVAR, TVAR, TOTVAR, MTOT, TTOT, the Theo family), 3 for the
@@ -44,8 +64,8 @@ int difference_order(Stat s) noexcept;
 // Largest averaging factor Stable32 evaluates for a statistic on N phase
 // points (N-1 frequency points): (N-1)/5 for ADEV and HDEV, (N-1)/4 for the
 // overlapping and modified statistics and TIE rms, (N-1)/3 for MTOT, TTOT and
-// HTOT, (N-1)/2 for TOTDEV, N-1 for MTIE and the Theo family (whose largest
-// factor is then the largest even one).
+// HTOT, (N-1)/2 for TOTDEV, N-1 for MTIE and the Theo family (TheoH
+// included; whose largest factor is then the largest even one).
 std::size_t max_averaging_factor(Stat s, std::size_t n_phase) noexcept;
 
 // Phase points per averaging factor in that limit: max_averaging_factor(s, N)
