@@ -201,7 +201,110 @@ TEST_F(BinaryInput, NpyDamageIsLocated) {
   nan_data.replace(8 * 123, 8, nan);
   const std::string with_nan = write_bytes("nan.npy", npy("<f8", false, "(400,)", nan_data));
   expect_error("dev " + with_nan + " --rate 100",
-               {"NaN at byte offset " + std::to_string(data_at + 8 * 123) + " (row 124, column 1)"});
+               {with_nan + ": NaN at byte offset " + std::to_string(data_at + 8 * 123) + " (row 124, column 1)",
+                "--gaps skip"});
+}
+
+// --gaps skip: a NaN sample of a .npy array or of raw frames is a missing
+// sample, as an empty field of text. The same record as CSV with empty
+// fields, as .npy (C and Fortran order, float64 and float32) and as raw
+// float64le / float32le frames with NaN (quiet, negative and signalling)
+// gives the same `dev --gaps skip` and `davar --gaps skip` output; without
+// --gaps skip the first NaN is refused at its byte offset, row and column,
+// naming the option; an infinity is refused with it too.
+TEST_F(BinaryInput, NanIsAMissingSampleUnderGapsSkip) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double negative_nan = std::bit_cast<double>(std::uint64_t{0xfff8000000000000});
+  const double signalling_nan = std::bit_cast<double>(std::uint64_t{0x7ff0000000000001});
+  std::vector<std::vector<double>> rows(kRows, std::vector<double>(2));
+  for (std::size_t r = 0; r < kRows; ++r)
+    for (std::size_t c = 0; c < 2; ++c) rows[r][c] = value(r, c);
+  rows[5][0] = nan;
+  rows[6][0] = negative_nan;
+  rows[123][1] = signalling_nan;
+  for (std::size_t r = 200; r < 210; ++r) rows[r][0] = nan;
+  rows[399][1] = nan;
+  // Text: headerless CSV (columns col1, col2 as in binary), empty fields.
+  const auto text_of = [](const std::vector<std::vector<double>>& rs) {
+    std::string t;
+    for (const auto& r : rs)
+      t += (std::isnan(r[0]) ? "" : number(r[0])) + "," + (std::isnan(r[1]) ? "" : number(r[1])) + "\n";
+    return t;
+  };
+  std::string c_order, f_order, raw64 = std::string(16, '\x55'), raw32, npy32;
+  std::vector<std::vector<double>> rows32 = rows;
+  for (std::size_t r = 0; r < kRows; ++r)
+    for (std::size_t c = 0; c < 2; ++c) {
+      put_f64(c_order, rows[r][c]);
+      put_f64(raw64, rows[r][c]);
+      const auto f = static_cast<float>(rows[r][c]);
+      put_f32(raw32, f);
+      put_f32(npy32, f);
+      rows32[r][c] = static_cast<double>(f);
+    }
+  for (std::size_t c = 0; c < 2; ++c)
+    for (std::size_t r = 0; r < kRows; ++r) put_f64(f_order, rows[r][c]);
+  const std::string skip = " --rate 100 --gaps skip --format csv";
+  const std::string davar = " --window 100 --step 50 --taus octave";
+  const auto run_ok = [&](const std::string& args) {
+    const CliRun r = run_cubecal(args);
+    EXPECT_EQ(r.code, 0) << args << "\n" << r.err;
+    EXPECT_NE(r.err.find("14 missing sample(s)"), std::string::npos) << args << "\n" << r.err;
+    return r.out;
+  };
+  const std::string text = write_bytes("holes.csv", text_of(rows));
+  const std::string text32 = write_bytes("holes32.csv", text_of(rows32));
+  const std::string dev_text = run_ok("dev " + text + skip), davar_text = run_ok("davar " + text + skip + davar);
+  const std::string dev_text32 = run_ok("dev " + text32 + skip);
+  const std::string davar_text32 = run_ok("davar " + text32 + skip + davar);
+  ASSERT_NE(dev_text.find("col2"), std::string::npos);
+  struct Binary {
+    std::string file, options;
+    bool single;
+  };
+  const Binary binaries[] = {
+      {write_bytes("c.npy", npy("<f8", false, "(400, 2)", c_order)), "", false},
+      {write_bytes("f.npy", npy("<f8", true, "(400, 2)", f_order)), "", false},
+      {write_bytes("c32.npy", npy("<f4", false, "(400, 2)", npy32)), "", true},
+      {write_bytes("x.bin", raw64), " --binary float64le,float64le --header-bytes 16", false},
+      {write_bytes("x32.bin", raw32), " --binary float32le,float32le", true},
+  };
+  for (const Binary& b : binaries) {
+    SCOPED_TRACE(b.file);
+    EXPECT_EQ(run_ok("dev " + b.file + b.options + skip), b.single ? dev_text32 : dev_text);
+    EXPECT_EQ(run_ok("davar " + b.file + b.options + skip + davar), b.single ? davar_text32 : davar_text);
+  }
+  // Without --gaps skip: the first NaN (row 6, column 1) at its byte offset.
+  const std::size_t npy_data_at = npy("<f8", false, "(400, 2)", "").size();
+  expect_error("dev " + binaries[0].file + " --rate 100",
+               {binaries[0].file + ": NaN at byte offset " + std::to_string(npy_data_at + 16 * 5) +
+                    " (row 6, column 1)",
+                "--gaps skip"});
+  expect_error("davar " + binaries[1].file + " --rate 100",
+               {"NaN at byte offset " + std::to_string(npy_data_at + 8 * 5) + " (row 6, column 1)", "--gaps skip"});
+  // Raw frames: columns are checked in order, so column 1's NaN at row 6.
+  expect_error("dev " + binaries[3].file + " --rate 100 --binary float64le,float64le --header-bytes 16",
+               {"NaN at byte offset " + std::to_string(16 + 16 * 5) + " (row 6, column 1)", "--gaps skip"});
+  // A signalling NaN of column 2 alone, at row 124: 4 bytes into the frame.
+  std::string only = raw32;
+  for (std::size_t r = 0; r < kRows; ++r)
+    for (std::size_t c = 0; c < 2; ++c)
+      if (!(r == 123 && c == 1)) {
+        std::string v;
+        put_f32(v, static_cast<float>(value(r, c)));
+        only.replace(8 * r + 4 * c, 4, v);
+      }
+  expect_error("dev " + write_bytes("one.bin", only) + " --rate 100 --binary float32le,float32le",
+               {"NaN at byte offset " + std::to_string(8 * 123 + 4) + " (row 124, column 2)", "--gaps skip"});
+  // An infinity is never a missing sample.
+  std::string inf = c_order;
+  std::string one;
+  put_f64(one, std::numeric_limits<double>::infinity());
+  inf.replace(16 * 50 + 8, 8, one);
+  const std::string with_inf = write_bytes("inf.npy", npy("<f8", false, "(400, 2)", inf));
+  expect_error("dev " + with_inf + skip,
+               {with_inf + ": infinite value at byte offset " + std::to_string(npy_data_at + 16 * 50 + 8) +
+                " (row 51, column 2)"});
 }
 
 // Files written by NumPy itself, when this machine's python3 has it.

@@ -10,7 +10,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <random>
 #include <sstream>
 #include <string>
@@ -19,8 +21,13 @@
 #include "cli_runner.hpp"
 #include "report_check.hpp"
 #include "cubecal/error.hpp"
+#include "cubecal/io/series.hpp"
+#include "cubecal/pipeline/davar_pipeline.hpp"
+#include "cubecal/report/command_reports.hpp"
+#include "cubecal/report/html.hpp"
 #include "cubecal/report/plot.hpp"
 #include "cubecal/stats/davar.hpp"
+#include "cubecal/stats/gap_deviation.hpp"
 #include "cubecal/stats/stability.hpp"
 
 namespace cubecal {
@@ -182,6 +189,154 @@ TEST(Davar, RefusesWhatItCannotDo) {
   std::vector<double> bad = y;
   bad[500] = NAN;
   EXPECT_THROW(run(bad, DataType::freq, 0.1, 100, 10, grid_of("octave"), DavarMethod::fast), std::invalid_argument);
+}
+
+// ---------------------------------------------------------------------------
+// (a') Missing samples (DavarOptions::skip_missing, `davar --gaps skip`):
+// each cell is `dev --gaps skip` (oadev_skipping_missing) on its window.
+
+// `y` with samples missing (NaN): single samples, a run of 40, and from
+// `dense` on every fifth sample for 600 samples (no term of 2m >= 5
+// frequency samples is whole there, so windows inside it have cells without
+// a whole term).
+std::vector<double> with_missing(std::vector<double> y, std::size_t dense) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (const std::size_t k : {std::size_t{0}, std::size_t{17}, std::size_t{18}, std::size_t{333}, y.size() - 1})
+    y[k] = nan;
+  for (std::size_t k = 2000; k < 2040; ++k) y[k] = nan;
+  for (std::size_t k = dense; k < dense + 600; k += 5) y[k] = nan;
+  return y;
+}
+
+DavarMatrix run_skipping(std::span<const double> y, DataType type, std::size_t window, std::size_t step,
+                         const std::string& taus, DavarMethod method, bool intervals, std::optional<int> alpha = {}) {
+  DavarOptions o;
+  o.window = window;
+  o.step = step;
+  o.grid = grid_of(taus);
+  o.method = method;
+  o.intervals.enabled = intervals;
+  o.intervals.alpha = alpha;
+  o.skip_missing = true;
+  return davar(y, type, 0.1, o);
+}
+
+// The fast method (sums and counts of the whole terms slid over blocks)
+// against the direct one (every window's whole terms summed anew), for the
+// block layouts of FastEqualsDirectForEveryBlockLayout, frequency and phase;
+// and the direct one against its definition, oadev_skipping_missing on the
+// window's samples (to the rounding of the two phase records, the record's
+// and the window's own: docs/formulas/davar.md §4.3).
+TEST(Davar, MissingSamplesFastEqualsDirect) {
+  const auto y = with_missing(white_plus_walk(4'000, 0.5, 0.05, 0.2, 3'000, 5), 2'500);
+  struct Case {
+    std::size_t window, step;
+    const char* taus;
+  };
+  std::size_t without_value = 0;
+  for (DataType type : {DataType::freq, DataType::phase})
+    for (const Case& c : {Case{300, 1, "all"}, Case{1000, 7, "all"}, Case{1001, 100, "all"}, Case{999, 250, "all"},
+                          Case{600, 900, "all"}, Case{64, 64, "all"}, Case{4'000, 5, "log:40"}}) {
+      SCOPED_TRACE("window " + std::to_string(c.window) + ", step " + std::to_string(c.step) + ", " +
+                   std::string(to_string(type)));
+      const DavarMatrix fast = run_skipping(y, type, c.window, c.step, c.taus, DavarMethod::fast, false);
+      const DavarMatrix direct = run_skipping(y, type, c.window, c.step, c.taus, DavarMethod::direct, false);
+      ASSERT_EQ(fast.dev.size(), direct.dev.size());
+      EXPECT_EQ(fast.missing, missing_samples(y));
+      EXPECT_EQ(fast.terms, direct.terms);
+      double worst = 0.0;
+      for (std::size_t i = 0; i < fast.dev.size(); ++i) {
+        ASSERT_EQ(std::isnan(fast.dev[i]), fast.terms[i] == 0) << "cell " << i;
+        ASSERT_EQ(std::isnan(direct.dev[i]), direct.terms[i] == 0) << "cell " << i;
+        if (fast.terms[i] == 0) {
+          ++without_value;
+          continue;
+        }
+        worst = std::max(worst, std::abs(fast.dev[i] - direct.dev[i]) / direct.dev[i]);
+      }
+      EXPECT_LT(worst, 1e-12);
+      // The definition, on a few windows.
+      StabilityOptions bare;
+      bare.intervals = false;
+      double from_definition = 0.0;
+      for (std::size_t k = 0; k < direct.windows(); k += std::max<std::size_t>(1, direct.windows() / 7)) {
+        const auto pts = oadev_skipping_missing(std::span<const double>(y).subspan(k * c.step, c.window), type, 0.1,
+                                                direct.m, bare);
+        for (std::size_t j = 0; j < direct.taus(); ++j) {
+          ASSERT_EQ(direct.terms_at(j, k), pts[j].n) << "window " << k << ", m " << direct.m[j];
+          if (pts[j].n > 0)
+            from_definition = std::max(from_definition, std::abs(direct.dev_at(j, k) - pts[j].dev) / pts[j].dev);
+        }
+      }
+      std::printf("%s, window %zu, step %zu: fast vs direct %.3g, direct vs oadev_skipping_missing %.3g\n",
+                  std::string(to_string(type)).c_str(), c.window, c.step, worst, from_definition);
+      EXPECT_LT(from_definition, 1e-12);
+    }
+  EXPECT_GT(without_value, 0u) << "the dense stretch leaves cells without a whole term";
+}
+
+// Every cell, intervals included, is oadev_skipping_missing (what `dev
+// --gaps skip` computes) on the window's samples: terms, deviation, noise
+// type (identified, or fixed), EDF and interval; windows with and without a
+// missing sample alike.
+TEST(Davar, MissingSamplesEachCellIsDevGapsSkipOnItsWindow) {
+  const std::size_t n = 12'000, W = 1200, S = 400;
+  const auto y = with_missing(white_plus_walk(n, 1.0, 0.002, 0.02, n / 3, 9), 6'000);
+  for (const std::optional<int> alpha : {std::optional<int>{}, std::optional<int>{0}}) {
+    SCOPED_TRACE(alpha ? "alpha fixed at 0" : "alpha identified");
+    const DavarMatrix mx = run_skipping(y, DataType::freq, W, S, "log:10", DavarMethod::fast, true, alpha);
+    StabilityOptions opt;  // 68.3 %, Greenhall: as davar's defaults
+    opt.alpha = alpha;
+    double worst = 0.0;
+    std::size_t gapped_windows = 0, without_value = 0;
+    for (std::size_t k = 0; k < mx.windows(); ++k) {
+      const std::span<const double> window(y.data() + k * S, W);
+      gapped_windows += missing_samples(window) > 0 ? 1 : 0;
+      const auto pts = oadev_skipping_missing(window, DataType::freq, 0.1, mx.m, opt);
+      for (std::size_t j = 0; j < mx.taus(); ++j) {
+        const std::size_t c = mx.cell(j, k);
+        SCOPED_TRACE("window " + std::to_string(k) + ", m " + std::to_string(mx.m[j]));
+        ASSERT_EQ(mx.terms_at(j, k), pts[j].n);
+        if (pts[j].n == 0) {
+          ++without_value;
+          EXPECT_TRUE(std::isnan(mx.dev[c]) && std::isnan(mx.lo[c]) && std::isnan(mx.hi[c]) && std::isnan(mx.edf[c]));
+          continue;
+        }
+        worst = std::max(worst, std::abs(mx.dev[c] - pts[j].dev) / pts[j].dev);
+        EXPECT_EQ(mx.alpha[c], pts[j].alpha);
+        EXPECT_EQ(mx.alpha_carried[c], pts[j].type_carried);
+        EXPECT_NEAR(mx.edf[c] / pts[j].edf, 1.0, 1e-12);
+        EXPECT_NEAR(mx.lo[c] / pts[j].lo, 1.0, 1e-12);
+        EXPECT_NEAR(mx.hi[c] / pts[j].hi, 1.0, 1e-12);
+      }
+    }
+    std::printf("davar vs dev --gaps skip on each window's samples: max relative difference %.3g "
+                "(%zu of %zu windows with missing samples, %zu cells without a whole term)\n",
+                worst, gapped_windows, mx.windows(), without_value);
+    EXPECT_LT(worst, 1e-12);
+    EXPECT_GT(gapped_windows, 0u);
+    EXPECT_LT(gapped_windows, mx.windows()) << "whole windows too";
+    EXPECT_GT(without_value, 0u);
+  }
+}
+
+// A record without a NaN takes the gap-free path whether or not missing
+// samples are to be skipped: the same matrix to the bit, no per-cell terms.
+// An infinite sample is refused either way.
+TEST(Davar, MissingSamplesOnlyWhereThereAreSome) {
+  const auto y = white_plus_walk(20'000, 1.0, 0.01, 0.01, 0, 4);
+  const DavarMatrix plain = run(y, DataType::freq, 0.1, 2000, 150, grid_of("log:10"), DavarMethod::fast, true);
+  const DavarMatrix skipping = run_skipping(y, DataType::freq, 2000, 150, "log:10", DavarMethod::fast, true);
+  EXPECT_EQ(skipping.missing, 0u);
+  EXPECT_TRUE(skipping.terms.empty());
+  EXPECT_EQ(plain.dev, skipping.dev);
+  EXPECT_EQ(plain.lo, skipping.lo);
+  EXPECT_EQ(plain.alpha, skipping.alpha);
+  std::vector<double> bad = with_missing(y, 10'000);
+  bad[777] = INFINITY;
+  EXPECT_THROW(run_skipping(bad, DataType::freq, 2000, 150, "octave", DavarMethod::fast, false), std::invalid_argument);
+  EXPECT_THROW(run_skipping(bad, DataType::freq, 2000, 150, "octave", DavarMethod::direct, false),
+               std::invalid_argument);
 }
 
 // ---------------------------------------------------------------------------
@@ -374,6 +529,219 @@ TEST_F(DavarCli, CsvJsonAndTable) {
   EXPECT_NE(table.out.find("gy"), std::string::npos);
   EXPECT_NE(table.out.find("max/min"), std::string::npos);
   EXPECT_EQ(table.out.find("# " + f + ": gx"), std::string::npos) << "--columns gy only";
+}
+
+// `davar --gaps skip`: empty fields, NaN and rows never logged are missing
+// samples; each column of the matrix is `dev --gaps skip` run on that
+// window's samples (written to a file of their own), to 1e-12 relative,
+// intervals included; a cell without a whole term is null in JSON (dev
+// has no point there) and has empty fields in CSV.
+TEST_F(DavarCli, GapsSkipEachColumnIsDevGapsSkipOnItsWindow) {
+  const std::size_t n = 2400, W = 400, S = 250;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::vector<double> gx = white(n, 1.0, 21), gy = white(n, 0.5, 22);
+  gx[130] = nan;                                      // an empty field
+  gx[700] = gy[700] = nan;                            // NaN
+  for (std::size_t k = 1000; k < 1003; ++k) gx[k] = gy[k] = nan;  // rows never logged
+  for (std::size_t k = 1500; k < 2000; k += 5) gx[k] = nan;       // every fifth sample, empty
+  std::string text = "t,gx,gy\n";
+  char line[160];
+  const auto field = [](double v) {
+    char b[40];
+    std::snprintf(b, sizeof b, "%.17g", v);
+    return std::isnan(v) ? std::string() : std::string(b);
+  };
+  for (std::size_t k = 0; k < n; ++k) {
+    if (k >= 1000 && k < 1003) continue;
+    std::snprintf(line, sizeof line, "%.1f,%s,%s\n", 0.1 * static_cast<double>(k),
+                  k == 700 ? "NaN" : field(gx[k]).c_str(), k == 700 ? "nan" : field(gy[k]).c_str());
+    text += line;
+  }
+  const std::string f = write("holes.csv", text);
+  const std::string args = " --window 400 --step 250 --taus octave --gaps skip";
+  const auto r = run_cubecal("davar " + f + args + " --format json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::size_t missing = missing_samples(gx) + missing_samples(gy);
+  EXPECT_NE(r.err.find(std::to_string(missing) + " missing sample(s)"), std::string::npos) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["missing_samples"], missing);
+  ASSERT_EQ(j["windows"], (n - W) / S + 1);
+  std::size_t nulls = 0, compared = 0;
+  double worst = 0.0;
+  for (std::size_t k = 0; k < (n - W) / S + 1; ++k) {
+    std::string win = "gx,gy\n";
+    for (std::size_t i = k * S; i < k * S + W; ++i) {
+      std::snprintf(line, sizeof line, "%.17g,%.17g\n", gx[i], gy[i]);  // NaN as "nan"
+      win += line;
+    }
+    const auto d = run_cubecal("dev " + write("w.csv", win) + " --rate 10 --taus octave --gaps skip --format json");
+    ASSERT_EQ(d.code, 0) << d.err;
+    const auto dj = nlohmann::json::parse(d.out);
+    for (std::size_t c = 0; c < 2; ++c) {
+      const auto& ch = j["channels"][c];
+      const auto& col = dj["columns"][c];
+      ASSERT_EQ(ch["name"], col["name"]);
+      // dev's factors are among davar's (the same grid and limit on a window).
+      for (const auto& af : col["af"])
+        EXPECT_NE(std::find(ch["m"].begin(), ch["m"].end(), af), ch["m"].end()) << "dev's factor " << af;
+      for (std::size_t t = 0; t < ch["m"].size(); ++t) {
+        SCOPED_TRACE("window " + std::to_string(k) + ", " + ch["name"].get<std::string>() + ", m " +
+                     std::to_string(ch["m"][t].get<std::size_t>()));
+        const std::size_t terms =
+            ch.contains("terms") ? ch["terms"][t][k].get<std::size_t>() : ch["n"][t].get<std::size_t>();
+        // dev's point at this factor: none where the window has no whole term
+        // (dev leaves the factor out, as for a factor no segment holds).
+        std::size_t p = 0;
+        while (p < col["af"].size() && col["af"][p] != ch["m"][t]) ++p;
+        if (p == col["af"].size()) {
+          ++nulls;
+          EXPECT_EQ(terms, 0u);
+          for (const char* key : {"dev", "lo", "hi", "edf", "alpha"}) EXPECT_TRUE(ch[key][t][k].is_null()) << key;
+          continue;
+        }
+        ++compared;
+        EXPECT_GT(col["n"][p].get<std::size_t>(), 0u) << "dev printed a factor without a term";
+        EXPECT_EQ(terms, col["n"][p].get<std::size_t>());
+        const double want = col["dev"][p].get<double>();
+        worst = std::max(worst, std::abs(ch["dev"][t][k].get<double>() - want) / want);
+        EXPECT_EQ(ch["alpha"][t][k], col["alpha"][p]);
+        for (const char* key : {"lo", "hi", "edf"})
+          EXPECT_NEAR(ch[key][t][k].get<double>() / col[key][p].get<double>(), 1.0, 1e-12) << key;
+      }
+    }
+  }
+  std::printf("davar --gaps skip vs dev --gaps skip on each window: %zu cells, max relative difference %.3g, "
+              "%zu cells without a whole term\n",
+              compared, worst, nulls);
+  EXPECT_LT(worst, 1e-12);
+  EXPECT_GT(nulls, 0u);
+  EXPECT_GT(compared, 100u);
+
+  // CSV: the same cells without a value, as empty fields (n = 0).
+  const auto csv = run_cubecal("davar " + f + args + " --format csv");
+  ASSERT_EQ(csv.code, 0) << csv.err;
+  std::istringstream in(csv.out);
+  std::string row;
+  std::size_t empty_rows = 0;
+  while (std::getline(in, row)) {
+    std::vector<std::string> cells;
+    std::stringstream fields(row);
+    for (std::string cell; std::getline(fields, cell, ',');) cells.push_back(cell);
+    if (row.back() == ',') cells.emplace_back();
+    ASSERT_EQ(cells.size(), 9u) << row;
+    if (cells[3].empty()) {
+      ++empty_rows;
+      EXPECT_EQ(cells[4], "0") << row;
+      for (std::size_t i = 5; i < 9; ++i) EXPECT_TRUE(cells[i].empty()) << row;
+    }
+  }
+  EXPECT_EQ(empty_rows, nulls);
+  // The table takes cells without a value.
+  EXPECT_EQ(run_cubecal("davar " + f + args).code, 0);
+  // Without --gaps skip the empty field is refused at its place.
+  const auto refused = run_cubecal("davar " + f + " --window 400 --step 250");
+  EXPECT_TRUE(one_error_line(refused)) << refused.err;
+  EXPECT_NE(refused.err.find(f + ":132:"), std::string::npos) << refused.err;
+}
+
+// The report's per-tau spread table on a gapped record: gx misses every
+// fifth sample from 1000 to 1600, so a window inside that stretch has no
+// whole term from m = 3 on (no 6 whole samples in a row). Such cells are
+// left out of the smallest, median and largest and counted in a column of
+// their own; the terms are the range of the counts of the other cells. gy,
+// whole, keeps the table of a record without gaps.
+TEST_F(DavarCli, GapsSkipSpreadTableLeavesOutCellsWithoutATerm) {
+  const std::size_t n = 3000;
+  std::vector<double> gx = white(n, 1.0, 31), gy = white(n, 0.5, 32);
+  for (std::size_t k = 1000; k < 1600; k += 5) gx[k] = std::numeric_limits<double>::quiet_NaN();
+  std::string text = "t,gx,gy\n";
+  char line[128];
+  for (std::size_t k = 0; k < n; ++k) {
+    if (std::isnan(gx[k]))
+      std::snprintf(line, sizeof line, "%.1f,,%.17g\n", 0.1 * static_cast<double>(k), gy[k]);  // an empty field
+    else
+      std::snprintf(line, sizeof line, "%.1f,%.17g,%.17g\n", 0.1 * static_cast<double>(k), gx[k], gy[k]);
+    text += line;
+  }
+  const std::string f = write("holes.csv", text);
+  io::SeriesOptions so;
+  so.gaps = io::GapPolicy::skip;
+  const io::Series series = io::read_series(f, so);
+  pipeline::DavarRequest req;
+  req.window = pipeline::parse_davar_span("600", "window");
+  req.step = pipeline::parse_davar_span("100", "step");
+  req.grid = grid_of("octave");
+  const pipeline::DavarResult res = pipeline::run_davar(series, req);
+  const report::CommandReport rep = report::davar_report(res, "cubecal davar holes.csv --gaps skip");
+  ASSERT_EQ(rep.sections.size(), 2u);
+  bool listed = false;
+  for (const auto& field : rep.input) listed |= field.label == "missing samples" && field.value.rfind("120 ", 0) == 0;
+  EXPECT_TRUE(listed) << "the input lists the 120 missing samples";
+  std::size_t empty_total = 0;
+  for (std::size_t c = 0; c < 2; ++c) {
+    const DavarMatrix& mx = res.channels[c].matrix;
+    const bool gapped = c == 0;
+    ASSERT_EQ(mx.terms.empty(), !gapped);
+    std::optional<report::ReportTable> table;
+    for (const auto& block : rep.sections[c].blocks)
+      if (block.table) table = block.table;
+    ASSERT_TRUE(table) << res.channels[c].name;
+    ASSERT_EQ(table->header.size(), gapped ? 9u : 8u);
+    if (gapped) {
+      EXPECT_EQ(table->header.back(), "windows without a term");
+    }
+    ASSERT_EQ(table->rows.size(), mx.taus());
+    const std::size_t K = mx.windows();
+    for (std::size_t j = 0; j < mx.taus(); ++j) {
+      SCOPED_TRACE(res.channels[c].name + ", m " + std::to_string(mx.m[j]));
+      const auto& row = table->rows[j];
+      ASSERT_EQ(row.size(), table->header.size());
+      // The cells with a value, ranked here by a full sort.
+      std::vector<std::pair<double, std::size_t>> cells;
+      std::size_t fewest = std::numeric_limits<std::size_t>::max(), most = 0;
+      for (std::size_t k = 0; k < K; ++k) {
+        const double d = mx.dev_at(j, k);
+        if (std::isnan(d)) continue;
+        cells.emplace_back(d, k);
+        const std::size_t terms = gapped ? mx.terms[mx.cell(j, k)] : mx.n[j];
+        fewest = std::min(fewest, terms);
+        most = std::max(most, terms);
+      }
+      std::sort(cells.begin(), cells.end());
+      const std::size_t empty = K - cells.size();
+      empty_total += empty;
+      if (gapped) {
+        EXPECT_EQ(row.back(), std::to_string(empty));
+      }
+      ASSERT_FALSE(cells.empty());
+      EXPECT_EQ(row[1], fewest == most ? std::to_string(most) : std::to_string(fewest) + "–" + std::to_string(most));
+      if (!gapped) {
+        EXPECT_EQ(row[1], std::to_string(mx.n[j]));
+      }
+      EXPECT_EQ(row[2], report::format_num(cells.front().first, 4));
+      EXPECT_EQ(row[3], report::format_num(mx.centre[cells.front().second], 6));
+      EXPECT_EQ(row[4], report::format_num(cells[cells.size() / 2].first, 4));
+      EXPECT_EQ(row[5], report::format_num(cells.back().first, 4));
+      EXPECT_EQ(row[6], report::format_num(mx.centre[cells.back().second], 6));
+      EXPECT_EQ(row[7], report::format_num(cells.back().first / cells.front().first, 4));
+      // Window 10 (samples 1000-1599) has no 6 whole gx samples in a row.
+      if (gapped && mx.m[j] >= 3) {
+        EXPECT_TRUE(std::isnan(mx.dev_at(j, 10)));
+      } else {
+        EXPECT_EQ(empty, 0u);
+      }
+    }
+  }
+  EXPECT_GT(empty_total, 0u);
+
+  // The command writes the page with that table.
+  if (!report::find_gnuplot()) return;
+  const std::string dir = path("rep");
+  const auto r = run_cubecal("davar " + f + " --gaps skip --window 600 --step 100 --taus octave --report " + dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string html = test::slurp(fs::path(dir) / "report.html");
+  EXPECT_NE(html.find("windows without a term"), std::string::npos);
+  EXPECT_NE(html.find("missing samples"), std::string::npos);
 }
 
 TEST_F(DavarCli, BadInputIsOneLineExitTwo) {

@@ -7,6 +7,8 @@
 #include <hdf5.h>
 
 #include <cmath>
+#include <cstddef>
+#include <cstdio>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
@@ -236,6 +238,97 @@ TEST_F(Hdf5, NaNIsRefusedAtItsRow) {
   const std::string f = h5("n.h5", [&](hid_t loc) { put(loc, "d", {kRows, 2}, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, v.data()); });
   const std::string e = error_of(f, at_rate(10));
   EXPECT_NE(e.find("NaN in dataset /d at row 124, column 2"), std::string::npos) << e;
+  // Read for --gaps skip: a missing sample.
+  io::SeriesOptions skip = at_rate(10);
+  skip.gaps = io::GapPolicy::skip;
+  const io::Series s = io::read_series(f, skip);
+  EXPECT_TRUE(std::isnan(s.channels[1][123]));
+  EXPECT_EQ(s.channels[1][122], v[2 * 122 + 1]);
+}
+
+// --gaps skip: a NaN in a dataset is a missing sample, as an empty field of
+// text. A 2-D float64 dataset, a group of float32 1-D datasets and a
+// compound with a time member (three rows never written, NaN members) give
+// the same `dev --gaps skip` and `davar --gaps skip` output as the same
+// numbers as CSV with empty fields; without --gaps skip the first NaN is
+// refused at its row and column, naming the option; an infinity always.
+TEST_F(Hdf5, NaNIsAMissingSampleUnderGapsSkip) {
+  const double nan = std::nan("");
+  std::vector<double> v = table(2);
+  for (const std::size_t r : {10u, 11u, 250u}) v[2 * r] = nan;
+  for (const std::size_t r : {123u, 399u}) v[2 * r + 1] = nan;
+  std::vector<float> gx(kRows), gy(kRows);
+  for (std::size_t r = 0; r < kRows; ++r) {
+    gx[r] = static_cast<float>(v[2 * r]);
+    gy[r] = static_cast<float>(v[2 * r + 1]);
+  }
+  struct Row {
+    double t;
+    float gx;
+  };
+  std::vector<Row> rows;
+  for (std::size_t r = 0; r < kRows; ++r)
+    if (r < 300 || r > 302) rows.push_back({0.1 * static_cast<double>(r), gx[r]});
+  const std::string d2 = h5("d2.h5", [&](hid_t loc) { put(loc, "d", {kRows, 2}, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, v.data()); });
+  const std::string group = h5("g.h5", [&](hid_t loc) {
+    const hid_t g = H5Gcreate2(loc, "imu", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    put(g, "gx_dps", {kRows}, H5T_IEEE_F32LE, H5T_NATIVE_FLOAT, gx.data());
+    put(g, "gy_dps", {kRows}, H5T_IEEE_F32BE, H5T_NATIVE_FLOAT, gy.data());
+    H5Gclose(g);
+  });
+  const std::string compound = h5("c.h5", [&](hid_t loc) {
+    const hid_t mem = H5Tcreate(H5T_COMPOUND, sizeof(Row));
+    H5Tinsert(mem, "t", offsetof(Row, t), H5T_NATIVE_DOUBLE);
+    H5Tinsert(mem, "gx", offsetof(Row, gx), H5T_NATIVE_FLOAT);
+    put(loc, "samples", {rows.size()}, mem, mem, rows.data());
+    H5Tclose(mem);
+  });
+  // The same numbers as text, a missing value as an empty field.
+  const auto num = [](double x) {
+    char b[40];
+    std::snprintf(b, sizeof b, "%.17g", x);
+    return std::isnan(x) ? std::string() : std::string(b);
+  };
+  std::string t2, tg = "gx_dps,gy_dps\n", tc = "t,gx\n";
+  for (std::size_t r = 0; r < kRows; ++r) {
+    t2 += num(v[2 * r]) + "," + num(v[2 * r + 1]) + "\n";
+    tg += num(gx[r]) + "," + num(gy[r]) + "\n";
+  }
+  for (const Row& row : rows) tc += num(row.t) + "," + num(row.gx) + "\n";
+  const auto output = [&](const std::string& args, const std::string& missing) {
+    const auto r = run_cubecal(args + " --gaps skip --format csv");
+    EXPECT_EQ(r.code, 0) << args << "\n" << r.err;
+    EXPECT_NE(r.err.find(missing + " missing sample(s)"), std::string::npos) << args << "\n" << r.err;
+    return r.out;
+  };
+  const std::string davar = "davar --window 100 --step 50 --taus octave ";
+  struct Case {
+    std::string h5, csv, options, missing;
+  };
+  for (const Case& c : {Case{d2, write("d2.csv", t2), " --rate 10", "5"},
+                        Case{group, write("g.csv", tg), " --rate 10", "5"},
+                        Case{compound, write("c.csv", tc), "", "6"}}) {
+    SCOPED_TRACE(c.h5);
+    const std::string h5_options = c.options + (c.h5 == group ? " --dataset /imu" : "");
+    const std::string dev = output("dev " + c.h5 + h5_options, c.missing);
+    EXPECT_NE(dev.find(",1,0.1,"), std::string::npos) << dev;  // a deviation at 10 Hz
+    EXPECT_EQ(dev, output("dev " + c.csv + c.options, c.missing));
+    EXPECT_EQ(output(davar + c.h5 + h5_options, c.missing), output(davar + c.csv + c.options, c.missing));
+  }
+  // Without --gaps skip: the first NaN, at its row and column.
+  auto r = run_cubecal("dev " + d2 + " --rate 10");
+  EXPECT_TRUE(one_error_line(r)) << r.err;
+  EXPECT_NE(r.err.find(d2 + ": NaN in dataset /d at row 11, column 1"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--gaps skip"), std::string::npos) << r.err;
+  r = run_cubecal("davar " + group + " --rate 10 --dataset /imu");
+  EXPECT_TRUE(one_error_line(r)) << r.err;
+  EXPECT_NE(r.err.find("NaN in dataset /imu at row 11, column 1 (gx_dps)"), std::string::npos) << r.err;
+  // An infinity is never a missing sample.
+  v[2 * 77 + 1] = INFINITY;
+  const std::string inf = h5("inf.h5", [&](hid_t loc) { put(loc, "d", {kRows, 2}, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, v.data()); });
+  r = run_cubecal("dev " + inf + " --rate 10 --gaps skip");
+  EXPECT_TRUE(one_error_line(r)) << r.err;
+  EXPECT_NE(r.err.find("infinite value in dataset /d at row 78, column 2"), std::string::npos) << r.err;
 }
 
 // Truncated and garbage files: one InputError line, no library stack.

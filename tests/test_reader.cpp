@@ -421,8 +421,10 @@ TEST_F(Reader, WrongFieldCount) {
 TEST_F(Reader, NaNIsRejected) {
   const std::string path = write("nan.csv", "t,gx\n0,1\n1,nan\n");
   const InputError e = input_error([&] { read_table(path); });
-  EXPECT_EQ(std::string(e.what()), path + ":3:3: NaN is not accepted in column 2 'gx' "
-                                          "(missing samples must be removed or the record split)");
+  EXPECT_EQ(std::string(e.what()), path + ":3:3: NaN is not accepted in column 2 'gx' (a missing sample: --gaps "
+                                          "skip leaves it out of the OADEV terms (dev, davar); otherwise remove the "
+                                          "row or split the record there)");
+  EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos);
 }
 
 TEST_F(Reader, InfinityIsRejected) {
@@ -439,7 +441,10 @@ TEST_F(Reader, OutOfRangeIsRejected) {
 TEST_F(Reader, EmptyFieldIsRejected) {
   const std::string path = write("empty_field.csv", "t,gx,gy\n0,1,2\n1,,2\n");
   const InputError e = input_error([&] { read_table(path); });
-  EXPECT_EQ(std::string(e.what()), path + ":3:3: empty field in column 2 'gx' (fill or remove the row)");
+  EXPECT_EQ(std::string(e.what()), path + ":3:3: empty field in column 2 'gx' (a missing sample: --gaps skip "
+                                          "leaves it out of the OADEV terms (dev, davar); otherwise fill or remove "
+                                          "the row)");
+  EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos);
 }
 
 TEST_F(Reader, EmptyFile) {

@@ -6,6 +6,7 @@ import numpy as np
 
 from . import _cubecal
 from ._data import channels_of
+from ._read import Record
 from ._result import Result
 
 _CURVE = ("af", "tau", "dev", "n", "lo", "hi", "edf", "alpha", "type_carried")
@@ -65,7 +66,7 @@ class DevResult(Result):
 
 
 def dev(data, rate=None, stat="oadev", data_type="freq", taus="octave", ci=0.683, alpha=None, edf="greenhall",
-        conservative=False, intervals=True, names=None, threads=0):
+        conservative=False, intervals=True, names=None, threads=0, gaps=None):
     """One statistic of each channel over a tau grid, as `cubecal dev`.
 
     data: a 1-D array, a 2-D array (one channel per column), a list of arrays
@@ -73,10 +74,15 @@ def dev(data, rate=None, stat="oadev", data_type="freq", taus="octave", ci=0.683
     or taus in seconds. rate: Hz (default: a Record's rate, else 1). ci: the confidence factor of the intervals; alpha: a
     fixed noise type instead of identification; conservative: below 30
     averages, the widest interval of the identified type and its neighbours.
+    gaps: "skip" takes NaN as a missing sample, left out of the OADEV terms
+    as `cubecal dev --gaps skip` (OADEV only); "error" refuses it. Default: a
+    Record's (cubecal.read(path, gaps="skip")), else "error".
     """
+    if gaps is None:
+        gaps = "skip" if isinstance(data, Record) and data.gaps == "skip" else "error"
     names, arrays = channels_of(data, names)
     if rate is None:
         rate = getattr(data, "rate_hz", None) or 1.0
     meta, columns = _cubecal._dev(arrays, names, float(rate), stat, data_type, taus, float(ci), alpha, edf,
-                                  bool(conservative), bool(intervals), int(threads))
+                                  bool(conservative), bool(intervals), int(threads), gaps)
     return DevResult(json.loads(meta), columns)

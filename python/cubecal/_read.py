@@ -11,7 +11,9 @@ class Record(dict):
     file, rate_hz (given, or from the time stamps), rate_from_time, time (the
     time column's name, or ""), channels (the channel names), extra (further
     columns asked for), units (the units the format states; ROS messages),
-    left_out, topics, segments ((begin, end) rows; several when split at gaps)."""
+    left_out, topics, segments ((begin, end) rows; several when split at gaps),
+    gaps (as read: "error", "split" or "skip") and missing_samples (NaN per
+    channel, with gaps="skip")."""
 
     def __init__(self, columns, meta):
         super().__init__(columns)
@@ -52,8 +54,12 @@ def read(path, columns=None, time=None, rate=None, skip_rows=0, lsb=None, gaps="
 
     columns: names or 1-based indices (default: every column but time,
     temperature and extra); time: the time column (default: found by name);
-    lsb: counts per unit, one for all or one per column; gaps: "error" or
-    "split"; extra: further columns read as they are (e.g. a temperature).
+    lsb: counts per unit, one for all or one per column; gaps: "error",
+    "split" or "skip" (an empty field or NaN is a missing sample, NaN in the
+    arrays, and a gap of whole periods in the time stamps is filled with
+    them, as the CLI's --gaps skip; cubecal.dev of such a Record leaves them
+    out of the OADEV terms, as `cubecal dev --gaps skip`); extra: further
+    columns read as they are (e.g. a temperature).
     """
     args = read_args(columns, time, rate, skip_rows, lsb, gaps, topics, dataset, binary, header_bytes, extra,
                      threads)

@@ -32,7 +32,7 @@ struct ReadArgs {
   double rate = 0.0;                // 0: from the time column
   std::size_t skip_rows = 0;
   std::vector<double> lsb;          // counts per unit: one for all or one per column
-  std::string gaps = "error";       // "error" or "split"
+  std::string gaps = "error";       // "error", "split" or "skip" (missing samples: see series_options)
   std::vector<std::string> topics;  // ROS bags
   std::string dataset;              // HDF5
   std::string binary;               // raw frames: "float64le,int16le,..."
@@ -41,7 +41,11 @@ struct ReadArgs {
   unsigned threads = 0;
 };
 
-io::SeriesOptions series_options(const ReadArgs& a);
+// gaps="skip" (an empty field or NaN is a missing sample, a gap of whole
+// periods is filled with them) is taken where the call leaves missing samples
+// out, as the CLI's --gaps skip (`missing_samples`: cubecal.read, davar, dev),
+// and refused with UsageError("gaps") elsewhere.
+io::SeriesOptions series_options(const ReadArgs& a, bool missing_samples = false);
 // The record as a dict of 1-D arrays in file order (time first when there is
 // one, the channels, then the extra columns) and its metadata.
 pybind11::tuple series_to_python(io::Series&& s);

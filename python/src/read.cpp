@@ -5,6 +5,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <utility>
@@ -21,7 +22,7 @@ namespace py = pybind11;
 
 namespace cubecal::python {
 
-io::SeriesOptions series_options(const ReadArgs& a) {
+io::SeriesOptions series_options(const ReadArgs& a, bool missing_samples) {
   io::SeriesOptions s;
   s.table.columns = a.columns;
   s.table.extra_columns = a.extra;
@@ -33,8 +34,12 @@ io::SeriesOptions series_options(const ReadArgs& a) {
   for (const double x : a.lsb)
     if (!(x > 0.0) || !std::isfinite(x)) throw UsageError("lsb", "lsb: every value must be a positive number of counts per unit");
   s.lsb = a.lsb.empty() ? std::vector<double>{1.0} : a.lsb;
-  if (a.gaps != "error" && a.gaps != "split") throw UsageError("gaps", "gaps must be \"error\" or \"split\"");
-  s.gaps = a.gaps == "split" ? io::GapPolicy::split : io::GapPolicy::error;
+  if (a.gaps != "error" && a.gaps != "split" && a.gaps != "skip")
+    throw UsageError("gaps", "gaps must be \"error\", \"split\" or \"skip\"");
+  if (a.gaps == "skip" && !missing_samples)
+    throw UsageError("gaps", "gaps=\"skip\": this call needs every sample (missing samples are skipped by dev and "
+                             "davar, for OADEV); use gaps=\"split\" to analyze the contiguous pieces");
+  s.gaps = a.gaps == "split" ? io::GapPolicy::split : a.gaps == "skip" ? io::GapPolicy::skip : io::GapPolicy::error;
   s.topics = a.topics;
   s.dataset = a.dataset;
   if (a.binary.empty()) {
@@ -47,6 +52,12 @@ io::SeriesOptions series_options(const ReadArgs& a) {
 }
 
 py::tuple series_to_python(io::Series&& s) {
+  // Missing samples (NaN) of each channel, before the channels move: gaps="skip" only.
+  py::list missing;
+  for (const auto& c : s.channels)
+    missing.append(s.gaps == io::GapPolicy::skip
+                       ? static_cast<std::size_t>(std::count_if(c.begin(), c.end(), [](double v) { return std::isnan(v); }))
+                       : std::size_t{0});
   py::dict columns;
   if (!s.time.empty()) columns[py::str(s.time_name.empty() ? "t" : s.time_name)] = to_array(std::move(s.time));
   for (std::size_t c = 0; c < s.channels.size(); ++c) columns[py::str(s.names[c])] = to_array(std::move(s.channels[c]));
@@ -64,6 +75,8 @@ py::tuple series_to_python(io::Series&& s) {
   py::list segments;
   for (const io::Segment& g : s.segments) segments.append(py::make_tuple(g.begin, g.end));
   meta["segments"] = segments;
+  meta["gaps"] = s.gaps == io::GapPolicy::split ? "split" : s.gaps == io::GapPolicy::skip ? "skip" : "error";
+  meta["missing_samples"] = missing;
   meta["bytes"] = s.bytes;
   return py::make_tuple(columns, meta);
 }
@@ -71,7 +84,7 @@ py::tuple series_to_python(io::Series&& s) {
 namespace {
 
 py::tuple read(const std::string& path, const ReadArgs& args) {
-  const io::SeriesOptions so = series_options(args);
+  const io::SeriesOptions so = series_options(args, true);  // gaps="skip": NaN in the arrays
   io::Series s;
   {
     py::gil_scoped_release free;

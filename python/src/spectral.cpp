@@ -29,10 +29,11 @@ namespace cubecal::python {
 namespace {
 
 // The record of a call: the file at `path` (when given), else the arrays.
+// `missing_samples`: the call takes gaps="skip" (davar, as the CLI's).
 io::Series record(const std::optional<std::string>& path, const ReadArgs& read, const std::vector<Doubles>& channels,
-                  const std::vector<std::string>& names, double rate) {
+                  const std::vector<std::string>& names, double rate, bool missing_samples = false) {
   if (path) {
-    io::SeriesOptions so = series_options(read);
+    io::SeriesOptions so = series_options(read, missing_samples);
     so.keep_time = false;
     return io::read_series(*path, so);
   }
@@ -135,7 +136,7 @@ std::string davar(const std::optional<std::string>& path, const ReadArgs& read, 
   req.intervals.alpha = a.alpha;
   req.threads = a.threads;
   py::gil_scoped_release free;
-  const io::Series s = record(path, read, channels, names, rate);
+  const io::Series s = record(path, read, channels, names, rate, true);  // gaps="skip" as davar --gaps skip
   return pipeline::to_json(pipeline::run_davar(s, req)).dump();
 }
 

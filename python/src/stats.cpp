@@ -19,6 +19,7 @@
 #include "common.hpp"
 #include "cubecal/error.hpp"
 #include "cubecal/pipeline/analysis_json.hpp"
+#include "cubecal/io/series.hpp"
 #include "cubecal/pipeline/dev_pipeline.hpp"
 #include "cubecal/stats/gap_deviation.hpp"
 #include "cubecal/stats/stability.hpp"
@@ -174,7 +175,9 @@ py::dict curve(const pipeline::DevChannel& ch, bool intervals) {
 // (dev --format json) without its columns, and the columns as arrays.
 py::tuple dev(const std::vector<Doubles>& channels, const std::vector<std::string>& names, double rate,
               const std::string& stat_name, const std::string& type_name, const py::object& taus, double ci,
-              std::optional<int> alpha, const std::string& edf, bool conservative, bool intervals, unsigned threads) {
+              std::optional<int> alpha, const std::string& edf, bool conservative, bool intervals, unsigned threads,
+              const std::string& gaps) {
+  if (gaps != "error" && gaps != "skip") throw UsageError("gaps", "gaps must be \"error\" or \"skip\" for arrays");
   pipeline::DevRequest req;
   req.stat = stat_arg(stat_name);
   req.type = data_type_arg(type_name);
@@ -199,7 +202,18 @@ py::tuple dev(const std::vector<Doubles>& channels, const std::vector<std::strin
                                    std::to_string(views.front().size()) + ")");
   }
   pipeline::DevResult r;
-  {
+  if (gaps == "skip") {
+    // NaN: a missing sample, left out of the OADEV terms (`dev --gaps skip`, pipeline/dev_missing.hpp).
+    io::Series s;
+    s.rate_hz = rate;
+    s.tau0 = 1.0 / rate;
+    s.names = names;
+    for (const auto& v : views) s.channels.emplace_back(v.begin(), v.end());
+    s.segments = {io::Segment{0, s.samples()}};
+    s.gaps = io::GapPolicy::skip;
+    py::gil_scoped_release free;
+    r = pipeline::run_dev(s, req);
+  } else {
     py::gil_scoped_release free;
     r = pipeline::run_dev(names, views, rate, {}, req);
   }
@@ -221,8 +235,9 @@ void bind_stats(py::module_& m) {
         "OADEV with missing samples (NaN) left out: (dev, n, lo, hi) at each averaging factor.");
   m.def("_dev", &dev, py::arg("channels"), py::arg("names"), py::arg("rate"), py::arg("stat"), py::arg("data_type"),
         py::arg("taus"), py::arg("ci"), py::arg("alpha"), py::arg("edf"), py::arg("conservative"),
-        py::arg("intervals"), py::arg("threads"),
-        "`cubecal dev` on arrays: (JSON of the result without its columns, list of column dicts).");
+        py::arg("intervals"), py::arg("threads"), py::arg("gaps") = "error",
+        "`cubecal dev` on arrays: (JSON of the result without its columns, list of column dicts); gaps=\"skip\": "
+        "NaN is a missing sample, as `dev --gaps skip`.");
 }
 
 }  // namespace cubecal::python

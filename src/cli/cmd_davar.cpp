@@ -5,6 +5,7 @@
 #include <fmt/ostream.h>
 
 #include <algorithm>
+#include <cmath>
 #include <iostream>
 #include <optional>
 
@@ -39,35 +40,55 @@ struct DavarCliOptions {
 
 std::string g(double v) { return fmt::format("{:.6e}", v); }
 
-// Per channel and tau: the spread of the deviation over the windows.
+// Per channel and tau: the spread of the deviation over the windows (the
+// windows with a value: with missing samples a cell may have no whole term).
 void write_table(std::ostream& out, const pipeline::DavarResult& r) {
   const double tau0 = 1.0 / r.rate_hz;
+  bool missing = false;
   for (const auto& ch : r.channels) {
     const DavarMatrix& mx = ch.matrix;
     const std::size_t K = mx.windows();
-    fmt::print(out, "# {}: {} — dynamic OADEV, {} windows of {} samples ({:.6g} s) every {} samples ({:.6g} s), {} Hz\n",
+    missing = missing || mx.missing > 0;
+    fmt::print(out,
+               "# {}: {} — dynamic OADEV, {} windows of {} samples ({:.6g} s) every {} samples ({:.6g} s), {} Hz{}\n",
                r.file, ch.name, K, r.window, static_cast<double>(r.window) * tau0, r.step,
-               static_cast<double>(r.step) * tau0, rate_text(r.rate_hz));
+               static_cast<double>(r.step) * tau0, rate_text(r.rate_hz),
+               mx.missing > 0 ? fmt::format(", {} missing sample(s)", mx.missing) : std::string());
     fmt::print(out, "{:>12} {:>9} {:>13} {:>12} {:>13} {:>13} {:>12} {:>9}\n", "tau [s]", "n", "min", "at t [s]",
                "median", "max", "at t [s]", "max/min");
-    std::vector<double> row(K);
+    std::vector<std::size_t> with_value;  // windows whose cell has a value
     for (std::size_t j = 0; j < mx.taus(); ++j) {
-      for (std::size_t k = 0; k < K; ++k) row[k] = mx.dev_at(j, k);
-      const auto lo = std::min_element(row.begin(), row.end());
-      const auto hi = std::max_element(row.begin(), row.end());
-      const std::size_t klo = static_cast<std::size_t>(lo - row.begin());
-      const std::size_t khi = static_cast<std::size_t>(hi - row.begin());
-      std::vector<double> sorted = row;
-      std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(K / 2), sorted.end());
+      with_value.clear();
+      std::size_t fewest = mx.n[j];
+      for (std::size_t k = 0; k < K; ++k) {
+        fewest = std::min(fewest, mx.terms_at(j, k));
+        if (!std::isnan(mx.dev_at(j, k))) with_value.push_back(k);
+      }
+      if (with_value.empty()) {
+        fmt::print(out, "{:>12.6g} {:>9} {:>13}\n", mx.tau[j], fewest, "no window has a whole term");
+        continue;
+      }
+      const auto by_dev = [&](std::size_t a, std::size_t b) { return mx.dev_at(j, a) < mx.dev_at(j, b); };
+      const std::size_t klo = *std::min_element(with_value.begin(), with_value.end(), by_dev);
+      const std::size_t khi = *std::max_element(with_value.begin(), with_value.end(), by_dev);
+      std::vector<double> sorted;
+      for (const std::size_t k : with_value) sorted.push_back(mx.dev_at(j, k));
+      const std::size_t half = sorted.size() / 2;
+      std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(half), sorted.end());
+      const double lo = mx.dev_at(j, klo), hi = mx.dev_at(j, khi);
       fmt::print(out, "{:>12.6g} {:>9} {:>13.5e} {:>12.6g} {:>13.5e} {:>13.5e} {:>12.6g} {:>9.4g}\n", mx.tau[j],
-                 mx.n[j], *lo, mx.centre[klo], sorted[K / 2], *hi, mx.centre[khi], *lo > 0 ? *hi / *lo : 0.0);
+                 fewest, lo, mx.centre[klo], sorted[half], hi, mx.centre[khi], lo > 0 ? hi / lo : 0.0);
     }
     out << '\n';
   }
   out << "# t: the window's centre, seconds from the record's start; --format csv or json gives every cell\n";
+  if (missing)
+    out << "# n: the fewest whole terms of a window (--gaps skip leaves out the terms that need a missing sample); "
+           "min, median and max over the windows with a value\n";
 }
 
-// Long format: one row per cell.
+// Long format: one row per cell; a cell without a whole term (missing
+// samples) has empty dev, lo, hi, edf and alpha fields.
 void write_csv(std::ostream& out, const pipeline::DavarResult& r) {
   const bool intervals = !r.channels.empty() && r.channels.front().matrix.intervals;
   out << (intervals ? "channel,t,tau,dev,n,lo,hi,edf,alpha\n" : "channel,t,tau,dev,n\n");
@@ -76,8 +97,11 @@ void write_csv(std::ostream& out, const pipeline::DavarResult& r) {
     for (std::size_t k = 0; k < mx.windows(); ++k)
       for (std::size_t j = 0; j < mx.taus(); ++j) {
         const std::size_t c = mx.cell(j, k);
-        fmt::print(out, "{},{},{},{},{}", ch.name, mx.centre[k], mx.tau[j], g(mx.dev[c]), mx.n[j]);
-        if (intervals) fmt::print(out, ",{},{},{},{}", g(mx.lo[c]), g(mx.hi[c]), g(mx.edf[c]), mx.alpha[c]);
+        const bool value = !std::isnan(mx.dev[c]);
+        fmt::print(out, "{},{},{},{},{}", ch.name, mx.centre[k], mx.tau[j], value ? g(mx.dev[c]) : "",
+                   mx.terms_at(j, k));
+        if (intervals && value) fmt::print(out, ",{},{},{},{}", g(mx.lo[c]), g(mx.hi[c]), g(mx.edf[c]), mx.alpha[c]);
+        if (intervals && !value) out << ",,,,";
         out << '\n';
       }
   }
@@ -104,6 +128,18 @@ int run_davar_command(const DavarCliOptions& o) {
   const io::Series series = io::read_series(o.input.file, so);
   const pipeline::DavarResult res = pipeline::run_davar(series, req);
   note_default_columns(series);  // after the work: a failed run says one line
+  if (series.gaps == io::GapPolicy::skip) {
+    std::size_t missing = 0, empty = 0;
+    for (const auto& ch : res.channels) {
+      missing += ch.matrix.missing;
+      for (const double d : ch.matrix.dev) empty += std::isnan(d) ? 1 : 0;
+    }
+    std::cerr << fmt::format("cubecal: note: {}: {} missing sample(s) in {} channel(s) of {} samples: each window's "
+                             "OADEV leaves out the terms that need one (--gaps skip){}\n",
+                             series.file, missing, series.channels.size(), series.samples(),
+                             empty > 0 ? fmt::format("; {} cell(s) have no whole term and no value", empty)
+                                       : std::string());
+  }
   for (const std::string& line : {excluded_taus_warning(res.tau_list), merged_taus_note(res.tau_list)})
     if (!line.empty()) std::cerr << line << '\n';
 
@@ -130,6 +166,12 @@ CLI::App* add_davar_command(CLI::App& app, Command& run) {
       "davar", "Dynamic Allan deviation: OADEV over a window sliding along the record, a tau x time matrix per "
                "channel that shows how the noise changes during a run");
   add_input_options(*cmd, opt->input);
+  opt->input.missing_samples = true;  // --gaps skip
+  cmd->get_option("--gaps")->description(
+      "What to do with time gaps or jitter beyond 1 % of the period: error (default) or skip (empty fields, NaN "
+      "and gaps of whole periods are missing samples: each window's OADEV leaves out the terms that need one, "
+      "as dev --gaps skip; a cell without a whole term has no value: an empty field in CSV, null in JSON); with "
+      "split, a record cut at a gap is refused (one window slides along one contiguous record)");
   cmd->add_option("--type", opt->type,
                   "freq: rate-like samples (deg/s, fractional frequency); phase: their integral (angle, time "
                   "error in s)")

@@ -118,9 +118,9 @@ void add_input_options(CLI::App& app, InputOptions& opt, bool several) {
                                    "order, e.g. 131,131,131,16384,16384,16384");
   app.add_option("--gaps", opt.gaps, "What to do with time gaps or jitter beyond 1 % of the "
                                      "period: error (default) or split (analyse contiguous "
-                                     "segments and combine); dev also takes skip (empty fields, NaN and "
-                                     "gaps of whole periods are missing samples, left out of the OADEV terms "
-                                     "that need them, as AllanTools' gradev)")
+                                     "segments and combine); dev and davar also take skip (empty fields, NaN "
+                                     "and gaps of whole periods are missing samples, left out of the OADEV "
+                                     "terms that need them, as AllanTools' gradev)")
       ->check(CLI::IsMember({"error", "split", "skip"}));
   app.add_option("--threads", opt.threads, "Worker threads (default: all cores)")->check(whole_number(0, 4096));
   app.add_option("--topic", opt.topics,
@@ -232,8 +232,8 @@ io::SeriesOptions to_series_options(const InputOptions& opt) {
   s.lsb = parse_lsb_list(opt.lsb);
   s.gaps = opt.gaps == "split" ? io::GapPolicy::split : opt.gaps == "skip" ? io::GapPolicy::skip : io::GapPolicy::error;
   if (s.gaps == io::GapPolicy::skip && !opt.missing_samples)
-    throw UsageError("--gaps skip: this command needs every sample (missing samples are skipped by dev, for "
-                     "OADEV); use --gaps split to analyze the contiguous pieces");
+    throw UsageError("--gaps skip: this command needs every sample (missing samples are skipped by dev and "
+                     "davar, for OADEV); use --gaps split to analyze the contiguous pieces");
   s.topics = opt.topics;
   s.dataset = opt.dataset;
   if (opt.binary.empty()) {

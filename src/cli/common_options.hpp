@@ -19,7 +19,7 @@ struct InputOptions {
   std::size_t skip_rows = 0;
   std::string lsb;          // "131" or "131,131,131,16384,16384,16384"; empty: 1
   std::string gaps = "error";
-  bool missing_samples = false;   // the command takes --gaps skip (dev)
+  bool missing_samples = false;   // the command takes --gaps skip (dev, davar)
   unsigned threads = 0;
   std::vector<std::string> topics;  // ROS bags: --topic (repeatable)
   std::string dataset;            // HDF5: --dataset PATH

@@ -648,13 +648,16 @@ std::string preamble_hint(std::string_view text, const Layout& lay) {
 
   switch (r.fault) {
     case Fault::empty:
-      throw InputError(file, pos.line, pos.column, "empty field in " + label, "fill or remove the row");
+      throw InputError(file, pos.line, pos.column, "empty field in " + label,
+                       "a missing sample: --gaps skip leaves it out of the OADEV terms (dev, davar); otherwise "
+                       "fill or remove the row");
     case Fault::not_finite: {
       const char* c = field.begin;
       while (c < field.end && (*c == '+' || *c == '-')) ++c;
       if (c < field.end && (*c == 'n' || *c == 'N')) {
         throw InputError(file, pos.line, pos.column, "NaN is not accepted in " + label,
-                         "missing samples must be removed or the record split");
+                         "a missing sample: --gaps skip leaves it out of the OADEV terms (dev, davar); otherwise "
+                         "remove the row or split the record there");
       }
       throw InputError(file, pos.line, pos.column, "infinite value " + text_of_field + " in " + label,
                        "remove the row or split the record there");

@@ -22,11 +22,13 @@ bool looks_like_hdf5(std::string_view head) noexcept {
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <mutex>
 #include <optional>
 #include <vector>
 
 #include "cubecal/error.hpp"
+#include "detail/binary_table.hpp"
 
 namespace cubecal::io {
 
@@ -215,16 +217,22 @@ std::vector<double> read_doubles(hid_t ds, hid_t mem, std::size_t values, std::s
   return v;
 }
 
-void check_finite(const Table& t, const std::string& path) {
+// An infinite value is refused at its row and column; so is a NaN, unless
+// `missing_as_nan` (--gaps skip: a missing sample, kept as NaN).
+void check_finite(Table& t, const std::string& path, bool missing_as_nan) {
   for (std::size_t c = 0; c < t.data.size(); ++c) {
-    const auto& col = t.data[c];
+    auto& col = t.data[c];
     for (std::size_t r = 0; r < col.size(); ++r) {
       if (std::isfinite(col[r])) continue;
+      const bool nan = std::isnan(col[r]);
+      if (nan && missing_as_nan) {
+        col[r] = std::numeric_limits<double>::quiet_NaN();
+        continue;
+      }
       fail(t.file,
-           std::string(std::isnan(col[r]) ? "NaN" : "infinite value") + " in dataset " + path + " at row " +
-               std::to_string(r + 1) + ", column " + std::to_string(c + 1) +
-               (t.has_header ? " (" + t.header[c] + ")" : ""),
-           "a missing or invalid sample: cut the record there, or fill the gap");
+           std::string(nan ? "NaN" : "infinite value") + " in dataset " + path + " at row " + std::to_string(r + 1) +
+               ", column " + std::to_string(c + 1) + (t.has_header ? " (" + t.header[c] + ")" : ""),
+           nan ? detail::kNanSampleHint : "an invalid sample, never a missing one: cut the record there");
     }
   }
 }
@@ -248,7 +256,8 @@ void name_columns(Table& t, std::vector<std::string> names) {
   }
 }
 
-Table read_dataset(hid_t ds, const Dataset& d, const std::string& file, std::size_t file_bytes) {
+Table read_dataset(hid_t ds, const Dataset& d, const std::string& file, std::size_t file_bytes,
+                   bool missing_as_nan) {
   if (!d.candidate)
     fail(file, "dataset " + d.described() + " is not a numeric 1-D or 2-D dataset or a 1-D compound of numbers");
   Table t = new_table(file, file_bytes);
@@ -286,13 +295,14 @@ Table read_dataset(hid_t ds, const Dataset& d, const std::string& file, std::siz
       for (std::size_t c = 0; c < cols; ++c) t.data[c][r] = v[r * cols + c];
     name_columns(t, d.dims.size() == 1 ? std::vector<std::string>{base_name(d.path)} : std::vector<std::string>{});
   }
-  check_finite(t, d.path);
+  check_finite(t, d.path, missing_as_nan);
   return t;
 }
 
 // A group of numeric 1-D datasets of one length: a named column each (in
 // the order of their names).
-Table read_group(hid_t group, const std::string& path, const std::string& file, std::size_t file_bytes) {
+Table read_group(hid_t group, const std::string& path, const std::string& file, std::size_t file_bytes,
+                 bool missing_as_nan) {
   std::vector<std::string> members;
   H5Literate(
       group, H5_INDEX_NAME, H5_ITER_INC, nullptr,
@@ -328,12 +338,12 @@ Table read_group(hid_t group, const std::string& path, const std::string& file, 
   }
   if (names.empty()) fail(file, "group " + path + " holds no datasets", "give a dataset with --dataset PATH");
   name_columns(t, names);
-  check_finite(t, path);
+  check_finite(t, path, missing_as_nan);
   return t;
 }
 
 Table read_locked(std::string_view bytes, const std::string& file, const std::string& open_path,
-                  const std::string& dataset) {
+                  const std::string& dataset, bool missing_as_nan) {
   // The library prints its error stack on stderr by default: off; the
   // problems become InputErrors.
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
@@ -364,7 +374,7 @@ Table read_locked(std::string_view bytes, const std::string& file, const std::st
     }
     const Handle ds(H5Dopen2(f.get(), candidates[0]->path.c_str(), H5P_DEFAULT), H5Dclose);
     if (!ds.valid()) fail_library(file, "cannot open dataset " + candidates[0]->path);
-    return read_dataset(ds.get(), *candidates[0], file, bytes.size());
+    return read_dataset(ds.get(), *candidates[0], file, bytes.size(), missing_as_nan);
   }
 
   const Handle obj(H5Oopen(f.get(), dataset.c_str(), H5P_DEFAULT), H5Oclose);
@@ -373,19 +383,20 @@ Table read_locked(std::string_view bytes, const std::string& file, const std::st
     fail(file, "dataset " + dataset + " not found; datasets are: " + listed(datasets_of(f.get())),
          "choose one of them with --dataset PATH");
   }
-  if (H5Iget_type(obj.get()) == H5I_GROUP) return read_group(obj.get(), dataset, file, bytes.size());
+  if (H5Iget_type(obj.get()) == H5I_GROUP)
+    return read_group(obj.get(), dataset, file, bytes.size(), missing_as_nan);
   if (H5Iget_type(obj.get()) != H5I_DATASET)
     fail(file, dataset + " is neither a dataset nor a group", "choose a dataset with --dataset PATH");
   const std::string path = dataset.starts_with('/') ? dataset : "/" + dataset;
-  return read_dataset(obj.get(), describe(obj.get(), path), file, bytes.size());
+  return read_dataset(obj.get(), describe(obj.get(), path), file, bytes.size(), missing_as_nan);
 }
 
 }  // namespace
 
 Table read_hdf5(std::string_view bytes, const std::string& file, const std::string& open_path,
-                const std::string& dataset) {
+                const std::string& dataset, bool missing_as_nan) {
   const std::lock_guard<std::mutex> lock(library_mutex());
-  return read_locked(bytes, file, open_path, dataset);
+  return read_locked(bytes, file, open_path, dataset, missing_as_nan);
 }
 
 }  // namespace cubecal::io
@@ -394,7 +405,7 @@ Table read_hdf5(std::string_view bytes, const std::string& file, const std::stri
 
 namespace cubecal::io {
 
-Table read_hdf5(std::string_view, const std::string& file, const std::string&, const std::string&) {
+Table read_hdf5(std::string_view, const std::string& file, const std::string&, const std::string&, bool) {
   throw InputError(file, 0, 0, "HDF5 files are not read by the fuzz build");
 }
 

@@ -168,7 +168,7 @@ std::string shape_text(const std::vector<std::size_t>& shape) {
 
 bool is_npy(std::string_view bytes) noexcept { return bytes.substr(0, kMagic.size()) == kMagic; }
 
-Table read_npy(std::string_view bytes, const std::string& file) {
+Table read_npy(std::string_view bytes, const std::string& file, bool missing_as_nan) {
   const auto fail = [&](std::size_t offset, const std::string& what, const std::string& hint = kWrite) {
     throw InputError(file, 0, 0, "NumPy file, byte offset " + std::to_string(offset) + ": " + what, hint);
   };
@@ -235,7 +235,7 @@ Table read_npy(std::string_view bytes, const std::string& file) {
     bl.row_stride = cols * type->bytes;
     for (std::size_t c = 0; c < cols; ++c) bl.column_offsets.push_back(data_at + c * type->bytes);
   }
-  return detail::binary_table(bytes, file, bl);
+  return detail::binary_table(bytes, file, bl, missing_as_nan);
 }
 
 }  // namespace cubecal::io

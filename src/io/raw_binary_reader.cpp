@@ -32,7 +32,8 @@ RawLayout parse_raw_layout(const std::string& types, std::size_t header_bytes) {
   return layout;
 }
 
-Table read_raw_binary(std::string_view bytes, const std::string& file, const RawLayout& layout) {
+Table read_raw_binary(std::string_view bytes, const std::string& file, const RawLayout& layout,
+                      bool missing_as_nan) {
   const std::size_t frame = layout.frame_bytes();
   const std::string types_hint = "the frame of " + std::to_string(layout.channels.size()) + " channels is " +
                                  std::to_string(frame) + " bytes";
@@ -60,7 +61,7 @@ Table read_raw_binary(std::string_view bytes, const std::string& file, const Raw
     bl.column_offsets.push_back(offset);
     offset += t.bytes;
   }
-  return detail::binary_table(bytes, file, bl);
+  return detail::binary_table(bytes, file, bl, missing_as_nan);
 }
 
 }  // namespace cubecal::io

@@ -319,9 +319,10 @@ void check_timing(Series& s, const detail::PlaceError& at, const SeriesOptions& 
 // standard input and inflated gzip, opened from the bytes).
 std::optional<Table> binary_table(std::string_view bytes, const std::string& file, const std::string& open_path,
                                   const SeriesOptions& opt) {
-  if (!opt.binary.channels.empty()) return read_raw_binary(bytes, file, opt.binary);
-  if (is_npy(bytes)) return read_npy(bytes, file);
-  if (looks_like_hdf5(bytes)) return read_hdf5(bytes, file, open_path, opt.dataset);
+  const bool missing_as_nan = opt.gaps == GapPolicy::skip;  // NaN: a missing sample, as in text
+  if (!opt.binary.channels.empty()) return read_raw_binary(bytes, file, opt.binary, missing_as_nan);
+  if (is_npy(bytes)) return read_npy(bytes, file, missing_as_nan);
+  if (looks_like_hdf5(bytes)) return read_hdf5(bytes, file, open_path, opt.dataset, missing_as_nan);
   return std::nullopt;
 }
 

@@ -71,8 +71,9 @@ std::size_t span_samples(const DavarSpan& span, double rate_hz, const std::strin
 DavarResult run_davar(const io::Series& series, const DavarRequest& request) {
   if (series.segments.size() > 1)
     throw UsageError("gaps", series.file + ": the record has " + std::to_string(series.segments.size() - 1) +
-                                 " gap(s); davar slides one window along one contiguous record (read it without "
-                                 "--gaps split, or cut it at its gaps)");
+                                 " gap(s); davar slides one window along one contiguous record: read it with --gaps "
+                                 "skip (a gap of whole periods is then missing samples, left out of each window's "
+                                 "terms), or cut it at its gaps");
   DavarResult r;
   r.file = series.file;
   r.rate_hz = series.rate_hz;
@@ -103,6 +104,7 @@ DavarResult run_davar(const io::Series& series, const DavarRequest& request) {
   opt.grid = request.grid;
   opt.method = request.method;
   opt.intervals = request.intervals;
+  opt.skip_missing = series.gaps == io::GapPolicy::skip;  // NaN: a missing sample (--gaps skip)
   const std::size_t C = series.channels.size();
   r.channels.resize(C);
   // The first channel alone: a request the record cannot satisfy fails once,
@@ -133,6 +135,9 @@ nlohmann::json to_json(const DavarResult& r) {
   j["rate_hz"] = r.rate_hz;
   j["type"] = std::string(to_string(r.type));
   j["samples"] = r.samples;
+  std::size_t missing = 0;
+  for (const auto& ch : r.channels) missing += ch.matrix.missing;
+  j["missing_samples"] = missing;
   const double tau0 = r.rate_hz > 0 ? 1.0 / r.rate_hz : 0.0;
   j["window"] = {{"samples", r.window}, {"seconds", static_cast<double>(r.window) * tau0}, {"asked", r.window_text}};
   j["step"] = {{"samples", r.step}, {"seconds", static_cast<double>(r.step) * tau0}, {"asked", r.step_text}};
@@ -160,6 +165,7 @@ nlohmann::json to_json(const DavarResult& r) {
     c["m"] = mx.m;
     c["tau"] = mx.tau;
     c["n"] = mx.n;
+    c["missing_samples"] = mx.missing;
     const std::size_t K = mx.windows();
     auto rows = [&](const auto& v) {
       json a = json::array();
@@ -168,12 +174,17 @@ nlohmann::json to_json(const DavarResult& r) {
                                                               v.begin() + static_cast<std::ptrdiff_t>((t + 1) * K)));
       return a;
     };
-    c["dev"] = rows(mx.dev);
+    c["dev"] = rows(mx.dev);  // a cell without a value (no whole term): null
+    if (!mx.terms.empty()) c["terms"] = rows(mx.terms);
     if (mx.intervals) {
       c["lo"] = rows(mx.lo);
       c["hi"] = rows(mx.hi);
       c["edf"] = rows(mx.edf);
-      c["alpha"] = rows(mx.alpha);
+      json alpha = rows(mx.alpha);
+      for (std::size_t t = 0; t < mx.taus(); ++t)
+        for (std::size_t k = 0; k < K; ++k)
+          if (std::isnan(mx.dev[mx.cell(t, k)])) alpha[t][k] = nullptr;
+      c["alpha"] = std::move(alpha);
     }
     chans.push_back(std::move(c));
   }

@@ -47,14 +47,22 @@ DevResult run_dev_skipping_missing(const io::Series& series, const DevRequest& r
     const auto k = static_cast<std::size_t>(c);
     try {
       r.channels[k].name = series.names[k];
-      r.channels[k].points =
-          oadev_skipping_missing(series.channels[k], request.type, r.tau0, ms, request.options);
+      // A factor without a whole term has no point, as run_dev leaves out
+      // a factor no segment holds.
+      for (const StabilityPoint& p :
+           oadev_skipping_missing(series.channels[k], request.type, r.tau0, ms, request.options))
+        if (p.n > 0) r.channels[k].points.push_back(p);
     } catch (...) {
       failures[k] = std::current_exception();
     }
   }
   for (const auto& f : failures)
     if (f) std::rethrow_exception(f);
+  for (std::size_t k = 0; k < r.channels.size(); ++k)
+    if (r.channels[k].points.empty())
+      throw UsageError("column " + r.channels[k].name + ": no OADEV term without a missing sample at any tau of "
+                       "the grid (" + std::to_string(missing_samples(series.channels[k])) + " of " +
+                       std::to_string(r.samples) + " samples missing)");
   return r;
 }
 

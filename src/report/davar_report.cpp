@@ -212,25 +212,65 @@ ReportFigure over_time(const std::string& channel, const DavarMatrix& mx, double
   return f;
 }
 
+// Per tau, the spread of the deviation over the windows. With missing
+// samples (`--gaps skip`) a cell without a whole term has no value: it is
+// left out of the smallest, median and largest and counted in a column of
+// its own, and the terms are the range of the counts of the cells with a
+// value (a window's count varies with its missing samples).
 ReportTable spread_table(const std::string& channel, const DavarMatrix& mx) {
   ReportTable t;
   t.title = channel;
+  const bool gapped = !mx.terms.empty();
   t.header = {"τ [s]", "terms n", "min σ", "at t [s]", "median σ", "max σ", "at t [s]", "max / min"};
+  if (gapped) t.header.push_back("windows without a term");
   const std::size_t K = mx.windows();
-  std::vector<double> row(K);
+  std::vector<std::size_t> with_value;  // windows of the row's cells that have a value
+  std::vector<double> sorted;
   for (std::size_t j = 0; j < mx.taus(); ++j) {
-    for (std::size_t k = 0; k < K; ++k) row[k] = mx.dev_at(j, k);
-    const auto lo = std::min_element(row.begin(), row.end());
-    const auto hi = std::max_element(row.begin(), row.end());
-    std::vector<double> sorted = row;
-    std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(K / 2), sorted.end());
-    t.rows.push_back({format_num(mx.tau[j], 5), std::to_string(mx.n[j]), format_num(*lo, 4),
-                      format_num(mx.centre[static_cast<std::size_t>(lo - row.begin())], 6), format_num(sorted[K / 2], 4),
-                      format_num(*hi, 4), format_num(mx.centre[static_cast<std::size_t>(hi - row.begin())], 6),
-                      *lo > 0 ? format_num(*hi / *lo, 4) : std::string("—")});
+    with_value.clear();
+    std::size_t fewest = 0, most = 0;
+    for (std::size_t k = 0; k < K; ++k) {
+      const std::size_t terms = mx.terms_at(j, k);
+      if (terms == 0) continue;
+      fewest = with_value.empty() ? terms : std::min(fewest, terms);
+      most = std::max(most, terms);
+      with_value.push_back(k);
+    }
+    const std::string empty_cells = std::to_string(K - with_value.size());
+    if (with_value.empty()) {
+      std::vector<std::string> row(t.header.size(), "—");
+      row[0] = format_num(mx.tau[j], 5);
+      row[1] = "0";
+      if (gapped) row.back() = empty_cells;
+      t.rows.push_back(std::move(row));
+      continue;
+    }
+    const auto by_dev = [&](std::size_t a, std::size_t b) { return mx.dev_at(j, a) < mx.dev_at(j, b); };
+    const std::size_t lo = *std::min_element(with_value.begin(), with_value.end(), by_dev);
+    const std::size_t hi = *std::max_element(with_value.begin(), with_value.end(), by_dev);
+    sorted.clear();
+    for (const std::size_t k : with_value) sorted.push_back(mx.dev_at(j, k));
+    const std::size_t mid = sorted.size() / 2;
+    std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(mid), sorted.end());
+    const double dlo = mx.dev_at(j, lo), dhi = mx.dev_at(j, hi);
+    std::vector<std::string> row = {format_num(mx.tau[j], 5),
+                                    fewest == most ? std::to_string(most)
+                                                   : std::to_string(fewest) + "–" + std::to_string(most),
+                                    format_num(dlo, 4),
+                                    format_num(mx.centre[lo], 6),
+                                    format_num(sorted[mid], 4),
+                                    format_num(dhi, 4),
+                                    format_num(mx.centre[hi], 6),
+                                    dlo > 0 ? format_num(dhi / dlo, 4) : std::string("—")};
+    if (gapped) row.push_back(empty_cells);
+    t.rows.push_back(std::move(row));
   }
   t.note = "Per τ, the deviation over the " + std::to_string(K) +
            " windows: the smallest and the largest with the centre of their window, the median, and their ratio.";
+  if (gapped)
+    t.note += " With missing samples (--gaps skip) the terms of a window are its whole terms (their range over the "
+              "windows); a window without a whole term at τ has no value there: it is left out of the smallest, "
+              "median and largest and counted in the last column.";
   return t;
 }
 
@@ -273,6 +313,11 @@ CommandReport davar_report(const pipeline::DavarResult& r, const std::string& co
                {"step", std::to_string(r.step) + " samples (" + duration_text(static_cast<double>(r.step) * tau0) +
                             "; asked: " + r.step_text + ")",
                 false}};
+  std::size_t missing = 0;
+  for (const auto& c : r.channels) missing += c.matrix.missing;
+  if (missing > 0)
+    rep.input.push_back({"missing samples",
+                         std::to_string(missing) + " (--gaps skip: left out of each window's OADEV terms)", false});
   if (first) {
     rep.input.push_back({"windows", std::to_string(first->windows()), false});
     if (first->taus() > 0)

@@ -14,16 +14,27 @@
 // the length of the record or the levels the window slid past; a running sum
 // that added the entering terms and subtracted the leaving ones would keep
 // the absolute error of the largest sums it ever held (§4).
+//
+// Missing samples (options.skip_missing, a record with NaN): whether a term
+// needs a missing sample depends on the term alone, not on the window, so
+// the blocks carry the sum of the whole terms and their count, slid alike
+// (the counts exactly); a cell is the OADEV of dev --gaps skip
+// (docs/formulas/stability.md §7a) on its window.
 #include "cubecal/stats/davar.hpp"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
+#include <map>
+#include <optional>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 
 #include "cubecal/error.hpp"
 #include "cubecal/stats/confidence.hpp"
+#include "cubecal/stats/gap_deviation.hpp"
 #include "cubecal/stats/kernels.hpp"
 #include "cubecal/stats/noise_id.hpp"
 #include "cubecal/stats/phase.hpp"
@@ -67,17 +78,19 @@ void sum_blocks(const double* p, std::size_t S, std::size_t K, FactorBlocks& f, 
   }
 }
 
-// Window sums of factor f from its block sums: the q whole blocks by prefix
-// and suffix sums inside chunks of q blocks, plus the head.
-void window_sums(const FactorBlocks& f, std::size_t K, std::span<double> out) {
-  const std::size_t q = f.q;
+// Window sums from the block sums of one factor (q whole blocks and a head
+// of r terms per window): the q whole blocks by prefix and suffix sums
+// inside chunks of q blocks, plus the head. T: double for the sums of
+// squares, std::size_t for the counts of whole terms (missing samples).
+template <class T>
+void window_sums(std::size_t q, std::size_t r, const std::vector<T>& head, const std::vector<T>& w, std::size_t K,
+                 std::span<T> out) {
   if (q == 0) {  // a window is shorter than a step: its sum is one head
-    for (std::size_t k = 0; k < K; ++k) out[k] = f.head[k];
+    for (std::size_t k = 0; k < K; ++k) out[k] = head[k];
     return;
   }
   const std::size_t nb = K + q - 1;
-  const std::vector<double>& w = f.whole;
-  std::vector<double> pre(nb), suf(nb);
+  std::vector<T> pre(nb), suf(nb);
   for (std::size_t b = 0; b < nb; ++b) pre[b] = (b % q == 0) ? w[b] : pre[b - 1] + w[b];
   for (std::size_t b = nb; b-- > 0;) {
     const bool last_in_chunk = (b % q == q - 1) || b + 1 == nb;
@@ -85,8 +98,8 @@ void window_sums(const FactorBlocks& f, std::size_t K, std::span<double> out) {
   }
   for (std::size_t k = 0; k < K; ++k) {
     const std::size_t e = k + q - 1;  // last whole block of window k
-    const double sum = (k % q == 0) ? pre[e] : suf[k] + pre[e];
-    out[k] = f.r > 0 ? sum + f.head[k] : sum;
+    const T sum = (k % q == 0) ? pre[e] : suf[k] + pre[e];
+    out[k] = r > 0 ? sum + head[k] : sum;
   }
 }
 
@@ -112,7 +125,115 @@ void fast_energies(std::span<const double> x, std::size_t P, std::size_t S, std:
   const std::size_t per = std::max<std::size_t>(1, kStretch / S);
   for (std::size_t b0 = 0; b0 < last; b0 += per)
     for (FactorBlocks& f : fs) sum_blocks(x.data(), S, K, f, b0, b0 + per);
-  for (std::size_t j = 0; j < ms.size(); ++j) window_sums(fs[j], K, out.subspan(j * K, K));
+  for (std::size_t j = 0; j < ms.size(); ++j)
+    window_sums(fs[j].q, fs[j].r, fs[j].head, fs[j].whole, K, out.subspan(j * K, K));
+}
+
+// A record with missing samples as phase points (scaled by `scale`, as the
+// record without gaps): frequency data summed over the samples that are
+// there (a missing sample adds nothing), phase data as given with NaN where
+// a point is missing; and per input sample k the missing samples before it.
+struct GappedRecord {
+  std::vector<double> x;
+  std::vector<std::size_t> missing_before;  // size N + 1
+  bool frequency = false;
+  double scale = 1.0;
+
+  // Whether the term at phase point i of factor m needs no missing sample:
+  // frequency, none of the 2m samples it spans; phase, its three points.
+  bool whole(std::size_t i, std::size_t m) const noexcept {
+    if (frequency) return missing_before[i] == missing_before[i + 2 * m];
+    return !std::isnan(x[i]) && !std::isnan(x[i + m]) && !std::isnan(x[i + 2 * m]);
+  }
+  // Missing samples among the input samples [a, a + count).
+  std::size_t missing_in(std::size_t a, std::size_t count) const noexcept {
+    return missing_before[a + count] - missing_before[a];
+  }
+};
+
+GappedRecord gapped_record(std::span<const double> data, DataType type, double tau0) {
+  GappedRecord g;
+  g.frequency = type == DataType::freq;
+  const std::size_t N = data.size();
+  double top = 0.0;
+  for (std::size_t k = 0; k < N; ++k) {
+    if (std::isinf(data[k])) throw std::invalid_argument("sample " + std::to_string(k) + " is not a finite number");
+    if (!std::isnan(data[k])) top = std::max(top, std::abs(data[k]));
+  }
+  g.scale = top > 0.0 ? std::ldexp(1.0, std::ilogb(top)) : 1.0;  // as power_of_two_scale
+  const double inv = 1.0 / g.scale;
+  g.missing_before.assign(N + 1, 0);
+  for (std::size_t k = 0; k < N; ++k) g.missing_before[k + 1] = g.missing_before[k] + (std::isnan(data[k]) ? 1 : 0);
+  if (!g.frequency) {
+    // Minus the first point that is there (normalize_phase's reason).
+    const auto first = std::find_if(data.begin(), data.end(), [](double v) { return !std::isnan(v); });
+    const double x0 = first == data.end() ? 0.0 : *first * inv;
+    g.x.resize(N);
+    for (std::size_t k = 0; k < N; ++k) g.x[k] = data[k] * inv - x0;  // NaN stays NaN
+    return g;
+  }
+  // The mean of the samples that are there first (freq_to_phase's reason).
+  double mean = 0.0;
+  const std::size_t present = N - g.missing_before[N];
+  for (const double v : data)
+    if (!std::isnan(v)) mean += v * inv;
+  if (present > 0) mean /= static_cast<double>(present);
+  g.x.assign(N + 1, 0.0);
+  double acc = 0.0;
+  for (std::size_t k = 0; k < N; ++k) {
+    if (!std::isnan(data[k])) acc += (data[k] * inv - mean) * tau0;
+    g.x[k + 1] = acc;
+  }
+  return g;
+}
+
+// The sum of squares of the whole terms of factor m at phase points
+// [i0, i0 + count), and their count (each term formed as the kernel forms it).
+void whole_term_energy(const GappedRecord& g, std::size_t i0, std::size_t count, std::size_t m, double& energy,
+                       std::size_t& terms) noexcept {
+  const double* x = g.x.data();
+  double s = 0.0;
+  std::size_t n = 0;
+  for (std::size_t i = i0; i < i0 + count; ++i) {
+    if (!g.whole(i, m)) continue;
+    const double d = x[i + 2 * m] - 2.0 * x[i + m] + x[i];
+    s += d * d;
+    ++n;
+  }
+  energy = s;
+  terms = n;
+}
+
+// fast_energies for a record with missing samples: the whole terms' sums of
+// squares in `out` and their counts in `counts`, slid alike.
+void fast_energies_gapped(const GappedRecord& g, std::size_t P, std::size_t S, std::size_t K,
+                          std::span<const std::size_t> ms, std::span<double> out, std::span<std::size_t> counts) {
+  for (std::size_t j = 0; j < ms.size(); ++j) {
+    const std::size_t m = ms[j];
+    const std::size_t L = P - 2 * m, q = L / S, r = L % S;
+    std::vector<double> head(r > 0 ? K : 0), whole(q > 0 ? K + q - 1 : 0);
+    std::vector<std::size_t> head_n(head.size()), whole_n(whole.size());
+    const std::size_t nb = K + q - 1, end = r > 0 ? K + q : K + q - 1;
+    for (std::size_t b = 0; b < end; ++b) {
+      const bool has_head = r > 0 && b >= q;
+      double e = 0.0;
+      std::size_t n = 0;
+      if (has_head) {
+        whole_term_energy(g, b * S, r, m, e, n);
+        head[b - q] = e;
+        head_n[b - q] = n;
+      }
+      if (q > 0 && b < nb) {
+        double rest = 0.0;
+        std::size_t rest_n = 0;
+        whole_term_energy(g, b * S + (has_head ? r : 0), has_head ? S - r : S, m, rest, rest_n);
+        whole[b] = has_head ? e + rest : rest;
+        whole_n[b] = has_head ? n + rest_n : rest_n;
+      }
+    }
+    window_sums(q, r, head, whole, K, out.subspan(j * K, K));
+    window_sums(q, r, head_n, whole_n, K, counts.subspan(j * K, K));
+  }
 }
 
 // The interval factors of one (alpha, m): EDF and the ratios lo/dev, hi/dev.
@@ -154,9 +275,16 @@ DavarMatrix davar(std::span<const double> data, DataType type, double tau0, cons
     throw UsageError("taus", "no tau of the grid fits a window of " + std::to_string(W) +
                                  " samples (OADEV evaluates m up to " + std::to_string(top) + ")");
 
-  const double scale = power_of_two_scale(data);
-  const std::vector<double> x = type == DataType::freq ? freq_to_phase(data, tau0, scale) : normalize_phase(data, scale);
-  const std::span<const double> xs(x);
+  // Missing samples (skip_missing and a NaN in the record): the gapped
+  // record; otherwise the phase record of every statistic.
+  const std::size_t missing = options.skip_missing ? missing_samples(data) : 0;
+  std::optional<GappedRecord> gapped;
+  if (missing > 0) gapped.emplace(gapped_record(data, type, tau0));
+  const double scale = gapped ? gapped->scale : power_of_two_scale(data);
+  const std::vector<double> x = gapped                    ? std::vector<double>()
+                                : type == DataType::freq ? freq_to_phase(data, tau0, scale)
+                                                         : normalize_phase(data, scale);
+  const std::span<const double> xs = gapped ? std::span<const double>(gapped->x) : std::span<const double>(x);
 
   DavarMatrix res;
   res.tau0 = tau0;
@@ -165,6 +293,7 @@ DavarMatrix davar(std::span<const double> data, DataType type, double tau0, cons
   res.window = W;
   res.step = S;
   res.window_points = P;
+  res.missing = missing;
   const std::size_t K = davar_window_count(N, W, S);
   res.start.resize(K);
   res.centre.resize(K);
@@ -185,7 +314,35 @@ DavarMatrix davar(std::span<const double> data, DataType type, double tau0, cons
   // Variances, then deviations (the OADEV of stats/kernels.cpp:
   // sum / (2 n tau^2), scaled back).
   res.dev.assign(J * K, 0.0);
-  if (options.method == DavarMethod::fast) {
+  constexpr double kNoValue = std::numeric_limits<double>::quiet_NaN();
+  if (gapped) {
+    // The whole terms of each cell (docs/formulas/stability.md §7a); a cell
+    // without one has no value.
+    res.terms.assign(J * K, 0);
+    if (options.method == DavarMethod::fast) {
+      fast_energies_gapped(*gapped, P, S, K, ms, res.dev, res.terms);
+      for (std::size_t j = 0; j < J; ++j) {
+        const double tau = res.tau[j];
+        for (std::size_t k = 0; k < K; ++k) {
+          const std::size_t c = res.cell(j, k);
+          const double denom = 2.0 * static_cast<double>(res.terms[c]) * tau * tau;
+          res.dev[c] = res.terms[c] > 0 ? std::sqrt(std::max(res.dev[c] / denom, 0.0)) * scale : kNoValue;
+        }
+      }
+    } else {
+      // The whole terms of every window summed anew, from the same phase
+      // points as the fast method (as the direct method without gaps).
+      for (std::size_t k = 0; k < K; ++k)
+        for (std::size_t j = 0; j < J; ++j) {
+          const std::size_t c = res.cell(j, k);
+          double energy = 0.0;
+          whole_term_energy(*gapped, k * S, P - 2 * ms[j], ms[j], energy, res.terms[c]);
+          const double tau = res.tau[j];
+          const double denom = 2.0 * static_cast<double>(res.terms[c]) * tau * tau;
+          res.dev[c] = res.terms[c] > 0 ? std::sqrt(std::max(energy / denom, 0.0)) * scale : kNoValue;
+        }
+    }
+  } else if (options.method == DavarMethod::fast) {
     fast_energies(xs, P, S, K, ms, res.dev);  // sums first, deviations in place
     for (std::size_t j = 0; j < J; ++j) {
       const double tau = res.tau[j];
@@ -231,7 +388,43 @@ DavarMatrix davar(std::span<const double> data, DataType type, double tau0, cons
     }
     return f;
   };
+  // Windows with a missing sample: the noise type as dev --gaps skip
+  // identifies it on the window, the EDF of a window without gaps giving as
+  // many terms (per factor, type and count, once).
+  std::map<std::tuple<std::size_t, int, std::size_t>, IntervalFactors> gapped_factors;
+  auto gapped_factor = [&](std::size_t j, int a, std::size_t terms) -> const IntervalFactors& {
+    IntervalFactors& f = gapped_factors[{j, a, terms}];
+    if (!f.ready) {
+      f.edf = edf_for(Stat::oadev, a, ms[j], terms + 2 * ms[j], iv.edf);
+      f.ratio = chi2_interval(1.0, f.edf, iv.ci);
+      f.ready = true;
+    }
+    return f;
+  };
   for (std::size_t k = 0; k < K; ++k) {
+    if (gapped && gapped->missing_in(k * S, W) > 0) {
+      std::vector<GapNoiseType> typed;
+      if (!iv.alpha) {
+        StabilityOptions so;
+        so.ci = iv.ci;
+        so.edf = iv.edf;
+        typed = noise_types_skipping_missing(data.subspan(k * S, W), type, tau0, ms, so);
+      }
+      for (std::size_t j = 0; j < J; ++j) {
+        const std::size_t c = res.cell(j, k);
+        if (res.terms[c] == 0) {
+          res.edf[c] = res.lo[c] = res.hi[c] = kNoValue;
+          continue;
+        }
+        res.alpha[c] = iv.alpha ? *iv.alpha : typed[j].alpha;
+        res.alpha_carried[c] = !iv.alpha && typed[j].carried;
+        const IntervalFactors& f = gapped_factor(j, res.alpha[c], res.terms[c]);
+        res.edf[c] = f.edf;
+        res.lo[c] = res.dev[c] * f.ratio.lo;
+        res.hi[c] = res.dev[c] * f.ratio.hi;
+      }
+      continue;
+    }
     const std::span<const double> win = xs.subspan(k * S, P);
     for (std::size_t j = 0; j < J; ++j) {
       const std::size_t c = res.cell(j, k);

@@ -78,6 +78,47 @@ std::pair<std::size_t, std::size_t> longest_whole_stretch(std::span<const double
 
 }  // namespace
 
+std::vector<GapNoiseType> noise_types_skipping_missing(std::span<const double> data, DataType type, double tau0,
+                                                       std::span<const std::size_t> ms,
+                                                       const StabilityOptions& options) {
+  for (const double v : data)
+    if (std::isinf(v)) throw std::invalid_argument("noise_types_skipping_missing: an infinite sample");
+  // The noise type: fixed, or identified on the longest whole stretch.
+  const auto [begin, end] = longest_whole_stretch(data);
+  std::optional<StabilityRecord> stretch;
+  if (!options.alpha && end - begin >= 3)
+    stretch.emplace(data.subspan(begin, end - begin), type, tau0, Stat::oadev);
+  // The stretch's types over the factors it holds, as a grid evaluation
+  // gives them (with Stable32's run rule, carry_types); beyond, the last.
+  std::vector<StabilityPoint> typed;
+  if (stretch) {
+    std::vector<std::size_t> held;
+    for (const std::size_t m : ms)
+      if (m <= stretch->max_m()) held.push_back(m);
+    StabilityOptions with_types = options;
+    with_types.intervals = true;
+    typed = stretch->evaluate(held, with_types);
+  }
+  int alpha = options.alpha.value_or(0);
+  bool carried = false;
+  std::size_t next = 0;
+  std::vector<GapNoiseType> out;
+  out.reserve(ms.size());
+  for (const std::size_t m : ms) {
+    if (next < typed.size() && typed[next].m == m) {
+      if (typed[next].n > 0) {
+        alpha = typed[next].alpha;
+        carried = typed[next].type_carried;
+      }
+      ++next;
+    } else if (stretch) {
+      carried = true;
+    }
+    out.push_back({alpha, carried});
+  }
+  return out;
+}
+
 std::vector<StabilityPoint> oadev_skipping_missing(std::span<const double> data, DataType type, double tau0,
                                                    std::span<const std::size_t> ms,
                                                    const StabilityOptions& options) {
@@ -107,38 +148,14 @@ std::vector<StabilityPoint> oadev_skipping_missing(std::span<const double> data,
   }
   if (!options.intervals) return out;
 
-  // The noise type: fixed, or identified on the longest whole stretch.
-  const auto [begin, end] = longest_whole_stretch(data);
-  std::optional<StabilityRecord> stretch;
-  if (!options.alpha && end - begin >= 3)
-    stretch.emplace(data.subspan(begin, end - begin), type, tau0, Stat::oadev);
-  // The stretch's types over the factors it holds, as a grid evaluation
-  // gives them (with Stable32's run rule, carry_types); beyond, the last.
-  std::vector<StabilityPoint> typed;
-  if (stretch) {
-    std::vector<std::size_t> held;
-    for (const std::size_t m : ms)
-      if (m <= stretch->max_m()) held.push_back(m);
-    typed = stretch->evaluate(held, options);
-  }
-  int alpha = options.alpha.value_or(0);
-  bool carried = false;
-  std::size_t next = 0;
-  for (StabilityPoint& pt : out) {
-    if (next < typed.size() && typed[next].m == pt.m) {
-      if (typed[next].n > 0) {
-        alpha = typed[next].alpha;
-        carried = typed[next].type_carried;
-      }
-      ++next;
-    } else if (stretch) {
-      carried = true;
-    }
+  const std::vector<GapNoiseType> types = noise_types_skipping_missing(data, type, tau0, ms, options);
+  for (std::size_t j = 0; j < out.size(); ++j) {
+    StabilityPoint& pt = out[j];
     if (pt.n == 0) continue;
-    pt.alpha = alpha;
-    pt.type_carried = carried;
+    pt.alpha = types[j].alpha;
+    pt.type_carried = types[j].carried;
     // The EDF of a whole record with as many terms: n + 2m phase points.
-    pt.edf = edf_for(Stat::oadev, alpha, pt.m, pt.n + 2 * pt.m, options.edf);
+    pt.edf = edf_for(Stat::oadev, pt.alpha, pt.m, pt.n + 2 * pt.m, options.edf);
     const Interval ci = chi2_interval(pt.dev, pt.edf, options.ci);
     pt.lo = ci.lo;
     pt.hi = ci.hi;

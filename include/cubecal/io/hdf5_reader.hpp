@@ -22,8 +22,11 @@ bool looks_like_hdf5(std::string_view head) noexcept;
 // several or none, an InputError lists the datasets (path, shape, type).
 // The file is opened at `open_path` when it is a plain file there (empty:
 // from `bytes`, e.g. standard input or inflated gzip). Every HDF5 error is
-// an InputError of one line naming `file` (the library prints nothing).
+// an InputError of one line naming `file` (the library prints nothing). An
+// infinite value is an InputError naming its row and column; so is a NaN,
+// unless `missing_as_nan` (`--gaps skip`: a NaN is a missing sample, kept as
+// NaN).
 Table read_hdf5(std::string_view bytes, const std::string& file, const std::string& open_path,
-                const std::string& dataset);
+                const std::string& dataset, bool missing_as_nan = false);
 
 }  // namespace cubecal::io

@@ -15,7 +15,8 @@ bool is_npy(std::string_view bytes) noexcept;
 
 // Every column (col1..colN, Table::binary). An unsupported type or shape, a
 // damaged header or data that do not match the shape is an InputError
-// naming the byte offset.
-Table read_npy(std::string_view bytes, const std::string& file);
+// naming the byte offset; so is an infinite sample, and a NaN unless
+// `missing_as_nan` (`--gaps skip`: a NaN is a missing sample, kept as NaN).
+Table read_npy(std::string_view bytes, const std::string& file, bool missing_as_nan = false);
 
 }  // namespace cubecal::io

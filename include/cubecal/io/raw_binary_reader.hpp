@@ -25,7 +25,9 @@ RawLayout parse_raw_layout(const std::string& types, std::size_t header_bytes);
 
 // Every channel as a column (col1..colN, Table::binary). A header longer
 // than the file, or a trailing partial frame, is an InputError naming its
-// byte offset.
-Table read_raw_binary(std::string_view bytes, const std::string& file, const RawLayout& layout);
+// byte offset; so is an infinite float sample, and a NaN unless
+// `missing_as_nan` (`--gaps skip`: a NaN is a missing sample, kept as NaN).
+Table read_raw_binary(std::string_view bytes, const std::string& file, const RawLayout& layout,
+                      bool missing_as_nan = false);
 
 }  // namespace cubecal::io

@@ -14,9 +14,11 @@ namespace cubecal::io {
 // What a record's irregular time stamps and missing values do: error (the
 // default) refuses them at their place; split cuts the record into
 // contiguous segments at gaps and jitter; skip keeps one segment, reads an
-// empty field or NaN as a missing sample (NaN) and fills a gap of whole
+// empty field or NaN as a missing sample (NaN; a NaN of a .npy, raw binary
+// or HDF5 record too, never an infinity) and fills a gap of whole
 // periods in the time stamps with missing samples, for the statistics that
-// leave missing samples out (stats/gap_deviation.hpp: `dev --gaps skip`).
+// leave missing samples out (stats/gap_deviation.hpp: `dev --gaps skip`,
+// `davar --gaps skip`).
 enum class GapPolicy { error, split, skip };
 
 // The range of sampling rates and data magnitudes every statistic can take

@@ -68,14 +68,19 @@ struct DavarResult {
 
 // Throws UsageError("gaps") for a record cut at gaps (one window slides along
 // one contiguous record), and the errors of davar() (UsageError "window",
-// "step", "taus", "alpha", "ci").
+// "step", "taus", "alpha", "ci"). A record read with io::GapPolicy::skip has
+// its missing samples (NaN) left out of each window's terms
+// (DavarOptions::skip_missing, `davar --gaps skip`).
 DavarResult run_davar(const io::Series& series, const DavarRequest& request);
 
-// {"command": "davar", "file", "rate_hz", "type", "samples", "window": {samples,
-// seconds, asked}, "step": {...}, "windows", "intervals": {...}, "channels": [
-// {"name", "t_start": [...], "t": [...] (centres), "m", "tau", "n",
-// "dev": [[...] one array per tau, over the windows], and with intervals
-// "lo", "hi", "edf", "alpha" in the same layout}]}.
+// {"command": "davar", "file", "rate_hz", "type", "samples", "missing_samples",
+// "window": {samples, seconds, asked}, "step": {...}, "windows", "intervals":
+// {...}, "channels": [{"name", "t_start": [...], "t": [...] (centres), "m",
+// "tau", "n" (terms of a window without a missing sample), "missing_samples",
+// "dev": [[...] one array per tau, over the windows], with missing samples
+// "terms" (the whole terms of each cell), and with intervals "lo", "hi",
+// "edf", "alpha" in the same layout}]}. A cell without a whole term has no
+// value: null in dev, lo, hi, edf and alpha.
 nlohmann::json to_json(const DavarResult& r);
 
 }  // namespace cubecal::pipeline

@@ -54,6 +54,12 @@ struct DavarOptions {
   TauGrid grid;            // averaging factors up to the OADEV limit of one window
   DavarMethod method = DavarMethod::fast;
   DavarIntervals intervals;
+  // A NaN sample is a missing sample (`davar --gaps skip`): each cell is the
+  // OADEV of its window with the terms that need a missing sample left out,
+  // as `dev --gaps skip` computes it on the window's samples
+  // (stats/gap_deviation.hpp, docs/formulas/stability.md §7a). false: a NaN
+  // is refused. A record without a NaN takes the same path either way.
+  bool skip_missing = false;
 };
 
 struct DavarMatrix {
@@ -72,8 +78,15 @@ struct DavarMatrix {
   std::vector<std::size_t> m;
   std::vector<double> tau;
   // Terms of each cell of row j: window_points - 2 m[j]. Every window has the
-  // same length, so the count of a cell depends on its row only.
+  // same length, so the count of a cell depends on its row only, unless
+  // samples are missing (then `terms`).
   std::vector<std::size_t> n;
+  // Missing samples of the record (skip_missing; 0 otherwise).
+  std::size_t missing = 0;
+  // With missing samples (empty without): the whole terms of each cell, in
+  // the layout of dev. A cell without a whole term has no value: its dev,
+  // lo, hi and edf are NaN (its alpha 0).
+  std::vector<std::size_t> terms;
   // The matrix, row-major by tau: dev[j * windows() + k].
   std::vector<double> dev;
   // With intervals (empty without): the same layout.
@@ -91,6 +104,10 @@ struct DavarMatrix {
   std::size_t taus() const noexcept { return m.size(); }
   std::size_t cell(std::size_t j, std::size_t k) const noexcept { return j * start.size() + k; }
   double dev_at(std::size_t j, std::size_t k) const noexcept { return dev[cell(j, k)]; }
+  // The terms of cell (j, k): n[j], or fewer where samples are missing.
+  std::size_t terms_at(std::size_t j, std::size_t k) const noexcept {
+    return terms.empty() ? n[j] : terms[cell(j, k)];
+  }
 };
 
 // The phase points of a window of `window` input samples of `type`.
@@ -106,8 +123,15 @@ std::size_t davar_window_count(std::size_t samples, std::size_t window, std::siz
 // UsageError("step") for a zero step, UsageError("taus") when no factor of
 // the grid fits a window, UsageError("alpha") for a fixed noise type outside
 // -2..2, UsageError("ci") for a confidence outside (0, 1), and
-// std::invalid_argument for a NaN or infinite sample or a tau0 that is not a
-// positive finite number.
+// std::invalid_argument for an infinite sample, a NaN one (unless
+// options.skip_missing) or a tau0 that is not a positive finite number.
+//
+// With missing samples the fast method slides the sums of the whole terms
+// and their counts as it slides the sums of a record without gaps (the same
+// cost); the direct method sums every window's whole terms anew. The
+// noise type of a cell of a window with a missing sample is identified as
+// `dev --gaps skip` identifies it (on the window's longest whole stretch),
+// and its EDF is that of a window without gaps giving as many terms.
 DavarMatrix davar(std::span<const double> data, DataType type, double tau0, const DavarOptions& options);
 
 }  // namespace cubecal

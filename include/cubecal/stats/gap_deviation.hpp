@@ -30,6 +30,18 @@ std::vector<StabilityPoint> oadev_skipping_missing(std::span<const double> data,
                                                    std::span<const std::size_t> ms,
                                                    const StabilityOptions& options = {});
 
+// The noise type oadev_skipping_missing (with intervals) gives each factor
+// of `ms`: options.alpha, or the type identified on the longest stretch
+// without a missing sample, carried beyond the factors that stretch holds.
+// For callers that need the types and not the deviations (davar's windows).
+struct GapNoiseType {
+  int alpha = 0;
+  bool carried = false;  // not identified at this factor (StabilityPoint::type_carried)
+};
+std::vector<GapNoiseType> noise_types_skipping_missing(std::span<const double> data, DataType type, double tau0,
+                                                       std::span<const std::size_t> ms,
+                                                       const StabilityOptions& options = {});
+
 // Samples of `data` that are missing (NaN).
 std::size_t missing_samples(std::span<const double> data) noexcept;
 

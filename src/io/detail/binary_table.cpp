@@ -1,12 +1,14 @@
 #include "binary_table.hpp"
 
 #include <cmath>
+#include <limits>
 
 #include "cubecal/error.hpp"
 
 namespace cubecal::io::detail {
 
-Table binary_table(std::string_view bytes, const std::string& file, const BinaryLayout& layout) {
+Table binary_table(std::string_view bytes, const std::string& file, const BinaryLayout& layout,
+                   bool missing_as_nan) {
   Table t;
   t.file = file;
   t.binary = true;
@@ -25,12 +27,16 @@ Table binary_table(std::string_view bytes, const std::string& file, const Binary
     if (type.kind != SampleKind::floating) continue;
     for (std::size_t r = 0; r < layout.rows; ++r) {
       if (std::isfinite(out[r])) continue;
+      const bool nan = std::isnan(out[r]);
+      if (nan && missing_as_nan) {
+        out[r] = std::numeric_limits<double>::quiet_NaN();  // whatever its payload or sign
+        continue;
+      }
       const std::size_t offset = layout.column_offsets[c] + r * layout.row_stride;
       throw InputError(file, 0, 0,
-                       std::string(std::isnan(out[r]) ? "NaN" : "infinite value") + " at byte offset " +
-                           std::to_string(offset) + " (row " + std::to_string(r + 1) + ", column " +
-                           std::to_string(c + 1) + ")",
-                       "a missing or invalid sample: cut the record there, or fill the gap");
+                       std::string(nan ? "NaN" : "infinite value") + " at byte offset " + std::to_string(offset) +
+                           " (row " + std::to_string(r + 1) + ", column " + std::to_string(c + 1) + ")",
+                       nan ? kNanSampleHint : "an invalid sample, never a missing one: cut the record there");
     }
   }
   for (std::size_t c = 0; c < t.total_columns; ++c) {

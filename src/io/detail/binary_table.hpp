@@ -20,9 +20,18 @@ struct BinaryLayout {
   std::vector<SampleType> types;  // one per column
 };
 
-// Every column decoded, named col1..colN (Table::binary set, no header). A
-// NaN or infinite value is an InputError naming its byte offset, row and
-// column. The layout must lie within `bytes` (the readers check it).
-Table binary_table(std::string_view bytes, const std::string& file, const BinaryLayout& layout);
+// Every column decoded, named col1..colN (Table::binary set, no header). An
+// infinite value is an InputError naming its byte offset, row and column; so
+// is a NaN, unless `missing_as_nan` (`--gaps skip`: a NaN is a missing
+// sample, kept as NaN). The layout must lie within `bytes` (the readers
+// check it).
+Table binary_table(std::string_view bytes, const std::string& file, const BinaryLayout& layout,
+                   bool missing_as_nan = false);
+
+// The hint of the error for a NaN sample of a binary record read without
+// `--gaps skip`.
+inline constexpr const char* kNanSampleHint =
+    "a missing sample: --gaps skip leaves it out of the OADEV terms (dev, davar); otherwise cut the record "
+    "there or fill the gap";
 
 }  // namespace cubecal::io::detail
