@@ -1,6 +1,7 @@
 // Static characterization: temperature regression, drift, covariance, the
 // analyze pipeline on records with known parameters, its JSON and Kalibr
-// output, and the six real ADIS16405 runs.
+// output, the six real ADIS16405 runs, and the spectral view (analyze --psd:
+// run_psd of the record, its terms beside the Allan fit, its JSON).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,13 +10,17 @@
 #include <numbers>
 #include <random>
 
+#include "cubecal/error.hpp"
 #include "cubecal/noise/covariance.hpp"
 #include "cubecal/noise/drift.hpp"
 #include "cubecal/noise/sensor_noise_model.hpp"
 #include "cubecal/noise/temperature.hpp"
 #include "cubecal/io/series.hpp"
+#include "cubecal/pipeline/analysis_json.hpp"
 #include "cubecal/pipeline/analysis_output.hpp"
 #include "cubecal/pipeline/analyze.hpp"
+#include "cubecal/pipeline/psd.hpp"
+#include "cubecal/pipeline/spectral_analysis.hpp"
 #include "white_plus_walk.hpp"
 
 namespace cubecal {
@@ -237,6 +242,244 @@ TEST(Analyze, AdisRunsAnalyzedWithoutError) {
   for (double v : arw) {
     EXPECT_GT(v, 1.5);
     EXPECT_LT(v, 3.0);
+  }
+}
+
+// ---------------------------------------------------------------------------
+// The spectral view (AnalyzeRequest::psd)
+
+TEST(SpectralView, DifferenceInCombinedSigmas) {
+  // (spectrum - allan) / sqrt(s_s^2 + s_a^2) where both found the term;
+  // nothing where either did not; Q left out when the spectrum has none.
+  NoiseFit allan;
+  allan.N = {true, 1.0, 0.1, 0.5, 2.0};
+  allan.B = {true, 2.0, 0.3, 0.0, 0.0};
+  allan.K = {false, 0.0, 0.0, 0.0, 0.0};
+  pipeline::SpectralAnalysis s;
+  const auto term = [](Term t, int alpha, TermEstimate e) {
+    pipeline::PsdAllanTerm a;
+    a.term = t;
+    a.alpha = alpha;
+    a.estimate = e;
+    return a;
+  };
+  s.allan_terms = {term(Term::K, -2, {true, 3.0, 0.4, 0.0, 0.0}), term(Term::B, -1, {false, 0.0, 0.0, 0.0, 0.0}),
+                   term(Term::N, 0, {true, 1.5, 0.2, 0.0, 0.0})};
+  const auto v = pipeline::compare_views(allan, s);
+  ASSERT_EQ(v.size(), 3u);
+  EXPECT_EQ(v[0].term, Term::N);
+  EXPECT_EQ(v[1].term, Term::B);
+  EXPECT_EQ(v[2].term, Term::K);
+  ASSERT_TRUE(v[0].difference_sigmas.has_value());
+  EXPECT_NEAR(*v[0].difference_sigmas, 0.5 / std::sqrt(0.05), 1e-15);
+  EXPECT_EQ(v[0].allan.value, 1.0);
+  EXPECT_EQ(v[0].spectrum.value, 1.5);
+  EXPECT_FALSE(v[1].difference_sigmas.has_value());  // not in the spectrum
+  EXPECT_FALSE(v[2].difference_sigmas.has_value());  // not in the Allan fit
+  EXPECT_TRUE(pipeline::compare_views(allan, pipeline::SpectralAnalysis{}).empty());  // no fit: nothing
+}
+
+// Every field of two spectral views, exactly.
+void expect_same_spectral(const pipeline::SpectralAnalysis& a, const pipeline::SpectralAnalysis& b) {
+  const Psd &p = a.spectrum, &q = b.spectrum;
+  EXPECT_EQ(p.rate_hz, q.rate_hz);
+  EXPECT_EQ(p.window, q.window);
+  EXPECT_EQ(p.detrend, q.detrend);
+  EXPECT_EQ(p.segment_length, q.segment_length);
+  EXPECT_EQ(p.overlap, q.overlap);
+  EXPECT_EQ(p.segments, q.segments);
+  EXPECT_EQ(p.samples_used, q.samples_used);
+  EXPECT_EQ(p.enbw_hz, q.enbw_hz);
+  EXPECT_EQ(p.bins_per_decade, q.bins_per_decade);
+  EXPECT_EQ(p.frequency, q.frequency);
+  EXPECT_EQ(p.density, q.density);
+  EXPECT_EQ(p.edf, q.edf);
+  EXPECT_EQ(p.first_bin, q.first_bin);
+  EXPECT_EQ(p.bins, q.bins);
+  EXPECT_EQ(p.bin_covariance, q.bin_covariance);
+  const PowerLawFit &f = a.fit, &g = b.fit;
+  EXPECT_EQ(f.f_lo, g.f_lo);
+  EXPECT_EQ(f.f_hi, g.f_hi);
+  EXPECT_EQ(f.bands, g.bands);
+  EXPECT_EQ(f.chi2, g.chi2);
+  EXPECT_EQ(f.dof, g.dof);
+  EXPECT_EQ(f.scale, g.scale);
+  EXPECT_EQ(f.covariance, g.covariance);
+  ASSERT_EQ(f.terms.size(), g.terms.size());
+  for (std::size_t k = 0; k < f.terms.size(); ++k) {
+    EXPECT_EQ(f.terms[k].alpha, g.terms[k].alpha);
+    EXPECT_EQ(f.terms[k].h, g.terms[k].h);
+    EXPECT_EQ(f.terms[k].sigma, g.terms[k].sigma);
+    EXPECT_EQ(f.terms[k].valid, g.terms[k].valid);
+    EXPECT_EQ(f.terms[k].f_lo, g.terms[k].f_lo);
+    EXPECT_EQ(f.terms[k].f_hi, g.terms[k].f_hi);
+  }
+  ASSERT_EQ(a.allan_terms.size(), b.allan_terms.size());
+  for (std::size_t k = 0; k < a.allan_terms.size(); ++k) {
+    const auto &x = a.allan_terms[k], &y = b.allan_terms[k];
+    EXPECT_EQ(x.term, y.term);
+    EXPECT_EQ(x.alpha, y.alpha);
+    EXPECT_EQ(x.estimate.valid, y.estimate.valid);
+    EXPECT_EQ(x.estimate.value, y.estimate.value);
+    EXPECT_EQ(x.estimate.sigma, y.estimate.sigma);
+    EXPECT_EQ(x.display.value, y.display.value);
+    EXPECT_EQ(x.display.sigma, y.display.sigma);
+    EXPECT_EQ(x.display.unit, y.display.unit);
+  }
+  EXPECT_EQ(a.fit_error, b.fit_error);
+  EXPECT_EQ(a.overlap, b.overlap);
+  EXPECT_EQ(a.pieces, b.pieces);
+  EXPECT_EQ(a.pieces_used, b.pieces_used);
+}
+
+// Two deg/s channels at 10 Hz, white noise plus a walk, cut at a gap.
+io::Series split_record() {
+  const std::size_t n = std::size_t{1} << 17;
+  io::Series s = series_of({white_plus_walk(n, 0.1, 0.014, 0.0035, 31, 0.2),
+                            white_plus_walk(n, 0.1, 0.013, 0.00066, 32, -1.5)},
+                           {"gx", "gy"}, 10.0);
+  s.segments = {{0, 50000}, {50000, n}};
+  s.gaps = io::GapPolicy::split;
+  return s;
+}
+
+pipeline::AnalyzeRequest psd_request() {
+  pipeline::AnalyzeRequest req;
+  req.units = {*parse_unit("deg/s")};
+  req.grid = parse_tau_grid("log:10");
+  req.psd = true;
+  return req;
+}
+
+TEST(SpectralView, IsRunPsdOfTheRecordAtTwentyBandsPerDecadeWithItsGaps) {
+  const io::Series s = split_record();
+  const auto r = pipeline::run_analyze(s, psd_request());
+  pipeline::PsdRequest preq;
+  preq.bins_per_decade = 20;
+  preq.units = {*parse_unit("deg/s")};
+  const pipeline::PsdResult p = pipeline::run_psd(s, preq);
+  ASSERT_EQ(r.channels.size(), 2u);
+  for (std::size_t c = 0; c < 2; ++c) {
+    ASSERT_TRUE(r.channels[c].spectral.has_value());
+    const pipeline::SpectralAnalysis& v = *r.channels[c].spectral;
+    pipeline::SpectralAnalysis want;
+    want.spectrum = p.channels[c].spectrum;
+    want.spectrum.bin_covariance.clear();  // not kept
+    want.fit = p.channels[c].fit;
+    want.allan_terms = p.channels[c].allan_terms;
+    want.fit_error = p.channels[c].fit_error;
+    want.overlap = p.overlap;
+    want.pieces = p.pieces;
+    want.pieces_used = p.pieces_used;
+    expect_same_spectral(v, want);
+    // The pieces at the gap: segments of 8192 samples (the longest piece's
+    // 81072 / 8 rounded down to a power of two), none across the gap.
+    EXPECT_EQ(v.pieces, 2u);
+    EXPECT_EQ(v.pieces_used, 2u);
+    EXPECT_EQ(v.spectrum.segment_length, 8192u);
+    EXPECT_EQ(v.spectrum.bins_per_decade, 20u);
+    EXPECT_TRUE(v.fit_error.empty());
+    EXPECT_FALSE(v.allan_terms.empty());
+  }
+  // Without the request: no spectral view.
+  pipeline::AnalyzeRequest plain = psd_request();
+  plain.psd = false;
+  for (const auto& c : pipeline::run_analyze(s, plain).channels) EXPECT_FALSE(c.spectral.has_value());
+}
+
+TEST(SpectralView, ShortRecordKeepsItsSpectrumAndSaysWhyNotFitted) {
+  // 300 samples: segments of 32, raw bins from 10 up to Nyquist (bin 16)
+  // make fewer log bands than the four coefficients need.
+  const io::Series s = series_of({white_plus_walk(300, 0.1, 0.014, 0.0, 33)}, {"gx"}, 10.0);
+  const auto r = pipeline::run_analyze(s, psd_request());
+  ASSERT_TRUE(r.channels[0].spectral.has_value());
+  const auto& v = *r.channels[0].spectral;
+  EXPECT_FALSE(v.fit_error.empty());
+  EXPECT_TRUE(v.fit.terms.empty());
+  EXPECT_TRUE(v.allan_terms.empty());
+  EXPECT_GT(v.spectrum.size(), 0u);
+  EXPECT_TRUE(pipeline::compare_views(r.channels[0].noise.fit, v).empty());
+  // And through analysis.json.
+  pipeline::AnalysisDocument d;
+  d.result = r;
+  const auto back = pipeline::parse_analysis_json(pipeline::to_json(d).dump(1), "analysis.json");
+  ASSERT_TRUE(back.result.channels[0].spectral.has_value());
+  expect_same_spectral(*back.result.channels[0].spectral, v);
+}
+
+TEST(SpectralView, AnalysisJsonRoundTripAndFilesWithoutIt) {
+  const io::Series s = split_record();
+  const auto r = pipeline::run_analyze(s, psd_request());
+  pipeline::AnalysisDocument d;
+  d.result = r;
+  d.command = "cubecal analyze --psd";
+  const nlohmann::json j = pipeline::to_json(d);
+  const auto back = pipeline::parse_analysis_json(j.dump(1), "analysis.json");
+  ASSERT_EQ(back.result.channels.size(), r.channels.size());
+  for (std::size_t c = 0; c < r.channels.size(); ++c) {
+    ASSERT_TRUE(back.result.channels[c].spectral.has_value());
+    expect_same_spectral(*back.result.channels[c].spectral, *r.channels[c].spectral);
+  }
+  // Written again: the same spectral part. Its derived terms too, but for
+  // the Allan fit beside them, which analysis.json keeps in display units
+  // (read back divided by the unit's factor: equal to rounding).
+  const nlohmann::json again = pipeline::to_json(back);
+  for (std::size_t c = 0; c < r.channels.size(); ++c) {
+    nlohmann::json x = again.at("channels")[c].at("spectral"), y = j.at("channels")[c].at("spectral");
+    const nlohmann::json xt = x.at("terms"), yt = y.at("terms");
+    x.erase("terms");
+    y.erase("terms");
+    EXPECT_EQ(x, y) << c;
+    ASSERT_EQ(xt.size(), yt.size());
+    for (std::size_t k = 0; k < xt.size(); ++k) {
+      EXPECT_EQ(xt[k].at("value"), yt[k].at("value"));
+      EXPECT_EQ(xt[k].at("sigma"), yt[k].at("sigma"));
+      EXPECT_EQ(xt[k].at("term"), yt[k].at("term"));
+      EXPECT_EQ(xt[k].at("difference_sigmas").is_null(), yt[k].at("difference_sigmas").is_null());
+      if (!yt[k].at("difference_sigmas").is_null()) {
+        EXPECT_NEAR(xt[k].at("difference_sigmas").get<double>(), yt[k].at("difference_sigmas").get<double>(), 1e-12);
+      }
+      if (!yt[k].at("allan_fit").at("value").is_null()) {
+        EXPECT_NEAR(xt[k].at("allan_fit").at("value").get<double>() / yt[k].at("allan_fit").at("value").get<double>(),
+                    1.0, 1e-14);
+      }
+    }
+  }
+  // The terms beside the Allan fit, in display units, as compare_views has them.
+  const auto& terms = j.at("channels")[0].at("spectral").at("terms");
+  const auto views = pipeline::compare_views(r.channels[0].noise.fit, *r.channels[0].spectral);
+  ASSERT_EQ(terms.size(), views.size());
+  for (std::size_t k = 0; k < views.size(); ++k) {
+    const Quantity q = display(views[k].spectrum, views[k].term, r.channels[0].unit);
+    if (views[k].spectrum.valid) {
+      EXPECT_EQ(terms[k].at("value").get<double>(), q.value);
+    } else {
+      EXPECT_TRUE(terms[k].at("value").is_null());
+    }
+    EXPECT_EQ(terms[k].at("unit"), q.unit);
+    if (views[k].difference_sigmas) {
+      EXPECT_EQ(terms[k].at("difference_sigmas").get<double>(), *views[k].difference_sigmas);
+    } else {
+      EXPECT_TRUE(terms[k].at("difference_sigmas").is_null());
+    }
+  }
+  // A file without "spectral" (before analyze --psd, or without it) loads
+  // with no spectral view and everything else as before.
+  nlohmann::json old = j;
+  for (auto& c : old.at("channels")) c.erase("spectral");
+  const auto plain = pipeline::parse_analysis_json(old.dump(), "analysis.json");
+  for (std::size_t c = 0; c < r.channels.size(); ++c) {
+    EXPECT_FALSE(plain.result.channels[c].spectral.has_value());
+    EXPECT_EQ(plain.result.channels[c].noise.fit.N.value, back.result.channels[c].noise.fit.N.value);
+  }
+  // A damaged spectral part is one UsageError naming its place.
+  nlohmann::json bad = j;
+  bad.at("channels")[1].at("spectral").at("spectrum").at("bins").erase(0);
+  try {
+    (void)pipeline::parse_analysis_json(bad.dump(), "analysis.json");
+    ADD_FAILURE() << "no error";
+  } catch (const UsageError& e) {
+    EXPECT_NE(std::string(e.what()).find("channels[1].spectral.spectrum"), std::string::npos) << e.what();
   }
 }
 

@@ -17,7 +17,7 @@
 namespace cubecal {
 namespace {
 
-double sigma_w(const PowerLawTerm& t, double dt) {
+double sigma_w(const PowerLawNoise& t, double dt) {
   return std::sqrt(t.h / (2.0 * dt * std::pow(2.0 * std::numbers::pi * dt, t.alpha)));
 }
 
@@ -30,7 +30,7 @@ double max_abs(const std::vector<double>& v) {
 TEST(PowerLawGenerator, FilterAsLongAsTheRecordIsKasdinWalterExactly) {
   const double dt = 0.1;
   for (const double alpha : {2.0, 1.0, 0.0, -1.0, -2.0, -0.5}) {
-    const PowerLawTerm t{alpha, 3e-4};
+    const PowerLawNoise t{alpha, 3e-4};
     const std::size_t n = 3000;
     PowerLawGenerator g(t, dt, PowerLawGenerator::filter_length_for(n), 11);
     std::vector<double> got(n);
@@ -46,7 +46,7 @@ TEST(PowerLawGenerator, FilterAsLongAsTheRecordIsKasdinWalterExactly) {
 }
 
 TEST(PowerLawGenerator, ShortFilterIsTheTruncatedConvolutionAcrossBlocks) {
-  const PowerLawTerm t = flicker_term(0.02);
+  const PowerLawNoise t = flicker_term(0.02);
   const double dt = 0.01;
   const std::size_t len = 256, n = 2000;
   PowerLawGenerator g(t, dt, len, 5);
@@ -76,7 +76,7 @@ TEST(PowerLawGenerator, AllanVarianceOfEachPowerLaw) {
   const double dt = 0.1;
   const std::size_t n = std::size_t{1} << 16;
   struct Case {
-    PowerLawTerm term;
+    PowerLawNoise term;
     double (*avar)(double h, double tau);
   };
   const Case cases[] = {

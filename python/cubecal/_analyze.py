@@ -36,7 +36,7 @@ def _call_text(first, kwargs):
 
 
 def analyze(data, rate=None, unit=None, temperature=None, taus="log:10", ci=0.683, temp_order=1, drift_window=0.0,
-            cov_samples=0, max_samples=0, model_lsb=None, names=None, threads=0, **read_options):
+            cov_samples=0, max_samples=0, model_lsb=None, names=None, threads=0, psd=False, **read_options):
     """Static characterization of every channel, as `cubecal analyze`: fixed
     bias, OADEV with intervals, the noise terms (N, B, K, Q, R) by slope
     read-offs and the five-term fit, the paper's random-walk model and a
@@ -51,6 +51,10 @@ def analyze(data, rate=None, unit=None, temperature=None, taus="log:10", ci=0.68
     "mGauss", "uT", "g", "m/s^2", "counts", ...); default: from the column
     names (gx_dps, mag_x_uT, ...). temperature: a column name (of the file or
     of a dict of columns) or an array, one value per sample, in degC.
+    psd: also the spectral view, as `cubecal analyze --psd`: each channel's
+    power spectral density (cubecal.psd's defaults), its power-law fit and
+    the N, B, K it stands for beside the Allan curve's (to_dict()'s
+    channels[i]["spectral"]).
     Returns an Analysis.
     """
     args = _cubecal._AnalyzeArgs()
@@ -63,13 +67,15 @@ def analyze(data, rate=None, unit=None, temperature=None, taus="log:10", ci=0.68
     args.max_samples = int(max_samples)
     args.model_lsb = number_list(model_lsb)
     args.threads = int(threads)
+    args.psd = bool(psd)
     # The call as the result's "command": every argument that changes the
     # analysis, so that it reproduces it (arrays are shown as <arrays>).
     shown = {"rate": rate, "unit": unit, "temperature": temperature if isinstance(temperature, str) else None,
              "taus": taus if taus != "log:10" else None, "ci": ci if ci != 0.683 else None,
              "temp_order": temp_order if temp_order != 1 else None,
              "drift_window": drift_window or None, "cov_samples": cov_samples or None,
-             "max_samples": max_samples or None, "model_lsb": model_lsb, "names": names}
+             "max_samples": max_samples or None, "model_lsb": model_lsb, "names": names,
+             "psd": True if psd else None}
     if isinstance(data, (str, os.PathLike)):
         if names is not None:
             raise _cubecal.UsageError("names: give columns= to choose the columns of a file")

@@ -43,6 +43,7 @@ struct AnalyzeArgs {
   std::size_t max_samples = 0;
   std::vector<double> model_lsb;
   unsigned threads = 0;
+  bool psd = false;                 // the spectral view (analyze --psd)
 };
 
 // The units of the channels: as given, else as the record announces them.
@@ -72,6 +73,7 @@ pipeline::AnalyzeRequest request(const AnalyzeArgs& a) {
     if (!(x >= 0.0) || !std::isfinite(x)) throw UsageError("lsb", "model_lsb: counts per unit, 0 or more");
   req.lsb = a.model_lsb;
   req.threads = a.threads;
+  req.psd = a.psd;
   return req;
 }
 
@@ -165,7 +167,8 @@ void bind_analyze(py::module_& m) {
       .def_readwrite("cov_samples", &AnalyzeArgs::cov_samples)
       .def_readwrite("max_samples", &AnalyzeArgs::max_samples)
       .def_readwrite("model_lsb", &AnalyzeArgs::model_lsb)
-      .def_readwrite("threads", &AnalyzeArgs::threads);
+      .def_readwrite("threads", &AnalyzeArgs::threads)
+      .def_readwrite("psd", &AnalyzeArgs::psd);
   m.def("_analyze_file", &analyze_file, py::arg("path"), py::arg("read"), py::arg("args"), py::arg("temperature"));
   m.def("_analyze_arrays", &analyze_arrays, py::arg("channels"), py::arg("names"), py::arg("rate"), py::arg("args"),
         py::arg("temperature"), py::arg("temp_name"), py::arg("label"));

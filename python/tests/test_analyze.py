@@ -1,6 +1,7 @@
 """cubecal.analyze equals `cubecal analyze` (analysis.json) on the same
 record, from the file and from arrays; its result feeds cubecal.simulate
-and writes the CLI's files."""
+and writes the CLI's files; with psd=True it carries the spectral view as
+`cubecal analyze --psd` does."""
 import json
 import os
 import tempfile
@@ -83,6 +84,53 @@ class Analyze(unittest.TestCase):
             with self.assertRaises(cubecal.UsageError):
                 a.write(d)
             a.write(d, force=True)
+
+
+class AnalyzePsd(unittest.TestCase):
+    """psd=True: the spectral view, as `analyze --psd` writes it in analysis.json."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.dir = tempfile.TemporaryDirectory()
+        cls.csv = os.path.join(cls.dir.name, "gyro.csv")
+        cli("simulate", "--preset", "sport-gyro", "--rate", 10, "--duration", "6h", "--seed", 5, "--out", cls.csv)
+        out = os.path.join(cls.dir.name, "cli")
+        cli("analyze", cls.csv, "--columns", "gx,gy,gz", "--unit", "deg/s", "--psd", "--out", out)
+        with open(os.path.join(out, "analysis.json")) as f:
+            cls.want = json.load(f)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.dir.cleanup()
+
+    def test_file_equals_cli(self):
+        a = cubecal.analyze(self.csv, unit="deg/s", columns="gx,gy,gz", psd=True)
+        got = a.to_dict()
+        self.assertEqual(without(got, "command"), without(self.want, "command"))
+        self.assertIn("psd=True", a.command)
+        for c in got["channels"]:
+            s = c["spectral"]
+            self.assertEqual(s["spectrum"]["bins_per_decade"], 20)
+            self.assertEqual([t["term"] for t in s["terms"]], ["N", "B", "K", "Q"])
+            n = s["terms"][0]
+            # The difference beside the Allan curve's N, as its definition says.
+            self.assertAlmostEqual(n["difference_sigmas"],
+                                   (n["value"] - n["allan_fit"]["value"]) / np.hypot(n["sigma"], n["allan_fit"]["sigma"]),
+                                   delta=1e-9)
+
+    def test_spectrum_is_cubecal_psd_at_twenty_bands_per_decade(self):
+        a = cubecal.analyze(self.csv, unit="deg/s", columns="gx,gy,gz", psd=True)
+        p = cubecal.psd(self.csv, unit="deg/s", columns="gx,gy,gz", bins_per_decade=20)
+        for mine, theirs in zip(a.to_dict()["channels"], p.channels):
+            s = mine["spectral"]
+            np.testing.assert_array_equal(np.asarray(s["spectrum"]["density"]), theirs.density)
+            np.testing.assert_array_equal(np.asarray(s["spectrum"]["frequency_hz"]), theirs.frequency_hz)
+            self.assertEqual([t["h"] for t in s["fit"]["terms"]], [t.h for t in theirs.fit.terms])
+
+    def test_off_by_default(self):
+        a = cubecal.analyze(self.csv, unit="deg/s", columns="gx,gy,gz")
+        self.assertTrue(all("spectral" not in c for c in a.to_dict()["channels"]))
+        self.assertNotIn("psd=", a.command)
 
 
 if __name__ == "__main__":

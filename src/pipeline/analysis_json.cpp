@@ -1,12 +1,19 @@
 #include "cubecal/pipeline/analysis_json.hpp"
 
+#include "cubecal/pipeline/psd_json.hpp"
+
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <optional>
 
 #include "cubecal/error.hpp"
 #include "cubecal/noise/bias_verdict.hpp"
+#include "cubecal/pipeline/psd_json.hpp"
+#include "cubecal/pipeline/spectral_analysis.hpp"
+#include "cubecal/spectral/allan_conversion.hpp"
+#include "cubecal/spectral/density_unit.hpp"
 #include "cubecal/noise/reported_terms.hpp"
 #include "cubecal/stats/allan_curve.hpp"
 #include "detail/curve_json.hpp"
@@ -224,6 +231,63 @@ json temperature_json(const TemperatureAnalysis& t, const Unit& u, const std::st
   return tj;
 }
 
+const char* term_letter(Term t) {
+  switch (t) {
+    case Term::Q: return "Q";
+    case Term::N: return "N";
+    case Term::B: return "B";
+    case Term::K: return "K";
+    case Term::R: return "R";
+  }
+  return "?";
+}
+
+// The spectral view (analyze --psd): the Welch plan, the spectrum in log
+// bands, the power-law fit, and each IEEE 952 term of the fit beside the
+// Allan curve's five-term fit with their difference in combined sigmas (the
+// terms are derived from the fit and the Allan fit: not read back).
+json spectral_json(const SpectralAnalysis& s, const NoiseFit& allan, const Unit& u) {
+  const Psd& p = s.spectrum;
+  json j;
+  j["method"] =
+      "Welch power spectral density with the defaults of cubecal psd, one-sided; the power-law fit S(f) = sum "
+      "h_alpha f^alpha and the IEEE 952 terms its coefficients stand for (docs/formulas/spectral.md); beside each "
+      "term the five-term fit of the Allan curve (noise.fit) and (spectrum - allan) / sqrt(sigma_spectrum^2 + "
+      "sigma_allan^2)";
+  j["welch"] = {{"window", std::string(to_string(p.window))},
+                {"segment_length", p.segment_length},
+                {"overlap", s.overlap},
+                {"overlap_samples", p.overlap},
+                {"detrend", std::string(to_string(p.detrend))},
+                {"segments", p.segments},
+                {"samples_used", p.samples_used},
+                {"resolution_hz", p.resolution_hz()},
+                {"enbw_hz", p.enbw_hz},
+                {"pieces", s.pieces},
+                {"pieces_used", s.pieces_used}};
+  j["spectrum"] = {{"bins_per_decade", p.bins_per_decade},
+                   {"density_unit", density_unit(u).name},
+                   {"frequency_hz", p.frequency},
+                   {"density", p.density},
+                   {"edf", p.edf},
+                   {"bins", p.bins},
+                   {"first_bin", p.first_bin}};
+  const bool fitted = s.fit_error.empty() && !s.fit.terms.empty();
+  j["fit"] = fitted ? power_law_fit_json(s.fit, u) : json(nullptr);
+  if (!s.fit_error.empty()) j["fit_error"] = s.fit_error;
+  json terms = json::array();
+  for (const TermViews& v : compare_views(allan, s)) {
+    json t = quantity(display(v.spectrum, v.term, u), v.spectrum.valid);
+    t["term"] = term_letter(v.term);
+    t["alpha"] = power_law_exponent(v.term);
+    t["allan_fit"] = quantity(display(v.allan, v.term, u), v.allan.valid);
+    t["difference_sigmas"] = v.difference_sigmas ? json(*v.difference_sigmas) : json(nullptr);
+    terms.push_back(std::move(t));
+  }
+  j["terms"] = std::move(terms);
+  return j;
+}
+
 std::string_view edf_name(EdfMethod m) { return m == EdfMethod::simple ? "simple" : "greenhall"; }
 
 // ---------------------------------------------------------------------------
@@ -269,6 +333,10 @@ class Node {
     if (!(v >= lo && v <= hi) || v != std::floor(v))
       fail("not a whole number from " + std::to_string(lo) + " to " + std::to_string(hi));
     return static_cast<int>(v);
+  }
+  bool boolean() const {
+    if (!j_.is_boolean()) fail("not true or false");
+    return j_.get<bool>();
   }
   std::string str() const {
     if (!j_.is_string()) fail("not a string");
@@ -514,6 +582,84 @@ TemperatureAnalysis read_temperature(const Node& t, const ChannelAnalysis& ch, s
   return a;
 }
 
+std::vector<std::size_t> counts(const Node& a) {
+  std::vector<std::size_t> v(a.size());
+  for (std::size_t i = 0; i < v.size(); ++i) v[i] = a.at(i).count();
+  return v;
+}
+
+// The inverse of power_law_fit_json.
+PowerLawFit read_power_law_fit(const Node& f) {
+  PowerLawFit fit;
+  fit.f_lo = f.num("f_lo_hz");
+  fit.f_hi = f.num("f_hi_hz");
+  fit.bands = f.at("bands").count();
+  fit.chi2 = f.num("chi2");
+  fit.dof = f.at("dof").count();
+  fit.scale = f.num("scale");
+  const Node terms = f.at("terms");
+  for (std::size_t i = 0; i < terms.size(); ++i) {
+    const Node t = terms.at(i);
+    PowerLawTerm term;
+    term.alpha = t.at("alpha").integer(-4, 4);
+    term.h = t.num("h");
+    term.sigma = t.num("sigma");
+    term.valid = t.at("valid").boolean();
+    term.f_lo = t.num("f_lo_hz");
+    term.f_hi = t.num("f_hi_hz");
+    fit.terms.push_back(term);
+  }
+  const Node cov = f.at("covariance");
+  const std::size_t p = fit.terms.size();
+  if (cov.size() != p) cov.fail("not one row per term");
+  for (std::size_t i = 0; i < p; ++i) {
+    const auto row = cov.at(i).nums();
+    if (row.size() != p) cov.at(i).fail("not one column per term");
+    fit.covariance.insert(fit.covariance.end(), row.begin(), row.end());
+  }
+  return fit;
+}
+
+// The inverse of spectral_json (its terms are derived: made again from the fit).
+SpectralAnalysis read_spectral(const Node& j, const Unit& u, double rate_hz) {
+  SpectralAnalysis s;
+  const Node w = j.at("welch");
+  Psd& p = s.spectrum;
+  p.rate_hz = rate_hz;
+  const std::string window = w.at("window").str(), detrend = w.at("detrend").str();
+  const auto win = parse_window(window);
+  const auto det = parse_detrend(detrend);
+  if (!win) w.at("window").fail("unknown window '" + window + "'");
+  if (!det) w.at("detrend").fail("unknown detrending '" + detrend + "'");
+  p.window = *win;
+  p.detrend = *det;
+  p.segment_length = w.at("segment_length").count();
+  s.overlap = w.num("overlap");
+  p.overlap = w.at("overlap_samples").count();
+  p.segments = w.at("segments").count();
+  p.samples_used = w.at("samples_used").count();
+  p.enbw_hz = w.num("enbw_hz");
+  s.pieces = w.at("pieces").count();
+  s.pieces_used = w.at("pieces_used").count();
+  const Node sp = j.at("spectrum");
+  p.bins_per_decade = sp.at("bins_per_decade").count();
+  p.frequency = sp.at("frequency_hz").nums();
+  p.density = sp.at("density").nums();
+  p.edf = sp.at("edf").nums();
+  p.bins = counts(sp.at("bins"));
+  p.first_bin = counts(sp.at("first_bin"));
+  const std::size_t k = p.frequency.size();
+  if (p.density.size() != k || p.edf.size() != k || p.bins.size() != k || p.first_bin.size() != k)
+    sp.fail("frequency_hz, density, edf, bins and first_bin differ in length");
+  if (j.has("fit")) {
+    s.fit = read_power_law_fit(j.at("fit"));
+    s.allan_terms = psd_allan_terms(s.fit, u, rate_hz);
+  } else {
+    s.fit_error = j.str_or("fit_error", "");
+  }
+  return s;
+}
+
 // Files before format_version 2 carry in noise.arw the white-noise line
 // tangent to the whole -1/2 region, not the line read at tau = 1 s: N is
 // read again from the stored curve, so that a report of an old file gives
@@ -572,6 +718,9 @@ AnalysisResult read_result(const json& doc, const std::string& label) {
       if (version < 2) reread_white_noise(ch.temperature->compensated);
       if (r.temp_name.empty()) r.temp_name = t.str_or("sensor", "");
     }
+    // Written by analyze --psd only (and not before it existed).
+    if (cj.has("spectral"))
+      ch.spectral = read_spectral(cj.at("spectral"), ch.unit, r.rate_hz);
     r.channels.push_back(std::move(ch));
   }
   const Node cov = root.at("covariance");
@@ -615,6 +764,7 @@ void to_json(json& j, const AnalysisResult& r) {
                    {"points", c.drift.t.size()},
                    {"file", "drift.csv"}};
     if (c.temperature) ch["temperature"] = temperature_json(*c.temperature, c.unit, r.temp_name, r.samples);
+    if (c.spectral) ch["spectral"] = spectral_json(*c.spectral, c.noise.fit, c.unit);
     chans.push_back(std::move(ch));
   }
   j["channels"] = std::move(chans);

@@ -6,13 +6,17 @@
 #include <algorithm>
 #include <cmath>
 #include <exception>
+#include <memory>
 #include <stdexcept>
+#include <utility>
 
 #include "cubecal/stats/allan_curve.hpp"
 #include "cubecal/noise/covariance.hpp"
 #include "cubecal/noise/temperature_random_walk.hpp"
 #include "cubecal/error.hpp"
 #include "cubecal/pipeline/dev_pipeline.hpp"
+#include "cubecal/pipeline/psd.hpp"
+#include "cubecal/pipeline/spectral_analysis.hpp"
 #include "detail/analysis_parts.hpp"
 
 namespace cubecal::pipeline {
@@ -118,6 +122,22 @@ void analyze_temperature(AnalysisResult& r, const io::Series& s, const AnalyzeRe
     if (e) std::rethrow_exception(e);
 }
 
+// Channel c of a psd run as an analysis keeps it: the log bands without
+// their bin covariance (used by the fit, not kept).
+SpectralAnalysis spectral_of(PsdResult& p, std::size_t c) {
+  PsdChannel& ch = p.channels[c];
+  SpectralAnalysis s;
+  s.spectrum = std::move(ch.spectrum);
+  s.spectrum.bin_covariance = {};
+  s.fit = std::move(ch.fit);
+  s.allan_terms = std::move(ch.allan_terms);
+  s.fit_error = std::move(ch.fit_error);
+  s.overlap = p.overlap;
+  s.pieces = p.pieces;
+  s.pieces_used = p.pieces_used;
+  return s;
+}
+
 }  // namespace
 
 AnalysisResult run_analyze(const io::Series& s, const AnalyzeRequest& req) {
@@ -202,6 +222,18 @@ AnalysisResult run_analyze(const io::Series& s, const AnalyzeRequest& req) {
         ch.drift.drift.push_back(d.drift[i]);
       }
     }
+  }
+
+  // The spectral view: `cubecal psd` of the record (its pieces at gaps as
+  // the curves have them), the spectrum kept in log bands for the plot.
+  if (req.psd) {
+    PsdRequest preq;
+    preq.bins_per_decade = kSpectrumBinsPerDecade;
+    for (const auto& ch : r.channels) preq.units.push_back(ch.unit);
+    preq.threads = req.threads;
+    PsdResult p = run_psd(s, preq);
+    for (std::size_t c = 0; c < nch; ++c)
+      r.channels[c].spectral = spectral_of(p, c);
   }
 
   // Covariance of the selected channels (eq. 12).

@@ -9,42 +9,9 @@
 
 #include "cubecal/error.hpp"
 #include "cubecal/pipeline/welch_psd.hpp"
-#include "cubecal/spectral/allan_conversion.hpp"
 #include "cubecal/spectral/log_bins.hpp"
 
 namespace cubecal::pipeline {
-
-namespace {
-
-// The IEEE 952 term each exponent of the default model stands for.
-bool term_of(int alpha, Term& term) {
-  switch (alpha) {
-    case 2: term = Term::Q; return true;
-    case 0: term = Term::N; return true;
-    case -1: term = Term::B; return true;
-    case -2: term = Term::K; return true;
-    default: return false;
-  }
-}
-
-std::vector<PsdAllanTerm> allan_terms(const PowerLawFit& fit, const Unit& unit, double rate_hz) {
-  // A unit without a name is shown as u.
-  const Unit shown = unit.name.empty() ? Unit{std::string(1, 'u'), unit.kind, unit.to_si, unit.si_name} : unit;
-  std::vector<PsdAllanTerm> out;
-  for (const PowerLawTerm& t : fit.terms) {
-    Term term{};
-    if (!term_of(t.alpha, term)) continue;
-    PsdAllanTerm a;
-    a.term = term;
-    a.alpha = t.alpha;
-    a.estimate = term_from_power_law(term, t.valid ? t.h : 0.0, t.sigma, 0.5 * rate_hz);
-    a.display = display(a.estimate, term, shown);
-    out.push_back(a);
-  }
-  return out;
-}
-
-}  // namespace
 
 PsdResult run_psd(const std::vector<std::string>& names, const std::vector<std::span<const double>>& channels,
                   double rate_hz, const std::vector<io::Segment>& segments, const PsdRequest& request) {
@@ -94,7 +61,7 @@ PsdResult run_psd(const std::vector<std::string>& names, const std::vector<std::
       if (request.fit) {
         try {
           out.fit = fit_power_law(raw, request.fit_options);
-          out.allan_terms = allan_terms(out.fit, out.unit, rate_hz);
+          out.allan_terms = psd_allan_terms(out.fit, out.unit, rate_hz);
         } catch (const UsageError& e) {
           const bool band_asked =
               request.fit_options.min_frequency_hz > 0.0 || request.fit_options.max_frequency_hz > 0.0;

@@ -31,26 +31,6 @@ std::string term_name(Term t) {
   return "?";
 }
 
-nlohmann::json fit_json(const PowerLawFit& f, const Unit& unit) {
-  nlohmann::json terms = nlohmann::json::array();
-  for (const auto& t : f.terms)
-    terms.push_back({{"alpha", t.alpha},
-                     {"h", t.h},
-                     {"sigma", t.sigma},
-                     {"valid", t.valid},
-                     {"unit", power_law_unit(unit, t.alpha)},
-                     {"f_lo_hz", t.f_lo},
-                     {"f_hi_hz", t.f_hi}});
-  nlohmann::json cov = nlohmann::json::array();
-  const std::size_t p = f.terms.size();
-  for (std::size_t i = 0; i < p; ++i) {
-    nlohmann::json row = nlohmann::json::array();
-    for (std::size_t j = 0; j < p; ++j) row.push_back(f.covariance[i * p + j]);
-    cov.push_back(row);
-  }
-  return {{"f_lo_hz", f.f_lo}, {"f_hi_hz", f.f_hi}, {"bands", f.bands},   {"chi2", f.chi2},
-          {"dof", f.dof},      {"scale", f.scale},  {"terms", terms},     {"covariance", cov}};
-}
 
 nlohmann::json channel_json(const PsdChannel& c, bool fitted) {
   nlohmann::json j;
@@ -71,7 +51,7 @@ nlohmann::json channel_json(const PsdChannel& c, bool fitted) {
     j["fit_error"] = c.fit_error;
     j["allan_terms"] = nlohmann::json::array();
   } else if (fitted) {
-    j["fit"] = fit_json(c.fit, c.unit);
+    j["fit"] = power_law_fit_json(c.fit, c.unit);
     const std::string u = c.unit.name.empty() ? "u" : c.unit.name;
     nlohmann::json terms = nlohmann::json::array();
     for (const auto& a : c.allan_terms)
@@ -115,6 +95,27 @@ nlohmann::json to_json(const PsdResult& r) {
   for (const auto& c : r.channels) channels.push_back(channel_json(c, r.fitted));
   j["channels"] = channels;
   return j;
+}
+
+nlohmann::json power_law_fit_json(const PowerLawFit& f, const Unit& unit) {
+  nlohmann::json terms = nlohmann::json::array();
+  for (const auto& t : f.terms)
+    terms.push_back({{"alpha", t.alpha},
+                     {"h", t.h},
+                     {"sigma", t.sigma},
+                     {"valid", t.valid},
+                     {"unit", power_law_unit(unit, t.alpha)},
+                     {"f_lo_hz", t.f_lo},
+                     {"f_hi_hz", t.f_hi}});
+  nlohmann::json cov = nlohmann::json::array();
+  const std::size_t p = f.terms.size();
+  for (std::size_t i = 0; i < p; ++i) {
+    nlohmann::json row = nlohmann::json::array();
+    for (std::size_t j = 0; j < p && i * p + j < f.covariance.size(); ++j) row.push_back(f.covariance[i * p + j]);
+    cov.push_back(std::move(row));
+  }
+  return {{"f_lo_hz", f.f_lo}, {"f_hi_hz", f.f_hi}, {"bands", f.bands},   {"chi2", f.chi2},
+          {"dof", f.dof},      {"scale", f.scale},  {"terms", terms},     {"covariance", cov}};
 }
 
 }  // namespace cubecal::pipeline

@@ -10,11 +10,14 @@
 #include <functional>
 
 #include "analysis_data.hpp"
+#include "command_util.hpp"
 #include "cubecal/noise/noise_terms.hpp"
 #include "cubecal/noise/reported_terms.hpp"
 #include "cubecal/noise/sensor_noise_model.hpp"
 #include "cubecal/noise/units.hpp"
+#include "cubecal/pipeline/spectral_analysis.hpp"
 #include "cubecal/report/html.hpp"
+#include "spectrum_figure.hpp"
 
 namespace cubecal::report {
 
@@ -532,6 +535,36 @@ std::vector<ReportHtmlField> input_fields(const AnalysisResult& r) {
   return in;
 }
 
+// The spectral view of a channel (analyze --psd): N, B, K from the Allan
+// curve's five-term fit and from the spectrum's power-law fit, their units
+// and their difference in combined standard errors.
+ReportTable views_table(const ChannelAnalysis& c) {
+  ReportTable t;
+  t.title = c.name + ": Allan curve vs spectrum";
+  t.header = {"term", "Allan curve (five-term fit)", "spectrum (power-law fit)", "unit", "difference [σ]"};
+  t.numeric = {false, true, true, false, true};
+  const auto shown = [](const TermEstimate& e, const Quantity& q) {
+    return e.valid ? format_pm(finite(q.value), finite(q.sigma)) : std::string("not seen (0)");
+  };
+  for (const pipeline::TermViews& v : pipeline::compare_views(c.noise.fit, *c.spectral)) {
+    const char* name = v.term == Term::N   ? "N, white noise"
+                       : v.term == Term::B ? "B, bias instability"
+                       : v.term == Term::K ? "K, rate random walk"
+                                           : nullptr;
+    if (name == nullptr) continue;  // Q: in analysis.json, not on the page
+    const Quantity a = display(v.allan, v.term, c.unit), s = display(v.spectrum, v.term, c.unit);
+    t.rows.push_back({name, shown(v.allan, a), shown(v.spectrum, s), s.unit,
+                      v.difference_sigmas ? fmt("%+.2f", *v.difference_sigmas) : std::string("—")});
+  }
+  const PowerLawFit& f = c.spectral->fit;
+  t.note = "Each term from the Allan curve (the weighted fit of σ²(τ) = Σ C_k τ^k, k = −2…2) and from the "
+           "one-sided spectrum (the fit of S(f) = Σ h_α f^α over " + format_num(f.f_lo, 3) + "–" +
+           format_num(f.f_hi, 3) + " Hz, each h_α converted to its term: docs/formulas/spectral.md §6). "
+           "Difference: (spectrum − Allan curve) / √(σ_spectrum² + σ_Allan²); both views are of the same samples, "
+           "so a difference beyond about 3 says they disagree. “not seen”: the term is at its bound 0 in that fit.";
+  return t;
+}
+
 ReportBlock html_block(std::string html) {
   ReportBlock b;
   b.html = std::move(html);
@@ -561,7 +594,7 @@ CommandReport analysis_report(const AnalysisResult& r, const AnalysisReportConte
       "modeling for CubeSats”).";
   page.input_html = input_fields(r);
   page.command = ctx.command;
-  page.plot_prefixes = {"allan_", "drift_", "temperature_", "compensated_"};
+  page.plot_prefixes = {"allan_", "drift_", "temperature_", "compensated_", "psd_"};
 
   std::string rep;
   if (!ctx.command.empty())
@@ -590,6 +623,34 @@ CommandReport analysis_report(const AnalysisResult& r, const AnalysisReportConte
     allan.blocks.push_back(html_block(noise_table(r, g)));
   }
   page.sections.push_back(std::move(allan));
+
+  bool any_spectral = false;
+  for (const auto& ch : r.channels) any_spectral = any_spectral || ch.spectral.has_value();
+  if (any_spectral) {
+    ReportSection spec{"spectrum", "Allan curve and spectrum", {}};
+    spec.blocks.push_back(html_block(
+        "<p>The same noise seen twice (<code>analyze --psd</code>): the IEEE 952 terms from the Allan curve above "
+        "and from the one-sided power spectral density of each channel (Welch's method with the defaults of "
+        "<code>cubecal psd</code>), whose power-law fit S(f) = Σ h<sub>α</sub> f<sup>α</sup> stands for N "
+        "(h<sub>0</sub> = 2N²), B (h<sub>−1</sub> = B²/π) and K (h<sub>−2</sub> = K²/(2π²)). Definitions: "
+        "<code>docs/formulas/spectral.md</code>.</p>\n"));
+    std::vector<std::string> taken;
+    for (const auto& ch : r.channels) {
+      if (!ch.spectral) continue;
+      const pipeline::SpectralAnalysis& sa = *ch.spectral;
+      ReportBlock b;
+      if (!sa.fit.terms.empty())
+        b.table = views_table(ch);
+      else
+        b.html = "<h3>" + html_escape(ch.name) + "</h3>\n<p>No power-law fit: " +
+                 html_escape(sa.fit_error.empty() ? "not made" : sa.fit_error) + "</p>\n";
+      if (sa.spectrum.size() > 0)
+        b.figures.push_back(detail::spectrum_figure(detail::unique_name("psd_", ch.name, taken), ch.name, ch.unit,
+                                                    sa.spectrum, sa.fit, sa.fit_error));
+      spec.blocks.push_back(std::move(b));
+    }
+    page.sections.push_back(std::move(spec));
+  }
 
   ReportSection model{"model", "Fitted sensor model and bias drift", {}};
   model.blocks.push_back(html_block(

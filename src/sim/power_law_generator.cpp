@@ -9,7 +9,7 @@
 
 namespace cubecal {
 
-PowerLawTerm flicker_term(double bias_instability) {
+PowerLawNoise flicker_term(double bias_instability) {
   return {-1.0, bias_instability * bias_instability / std::numbers::pi};
 }
 
@@ -18,7 +18,7 @@ std::size_t PowerLawGenerator::filter_length_for(std::size_t samples) noexcept {
   return std::min(kMaxFilter, std::bit_ceil(samples));
 }
 
-PowerLawGenerator::PowerLawGenerator(PowerLawTerm term, double dt, std::size_t filter_length, std::uint64_t seed)
+PowerLawGenerator::PowerLawGenerator(PowerLawNoise term, double dt, std::size_t filter_length, std::uint64_t seed)
     : len_(filter_length), engine_(seed), pos_(filter_length) {
   if (!std::isfinite(term.alpha)) throw std::invalid_argument("power-law term: alpha must be finite");
   if (!(term.h >= 0.0) || !std::isfinite(term.h))

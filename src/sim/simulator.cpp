@@ -157,7 +157,7 @@ void validate(const TriadModel& model, double dt) {
     require(finite(a.white_sigma) && a.white_sigma >= 0.0, ax + "white_sigma must be finite and >= 0");
     require(finite(a.bias_sigma) && a.bias_sigma >= 0.0, ax + "bias_sigma must be finite and >= 0");
     require(finite(a.temp_coeff), ax + "temp_coeff must be finite");
-    for (const PowerLawTerm& t : a.power_law)
+    for (const PowerLawNoise& t : a.power_law)
       require(finite(t.alpha) && finite(t.h) && t.h >= 0.0,
               ax + "a power-law term needs a finite alpha and a finite h >= 0");
     if (a.bias == BiasProcess::gauss_markov)

@@ -28,7 +28,13 @@ inline constexpr int kAnalysisFormatVersion = 2;
 // are stored in their display units (display() of noise/units.hpp) with the
 // tau range they were read from; densities are derived values, written for
 // the user and not read back. The drift series are not stored (drift.csv
-// holds them): from_json leaves DriftSeries::t and ::drift empty.
+// holds them): from_json leaves DriftSeries::t and ::drift empty. A channel
+// with a spectral view (analyze --psd) has "spectral": "welch" (the plan),
+// "spectrum" (the log bands), "fit" (as `psd --format json` writes it; null
+// with "fit_error" when not made) and "terms" (each IEEE 952 term of the fit
+// in display units beside the Allan curve's five-term fit, "allan_fit", and
+// "difference_sigmas"; derived, made again from "fit" on reading). A document
+// without it has no spectral view.
 void to_json(nlohmann::json& j, const AnalysisResult& r);
 // Throws UsageError ("analysis.json: channels[0].noise: no key 'fit' ...")
 // for a document that lacks a key the result needs. Keys added after the

@@ -2,7 +2,9 @@
 // channel of a record (the paper's sections 2 and 3): fixed bias, OADEV with
 // intervals, IEEE 952 noise terms (slope read-offs and weighted fit), the
 // paper's random-walk model and a Gauss-Markov alternative, bias drift,
-// covariance, and temperature dependence.
+// covariance, and temperature dependence; on request the spectral view
+// beside the Allan curve (the power-law fit of `cubecal psd` and the IEEE 952
+// terms it stands for).
 #pragma once
 #include <cstddef>
 #include <functional>
@@ -20,6 +22,7 @@
 #include "cubecal/noise/temperature.hpp"
 #include "cubecal/noise/units.hpp"
 #include "cubecal/io/series.hpp"
+#include "cubecal/pipeline/spectral_analysis.hpp"
 
 namespace cubecal::pipeline {
 
@@ -35,6 +38,13 @@ struct AnalyzeRequest {
   std::vector<double> lsb;          // quantizer of the model, counts per unit: one for all or
                                     // one per channel (empty or 0: no quantization)
   unsigned threads = 0;
+  // The spectral view (`analyze --psd`): run_psd of every channel with the
+  // defaults of `cubecal psd` (Welch, the power-law fit and its IEEE 952
+  // terms), the spectrum kept averaged over kSpectrumBinsPerDecade log bands
+  // per decade (spectral_analysis.hpp). Off by default: about 0.1 s per 2.6 M-sample channel.
+  // run_analyze_stream refuses it (UsageError "psd": Welch's segments are an
+  // eighth of the record, which a stream does not hold).
+  bool psd = false;
   // run_analyze_stream: called from the caller's thread after every piece
   // with the fraction of the input read (0 while its size is not known).
   // run_analyze does not call it.
@@ -93,6 +103,9 @@ struct ChannelAnalysis {
   ModelAnalysis model;
   DriftSeries drift;                // concatenated over segments; t from the record start
   std::optional<TemperatureAnalysis> temperature;
+  // AnalyzeRequest::psd: the spectral view of the record (spectral_analysis.hpp);
+  // none without it.
+  std::optional<SpectralAnalysis> spectral;
   // A streamed run (analyze_stream.hpp): the stride of each point of
   // noise.adev (1: every overlapping term); empty in memory.
   std::vector<std::size_t> adev_strides;

@@ -63,6 +63,11 @@ struct PsdResult {
   std::vector<PsdChannel> channels;
 };
 
+// The IEEE 952 terms a power-law fit's coefficients stand for, as run_psd
+// gives them (Q from h_2 with f_h = rate / 2, N from h_0, B from h_-1, K
+// from h_-2), displayed in `unit` (u when it has no name).
+std::vector<PsdAllanTerm> psd_allan_terms(const PowerLawFit& fit, const Unit& unit, double rate_hz);
+
 // Throws UsageError for a plan the record cannot take (welch_options.hpp),
 // a unit count that is neither 1 nor one per channel ("units"), and a fit
 // band set in the request that is too narrow ("fit_range"; with the default

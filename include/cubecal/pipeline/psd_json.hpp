@@ -18,4 +18,9 @@ namespace cubecal::pipeline {
 
 nlohmann::json to_json(const PsdResult& r);
 
+// A power-law fit in the keys of its "fit" object (also analysis.json's
+// spectral view): the band, each h_alpha with its sigma, unit and the range
+// where it holds, their covariance (empty rows when it was not kept).
+nlohmann::json power_law_fit_json(const PowerLawFit& f, const Unit& unit);
+
 }  // namespace cubecal::pipeline

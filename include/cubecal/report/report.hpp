@@ -9,6 +9,8 @@
 //                         simulated (Figs. 3, 5)
 //   temperature_<sensor>  the fitted bias-temperature polynomial
 //   compensated_<sensor>  OADEV before and after temperature compensation
+//   psd_<channel>         analyze --psd: the channel's one-sided PSD with its
+//                         fitted power-law terms (as the psd page draws it)
 // <sensor> is rate, field or other: channels grouped by the kind of their unit
 // (with _<unit> appended when one kind comes in several units).
 #pragma once

@@ -25,13 +25,13 @@ namespace cubecal {
 
 // One power-law term of a sensor's rate (or field) noise: S_y(f) = h f^alpha,
 // one-sided, in unit^2/Hz times Hz^-alpha.
-struct PowerLawTerm {
+struct PowerLawNoise {
   double alpha = -1.0;  // 0 white, -1 flicker (bias instability), -2 random walk ...
   double h = 0.0;
 };
 
 // The flicker term of bias instability B (unit): alpha -1, h = B^2 / pi.
-PowerLawTerm flicker_term(double bias_instability);
+PowerLawNoise flicker_term(double bias_instability);
 
 class PowerLawGenerator {
  public:
@@ -44,7 +44,7 @@ class PowerLawGenerator {
   // Throws std::invalid_argument for a non-finite alpha, a negative or
   // non-finite h, a non-positive dt or a filter length that is not a power
   // of two.
-  PowerLawGenerator(PowerLawTerm term, double dt, std::size_t filter_length, std::uint64_t seed);
+  PowerLawGenerator(PowerLawNoise term, double dt, std::size_t filter_length, std::uint64_t seed);
 
   // The next out.size() samples of the process.
   void next(std::span<double> out);

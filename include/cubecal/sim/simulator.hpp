@@ -44,7 +44,7 @@ struct AxisModel {
   // flicker_term(B): the flicker floor of bias instability B), from
   // Kasdin & Walter's generator (power_law_generator.hpp), on streams of
   // their own: the model's other terms see the same normals with or without.
-  std::vector<PowerLawTerm> power_law;
+  std::vector<PowerLawNoise> power_law;
 };
 
 struct TriadModel {
