@@ -12,16 +12,16 @@
 #include "cubecal/calib/multiposition.hpp"
 #include "cubecal/calib/static_detection.hpp"
 #include "cubecal/error.hpp"
-#include "detail/levenberg_marquardt.hpp"
+#include "../detail/levenberg_marquardt.hpp"
 #include "detail/multiposition_common.hpp"
 
 namespace cubecal::multipos {
 
 namespace {
 
-using calib::detail::EvalFn;
-using calib::detail::levenberg_marquardt;
-using calib::detail::LmOutcome;
+using cubecal::detail::EvalFn;
+using cubecal::detail::levenberg_marquardt;
+using cubecal::detail::LmOutcome;
 using detail::acc_model;
 using detail::acc_params;
 using detail::ei;

@@ -14,7 +14,7 @@
 #include "cubecal/calib/multiposition.hpp"
 #include "cubecal/error.hpp"
 #include "cubecal/stats/sampling.hpp"
-#include "detail/levenberg_marquardt.hpp"
+#include "../detail/levenberg_marquardt.hpp"
 #include "detail/multiposition_common.hpp"
 #include "detail/quaternion_rk4.hpp"
 
@@ -22,12 +22,12 @@ namespace cubecal::multipos {
 
 namespace {
 
-using calib::detail::levenberg_marquardt;
-using calib::detail::LmOutcome;
+using cubecal::detail::levenberg_marquardt;
+using cubecal::detail::LmOutcome;
 using calib::detail::Quat;
 using calib::detail::rk4_step;
 using calib::detail::rotate_inverse;
-using calib::detail::with_numeric_jacobian;
+using cubecal::detail::with_numeric_jacobian;
 using detail::acc_model;
 using detail::acc_params;
 using detail::ei;

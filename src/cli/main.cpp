@@ -57,6 +57,10 @@ std::string usage_message(const cubecal::UsageError& e) {
       {"bins_per_decade", "--bins-per-decade"},
       {"fit_range", "--fit-min/--fit-max"},
       {"step", "--step"},
+      {"psd", "--psd"},
+      {"model", "--model"},
+      {"bootstrap", "--bootstrap"},
+      {"ci", "--ci"},
   };
   for (const auto& [option, flag] : kFlags)
     if (e.option() == option) return std::string(flag) + ": " + e.what();
@@ -114,6 +118,7 @@ int main(int argc, char** argv) {
   cubecal::cli::add_compare_command(app, run);
   cubecal::cli::add_psd_command(app, run);
   cubecal::cli::add_davar_command(app, run);
+  cubecal::cli::add_model_command(app, run);
   cubecal::cli::add_report_command(app, run);
   cubecal::cli::add_demo_command(app, run);
 

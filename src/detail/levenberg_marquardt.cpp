@@ -1,5 +1,5 @@
 // Eigen's Levenberg-Marquardt (unsupported module, MINPACK lmder) behind the
-// EvalFn interface of the multi-position calibrations.
+// EvalFn interface of the multi-position calibrations and the GMWM fit.
 #include "levenberg_marquardt.hpp"
 
 #include <algorithm>
@@ -10,7 +10,7 @@
 
 #include "cubecal/error.hpp"
 
-namespace cubecal::calib::detail {
+namespace cubecal::detail {
 
 namespace {
 
@@ -147,4 +147,4 @@ EvalFn with_numeric_jacobian(std::function<bool(const VectorXd&, VectorXd&)> f, 
   };
 }
 
-}  // namespace cubecal::calib::detail
+}  // namespace cubecal::detail

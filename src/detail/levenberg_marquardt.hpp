@@ -1,5 +1,5 @@
 // Nonlinear least squares, min sum r(p)^2, for the multi-position
-// calibrations: Eigen's Levenberg-Marquardt (MINPACK's lmder: trust region,
+// calibrations and the GMWM fit of composite noise models: Eigen's Levenberg-Marquardt (MINPACK's lmder: trust region,
 // column scaling by the Jacobian's norms) driven one step at a time, and the
 // covariance factor (J^T J)^-1 at the solution. Not an installed header.
 #pragma once
@@ -7,7 +7,7 @@
 #include <cstddef>
 #include <functional>
 
-namespace cubecal::calib::detail {
+namespace cubecal::detail {
 
 // Fills r (and J when given) at p; returns false when the residuals are not
 // finite there (a trial step there is then rejected).
@@ -36,4 +36,4 @@ LmOutcome levenberg_marquardt(const EvalFn& eval, Eigen::VectorXd p0, std::size_
 // 1e-6 max(|p_j|, typical_j).
 EvalFn with_numeric_jacobian(std::function<bool(const Eigen::VectorXd&, Eigen::VectorXd&)> f, Eigen::VectorXd typical);
 
-}  // namespace cubecal::calib::detail
+}  // namespace cubecal::detail

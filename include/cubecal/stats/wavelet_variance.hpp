@@ -1,0 +1,35 @@
+// The empirical Haar wavelet variance of frequency samples at the dyadic
+// scales tau = 2, 4, 8, ... samples (Percival & Walden, Wavelet Methods for
+// Time Series Analysis, 2000, §8.3: the unbiased MODWT estimator), the
+// moments the GMWM fit of composite noise models matches
+// (noise/gmwm.hpp; docs/formulas/noise-terms.md §8a).
+//
+// The MODWT Haar coefficient at scale tau is half the difference of two
+// adjacent means of m = tau / 2 samples, so the estimator over the
+// M = N - tau + 1 coefficients that need no boundary is exactly half the
+// overlapping Allan variance at m: it is computed by the OADEV kernels.
+#pragma once
+#include <cstddef>
+#include <span>
+#include <vector>
+
+namespace cubecal {
+
+struct WaveletVariance {
+  std::vector<double> tau;       // scale, samples: 2, 4, 8, ...
+  std::vector<double> nu2;       // Haar wavelet variance, unit^2
+  std::vector<std::size_t> n;    // coefficients, N - tau + 1
+  // Percival & Walden's third EDF approximation, eta3 = max(M / tau, 1):
+  // no noise type needed, which a composite process does not have.
+  std::vector<double> edf;
+  std::vector<double> lo, hi;    // chi-square interval of nu2 at the confidence asked for
+  std::size_t size() const noexcept { return tau.size(); }
+};
+
+// Scales 2^1 .. 2^J with J the largest for which 2^J <= N / 2 (at least
+// N / 2 + 1 coefficients), or fewer when max_scales > 0 asks so. Throws
+// UsageError("samples") for fewer than 4 samples or ci outside (0, 1), and
+// std::invalid_argument naming a sample that is not finite.
+WaveletVariance wavelet_variance(std::span<const double> y, double ci = 0.95, std::size_t max_scales = 0);
+
+}  // namespace cubecal

@@ -1,0 +1,148 @@
+// cubecal model: a composite noise model fitted to each channel's Haar
+// wavelet variance by the GMWM, with parametric-bootstrap uncertainties.
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+
+#include <iostream>
+
+#include "commands.hpp"
+#include "common_options.hpp"
+#include "cubecal/error.hpp"
+#include "cubecal/io/series.hpp"
+#include "cubecal/pipeline/model_fit.hpp"
+#include "cubecal/pipeline/model_fit_json.hpp"
+#include "output.hpp"
+
+namespace cubecal::cli {
+
+namespace {
+
+struct ModelOptions {
+  InputOptions input;
+  std::string model;
+  std::string unit;
+  std::size_t bootstrap = 0;
+  std::uint64_t seed = 1;
+  double ci = 0.95;
+  std::size_t starts = 32;
+  std::string format = "table";
+  std::string out;
+  bool force = false;
+};
+
+std::string term_title(ProcessKind k) {
+  switch (k) {
+    case ProcessKind::wn: return "WN  white noise";
+    case ProcessKind::qn: return "QN  quantization";
+    case ProcessKind::rw: return "RW  random walk";
+    case ProcessKind::dr: return "DR  drift";
+    case ProcessKind::gm: return "GM  Gauss-Markov";
+  }
+  return "";
+}
+
+void write_table(std::ostream& out, const pipeline::ModelResult& r) {
+  fmt::print(out, "model {} of {}: {} channel(s), {} samples at {} Hz, GMWM on the Haar wavelet variance\n", r.model,
+             r.file.empty() ? "-" : r.file, r.channels.size(), r.samples, rate_text(r.rate_hz));
+  if (r.bootstrap > 0)
+    fmt::print(out, "uncertainties: parametric bootstrap, {} replicates (seed {}): sd and {:g} % percentile interval\n",
+               r.bootstrap, r.seed, 100.0 * r.ci);
+  for (const auto& c : r.channels) {
+    fmt::print(out, "\n{} [{}]: objective {:.4g} over {} scales{}{}\n", c.name,
+               c.unit.name.empty() ? "no unit given" : c.unit.name, c.fit.objective, c.wv.size(),
+               c.fit.converged ? "" : " (the optimiser stopped before its convergence tests held)",
+               r.bootstrap > 0 ? fmt::format(", {} replicates fitted", c.replicates) : std::string());
+    for (const auto& t : c.terms)
+      for (std::size_t i = 0; i < t.quantities.size(); ++i) {
+        const auto& q = t.quantities[i];
+        const std::string title = i == 0 ? term_title(t.kind) : "";
+        if (r.bootstrap > 0 && c.replicates >= 2)
+          fmt::print(out, "  {:<18} {:<8} {:>12.5g} ± {:<10.3g} [{:.5g}, {:.5g}] {}\n", title, q.name,
+                     q.display.value, q.display.sigma, q.display_lo, q.display_hi, q.display.unit);
+        else
+          fmt::print(out, "  {:<18} {:<8} {:>12.5g} {}\n", title, q.name, q.display.value, q.display.unit);
+      }
+    fmt::print(out, "  {:>12} {:>14} {:>14} {:>14} {:>14} {:>8}\n", "tau [s]", "WV", "lo", "hi", "model", "edf");
+    for (std::size_t j = 0; j < c.wv.size(); ++j)
+      fmt::print(out, "  {:>12.5g} {:>14.6e} {:>14.6e} {:>14.6e} {:>14.6e} {:>8.4g}\n", c.wv.tau[j] / r.rate_hz,
+                 c.wv.nu2[j], c.wv.lo[j], c.wv.hi[j], c.fit.nu2_model[j], c.wv.edf[j]);
+  }
+}
+
+int run_model_command(const ModelOptions& o) {
+  pipeline::ModelRequest req;
+  req.model = o.model;
+  (void)parse_composite_model(o.model);  // a typo fails before the reading
+  if (!o.unit.empty()) req.units = parse_units(o.unit);
+  req.bootstrap = o.bootstrap;
+  req.seed = o.seed;
+  req.ci = o.ci;
+  req.gmwm.starts = o.starts;
+  req.threads = o.input.threads;
+  ResultOutput result(o.out, o.force);  // refuses an unusable --out before the work
+  io::SeriesOptions so = to_series_options(o.input);
+  so.keep_time = false;
+  const io::Series series = io::read_series(o.input.file, so);
+  std::string unit_note;
+  if (o.unit.empty()) {
+    try {
+      ChannelUnits units = units_for({}, series);
+      unit_note = units.note;
+      req.units = std::move(units.units);
+    } catch (const UsageError&) {
+      unit_note = "cubecal: note: " + series.file + ": no unit for the channels: terms in u, the unit of the values "
+                                                    "(--unit names it)";
+    }
+  }
+  const pipeline::ModelResult res = pipeline::run_model(series, req);
+  note_default_columns(series);
+  if (!unit_note.empty()) std::cerr << unit_note << '\n';
+  std::ostream& out = result.stream();
+  if (o.format == "json")
+    out << pipeline::to_json(res).dump(1) << '\n';
+  else
+    write_table(out, res);
+  result.finish();
+  return 0;
+}
+
+}  // namespace
+
+CLI::App* add_model_command(CLI::App& app, Command& run) {
+  auto opt = std::make_shared<ModelOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "model", "Fit a composite noise model (white noise, quantization, random walk, drift, Gauss-Markov terms) to "
+               "each channel's Haar wavelet variance by the Generalized Method of Wavelet Moments (GMWM)");
+  add_input_options(*cmd, opt->input);
+  cmd->add_option("--model", opt->model,
+                  "The model's terms joined by +: WN, QN, RW, DR, GM (or AR1), k*GM for k Gauss-Markov terms; "
+                  "e.g. WN+RW+2*GM")
+      ->required();
+  cmd->add_option("--unit", opt->unit,
+                  "Unit of the values (after --lsb): " + known_units() +
+                      "; one for all columns or one per column. Default: from the column names' suffixes; rate "
+                      "sensors get N in deg/sqrt(h), K in deg/h/sqrt(h), Gauss-Markov sigma in deg/h");
+  cmd->add_option("--bootstrap", opt->bootstrap,
+                  "Parametric bootstrap replicates for the uncertainties (the fitted model simulated at the "
+                  "record's length and refitted); 0: none")
+      ->check(whole_number(0, 100000))
+      ->capture_default_str();
+  cmd->add_option("--seed", opt->seed, "Seed of the bootstrap (same seed, same result)")
+      ->check(whole_number(0, 1e18))
+      ->capture_default_str();
+  cmd->add_option("--ci", opt->ci, "Confidence of the wavelet variance's intervals and the bootstrap's")
+      ->check(number_between(0.0, 1.0))
+      ->capture_default_str();
+  cmd->add_option("--starts", opt->starts, "Starting points of the optimiser (the best fit is kept)")
+      ->check(whole_number(1, 10000))
+      ->capture_default_str();
+  cmd->add_option("--format", opt->format, "Output format")
+      ->check(CLI::IsMember({"table", "json"}))
+      ->capture_default_str();
+  cmd->add_option("--out", opt->out, "Write the result to this file instead of standard output");
+  cmd->add_flag("--force", opt->force, "Replace the --out file if it exists");
+  cmd->callback([opt, &run] { run = [opt] { return run_model_command(*opt); }; });
+  return cmd;
+}
+
+}  // namespace cubecal::cli

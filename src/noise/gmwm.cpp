@@ -1,0 +1,234 @@
+// The GMWM fit of a composite noise model (noise/gmwm.hpp;
+// docs/formulas/noise-terms.md §8b).
+#include "cubecal/noise/gmwm.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <random>
+
+#include "../detail/levenberg_marquardt.hpp"
+#include "cubecal/error.hpp"
+#include "cubecal/noise/sensor_noise_model.hpp"
+
+namespace cubecal {
+
+namespace {
+
+using Eigen::VectorXd;
+
+// a = -ln(phi) above this is a white sequence to the last digit (phi < 1e-21).
+constexpr double kMaxLogA = 3.9;
+
+std::size_t parameter_count(const CompositeModel& m) {
+  std::size_t k = 0;
+  for (const Process& p : m.processes) k += p.kind == ProcessKind::gm ? 2 : 1;
+  return k;
+}
+
+// The wavelet variance of the model with log-parameters theta at tau.
+double model_wv(const CompositeModel& structure, const VectorXd& theta, double tau) {
+  double sum = 0.0;
+  Eigen::Index k = 0;
+  for (const Process& p : structure.processes) {
+    const double v = std::exp(theta(k++));
+    switch (p.kind) {
+      case ProcessKind::wn: sum += v / tau; break;
+      case ProcessKind::qn: sum += 6.0 * v / (tau * tau); break;
+      case ProcessKind::rw: sum += v * (tau * tau + 2.0) / (12.0 * tau); break;
+      case ProcessKind::dr: sum += v * tau * tau / 16.0; break;  // v = omega^2
+      case ProcessKind::gm: {
+        const double a = std::exp(std::min(theta(k++), kMaxLogA));
+        GaussMarkovModel g;
+        g.dt = 1.0;
+        g.tau_c = 1.0 / a;
+        g.sigma_b = std::sqrt(v / -std::expm1(-2.0 * a));
+        sum += 0.5 * avar(g, static_cast<std::size_t>(tau / 2.0));
+        break;
+      }
+    }
+  }
+  return sum;
+}
+
+CompositeModel to_model(const CompositeModel& structure, const VectorXd& theta) {
+  CompositeModel m = structure;
+  Eigen::Index k = 0;
+  for (Process& p : m.processes) {
+    const double v = std::exp(theta(k++));
+    if (p.kind == ProcessKind::gm) {
+      p.value = v;
+      p.phi = std::exp(-std::exp(std::min(theta(k++), kMaxLogA)));
+    } else {
+      p.value = p.kind == ProcessKind::dr ? std::sqrt(v) : v;
+    }
+  }
+  // Gauss-Markov terms by correlation time, shortest first (phi ascending):
+  // any order fits alike, and one order makes fits comparable.
+  std::vector<std::size_t> at;
+  for (std::size_t i = 0; i < m.processes.size(); ++i)
+    if (m.processes[i].kind == ProcessKind::gm) at.push_back(i);
+  std::vector<Process> gms;
+  for (std::size_t i : at) gms.push_back(m.processes[i]);
+  std::sort(gms.begin(), gms.end(), [](const Process& a, const Process& b) { return a.phi < b.phi; });
+  for (std::size_t i = 0; i < at.size(); ++i) m.processes[at[i]] = gms[i];
+  return m;
+}
+
+// The log-parameters of a model (to_model's inverse, before its sorting).
+VectorXd theta_of(const CompositeModel& structure, const CompositeModel& m) {
+  if (model_name(m) != model_name(structure) || m.processes.size() != structure.processes.size())
+    throw UsageError("model", "the start " + model_name(m) + " is not a model " + model_name(structure));
+  VectorXd theta(static_cast<Eigen::Index>(parameter_count(structure)));
+  Eigen::Index k = 0;
+  for (const Process& p : m.processes) {
+    const bool ok = p.kind == ProcessKind::dr ? p.value != 0.0 && std::isfinite(p.value)
+                                               : p.value > 0.0 && std::isfinite(p.value) &&
+                                                     (p.kind != ProcessKind::gm || (p.phi > 0.0 && p.phi < 1.0));
+    if (!ok) throw UsageError("model", "the start " + model_name(m) + " has a parameter at or beyond its range");
+    theta(k++) = p.kind == ProcessKind::dr ? std::log(p.value * p.value) : std::log(p.value);
+    if (p.kind == ProcessKind::gm) theta(k++) = std::log(-std::log(p.phi));
+  }
+  return theta;
+}
+
+// Starting log-parameters read off the curve: `spread` in [0, 1) places the
+// Gauss-Markov terms along the scales, `share` scales each term's size.
+VectorXd start_from(const CompositeModel& structure, const WaveletVariance& wv, const std::vector<double>& place,
+                    const std::vector<double>& share) {
+  const std::size_t J = wv.size();
+  const double t1 = wv.tau.front(), n1 = wv.nu2.front();
+  const double tJ = wv.tau.back(), nJ = wv.nu2.back();
+  VectorXd theta(static_cast<Eigen::Index>(parameter_count(structure)));
+  Eigen::Index k = 0;
+  std::size_t g = 0;
+  for (std::size_t i = 0; i < structure.processes.size(); ++i) {
+    const double f = share[i];
+    switch (structure.processes[i].kind) {
+      case ProcessKind::wn: theta(k++) = std::log(f * n1 * t1); break;
+      case ProcessKind::qn: theta(k++) = std::log(f * n1 * t1 * t1 / 6.0); break;
+      case ProcessKind::rw: theta(k++) = std::log(f * nJ * 12.0 * tJ / (tJ * tJ + 2.0)); break;
+      case ProcessKind::dr: theta(k++) = std::log(f * 16.0 * nJ / (tJ * tJ)); break;
+      case ProcessKind::gm: {
+        // A Gauss-Markov term's wavelet variance peaks near tau = 3.8 T_c at
+        // about 0.22 of its stationary variance.
+        const auto j = std::min(J - 1, static_cast<std::size_t>(place[g++] * static_cast<double>(J)));
+        const double tc = std::max(wv.tau[j] / 3.8, 0.5);
+        const double a = 1.0 / tc;
+        const double sb2 = f * wv.nu2[j] / 0.22;
+        theta(k++) = std::log(sb2 * -std::expm1(-2.0 * a));
+        theta(k++) = std::log(a);
+        break;
+      }
+    }
+  }
+  return theta;
+}
+
+struct Run {
+  VectorXd theta;
+  double cost = std::numeric_limits<double>::infinity();
+  bool converged = false;
+};
+
+Run minimise(const CompositeModel& structure, const WaveletVariance& wv, const std::vector<double>& sd,
+             VectorXd theta, std::size_t max_iterations) {
+  const auto residuals = [&](const VectorXd& th, VectorXd& r) {
+    r.resize(static_cast<Eigen::Index>(wv.size()));
+    for (std::size_t j = 0; j < wv.size(); ++j)
+      r(static_cast<Eigen::Index>(j)) = (wv.nu2[j] - model_wv(structure, th, wv.tau[j])) / sd[j];
+    return r.allFinite();
+  };
+  Run run;
+  try {
+    const VectorXd typical = VectorXd::Ones(theta.size());
+    const detail::LmOutcome lm =
+        detail::levenberg_marquardt(detail::with_numeric_jacobian(residuals, typical), std::move(theta), max_iterations);
+    if (!lm.initial_finite || !std::isfinite(lm.cost)) return run;
+    run.theta = lm.p;
+    run.cost = lm.cost;
+    run.converged = lm.converged;
+  } catch (const CalibrationError&) {
+    // A start that leads where the model is not finite: the others decide.
+  }
+  return run;
+}
+
+// sd_j = ref_j sqrt(2 / edf_j): the chi-square spread of nu2_j about ref_j.
+std::vector<double> weights_at(const WaveletVariance& wv, const std::vector<double>& ref) {
+  std::vector<double> sd(wv.size());
+  for (std::size_t j = 0; j < wv.size(); ++j) sd[j] = ref[j] * std::sqrt(2.0 / wv.edf[j]);
+  return sd;
+}
+
+}  // namespace
+
+GmwmFit fit_gmwm(const WaveletVariance& wv, const CompositeModel& structure, const GmwmOptions& options) {
+  if (structure.processes.empty()) throw UsageError("model", "the model has no process");
+  const std::size_t np = parameter_count(structure);
+  if (wv.size() < np + 1)
+    throw UsageError("model", "model " + model_name(structure) + " has " + std::to_string(np) +
+                                  " parameters, more than the " + std::to_string(wv.size()) +
+                                  " scales of the wavelet variance allow (at least one more): a longer record or "
+                                  "a smaller model");
+  for (std::size_t j = 0; j < wv.size(); ++j)
+    if (!(wv.nu2[j] > 0.0) || !std::isfinite(wv.nu2[j]) || !(wv.edf[j] > 0.0))
+      throw UsageError("model", "the wavelet variance is zero or not finite at scale " +
+                                    std::to_string(static_cast<long long>(wv.tau[j])) +
+                                    ": a constant or damaged record");
+
+  const std::size_t ng = static_cast<std::size_t>(
+      std::count_if(structure.processes.begin(), structure.processes.end(),
+                    [](const Process& p) { return p.kind == ProcessKind::gm; }));
+  const std::size_t terms = structure.processes.size();
+  std::mt19937_64 engine(options.seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+
+  // Every start is judged with the same weights (from the curve itself).
+  const std::vector<double> sd0 = weights_at(wv, wv.nu2);
+  Run best;
+  const std::size_t starts = options.start ? 0 : std::max<std::size_t>(options.starts, 1);
+  if (options.start)
+    best = minimise(structure, wv, sd0, theta_of(structure, *options.start), options.max_iterations);
+  for (std::size_t s = 0; s < starts; ++s) {
+    std::vector<double> place(ng), share(terms, 1.0);
+    for (std::size_t g = 0; g < ng; ++g) place[g] = (static_cast<double>(g) + 1.0) / (static_cast<double>(ng) + 1.0);
+    if (s > 0) {
+      for (double& p : place) p = unit(engine);
+      std::sort(place.begin(), place.end());
+      for (double& f : share) f = std::pow(10.0, -2.0 * unit(engine));  // 0.01 .. 1
+    }
+    Run run = minimise(structure, wv, sd0, start_from(structure, wv, place, share), options.max_iterations);
+    if (run.cost < best.cost) best = std::move(run);
+  }
+  if (!std::isfinite(best.cost))
+    throw CalibrationError(CalibrationReason::degenerate,
+                           "GMWM: no starting point gave a finite fit of " + model_name(structure));
+
+  // Reweighting: the spread of each scale at the model's value, not at the
+  // measured one (which would favour the points that came out low).
+  std::vector<double> ref(wv.size());
+  std::vector<double> sd = sd0;
+  for (std::size_t pass = 0; pass < options.reweightings; ++pass) {
+    for (std::size_t j = 0; j < wv.size(); ++j) ref[j] = model_wv(structure, best.theta, wv.tau[j]);
+    sd = weights_at(wv, ref);
+    Run run = minimise(structure, wv, sd, best.theta, options.max_iterations);
+    if (!std::isfinite(run.cost)) break;
+    const double moved = (run.theta - best.theta).cwiseAbs().maxCoeff();
+    best = std::move(run);
+    if (moved < 1e-9) break;
+  }
+
+  GmwmFit fit;
+  fit.model = to_model(structure, best.theta);
+  fit.sd = sd;
+  fit.converged = best.converged;
+  for (std::size_t j = 0; j < wv.size(); ++j) fit.nu2_model.push_back(model_wv(structure, best.theta, wv.tau[j]));
+  fit.objective = 0.0;
+  for (std::size_t j = 0; j < wv.size(); ++j) fit.objective += std::pow((wv.nu2[j] - fit.nu2_model[j]) / sd[j], 2);
+  return fit;
+}
+
+}  // namespace cubecal

@@ -1,0 +1,66 @@
+#include "cubecal/pipeline/model_fit_json.hpp"
+
+#include <string>
+
+namespace cubecal::pipeline {
+
+namespace {
+
+std::string term_name(ProcessKind k) {
+  switch (k) {
+    case ProcessKind::wn: return "WN";
+    case ProcessKind::qn: return "QN";
+    case ProcessKind::rw: return "RW";
+    case ProcessKind::dr: return "DR";
+    case ProcessKind::gm: return "GM";
+  }
+  return "?";
+}
+
+nlohmann::json channel_json(const ModelChannel& c, double rate_hz, bool bootstrapped) {
+  nlohmann::json terms = nlohmann::json::array();
+  for (const ModelTerm& t : c.terms) {
+    nlohmann::json params = {{"value", t.process.value}};
+    if (t.kind == ProcessKind::gm) params["phi"] = t.process.phi;
+    nlohmann::json qs = nlohmann::json::array();
+    for (const ModelQuantity& q : t.quantities) {
+      const auto maybe = [&](double v) { return bootstrapped ? nlohmann::json(v) : nlohmann::json(nullptr); };
+      qs.push_back({{"name", q.name},
+                    {"value", q.value},
+                    {"unit", q.unit},
+                    {"sd", maybe(q.sd)},
+                    {"lo", maybe(q.lo)},
+                    {"hi", maybe(q.hi)},
+                    {"display",
+                     {{"value", q.display.value},
+                      {"sigma", maybe(q.display.sigma)},
+                      {"lo", maybe(q.display_lo)},
+                      {"hi", maybe(q.display_hi)},
+                      {"unit", q.display.unit}}}});
+    }
+    terms.push_back({{"term", term_name(t.kind)}, {"parameters", params}, {"quantities", qs}});
+  }
+  std::vector<double> tau_s;
+  for (double t : c.wv.tau) tau_s.push_back(t / rate_hz);
+  nlohmann::json wv = {{"tau_samples", c.wv.tau}, {"tau_s", tau_s},   {"nu2", c.wv.nu2},        {"lo", c.wv.lo},
+                       {"hi", c.wv.hi},           {"edf", c.wv.edf},  {"n", c.wv.n},            {"model", c.fit.nu2_model}};
+  return {{"name", c.name},
+          {"unit", c.unit.name.empty() ? nlohmann::json(nullptr) : nlohmann::json(c.unit.name)},
+          {"objective", c.fit.objective},
+          {"converged", c.fit.converged},
+          {"replicates", c.replicates},
+          {"terms", terms},
+          {"wavelet_variance", wv}};
+}
+
+}  // namespace
+
+nlohmann::json to_json(const ModelResult& r) {
+  nlohmann::json channels = nlohmann::json::array();
+  for (const ModelChannel& c : r.channels) channels.push_back(channel_json(c, r.rate_hz, r.bootstrap > 0));
+  return {{"command", "model"}, {"file", r.file},   {"rate_hz", r.rate_hz},     {"samples", r.samples},
+          {"model", r.model},   {"ci", r.ci},       {"bootstrap", r.bootstrap}, {"seed", r.seed},
+          {"channels", channels}};
+}
+
+}  // namespace cubecal::pipeline

@@ -1,0 +1,128 @@
+// cubecal model: the fit the command prints is the library's on the same
+// samples, a seeded composite record's terms come back in the units people
+// quote, the bootstrap is reproducible and does not depend on the threads,
+// and bad input is one error line with exit 2.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cli_runner.hpp"
+#include "cubecal/noise/composite_model.hpp"
+#include "cubecal/noise/gmwm.hpp"
+#include "cubecal/sim/composite_simulator.hpp"
+#include "cubecal/stats/wavelet_variance.hpp"
+
+namespace cubecal::test {
+namespace {
+
+constexpr double kRate = 10.0;
+
+// WN + GM in deg/s at 10 Hz: N = 0.3 deg/sqrt(h), a Gauss-Markov bias of
+// 20 deg/h with T_c = 60 s.
+CompositeModel gyro() {
+  CompositeModel m = parse_composite_model("WN+GM");
+  const double dt = 1.0 / kRate;
+  const double n_deg_per_sqrt_s = 0.3 / 60.0;  // deg/sqrt(h) -> deg/sqrt(s)
+  m.processes[0].value = n_deg_per_sqrt_s * n_deg_per_sqrt_s / dt;
+  m.processes[1] = gm_process(60.0, 20.0 / 3600.0, dt);
+  return m;
+}
+
+class ModelCli : public TempDirTest {
+ protected:
+  std::string record(std::size_t n, std::vector<double>* out = nullptr) {
+    const std::vector<double> y = simulate_composite(gyro(), n, 7);
+    if (out) *out = y;
+    std::ostringstream text;
+    text.precision(17);
+    text << "t,gx\n";
+    for (std::size_t i = 0; i < n; ++i) text << static_cast<double>(i) / kRate << ',' << y[i] << '\n';
+    return write("gyro.csv", text.str());
+  }
+};
+
+const nlohmann::json& quantity(const nlohmann::json& channel, const std::string& term, const std::string& name) {
+  for (const auto& t : channel.at("terms"))
+    if (t.at("term") == term)
+      for (const auto& q : t.at("quantities"))
+        if (q.at("name") == name) return q;
+  throw std::runtime_error("no " + term + " " + name);
+}
+
+TEST_F(ModelCli, JsonIsTheLibraryFitInQuotedUnits) {
+  std::vector<double> y;
+  const std::string file = record(200000, &y);
+  const CliRun r = run_cubecal("model " + file + " --model wn+gm --unit deg/s --format json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j.at("command"), "model");
+  EXPECT_EQ(j.at("model"), "WN+GM");
+  const auto& c = j.at("channels").at(0);
+  // The library on the same doubles (the CSV holds them exactly).
+  const WaveletVariance wv = wavelet_variance(y);
+  const GmwmFit fit = fit_gmwm(wv, parse_composite_model("WN+GM"));
+  EXPECT_EQ(c.at("wavelet_variance").at("nu2").get<std::vector<double>>(), wv.nu2);
+  EXPECT_EQ(c.at("wavelet_variance").at("model").get<std::vector<double>>(), fit.nu2_model);
+  EXPECT_EQ(c.at("terms").at(0).at("parameters").at("value").get<double>(), fit.model.processes[0].value);
+  // N in deg/sqrt(h), sigma_b in deg/h, T_c in s: near the truth (one
+  // record; 200000 samples hold N to ~0.2 %, the bias's terms to ~10 %).
+  const auto& n = quantity(c, "WN", "N");
+  EXPECT_EQ(n.at("display").at("unit"), "deg/sqrt(h)");
+  EXPECT_NEAR(n.at("display").at("value").get<double>(), 0.3, 0.3 * 0.01);
+  EXPECT_NEAR(n.at("value").get<double>() * 60.0, n.at("display").at("value").get<double>(), 1e-12);
+  const auto& sb = quantity(c, "GM", "sigma_b");
+  EXPECT_EQ(sb.at("display").at("unit"), "deg/h");
+  EXPECT_NEAR(sb.at("display").at("value").get<double>(), 20.0, 20.0 * 0.25);
+  EXPECT_NEAR(quantity(c, "GM", "T_c").at("value").get<double>(), 60.0, 60.0 * 0.4);
+  EXPECT_TRUE(n.at("sd").is_null());  // no bootstrap asked for
+  // The table says the same.
+  const CliRun t = run_cubecal("model " + file + " --model WN+GM --unit deg/s");
+  ASSERT_EQ(t.code, 0) << t.err;
+  EXPECT_NE(t.out.find("deg/sqrt(h)"), std::string::npos) << t.out;
+  EXPECT_NE(t.out.find("GM  Gauss-Markov"), std::string::npos) << t.out;
+}
+
+TEST_F(ModelCli, BootstrapIsReproducibleOnAnyThreadsAndHoldsTheTruth) {
+  const std::string file = record(100000);
+  const std::string args = "model " + file + " --model WN+GM --unit deg/s --format json --bootstrap 40 --seed 5";
+  const CliRun one = run_cubecal(args + " --threads 1");
+  const CliRun two = run_cubecal(args + " --threads 2");
+  ASSERT_EQ(one.code, 0) << one.err;
+  ASSERT_EQ(two.code, 0) << two.err;
+  EXPECT_EQ(one.out, two.out);
+  const auto c = nlohmann::json::parse(one.out).at("channels").at(0);
+  EXPECT_GE(c.at("replicates").get<int>(), 38);
+  const auto& n = quantity(c, "WN", "N");
+  const double lo = n.at("display").at("lo").get<double>(), hi = n.at("display").at("hi").get<double>();
+  const double v = n.at("display").at("value").get<double>(), sd = n.at("display").at("sigma").get<double>();
+  EXPECT_LT(lo, v);
+  EXPECT_GT(hi, v);
+  EXPECT_GT(sd, 0.0);
+  // The truth within four bootstrap standard deviations of the estimate.
+  EXPECT_LT(std::abs(v - 0.3), 4.0 * sd) << v << " ± " << sd;
+  const auto& tc = quantity(c, "GM", "T_c");
+  EXPECT_LT(std::abs(tc.at("value").get<double>() - 60.0), 4.0 * tc.at("sd").get<double>());
+}
+
+TEST_F(ModelCli, BadInputIsOneLine) {
+  const std::string file = record(2000);
+  CliRun r = run_cubecal("model " + file + " --model WN+XX");
+  EXPECT_TRUE(one_error_line(r)) << r.err;
+  EXPECT_NE(r.err.find("--model: model 'WN+XX': unknown term 'XX'"), std::string::npos) << r.err;
+  r = run_cubecal("model " + file + " --model WN+4*GM+RW");  // 10 parameters, 9 scales
+  EXPECT_TRUE(one_error_line(r)) << r.err;
+  EXPECT_NE(r.err.find("more than the"), std::string::npos) << r.err;
+  r = run_cubecal("model " + file + " --model WN --bootstrap 1");
+  EXPECT_TRUE(one_error_line(r)) << r.err;
+  EXPECT_NE(r.err.find("--bootstrap"), std::string::npos) << r.err;
+  r = run_cubecal("model " + file);
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("--model"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace cubecal::test
