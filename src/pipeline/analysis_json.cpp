@@ -254,17 +254,9 @@ json spectral_json(const SpectralAnalysis& s, const NoiseFit& allan, const Unit&
       "h_alpha f^alpha and the IEEE 952 terms its coefficients stand for (docs/formulas/spectral.md); beside each "
       "term the five-term fit of the Allan curve (noise.fit) and (spectrum - allan) / sqrt(sigma_spectrum^2 + "
       "sigma_allan^2)";
-  j["welch"] = {{"window", std::string(to_string(p.window))},
-                {"segment_length", p.segment_length},
-                {"overlap", s.overlap},
-                {"overlap_samples", p.overlap},
-                {"detrend", std::string(to_string(p.detrend))},
-                {"segments", p.segments},
-                {"samples_used", p.samples_used},
-                {"resolution_hz", p.resolution_hz()},
-                {"enbw_hz", p.enbw_hz},
-                {"pieces", s.pieces},
-                {"pieces_used", s.pieces_used}};
+  j["welch"] = welch_json(p, s.overlap);
+  j["welch"]["pieces"] = s.pieces;
+  j["welch"]["pieces_used"] = s.pieces_used;
   j["spectrum"] = {{"bins_per_decade", p.bins_per_decade},
                    {"density_unit", density_unit(u).name},
                    {"frequency_hz", p.frequency},

@@ -79,17 +79,8 @@ nlohmann::json to_json(const PsdResult& r) {
   j["pieces_used"] = r.pieces_used;
   j["one_sided"] = true;
   if (!r.channels.empty()) {
-    const Psd& s = r.channels.front().spectrum;
-    j["welch"] = {{"window", std::string(to_string(s.window))},
-                  {"segment_length", s.segment_length},
-                  {"overlap", r.overlap},
-                  {"overlap_samples", s.overlap},
-                  {"detrend", std::string(to_string(s.detrend))},
-                  {"segments", s.segments},
-                  {"samples_used", s.samples_used},
-                  {"resolution_hz", s.resolution_hz()},
-                  {"enbw_hz", s.enbw_hz},
-                  {"bins_per_decade", r.bins_per_decade}};
+    j["welch"] = welch_json(r.channels.front().spectrum, r.overlap);
+    j["welch"]["bins_per_decade"] = r.bins_per_decade;
   }
   nlohmann::json channels = nlohmann::json::array();
   for (const auto& c : r.channels) channels.push_back(channel_json(c, r.fitted));
@@ -116,6 +107,18 @@ nlohmann::json power_law_fit_json(const PowerLawFit& f, const Unit& unit) {
   }
   return {{"f_lo_hz", f.f_lo}, {"f_hi_hz", f.f_hi}, {"bands", f.bands},   {"chi2", f.chi2},
           {"dof", f.dof},      {"scale", f.scale},  {"terms", terms},     {"covariance", cov}};
+}
+
+nlohmann::json welch_json(const Psd& s, double overlap) {
+  return {{"window", std::string(to_string(s.window))},
+          {"segment_length", s.segment_length},
+          {"overlap", overlap},
+          {"overlap_samples", s.overlap},
+          {"detrend", std::string(to_string(s.detrend))},
+          {"segments", s.segments},
+          {"samples_used", s.samples_used},
+          {"resolution_hz", s.resolution_hz()},
+          {"enbw_hz", s.enbw_hz}};
 }
 
 }  // namespace cubecal::pipeline

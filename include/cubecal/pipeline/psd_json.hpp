@@ -23,4 +23,10 @@ nlohmann::json to_json(const PsdResult& r);
 // where it holds, their covariance (empty rows when it was not kept).
 nlohmann::json power_law_fit_json(const PowerLawFit& f, const Unit& unit);
 
+// The Welch plan of a spectrum in the keys of its "welch" object (window,
+// segment_length, overlap (the fraction asked for), overlap_samples,
+// detrend, segments, samples_used, resolution_hz, enbw_hz); also
+// analysis.json's spectral view.
+nlohmann::json welch_json(const Psd& spectrum, double overlap);
+
 }  // namespace cubecal::pipeline
