@@ -10,6 +10,7 @@ The C++ library's calls on NumPy arrays:
     rec = cubecal.simulate("sport-gyro", rate=10, duration="1h", seed=1)
     rec = cubecal.read("log.csv", columns="gx,gy,gz")
     s = cubecal.psd(rec, unit="deg/s"); d = cubecal.davar(rec, window="1h", step="60s")
+    m = cubecal.model(rec, "WN+RW+2*GM", unit="deg/s", bootstrap=200)   # GMWM
 
 Errors the data or the caller can fix raise cubecal.Error subclasses:
 InputError (.file, .line, .column), UsageError (.option), CalibrationError (.reason).
@@ -22,6 +23,7 @@ from ._read import Record, read
 from ._analyze import Analysis, analyze
 from ._simulate import presets, simulate
 from ._spectral import DynamicAllan, Spectrum, davar, psd
+from ._model import NoiseModel, model
 from ._result import Result
 from ._calibrate import *  # noqa: F401,F403  (calibrate_* and turnon: see cubecal/_calibrate.py)
 

@@ -49,4 +49,15 @@ io::Series array_series(const std::vector<Doubles>& channels, const std::vector<
   return s;
 }
 
+io::Series call_record(const std::optional<std::string>& path, const ReadArgs& read,
+                       const std::vector<Doubles>& channels, const std::vector<std::string>& names, double rate,
+                       bool missing_samples) {
+  if (path) {
+    io::SeriesOptions so = series_options(read, missing_samples);
+    so.keep_time = false;
+    return io::read_series(*path, so);
+  }
+  return array_series(channels, names, rate, std::nullopt, "", "<arrays>");
+}
+
 }  // namespace cubecal::python

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "arrays.hpp"
+#include "common.hpp"
 #include "cubecal/io/series.hpp"
 
 namespace cubecal::python {
@@ -18,5 +19,12 @@ namespace cubecal::python {
 io::Series array_series(const std::vector<Doubles>& channels, const std::vector<std::string>& names, double rate,
                         const std::optional<Doubles>& temperature, const std::string& temp_name,
                         const std::string& label);
+
+// The record of a call that takes a file or arrays (psd, davar, model): the
+// file at `path` when given (read as `read` says, without its time stamps),
+// else the arrays. `missing_samples`: the call takes gaps="skip".
+io::Series call_record(const std::optional<std::string>& path, const ReadArgs& read,
+                       const std::vector<Doubles>& channels, const std::vector<std::string>& names, double rate,
+                       bool missing_samples = false);
 
 }  // namespace cubecal::python

@@ -15,4 +15,5 @@ PYBIND11_MODULE(_cubecal, m) {
   cubecal::python::bind_read(m);
   cubecal::python::bind_calibrate(m);
   cubecal::python::bind_spectral(m);
+  cubecal::python::bind_model(m);
 }

@@ -28,18 +28,6 @@ namespace cubecal::python {
 
 namespace {
 
-// The record of a call: the file at `path` (when given), else the arrays.
-// `missing_samples`: the call takes gaps="skip" (davar, as the CLI's).
-io::Series record(const std::optional<std::string>& path, const ReadArgs& read, const std::vector<Doubles>& channels,
-                  const std::vector<std::string>& names, double rate, bool missing_samples = false) {
-  if (path) {
-    io::SeriesOptions so = series_options(read, missing_samples);
-    so.keep_time = false;
-    return io::read_series(*path, so);
-  }
-  return array_series(channels, names, rate, std::nullopt, "", "<arrays>");
-}
-
 struct PsdArgs {
   std::string window = "hann";
   std::size_t segment = 0;
@@ -77,7 +65,7 @@ py::tuple psd(const std::optional<std::string>& path, const ReadArgs& read, cons
   }
   req.threads = a.threads;
   py::gil_scoped_release free;
-  const io::Series s = record(path, read, channels, names, rate);
+  const io::Series s = call_record(path, read, channels, names, rate);
   if (req.units.empty()) {
     // As the CLI: the units the record announces, else none (densities in u^2/Hz).
     try {
@@ -136,7 +124,7 @@ std::string davar(const std::optional<std::string>& path, const ReadArgs& read, 
   req.intervals.alpha = a.alpha;
   req.threads = a.threads;
   py::gil_scoped_release free;
-  const io::Series s = record(path, read, channels, names, rate, true);  // gaps="skip" as davar --gaps skip
+  const io::Series s = call_record(path, read, channels, names, rate, true);  // gaps="skip" as davar --gaps skip
   return pipeline::to_json(pipeline::run_davar(s, req)).dump();
 }
 

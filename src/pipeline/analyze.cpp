@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 #include <exception>
-#include <memory>
 #include <stdexcept>
 #include <utility>
 
@@ -66,7 +65,8 @@ TemperatureAnalysis analyze_temperature_of(std::size_t c, const io::Series& s, c
     return fit_random_walk_model(to_allan_curve(d.channels[0].points), dt, lsb);
   };
   try {
-    TemperatureRandomWalkFit j = fit_temperature_random_walk(s.channels[c], temp, req.temp_order, t.ols, noise_model, gaps);
+    TemperatureRandomWalkFit j =
+        fit_temperature_random_walk(s.channels[c], temp, req.temp_order, t.ols, noise_model, gaps);
     t.fit = std::move(j.fit);
     t.noise = j.noise;
     t.iterations = j.iterations;
