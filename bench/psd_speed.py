@@ -13,28 +13,14 @@ Prints min/median/max of RUNS calls each, the ratio of the medians to
 scipy's, and the largest relative difference of the two spectra.
 """
 import sys
-import time
 
 import numpy as np
 import scipy.signal
 
 import cubecal
+from bench_timing import median, span, timed
 
 runs = int(sys.argv[1]) if len(sys.argv) > 1 else 5
-
-
-def timed(call):
-    seconds, out = [], None
-    for _ in range(runs):
-        t0 = time.perf_counter()
-        out = call()
-        seconds.append(time.perf_counter() - t0)
-    seconds.sort()
-    return seconds, out
-
-
-def span(s):
-    return f"{s[0]:.4f} / {s[len(s) // 2]:.4f} / {s[-1]:.4f} s"
 
 
 y = cubecal.simulate("sport-gyro", rate=10, duration="72h", seed=1, temperature="const:25")["gx"]
@@ -44,15 +30,14 @@ for segment in (0, 1 << 14):
     length = int(cubecal.psd(y[:1 << 16] if segment else y, rate=10.0, segment=segment, fit=False,
                              threads=1).to_dict()["welch"]["segment_length"])
     s_scipy, (f_ref, p_ref) = timed(lambda: scipy.signal.welch(y, fs=10.0, window="hann", nperseg=length,
-                                                                 noverlap=length // 2, detrend="constant"))
-    s_one, one = timed(lambda: cubecal.psd(y, rate=10.0, segment=length, fit=False, threads=1))
-    s_all, _ = timed(lambda: cubecal.psd(y, rate=10.0, segment=length, fit=False, threads=0))
+                                                                 noverlap=length // 2, detrend="constant"), runs)
+    s_one, one = timed(lambda: cubecal.psd(y, rate=10.0, segment=length, fit=False, threads=1), runs)
+    s_all, _ = timed(lambda: cubecal.psd(y, rate=10.0, segment=length, fit=False, threads=0), runs)
     ch = one.to_dict()["channels"][0]
     p = np.asarray(ch["density"])
     assert np.array_equal(np.asarray(ch["frequency_hz"]), f_ref)
     k = p_ref > 0.0
     diff = float(np.max(np.abs(p[k] - p_ref[k]) / p_ref[k]))
-    med = lambda s: s[len(s) // 2]
     print(f"  segment {length}: scipy.signal.welch {span(s_scipy)}; cubecal.psd 1 thread {span(s_one)} "
-          f"({med(s_scipy) / med(s_one):.1f}x); all cores {span(s_all)} ({med(s_scipy) / med(s_all):.1f}x); "
+          f"({median(s_scipy) / median(s_one):.1f}x); all cores {span(s_all)} ({median(s_scipy) / median(s_all):.1f}x); "
           f"largest relative difference {diff:.1e}")

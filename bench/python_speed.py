@@ -18,11 +18,11 @@ import os
 import subprocess
 import sys
 import tempfile
-import time
 
 import numpy as np
 
 import cubecal
+from bench_timing import span, timed
 
 build = sys.argv[1]
 runs = int(sys.argv[2]) if len(sys.argv) > 2 else 5
@@ -33,30 +33,16 @@ if os.path.isfile(os.path.join(src, "allantools", "allantools.py")):
     import allantools
 
 
-def timed(call):
-    seconds, out = [], None
-    for _ in range(runs):
-        t0 = time.perf_counter()
-        out = call()
-        seconds.append(time.perf_counter() - t0)
-    seconds.sort()
-    return seconds, out
-
-
-def span(s):
-    return f"{s[0]:.4f} / {s[len(s) // 2]:.4f} / {s[-1]:.4f} s"
-
-
 y = cubecal.simulate("sport-gyro", rate=10, duration="72h", seed=1, temperature="const:25")["gx"]
 rate = 10.0
 log20 = cubecal.dev(y, rate=rate, taus="log:20", intervals=False).tau
 print(f"== Python: cubecal.oadev vs allantools.oadev, {y.size} samples, freq data, one thread each, "
       f"min / median / max of {runs}")
 for label, taus in (("octave", "octave"), ("log:20", log20)):
-    cc, (t1, d1, _, _) = timed(lambda: cubecal.oadev(y, rate=rate, data_type="freq", taus=taus))
+    cc, (t1, d1, _, _) = timed(lambda: cubecal.oadev(y, rate=rate, data_type="freq", taus=taus), runs)
     line = f"  {label:7s} {len(t1):4d} taus  cubecal {span(cc)}"
     if allantools is not None:
-        at, (t0, d0, _, _) = timed(lambda: allantools.oadev(y, rate=rate, data_type="freq", taus=taus))
+        at, (t0, d0, _, _) = timed(lambda: allantools.oadev(y, rate=rate, data_type="freq", taus=taus), runs)
         if not np.array_equal(t0, t1):
             sys.exit(f"allantools and cubecal gave other taus at {label}")
         diff = float(np.max(np.abs(d1 / d0 - 1.0)))

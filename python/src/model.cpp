@@ -39,11 +39,7 @@ std::string model(const std::optional<std::string>& path, const ReadArgs& read, 
   pipeline::ModelRequest req;
   req.model = a.model;
   (void)parse_composite_model(a.model);  // a typo fails before the reading
-  for (const auto& u : a.units) {
-    const auto unit = parse_unit(u);
-    if (!unit) throw UsageError("unit", "unknown unit '" + u + "' (use " + known_units() + ")");
-    req.units.push_back(*unit);
-  }
+  req.units = named_units(a.units);
   if (a.starts < 1) throw UsageError("starts", "give at least one starting point");
   req.bootstrap = a.bootstrap;
   req.seed = a.seed;
@@ -52,14 +48,7 @@ std::string model(const std::optional<std::string>& path, const ReadArgs& read, 
   req.threads = a.threads;
   py::gil_scoped_release free;
   const io::Series s = call_record(path, read, channels, names, rate);
-  if (req.units.empty()) {
-    // As the CLI: the units the record announces, else none (terms in u).
-    try {
-      req.units = announced_units(s);
-    } catch (const UsageError&) {
-      req.units.clear();
-    }
-  }
+  if (req.units.empty()) req.units = announced_units_or_none(s);  // as the CLI: else none (terms in u)
   return pipeline::to_json(pipeline::run_model(s, req)).dump();
 }
 

@@ -58,22 +58,11 @@ py::tuple psd(const std::optional<std::string>& path, const ReadArgs& read, cons
   req.fit = a.fit;
   req.fit_options.min_frequency_hz = a.fit_min;
   req.fit_options.max_frequency_hz = a.fit_max;
-  for (const auto& u : a.units) {
-    const auto unit = parse_unit(u);
-    if (!unit) throw UsageError("unit", "unknown unit '" + u + "' (use " + known_units() + ")");
-    req.units.push_back(*unit);
-  }
+  req.units = named_units(a.units);
   req.threads = a.threads;
   py::gil_scoped_release free;
   const io::Series s = call_record(path, read, channels, names, rate);
-  if (req.units.empty()) {
-    // As the CLI: the units the record announces, else none (densities in u^2/Hz).
-    try {
-      req.units = announced_units(s);
-    } catch (const UsageError&) {
-      req.units.clear();
-    }
-  }
+  if (req.units.empty()) req.units = announced_units_or_none(s);  // as the CLI: else none (densities in u^2/Hz)
   nlohmann::json j = pipeline::to_json(pipeline::run_psd(s, req));
   // The spectra (every bin: 10^5 numbers and more) go to Python as arrays:
   // as JSON text they would cost more to write and parse than the transform.

@@ -30,4 +30,22 @@ std::vector<Unit> announced_units(const io::Series& s) {
   return inferred.units;
 }
 
+std::vector<Unit> named_units(const std::vector<std::string>& names) {
+  std::vector<Unit> units;
+  for (const auto& u : names) {
+    const auto unit = parse_unit(u);
+    if (!unit) throw UsageError("unit", "unknown unit '" + u + "' (use " + known_units() + ")");
+    units.push_back(*unit);
+  }
+  return units;
+}
+
+std::vector<Unit> announced_units_or_none(const io::Series& s) {
+  try {
+    return announced_units(s);
+  } catch (const UsageError&) {
+    return {};
+  }
+}
+
 }  // namespace cubecal::python

@@ -28,12 +28,6 @@ constexpr std::array<Name, 6> kNames{{{"WN", ProcessKind::wn},
                                       {"GM", ProcessKind::gm},
                                       {"AR1", ProcessKind::gm}}};
 
-std::string_view name_of(ProcessKind k) {
-  for (const Name& n : kNames)
-    if (n.kind == k) return n.text;
-  return "?";
-}
-
 std::string upper_trimmed(std::string_view s) {
   while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
   while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
@@ -86,6 +80,12 @@ CompositeModel parse_composite_model(const std::string& text) {
   return model;
 }
 
+std::string_view to_string(ProcessKind k) noexcept {
+  for (const Name& n : kNames)
+    if (n.kind == k) return n.text;
+  return "?";
+}
+
 std::string model_name(const CompositeModel& model) {
   std::string out;
   std::size_t i = 0;
@@ -95,7 +95,7 @@ std::string model_name(const CompositeModel& model) {
     while (i + run < p.size() && p[i + run].kind == p[i].kind) ++run;
     if (!out.empty()) out += '+';
     if (run > 1) out += std::to_string(run) + '*';
-    out += name_of(p[i].kind);
+    out += to_string(p[i].kind);
     i += run;
   }
   return out;

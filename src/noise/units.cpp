@@ -61,6 +61,17 @@ std::string_view to_string(SensorKind k) noexcept {
   return "generic";
 }
 
+std::string_view to_string(Term t) noexcept {
+  switch (t) {
+    case Term::Q: return "Q";
+    case Term::N: return "N";
+    case Term::B: return "B";
+    case Term::K: return "K";
+    case Term::R: return "R";
+  }
+  return "?";
+}
+
 Quantity display(const TermEstimate& t, Term term, const Unit& unit) {
   Quantity q;
   if (unit.kind == SensorKind::rate) {

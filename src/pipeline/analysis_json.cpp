@@ -231,17 +231,6 @@ json temperature_json(const TemperatureAnalysis& t, const Unit& u, const std::st
   return tj;
 }
 
-const char* term_letter(Term t) {
-  switch (t) {
-    case Term::Q: return "Q";
-    case Term::N: return "N";
-    case Term::B: return "B";
-    case Term::K: return "K";
-    case Term::R: return "R";
-  }
-  return "?";
-}
-
 // The spectral view (analyze --psd): the Welch plan, the spectrum in log
 // bands, the power-law fit, and each IEEE 952 term of the fit beside the
 // Allan curve's five-term fit with their difference in combined sigmas (the
@@ -270,7 +259,7 @@ json spectral_json(const SpectralAnalysis& s, const NoiseFit& allan, const Unit&
   json terms = json::array();
   for (const TermViews& v : compare_views(allan, s)) {
     json t = quantity(display(v.spectrum, v.term, u), v.spectrum.valid);
-    t["term"] = term_letter(v.term);
+    t["term"] = std::string(to_string(v.term));
     t["alpha"] = power_law_exponent(v.term);
     t["allan_fit"] = quantity(display(v.allan, v.term, u), v.allan.valid);
     t["difference_sigmas"] = v.difference_sigmas ? json(*v.difference_sigmas) : json(nullptr);

@@ -6,17 +6,6 @@ namespace cubecal::pipeline {
 
 namespace {
 
-std::string term_name(ProcessKind k) {
-  switch (k) {
-    case ProcessKind::wn: return "WN";
-    case ProcessKind::qn: return "QN";
-    case ProcessKind::rw: return "RW";
-    case ProcessKind::dr: return "DR";
-    case ProcessKind::gm: return "GM";
-  }
-  return "?";
-}
-
 nlohmann::json channel_json(const ModelChannel& c, double rate_hz, bool bootstrapped) {
   nlohmann::json terms = nlohmann::json::array();
   for (const ModelTerm& t : c.terms) {
@@ -38,7 +27,7 @@ nlohmann::json channel_json(const ModelChannel& c, double rate_hz, bool bootstra
                       {"hi", maybe(q.display_hi)},
                       {"unit", q.display.unit}}}});
     }
-    terms.push_back({{"term", term_name(t.kind)}, {"parameters", params}, {"quantities", qs}});
+    terms.push_back({{"term", std::string(to_string(t.kind))}, {"parameters", params}, {"quantities", qs}});
   }
   std::vector<double> tau_s;
   for (double t : c.wv.tau) tau_s.push_back(t / rate_hz);

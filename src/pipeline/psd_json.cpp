@@ -20,18 +20,6 @@ std::string raw_term_unit(Term t, const std::string& u) {
   return u;
 }
 
-std::string term_name(Term t) {
-  switch (t) {
-    case Term::Q: return "Q";
-    case Term::N: return "N";
-    case Term::B: return "B";
-    case Term::K: return "K";
-    case Term::R: return "R";
-  }
-  return "?";
-}
-
-
 nlohmann::json channel_json(const PsdChannel& c, bool fitted) {
   nlohmann::json j;
   j["name"] = c.name;
@@ -55,7 +43,7 @@ nlohmann::json channel_json(const PsdChannel& c, bool fitted) {
     const std::string u = c.unit.name.empty() ? "u" : c.unit.name;
     nlohmann::json terms = nlohmann::json::array();
     for (const auto& a : c.allan_terms)
-      terms.push_back({{"term", term_name(a.term)},
+      terms.push_back({{"term", std::string(to_string(a.term))},
                        {"alpha", a.alpha},
                        {"valid", a.estimate.valid},
                        {"value", a.estimate.value},

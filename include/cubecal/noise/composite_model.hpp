@@ -19,6 +19,7 @@
 #pragma once
 #include <cstddef>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace cubecal {
@@ -45,6 +46,7 @@ CompositeModel parse_composite_model(const std::string& text);
 
 // "WN+QN+RW+2*GM": the model's terms in the order of parse_composite_model.
 std::string model_name(const CompositeModel& model);
+std::string_view to_string(ProcessKind kind) noexcept;  // "WN", "QN", "RW", "DR", "GM"
 
 // Theoretical Haar wavelet variance at the scale of tau samples (tau >= 2,
 // even): exact for the sampled processes. NaN for a parameter outside its

@@ -38,6 +38,7 @@ struct Quantity {
 // its magnetometer: Q u*s, N u*sqrt(h), B u, K u/sqrt(h), R u/h.
 enum class Term { Q, N, B, K, R };
 Quantity display(const TermEstimate& t, Term term, const Unit& unit);
+std::string_view to_string(Term t) noexcept;  // "Q", "N", "B", "K", "R"
 
 // Spectral densities in the data unit: white noise u/sqrt(Hz) (= N in u*sqrt(s))
 // and random walk u/s/sqrt(Hz) (= K in u/sqrt(s)); in SI when `si`.
