@@ -103,7 +103,6 @@ std::string model_name(const CompositeModel& model) {
 
 double haar_wavelet_variance(const Process& p, double tau) noexcept {
   if (!(tau >= 2.0)) return kNaN;
-  const double m = tau / 2.0;  // the Allan averaging factor of the scale
   switch (p.kind) {
     case ProcessKind::wn:
       return p.value >= 0.0 ? p.value / tau : kNaN;
@@ -116,17 +115,23 @@ double haar_wavelet_variance(const Process& p, double tau) noexcept {
     case ProcessKind::dr:
       return p.value * p.value * tau * tau / 16.0;
     case ProcessKind::gm: {
-      if (!(p.value >= 0.0) || !(p.phi > 0.0 && p.phi < 1.0) || std::floor(m) != m) return kNaN;
-      // The exact AR(1) AVAR of sensor_noise_model.cpp (careful near phi = 1),
-      // stationary variance sigma2 / (1 - phi^2), unit sample period.
-      GaussMarkovModel g;
-      g.dt = 1.0;
-      g.tau_c = -1.0 / std::log(p.phi);
-      g.sigma_b = std::sqrt(p.value / -std::expm1(2.0 * std::log(p.phi)));
-      return 0.5 * avar(g, static_cast<std::size_t>(m));
+      if (!(p.value >= 0.0) || !(p.phi > 0.0 && p.phi < 1.0)) return kNaN;
+      return gauss_markov_wavelet_variance(-std::log(p.phi), p.value, tau);
     }
   }
   return kNaN;
+}
+
+double gauss_markov_wavelet_variance(double a, double sigma2, double tau) noexcept {
+  const double m = tau / 2.0;
+  if (!(tau >= 2.0) || std::floor(m) != m || !(a > 0.0) || !(sigma2 >= 0.0)) return kNaN;
+  // The exact AR(1) AVAR of sensor_noise_model.cpp (careful near phi = 1),
+  // stationary variance sigma2 / (1 - phi^2), unit sample period.
+  GaussMarkovModel g;
+  g.dt = 1.0;
+  g.tau_c = 1.0 / a;
+  g.sigma_b = std::sqrt(sigma2 / -std::expm1(-2.0 * a));
+  return 0.5 * avar(g, static_cast<std::size_t>(m));
 }
 
 double haar_wavelet_variance(const CompositeModel& model, double tau) noexcept {

@@ -11,7 +11,6 @@
 
 #include "../detail/levenberg_marquardt.hpp"
 #include "cubecal/error.hpp"
-#include "cubecal/noise/sensor_noise_model.hpp"
 
 namespace cubecal {
 
@@ -34,21 +33,10 @@ double model_wv(const CompositeModel& structure, const VectorXd& theta, double t
   Eigen::Index k = 0;
   for (const Process& p : structure.processes) {
     const double v = std::exp(theta(k++));
-    switch (p.kind) {
-      case ProcessKind::wn: sum += v / tau; break;
-      case ProcessKind::qn: sum += 6.0 * v / (tau * tau); break;
-      case ProcessKind::rw: sum += v * (tau * tau + 2.0) / (12.0 * tau); break;
-      case ProcessKind::dr: sum += v * tau * tau / 16.0; break;  // v = omega^2
-      case ProcessKind::gm: {
-        const double a = std::exp(std::min(theta(k++), kMaxLogA));
-        GaussMarkovModel g;
-        g.dt = 1.0;
-        g.tau_c = 1.0 / a;
-        g.sigma_b = std::sqrt(v / -std::expm1(-2.0 * a));
-        sum += 0.5 * avar(g, static_cast<std::size_t>(tau / 2.0));
-        break;
-      }
-    }
+    if (p.kind == ProcessKind::gm)
+      sum += gauss_markov_wavelet_variance(std::exp(std::min(theta(k++), kMaxLogA)), v, tau);
+    else  // DR's parameter is omega, its logarithm omega^2's
+      sum += haar_wavelet_variance(Process{p.kind, p.kind == ProcessKind::dr ? std::sqrt(v) : v, 0.0}, tau);
   }
   return sum;
 }

@@ -54,6 +54,10 @@ std::string_view to_string(ProcessKind kind) noexcept;  // "WN", "QN", "RW", "DR
 double haar_wavelet_variance(const Process& process, double tau) noexcept;
 double haar_wavelet_variance(const CompositeModel& model, double tau) noexcept;
 
+// A Gauss-Markov term's from a = -ln(phi) itself, which phi near 1 holds to
+// fewer digits (the form the GMWM fit works in).
+double gauss_markov_wavelet_variance(double a, double sigma2, double tau) noexcept;
+
 // Physical forms for a sample period dt (s), in the data unit u:
 //   WN: N = sqrt(sigma2 dt)            (u sqrt(s), the angle random walk for a gyro)
 //   RW: K = sqrt(gamma2 / dt)          (u / sqrt(s), the rate random walk)
