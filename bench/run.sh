@@ -65,6 +65,10 @@ echo "== dynamic Allan deviation: 72 h x 10 Hz, 1 h windows every 60 s, log:10 (
 "$BUILD/bin/bench_davar" --benchmark_repetitions=5 --benchmark_report_aggregates_only=true \
   --benchmark_display_aggregates_only=true | grep -E "_min|_median|_max|Benchmark|---"
 
+echo "== GMWM: WN+2*GM+RW on 1e6 samples, the fit (target < 2 s) and 200 bootstrap replicates (target < 30 s); min/median/max of 5"
+"$BUILD/bin/bench_gmwm" --benchmark_repetitions=5 --benchmark_report_aggregates_only=true \
+  --benchmark_display_aggregates_only=true | grep -E "_min|_median|_max|Benchmark|---"
+
 bash "$(dirname "$0")/stream.sh" "$BUILD"
 
 echo "== cubecal demo (72 h simulated in memory, written, analyzed; target < 10 s)"

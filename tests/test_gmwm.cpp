@@ -152,5 +152,20 @@ TEST(Gmwm, RefusesWhatItCannotFit) {
   EXPECT_THROW(simulate_composite(CompositeModel{{Process{ProcessKind::gm, 1.0, 1.0}}}, 10, 1), UsageError);
 }
 
+TEST(Gmwm, AFitWithATermDrivenToZeroStartsABootstrapReplicate) {
+  // A fit can drive a term to exactly zero (its log-parameter underflows);
+  // the parametric bootstrap starts every replicate from that fit.
+  const CompositeModel m = truth("WN+GM");
+  const std::vector<double> y = simulate_composite(m, 1 << 14, 4);
+  const WaveletVariance wv = wavelet_variance(y);
+  GmwmOptions o;
+  o.start = m;
+  o.start->processes[0].value = 0.0;
+  const GmwmFit f = fit_gmwm(wv, parse_composite_model("WN+GM"), o);
+  EXPECT_TRUE(std::isfinite(f.objective));
+  o.start->processes[0].value = -1.0;  // a negative variance is no start
+  EXPECT_THROW(fit_gmwm(wv, parse_composite_model("WN+GM"), o), UsageError);
+}
+
 }  // namespace
 }  // namespace cubecal

@@ -1,7 +1,8 @@
 // cubecal model: the fit the command prints is the library's on the same
 // samples, a seeded composite record's terms come back in the units people
 // quote, the bootstrap is reproducible and does not depend on the threads,
-// and bad input is one error line with exit 2.
+// candidates are ranked by the WIC and the selected one fitted, and bad
+// input is one error line with exit 2.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -108,6 +109,41 @@ TEST_F(ModelCli, BootstrapIsReproducibleOnAnyThreadsAndHoldsTheTruth) {
   EXPECT_LT(std::abs(tc.at("value").get<double>() - 60.0), 4.0 * tc.at("sd").get<double>());
 }
 
+TEST_F(ModelCli, CandidatesAreRankedByTheWicAndTheSelectedOneIsFitted) {
+  std::vector<double> y;
+  const std::string file = record(100000, &y);
+  const std::string args = "model " + file + " --model WN,WN+RW,WN+GM,WN+2*GM --unit deg/s --format json "
+                           "--wic-replicates 20 --seed 3";
+  const CliRun one = run_cubecal(args + " --threads 1");
+  const CliRun two = run_cubecal(args + " --threads 2");
+  ASSERT_EQ(one.code, 0) << one.err;
+  EXPECT_EQ(one.out, two.out);  // the bootstrap's draws do not depend on the threads
+  const auto j = nlohmann::json::parse(one.out);
+  EXPECT_EQ(j.at("model"), "WN,WN+RW,WN+GM,WN+2*GM");
+  EXPECT_EQ(j.at("selection_replicates"), 20);
+  const auto& c = j.at("channels").at(0);
+  // The record is WN+GM with T_c = 60 s, 1700 correlation times long: the
+  // white noise alone and the random walk fit it far worse.
+  EXPECT_EQ(c.at("model"), "WN+GM");
+  const auto& cand = c.at("candidates");
+  ASSERT_EQ(cand.size(), 4u);
+  EXPECT_EQ(cand.at(0).at("model"), "WN+GM");
+  for (const auto& m : cand) {
+    EXPECT_NEAR(m.at("wic").get<double>(), m.at("loss").get<double>() + m.at("optimism").get<double>(), 1e-9);
+    EXPECT_EQ(m.at("replicates"), 20);
+    if (m.at("model") == "WN" || m.at("model") == "WN+RW") {
+      EXPECT_GT(m.at("wic").get<double>(), cand.at(0).at("wic").get<double>() + 10.0) << m.at("model");
+    }
+  }
+  // The reported fit is the lone fit's (reweighted) of the selected model,
+  // started from its common-weight fit: the same minimum a lone fit finds.
+  const GmwmFit lone = fit_gmwm(wavelet_variance(y), parse_composite_model("WN+GM"));
+  EXPECT_NEAR(c.at("objective").get<double>(), lone.objective, 1e-6 * lone.objective + 1e-9);
+  const CliRun t = run_cubecal("model " + file + " --model WN,WN+GM --unit deg/s --wic-replicates 10");
+  ASSERT_EQ(t.code, 0) << t.err;
+  EXPECT_NE(t.out.find("selected WN+GM of 2 candidates by the WIC"), std::string::npos) << t.out;
+}
+
 TEST_F(ModelCli, BadInputIsOneLine) {
   const std::string file = record(2000);
   CliRun r = run_cubecal("model " + file + " --model WN+XX");
@@ -119,6 +155,12 @@ TEST_F(ModelCli, BadInputIsOneLine) {
   r = run_cubecal("model " + file + " --model WN --bootstrap 1");
   EXPECT_TRUE(one_error_line(r)) << r.err;
   EXPECT_NE(r.err.find("--bootstrap"), std::string::npos) << r.err;
+  r = run_cubecal("model " + file + " --model WN+RW,RW+WN");
+  EXPECT_TRUE(one_error_line(r)) << r.err;
+  EXPECT_NE(r.err.find("named twice"), std::string::npos) << r.err;
+  r = run_cubecal("model " + file + " --model WN,WN+RW --wic-replicates 1");
+  EXPECT_TRUE(one_error_line(r)) << r.err;
+  EXPECT_NE(r.err.find("--wic-replicates"), std::string::npos) << r.err;
   r = run_cubecal("model " + file);
   EXPECT_EQ(r.code, 2) << r.err;
   EXPECT_NE(r.err.find("--model"), std::string::npos) << r.err;

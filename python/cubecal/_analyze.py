@@ -36,7 +36,8 @@ def _call_text(first, kwargs):
 
 
 def analyze(data, rate=None, unit=None, temperature=None, taus="log:10", ci=0.683, temp_order=1, drift_window=0.0,
-            cov_samples=0, max_samples=0, model_lsb=None, names=None, threads=0, psd=False, **read_options):
+            cov_samples=0, max_samples=0, model_lsb=None, names=None, threads=0, psd=False, composite=None,
+            composite_bootstrap=0, **read_options):
     """Static characterization of every channel, as `cubecal analyze`: fixed
     bias, OADEV with intervals, the noise terms (N, B, K, Q, R) by slope
     read-offs and the five-term fit, the paper's random-walk model and a
@@ -55,6 +56,13 @@ def analyze(data, rate=None, unit=None, temperature=None, taus="log:10", ci=0.68
     power spectral density (cubecal.psd's defaults), its power-law fit and
     the N, B, K it stands for beside the Allan curve's (to_dict()'s
     channels[i]["spectral"]).
+    composite: also a composite noise model beside the two sensor models, as
+    `cubecal analyze --composite`: True or "auto" (selected by the WIC among
+    the default candidates), a model ("WN+GM+RW") or candidates joined by
+    commas (to_dict()'s channels[i]["model"]["composite"]);
+    composite_bootstrap: replicates of its parametric-bootstrap
+    uncertainties (0: none). cubecal.simulate(analysis, bias="composite")
+    simulates it.
     Returns an Analysis.
     """
     args = _cubecal._AnalyzeArgs()
@@ -68,6 +76,13 @@ def analyze(data, rate=None, unit=None, temperature=None, taus="log:10", ci=0.68
     args.model_lsb = number_list(model_lsb)
     args.threads = int(threads)
     args.psd = bool(psd)
+    if composite is True:
+        composite = "auto"
+    if composite not in (None, False):
+        if not isinstance(composite, str):
+            raise _cubecal.UsageError("composite: True, \"auto\", a model such as \"WN+GM+RW\" or candidates")
+        args.composite = composite
+    args.composite_bootstrap = int(composite_bootstrap)
     # The call as the result's "command": every argument that changes the
     # analysis, so that it reproduces it (arrays are shown as <arrays>).
     shown = {"rate": rate, "unit": unit, "temperature": temperature if isinstance(temperature, str) else None,
@@ -75,7 +90,8 @@ def analyze(data, rate=None, unit=None, temperature=None, taus="log:10", ci=0.68
              "temp_order": temp_order if temp_order != 1 else None,
              "drift_window": drift_window or None, "cov_samples": cov_samples or None,
              "max_samples": max_samples or None, "model_lsb": model_lsb, "names": names,
-             "psd": True if psd else None}
+             "psd": True if psd else None, "composite": args.composite or None,
+             "composite_bootstrap": composite_bootstrap or None}
     if isinstance(data, (str, os.PathLike)):
         if names is not None:
             raise _cubecal.UsageError("names: give columns= to choose the columns of a file")

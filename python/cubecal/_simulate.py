@@ -14,18 +14,21 @@ def presets():
     return list(_cubecal._preset_names())
 
 
-def simulate(model, rate=None, duration=3600.0, seed=1, temperature="sine:25,5", bias="random-walk",
+def simulate(model, rate=None, duration=3600.0, seed=1, temperature="sine:25,5", bias=None,
              true_input=None, flicker=None):
     """A simulated record as a cubecal.Record (name -> NumPy array: t, the
     channels, temp), as `cubecal simulate` writes it.
 
     model: a preset name or a list of them (cubecal.presets()), an Analysis
-    from cubecal.analyze, or the path of an analysis.json. rate: Hz (default:
-    the analysis's rate, else 10 Hz; a model is rescaled to it, keeping its N
-    and K). duration: seconds, or "72h", "30m", "2d". temperature: "const:T",
+    from cubecal.analyze, the path of an analysis.json, or the path of the
+    JSON of `cubecal model --format json` (its composite models). rate: Hz
+    (default: the analysis's rate, else 10 Hz; a model is rescaled to it,
+    keeping its N and K; a composite model keeps N, Q, K, R, sigma_b, T_c). duration: seconds, or "72h", "30m", "2d". temperature: "const:T",
     "sine:MEAN,AMPLITUDE[,PERIOD_S]" (default "sine:25,5": 25 +- 5 degC over a
-    day, as the CLI) or one value per sample. bias: the bias
-    process taken from an analysis, "random-walk" or "gauss-markov".
+    day, as the CLI) or one value per sample. bias: the noise
+    model taken from an analysis, "random-walk" (the default), "gauss-markov"
+    or "composite" (analyze(composite=...): each term in its discrete-time
+    form at rate); a model result's is composite.
     true_input: (t, wx, wy, wz) arrays, the true rate of the gyro triad.
     flicker: bias instability B added as flicker noise to every axis (a
     flicker floor of 0.664 B in the Allan deviation): one B for all triads
@@ -48,7 +51,8 @@ def simulate(model, rate=None, duration=3600.0, seed=1, temperature="sine:25,5",
         a.rate = float(rate)
     a.duration = _cubecal._parse_duration(duration) if isinstance(duration, str) else float(duration)
     a.seed = int(seed)
-    a.bias = bias
+    if bias is not None:
+        a.bias = bias
     if isinstance(temperature, str):
         a.temperature = temperature
     else:

@@ -20,6 +20,7 @@
 #include "cubecal/io/output_path.hpp"
 #include "cubecal/noise/unit_from_name.hpp"
 #include "cubecal/noise/units.hpp"
+#include "cubecal/noise/wic.hpp"
 #include "cubecal/pipeline/analysis_output.hpp"
 #include "cubecal/pipeline/analyze.hpp"
 #include "module.hpp"
@@ -44,6 +45,8 @@ struct AnalyzeArgs {
   std::vector<double> model_lsb;
   unsigned threads = 0;
   bool psd = false;                 // the spectral view (analyze --psd)
+  std::string composite;            // the composite model (analyze --composite MODEL); empty: none
+  std::size_t composite_bootstrap = 0;
 };
 
 // The units of the channels: as given, else as the record announces them.
@@ -74,6 +77,17 @@ pipeline::AnalyzeRequest request(const AnalyzeArgs& a) {
   req.lsb = a.model_lsb;
   req.threads = a.threads;
   req.psd = a.psd;
+  if (!a.composite.empty()) {
+    pipeline::ModelRequest m;
+    m.model = a.composite;
+    // A selection scores its candidates by the WIC's asymptotic optimism:
+    // seconds, where the bootstrap's takes a minute per channel of a 72 h
+    // record (`cubecal model --wic-replicates` has the bootstrap).
+    m.selection_replicates = 0;
+    (void)parse_candidate_models(m.model);  // a typo fails before the reading
+    m.bootstrap = a.composite_bootstrap;
+    req.composite = std::move(m);
+  }
   return req;
 }
 
@@ -168,7 +182,9 @@ void bind_analyze(py::module_& m) {
       .def_readwrite("max_samples", &AnalyzeArgs::max_samples)
       .def_readwrite("model_lsb", &AnalyzeArgs::model_lsb)
       .def_readwrite("threads", &AnalyzeArgs::threads)
-      .def_readwrite("psd", &AnalyzeArgs::psd);
+      .def_readwrite("psd", &AnalyzeArgs::psd)
+      .def_readwrite("composite", &AnalyzeArgs::composite)
+      .def_readwrite("composite_bootstrap", &AnalyzeArgs::composite_bootstrap);
   m.def("_analyze_file", &analyze_file, py::arg("path"), py::arg("read"), py::arg("args"), py::arg("temperature"));
   m.def("_analyze_arrays", &analyze_arrays, py::arg("channels"), py::arg("names"), py::arg("rate"), py::arg("args"),
         py::arg("temperature"), py::arg("temp_name"), py::arg("label"));

@@ -28,9 +28,12 @@ struct ModelArgs {
   std::string model;
   std::vector<std::string> units;
   std::size_t bootstrap = 0;
+  std::size_t wic_replicates = 50;
   std::uint64_t seed = 1;
   double ci = 0.95;
   std::size_t starts = 32;
+  bool robust = false;
+  double efficiency = 0.6;
   unsigned threads = 0;
 };
 
@@ -38,13 +41,16 @@ std::string model(const std::optional<std::string>& path, const ReadArgs& read, 
                   const std::vector<std::string>& names, double rate, const ModelArgs& a) {
   pipeline::ModelRequest req;
   req.model = a.model;
-  (void)parse_composite_model(a.model);  // a typo fails before the reading
+  (void)parse_candidate_models(a.model);  // a typo fails before the reading
+  req.selection_replicates = a.wic_replicates;
   req.units = named_units(a.units);
   if (a.starts < 1) throw UsageError("starts", "give at least one starting point");
   req.bootstrap = a.bootstrap;
   req.seed = a.seed;
   req.ci = a.ci;
   req.gmwm.starts = a.starts;
+  req.robust = a.robust;
+  req.robust_efficiency = a.efficiency;
   req.threads = a.threads;
   py::gil_scoped_release free;
   const io::Series s = call_record(path, read, channels, names, rate);
@@ -60,9 +66,12 @@ void bind_model(py::module_& m) {
       .def_readwrite("model", &ModelArgs::model)
       .def_readwrite("units", &ModelArgs::units)
       .def_readwrite("bootstrap", &ModelArgs::bootstrap)
+      .def_readwrite("wic_replicates", &ModelArgs::wic_replicates)
       .def_readwrite("seed", &ModelArgs::seed)
       .def_readwrite("ci", &ModelArgs::ci)
       .def_readwrite("starts", &ModelArgs::starts)
+      .def_readwrite("robust", &ModelArgs::robust)
+      .def_readwrite("efficiency", &ModelArgs::efficiency)
       .def_readwrite("threads", &ModelArgs::threads);
   m.def("_model", &model, py::arg("path"), py::arg("read"), py::arg("channels"), py::arg("names"), py::arg("rate"),
         py::arg("args"), "`cubecal model --format json` of a file or of arrays");

@@ -19,6 +19,7 @@
 #include "cubecal/error.hpp"
 #include "cubecal/io/series.hpp"
 #include "cubecal/pipeline/analysis_json.hpp"
+#include "cubecal/pipeline/model_fit_json.hpp"
 #include "cubecal/pipeline/simulate.hpp"
 #include "cubecal/sim/presets.hpp"
 #include "module.hpp"
@@ -32,8 +33,10 @@ namespace {
 struct SimulateArgs {
   std::vector<std::string> presets;
   std::optional<AnalysisHandle> analysis;
-  std::string model_file;            // analysis.json
-  std::string bias = "random-walk";  // or "gauss-markov": the bias process taken from an analysis
+  std::string model_file;            // analysis.json, or a `cubecal model` result's JSON
+  // The noise model taken from an analysis: "random-walk" (empty: the
+  // default), "gauss-markov" or "composite"; a model result's is composite.
+  std::string bias;
   double rate = 0.0;                 // 0: the analysis's rate, else 10 Hz
   double duration = 3600.0;          // seconds
   std::uint64_t seed = 1;
@@ -97,12 +100,18 @@ TemperatureProfile temperature(const SimulateArgs& a) {
                    "temperature must be \"const:T\", \"sine:MEAN,AMPLITUDE[,PERIOD_S]\" or an array, not '" + spec + "'");
 }
 
-pipeline::AnalysisResult read_model_file(const std::string& path) {
+// An analysis.json, or the JSON of `cubecal model` (its "command" is "model").
+void read_model_file(const std::string& path, std::optional<pipeline::AnalysisResult>& analysis,
+                     std::optional<pipeline::ModelResult>& model) {
   std::ifstream in(path);
   if (!in) throw UsageError("model", "cannot read " + path);
   std::stringstream ss;
   ss << in.rdbuf();
-  return pipeline::parse_analysis_json(ss.str(), path).result;
+  const nlohmann::json j = nlohmann::json::parse(ss.str(), nullptr, false);
+  if (j.is_object() && j.contains("command") && j["command"] == "model")
+    model = pipeline::model_result_from_json(j, path);
+  else
+    analysis = pipeline::parse_analysis_json(ss.str(), path).result;
 }
 
 py::tuple simulate(const SimulateArgs& a) {
@@ -114,9 +123,11 @@ py::tuple simulate(const SimulateArgs& a) {
   // The model's sigma_n and sigma_mu hold per sample at the rate it was
   // measured at: without a rate (and without presets) simulate at that rate.
   std::optional<pipeline::AnalysisResult> from_file;
-  if (!a.model_file.empty()) from_file = read_model_file(a.model_file);
+  std::optional<pipeline::ModelResult> composite_file;
+  if (!a.model_file.empty()) read_model_file(a.model_file, from_file, composite_file);
   const pipeline::AnalysisResult* model = a.analysis ? a.analysis->result.get() : from_file ? &*from_file : nullptr;
   if (!rate_given && a.presets.empty() && model != nullptr) req.rate_hz = model->rate_hz;
+  if (!rate_given && a.presets.empty() && composite_file) req.rate_hz = composite_file->rate_hz;
   for (const auto& name : a.presets) {
     try {
       req.triads.push_back(pipeline::model_at_rate(preset(name), kPresetRateHz, req.rate_hz));
@@ -126,12 +137,22 @@ py::tuple simulate(const SimulateArgs& a) {
       throw UsageError("model", "unknown preset '" + name + "' (known: " + known + ")");
     }
   }
-  if (a.bias != "random-walk" && a.bias != "gauss-markov")
-    throw UsageError("bias", "bias must be \"random-walk\" or \"gauss-markov\"");
-  if (model != nullptr)
-    for (auto& t : pipeline::models_from_analysis(*model, a.model_file.empty() ? "the analysis" : a.model_file,
-                                                  a.bias == "gauss-markov", req.rate_hz))
+  if (!a.bias.empty() && a.bias != "random-walk" && a.bias != "gauss-markov" && a.bias != "composite")
+    throw UsageError("bias", "bias must be \"random-walk\", \"gauss-markov\" or \"composite\"");
+  if (model != nullptr) {
+    const std::string label = a.analysis ? std::string("the analysis") : a.model_file;
+    for (auto& t : a.bias == "composite"
+                       ? pipeline::models_from_composite(*model, label, req.rate_hz)
+                       : pipeline::models_from_analysis(*model, label, a.bias == "gauss-markov", req.rate_hz))
       req.triads.push_back(std::move(t));
+  }
+  if (composite_file) {
+    if (!a.bias.empty() && a.bias != "composite")
+      throw UsageError("bias", a.model_file + " is a cubecal model result, which holds composite models only "
+                                              "(bias=\"composite\", or leave bias out)");
+    for (auto& t : pipeline::models_from_composite(*composite_file, a.model_file, req.rate_hz))
+      req.triads.push_back(std::move(t));
+  }
   if (req.triads.empty()) throw UsageError("model", "nothing to simulate: give a preset or an analysis");
   if (!a.flicker.empty()) {
     if (a.flicker.size() != 1 && a.flicker.size() != req.triads.size())

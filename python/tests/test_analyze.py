@@ -133,5 +133,40 @@ class AnalyzePsd(unittest.TestCase):
         self.assertNotIn("psd=", a.command)
 
 
+class AnalyzeComposite(unittest.TestCase):
+    """composite=: the composite noise model as `analyze --composite` writes it, and
+    cubecal.simulate(analysis, bias="composite") at another rate."""
+
+    def test_equals_cli_and_simulates_at_another_rate(self):
+        with tempfile.TemporaryDirectory() as d:
+            csv = os.path.join(d, "gyro.csv")
+            cli("simulate", "--preset", "sport-gyro", "--rate", 10, "--duration", "2h", "--seed", 4, "--out", csv)
+            out = os.path.join(d, "cli")
+            cli("analyze", csv, "--columns", "gx", "--unit", "deg/s", "--composite", "WN+RW",
+                "--composite-bootstrap", 16, "--out", out)
+            with open(os.path.join(out, "analysis.json")) as f:
+                want = json.load(f)
+            a = cubecal.analyze(csv, unit="deg/s", columns="gx", composite="WN+RW", composite_bootstrap=16)
+        got = a.to_dict()
+        self.assertEqual(without(got, "command"), without(want, "command"))
+        self.assertIn("composite='WN+RW'", a.command)
+        self.assertEqual(got["composite"]["bootstrap"], 16)
+        comp = got["channels"][0]["model"]["composite"]
+        self.assertEqual(comp["model"], "WN+RW")
+        # The white noise is the preset's (13.9e-3 deg/s per sample with its
+        # quantizer's 1/(12 lsb^2)), within 3 bootstrap sigmas.
+        n = comp["terms"][0]["quantities"][0]
+        self.assertEqual(n["name"], "N")
+        truth = np.sqrt((13.9e-3 ** 2 + 1.0 / (12 * 145.6 ** 2)) * 0.1)  # deg/sqrt(s)
+        self.assertLess(abs(n["value"] - truth), 3 * n["sd"], (n["value"], truth, n["sd"]))
+        # Simulated at 20 Hz: the model's Allan deviation at 1 s, the measured one within 10 %.
+        rec = cubecal.simulate(a, bias="composite", rate=20, duration=1200, seed=2)
+        self.assertEqual(list(rec), ["t", "gx", "temp"])
+        self.assertEqual(rec.rate_hz, 20.0)
+        twin = cubecal.dev(rec["gx"], rate=20.0, taus=[1.0])
+        measured = a.channels[0].adev
+        self.assertAlmostEqual(twin.dev[0] / measured.dev[measured.tau.tolist().index(1.0)], 1.0, delta=0.1)
+
+
 if __name__ == "__main__":
     unittest.main()

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
+#include <cmath>
 #include <iostream>
 
 #include "commands.hpp"
@@ -22,9 +23,12 @@ struct ModelOptions {
   std::string model;
   std::string unit;
   std::size_t bootstrap = 0;
+  std::size_t wic_replicates = 50;
   std::uint64_t seed = 1;
   double ci = 0.95;
   std::size_t starts = 32;
+  bool robust = false;
+  double efficiency = 0.6;
   std::string format = "table";
   std::string out;
   bool force = false;
@@ -42,8 +46,10 @@ std::string term_title(ProcessKind k) {
 }
 
 void write_table(std::ostream& out, const pipeline::ModelResult& r) {
-  fmt::print(out, "model {} of {}: {} channel(s), {} samples at {} Hz, GMWM on the Haar wavelet variance\n", r.model,
-             r.file.empty() ? "-" : r.file, r.channels.size(), r.samples, rate_text(r.rate_hz));
+  fmt::print(out, "model {} of {}: {} channel(s), {} samples at {} Hz, GMWM on the {}Haar wavelet variance{}\n",
+             r.model, r.file.empty() ? "-" : r.file, r.channels.size(), r.samples, rate_text(r.rate_hz),
+             r.robust ? "robust " : "",
+             r.robust ? fmt::format(" (biweight, Gaussian efficiency {:g})", r.robust_efficiency) : std::string());
   if (r.bootstrap > 0)
     fmt::print(out, "uncertainties: parametric bootstrap, {} replicates (seed {}): sd and {:g} % percentile interval\n",
                r.bootstrap, r.seed, 100.0 * r.ci);
@@ -52,15 +58,34 @@ void write_table(std::ostream& out, const pipeline::ModelResult& r) {
                c.unit.name.empty() ? "no unit given" : c.unit.name, c.fit.objective, c.wv.size(),
                c.fit.converged ? "" : " (the optimiser stopped before its convergence tests held)",
                r.bootstrap > 0 ? fmt::format(", {} replicates fitted", c.replicates) : std::string());
+    if (!c.candidates.empty()) {
+      fmt::print(out, "  selected {} of {} candidates by the WIC (loss + optimism, {}):\n", c.model,
+                 c.candidates.size() + c.failed.size(),
+                 r.selection_replicates > 0 ? fmt::format("{} bootstrap replicates each", r.selection_replicates)
+                                            : std::string("asymptotic optimism"));
+      fmt::print(out, "    {:<16} {:>6} {:>12} {:>12} {:>12}\n", "candidate", "params", "WIC", "loss", "optimism");
+      for (const auto& m : c.candidates)
+        fmt::print(out, "    {:<16} {:>6} {:>12.5g} {:>12.5g} {:>12.5g}\n", m.model, m.parameters, m.score.wic,
+                   m.score.loss, m.score.optimism);
+      for (const auto& f : c.failed) fmt::print(out, "    left out: {}\n", f);
+      fmt::print(out, "  {}:\n", c.model);
+    }
+    const bool boot = r.bootstrap > 0 && c.replicates >= 2;
+    fmt::print(out, "  {:<18} {:<8} {:>12} {:>10}   {}\n", "term", "", "value", "asym. sd",
+               boot ? "± bootstrap sd [interval] unit" : "unit");
     for (const auto& t : c.terms)
       for (std::size_t i = 0; i < t.quantities.size(); ++i) {
         const auto& q = t.quantities[i];
         const std::string title = i == 0 ? term_title(t.kind) : "";
-        if (r.bootstrap > 0 && c.replicates >= 2)
-          fmt::print(out, "  {:<18} {:<8} {:>12.5g} ± {:<10.3g} [{:.5g}, {:.5g}] {}\n", title, q.name,
-                     q.display.value, q.display.sigma, q.display_lo, q.display_hi, q.display.unit);
+        // The sandwich sd (noise/gmwm_asymptotics.hpp); "-" where the fit does not determine it.
+        const std::string asym =
+            std::isfinite(q.display_asymptotic_sd) ? fmt::format("{:.3g}", q.display_asymptotic_sd) : "-";
+        if (boot)
+          fmt::print(out, "  {:<18} {:<8} {:>12.5g} {:>10}   ± {:<10.3g} [{:.5g}, {:.5g}] {}\n", title, q.name,
+                     q.display.value, asym, q.display.sigma, q.display_lo, q.display_hi, q.display.unit);
         else
-          fmt::print(out, "  {:<18} {:<8} {:>12.5g} {}\n", title, q.name, q.display.value, q.display.unit);
+          fmt::print(out, "  {:<18} {:<8} {:>12.5g} {:>10}   {}\n", title, q.name, q.display.value, asym,
+                     q.display.unit);
       }
     fmt::print(out, "  {:>12} {:>14} {:>14} {:>14} {:>14} {:>8}\n", "tau [s]", "WV", "lo", "hi", "model", "edf");
     for (std::size_t j = 0; j < c.wv.size(); ++j)
@@ -72,12 +97,15 @@ void write_table(std::ostream& out, const pipeline::ModelResult& r) {
 int run_model_command(const ModelOptions& o) {
   pipeline::ModelRequest req;
   req.model = o.model;
-  (void)parse_composite_model(o.model);  // a typo fails before the reading
+  req.selection_replicates = o.wic_replicates;
+  (void)parse_candidate_models(o.model);  // a typo fails before the reading
   if (!o.unit.empty()) req.units = parse_units(o.unit);
   req.bootstrap = o.bootstrap;
   req.seed = o.seed;
   req.ci = o.ci;
   req.gmwm.starts = o.starts;
+  req.robust = o.robust;
+  req.robust_efficiency = o.efficiency;
   req.threads = o.input.threads;
   ResultOutput result(o.out, o.force);  // refuses an unusable --out before the work
   io::SeriesOptions so = to_series_options(o.input);
@@ -116,8 +144,15 @@ CLI::App* add_model_command(CLI::App& app, Command& run) {
   add_input_options(*cmd, opt->input);
   cmd->add_option("--model", opt->model,
                   "The model's terms joined by +: WN, QN, RW, DR, GM (or AR1), k*GM for k Gauss-Markov terms; "
-                  "e.g. WN+RW+2*GM")
+                  "e.g. WN+RW+2*GM. Several models joined by commas (WN+RW,WN+GM) are candidates: each channel "
+                  "gets the one with the lowest Wavelet Information Criterion; auto: the candidates WN, WN+RW, "
+                  "WN+GM, WN+QN+RW, WN+QN+GM, WN+GM+RW, WN+2*GM, WN+2*GM+RW, WN+QN+GM+RW")
       ->required();
+  cmd->add_option("--wic-replicates", opt->wic_replicates,
+                  "Bootstrap replicates of each candidate's WIC optimism, with several candidates (0: the "
+                  "optimism's asymptotic form, no simulation)")
+      ->check(whole_number(0, 100000))
+      ->capture_default_str();
   cmd->add_option("--unit", opt->unit,
                   "Unit of the values (after --lsb): " + known_units() +
                       "; one for all columns or one per column. Default: from the column names' suffixes; rate "
@@ -135,6 +170,16 @@ CLI::App* add_model_command(CLI::App& app, Command& run) {
       ->capture_default_str();
   cmd->add_option("--starts", opt->starts, "Starting points of the optimiser (the best fit is kept)")
       ->check(whole_number(1, 10000))
+      ->capture_default_str();
+  CLI::Option* robust =
+      cmd->add_flag("--robust", opt->robust,
+                    "Robust wavelet variance: a biweight M-estimate of each scale's Haar coefficients instead of their "
+                    "mean square, so that spikes and bad samples do not dominate the fit (protects the scales where "
+                    "the outlying share of samples times the scale stays small)");
+  cmd->add_option("--efficiency", opt->efficiency,
+                  "Gaussian efficiency of the robust wavelet variance (lower: more robust, wider intervals)")
+      ->check(number_between(0.0, 1.0))
+      ->needs(robust)
       ->capture_default_str();
   cmd->add_option("--format", opt->format, "Output format")
       ->check(CLI::IsMember({"table", "json"}))

@@ -20,6 +20,7 @@
 #include "cubecal/io/output_path.hpp"
 #include "cubecal/io/series.hpp"
 #include "cubecal/pipeline/analysis_json.hpp"
+#include "cubecal/pipeline/model_fit_json.hpp"
 #include "cubecal/pipeline/simulate.hpp"
 #include "cubecal/pipeline/simulate_size.hpp"
 #include "cubecal/sim/presets.hpp"
@@ -33,6 +34,7 @@ struct SimulateOptions {
   std::string presets;
   std::string model_file;
   std::string bias = "random-walk";
+  bool bias_given = false;   // --bias on the command line (a model.json takes composite without it)
   double rate_hz = 10.0;
   bool rate_given = false;   // --rate on the command line (else: the model's rate, or 10 Hz)
   std::string duration = "1h";
@@ -195,13 +197,27 @@ int run_simulate(const SimulateOptions& o) {
     if (!in) throw UsageError("cannot read " + o.model_file);
     std::stringstream ss;
     ss << in.rdbuf();
-    const pipeline::AnalysisDocument doc = pipeline::parse_analysis_json(ss.str(), o.model_file);
-    // The model's sigma_n and sigma_mu hold per sample at the rate it was
-    // measured at; without --rate (and without presets, which then keep the
-    // default 10 Hz) simulate at that rate, else rescale to --rate.
-    if (!o.rate_given && req.triads.empty()) req.rate_hz = doc.result.rate_hz;
-    for (auto& m : pipeline::models_from_analysis(doc.result, o.model_file, o.bias == "gauss-markov", req.rate_hz))
-      req.triads.push_back(std::move(m));
+    // The model's parameters hold per sample at the rate it was measured
+    // at; without --rate (and without presets, which then keep the default
+    // 10 Hz) simulate at that rate, else convert to --rate.
+    const nlohmann::json j = nlohmann::json::parse(ss.str(), nullptr, false);
+    std::vector<TriadModel> models;
+    if (j.is_object() && j.contains("command") && j["command"] == "model") {
+      // `cubecal model --format json`: composite models only.
+      if (o.bias_given && o.bias != "composite")
+        throw UsageError("--bias: " + o.model_file + " is a `cubecal model` result, which holds composite models "
+                         "only (--bias composite, or leave --bias out)");
+      const pipeline::ModelResult m = pipeline::model_result_from_json(j, o.model_file);
+      if (!o.rate_given && req.triads.empty()) req.rate_hz = m.rate_hz;
+      models = pipeline::models_from_composite(m, o.model_file, req.rate_hz);
+    } else {
+      const pipeline::AnalysisDocument doc = pipeline::parse_analysis_json(ss.str(), o.model_file);
+      if (!o.rate_given && req.triads.empty()) req.rate_hz = doc.result.rate_hz;
+      models = o.bias == "composite"
+                   ? pipeline::models_from_composite(doc.result, o.model_file, req.rate_hz)
+                   : pipeline::models_from_analysis(doc.result, o.model_file, o.bias == "gauss-markov", req.rate_hz);
+    }
+    for (auto& m : models) req.triads.push_back(std::move(m));
   }
   if (req.triads.empty()) throw UsageError("nothing to simulate: give --preset and/or --model");
   if (!o.flicker.empty()) {
@@ -260,12 +276,19 @@ CLI::App* add_simulate_command(CLI::App& app, Command& run) {
   CLI::App* cmd = app.add_subcommand(
       "simulate", "Simulate sensor records from presets (the paper's gyro and magnetometer) or from an "
                   "analyze result: white noise, bias random walk or Gauss-Markov, turn-on bias, "
-                  "temperature, scale factor, quantization");
+                  "temperature, scale factor, quantization; or a composite noise model (analyze --composite, "
+                  "cubecal model)");
   cmd->add_option("--preset", opt->presets, "Comma-separated presets: " + presets);
-  cmd->add_option("--model", opt->model_file, "analysis.json from cubecal analyze: simulate the measured sensor");
-  cmd->add_option("--bias", opt->bias, "Bias process taken from --model: random-walk (the paper's) or gauss-markov")
-      ->check(CLI::IsMember({"random-walk", "gauss-markov"}))
-      ->capture_default_str();
+  cmd->add_option("--model", opt->model_file,
+                  "analysis.json from cubecal analyze: simulate the measured sensor; or the JSON of cubecal model "
+                  "(--format json): simulate its composite models");
+  CLI::Option* bias =
+      cmd->add_option("--bias", opt->bias,
+                      "Noise model taken from --model: random-walk (the paper's), gauss-markov, or composite (the "
+                      "composite model of analyze --composite, each term in its discrete-time form at --rate; the "
+                      "only one of a cubecal model result)")
+          ->check(CLI::IsMember({"random-walk", "gauss-markov", "composite"}))
+          ->capture_default_str();
   CLI::Option* rate = cmd->add_option("--rate", opt->rate_hz,
                                       "Sampling rate in Hz (default: the rate of --model, else 10 Hz); a model is "
                                       "rescaled to it, keeping its N and K")
@@ -292,8 +315,9 @@ CLI::App* add_simulate_command(CLI::App& app, Command& run) {
       ->check(CLI::IsMember({"csv", "raw"}))
       ->capture_default_str();
   cmd->add_flag("--force", opt->force, "Replace --out if it exists, and write a record larger than 2 GB of text");
-  cmd->callback([opt, rate, &run] {
+  cmd->callback([opt, rate, bias, &run] {
     opt->rate_given = rate->count() > 0;
+    opt->bias_given = bias->count() > 0;
     run = [opt] { return run_simulate(*opt); };
   });
   return cmd;

@@ -60,6 +60,8 @@ std::string usage_message(const cubecal::UsageError& e) {
       {"psd", "--psd"},
       {"model", "--model"},
       {"bootstrap", "--bootstrap"},
+      {"wic_replicates", "--wic-replicates"},
+      {"efficiency", "--efficiency"},
       {"ci", "--ci"},
   };
   for (const auto& [option, flag] : kFlags)

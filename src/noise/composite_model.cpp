@@ -86,6 +86,12 @@ std::string_view to_string(ProcessKind k) noexcept {
   return "?";
 }
 
+std::size_t parameter_count(const CompositeModel& model) noexcept {
+  std::size_t k = 0;
+  for (const Process& p : model.processes) k += p.kind == ProcessKind::gm ? 2 : 1;
+  return k;
+}
+
 std::string model_name(const CompositeModel& model) {
   std::string out;
   std::size_t i = 0;

@@ -8,6 +8,7 @@
 #include <limits>
 #include <numeric>
 #include <random>
+#include <stdexcept>
 
 #include "../detail/levenberg_marquardt.hpp"
 #include "cubecal/error.hpp"
@@ -18,14 +19,11 @@ namespace {
 
 using Eigen::VectorXd;
 
-// a = -ln(phi) above this is a white sequence to the last digit (phi < 1e-21).
+// a = -ln(phi) above this is a white sequence to the last digit (phi < 1e-21);
+// below this (a correlation time beyond 1e12 samples) a random walk on any
+// record, and phi = exp(-a) must stay below 1 in double precision.
 constexpr double kMaxLogA = 3.9;
-
-std::size_t parameter_count(const CompositeModel& m) {
-  std::size_t k = 0;
-  for (const Process& p : m.processes) k += p.kind == ProcessKind::gm ? 2 : 1;
-  return k;
-}
+constexpr double kMinLogA = -27.6;  // ln(1e-12)
 
 // The wavelet variance of the model with log-parameters theta at tau.
 double model_wv(const CompositeModel& structure, const VectorXd& theta, double tau) {
@@ -34,7 +32,7 @@ double model_wv(const CompositeModel& structure, const VectorXd& theta, double t
   for (const Process& p : structure.processes) {
     const double v = std::exp(theta(k++));
     if (p.kind == ProcessKind::gm)
-      sum += gauss_markov_wavelet_variance(std::exp(std::min(theta(k++), kMaxLogA)), v, tau);
+      sum += gauss_markov_wavelet_variance(std::exp(std::clamp(theta(k++), kMinLogA, kMaxLogA)), v, tau);
     else  // DR's parameter is omega, its logarithm omega^2's
       sum += haar_wavelet_variance(Process{p.kind, p.kind == ProcessKind::dr ? std::sqrt(v) : v, 0.0}, tau);
   }
@@ -48,7 +46,7 @@ CompositeModel to_model(const CompositeModel& structure, const VectorXd& theta) 
     const double v = std::exp(theta(k++));
     if (p.kind == ProcessKind::gm) {
       p.value = v;
-      p.phi = std::exp(-std::exp(std::min(theta(k++), kMaxLogA)));
+      p.phi = std::exp(-std::exp(std::clamp(theta(k++), kMinLogA, kMaxLogA)));
     } else {
       p.value = p.kind == ProcessKind::dr ? std::sqrt(v) : v;
     }
@@ -72,11 +70,14 @@ VectorXd theta_of(const CompositeModel& structure, const CompositeModel& m) {
   VectorXd theta(static_cast<Eigen::Index>(parameter_count(structure)));
   Eigen::Index k = 0;
   for (const Process& p : m.processes) {
-    const bool ok = p.kind == ProcessKind::dr ? p.value != 0.0 && std::isfinite(p.value)
-                                               : p.value > 0.0 && std::isfinite(p.value) &&
+    // A term a fit drove to zero (its log-parameter underflowed) starts at
+    // the smallest one: a bootstrap replicate from such a fit is a fit too.
+    const bool ok = p.kind == ProcessKind::dr ? std::isfinite(p.value)
+                                               : p.value >= 0.0 && std::isfinite(p.value) &&
                                                      (p.kind != ProcessKind::gm || (p.phi > 0.0 && p.phi < 1.0));
-    if (!ok) throw UsageError("model", "the start " + model_name(m) + " has a parameter at or beyond its range");
-    theta(k++) = p.kind == ProcessKind::dr ? std::log(p.value * p.value) : std::log(p.value);
+    if (!ok) throw UsageError("model", "the start " + model_name(m) + " has a parameter beyond its range");
+    constexpr double kSmallest = 1e-300;
+    theta(k++) = std::log(std::max(p.kind == ProcessKind::dr ? p.value * p.value : p.value, kSmallest));
     if (p.kind == ProcessKind::gm) theta(k++) = std::log(-std::log(p.phi));
   }
   return theta;
@@ -174,8 +175,14 @@ GmwmFit fit_gmwm(const WaveletVariance& wv, const CompositeModel& structure, con
   std::mt19937_64 engine(options.seed);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
 
-  // Every start is judged with the same weights (from the curve itself).
-  const std::vector<double> sd0 = weights_at(wv, wv.nu2);
+  // Every start is judged with the same weights (from the curve itself,
+  // or the fixed ones asked for).
+  const bool fixed = !options.fixed_sd.empty();
+  if (fixed && (options.fixed_sd.size() != wv.size() ||
+                !std::all_of(options.fixed_sd.begin(), options.fixed_sd.end(),
+                             [](double s) { return s > 0.0 && std::isfinite(s); })))
+    throw std::invalid_argument("fit_gmwm: fixed_sd needs one positive, finite value per scale");
+  const std::vector<double> sd0 = fixed ? options.fixed_sd : weights_at(wv, wv.nu2);
   Run best;
   const std::size_t starts = options.start ? 0 : std::max<std::size_t>(options.starts, 1);
   if (options.start)
@@ -199,7 +206,7 @@ GmwmFit fit_gmwm(const WaveletVariance& wv, const CompositeModel& structure, con
   // measured one (which would favour the points that came out low).
   std::vector<double> ref(wv.size());
   std::vector<double> sd = sd0;
-  for (std::size_t pass = 0; pass < options.reweightings; ++pass) {
+  for (std::size_t pass = 0; pass < (fixed ? 0 : options.reweightings); ++pass) {
     for (std::size_t j = 0; j < wv.size(); ++j) ref[j] = model_wv(structure, best.theta, wv.tau[j]);
     sd = weights_at(wv, ref);
     Run run = minimise(structure, wv, sd, best.theta, options.max_iterations);

@@ -437,4 +437,29 @@ ModelResidual residual(const GaussMarkovModel& model, const AllanCurve& curve) {
   return residual_impl(model, curve, "Gauss-Markov model residual");
 }
 
+double avar(const CompositeModel& model, std::size_t m) noexcept {
+  return m == 0 ? kNaN : 2.0 * haar_wavelet_variance(model, 2.0 * static_cast<double>(m));
+}
+
+double avar(const Process& process, std::size_t m) noexcept {
+  return m == 0 ? kNaN : 2.0 * haar_wavelet_variance(process, 2.0 * static_cast<double>(m));
+}
+
+namespace {
+
+// A composite model at its period, as residual_impl reads a model.
+struct CompositeAtPeriod {
+  const CompositeModel& model;
+  double dt = 0.0;
+  double lsb = 0.0;  // none: quantization is a process of the model (QN)
+};
+
+double avar(const CompositeAtPeriod& c, std::size_t m) noexcept { return avar(c.model, m); }
+
+}  // namespace
+
+ModelResidual residual(const CompositeModel& model, double dt, const AllanCurve& curve) {
+  return residual_impl(CompositeAtPeriod{model, dt}, curve, "composite model residual");
+}
+
 }  // namespace cubecal

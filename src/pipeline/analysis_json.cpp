@@ -3,6 +3,7 @@
 #include "cubecal/pipeline/psd_json.hpp"
 
 #include <cmath>
+#include <string>
 #include <cstdint>
 #include <limits>
 #include <memory>
@@ -11,12 +12,14 @@
 #include "cubecal/error.hpp"
 #include "cubecal/noise/bias_verdict.hpp"
 #include "cubecal/pipeline/psd_json.hpp"
+#include "cubecal/pipeline/model_fit_json.hpp"
 #include "cubecal/pipeline/spectral_analysis.hpp"
 #include "cubecal/spectral/allan_conversion.hpp"
 #include "cubecal/spectral/density_unit.hpp"
 #include "cubecal/noise/reported_terms.hpp"
 #include "cubecal/stats/allan_curve.hpp"
 #include "detail/curve_json.hpp"
+#include "detail/json_node.hpp"
 
 namespace cubecal::pipeline {
 
@@ -274,72 +277,7 @@ std::string_view edf_name(EdfMethod m) { return m == EdfMethod::simple ? "simple
 // ---------------------------------------------------------------------------
 // Reading: every access names its place in the document.
 
-class Node {
- public:
-  Node(const json& j, std::string path, const std::string& label) : j_(j), path_(std::move(path)), label_(label) {}
-
-  [[noreturn]] void fail(const std::string& what) const {
-    throw UsageError(label_ + ": " + (path_.empty() ? std::string() : path_ + ": ") + what +
-                     " (not an analysis result written by cubecal)");
-  }
-  bool has(const char* key) const { return j_.is_object() && j_.contains(key) && !j_[key].is_null(); }
-  Node at(const char* key) const {
-    if (!j_.is_object()) fail("not an object");
-    const auto it = j_.find(key);
-    if (it == j_.end()) fail(std::string("no key '") + key + "'");
-    return Node(*it, path_.empty() ? std::string(key) : path_ + "." + key, label_);
-  }
-  Node at(std::size_t i) const {
-    if (!j_.is_array() || i >= j_.size()) fail("no element " + std::to_string(i));
-    return Node(j_[i], path_ + "[" + std::to_string(i) + "]", label_);
-  }
-  std::size_t size() const {
-    if (!j_.is_array()) fail("not an array");
-    return j_.size();
-  }
-  // A number; null (how JSON writes a NaN) reads as NaN.
-  double num() const {
-    if (j_.is_null()) return std::numeric_limits<double>::quiet_NaN();
-    if (!j_.is_number()) fail("not a number");
-    return j_.get<double>();
-  }
-  std::size_t count() const {
-    if (!j_.is_number_unsigned() && !(j_.is_number_integer() && j_.get<long long>() >= 0)) fail("not a count");
-    return j_.get<std::size_t>();
-  }
-  // An integer in [lo, hi]: a number out of range, or with a fraction, is
-  // refused (casting it would be undefined).
-  int integer(int lo, int hi) const {
-    const double v = num();
-    if (!(v >= lo && v <= hi) || v != std::floor(v))
-      fail("not a whole number from " + std::to_string(lo) + " to " + std::to_string(hi));
-    return static_cast<int>(v);
-  }
-  bool boolean() const {
-    if (!j_.is_boolean()) fail("not true or false");
-    return j_.get<bool>();
-  }
-  std::string str() const {
-    if (!j_.is_string()) fail("not a string");
-    return j_.get<std::string>();
-  }
-  std::vector<double> nums() const {
-    std::vector<double> v(size());
-    for (std::size_t i = 0; i < v.size(); ++i) v[i] = at(i).num();
-    return v;
-  }
-  double num(const char* key) const { return at(key).num(); }
-  double num_or(const char* key, double fallback) const { return has(key) ? at(key).num() : fallback; }
-  std::string str_or(const char* key, const std::string& fallback) const {
-    return has(key) ? at(key).str() : fallback;
-  }
-  const json& raw() const { return j_; }
-
- private:
-  const json& j_;
-  std::string path_;
-  const std::string& label_;
-};
+using Node = detail::JsonNode;
 
 // Listed taus left out of a curve ("excluded_taus": tau_s, af, needs_samples,
 // samples, reason) and merged with an earlier one ("merged_taus": tau_s,
@@ -688,6 +626,13 @@ AnalysisResult read_result(const json& doc, const std::string& label) {
     }
     if (version < 2) reread_white_noise(ch.noise);
     ch.model = read_model(cj.at("model"), ch, dt);
+    if (cj.at("model").has("composite")) {
+      const Node m = cj.at("model").at("composite");
+      ch.model.composite =
+          model_channel_from_json(m.raw(), label, "channels[" + std::to_string(c) + "].model.composite");
+      ch.model.composite_residual.rms_log = m.num("residual_rms_log");
+      ch.model.composite_residual.chi2 = m.num("residual_chi2");
+    }
     const Node d = cj.at("drift");
     const double window = d.num("window_s") * r.rate_hz;  // samples
     if (!(window >= 0.0 && window <= 1e15)) d.at("window_s").fail("not a window length in seconds");
@@ -713,6 +658,13 @@ AnalysisResult read_result(const json& doc, const std::string& label) {
   r.tau_list = read_tau_list(root);
   r.model_excluded_taus = read_excluded(root, "model_excluded_taus");
   if (root.has("stream")) r.window_bound = root.at("stream").at("window_bound").count();
+  if (root.has("composite")) {
+    const Node c = root.at("composite");
+    r.composite = CompositeSettings{c.at("model").str(), c.at("selection_replicates").count(),
+                                    c.at("bootstrap").count(), c.at("seed").count()};
+    r.composite->robust = c.has("robust") && c.at("robust").boolean();
+    if (r.composite->robust) r.composite->robust_efficiency = c.num("robust_efficiency");
+  }
   return r;
 }
 
@@ -740,6 +692,13 @@ void to_json(json& j, const AnalysisResult& r) {
     if (!c.adev_strides.empty()) ch["adev_stride"] = c.adev_strides;
     ch["noise"] = noise_json(c.noise, c.unit);
     ch["model"] = model_json(c.model, c.unit, r.samples);
+    if (c.model.composite) {
+      json& cj = ch["model"]["composite"];
+      cj = to_json(*c.model.composite, r.rate_hz, r.composite && r.composite->bootstrap > 0);
+      // As the two models': its Allan variance on the curve.
+      cj["residual_rms_log"] = c.model.composite_residual.rms_log;
+      cj["residual_chi2"] = c.model.composite_residual.chi2;
+    }
     ch["drift"] = {{"window_s", static_cast<double>(c.drift.window) / r.rate_hz},
                    {"fixed_bias", c.drift.mean},
                    {"points", c.drift.t.size()},
@@ -757,7 +716,18 @@ void to_json(json& j, const AnalysisResult& r) {
   j["model_excluded_taus"] = excluded_json(r.model_excluded_taus);
   // A streamed run: overlapping terms exact up to the window bound, at the
   // stride of adev_stride above it.
-  if (r.window_bound > 0) j["stream"] = {{"window_bound", r.window_bound}};
+  if (r.window_bound > 0) j["stream"] = {{"window_bound", r.window_bound}};  // analyze --composite: how each channel's model.composite was fitted.
+  if (r.composite)
+    j["composite"] = {{"method",
+                       "GMWM fit of a composite noise model to the Haar wavelet variance of the samples the sensor "
+                       "models are fitted on, as cubecal model (docs/formulas/noise-terms.md §8a-8c); each "
+                       "channel's in channels[].model.composite, with the intervals at ci"},
+                      {"model", r.composite->model},
+                      {"selection_replicates", r.composite->selection_replicates},
+                      {"bootstrap", r.composite->bootstrap},
+                      {"seed", r.composite->seed},
+                      {"robust", r.composite->robust}};
+  if (r.composite && r.composite->robust) j["composite"]["robust_efficiency"] = r.composite->robust_efficiency;
 }
 
 void from_json(const json& j, AnalysisResult& r) { r = read_result(j, "analysis.json"); }

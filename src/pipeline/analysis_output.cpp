@@ -44,7 +44,10 @@ std::string dev_json(const DevResult& r, const DevJsonContext& ctx) {
 }
 
 std::string adev_csv(const AnalysisResult& r) {
-  std::string s = "channel,tau,n,dev,lo,hi,edf,alpha,fit_dev,model_dev,gauss_markov_dev\n";
+  // The composite model's column only with analyze --composite.
+  const bool composite = r.composite.has_value();
+  std::string s = std::string("channel,tau,n,dev,lo,hi,edf,alpha,fit_dev,model_dev,gauss_markov_dev") +
+                  (composite ? ",composite_dev\n" : "\n");
   const double dt = 1.0 / r.rate_hz;
   for (const auto& c : r.channels)
     for (const auto& p : c.noise.adev) {
@@ -53,7 +56,12 @@ std::string adev_csv(const AnalysisResult& r) {
            num(p.hi) + "," + num(p.edf) + "," + std::to_string(p.alpha) + "," +
            num(noise_model_adev(c.noise.fit.c, p.tau)) + "," +
            (c.model.ok ? num(std::sqrt(avar(c.model.random_walk, m))) : "") + "," +
-           (c.model.gm_ok ? num(std::sqrt(avar(c.model.gauss_markov, m))) : "") + "\n";
+           (c.model.gm_ok ? num(std::sqrt(avar(c.model.gauss_markov, m))) : "");
+      if (composite) {
+        s += ',';
+        if (c.model.composite) s += num(std::sqrt(avar(c.model.composite->fit.model, m)));
+      }
+      s += "\n";
     }
   return s;
 }

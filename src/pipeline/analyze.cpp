@@ -14,6 +14,7 @@
 #include "cubecal/noise/temperature_random_walk.hpp"
 #include "cubecal/error.hpp"
 #include "cubecal/pipeline/dev_pipeline.hpp"
+#include "cubecal/noise/wic.hpp"
 #include "cubecal/pipeline/psd.hpp"
 #include "cubecal/pipeline/spectral_analysis.hpp"
 #include "detail/analysis_parts.hpp"
@@ -122,6 +123,59 @@ void analyze_temperature(AnalysisResult& r, const io::Series& s, const AnalyzeRe
     if (e) std::rethrow_exception(e);
 }
 
+// The composite noise model (AnalyzeRequest::composite) must see one
+// contiguous piece: the record, or the head the sensor models are fitted on.
+void check_composite(const io::Series& s, const AnalyzeRequest& req) {
+  if (!req.composite) return;
+  (void)parse_candidate_models(req.composite->model);  // a typo fails before the work
+  const std::size_t first = s.segments.front().size();
+  const bool head = req.max_samples > 0 && req.max_samples <= first;
+  if (s.segments.size() > 1 && !head)
+    throw UsageError("composite", s.file + ": the record is cut into " + std::to_string(s.segments.size()) +
+                                      " pieces at gaps, and the composite model's wavelet variance needs one "
+                                      "contiguous piece: fit it on the first " + std::to_string(first) +
+                                      " samples (--max-samples), or repair the gaps");
+}
+
+// The composite model of every channel: run_model of the samples the sensor
+// models are fitted on (the record, or its first max_samples), at the
+// analysis's units, confidence and threads.
+void fit_composite(AnalysisResult& r, const io::Series& s, const AnalyzeRequest& req) {
+  const StageTimer timer(req.times, Stage::fits);
+  ModelRequest mreq = *req.composite;
+  mreq.units.clear();
+  for (const ChannelAnalysis& ch : r.channels) mreq.units.push_back(ch.unit);
+  mreq.ci = req.ci;
+  mreq.threads = req.threads;
+  const bool head = req.max_samples > 0 && req.max_samples < s.samples();
+  ModelResult m;
+  try {
+    if (head) {
+      io::Series h;
+      h.file = s.file;
+      h.rate_hz = s.rate_hz;
+      h.tau0 = s.tau0;
+      h.names = s.names;
+      for (const auto& y : s.channels)
+        h.channels.emplace_back(y.begin(), y.begin() + static_cast<std::ptrdiff_t>(req.max_samples));
+      h.segments = {io::Segment{0, req.max_samples}};
+      m = run_model(h, mreq);
+    } else {
+      m = run_model(s, mreq);
+    }
+  } catch (const std::invalid_argument& e) {
+    // A missing sample (NaN under --gaps skip): the wavelet variance takes none.
+    throw UsageError("composite", s.file + ": " + e.what() +
+                                      "; the composite model's wavelet variance needs every sample (read the record "
+                                      "with --gaps split and fit a piece)");
+  }
+  r.composite = CompositeSettings{m.model, m.selection_replicates, m.bootstrap, m.seed, m.robust, m.robust_efficiency};
+  for (std::size_t c = 0; c < r.channels.size(); ++c) {
+    r.channels[c].model.composite = std::move(m.channels[c]);
+    detail::composite_residual(r.channels[c].model, s.tau0);
+  }
+}
+
 // Channel c of a psd run as an analysis keeps it: the log bands without
 // their bin covariance (used by the fit, not kept).
 SpectralAnalysis spectral_of(PsdResult& p, std::size_t c) {
@@ -143,6 +197,7 @@ SpectralAnalysis spectral_of(PsdResult& p, std::size_t c) {
 AnalysisResult run_analyze(const io::Series& s, const AnalyzeRequest& req) {
   const std::size_t nch = s.channels.size();
   detail::check_channel_lists(req, nch);
+  check_composite(s, req);
   auto lsb_of = [&](std::size_t c) { return detail::model_lsb(req, c); };
   AnalysisResult r;
   r.file = s.file;
@@ -223,6 +278,8 @@ AnalysisResult run_analyze(const io::Series& s, const AnalyzeRequest& req) {
       }
     }
   }
+
+  if (req.composite) fit_composite(r, s, req);
 
   // The spectral view: `cubecal psd` of the record (its pieces at gaps as
   // the curves have them), the spectrum kept in log bands for the plot.

@@ -52,6 +52,11 @@ void check_analyze_streamable(const AnalyzeRequest& req, bool can_reopen) {
                      "the spectral view needs the whole record in memory (Welch's segments are an eighth of it), "
                      "which a streamed analysis does not hold: analyze the record in memory, with a larger memory "
                      "budget if it is above it");
+  if (req.composite)
+    throw UsageError("composite",
+                     "the composite model's wavelet variance reaches scales of half the record, which a streamed "
+                     "analysis does not hold: analyze the record in memory (with a larger memory budget if it is "
+                     "above it), or fit the model with cubecal model");
   if (req.temp_index && !can_reopen)
     throw UsageError("temp_index",
                      "a streamed temperature analysis reads the record twice (the compensated curves need the "

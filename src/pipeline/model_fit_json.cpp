@@ -1,12 +1,11 @@
 #include "cubecal/pipeline/model_fit_json.hpp"
 
+#include <cmath>
 #include <string>
 
 namespace cubecal::pipeline {
 
-namespace {
-
-nlohmann::json channel_json(const ModelChannel& c, double rate_hz, bool bootstrapped) {
+nlohmann::json to_json(const ModelChannel& c, double rate_hz, bool bootstrapped) {
   nlohmann::json terms = nlohmann::json::array();
   for (const ModelTerm& t : c.terms) {
     nlohmann::json params = {{"value", t.process.value}};
@@ -14,17 +13,21 @@ nlohmann::json channel_json(const ModelChannel& c, double rate_hz, bool bootstra
     nlohmann::json qs = nlohmann::json::array();
     for (const ModelQuantity& q : t.quantities) {
       const auto maybe = [&](double v) { return bootstrapped ? nlohmann::json(v) : nlohmann::json(nullptr); };
+      // The sandwich sd: null where the fit does not determine it.
+      const auto finite = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
       qs.push_back({{"name", q.name},
                     {"value", q.value},
                     {"unit", q.unit},
                     {"sd", maybe(q.sd)},
                     {"lo", maybe(q.lo)},
                     {"hi", maybe(q.hi)},
+                    {"asymptotic_sd", finite(q.asymptotic_sd)},
                     {"display",
                      {{"value", q.display.value},
                       {"sigma", maybe(q.display.sigma)},
                       {"lo", maybe(q.display_lo)},
                       {"hi", maybe(q.display_hi)},
+                      {"asymptotic_sd", finite(q.display_asymptotic_sd)},
                       {"unit", q.display.unit}}}});
     }
     terms.push_back({{"term", std::string(to_string(t.kind))}, {"parameters", params}, {"quantities", qs}});
@@ -33,8 +36,20 @@ nlohmann::json channel_json(const ModelChannel& c, double rate_hz, bool bootstra
   for (double t : c.wv.tau) tau_s.push_back(t / rate_hz);
   nlohmann::json wv = {{"tau_samples", c.wv.tau}, {"tau_s", tau_s},   {"nu2", c.wv.nu2},        {"lo", c.wv.lo},
                        {"hi", c.wv.hi},           {"edf", c.wv.edf},  {"n", c.wv.n},            {"model", c.fit.nu2_model}};
+  nlohmann::json candidates = nlohmann::json::array();
+  for (const ModelCandidate& m : c.candidates)
+    candidates.push_back({{"model", m.model},
+                          {"parameters", m.parameters},
+                          {"wic", m.score.wic},
+                          {"loss", m.score.loss},
+                          {"optimism", m.score.optimism},
+                          {"replicates", m.score.replicates},
+                          {"objective", m.objective}});
   return {{"name", c.name},
           {"unit", c.unit.name.empty() ? nlohmann::json(nullptr) : nlohmann::json(c.unit.name)},
+          {"model", c.model},
+          {"candidates", candidates},
+          {"failed", c.failed},
           {"objective", c.fit.objective},
           {"converged", c.fit.converged},
           {"replicates", c.replicates},
@@ -42,13 +57,14 @@ nlohmann::json channel_json(const ModelChannel& c, double rate_hz, bool bootstra
           {"wavelet_variance", wv}};
 }
 
-}  // namespace
-
 nlohmann::json to_json(const ModelResult& r) {
   nlohmann::json channels = nlohmann::json::array();
-  for (const ModelChannel& c : r.channels) channels.push_back(channel_json(c, r.rate_hz, r.bootstrap > 0));
+  for (const ModelChannel& c : r.channels) channels.push_back(to_json(c, r.rate_hz, r.bootstrap > 0));
   return {{"command", "model"}, {"file", r.file},   {"rate_hz", r.rate_hz},     {"samples", r.samples},
           {"model", r.model},   {"ci", r.ci},       {"bootstrap", r.bootstrap}, {"seed", r.seed},
+          {"selection_replicates", r.selection_replicates},
+          {"robust", r.robust},
+          {"robust_efficiency", r.robust ? nlohmann::json(r.robust_efficiency) : nlohmann::json(nullptr)},
           {"channels", channels}};
 }
 

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "cubecal/error.hpp"
+#include "cubecal/sim/composite_noise.hpp"
 
 namespace cubecal::pipeline {
 
@@ -239,8 +240,65 @@ TriadModel model_at_rate(const TriadModel& model, double from_hz, double to_hz) 
   for (auto& a : m.axes) {
     a.white_sigma *= s;
     if (a.bias == BiasProcess::random_walk) a.bias_sigma *= s;
+    a.composite = composite_at_period(a.composite, 1.0 / from_hz, 1.0 / to_hz);
   }
   return m;
+}
+
+namespace {
+
+// One channel of a composite simulation: its name, unit, fixed bias and
+// model (per sample at the fit's rate).
+struct CompositeChannel {
+  std::string name;
+  std::string unit;
+  double fixed_bias = 0.0;
+  CompositeModel model;
+};
+
+std::vector<TriadModel> composite_triads(const std::vector<CompositeChannel>& channels, const std::string& label,
+                                         double from_hz, double to_hz) {
+  if (!(to_hz > 0.0) || !std::isfinite(to_hz)) throw UsageError("rate", "the sampling rate must be positive");
+  if (!(from_hz > 0.0) || !std::isfinite(from_hz))
+    throw UsageError(label + ": the composite models have no sampling rate (fit them again)");
+  std::vector<TriadModel> out;
+  for (std::size_t c = 0; c < channels.size(); ++c) {
+    if (c % 3 == 0) {
+      out.emplace_back();
+      out.back().name = label;
+      out.back().axis_names = {"", "", ""};
+      out.back().unit = channels[c].unit;
+    }
+    TriadModel& m = out.back();
+    m.axis_names[c % 3] = !channels[c].name.empty() ? channels[c].name : (std::string{"c"} += std::to_string(c + 1));
+    AxisModel& ax = m.axes[c % 3];
+    ax.fixed_bias = channels[c].fixed_bias;
+    ax.composite = channels[c].model;
+  }
+  for (auto& m : out) m = model_at_rate(m, from_hz, to_hz);
+  return out;
+}
+
+}  // namespace
+
+std::vector<TriadModel> models_from_composite(const AnalysisResult& r, const std::string& label, double rate_hz) {
+  if (r.channels.empty()) throw UsageError(label + ": not an analysis.json written by cubecal analyze");
+  std::vector<CompositeChannel> channels;
+  for (const ChannelAnalysis& ch : r.channels) {
+    if (!ch.model.composite)
+      throw UsageError("bias", label + ": channel " + ch.name +
+                                   " has no composite model (re-run analyze with --composite, or simulate the "
+                                   "random-walk or Gauss-Markov model)");
+    channels.push_back({ch.name, ch.unit.name, ch.mean, ch.model.composite->fit.model});
+  }
+  return composite_triads(channels, label, r.rate_hz, rate_hz);
+}
+
+std::vector<TriadModel> models_from_composite(const ModelResult& r, const std::string& label, double rate_hz) {
+  if (r.channels.empty()) throw UsageError(label + ": a model result without channels");
+  std::vector<CompositeChannel> channels;
+  for (const ModelChannel& ch : r.channels) channels.push_back({ch.name, ch.unit.name, 0.0, ch.fit.model});
+  return composite_triads(channels, label, r.rate_hz, rate_hz);
 }
 
 std::vector<TriadModel> models_from_analysis(const AnalysisResult& r, const std::string& label, bool gm,

@@ -26,10 +26,10 @@ std::vector<SensorGroup> sensor_groups(const pipeline::AnalysisResult& r);
 // "68.3 %".
 std::string ci_text(double ci);
 
-// The five-term fit, the random-walk and the Gauss-Markov model at each tau
-// of the channel's curve (NaN where a model was not fitted).
+// The five-term fit, the random-walk, the Gauss-Markov and the composite
+// model at each tau of the channel's curve (NaN where a model was not fitted).
 struct ModelCurves {
-  std::vector<double> fit, model, gm;
+  std::vector<double> fit, model, gm, composite;
 };
 ModelCurves model_curves(const pipeline::ChannelAnalysis& c, double rate_hz);
 
@@ -37,5 +37,10 @@ ReportFigure allan_figure(const pipeline::AnalysisResult& r, const SensorGroup& 
 std::optional<ReportFigure> drift_figure(const pipeline::AnalysisResult& r, const SensorGroup& g,
                                          const ReportOptions& o);
 std::vector<ReportFigure> temperature_figures(const pipeline::AnalysisResult& r, const SensorGroup& g);
+// A channel's composite model (analyze --composite) against the curve it
+// was fitted with: the measured Allan deviation with its intervals, each
+// term's contribution and the total. `name`: the plot's file stem.
+ReportFigure composite_figure(const pipeline::AnalysisResult& r, const pipeline::ChannelAnalysis& c,
+                              const std::string& name);
 
 }  // namespace cubecal::report::detail

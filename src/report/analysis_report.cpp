@@ -89,6 +89,7 @@ ModelCurves model_curves(const ChannelAnalysis& c, double rate_hz) {
   m.fit.assign(n, NAN);
   m.model.assign(n, NAN);
   m.gm.assign(n, NAN);
+  m.composite.assign(n, NAN);
   const double dt = 1.0 / rate_hz;
   for (std::size_t i = 0; i < n; ++i) {
     const double tau = c.noise.adev[i].tau;
@@ -96,6 +97,7 @@ ModelCurves model_curves(const ChannelAnalysis& c, double rate_hz) {
     m.fit[i] = noise_model_adev(c.noise.fit.c, tau);
     if (c.model.ok) m.model[i] = std::sqrt(avar(c.model.random_walk, k));
     if (c.model.gm_ok) m.gm[i] = std::sqrt(avar(c.model.gauss_markov, k));
+    if (c.model.composite) m.composite[i] = std::sqrt(avar(c.model.composite->fit.model, k));
   }
   return m;
 }
@@ -335,6 +337,33 @@ std::string model_table(const AnalysisResult& r, const SensorGroup& g) {
     const bool gm = c.model.gauss_markov_residual.rms_log < c.model.random_walk_residual.rms_log;
     return Cell{gm ? "Gauss–Markov" : "random walk", "smaller RMS of ln(model / data)"};
   });
+  if (r.composite) {
+    t.section("Composite noise model (GMWM, <code>analyze --composite</code>): terms and uncertainties in the "
+              "section “Composite noise model”");
+    t.row("model", "", [](const ChannelAnalysis& c) {
+      if (!c.model.composite) return Cell{"—", ""};
+      const pipeline::ModelChannel& m = *c.model.composite;
+      return Cell{html_escape(m.model), m.candidates.size() > 1 ? "selected by the WIC among " +
+                                                                       std::to_string(m.candidates.size()) +
+                                                                       " candidates"
+                                                                 : std::string("as asked")};
+    });
+    t.value("Allan-curve residual, RMS of ln(model / data)", "", [](const ChannelAnalysis& c) {
+      return c.model.composite ? finite(c.model.composite_residual.rms_log) : std::nullopt;
+    }, 3);
+    t.row("the best fit of the three", "", [](const ChannelAnalysis& c) {
+      if (!c.model.composite) return Cell{"—", ""};
+      const pipeline::ModelAnalysis& m = c.model;
+      std::string best = "composite";
+      double least = m.composite_residual.rms_log;
+      if (m.ok && m.random_walk_residual.rms_log < least) {
+        best = "random walk";
+        least = m.random_walk_residual.rms_log;
+      }
+      if (m.gm_ok && m.gauss_markov_residual.rms_log < least) best = "Gauss–Markov";
+      return Cell{best, "smallest RMS of ln(model / data)"};
+    });
+  }
   t.section("Bias drift");
   t.value("moving-average window", "s", [&](const ChannelAnalysis& c) {
     return finite(static_cast<double>(c.drift.window) / r.rate_hz);
@@ -565,6 +594,58 @@ ReportTable views_table(const ChannelAnalysis& c) {
   return t;
 }
 
+// "[lo, hi]" (std::string{} += ...: GCC 12 warns falsely on "[" + std::string at -O3).
+std::string interval_text(double lo, double hi) {
+  std::string s{"["};
+  s += format_num(finite(lo), 4);
+  s += ", ";
+  s += format_num(finite(hi), 4);
+  s += "]";
+  return s;
+}
+
+// A channel's composite model: each term's quantities as quoted, with the
+// bootstrap's standard deviation and percentile interval when made; how the
+// model was chosen in the note.
+ReportTable composite_table(const AnalysisResult& r, const ChannelAnalysis& c) {
+  const pipeline::ModelChannel& m = *c.model.composite;
+  const pipeline::CompositeSettings& cs = *r.composite;
+  const bool sd = cs.bootstrap > 0 && m.replicates >= 2;
+  ReportTable t;
+  t.title = c.name + ": " + m.model;
+  t.header = {"term", "quantity", "value", "σ (asymptotic)", "σ (bootstrap)",
+              detail::ci_text(r.ci) + " interval (bootstrap)", "unit"};
+  t.numeric = {false, false, true, true, true, true, false};
+  for (const pipeline::ModelTerm& term : m.terms)
+    for (std::size_t i = 0; i < term.quantities.size(); ++i) {
+      const pipeline::ModelQuantity& q = term.quantities[i];
+      t.rows.push_back({i == 0 ? std::string(to_string(term.kind)) : std::string(), q.name,
+                        format_num(finite(q.display.value), 5), format_num(finite(q.display_asymptotic_sd), 2),
+                        sd ? format_num(finite(q.display.sigma), 2) : "—",
+                        sd ? interval_text(q.display_lo, q.display_hi) : std::string("—"), q.display.unit});
+    }
+  std::string note = "GMWM fit to the Haar wavelet variance of " + format_num(count(c.model.samples), 12) +
+                     " samples over " + std::to_string(m.wv.size()) + " dyadic scales (objective " +
+                     format_num(finite(m.fit.objective), 4) + (m.fit.converged ? "" : ", the optimiser stopped early") +
+                     "). ";
+  if (m.candidates.size() > 1) {
+    note += "Selected by the Wavelet Information Criterion (" + std::to_string(cs.selection_replicates) +
+            " bootstrap replicates of each candidate's optimism) among " + std::to_string(m.candidates.size()) +
+            " candidates, WIC " + format_num(finite(m.candidates[0].score.wic), 4) +
+            " (the fewest parameters near the lowest); the others: ";
+    for (std::size_t k = 1; k < m.candidates.size(); ++k)
+      note += (k > 1 ? ", " : "") + m.candidates[k].model + " " + format_num(finite(m.candidates[k].score.wic), 4);
+    note += ". ";
+  }
+  note += "σ (asymptotic): the GMWM's sandwich standard deviation by the delta method (docs/formulas/noise-terms.md "
+          "§8d; — where the wavelet variance does not determine it). ";
+  note += sd ? "Bootstrap: " + std::to_string(m.replicates) + " parametric replicates fitted (seed " +
+                   std::to_string(cs.seed) + ")."
+             : std::string("No bootstrap: --composite-bootstrap B adds its standard deviation and interval.");
+  t.note = note;
+  return t;
+}
+
 ReportBlock html_block(std::string html) {
   ReportBlock b;
   b.html = std::move(html);
@@ -594,7 +675,7 @@ CommandReport analysis_report(const AnalysisResult& r, const AnalysisReportConte
       "modeling for CubeSats”).";
   page.input_html = input_fields(r);
   page.command = ctx.command;
-  page.plot_prefixes = {"allan_", "drift_", "temperature_", "compensated_", "psd_"};
+  page.plot_prefixes = {"allan_", "drift_", "temperature_", "compensated_", "psd_", "composite_"};
 
   std::string rep;
   if (!ctx.command.empty())
@@ -668,6 +749,27 @@ CommandReport analysis_report(const AnalysisResult& r, const AnalysisReportConte
     model.blocks.push_back(std::move(b));
   }
   page.sections.push_back(std::move(model));
+
+  if (r.composite) {
+    ReportSection comp{"composite", "Composite noise model", {}};
+    comp.blocks.push_back(html_block(
+        "<p>Beside the paper's model and the Gauss–Markov alternative, a composite noise model "
+        "(<code>analyze --composite</code>): a sum of white noise (WN, N), quantization noise (QN, Q), a random walk "
+        "(RW, K), a drift (DR, R) and first-order Gauss–Markov terms (GM, σ<sub>b</sub> and T<sub>c</sub>), fitted "
+        "by the Generalized Method of Wavelet Moments to the Haar wavelet variance of the samples the models are "
+        "fitted on, as <code>cubecal model</code> does (<code>docs/formulas/noise-terms.md</code> §8a–8c). "
+        "<code>cubecal simulate --model analysis.json --bias composite</code> simulates it, each term in its "
+        "discrete-time form at any rate.</p>\n"));
+    std::vector<std::string> taken;
+    for (const auto& ch : r.channels) {
+      if (!ch.model.composite) continue;
+      ReportBlock b;
+      b.table = composite_table(r, ch);
+      b.figures.push_back(detail::composite_figure(r, ch, detail::unique_name("composite_", ch.name, taken)));
+      comp.blocks.push_back(std::move(b));
+    }
+    page.sections.push_back(std::move(comp));
+  }
 
   bool any_temp = false;
   for (const auto& ch : r.channels) any_temp = any_temp || ch.temperature.has_value();

@@ -27,8 +27,9 @@
 //                                   Gauss-Markov: phi = exp(-dt/T_c),
 //                                     gain = sigma_b sqrt(1 - phi^2)
 //                                   none: phi = 1, gain = 0 (b stays 0)
-//   w     += the power-law terms' sample (when the axis has any; their
-//            own streams, power_law_generator.hpp)
+//   w     += the power-law terms' sample and the composite model's (when
+//            the axis has any; their own streams, power_law_generator.hpp
+//            and composite_noise.hpp)
 //   out    = clamp(Q(w), -saturation, saturation)
 // with u = M * true (row-major) and Q(w) = trunc(w lsb)/lsb (the paper's
 // eq. 3; docs/formulas/simulator.md §1.2) or round(w lsb)/lsb, Q = identity
@@ -38,6 +39,8 @@
 // step() and run() evaluate the same inlined kernel, so they produce the same
 // bytes for the same seed and inputs.
 #include "cubecal/sim/simulator.hpp"
+
+#include "cubecal/sim/composite_noise.hpp"
 
 #include <algorithm>
 #include <boost/random/normal_distribution.hpp>
@@ -144,6 +147,16 @@ std::uint64_t power_law_seed(std::uint64_t seed, std::size_t axis, std::size_t t
   return z ^ (z >> 31);
 }
 
+// The seed of axis `axis`'s composite model (composite_noise.hpp draws one
+// stream per process from it), apart from the main stream and the power-law
+// terms'.
+std::uint64_t composite_seed(std::uint64_t seed, std::size_t axis) noexcept {
+  std::uint64_t z = seed ^ (0x8EBC6AF09C88C6E3ULL * (axis + 1));
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+  return z ^ (z >> 31);
+}
+
 bool finite(double v) noexcept { return std::isfinite(v); }
 
 void validate(const TriadModel& model, double dt) {
@@ -163,6 +176,11 @@ void validate(const TriadModel& model, double dt) {
     if (a.bias == BiasProcess::gauss_markov)
       require(finite(a.tau_c) && a.tau_c > 0.0,
               ax + "a Gauss-Markov bias needs a positive, finite correlation time tau_c");
+    for (const Process& p : a.composite.processes)
+      require(p.kind == ProcessKind::dr ? finite(p.value)
+                                        : finite(p.value) && p.value >= 0.0 &&
+                                              (p.kind != ProcessKind::gm || (p.phi >= 0.0 && p.phi < 1.0)),
+              ax + "a composite model needs finite variances >= 0, Gauss-Markov phi in [0, 1) and a finite drift");
   }
   for (double v : model.scale_misalignment)
     require(finite(v), "scale_misalignment entries must be finite");
@@ -199,11 +217,13 @@ struct TriadSimulator::Impl {
   std::array<double, 3> turn_on{};
   Kernel kern;
   std::array<std::vector<PowerLawGenerator>, 3> power_law;  // per axis
-  bool has_power_law = false;
+  std::vector<std::pair<std::size_t, CompositeNoise>> composite;  // (axis, its model's samples)
+  bool has_extra = false;                                     // any power-law or composite term
   std::vector<double> extra, term;                            // run()'s scratch
 
-  // The power-law noise of the next n samples, n x 3 row-major, into extra.
-  void power_law_noise(std::size_t n) {
+  // The power-law and composite noise of the next n samples, n x 3
+  // row-major, into extra.
+  void extra_noise(std::size_t n) {
     extra.assign(3 * n, 0.0);
     term.resize(n);
     for (std::size_t i = 0; i < 3; ++i)
@@ -211,6 +231,11 @@ struct TriadSimulator::Impl {
         g.next(term);
         for (std::size_t k = 0; k < n; ++k) extra[3 * k + i] += term[k];
       }
+    for (auto& [i, g] : composite) {
+      std::fill(term.begin(), term.end(), 0.0);
+      g.add_next(term);
+      for (std::size_t k = 0; k < n; ++k) extra[3 * k + i] += term[k];
+    }
   }
 };
 
@@ -263,7 +288,11 @@ TriadSimulator::TriadSimulator(const TriadModel& model, double dt, std::uint64_t
     for (std::size_t t = 0; t < a.power_law.size(); ++t) {
       p->power_law[i].emplace_back(a.power_law[t], dt, PowerLawGenerator::filter_length_for(record_samples),
                                    power_law_seed(seed, i, t));
-      p->has_power_law = true;
+      p->has_extra = true;
+    }
+    if (!a.composite.processes.empty()) {
+      p->composite.emplace_back(i, CompositeNoise(a.composite, composite_seed(seed, i)));
+      p->has_extra = true;
     }
   }
   impl_ = std::move(p);
@@ -277,8 +306,8 @@ std::array<double, 3> TriadSimulator::step(const std::array<double, 3>& true_inp
                                            double temperature) noexcept {
   std::array<double, 3> out{};
   Impl& s = *impl_;
-  if (s.has_power_law) {
-    s.power_law_noise(1);
+  if (s.has_extra) {
+    s.extra_noise(1);
     const double* e = s.extra.data();
     switch (s.quant) {
       case QuantMode::none:
@@ -324,8 +353,8 @@ void TriadSimulator::run(std::size_t n, std::span<const double> true_input,
   const double* in = true_input.empty() ? nullptr : true_input.data();
   const double* temp = temperature.empty() ? nullptr : temperature.data();
   const double* extra = nullptr;
-  if (s.has_power_law) {
-    s.power_law_noise(n);
+  if (s.has_extra) {
+    s.extra_noise(n);
     extra = s.extra.data();
   }
   switch (s.quant) {

@@ -47,6 +47,8 @@ CompositeModel parse_composite_model(const std::string& text);
 // "WN+QN+RW+2*GM": the model's terms in the order of parse_composite_model.
 std::string model_name(const CompositeModel& model);
 std::string_view to_string(ProcessKind kind) noexcept;  // "WN", "QN", "RW", "DR", "GM"
+// The parameters a fit estimates: one per process, two per Gauss-Markov term.
+std::size_t parameter_count(const CompositeModel& model) noexcept;
 
 // Theoretical Haar wavelet variance at the scale of tau samples (tau >= 2,
 // even): exact for the sampled processes. NaN for a parameter outside its

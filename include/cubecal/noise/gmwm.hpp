@@ -34,6 +34,10 @@ struct GmwmOptions {
   // A model of the same structure to start from instead (e.g. the fit a
   // parametric bootstrap replicates): the only start tried.
   std::optional<CompositeModel> start;
+  // Fixed weights instead of the reweighting: the standard deviation of
+  // each scale, kept throughout (one per scale; the WIC's common Omega,
+  // noise/wic.hpp). Empty: the reweighted fit above.
+  std::vector<double> fixed_sd;
 };
 
 struct GmwmFit {

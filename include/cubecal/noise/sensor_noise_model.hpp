@@ -15,6 +15,7 @@
 #pragma once
 #include <cstddef>
 
+#include "cubecal/noise/composite_model.hpp"
 #include "cubecal/stats/allan_curve.hpp"
 
 namespace cubecal {
@@ -37,6 +38,12 @@ struct GaussMarkovModel {
 // Exact discrete Allan variance of the models at averaging factor m.
 double avar(const RandomWalkModel& model, std::size_t m) noexcept;
 double avar(const GaussMarkovModel& model, std::size_t m) noexcept;
+// A composite noise model's (composite_model.hpp, per-sample parameters),
+// and one of its processes' share of it: twice the Haar wavelet variance at
+// the scale tau = 2m, exact for the sampled processes (NaN for m = 0 or a
+// parameter outside its range).
+double avar(const CompositeModel& model, std::size_t m) noexcept;
+double avar(const Process& process, std::size_t m) noexcept;
 
 // The paper's adjustment (docs/paper.md §2.4; docs/formulas/noise-terms.md
 // §4.5): the model's Allan curve tangent to the measured
@@ -65,5 +72,7 @@ struct ModelResidual {
 // period the fits would reject.
 ModelResidual residual(const RandomWalkModel& model, const AllanCurve& curve);
 ModelResidual residual(const GaussMarkovModel& model, const AllanCurve& curve);
+// A composite model's, its parameters per sample of period dt.
+ModelResidual residual(const CompositeModel& model, double dt, const AllanCurve& curve);
 
 }  // namespace cubecal

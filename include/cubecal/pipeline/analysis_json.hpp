@@ -34,7 +34,10 @@ inline constexpr int kAnalysisFormatVersion = 2;
 // with "fit_error" when not made) and "terms" (each IEEE 952 term of the fit
 // in display units beside the Allan curve's five-term fit, "allan_fit", and
 // "difference_sigmas"; derived, made again from "fit" on reading). A document
-// without it has no spectral view.
+// without it has no spectral view. With analyze --composite, each channel's
+// "model" has "composite" (the channel as `model --format json` writes it,
+// model_fit_json.hpp) and the document a "composite" with how they were
+// fitted (model, selection_replicates, bootstrap, seed, robust).
 void to_json(nlohmann::json& j, const AnalysisResult& r);
 // Throws UsageError ("analysis.json: channels[0].noise: no key 'fit' ...")
 // for a document that lacks a key the result needs. Keys added after the

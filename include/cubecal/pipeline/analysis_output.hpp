@@ -37,7 +37,8 @@ std::string dev_json(const DevResult& r, const DevJsonContext& ctx);
 inline constexpr const char* kAnalysisFiles[] = {"analysis.json", "adev.csv", "drift.csv", "imu.yaml"};
 
 // Long format, one row per channel and tau: measured OADEV with its interval,
-// and the fitted five-term, random-walk and Gauss-Markov model deviations.
+// and the fitted five-term, random-walk and Gauss-Markov model deviations
+// (and, with analyze --composite, the composite model's: composite_dev).
 std::string adev_csv(const AnalysisResult& r);
 
 // Long format: channel, t (s from the record start), drift (data unit).

@@ -7,6 +7,7 @@
 // terms it stands for).
 #pragma once
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <optional>
 #include <string>
@@ -22,6 +23,7 @@
 #include "cubecal/noise/temperature.hpp"
 #include "cubecal/noise/units.hpp"
 #include "cubecal/io/series.hpp"
+#include "cubecal/pipeline/model_fit.hpp"
 #include "cubecal/pipeline/spectral_analysis.hpp"
 
 namespace cubecal::pipeline {
@@ -45,6 +47,16 @@ struct AnalyzeRequest {
   // run_analyze_stream refuses it (UsageError "psd": Welch's segments are an
   // eighth of the record, which a stream does not hold).
   bool psd = false;
+  // The composite noise model (`analyze --composite`): run_model of the
+  // same samples the sensor models are fitted on (the first max_samples
+  // when asked), with this request's model ("auto": selected by the WIC
+  // among the default candidates; "WN+RW+2*GM"; candidates joined by
+  // commas), selection_replicates, bootstrap, seed and gmwm options; its
+  // units, ci and threads are the analysis's. None by default: a selection
+  // costs seconds per channel. run_analyze_stream refuses it
+  // (UsageError "composite": the wavelet variance's largest scales span half
+  // the record, which a stream does not hold).
+  std::optional<ModelRequest> composite;
   // run_analyze_stream: called from the caller's thread after every piece
   // with the fraction of the input read (0 while its size is not known).
   // run_analyze does not call it.
@@ -71,6 +83,23 @@ struct ModelAnalysis {
   std::string gm_error;             // why no Gauss-Markov model is reported
   GaussMarkovModel gauss_markov;
   ModelResidual gauss_markov_residual;
+  // AnalyzeRequest::composite: the composite model fitted to the same
+  // samples (its wavelet variance, fit, terms in quoted units and, with a
+  // bootstrap, their uncertainties); none without (and for the compensated
+  // series).
+  std::optional<ModelChannel> composite;
+  ModelResidual composite_residual;   // its Allan variance on adev, as the two models'
+};
+
+// How the composite models were fitted (AnalyzeRequest::composite), as
+// ModelResult states it; its intervals are at AnalysisResult::ci.
+struct CompositeSettings {
+  std::string model;                     // as asked, canonical: "WN+RW+2*GM", "auto" or the candidates
+  std::size_t selection_replicates = 0;  // of each candidate's WIC (0: one model)
+  std::size_t bootstrap = 0;             // replicates of the terms' uncertainties (0: none)
+  std::uint64_t seed = 1;
+  bool robust = false;                   // the robust wavelet variance, at robust_efficiency
+  double robust_efficiency = 0.6;
 };
 
 // Temperature dependence of a channel (docs/formulas/drift-covariance-temperature.md §3-4).
@@ -131,6 +160,8 @@ struct AnalysisResult {
   std::vector<ExcludedTau> model_excluded_taus;
   // A streamed run: the window bound (0: the record was held in memory).
   std::size_t window_bound = 0;
+  // AnalyzeRequest::composite: how each channel's model.composite was fitted.
+  std::optional<CompositeSettings> composite;
 };
 
 AnalysisResult run_analyze(const io::Series& series, const AnalyzeRequest& request);

@@ -25,8 +25,9 @@ namespace cubecal::pipeline {
 using ReopenStream = std::function<std::unique_ptr<io::SampleStream>()>;
 
 // Throws UsageError("temp_index") when a temperature is asked of a record
-// that cannot be read twice, and UsageError("psd") for the spectral view
-// (AnalyzeRequest::psd: it needs the whole record).
+// that cannot be read twice, UsageError("psd") for the spectral view
+// (AnalyzeRequest::psd: it needs the whole record) and UsageError("composite")
+// for the composite model (AnalyzeRequest::composite: likewise).
 void check_analyze_streamable(const AnalyzeRequest& request, bool can_reopen);
 
 // request.units: one per channel or one for all (given: the drift window

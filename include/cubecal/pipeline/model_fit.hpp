@@ -15,16 +15,25 @@
 #include "cubecal/noise/composite_model.hpp"
 #include "cubecal/noise/gmwm.hpp"
 #include "cubecal/noise/units.hpp"
+#include "cubecal/noise/wic.hpp"
 #include "cubecal/stats/wavelet_variance.hpp"
 
 namespace cubecal::pipeline {
 
 struct ModelRequest {
-  std::string model;             // "WN+RW+2*GM"
+  // "WN+RW+2*GM"; several models joined by commas, or "auto" (the default
+  // candidates, noise/wic.hpp): each channel's is selected by the WIC
+  // (pipeline/model_selection.hpp).
+  std::string model;
+  std::size_t selection_replicates = 50;  // bootstrap replicates of each candidate's WIC optimism (0: its asymptotic form)
   std::vector<Unit> units;       // one per channel, one for all, or none
   double ci = 0.95;              // of the wavelet variance's intervals and the bootstrap's
   std::size_t bootstrap = 0;     // replicates (0: none)
   std::uint64_t seed = 1;        // of the bootstrap
+  // The robust wavelet variance (stats/robust_wavelet_variance.hpp) for the
+  // channel's and every bootstrap replicate's, at this Gaussian efficiency.
+  bool robust = false;
+  double robust_efficiency = 0.6;
   GmwmOptions gmwm;
   unsigned threads = 0;          // 0: all cores
 };
@@ -40,6 +49,12 @@ struct ModelQuantity {
   double sd = 0.0;               // bootstrap standard deviation of value (0 without)
   double lo = 0.0, hi = 0.0;     // bootstrap percentile interval of value at ci (0 without)
   double display_lo = 0.0, display_hi = 0.0;  // the interval in display.unit
+  // The GMWM's asymptotic (sandwich) standard deviation of value by the
+  // delta method (noise/gmwm_asymptotics.hpp; docs/formulas/noise-terms.md
+  // §8d), and in display.unit; NaN where the wavelet variance does not
+  // determine the fit's parameters (a singular A'WA).
+  double asymptotic_sd = 0.0;
+  double display_asymptotic_sd = 0.0;
 };
 
 struct ModelTerm {
@@ -48,11 +63,22 @@ struct ModelTerm {
   std::vector<ModelQuantity> quantities;  // WN: N; QN: Q; RW: K; DR: R; GM: sigma_b, T_c
 };
 
+// One row of a channel's model selection: a candidate and its WIC.
+struct ModelCandidate {
+  std::string model;             // "WN+RW"
+  std::size_t parameters = 0;
+  WicScore score;
+  double objective = 0.0;        // of its fit with the common weights (GmwmFit::objective)
+};
+
 struct ModelChannel {
   std::string name;
   Unit unit;
+  std::string model;             // the fitted model's name (the selected one with several candidates)
   WaveletVariance wv;            // tau in samples; tau_s = tau / rate
   GmwmFit fit;
+  std::vector<ModelCandidate> candidates;  // with several candidates: ranked by WIC, the selected first
+  std::vector<std::string> failed;         // candidates with no fit or no score, and why
   std::vector<ModelTerm> terms;
   std::size_t replicates = 0;    // bootstrap replicates that gave a fit
 };
@@ -61,16 +87,19 @@ struct ModelResult {
   std::string file;
   double rate_hz = 0.0;
   std::size_t samples = 0;
-  std::string model;             // canonical name, e.g. "WN+RW+2*GM"
+  std::string model;             // as asked, canonical: "WN+RW+2*GM", or the candidates "WN+RW,WN+GM"
+  std::size_t selection_replicates = 0;  // of each candidate's WIC (0: one model, or the asymptotic optimism)
   double ci = 0.95;
   std::size_t bootstrap = 0;
   std::uint64_t seed = 1;
+  bool robust = false;           // the robust wavelet variance, at robust_efficiency
+  double robust_efficiency = 0.6;
   std::vector<ModelChannel> channels;
 };
 
 // Throws UsageError: "model" (the syntax, a model with more parameters than
 // the record has scales), "units" (a count neither 1 nor one per channel),
-// "bootstrap"/"ci" (out of range), "segments" (a record cut at gaps: the
+// "bootstrap"/"ci"/"efficiency" (out of range), "segments" (a record cut at gaps: the
 // wavelet variance needs one contiguous piece); CalibrationError when no fit
 // is found.
 ModelResult run_model(const io::Series& series, const ModelRequest& request);

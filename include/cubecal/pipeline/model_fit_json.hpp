@@ -9,10 +9,24 @@
 #pragma once
 #include <nlohmann/json.hpp>
 
+#include <string>
+
 #include "cubecal/pipeline/model_fit.hpp"
 
 namespace cubecal::pipeline {
 
 nlohmann::json to_json(const ModelResult& r);
+// One channel of it (channels[i]); analysis.json carries the same as
+// channels[i].model.composite (analyze --composite). sd, lo and hi are
+// written when `bootstrapped`, null otherwise.
+nlohmann::json to_json(const ModelChannel& c, double rate_hz, bool bootstrapped);
+
+// The inverses (model_fit_json_read.cpp), for `simulate --model model.json`
+// and analysis.json: what to_json wrote, read back (the weights' standard
+// deviations, GmwmFit::sd, are not written and come back empty). `label`
+// (the file) and `path` (the place in the document) start every message;
+// a document without a key it needs is a UsageError naming the key.
+ModelResult model_result_from_json(const nlohmann::json& j, const std::string& label);
+ModelChannel model_channel_from_json(const nlohmann::json& j, const std::string& label, const std::string& path);
 
 }  // namespace cubecal::pipeline

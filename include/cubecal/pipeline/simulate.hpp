@@ -12,6 +12,7 @@
 #include "cubecal/sim/simulator.hpp"
 #include "cubecal/io/csv_writer.hpp"
 #include "cubecal/pipeline/analyze.hpp"
+#include "cubecal/pipeline/model_fit.hpp"
 
 namespace cubecal::pipeline {
 
@@ -82,11 +83,27 @@ std::vector<TriadModel> models_from_analysis(const AnalysisResult& analysis, con
 std::vector<TriadModel> models_from_analysis(const AnalysisResult& analysis, const std::string& label,
                                              bool gauss_markov, double rate_hz);
 
+// Sensor models from composite noise models (`analyze --composite`, each
+// channel's model.composite; or a `cubecal model` result), sampled at
+// `rate_hz`: consecutive channels form triads as above, and each axis's
+// output is its channel's composite model, each process in its
+// discrete-time form at 1 / rate_hz (composite_at_period from the fit's
+// rate: N, Q, K, R, sigma_b and T_c kept), plus, from an analysis, the
+// measured mean as the fixed bias. No white noise, bias process, quantizer
+// or temperature term besides: the model was fitted to the record as
+// measured. Throws UsageError("bias") for an analysis without composite
+// models, UsageError("rate") for a rate that is not positive, and
+// UsageError for a result without channels.
+std::vector<TriadModel> models_from_composite(const AnalysisResult& analysis, const std::string& label,
+                                              double rate_hz);
+std::vector<TriadModel> models_from_composite(const ModelResult& model, const std::string& label, double rate_hz);
+
 // A model whose per-sample parameters hold at `from_hz`, for sampling at
 // `to_hz`: white_sigma and the random walk's bias_sigma (sigma_mu) scale by
 // sqrt(to_hz / from_hz), which keeps N = sigma_n sqrt(dt) and
 // K = sigma_mu sqrt(dt); a Gauss-Markov sigma_b and tau_c are kept. The
-// quantizer (lsb) is per sample and kept as it is.
+// quantizer (lsb) is per sample and kept as it is; a composite model
+// (AxisModel::composite) is converted by composite_at_period.
 TriadModel model_at_rate(const TriadModel& model, double from_hz, double to_hz);
 
 // "72h", "30m", "90s", "2d" or a number of seconds.

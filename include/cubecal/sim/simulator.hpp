@@ -15,6 +15,8 @@
 // docs/formulas/simulator.md §2.1) or a first-order Gauss-Markov
 // b_{k+1} = phi b_k + sigma_b sqrt(1 - phi^2) n'_k, phi = exp(-dt/T_c),
 // started in its stationary state.
+// Beside them, per axis, power-law terms and the processes of a composite
+// noise model (AxisModel::power_law, ::composite), on streams of their own.
 // Deterministic for a seed; no allocation per sample.
 #pragma once
 #include <array>
@@ -25,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "cubecal/noise/composite_model.hpp"
 #include "cubecal/sim/power_law_generator.hpp"
 
 namespace cubecal {
@@ -45,6 +48,13 @@ struct AxisModel {
   // Kasdin & Walter's generator (power_law_generator.hpp), on streams of
   // their own: the model's other terms see the same normals with or without.
   std::vector<PowerLawNoise> power_law;
+  // A composite noise model of the output (noise/composite_model.hpp), its
+  // parameters per sample at the simulator's dt (composite_at_period
+  // converts them from another rate), each process in its discrete-time form
+  // (composite_noise.hpp) on streams of its own, added as the power-law
+  // terms are: `simulate --bias composite` puts a fitted model here, with
+  // no white noise, bias process or quantizer besides.
+  CompositeModel composite;
 };
 
 struct TriadModel {

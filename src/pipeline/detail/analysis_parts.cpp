@@ -89,4 +89,10 @@ void fit_models(ModelAnalysis& m, double dt, double lsb) {
   }
 }
 
+void composite_residual(ModelAnalysis& m, double dt) {
+  m.composite_residual = {};
+  if (!m.composite || m.adev.empty()) return;
+  m.composite_residual = residual(m.composite->fit.model, dt, to_allan_curve(m.adev));
+}
+
 }  // namespace cubecal::pipeline::detail

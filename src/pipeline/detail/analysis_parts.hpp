@@ -29,4 +29,8 @@ inline NoiseAnalysis noise_of(const DevChannel& ch) { return noise_of(ch.points)
 // m.adev (why not, when they do not fit).
 void fit_models(ModelAnalysis& m, double dt, double lsb);
 
+// m.composite_residual: the composite model's Allan variance (twice its Haar
+// wavelet variance at tau = 2m) against m.adev; nothing without a composite.
+void composite_residual(ModelAnalysis& m, double dt);
+
 }  // namespace cubecal::pipeline::detail

@@ -1,0 +1,50 @@
+// The asymptotic covariance of a GMWM fit (noise/gmwm.hpp): the sandwich
+//   cov(theta) = (A'WA)^-1 A'W V W A (A'WA)^-1
+// of a weighted least-squares fit of moments (Guerrier et al., JASA 2013,
+// Prop. 2), with A = d nu2(theta) / d theta at the fit (J x p), W the fit's
+// diagonal weight diag(1 / sd_j^2) and V the covariance of the empirical
+// wavelet variance at the fitted model (wavelet_variance_covariance.hpp).
+// docs/formulas/noise-terms.md §8d.
+//
+// theta is the fit's own parametrisation, one row per process in the
+// model's order: ln sigma2 (WN), ln Q2 (QN), ln gamma2 (RW), ln omega^2
+// (DR), and for a Gauss-Markov term ln sigma2 then ln a, phi = e^-a. Its
+// standard deviations are relative ones of the variances; the per-sample
+// parameters' follow by the delta method.
+#pragma once
+#include <cstddef>
+#include <vector>
+
+#include "cubecal/noise/gmwm.hpp"
+#include "cubecal/stats/wavelet_variance.hpp"
+
+namespace cubecal {
+
+struct ProcessSd {
+  double value = 0.0;  // sd of Process::value (omega for a drift)
+  double phi = 0.0;    // Gauss-Markov: sd of phi (0 otherwise)
+};
+
+struct GmwmAsymptotics {
+  std::size_t parameters = 0;          // p
+  std::size_t scales = 0;              // J
+  std::vector<double> covariance;      // p x p row-major: the sandwich, of theta
+  std::vector<double> naive;           // p x p row-major: (A'WA)^-1, the scales taken as independent with sd_j
+  std::vector<double> jacobian;        // J x p row-major: A
+  std::vector<double> nu2_covariance;  // J x J row-major: V
+  std::vector<double> hat;             // J x J row-major: P = A (A'WA)^-1 A'W, d nu2(theta_hat) / d nu2_hat
+  std::vector<ProcessSd> sd;           // per process of the fitted model, from the sandwich
+};
+
+// `samples`: the record's length (the wavelet variance's N). V is that of
+// the classical estimator times `inflation` (>= 1): for the robust wavelet
+// variance (stats/robust_wavelet_variance.hpp) 1 / efficiency bounds the
+// ratio of the two estimators' variances from above. Throws
+// UsageError("model") when the fit and the wavelet variance do not belong
+// together, and CalibrationError(degenerate) when A'WA is singular (a
+// parameter the wavelet variance does not determine, e.g. a Gauss-Markov
+// term pushed to phi -> 0).
+GmwmAsymptotics gmwm_asymptotics(const GmwmFit& fit, const WaveletVariance& wv, std::size_t samples,
+                                 double inflation = 1.0);
+
+}  // namespace cubecal

@@ -1,0 +1,111 @@
+// The sandwich covariance of a GMWM fit (noise/gmwm_asymptotics.hpp;
+// docs/formulas/noise-terms.md §8d).
+#include "cubecal/noise/gmwm_asymptotics.hpp"
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <string>
+
+#include "cubecal/error.hpp"
+#include "cubecal/noise/wavelet_variance_covariance.hpp"
+
+namespace cubecal {
+
+namespace {
+
+using Eigen::MatrixXd;
+
+// d nu2 / d ln a of a Gauss-Markov term: central differences in ln a,
+// Richardson-extrapolated (error O(h^4), h = 1e-3: ~1e-11 relative).
+double d_log_a(double a, double sigma2, double tau) {
+  const auto diff = [&](double h) {
+    return (gauss_markov_wavelet_variance(a * std::exp(h), sigma2, tau) -
+            gauss_markov_wavelet_variance(a * std::exp(-h), sigma2, tau)) /
+           (2.0 * h);
+  };
+  const double h = 1e-3;
+  return (4.0 * diff(0.5 * h) - diff(h)) / 3.0;
+}
+
+std::vector<double> row_major(const MatrixXd& m) {
+  std::vector<double> out(static_cast<std::size_t>(m.size()));
+  for (Eigen::Index i = 0; i < m.rows(); ++i)
+    for (Eigen::Index k = 0; k < m.cols(); ++k) out[static_cast<std::size_t>(i * m.cols() + k)] = m(i, k);
+  return out;
+}
+
+}  // namespace
+
+GmwmAsymptotics gmwm_asymptotics(const GmwmFit& fit, const WaveletVariance& wv, std::size_t samples,
+                                 double inflation) {
+  const std::size_t J = wv.size();
+  if (!(inflation >= 1.0) || !std::isfinite(inflation))
+    throw UsageError("model", "the wavelet variance's variance can only be inflated (a factor >= 1), not " +
+                                  std::to_string(inflation));
+  if (fit.sd.size() != J || fit.nu2_model.size() != J || fit.model.processes.empty())
+    throw UsageError("model", "the GMWM fit has " + std::to_string(fit.sd.size()) + " scales, the wavelet variance " +
+                                  std::to_string(J) + ": they do not belong together");
+  std::size_t p = 0;
+  for (const Process& pr : fit.model.processes) p += pr.kind == ProcessKind::gm ? 2 : 1;
+
+  // A: every parameter but ln a enters linearly, so its column is the
+  // term's own wavelet variance.
+  MatrixXd A(static_cast<Eigen::Index>(J), static_cast<Eigen::Index>(p));
+  for (std::size_t j = 0; j < J; ++j) {
+    Eigen::Index k = 0;
+    const auto row = static_cast<Eigen::Index>(j);
+    for (const Process& pr : fit.model.processes) {
+      A(row, k++) = haar_wavelet_variance(pr, wv.tau[j]);
+      if (pr.kind == ProcessKind::gm) A(row, k++) = d_log_a(-std::log(pr.phi), pr.value, wv.tau[j]);
+    }
+  }
+  if (!A.allFinite())
+    throw UsageError("model", "model " + model_name(fit.model) + ": a parameter is outside its range");
+
+  std::vector<double> v = wavelet_variance_covariance(fit.model, wv.tau, samples);
+  for (double& x : v) x *= inflation;
+  MatrixXd V(static_cast<Eigen::Index>(J), static_cast<Eigen::Index>(J));
+  for (std::size_t j = 0; j < J; ++j)
+    for (std::size_t k = 0; k < J; ++k) V(static_cast<Eigen::Index>(j), static_cast<Eigen::Index>(k)) = v[j * J + k];
+
+  // W^1/2 A = U S V': (A'WA)^-1 = V S^-2 V', B = (A'WA)^-1 A'W = V S^-1 U' W^1/2.
+  Eigen::VectorXd rw(static_cast<Eigen::Index>(J));
+  for (std::size_t j = 0; j < J; ++j) rw(static_cast<Eigen::Index>(j)) = 1.0 / fit.sd[j];
+  const MatrixXd Aw = rw.asDiagonal() * A;
+  const Eigen::JacobiSVD<MatrixXd> svd(Aw, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  const Eigen::VectorXd s = svd.singularValues();
+  if (!(s.minCoeff() > 1e-10 * s.maxCoeff()))
+    throw CalibrationError(CalibrationReason::degenerate,
+                           "GMWM " + model_name(fit.model) +
+                               ": the wavelet variance does not determine every parameter at the fit (singular A'WA)");
+  const Eigen::VectorXd sinv = s.cwiseInverse();
+  const MatrixXd B = svd.matrixV() * sinv.asDiagonal() * svd.matrixU().transpose() * rw.asDiagonal();
+  const MatrixXd naive = svd.matrixV() * sinv.cwiseAbs2().asDiagonal() * svd.matrixV().transpose();
+  const MatrixXd cov = B * V * B.transpose();
+  const MatrixXd hat = A * B;
+
+  GmwmAsymptotics out;
+  out.parameters = p;
+  out.scales = J;
+  out.covariance = row_major(cov);
+  out.naive = row_major(naive);
+  out.jacobian = row_major(A);
+  out.nu2_covariance = v;
+  out.hat = row_major(hat);
+  Eigen::Index k = 0;
+  for (const Process& pr : fit.model.processes) {
+    ProcessSd sd;
+    const double rel = std::sqrt(cov(k, k));
+    ++k;
+    // value = e^theta (omega = +-e^{theta / 2} for a drift); phi = exp(-e^theta_a).
+    sd.value = pr.kind == ProcessKind::dr ? 0.5 * std::abs(pr.value) * rel : pr.value * rel;
+    if (pr.kind == ProcessKind::gm) {
+      sd.phi = pr.phi * -std::log(pr.phi) * std::sqrt(cov(k, k));
+      ++k;
+    }
+    out.sd.push_back(sd);
+  }
+  return out;
+}
+
+}  // namespace cubecal
