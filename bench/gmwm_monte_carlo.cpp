@@ -16,7 +16,7 @@
 //   gmwm_monte_carlo [--mode fit|select] [--model all|WN+RW,WN+GM,WN+2*GM+RW,WN+QN+GM]
 //                    [--samples 100000,1000000] [--seeds 100] [--first-seed 1]
 //                    [--bootstrap B] [--ci 0.95] [--selection-replicates R]
-//                    [--threads T] [--natural] [--raw FILE.jsonl]
+//                    [--threads T] [--natural] [--raw FILE.jsonl] [--rw-k K]
 //
 // The true models carry the per-sample parameters of tests/test_gmwm.cpp
 // (unit u, one sample per second: N in u sqrt(s) equals the white noise's
@@ -62,6 +62,11 @@ constexpr double kDt = 1.0;  // s: the per-sample parameters are the physical on
 
 const std::vector<std::string> kModels = {"WN+RW", "WN+GM", "WN+2*GM+RW", "WN+QN+GM"};
 
+// --rw-k: the random walk's K (per sample) of the truths that have one,
+// instead of their own (how selection depends on the random walk's share
+// of the longest scales).
+double g_rw_k = 0.0;
+
 // The true processes (tests/test_gmwm.cpp): white noise of unit variance,
 // quantization half of it, a random walk that crosses the white noise at
 // tau ~ 1.7e3 samples (WN+RW) or ~1.7e4 (beside Gauss-Markov terms),
@@ -75,13 +80,14 @@ CompositeModel truth(const std::string& name) {
     switch (p.kind) {
       case ProcessKind::wn: p.value = 1.0; break;
       case ProcessKind::qn: p.value = 0.5; break;
-      case ProcessKind::rw: p.value = name == "WN+RW" ? 1e-6 : 1e-8; break;
+      case ProcessKind::rw: p.value = g_rw_k > 0.0 ? g_rw_k * g_rw_k : name == "WN+RW" ? 1e-6 : 1e-8; break;
       case ProcessKind::dr: p.value = 1e-5; break;
       case ProcessKind::gm:
         p = gm == 0 ? gm_process(name == "WN+2*GM+RW" ? 40.0 : 600.0, name == "WN+2*GM+RW" ? 0.3 : 0.25, kDt)
                     : gm_process(4000.0, 0.15, kDt);
         ++gm;
         break;
+      case ProcessKind::ma1: break;  // in none of kModels
     }
   }
   return m;
@@ -110,6 +116,12 @@ std::vector<Named> physical(const CompositeModel& m) {
         const std::string k = gms > 1 ? std::to_string(++g) : "";
         out.push_back({"sigma_b" + k, t.sigma_b});
         out.push_back({"T_c" + k, t.tau_c});
+        break;
+      }
+      case ProcessKind::ma1: {
+        const MovingAverageTerm t = moving_average_term(p, kDt);
+        out.push_back({"N", t.n});
+        out.push_back({"theta", t.theta});
         break;
       }
     }
@@ -231,6 +243,9 @@ Options parse(int argc, char** argv) {
       o.threads = static_cast<unsigned>(count_of(a, v));
     } else if (a == "--raw") {
       o.raw = v;
+    } else if (a == "--rw-k") {
+      g_rw_k = std::stod(v);
+      if (!(g_rw_k > 0.0)) throw std::invalid_argument("--rw-k: give a positive K per sample, not " + v);
     } else {
       throw std::invalid_argument(a + ": unknown option (see the comment at the top of the source)");
     }

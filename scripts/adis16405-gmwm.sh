@@ -6,7 +6,7 @@
 # objective, and the scales whose model wavelet variance lies outside the
 # measured one's 95 % chi-square interval.
 # Usage: scripts/adis16405-gmwm.sh [build/bin/cubecal] [OUTDIR] [BOOTSTRAP] [MODEL ...]
-# (defaults: 100 replicates; models WN+RW+2*GM, WN+RW+3*GM and 3*GM). A JSON already in
+# (defaults: 100 replicates; models WN+RW+2*GM, WN+RW+3*GM, 3*GM and MA1+RW+2*GM). A JSON already in
 # OUTDIR is kept, not refitted: remove OUTDIR to fit again.
 set -euo pipefail
 CUBECAL=${1:-build/bin/cubecal}
@@ -14,7 +14,7 @@ OUT=${2:-adis16405-gmwm-out}
 B=${3:-100}
 shift $(( $# < 3 ? $# : 3 ))
 MODELS=("$@")
-[ ${#MODELS[@]} -gt 0 ] || MODELS=("WN+RW+2*GM" "WN+RW+3*GM" "3*GM")
+[ ${#MODELS[@]} -gt 0 ] || MODELS=("WN+RW+2*GM" "WN+RW+3*GM" "3*GM" "MA1+RW+2*GM")
 DATA=$(cd "$(dirname "$0")/../../shared/data/imu/adis16405" && pwd)
 PY=/usr/bin/python3
 mkdir -p "$OUT"
@@ -35,12 +35,13 @@ def q(x, boot):
     s = f" ± {d['sigma']:.2g}" if boot else ""
     return f"{x['name']} {d['value']:.4g}{s} {d['unit']}"
 def white(c, dt):
-    # The white level the record shows beyond the first scales: WN plus every
-    # Gauss-Markov term of T_c < 10 dt, whose low-frequency density is
-    # sigma_b^2 (1 + phi) / (1 - phi) dt; as N in the WN's display unit.
+    # The white level the record shows beyond the first scales: WN (or the
+    # MA1's N = sigma (1 + theta) sqrt(dt)) plus every Gauss-Markov term of
+    # T_c < 10 dt, whose low-frequency density is sigma_b^2 (1 + phi) / (1 - phi)
+    # dt; as N in the WN's display unit.
     n2 = 0.0
     for t in c["terms"]:
-        if t["term"] == "WN":
+        if t["term"] in ("WN", "MA1"):
             n2 += t["quantities"][0]["value"] ** 2
         elif t["term"] == "GM" and t["quantities"][1]["value"] < 10 * dt:
             phi = t["parameters"]["phi"]

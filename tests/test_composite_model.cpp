@@ -6,12 +6,17 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cubecal/error.hpp"
 #include "cubecal/noise/composite_model.hpp"
 #include "cubecal/noise/sensor_noise_model.hpp"
+#include "cubecal/sim/composite_noise.hpp"
+#include "cubecal/sim/composite_simulator.hpp"
+#include "cubecal/stats/wavelet_variance.hpp"
 
 namespace cubecal {
 namespace {
@@ -23,7 +28,9 @@ double haar(std::size_t i, std::size_t m) {
 }
 
 // var(W) = sum_s c_s^2, c_s the weight of innovation w_s in W.
-double brute(ProcessKind kind, double value, double phi, std::size_t m) {
+double brute(const Process& p, std::size_t m) {
+  const ProcessKind kind = p.kind;
+  const double value = p.value, phi = p.phi;
   const std::size_t n = 2 * m;
   double var = 0.0;
   switch (kind) {
@@ -59,6 +66,15 @@ double brute(ProcessKind kind, double value, double phi, std::size_t m) {
       }
       return var;
     }
+    case ProcessKind::ma1:
+      // X_i = e_i + theta e_{i-1}: e_s enters X_s with 1 and X_{s+1} with theta.
+      for (long s = -1; s < static_cast<long>(n); ++s) {
+        double c = 0.0;
+        if (s >= 0) c += haar(static_cast<std::size_t>(s), m);
+        if (s + 1 < static_cast<long>(n)) c += p.theta * haar(static_cast<std::size_t>(s + 1), m);
+        var += value * c * c;
+      }
+      return var;
     case ProcessKind::dr: {
       double w = 0.0;
       for (std::size_t i = 0; i < n; ++i) w += value * static_cast<double>(i) * haar(i, m);
@@ -72,9 +88,9 @@ TEST(CompositeModel, HaarWaveletVarianceEqualsTheFilteredProcess) {
   for (std::size_t m : {1u, 2u, 3u, 5u, 8u, 16u, 64u, 200u}) {
     const double tau = 2.0 * static_cast<double>(m);
     const auto check = [&](Process p) {
-      const double want = brute(p.kind, p.value, p.phi, m);
+      const double want = brute(p, m);
       EXPECT_NEAR(haar_wavelet_variance(p, tau), want, 1e-12 * want)
-          << model_name({{p}}) << " phi " << p.phi << " tau " << tau;
+          << model_name({{p}}) << " phi " << p.phi << " theta " << p.theta << " tau " << tau;
     };
     check({ProcessKind::wn, 2.5, 0.0});
     check({ProcessKind::qn, 0.7, 0.0});
@@ -82,6 +98,79 @@ TEST(CompositeModel, HaarWaveletVarianceEqualsTheFilteredProcess) {
     check({ProcessKind::dr, -0.02, 0.0});
     for (double phi : {0.05, 0.5, 0.9, 0.999}) check({ProcessKind::gm, 0.3, phi});
     if (m <= 8) check({ProcessKind::gm, 0.3, 0.99999});  // 4.6 M innovations back: short scales only
+    for (double theta : {-0.95, -0.4, 0.0, 0.17, 0.6, 0.99}) check({ProcessKind::ma1, 1.7, 0.0, theta});
+  }
+}
+
+// The MA1's wavelet variance from its autocovariance (gamma0 = sigma2
+// (1 + theta^2), gamma1 = sigma2 theta) summed over the Haar filter's
+// pairs, and from seeded records (sim/composite_simulator.hpp and the
+// block-wise sim/composite_noise.hpp): the mean over 40 records within 3
+// standard errors of the closed form, and the lag-one correlation
+// theta / (1 + theta^2).
+TEST(CompositeModel, MovingAverageWaveletVarianceFromItsAutocovarianceAndSeededRecords) {
+  const double sigma2 = 2.0, theta = 0.3;
+  const Process ma{ProcessKind::ma1, sigma2, 0.0, theta};
+  for (std::size_t m : {1u, 2u, 4u, 32u, 1024u}) {
+    const std::size_t n = 2 * m;
+    double sum = 0.0;
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t k = 0; k < n; ++k) {
+        const std::size_t lag = i > k ? i - k : k - i;
+        const double gamma = lag == 0 ? sigma2 * (1.0 + theta * theta) : lag == 1 ? sigma2 * theta : 0.0;
+        sum += haar(i, m) * haar(k, m) * gamma;
+      }
+    const double tau = static_cast<double>(n);
+    EXPECT_NEAR(haar_wavelet_variance(ma, tau), sum, 1e-13 * sum) << tau;
+    // WN of sigma2 (1 + theta)^2 and QN of -theta sigma2: the same moments.
+    EXPECT_NEAR(haar_wavelet_variance(ma, tau),
+                sigma2 * (1.0 + theta) * (1.0 + theta) / tau - 6.0 * theta * sigma2 / (tau * tau), 1e-14 * sum);
+  }
+
+  CompositeModel model;
+  model.processes = {ma};
+  constexpr int kSeeds = 40;
+  constexpr std::size_t kSamples = 1 << 16;
+  const std::vector<double> taus = {2.0, 4.0, 16.0, 256.0};
+  for (const bool blocks : {false, true}) {
+    std::vector<std::vector<double>> nu2(taus.size());
+    std::vector<double> rho;
+    for (int seed = 1; seed <= kSeeds; ++seed) {
+      std::vector<double> y;
+      if (blocks) {
+        y.assign(kSamples, 0.0);
+        CompositeNoise noise(model, static_cast<std::uint64_t>(seed));
+        for (std::size_t k = 0; k < kSamples; k += 1000)
+          noise.add_next(std::span<double>(y.data() + k, std::min<std::size_t>(1000, kSamples - k)));
+      } else {
+        y = simulate_composite(model, kSamples, static_cast<std::uint64_t>(seed));
+      }
+      const WaveletVariance wv = wavelet_variance(y, 0.95, 8);
+      for (std::size_t j = 0; j < taus.size(); ++j)
+        for (std::size_t k = 0; k < wv.size(); ++k)
+          if (wv.tau[k] == taus[j]) nu2[j].push_back(wv.nu2[k]);
+      double c0 = 0.0, c1 = 0.0;
+      for (std::size_t i = 0; i < y.size(); ++i) {
+        c0 += y[i] * y[i];
+        if (i > 0) c1 += y[i] * y[i - 1];
+      }
+      rho.push_back(c1 / c0);
+    }
+    const auto mean_se = [](const std::vector<double>& v) {
+      double mean = 0.0, var = 0.0;
+      for (double x : v) mean += x / static_cast<double>(v.size());
+      for (double x : v) var += (x - mean) * (x - mean) / static_cast<double>(v.size() - 1);
+      return std::pair{mean, std::sqrt(var / static_cast<double>(v.size()))};
+    };
+    for (std::size_t j = 0; j < taus.size(); ++j) {
+      ASSERT_EQ(nu2[j].size(), static_cast<std::size_t>(kSeeds));
+      const auto [mean, se] = mean_se(nu2[j]);
+      EXPECT_LT(std::abs(mean - haar_wavelet_variance(ma, taus[j])), 3.0 * se)
+          << (blocks ? "blocks" : "whole") << " tau " << taus[j] << ": " << mean << " vs "
+          << haar_wavelet_variance(ma, taus[j]);
+    }
+    const auto [r, se] = mean_se(rho);
+    EXPECT_LT(std::abs(r - theta / (1.0 + theta * theta)), 3.0 * se) << r;
   }
 }
 
@@ -113,6 +202,18 @@ TEST(CompositeModel, TheSumAndThePapersModelAgree) {
   EXPECT_TRUE(std::isnan(haar_wavelet_variance(Process{ProcessKind::gm, 1.0, 1.0}, 4.0)));
   EXPECT_TRUE(std::isnan(haar_wavelet_variance(Process{ProcessKind::wn, -1.0, 0.0}, 4.0)));
   EXPECT_TRUE(std::isnan(haar_wavelet_variance(Process{ProcessKind::gm, 1.0, 0.5}, 3.0)));
+  EXPECT_TRUE(std::isnan(haar_wavelet_variance(Process{ProcessKind::ma1, 1.0, 0.0, 1.0}, 4.0)));
+  EXPECT_TRUE(std::isnan(haar_wavelet_variance(Process{ProcessKind::ma1, -1.0, 0.0, 0.2}, 4.0)));
+  // MA1 in physical terms: N = sqrt(sigma2 dt) (1 + theta), the white level
+  // its wavelet variance approaches, N^2 / (tau_s dt) in time units.
+  const Process ma = ma1_process(0.04, -0.3, 0.01);
+  const MovingAverageTerm mt = moving_average_term(ma, 0.01);
+  EXPECT_NEAR(mt.n, 0.04, 1e-16);
+  EXPECT_EQ(mt.theta, -0.3);
+  const double tau = 1 << 20;
+  EXPECT_NEAR(haar_wavelet_variance(ma, tau) * tau, mt.n * mt.n / 0.01, 1e-5 * mt.n * mt.n / 0.01);
+  EXPECT_THROW((void)ma1_process(0.04, 1.0, 0.01), UsageError);
+  EXPECT_THROW((void)moving_average_term(Process{ProcessKind::wn, 1.0, 0.0}, 0.01), UsageError);
 }
 
 TEST(CompositeModel, ModelSyntax) {
@@ -122,7 +223,22 @@ TEST(CompositeModel, ModelSyntax) {
   EXPECT_EQ(m.processes[5].kind, ProcessKind::gm);
   EXPECT_EQ(model_name(m), "WN+QN+RW+3*GM");
   EXPECT_EQ(model_name(parse_composite_model("DR")), "DR");
-  for (const char* bad : {"", "WN+", "WN++RW", "XX", "WN+WN", "2*RW", "0*GM", "x*GM", "100*GM"}) {
+  const CompositeModel ma = parse_composite_model("ma1 + RW + 2*AR1");
+  EXPECT_EQ(model_name(ma), "MA1+RW+2*GM");
+  EXPECT_EQ(ma.processes[0].kind, ProcessKind::ma1);
+  EXPECT_EQ(parameter_count(ma), 7u);
+  // MA1 beside WN or QN is again an MA1: refused, naming the pair.
+  for (const char* bad : {"WN+MA1", "MA1+QN+RW"}) {
+    try {
+      parse_composite_model(bad);
+      ADD_FAILURE() << "accepted '" << bad << "'";
+    } catch (const UsageError& e) {
+      EXPECT_EQ(e.option(), "model");
+      EXPECT_NE(std::string(e.what()).find("MA1 with"), std::string::npos) << e.what();
+    }
+  }
+  for (const char* bad : {"", "WN+", "WN++RW", "XX", "WN+WN", "2*RW", "0*GM", "x*GM", "100*GM", "MA1+MA1", "2*MA1",
+                          "MA2"}) {
     try {
       parse_composite_model(bad);
       ADD_FAILURE() << "accepted '" << bad << "'";

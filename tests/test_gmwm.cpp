@@ -16,6 +16,7 @@
 #include "cubecal/error.hpp"
 #include "cubecal/noise/composite_model.hpp"
 #include "cubecal/noise/gmwm.hpp"
+#include "cubecal/noise/gmwm_asymptotics.hpp"
 #include "cubecal/sim/composite_simulator.hpp"
 #include "cubecal/stats/wavelet_variance.hpp"
 
@@ -65,6 +66,10 @@ CompositeModel truth(const std::string& name) {
                     : gm_process(4000.0, 0.15, 1.0);
         ++gm;
         break;
+      case ProcessKind::ma1:  // a sensor's averaging filter, or its mirror
+        p.value = 1.0;
+        p.theta = name == "MA1+GM" ? -0.5 : 0.3;
+        break;
     }
   }
   return m;
@@ -81,11 +86,15 @@ void expect_parameters_near(const CompositeModel& got, const CompositeModel& wan
       // T_c = -1 / ln(phi), the quantity the fit carries
       EXPECT_NEAR(std::log(g.phi), std::log(w.phi), rel * std::abs(std::log(w.phi))) << what << " term " << i;
     }
+    if (w.kind == ProcessKind::ma1) {
+      EXPECT_NEAR(g.theta, w.theta, rel * std::abs(w.theta)) << what << " term " << i;
+    }
   }
 }
 
 TEST(Gmwm, TheExactMomentsGiveTheParametersBack) {
-  for (const std::string name : {"WN+RW", "WN+GM", "WN+2*GM+RW", "WN+QN+GM", "WN+GM+DR"}) {
+  for (const std::string name :
+       {"WN+RW", "WN+GM", "WN+2*GM+RW", "WN+QN+GM", "WN+GM+DR", "MA1+RW", "MA1+GM", "MA1+2*GM+RW"}) {
     const CompositeModel m = truth(name);
     WaveletVariance wv;
     for (double tau = 2.0; tau <= 1048576.0; tau *= 2.0) {
@@ -134,6 +143,45 @@ TEST(Gmwm, SeededRecordsUnbiasedWithinTheirSpread) {
     EXPECT_LT(std::abs(mean - want[k]), 3.0 * se) << "parameter " << k << ": mean " << mean << " truth " << want[k]
                                                    << " se " << se;
     EXPECT_GT(se, 0.0);
+  }
+}
+
+// MA1+RW: seeded records fitted, theta, sigma2 and gamma2 unbiased within 3
+// Monte Carlo standard errors, and the sandwich standard deviations
+// (noise/gmwm_asymptotics.hpp) of the first record match the spread over
+// the 40 (an sd from 40 draws has a relative standard error of 1/sqrt(78)
+// = 11 %: 3 of them).
+TEST(Gmwm, SeededMovingAverageRecordsUnbiasedWithinTheirSpread) {
+  const CompositeModel m = truth("MA1+RW");
+  constexpr int kSeeds = 40;
+  constexpr std::size_t kSamples = 100000;
+  std::vector<std::vector<double>> est(3);  // sigma2, theta, gamma2
+  std::vector<double> sandwich;
+  for (int seed = 1; seed <= kSeeds; ++seed) {
+    const std::vector<double> y = simulate_composite(m, kSamples, static_cast<std::uint64_t>(seed));
+    const WaveletVariance wv = wavelet_variance(y, 0.95);
+    const GmwmFit fit = fit_gmwm(wv, parse_composite_model("MA1+RW"));
+    est[0].push_back(fit.model.processes[0].value);
+    est[1].push_back(fit.model.processes[0].theta);
+    est[2].push_back(fit.model.processes[1].value);
+    if (seed == 1) {
+      const GmwmAsymptotics as = gmwm_asymptotics(fit, wv, kSamples);
+      sandwich = {as.sd[0].value, as.sd[0].theta, as.sd[1].value};
+    }
+  }
+  const double want[3] = {m.processes[0].value, m.processes[0].theta, m.processes[1].value};
+  for (std::size_t k = 0; k < 3; ++k) {
+    double mean = 0.0, var = 0.0;
+    for (double v : est[k]) mean += v;
+    mean /= kSeeds;
+    for (double v : est[k]) var += (v - mean) * (v - mean);
+    const double sd = std::sqrt(var / (kSeeds - 1));
+    const double se = sd / std::sqrt(static_cast<double>(kSeeds));
+    EXPECT_LT(std::abs(mean - want[k]), 3.0 * se) << "parameter " << k << ": mean " << mean << " truth " << want[k]
+                                                   << " se " << se;
+    EXPECT_GT(se, 0.0);
+    EXPECT_NEAR(sandwich[k] / sd, 1.0, 3.0 / std::sqrt(78.0)) << "parameter " << k << ": sandwich " << sandwich[k]
+                                                              << " spread " << sd;
   }
 }
 

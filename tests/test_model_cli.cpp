@@ -14,6 +14,7 @@
 #include "cli_runner.hpp"
 #include "cubecal/noise/composite_model.hpp"
 #include "cubecal/noise/gmwm.hpp"
+#include "cubecal/pipeline/model_fit_json.hpp"
 #include "cubecal/sim/composite_simulator.hpp"
 #include "cubecal/stats/wavelet_variance.hpp"
 
@@ -85,6 +86,45 @@ TEST_F(ModelCli, JsonIsTheLibraryFitInQuotedUnits) {
   ASSERT_EQ(t.code, 0) << t.err;
   EXPECT_NE(t.out.find("deg/sqrt(h)"), std::string::npos) << t.out;
   EXPECT_NE(t.out.find("GM  Gauss-Markov"), std::string::npos) << t.out;
+}
+
+// MA1+GM (a sensor's averaging filter, N = 0.3 deg/sqrt(h), theta = 0.25):
+// N in deg/sqrt(h) and theta come back within 4 of their sandwich standard
+// deviations, the JSON reads back to the same terms, the table names the
+// term, and WN beside MA1 is refused.
+TEST_F(ModelCli, MovingAverageTermInQuotedUnitsAndJsonRoundTrip) {
+  const double dt = 1.0 / kRate;
+  CompositeModel m = parse_composite_model("MA1+GM");
+  m.processes[0] = ma1_process(0.3 / 60.0, 0.25, dt);
+  m.processes[1] = gyro().processes[1];
+  const std::vector<double> y = simulate_composite(m, 200000, 11);
+  std::ostringstream text;
+  text.precision(17);
+  text << "t,gx\n";
+  for (std::size_t i = 0; i < y.size(); ++i) text << static_cast<double>(i) * dt << ',' << y[i] << '\n';
+  const std::string file = write("ma.csv", text.str());
+  const CliRun r = run_cubecal("model " + file + " --model ma1+gm --unit deg/s --format json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  const auto& c = j.at("channels").at(0);
+  const auto& n = quantity(c, "MA1", "N");
+  EXPECT_EQ(n.at("display").at("unit"), "deg/sqrt(h)");
+  EXPECT_NEAR(n.at("display").at("value").get<double>(), 0.3,
+              4.0 * n.at("display").at("asymptotic_sd").get<double>());
+  const auto& th = quantity(c, "MA1", "theta");
+  EXPECT_EQ(th.at("unit"), "");
+  EXPECT_NEAR(th.at("value").get<double>(), 0.25, 4.0 * th.at("asymptotic_sd").get<double>());
+  EXPECT_GT(th.at("asymptotic_sd").get<double>(), 0.0);
+  EXPECT_EQ(c.at("terms").at(0).at("parameters").at("theta").get<double>(), th.at("value").get<double>());
+  const pipeline::ModelResult back = pipeline::model_result_from_json(j, "model.json");
+  EXPECT_EQ(back.channels.at(0).terms.at(0).process.theta, th.at("value").get<double>());
+  EXPECT_EQ(pipeline::to_json(back).at("channels").at(0).at("terms"), c.at("terms"));
+  const CliRun t = run_cubecal("model " + file + " --model MA1+GM --unit deg/s");
+  ASSERT_EQ(t.code, 0) << t.err;
+  EXPECT_NE(t.out.find("MA1 moving average"), std::string::npos) << t.out;
+  const CliRun bad = run_cubecal("model " + file + " --model WN+MA1");
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.err.find("MA1 with WN"), std::string::npos) << bad.err;
 }
 
 TEST_F(ModelCli, BootstrapIsReproducibleOnAnyThreadsAndHoldsTheTruth) {

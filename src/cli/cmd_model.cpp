@@ -41,6 +41,7 @@ std::string term_title(ProcessKind k) {
     case ProcessKind::rw: return "RW  random walk";
     case ProcessKind::dr: return "DR  drift";
     case ProcessKind::gm: return "GM  Gauss-Markov";
+    case ProcessKind::ma1: return "MA1 moving average";
   }
   return "";
 }

@@ -21,12 +21,13 @@ struct Name {
   std::string_view text;
   ProcessKind kind;
 };
-constexpr std::array<Name, 6> kNames{{{"WN", ProcessKind::wn},
+constexpr std::array<Name, 7> kNames{{{"WN", ProcessKind::wn},
                                       {"QN", ProcessKind::qn},
                                       {"RW", ProcessKind::rw},
                                       {"DR", ProcessKind::dr},
                                       {"GM", ProcessKind::gm},
-                                      {"AR1", ProcessKind::gm}}};
+                                      {"AR1", ProcessKind::gm},
+                                      {"MA1", ProcessKind::ma1}}};
 
 std::string upper_trimmed(std::string_view s) {
   while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
@@ -38,15 +39,15 @@ std::string upper_trimmed(std::string_view s) {
 
 [[noreturn]] void bad_model(const std::string& text, const std::string& why) {
   throw UsageError("model", "model '" + text + "': " + why +
-                                " (terms: WN, QN, RW, DR, GM or AR1, k*GM for k of them, joined by +; e.g. "
-                                "WN+RW+2*GM)");
+                                " (terms: WN, QN, RW, DR, GM or AR1, MA1, k*GM for k of them, joined by +; e.g. "
+                                "WN+RW+2*GM, MA1+RW+2*GM)");
 }
 
 }  // namespace
 
 CompositeModel parse_composite_model(const std::string& text) {
   CompositeModel model;
-  std::array<bool, 5> once{};
+  std::array<bool, 6> once{};
   std::string_view rest(text);
   if (upper_trimmed(rest).empty()) bad_model(text, "no term");
   while (true) {
@@ -77,6 +78,13 @@ CompositeModel parse_composite_model(const std::string& text) {
     if (plus == std::string_view::npos) break;
     rest.remove_prefix(plus + 1);
   }
+  // MA1 + WN or MA1 + QN is again an MA(1) (composite_model.hpp): its
+  // parameters could not be told apart.
+  const auto has = [&](ProcessKind k) { return once[static_cast<std::size_t>(k)]; };
+  for (const ProcessKind k : {ProcessKind::wn, ProcessKind::qn})
+    if (has(ProcessKind::ma1) && has(k))
+      bad_model(text, "MA1 with " + std::string(to_string(k)) +
+                          " (their sum is another MA1: MA1 replaces WN, and takes up a QN)");
   return model;
 }
 
@@ -88,7 +96,7 @@ std::string_view to_string(ProcessKind k) noexcept {
 
 std::size_t parameter_count(const CompositeModel& model) noexcept {
   std::size_t k = 0;
-  for (const Process& p : model.processes) k += p.kind == ProcessKind::gm ? 2 : 1;
+  for (const Process& p : model.processes) k += p.kind == ProcessKind::gm || p.kind == ProcessKind::ma1 ? 2 : 1;
   return k;
 }
 
@@ -124,6 +132,13 @@ double haar_wavelet_variance(const Process& p, double tau) noexcept {
       if (!(p.value >= 0.0) || !(p.phi > 0.0 && p.phi < 1.0)) return kNaN;
       return gauss_markov_wavelet_variance(-std::log(p.phi), p.value, tau);
     }
+    case ProcessKind::ma1: {
+      // WN of sigma2 (1 + theta)^2 plus QN of Q2 = -theta sigma2: the same
+      // autocovariance (gamma0 = sigma2 (1 + theta^2), gamma1 = sigma2 theta).
+      if (!(p.value >= 0.0) || !(std::abs(p.theta) < 1.0)) return kNaN;
+      const double w = (1.0 + p.theta) * (1.0 + p.theta);
+      return p.value * (w * tau - 6.0 * p.theta) / (tau * tau);
+    }
   }
   return kNaN;
 }
@@ -157,6 +172,19 @@ Process gm_process(double tau_c, double sigma_b, double dt) {
     throw UsageError("model", "a Gauss-Markov term needs a positive, finite correlation time and sigma_b >= 0");
   const double a = dt / tau_c;
   return {ProcessKind::gm, sigma_b * sigma_b * -std::expm1(-2.0 * a), std::exp(-a)};
+}
+
+MovingAverageTerm moving_average_term(const Process& ma1, double dt) {
+  if (ma1.kind != ProcessKind::ma1 || !(std::abs(ma1.theta) < 1.0) || !(ma1.value >= 0.0) || !(dt > 0.0))
+    throw UsageError("model", "an MA1 term needs -1 < theta < 1, a variance >= 0 and a positive sample period");
+  return {std::sqrt(ma1.value * dt) * (1.0 + ma1.theta), ma1.theta};
+}
+
+Process ma1_process(double n, double theta, double dt) {
+  if (!(n >= 0.0) || !std::isfinite(n) || !(std::abs(theta) < 1.0) || !(dt > 0.0))
+    throw UsageError("model", "an MA1 term needs a finite N >= 0 and -1 < theta < 1");
+  Process p{ProcessKind::ma1, n * n / (dt * (1.0 + theta) * (1.0 + theta)), 0.0, theta};
+  return p;
 }
 
 }  // namespace cubecal

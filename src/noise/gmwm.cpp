@@ -24,6 +24,11 @@ using Eigen::VectorXd;
 // record, and phi = exp(-a) must stay below 1 in double precision.
 constexpr double kMaxLogA = 3.9;
 constexpr double kMinLogA = -27.6;  // ln(1e-12)
+// An MA1's theta = tanh(z): |z| <= 18 keeps |theta| below 1 in double
+// precision (1 - theta = 4.6e-16 there).
+constexpr double kMaxAtanh = 18.0;
+
+double ma_theta(double z) { return std::tanh(std::clamp(z, -kMaxAtanh, kMaxAtanh)); }
 
 // The wavelet variance of the model with log-parameters theta at tau.
 double model_wv(const CompositeModel& structure, const VectorXd& theta, double tau) {
@@ -33,6 +38,8 @@ double model_wv(const CompositeModel& structure, const VectorXd& theta, double t
     const double v = std::exp(theta(k++));
     if (p.kind == ProcessKind::gm)
       sum += gauss_markov_wavelet_variance(std::exp(std::clamp(theta(k++), kMinLogA, kMaxLogA)), v, tau);
+    else if (p.kind == ProcessKind::ma1)
+      sum += haar_wavelet_variance(Process{ProcessKind::ma1, v, 0.0, ma_theta(theta(k++))}, tau);
     else  // DR's parameter is omega, its logarithm omega^2's
       sum += haar_wavelet_variance(Process{p.kind, p.kind == ProcessKind::dr ? std::sqrt(v) : v, 0.0}, tau);
   }
@@ -47,6 +54,9 @@ CompositeModel to_model(const CompositeModel& structure, const VectorXd& theta) 
     if (p.kind == ProcessKind::gm) {
       p.value = v;
       p.phi = std::exp(-std::exp(std::clamp(theta(k++), kMinLogA, kMaxLogA)));
+    } else if (p.kind == ProcessKind::ma1) {
+      p.value = v;
+      p.theta = ma_theta(theta(k++));
     } else {
       p.value = p.kind == ProcessKind::dr ? std::sqrt(v) : v;
     }
@@ -74,19 +84,22 @@ VectorXd theta_of(const CompositeModel& structure, const CompositeModel& m) {
     // the smallest one: a bootstrap replicate from such a fit is a fit too.
     const bool ok = p.kind == ProcessKind::dr ? std::isfinite(p.value)
                                                : p.value >= 0.0 && std::isfinite(p.value) &&
-                                                     (p.kind != ProcessKind::gm || (p.phi > 0.0 && p.phi < 1.0));
+                                                     (p.kind != ProcessKind::gm || (p.phi > 0.0 && p.phi < 1.0)) &&
+                                                     (p.kind != ProcessKind::ma1 || std::abs(p.theta) < 1.0);
     if (!ok) throw UsageError("model", "the start " + model_name(m) + " has a parameter beyond its range");
     constexpr double kSmallest = 1e-300;
     theta(k++) = std::log(std::max(p.kind == ProcessKind::dr ? p.value * p.value : p.value, kSmallest));
     if (p.kind == ProcessKind::gm) theta(k++) = std::log(-std::log(p.phi));
+    if (p.kind == ProcessKind::ma1) theta(k++) = std::atanh(p.theta);
   }
   return theta;
 }
 
 // Starting log-parameters read off the curve: `spread` in [0, 1) places the
-// Gauss-Markov terms along the scales, `share` scales each term's size.
+// Gauss-Markov terms along the scales, `share` scales each term's size,
+// `ma` is an MA1 term's theta.
 VectorXd start_from(const CompositeModel& structure, const WaveletVariance& wv, const std::vector<double>& place,
-                    const std::vector<double>& share) {
+                    const std::vector<double>& share, double ma) {
   const std::size_t J = wv.size();
   const double t1 = wv.tau.front(), n1 = wv.nu2.front();
   const double tJ = wv.tau.back(), nJ = wv.nu2.back();
@@ -111,6 +124,11 @@ VectorXd start_from(const CompositeModel& structure, const WaveletVariance& wv, 
         theta(k++) = std::log(a);
         break;
       }
+      case ProcessKind::ma1:
+        // The white level tau nu2 of the first scale is sigma2 ((1 + theta)^2 - 6 theta / tau).
+        theta(k++) = std::log(f * n1 * t1 / ((1.0 + ma) * (1.0 + ma) - 6.0 * ma / t1));
+        theta(k++) = std::atanh(ma);
+        break;
     }
   }
   return theta;
@@ -172,6 +190,8 @@ GmwmFit fit_gmwm(const WaveletVariance& wv, const CompositeModel& structure, con
       std::count_if(structure.processes.begin(), structure.processes.end(),
                     [](const Process& p) { return p.kind == ProcessKind::gm; }));
   const std::size_t terms = structure.processes.size();
+  const bool has_ma = std::any_of(structure.processes.begin(), structure.processes.end(),
+                                  [](const Process& p) { return p.kind == ProcessKind::ma1; });
   std::mt19937_64 engine(options.seed);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
 
@@ -190,12 +210,14 @@ GmwmFit fit_gmwm(const WaveletVariance& wv, const CompositeModel& structure, con
   for (std::size_t s = 0; s < starts; ++s) {
     std::vector<double> place(ng), share(terms, 1.0);
     for (std::size_t g = 0; g < ng; ++g) place[g] = (static_cast<double>(g) + 1.0) / (static_cast<double>(ng) + 1.0);
+    double ma = 0.2;  // a sensor's averaging filter correlates neighbours positively
     if (s > 0) {
       for (double& p : place) p = unit(engine);
       std::sort(place.begin(), place.end());
       for (double& f : share) f = std::pow(10.0, -2.0 * unit(engine));  // 0.01 .. 1
+      if (has_ma) ma = 1.6 * unit(engine) - 0.8;                         // -0.8 .. 0.8
     }
-    Run run = minimise(structure, wv, sd0, start_from(structure, wv, place, share), options.max_iterations);
+    Run run = minimise(structure, wv, sd0, start_from(structure, wv, place, share, ma), options.max_iterations);
     if (run.cost < best.cost) best = std::move(run);
   }
   if (!std::isfinite(best.cost))

@@ -45,11 +45,11 @@ GmwmAsymptotics gmwm_asymptotics(const GmwmFit& fit, const WaveletVariance& wv, 
   if (fit.sd.size() != J || fit.nu2_model.size() != J || fit.model.processes.empty())
     throw UsageError("model", "the GMWM fit has " + std::to_string(fit.sd.size()) + " scales, the wavelet variance " +
                                   std::to_string(J) + ": they do not belong together");
-  std::size_t p = 0;
-  for (const Process& pr : fit.model.processes) p += pr.kind == ProcessKind::gm ? 2 : 1;
+  const std::size_t p = parameter_count(fit.model);
 
-  // A: every parameter but ln a enters linearly, so its column is the
-  // term's own wavelet variance.
+  // A: every parameter but ln a and an MA1's z = atanh(theta) enters
+  // linearly, so its column is the term's own wavelet variance; an MA1's
+  // d nu2 / dz = sigma2 (2 (1 + theta) tau - 6) / tau^2 (1 - theta^2).
   MatrixXd A(static_cast<Eigen::Index>(J), static_cast<Eigen::Index>(p));
   for (std::size_t j = 0; j < J; ++j) {
     Eigen::Index k = 0;
@@ -57,6 +57,10 @@ GmwmAsymptotics gmwm_asymptotics(const GmwmFit& fit, const WaveletVariance& wv, 
     for (const Process& pr : fit.model.processes) {
       A(row, k++) = haar_wavelet_variance(pr, wv.tau[j]);
       if (pr.kind == ProcessKind::gm) A(row, k++) = d_log_a(-std::log(pr.phi), pr.value, wv.tau[j]);
+      if (pr.kind == ProcessKind::ma1) {
+        const double tau = wv.tau[j];
+        A(row, k++) = pr.value * (2.0 * (1.0 + pr.theta) * tau - 6.0) / (tau * tau) * (1.0 - pr.theta * pr.theta);
+      }
     }
   }
   if (!A.allFinite())
@@ -101,6 +105,10 @@ GmwmAsymptotics gmwm_asymptotics(const GmwmFit& fit, const WaveletVariance& wv, 
     sd.value = pr.kind == ProcessKind::dr ? 0.5 * std::abs(pr.value) * rel : pr.value * rel;
     if (pr.kind == ProcessKind::gm) {
       sd.phi = pr.phi * -std::log(pr.phi) * std::sqrt(cov(k, k));
+      ++k;
+    }
+    if (pr.kind == ProcessKind::ma1) {  // theta = tanh z
+      sd.theta = (1.0 - pr.theta * pr.theta) * std::sqrt(cov(k, k));
       ++k;
     }
     out.sd.push_back(sd);

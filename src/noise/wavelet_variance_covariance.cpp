@@ -7,6 +7,8 @@
 // even polynomial of degree <= 2, which second differences annihilate):
 //   WN  -sigma2 |u| / 2           QN  Q2 [u = 0]
 //   RW  gamma2 (|u|^3 - |u|) / 12  GM  -D(u) / 2, D(u) = var(x_1 + .. + x_u)
+//   MA1 that of WN sigma2 (1 + theta)^2 plus QN -theta sigma2 (the same
+//       autocovariance; the coefficients are Gaussian, so the same covariance)
 // so c_jk(h) = sum_{p,q} w_p w_q K(h + q m_k - p m_j) / (4 m_j m_k) with
 // w = (1, -2, 1). The inner difference (step m_j) is taken in closed form,
 // K1_j(v) = sum_p w_p K(v - p m_j), so that the outer one (step m_k >> m_j)
@@ -106,8 +108,8 @@ struct Terms {
 
 [[noreturn]] void bad_parameter(const CompositeModel& model) {
   throw UsageError("model", "model " + model_name(model) +
-                                ": every variance must be finite and >= 0, every drift finite and every "
-                                "Gauss-Markov phi in (0, 1)");
+                                ": every variance must be finite and >= 0, every drift finite, every "
+                                "Gauss-Markov phi in (0, 1) and every MA1 theta in (-1, 1)");
 }
 
 Terms terms_of(const CompositeModel& model) {
@@ -134,6 +136,11 @@ Terms terms_of(const CompositeModel& model) {
         t.gm.push_back({a, gamma0 / (4.0 * sh * sh), sinh_minus(a)});
         break;
       }
+      case ProcessKind::ma1:
+        if (!(std::abs(p.theta) < 1.0)) bad_parameter(model);
+        t.wn += p.value * (1.0 + p.theta) * (1.0 + p.theta);
+        t.qn -= p.value * p.theta;
+        break;
     }
   }
   return t;

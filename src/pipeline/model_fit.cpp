@@ -30,6 +30,10 @@ std::vector<std::pair<std::string, double>> physical(const Process& p, double dt
       const GaussMarkovTerm g = gauss_markov_term(p, dt);
       return {{"sigma_b", g.sigma_b}, {"T_c", g.tau_c}};
     }
+    case ProcessKind::ma1: {
+      const MovingAverageTerm m = moving_average_term(p, dt);
+      return {{"N", m.n}, {"theta", m.theta}};
+    }
   }
   return {};
 }
@@ -40,11 +44,13 @@ std::string raw_unit(const std::string& name, const std::string& u) {
   if (name == "K") return u + "/sqrt(s)";
   if (name == "R") return u + "/s";
   if (name == "T_c") return "s";
+  if (name == "theta") return "";
   return u;  // sigma_b
 }
 
 Quantity shown(const std::string& name, double value, double sd, const Unit& unit) {
   if (name == "T_c") return {value, sd, "s"};
+  if (name == "theta") return {value, sd, ""};
   const Term term = name == "N"   ? Term::N
                     : name == "Q" ? Term::Q
                     : name == "K" ? Term::K
@@ -61,7 +67,9 @@ Quantity shown(const std::string& name, double value, double sd, const Unit& uni
 // order of physical(), by the delta method from the covariance of the
 // fit's log-parameters (noise/gmwm_asymptotics.hpp): N, Q, K and R carry
 // half the relative sd of their variance, T_c = dt / a that of a, and
-// ln sigma_b = (ln sigma2 - ln(1 - e^-2a)) / 2. NaN for all when the fit
+// ln sigma_b = (ln sigma2 - ln(1 - e^-2a)) / 2; an MA1's
+// ln N = ln sigma2 / 2 + ln(1 + theta) + const and theta = tanh z, so
+// d ln N / dz = 1 - theta, d theta / dz = 1 - theta^2. NaN for all when the fit
 // does not determine its parameters. `inflation`: 1, or 1 / efficiency for
 // the robust wavelet variance (an upper bound of its variance's ratio).
 std::vector<double> asymptotic_sds(const ModelChannel& ch, std::size_t samples, double dt, double inflation) {
@@ -73,6 +81,14 @@ std::vector<double> asymptotic_sds(const ModelChannel& ch, std::size_t samples, 
     std::size_t k = 0;
     for (const Process& p : ch.fit.model.processes) {
       const auto values = physical(p, dt);
+      if (p.kind == ProcessKind::ma1) {
+        const double g = 1.0 - p.theta;
+        const double var_n = 0.25 * C(k, k) + g * C(k, k + 1) + g * g * C(k + 1, k + 1);
+        out.push_back(values[0].second * std::sqrt(std::max(var_n, 0.0)));
+        out.push_back((1.0 - p.theta * p.theta) * std::sqrt(C(k + 1, k + 1)));
+        k += 2;
+        continue;
+      }
       if (p.kind != ProcessKind::gm) {
         out.push_back(0.5 * values[0].second * std::sqrt(C(k, k)));
         ++k;

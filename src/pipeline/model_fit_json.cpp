@@ -10,6 +10,7 @@ nlohmann::json to_json(const ModelChannel& c, double rate_hz, bool bootstrapped)
   for (const ModelTerm& t : c.terms) {
     nlohmann::json params = {{"value", t.process.value}};
     if (t.kind == ProcessKind::gm) params["phi"] = t.process.phi;
+    if (t.kind == ProcessKind::ma1) params["theta"] = t.process.theta;
     nlohmann::json qs = nlohmann::json::array();
     for (const ModelQuantity& q : t.quantities) {
       const auto maybe = [&](double v) { return bootstrapped ? nlohmann::json(v) : nlohmann::json(nullptr); };

@@ -1,6 +1,7 @@
 // Reading back the JSON form of a `cubecal model` result
 // (model_fit_json.hpp): a whole `model --format json` document, or one
 // channel of it (analysis.json's channels[i].model.composite).
+#include <cmath>
 #include <limits>
 #include <string>
 #include <vector>
@@ -28,9 +29,10 @@ std::vector<std::size_t> counts(const Node& a) {
 
 ProcessKind kind_of(const Node& t) {
   const std::string name = t.str();
-  for (const ProcessKind k : {ProcessKind::wn, ProcessKind::qn, ProcessKind::rw, ProcessKind::dr, ProcessKind::gm})
+  for (const ProcessKind k :
+       {ProcessKind::wn, ProcessKind::qn, ProcessKind::rw, ProcessKind::dr, ProcessKind::gm, ProcessKind::ma1})
     if (to_string(k) == name) return k;
-  t.fail("unknown term '" + name + "' (known: WN, QN, RW, DR, GM)");
+  t.fail("unknown term '" + name + "' (known: WN, QN, RW, DR, GM, MA1)");
 }
 
 ModelQuantity read_quantity(const Node& q) {
@@ -62,6 +64,10 @@ ModelTerm read_term(const Node& t) {
   if (term.kind == ProcessKind::gm) {
     term.process.phi = p.num("phi");
     if (!(term.process.phi > 0.0 && term.process.phi < 1.0)) p.at("phi").fail("not a lag-one correlation in (0, 1)");
+  }
+  if (term.kind == ProcessKind::ma1) {
+    term.process.theta = p.num("theta");
+    if (!(std::abs(term.process.theta) < 1.0)) p.at("theta").fail("not a moving-average coefficient in (-1, 1)");
   }
   const Node qs = t.at("quantities");
   for (std::size_t i = 0; i < qs.size(); ++i) term.quantities.push_back(read_quantity(qs.at(i)));

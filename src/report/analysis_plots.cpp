@@ -108,39 +108,22 @@ ReportFigure allan_figure(const AnalysisResult& d, const SensorGroup& g) {
     m.width = 1.3;
     m.point_size = 0.25;
     p.series.push_back(std::move(m));
-    if (any_finite(mc.model)) {
+    // A model's curve, drawn when it has any point.
+    const auto model_curve = [&](const std::vector<double>& y, const char* what, Dash dash, double width, bool& any) {
+      if (!any_finite(y)) return;
       PlotSeries s;
       s.x = tau;
-      s.y = mc.model;
-      s.id = ch.name + " random-walk model";
-      s.dash = Dash::dashed;
+      s.y = y;
+      s.id = ch.name + " " + what;
+      s.dash = dash;
       s.color = c;
-      s.width = 1.6;
+      s.width = width;
       p.series.push_back(std::move(s));
-      any_model = true;
-    }
-    if (any_finite(mc.gm)) {
-      PlotSeries s;
-      s.x = tau;
-      s.y = mc.gm;
-      s.id = ch.name + " Gauss-Markov model";
-      s.dash = Dash::dotted;
-      s.color = c;
-      s.width = 1.8;
-      p.series.push_back(std::move(s));
-      any_gm = true;
-    }
-    if (any_finite(mc.composite)) {
-      PlotSeries s;
-      s.x = tau;
-      s.y = mc.composite;
-      s.id = ch.name + " composite model";
-      s.dash = Dash::dash_dot;
-      s.color = c;
-      s.width = 1.8;
-      p.series.push_back(std::move(s));
-      any_composite = true;
-    }
+      any = true;
+    };
+    model_curve(mc.model, "random-walk model", Dash::dashed, 1.6, any_model);
+    model_curve(mc.gm, "Gauss-Markov model", Dash::dotted, 1.8, any_gm);
+    model_curve(mc.composite, "composite model", Dash::dash_dot, 1.8, any_composite);
     // Noise-term lines of the weighted fit: N (slope -1/2), K (+1/2), and the
     // bias-instability floor at sigma_min (0.664 B) where the curve has a minimum.
     if (tmax > tmin) {

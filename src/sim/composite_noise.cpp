@@ -21,11 +21,12 @@ std::uint64_t process_seed(std::uint64_t seed, std::size_t i) noexcept {
 void check(const Process& p, const CompositeModel& model) {
   const bool ok = p.kind == ProcessKind::dr ? std::isfinite(p.value)
                                              : (p.value >= 0.0 && std::isfinite(p.value) &&
-                                                (p.kind != ProcessKind::gm || (p.phi >= 0.0 && p.phi < 1.0)));
+                                                (p.kind != ProcessKind::gm || (p.phi >= 0.0 && p.phi < 1.0)) &&
+                                                (p.kind != ProcessKind::ma1 || std::abs(p.theta) < 1.0));
   if (!ok)
     throw std::invalid_argument("composite model " + model_name(model) +
-                                ": every variance must be finite and >= 0, every Gauss-Markov phi in [0, 1) and "
-                                "the drift finite");
+                                ": every variance must be finite and >= 0, every Gauss-Markov phi in [0, 1), every "
+                                "MA1 theta in (-1, 1) and the drift finite");
 }
 
 }  // namespace
@@ -37,7 +38,7 @@ CompositeNoise::CompositeNoise(const CompositeModel& model, std::uint64_t seed) 
     check(p, model);
     State s{p, std::mt19937_64(process_seed(seed, i)), 0.0, 0.0};
     if (p.kind != ProcessKind::dr) s.scale = std::sqrt(p.value);
-    if (p.kind == ProcessKind::qn) s.x = normal(s.engine);  // u_0
+    if (p.kind == ProcessKind::qn || p.kind == ProcessKind::ma1) s.x = normal(s.engine);  // u_0, e_{-1}
     if (p.kind == ProcessKind::gm) s.x = std::sqrt(p.value / (1.0 - p.phi * p.phi)) * normal(s.engine);
     states_.push_back(std::move(s));
   }
@@ -72,6 +73,13 @@ void CompositeNoise::add_next(std::span<double> out) {
           v += s.x;
         }
         break;
+      case ProcessKind::ma1:
+        for (double& v : out) {
+          const double e = normal(s.engine);
+          v += s.scale * (e + s.process.theta * s.x);
+          s.x = e;
+        }
+        break;
     }
   }
   k_ += out.size();
@@ -99,6 +107,11 @@ CompositeModel composite_at_period(const CompositeModel& model, double from_dt, 
         p.value = sigma_b2 * -std::expm1(2.0 * log_phi);
         break;
       }
+      case ProcessKind::ma1:
+        // N^2 = sigma2 (1 + theta)^2 dt is kept, and theta: the filter that
+        // makes the moving average is taken to run at the new period.
+        p.value /= r;
+        break;
     }
   }
   return out;

@@ -13,10 +13,12 @@ std::vector<double> simulate_composite(const CompositeModel& model, std::size_t 
   for (const Process& p : model.processes) {
     const bool ok = p.kind == ProcessKind::dr ? std::isfinite(p.value)
                                                : (p.value >= 0.0 && std::isfinite(p.value) &&
-                                                  (p.kind != ProcessKind::gm || (p.phi > 0.0 && p.phi < 1.0)));
+                                                  (p.kind != ProcessKind::gm || (p.phi > 0.0 && p.phi < 1.0)) &&
+                                                  (p.kind != ProcessKind::ma1 || std::abs(p.theta) < 1.0));
     if (!ok)
       throw UsageError("model", "model " + model_name(model) +
-                                    ": every variance must be finite and >= 0, and every Gauss-Markov phi in (0, 1)");
+                                    ": every variance must be finite and >= 0, every Gauss-Markov phi in (0, 1) and "
+                                    "every MA1 theta in (-1, 1)");
   }
   std::vector<double> y(samples, 0.0);
   std::mt19937_64 engine(seed);
@@ -56,6 +58,16 @@ std::vector<double> simulate_composite(const CompositeModel& model, std::size_t 
         for (double& v : y) {
           x = p.phi * x + s * normal(engine);
           v += x;
+        }
+        break;
+      }
+      case ProcessKind::ma1: {
+        const double s = std::sqrt(p.value);
+        double prev = normal(engine);  // e_{-1}
+        for (double& v : y) {
+          const double e = normal(engine);
+          v += s * (e + p.theta * prev);
+          prev = e;
         }
         break;
       }

@@ -12,10 +12,16 @@
 //   DR  drift, omega per sample (X_t = omega t)       nu^2(tau) = omega^2 tau^2 / 16
 //   GM  Gauss-Markov (AR(1) with 0 < phi < 1),
 //       innovation variance sigma2                   nu^2(tau) = AVAR_AR1(tau / 2) / 2
+//   MA1 first-order moving average X_t = e_t + theta e_{t-1}, |theta| < 1,
+//       e white of variance sigma2                   nu^2(tau) = sigma2 ((1 + theta)^2 tau - 6 theta) / tau^2
 // with tau = 2^j the dyadic scale in samples. The Haar wavelet variance is
 // half the Allan variance at m = tau / 2 (the MODWT Haar coefficient is half
 // the difference of two adjacent m-sample means), so every form above is the
-// exact discrete AVAR of sensor_noise_model.hpp halved.
+// exact discrete AVAR of sensor_noise_model.hpp halved. An MA1's
+// autocovariance is that of a WN of variance sigma2 (1 + theta)^2 plus a QN
+// of Q2 = -theta sigma2, hence its form; it replaces WN (theta = 0 is WN) and
+// is refused beside WN or QN, whose sum with it is again an MA(1) that the
+// wavelet variance cannot split.
 #pragma once
 #include <cstddef>
 #include <string>
@@ -24,35 +30,37 @@
 
 namespace cubecal {
 
-enum class ProcessKind { wn, qn, rw, dr, gm };
+enum class ProcessKind { wn, qn, rw, dr, gm, ma1 };
 
 struct Process {
   ProcessKind kind = ProcessKind::wn;
-  // wn: sigma2; qn: Q2; rw: gamma2; gm: the innovation variance sigma2;
+  // wn: sigma2; qn: Q2; rw: gamma2; gm, ma1: the innovation variance sigma2;
   // dr: omega (per sample, any sign).
   double value = 0.0;
-  double phi = 0.0;  // gm only: the lag-one correlation, 0 < phi < 1
+  double phi = 0.0;    // gm only: the lag-one correlation, 0 < phi < 1
+  double theta = 0.0;  // ma1 only: the moving-average coefficient, -1 < theta < 1
 };
 
 struct CompositeModel {
   std::vector<Process> processes;
 };
 
-// "WN+QN+RW+DR+2*GM" (case-insensitive; AR1 is a synonym of GM; spaces
-// allowed; k*TERM repeats a term): the processes with zero parameters.
-// Throws UsageError("model") naming what it could not read and the terms it
-// knows; each of WN, QN, RW and DR may appear once.
+// "WN+QN+RW+DR+2*GM", "MA1+RW+2*GM" (case-insensitive; AR1 is a synonym of
+// GM; spaces allowed; k*TERM repeats a term): the processes with zero
+// parameters. Throws UsageError("model") naming what it could not read and
+// the terms it knows; each of WN, QN, RW, DR and MA1 may appear once, and
+// MA1 not beside WN or QN.
 CompositeModel parse_composite_model(const std::string& text);
 
 // "WN+QN+RW+2*GM": the model's terms in the order of parse_composite_model.
 std::string model_name(const CompositeModel& model);
-std::string_view to_string(ProcessKind kind) noexcept;  // "WN", "QN", "RW", "DR", "GM"
-// The parameters a fit estimates: one per process, two per Gauss-Markov term.
+std::string_view to_string(ProcessKind kind) noexcept;  // "WN", "QN", "RW", "DR", "GM", "MA1"
+// The parameters a fit estimates: one per process, two per Gauss-Markov or MA1 term.
 std::size_t parameter_count(const CompositeModel& model) noexcept;
 
 // Theoretical Haar wavelet variance at the scale of tau samples (tau >= 2,
 // even): exact for the sampled processes. NaN for a parameter outside its
-// range (a negative variance, phi outside (0, 1)).
+// range (a negative variance, phi outside (0, 1), |theta| >= 1).
 double haar_wavelet_variance(const Process& process, double tau) noexcept;
 double haar_wavelet_variance(const CompositeModel& model, double tau) noexcept;
 
@@ -66,11 +74,22 @@ double gauss_markov_wavelet_variance(double a, double sigma2, double tau) noexce
 //   QN: Q = sqrt(Q2) dt                (u s: IEEE 952's quantization Q, AVAR 3 Q^2 / tau^2)
 //   DR: R = omega / dt                 (u / s)
 //   GM: correlation time T = -dt / ln(phi), stationary sigma_b = sqrt(sigma2 / (1 - phi^2))
+//   MA1: N = sqrt(sigma2 dt) |1 + theta|, the white noise it is beyond the
+//        first scales (its spectral density at frequency 0, the WV's
+//        N^2 / (tau dt) term), and theta; its lag-one correlation is
+//        theta / (1 + theta^2)
 struct GaussMarkovTerm {
   double tau_c = 0.0;    // s
   double sigma_b = 0.0;  // u
 };
 GaussMarkovTerm gauss_markov_term(const Process& gm, double dt);
 Process gm_process(double tau_c, double sigma_b, double dt);
+
+struct MovingAverageTerm {
+  double n = 0.0;      // u sqrt(s)
+  double theta = 0.0;
+};
+MovingAverageTerm moving_average_term(const Process& ma1, double dt);
+Process ma1_process(double n, double theta, double dt);
 
 }  // namespace cubecal

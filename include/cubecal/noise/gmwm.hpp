@@ -10,11 +10,12 @@
 // that came out low is not favoured. docs/formulas/noise-terms.md §8b.
 //
 // The parameters are fitted in logarithms (variances, and a = -ln phi of
-// each Gauss-Markov term), so every one stays in its range; the Gauss-Markov
-// terms come out ordered by correlation time. Levenberg-Marquardt from
-// several starting points read off the wavelet variance (the white noise
-// from the first scale, the random walk and drift from the last, the
-// Gauss-Markov terms spread over the scales); the best is kept.
+// each Gauss-Markov term) and an MA1's theta as atanh(theta), so every one
+// stays in its range; the Gauss-Markov terms come out ordered by correlation
+// time. Levenberg-Marquardt from several starting points read off the
+// wavelet variance (the white noise or MA1 from the first scale, with theta
+// 0.2 and then scattered over (-0.8, 0.8), the random walk and drift from
+// the last, the Gauss-Markov terms spread over the scales); the best is kept.
 #pragma once
 #include <cstddef>
 #include <cstdint>

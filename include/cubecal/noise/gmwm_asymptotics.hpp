@@ -8,7 +8,8 @@
 //
 // theta is the fit's own parametrisation, one row per process in the
 // model's order: ln sigma2 (WN), ln Q2 (QN), ln gamma2 (RW), ln omega^2
-// (DR), and for a Gauss-Markov term ln sigma2 then ln a, phi = e^-a. Its
+// (DR), for a Gauss-Markov term ln sigma2 then ln a, phi = e^-a, and for an
+// MA1 term ln sigma2 then z = atanh(theta). Its
 // standard deviations are relative ones of the variances; the per-sample
 // parameters' follow by the delta method.
 #pragma once
@@ -23,6 +24,7 @@ namespace cubecal {
 struct ProcessSd {
   double value = 0.0;  // sd of Process::value (omega for a drift)
   double phi = 0.0;    // Gauss-Markov: sd of phi (0 otherwise)
+  double theta = 0.0;  // MA1: sd of theta (0 otherwise)
 };
 
 struct GmwmAsymptotics {

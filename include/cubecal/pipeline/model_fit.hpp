@@ -42,9 +42,9 @@ struct ModelRequest {
 // as people quote it (display: noise/units.hpp); with a bootstrap, its
 // standard deviation and percentile interval over the replicates.
 struct ModelQuantity {
-  std::string name;              // "N", "Q", "K", "R", "sigma_b", "T_c"
+  std::string name;              // "N", "Q", "K", "R", "sigma_b", "T_c", "theta"
   double value = 0.0;
-  std::string unit;              // of value: u*sqrt(s), u*s, u/sqrt(s), u/s, u, s
+  std::string unit;              // of value: u*sqrt(s), u*s, u/sqrt(s), u/s, u, s; "" for theta
   Quantity display;              // display.sigma: the bootstrap's standard deviation (0 without)
   double sd = 0.0;               // bootstrap standard deviation of value (0 without)
   double lo = 0.0, hi = 0.0;     // bootstrap percentile interval of value at ci (0 without)
@@ -60,7 +60,7 @@ struct ModelQuantity {
 struct ModelTerm {
   ProcessKind kind = ProcessKind::wn;
   Process process;               // per-sample parameters as fitted
-  std::vector<ModelQuantity> quantities;  // WN: N; QN: Q; RW: K; DR: R; GM: sigma_b, T_c
+  std::vector<ModelQuantity> quantities;  // WN: N; QN: Q; RW: K; DR: R; GM: sigma_b, T_c; MA1: N, theta
 };
 
 // One row of a channel's model selection: a candidate and its WIC.

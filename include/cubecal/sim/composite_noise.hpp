@@ -37,8 +37,8 @@ class CompositeNoise {
   struct State {
     Process process;
     std::mt19937_64 engine;
-    double scale = 0.0;  // sqrt of the variance: WN, QN, RW, GM
-    double x = 0.0;      // QN: u_k; RW: the walk; GM: x_{k-1}
+    double scale = 0.0;  // sqrt of the variance: WN, QN, RW, GM, MA1
+    double x = 0.0;      // QN: u_k; RW: the walk; GM: x_{k-1}; MA1: e_{k-1}
   };
   std::vector<State> states_;
   std::uint64_t k_ = 0;  // samples drawn
@@ -48,7 +48,9 @@ class CompositeNoise {
 // parameters given at from_dt: the physical quantities of
 // composite_model.hpp kept,
 //   WN sigma2 = N^2 / dt     QN Q2 = (Q / dt)^2     RW gamma2 = K^2 dt
-//   DR omega = R dt          GM phi = exp(-dt / T_c), sigma2 = sigma_b^2 (1 - phi^2).
+//   DR omega = R dt          GM phi = exp(-dt / T_c), sigma2 = sigma_b^2 (1 - phi^2)
+//   MA1 sigma2 = N^2 / ((1 + theta)^2 dt), theta kept (a filter correlating
+//       neighbouring samples at either period).
 // Throws std::invalid_argument for a period that is not positive and finite.
 CompositeModel composite_at_period(const CompositeModel& model, double from_dt, double to_dt);
 

@@ -5,6 +5,7 @@
 //   RW  sum_{s<=t} sqrt(gamma2) z_s, from 0 before the first sample
 //   DR  omega t
 //   GM  x_t = phi x_{t-1} + sqrt(sigma2) z_t, started from its stationary law
+//   MA1 sqrt(sigma2) (z_t + theta z_{t-1}), z_{-1} drawn before the first sample
 // for the GMWM's parametric bootstrap and its Monte Carlo validation.
 // Innovations: std::mt19937_64(seed) and Boost.Random's normal
 // distribution (as the sensor simulator), the processes drawn one after the
