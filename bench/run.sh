@@ -81,3 +81,6 @@ if [ -f "$BUILD/python/cubecal/__init__.py" ]; then
   PYTHONPATH="$BUILD/python" BENCH_OUT="$OUT" /usr/bin/python3 "$(dirname "$0")/python_speed.py" "$BUILD" 5
   PYTHONPATH="$BUILD/python" /usr/bin/python3 "$(dirname "$0")/psd_speed.py" 5
 fi
+
+echo "== cubecal record: 10 kHz x 10 channels of text from a pipe, CPU of the recorder and of cat (bench/record_throughput.sh)"
+bash "$(dirname "$0")/record_throughput.sh" "$BUILD/bin/cubecal" 20 3

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets (clang, ASan + UBSan, in $FUZZ_BUILD) and runs
 # each for FUZZ_SECONDS, one after the other:
-#   FUZZ_SECONDS=300 bash fuzz/run.sh [target...]     (targets: text_reader gzip analysis_json ros1_bag mcap binary_reader ulog sample_stream)
+#   FUZZ_SECONDS=300 bash fuzz/run.sh [target...]     (targets: text_reader gzip analysis_json ros1_bag mcap binary_reader ulog sample_stream
+#   recording_manifest line_framer frame_decoder)
 # Each starts from its seeds (fuzz/corpus/TARGET, read only) and the inputs it
 # found before; new inputs go to $FUZZ_WORK/corpus/TARGET, never into the
 # repository. A crash, sanitizer report, leak, timeout or oversized
@@ -14,7 +15,8 @@ SECS=${FUZZ_SECONDS:-300}
 BUILD=${FUZZ_BUILD:-build-fuzz}
 WORK=${FUZZ_WORK:-$BUILD/work}
 TARGETS=("$@")
-[ ${#TARGETS[@]} -gt 0 ] || TARGETS=(text_reader gzip analysis_json ros1_bag mcap binary_reader ulog sample_stream)
+[ ${#TARGETS[@]} -gt 0 ] || TARGETS=(text_reader gzip analysis_json ros1_bag mcap binary_reader ulog sample_stream
+  recording_manifest line_framer frame_decoder)
 
 cmake -S . -B "$BUILD" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DCUBECAL_FUZZ=ON -DCUBECAL_WERROR=ON >/dev/null

@@ -12,6 +12,7 @@ PACKAGES=(
   python3 python3-numpy gzip bc
   python3-scipy           # AllanTools (the peer `make bench` and the Python tests run) imports scipy.stats
   libfftw3-dev            # power spectral densities (cubecal psd): Welch on FFTW
+  libserialport-dev       # cubecal record from serial devices
   pybind11-dev python3-dev   # the Python module (import cubecal)
   python3-matplotlib      # examples/python: the paper's gyro figure
   python3-dask python3-distributed   # examples/python/fleet.py: one analysis per log on a Dask cluster

@@ -12,7 +12,10 @@
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <sstream>
+
+#include <unistd.h>
 
 #include "commands.hpp"
 #include "common_options.hpp"
@@ -24,6 +27,9 @@
 #include "cubecal/pipeline/simulate.hpp"
 #include "cubecal/pipeline/simulate_size.hpp"
 #include "cubecal/sim/presets.hpp"
+#include "cubecal/acquire/frame_spec.hpp"
+#include "frame_encoder.hpp"
+#include "paced_output.hpp"
 #include "progress.hpp"
 
 namespace cubecal::cli {
@@ -45,6 +51,8 @@ struct SimulateOptions {
   std::string out;
   std::string format = "csv";
   bool force = false;
+  bool realtime = false;     // --realtime: paced at the rate, to the standard output
+  std::string frame;         // --frame SPEC: binary frames (with --realtime)
 };
 
 std::vector<double> numbers(const std::string& list, const std::string& what) {
@@ -178,6 +186,76 @@ int write_raw(const pipeline::SimulateRequest& req_in, const SimulateOptions& o,
   return 0;
 }
 
+// --realtime: the samples on the standard output as a sensor would send
+// them, each at its time (t0 + k / rate): CSV text with its header,
+// float64le frames (--format raw) or the binary frames of --frame. A reader
+// that closes the pipe ends the run (exit 0, said on stderr).
+int write_realtime(const pipeline::SimulateRequest& req, const SimulateOptions& o, std::size_t n) {
+  const bool raw = o.format == "raw";
+  const std::size_t columns = pipeline::channel_names(req).size();
+  std::optional<FrameEncoder> frames_of;
+  std::vector<double> with_time(columns + 1);
+  if (!o.frame.empty()) {
+    std::vector<std::string> names{"t"};
+    for (const auto& name : pipeline::channel_names(req)) names.push_back(name);
+    frames_of.emplace(acquire::parse_frame_spec(o.frame), names);
+  }
+  PacedOutput out(STDOUT_FILENO, req.rate_hz);
+  if (!raw && !frames_of) {
+    std::string header = "t";
+    for (const auto& name : pipeline::channel_names(req)) header += "," + name;
+    out.write_now(header + "\n");
+  }
+  const double dt = 1.0 / req.rate_hz;
+  std::string line;
+  char tmp[32];
+  struct ReaderGone {};
+  try {
+    pipeline::simulate_blocks(req, [&](std::size_t k0, std::span<const double> frames) {
+      const std::size_t len = frames.size() / columns;
+      for (std::size_t j = 0; j < len; ++j) {
+        const double* row = frames.data() + j * columns;
+        line.clear();
+        if (frames_of) {
+          with_time[0] = static_cast<double>(k0 + j) * dt;
+          std::copy(row, row + columns, with_time.begin() + 1);
+          frames_of->encode(with_time, line);
+        } else if (raw) {
+          for (std::size_t c = 0; c < columns; ++c) {
+            std::uint64_t bits = std::bit_cast<std::uint64_t>(row[c]);
+            if constexpr (std::endian::native == std::endian::big) bits = __builtin_bswap64(bits);
+            line.append(reinterpret_cast<const char*>(&bits), sizeof bits);
+          }
+        } else {
+          auto r = std::to_chars(tmp, tmp + sizeof tmp, static_cast<double>(k0 + j) * dt, std::chars_format::general, 9);
+          line.append(tmp, r.ptr);
+          for (std::size_t c = 0; c < columns; ++c) {
+            r = std::to_chars(tmp, tmp + sizeof tmp, row[c], std::chars_format::general, 9);
+            line += ',';
+            line.append(tmp, r.ptr);
+          }
+          line += '\n';
+        }
+        if (!out.sample(k0 + j, line)) throw ReaderGone{};
+      }
+      // The block's last samples out before the next block is generated.
+      if (!out.finish()) throw ReaderGone{};
+    });
+  } catch (const ReaderGone&) {
+  }
+  if (!out.reader_gone()) out.finish();
+  if (out.reader_gone()) {
+    std::cerr << fmt::format("cubecal: the reader of the standard output went away after {} of {} samples: "
+                             "stopped\n", out.written(), n);
+    return 0;
+  }
+  std::cerr << fmt::format("cubecal: streamed {} samples at {:g} Hz in real time ({} {}, seed {})\n", n,
+                           req.rate_hz, frames_of ? (std::string("frames ") += o.frame) += " of t and"
+                                        : std::string(raw ? "float64le frames of" : "CSV lines of t and"),
+                           fmt::join(pipeline::channel_names(req), ","), o.seed);
+  return 0;
+}
+
 int run_simulate(const SimulateOptions& o) {
   pipeline::SimulateRequest req;
   if (!(o.rate_hz > 0.0) || !std::isfinite(o.rate_hz)) throw UsageError("--rate must be positive");
@@ -220,6 +298,8 @@ int run_simulate(const SimulateOptions& o) {
     for (auto& m : models) req.triads.push_back(std::move(m));
   }
   if (req.triads.empty()) throw UsageError("nothing to simulate: give --preset and/or --model");
+  if (!o.frame.empty() && !o.realtime)
+    throw UsageError("--frame streams binary frames with --realtime: add --realtime --out -, or leave out --frame");
   if (!o.flicker.empty()) {
     // Bias instability as flicker FM on every axis of a triad (Kasdin &
     // Walter's generator): one B for all triads or one per triad, in each
@@ -238,6 +318,15 @@ int run_simulate(const SimulateOptions& o) {
   req.seed = o.seed;
   req.temperature = parse_temperature(o.temp);
   if (!o.true_input.empty()) req.true_input = read_rate_profile(o.true_input);
+  if (o.realtime) {
+    // Nothing is stored: no size limit.
+    if (o.out != "-") throw UsageError("--realtime streams to the standard output: give --out -");
+    if (!o.frame.empty() && o.format == "raw")
+      throw UsageError("--frame: binary frames of their own; leave out --format raw");
+    const std::size_t n = pipeline::sample_count(req);
+    if (n < 1) throw UsageError("--duration shorter than one sample period");
+    return write_realtime(req, o, n);
+  }
   // Refuse a record no one meant to ask for before any work (and before
   // sample_count, which an absurd duration would overflow).
   const bool raw = o.format == "raw";
@@ -314,6 +403,13 @@ CLI::App* add_simulate_command(CLI::App& app, Command& run) {
                   "column: read back with --binary float64le,... --rate)")
       ->check(CLI::IsMember({"csv", "raw"}))
       ->capture_default_str();
+  cmd->add_flag("--realtime", opt->realtime,
+                "Stream the samples at the model's rate, each at its time from the start (with --out -): a stand-in "
+                "for a sensor, e.g. `simulate ... --realtime --out - | cubecal record - --out DIR`");
+  cmd->add_option("--frame", opt->frame,
+                  "With --realtime: binary frames as cubecal record --frame reads them, e.g. "
+                  "'sync=A55A;fields=t:f64,gx:f32,gy:f32,gz:f32;checksum=crc16' (fields named after t and the "
+                  "channels; integer fields take the value rounded)");
   cmd->add_flag("--force", opt->force, "Replace --out if it exists, and write a record larger than 2 GB of text");
   cmd->callback([opt, rate, bias, &run] {
     opt->rate_given = rate->count() > 0;

@@ -10,6 +10,7 @@
 #include "common_options.hpp"
 #include "file_options.hpp"
 #include "cubecal/error.hpp"
+#include "cubecal/io/recording.hpp"
 #include "cubecal/noise/unit_from_name.hpp"
 #include "cubecal/pipeline/turnon.hpp"
 #include "cubecal/pipeline/turnon_json.hpp"
@@ -142,11 +143,24 @@ std::string compare_text(const RunsOptions& o, const std::vector<pipeline::RunSu
   return s;
 }
 
+// turnon with one recording directory (cubecal record): its segments, one
+// per run of the recorder, are the power-cycled runs.
+std::vector<io::Series> read_turnon_runs(std::vector<FileSpec>& specs) {
+  if (specs.size() != 1 || !io::looks_like_recording(specs.front().path)) return read_runs(specs);
+  auto runs = io::read_recording_segments(specs.front().path, to_series_options(specs.front().input));
+  if (runs.size() < 2)
+    throw UsageError(specs.front().path + ": the recording has " + std::to_string(runs.size()) +
+                     " segment with samples; turn-on bias needs at least 2 (record each power cycle with the same "
+                     "--out, or give several records)");
+  specs.assign(runs.size(), specs.front());
+  return runs;
+}
+
 int run_turnon_command(const RunsOptions& o) {
   check_report_option(o.report, o.force);
   ResultOutput result(o.out, o.force);  // refuses an existing file before the work
-  const auto specs = file_specs(o, false, "turnon");
-  const auto runs = read_runs(specs);
+  auto specs = file_specs(o, false, "turnon");
+  const auto runs = read_turnon_runs(specs);
   const auto t = pipeline::run_turnon(runs, requests_for(o, specs, runs).front());
   result.stream() << turnon_text(o, t);
   result.finish();
@@ -189,7 +203,8 @@ CLI::App* add_turnon_command(CLI::App& app, Command& run) {
   auto opt = std::make_shared<RunsOptions>();
   CLI::App* cmd = app.add_subcommand(
       "turnon", "Turn-on bias: per-run bias, mean over runs, standard deviation of the run biases with its "
-                "interval, and each run's bias instability");
+                "interval, and each run's bias instability; a recording directory of cubecal record given alone: "
+                "its segments (one per power cycle) are the runs");
   add_runs_options(*cmd, *opt);
   cmd->callback([opt, &run] { run = [opt] { return run_turnon_command(*opt); }; });
   return cmd;

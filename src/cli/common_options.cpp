@@ -92,13 +92,14 @@ void note_default_columns(const io::Series& s) {
 void add_input_options(CLI::App& app, InputOptions& opt, bool several) {
   if (several)
     app.add_option("files", opt.files, "Input files (one record each): delimited text, optionally gzip, "
-                                       "NumPy .npy, HDF5, raw binary (--binary), ROS bags (ROS 1 .bag, MCAP, .db3 or a ROS 2 bag directory) or PX4 ULog")
+                                       "NumPy .npy, HDF5, raw binary (--binary), ROS bags (ROS 1 .bag, MCAP, .db3 or a ROS 2 bag directory), PX4 ULog "
+                                       "or a recording directory of cubecal record")
         ->required();
   else
     app.add_option("file", opt.file, "Input file: delimited text (comma, tab, semicolon or "
                                      "whitespace), optionally gzip-compressed, NumPy .npy (1-D or 2-D), HDF5 "
                                      "(--dataset), raw binary (--binary), a ROS bag (ROS 1 .bag, MCAP, .db3 or a ROS 2 "
-                                     "bag directory) or a PX4 ULog (.ulg); - reads standard input")
+                                     "bag directory), a PX4 ULog (.ulg) or a recording directory of cubecal record; - reads standard input")
         ->required();
   app.add_option("--columns", opt.columns,
                  "Columns to analyse, by header name or 1-based index (gx,gy,gz or 2,3,4); "
@@ -173,7 +174,8 @@ ChannelUnits units_for(const std::string& unit_option, const io::Series& s) {
       said += (run ? "," : said.empty() ? "" : "; ") + s.names[i];
       if (i + 1 == s.units.size() || s.units[i + 1] != s.units[i]) said += " " + s.units[i];
     }
-    r.note = "cubecal: note: " + s.file + ": units from the message types: " + said + " (--unit overrides)";
+    r.note = "cubecal: note: " + s.file + ": units from " + (s.units_from.empty() ? "the message types" : s.units_from) +
+             ": " + said + " (--unit overrides)";
     return r;
   }
   const InferredUnits inferred = infer_units(s.names);

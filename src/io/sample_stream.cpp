@@ -18,23 +18,16 @@
 
 #include "cubecal/error.hpp"
 #include "cubecal/io/file_buffer.hpp"
+#include "cubecal/io/recording.hpp"
 #include "cubecal/stats/sampling.hpp"
+#include "detail/shortest_text.hpp"
 
 namespace cubecal::io {
 
 namespace {
 
-std::string stamp(double v) {
-  char buf[64];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, r.ptr);
-}
-
-std::string lower_case(std::string s) {
-  for (char& c : s)
-    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
-  return s;
-}
+using detail::lower_case;
+const auto& stamp = detail::shortest_text;
 
 // The file descriptor of the input, read in pieces.
 class ByteSource {
@@ -479,6 +472,8 @@ class TextStream final : public SampleStream {
 std::unique_ptr<SampleStream> SampleStream::open(const std::string& path, const SeriesOptions& opt,
                                                  std::size_t chunk_bytes) {
   check_common(opt);
+  if (looks_like_recording(path))
+    throw UsageError(path + " is a recording directory (cubecal record), read into memory: leave out --stream");
   if (!opt.binary.channels.empty()) return std::make_unique<BinaryStream>(path, opt, chunk_bytes);
   return std::make_unique<TextStream>(path, opt, chunk_bytes);
 }

@@ -19,6 +19,7 @@
 #include "cubecal/io/hdf5_reader.hpp"
 #include "cubecal/io/npy_reader.hpp"
 #include "cubecal/io/mcap.hpp"
+#include "cubecal/io/recording.hpp"
 #include "cubecal/io/message_log.hpp"
 #include "cubecal/io/ros1_bag.hpp"
 #include "cubecal/io/ros2_bag.hpp"
@@ -28,6 +29,7 @@
 #include "detail/bag_series.hpp"
 #include "detail/series_timing.hpp"
 #include "detail/ulog_series.hpp"
+#include "detail/shortest_text.hpp"
 
 namespace cubecal::io {
 
@@ -35,17 +37,14 @@ using namespace std::string_literals;
 
 namespace {
 
+// Time stamps as the shortest text that reads back the same value, which is
+// normally how they are written in the file.
+const auto& stamp = detail::shortest_text;
+using detail::lower_case;
+
 std::string to_text(double v, std::chars_format fmt, int precision) {
   char buf[64];
   const auto r = std::to_chars(buf, buf + sizeof buf, v, fmt, precision);
-  return std::string(buf, r.ptr);
-}
-
-// Time stamps as the shortest text that reads back the same value, which is
-// normally how they are written in the file.
-std::string stamp(double v) {
-  char buf[64];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v);
   return std::string(buf, r.ptr);
 }
 
@@ -60,12 +59,6 @@ std::string duration(double v) {
 // worth showing.
 std::string period_text(double v) { return to_text(v, std::chars_format::general, 6); }
 
-std::string lower_case(std::string s) {
-  for (char& c : s) {
-    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
-  }
-  return s;
-}
 
 // Whether a column spec (name or 1-based index, as TableOptions resolves
 // it) designates header column i.
@@ -343,6 +336,8 @@ Series read_series(const std::string& path_arg, const SeriesOptions& opt) {
   // ROS 2 bags read from their files: a bag directory, or an SQLite .db3.
   if (opt.binary.channels.empty() && path_arg != kStdinPath) {
     std::error_code ec;
+    // A recording directory of `cubecal record` (manifest.json), else a ROS 2 bag.
+    if (looks_like_recording(path_arg)) return read_recording(path_arg, opt);
     if (std::filesystem::is_directory(path_arg, ec))
       return detail::read_bag_series(read_ros2_bag_directory(path_arg), false, opt);
     if (is_sqlite_file(path_arg)) return detail::read_bag_series(read_db3(path_arg), false, opt);

@@ -96,6 +96,9 @@ struct Series {
   // The unit of each channel when the format says it ("rad/s", "m/s^2", "T"
   // for ROS messages); empty when it does not (text).
   std::vector<std::string> units;
+  // What says them, for messages ("the recording's manifest"); empty: the
+  // message types (ROS).
+  std::string units_from;
   // ROS bags: the topics read, as "/imu/data_raw (sensor_msgs/Imu, 13964
   // messages)"; default_topic when none was asked for and the bag's only
   // IMU topic was taken.

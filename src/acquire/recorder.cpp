@@ -1,0 +1,597 @@
+// The recording loop (recorder.hpp).
+#include "cubecal/acquire/recorder.hpp"
+
+#include <dirent.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+#include "cubecal/acquire/chunk_writer.hpp"
+#include "cubecal/acquire/frame_decoder.hpp"
+#include "cubecal/acquire/host_clock.hpp"
+#include "cubecal/acquire/rejects_writer.hpp"
+#include "cubecal/acquire/sample_handler.hpp"
+#include "cubecal/acquire/write_failure.hpp"
+#include "cubecal/error.hpp"
+#include "cubecal/io/series.hpp"
+#include "detail/append_file.hpp"
+
+namespace cubecal::acquire {
+
+namespace {
+
+std::string segment_dir_name(int index) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "seg-%03d", index);
+  return buf;
+}
+
+std::string iso_from_seconds(double utc_s) {
+  const double whole = std::floor(utc_s);
+  long ns = std::lround((utc_s - whole) * 1e9);
+  auto sec = static_cast<std::int64_t>(whole);
+  if (ns >= 1000000000L) {
+    ns -= 1000000000L;
+    ++sec;
+  }
+  return io::utc_iso8601(sec, ns);
+}
+
+bool is_dir(const std::string& p) {
+  struct stat st {};
+  return ::stat(p.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
+}
+
+bool exists(const std::string& p) {
+  struct stat st {};
+  return ::stat(p.c_str(), &st) == 0;
+}
+
+std::vector<std::string> dir_entries(const std::string& dir) {
+  std::vector<std::string> out;
+  DIR* d = ::opendir(dir.c_str());
+  if (d == nullptr) return out;
+  while (const dirent* e = ::readdir(d)) {
+    const std::string n = e->d_name;
+    if (n != "." && n != "..") out.push_back(n);
+  }
+  ::closedir(d);
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+void make_dirs(const std::string& dir) {
+  std::string path;
+  std::size_t i = 0;
+  while (i <= dir.size()) {
+    const auto slash = dir.find('/', i);
+    path = dir.substr(0, slash);
+    if (!path.empty() && !is_dir(path) && ::mkdir(path.c_str(), 0755) != 0 && errno != EEXIST)
+      throw UsageError("out", dir + ": cannot create the directory (" + std::strerror(errno) + ")");
+    if (slash == std::string::npos) break;
+    i = slash + 1;
+  }
+}
+
+// The rejects entries already in DIR/rejects.csv; a partial last entry (a
+// crash while it was written) is cut off and its bytes added to `partial`.
+std::size_t count_rejects(const std::string& dir, std::size_t& partial) {
+  const std::string path = dir + "/" + std::string(io::kRejectsName);
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return 0;
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  const std::string text = std::move(ss).str();
+  const auto last_nl = text.rfind('\n');
+  const std::size_t keep = last_nl == std::string::npos ? 0 : last_nl + 1;
+  if (keep < text.size()) {
+    partial += text.size() - keep;
+    if (::truncate(path.c_str(), static_cast<off_t>(keep)) != 0) throw WriteFailure(path, errno);
+  }
+  const auto lines = static_cast<std::size_t>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(keep), '\n'));
+  return lines > 0 ? lines - 1 : 0;  // less the header line
+}
+
+bool same_names(const std::vector<std::string>& a, const std::vector<std::string>& b) { return a == b; }
+
+std::string join(const std::vector<std::string>& v) {
+  std::string s;
+  for (const auto& x : v) s += (s.empty() ? "" : ",") + x;
+  return s;
+}
+
+std::string delimiter_name(char d) {
+  switch (d) {
+    case ',': return ",";
+    case '\t': return "\t";
+    case ';': return ";";
+    default: return " ";
+  }
+}
+
+}  // namespace
+
+std::vector<std::string> recover_recording(const std::string& dir, io::RecordingManifest& m) {
+  std::vector<std::string> notices;
+  for (auto& seg : m.segments) {
+    if (seg.end != io::SegmentEnd::open) continue;
+    const std::string sdir = dir + "/" + seg.dir;
+    std::size_t partial = 0;
+    const std::size_t old_rejects = count_rejects(sdir, partial);
+    RejectsWriter rejects(sdir);
+    rejects.set_count(old_rejects);
+    // Chunks the manifest does not list yet (a crash during a rotation).
+    std::size_t listed = 0;
+    for (const auto& c : seg.chunks) {
+      unsigned long n = 0;
+      if (std::sscanf(c.file.c_str(), "chunk-%lu.csv", &n) == 1) listed = std::max<std::size_t>(listed, n);
+    }
+    for (const auto& name : dir_entries(sdir)) {
+      unsigned long n = 0;
+      char tail = 0;
+      if (std::sscanf(name.c_str(), "chunk-%lu.cs%c", &n, &tail) == 2 && tail == 'v' && n > listed &&
+          name == chunk_file_name(n)) {
+        io::RecordingChunk c;
+        c.file = name;
+        c.open = true;
+        seg.chunks.push_back(c);
+      }
+    }
+    std::vector<io::RecordingChunk> kept;
+    for (auto& c : seg.chunks) {
+      if (!c.open) {
+        kept.push_back(c);
+        continue;
+      }
+      if (!exists(sdir + "/" + c.file)) continue;  // created, then lost with its directory entry
+      RecoveredChunk r = recover_chunk(sdir, c, m.columns.size());
+      if (!r.had_header) {
+        // Nothing received was in it: the file is removed.
+        ::unlink((sdir + "/" + c.file).c_str());
+        notices.push_back(sdir + "/" + c.file + ": removed (a crash left it without its header line)");
+        continue;
+      }
+      if (!r.tail.empty()) {
+        rejects.add(r.last_stamps, "partial line at end of recording", r.tail, false);
+        partial += r.tail.size();
+      }
+      notices.push_back(sdir + "/" + c.file + ": recovered after a crash: " + std::to_string(r.chunk.samples) +
+                        " samples kept" +
+                        (r.tail.empty() ? std::string()
+                                        : ", a partial last line of " + std::to_string(r.tail.size()) +
+                                              " bytes moved to rejects.csv"));
+      kept.push_back(r.chunk);
+    }
+    rejects.close();
+    seg.chunks = std::move(kept);
+    seg.samples = 0;
+    double last_utc = 0.0;
+    for (const auto& c : seg.chunks) {
+      seg.samples += c.samples;
+      if (c.samples > 0) last_utc = c.last_host_utc_s;
+    }
+    seg.rejects = rejects.count();
+    seg.partial_bytes += partial;
+    seg.end = io::SegmentEnd::recovered;
+    seg.end_utc = last_utc > 0 ? iso_from_seconds(last_utc) : seg.start_utc;
+    detail::sync_directory(sdir);
+  }
+  return notices;
+}
+
+class Recorder::Impl final : public SampleHandler {
+ public:
+  Impl(Source& src, RecorderOptions opt, io::RecordingManifest& m) : src_(src), opt_(std::move(opt)), m_(m) {
+    if (opt_.chunk_seconds <= 0) throw UsageError("chunk_seconds", "--chunk-seconds must be positive");
+    if (opt_.chunk_bytes < 4096) throw UsageError("chunk_bytes", "--chunk-bytes must be at least 4096");
+    if (opt_.sync_interval_s <= 0 || opt_.sync_interval_s > 1.0)
+      throw UsageError("sync", "the sync interval is between 0 and 1 s");
+    if (opt_.rate_hz && !(*opt_.rate_hz > 0 && std::isfinite(*opt_.rate_hz)))
+      throw UsageError("rate", "the rate must be a positive number of Hz");
+    const std::string& dir = opt_.out_dir;
+    if (dir.empty()) throw UsageError("out", "--out DIR is required: the recording directory");
+    if (exists(dir) && !is_dir(dir)) throw UsageError("out", dir + " is a file; --out names a directory");
+    if (is_dir(dir) && exists(dir + "/" + std::string(io::kManifestName))) {
+      m_ = io::read_manifest(dir);
+      existing_ = true;
+      for (const auto& n : recover_recording(dir, m_)) notice(n);
+      io::write_manifest(dir, m_);
+    } else if (is_dir(dir)) {
+      for (const auto& e : dir_entries(dir))
+        if (e != std::string(io::kManifestName) + ".tmp")
+          throw UsageError("out", dir + " is not empty and holds no cubecal recording (no manifest.json); "
+                                        "record into a new or empty directory");
+    } else {
+      make_dirs(dir);
+    }
+    if (::access(dir.c_str(), W_OK | X_OK) != 0)
+      throw UsageError("out", dir + ": cannot write there (" + std::strerror(errno) + ")");
+    segment_index_ = 1;
+    for (const auto& s : m_.segments) segment_index_ = std::max(segment_index_, s.index + 1);
+    if (opt_.frame) {
+      bin_.emplace(*opt_.frame);
+      check_framing(names_of(*opt_.frame));
+    } else {
+      text_.emplace(opt_.text);
+      if (!opt_.text.columns.empty() && existing_ && !m_.columns.empty() && m_.columns != opt_.text.columns)
+        throw UsageError("out", opt_.out_dir + " was recorded with the columns " + join(m_.columns) +
+                                    ", not " + join(opt_.text.columns) + "; record into a new directory");
+    }
+    last_.reserve(64);
+  }
+
+  RecorderSummary run();
+
+  void on_layout(const std::vector<std::string>& names) override {
+    check_framing(names);
+    names_ = names;
+    time_idx_ = -1;
+    if (!opt_.time_col.empty()) {
+      for (std::size_t i = 0; i < names.size(); ++i)
+        if (names[i] == opt_.time_col) time_idx_ = static_cast<int>(i);
+      if (time_idx_ < 0) {
+        char* end = nullptr;
+        const long k = std::strtol(opt_.time_col.c_str(), &end, 10);
+        if (end != nullptr && *end == '\0' && k >= 1 && static_cast<std::size_t>(k) <= names.size())
+          time_idx_ = static_cast<int>(k - 1);
+      }
+      if (time_idx_ < 0)
+        throw UsageError("time_col", "no column '" + opt_.time_col + "' among " + join(names));
+    } else {
+      for (std::size_t i = 0; i < names.size() && time_idx_ < 0; ++i)
+        if (io::looks_like_time_column(names[i])) time_idx_ = static_cast<int>(i);
+    }
+    if (!existing_ || m_.columns.empty()) {
+      m_.format = std::string(io::kRecordingFormat);
+      m_.columns = names;
+      m_.time_column = time_idx_ >= 0 ? std::optional<std::string>(names[static_cast<std::size_t>(time_idx_)])
+                                      : std::nullopt;
+      m_.rate_hz = opt_.rate_hz;
+      m_.unit = opt_.unit;
+      if (opt_.frame) {
+        m_.framing.kind = io::RecordingFraming::Kind::binary;
+        m_.framing.frame = opt_.frame->text;
+      } else {
+        m_.framing.kind = io::RecordingFraming::Kind::text;
+        m_.framing.delimiter = delimiter_name(text_->delimiter());
+      }
+      m_.source = src_.describe();
+    }
+    if (opt_.rate_hz) expected_dt_ = 1.0 / *opt_.rate_hz;
+    start_segment();
+  }
+
+  void on_sample(std::string_view fields, std::span<const double> values) override {
+    if (chunk_->bytes() >= opt_.chunk_bytes) rotate();
+    chunk_->add(prefix_, fields, batch_utc_);
+    if (time_idx_ >= 0) check_time(values[static_cast<std::size_t>(time_idx_)]);
+    ++samples_;
+    last_.assign(values.begin(), values.end());
+    if (opt_.on_sample) opt_.on_sample(values);
+  }
+
+  void on_reject(std::string_view reason, std::string_view data, bool binary) override {
+    if (!rejects_) {
+      // Before the layout is known (a comment, a partial first line): kept
+      // until the segment exists.
+      pending_.push_back({prefix_, std::string(reason), std::string(data), binary});
+      return;
+    }
+    rejects_->add(prefix_, reason, data, binary);
+  }
+
+  io::RecordingManifest& m_ref() { return m_; }
+
+ private:
+  struct Pending {
+    std::string prefix, reason, data;
+    bool binary;
+  };
+
+  static std::vector<std::string> names_of(const FrameSpec& f) {
+    std::vector<std::string> n;
+    for (const auto& x : f.fields) n.push_back(x.name);
+    return n;
+  }
+
+  void notice(const std::string& s) {
+    if (opt_.on_notice) opt_.on_notice(s);
+  }
+
+  // A recording continued must keep its columns and framing.
+  void check_framing(const std::vector<std::string>& names) const {
+    if (!existing_ || m_.columns.empty()) return;
+    if (!same_names(m_.columns, names))
+      throw UsageError("out", opt_.out_dir + " was recorded with the columns " + join(m_.columns) +
+                                  " and this source gives " + join(names) + "; record into a new directory");
+    const bool binary = opt_.frame.has_value();
+    const bool was_binary = m_.framing.kind == io::RecordingFraming::Kind::binary;
+    if (binary != was_binary)
+      throw UsageError("out", opt_.out_dir + " was recorded from " + (was_binary ? "binary frames" : "text lines") +
+                                  " and this run reads " + (binary ? "binary frames" : "text lines") +
+                                  "; record into a new directory");
+    if (binary && m_.framing.frame != opt_.frame->text)
+      throw UsageError("out", opt_.out_dir + " was recorded with --frame '" + m_.framing.frame + "', not '" +
+                                  opt_.frame->text + "'; record into a new directory");
+    if (!binary && text_ && text_->has_layout() && m_.framing.delimiter != delimiter_name(text_->delimiter()))
+      throw UsageError("out", opt_.out_dir + " was recorded from lines delimited by '" + m_.framing.delimiter +
+                                  "', not '" + delimiter_name(text_->delimiter()) + "'; record into a new directory");
+  }
+
+  std::string segment_path() const { return opt_.out_dir + "/" + seg_.dir; }
+
+  void start_segment() {
+    seg_ = io::RecordingSegment{};
+    seg_.index = segment_index_;
+    seg_.dir = segment_dir_name(segment_index_);
+    seg_.start_utc = io::utc_iso8601(static_cast<std::int64_t>(batch_.utc.tv_sec), batch_.utc.tv_nsec);
+    seg_.start_mono_s = batch_.mono_s();
+    seg_.end = io::SegmentEnd::open;
+    const std::string sdir = segment_path();
+    if (::mkdir(sdir.c_str(), 0755) != 0 && errno != EEXIST) throw WriteFailure(sdir, errno);
+    detail::sync_directory(opt_.out_dir);
+    chunk_index_ = 1;
+    chunk_ = std::make_unique<ChunkWriter>(sdir, chunk_file_name(chunk_index_), names_);
+    chunk_start_mono_ = batch_.mono_s();
+    rejects_ = std::make_unique<RejectsWriter>(sdir);
+    if (existing_ && !m_.segments.empty()) {
+      std::size_t total = 0;
+      for (const auto& s : m_.segments) total += s.samples;
+      notice(opt_.out_dir + " holds a recording of " + std::to_string(m_.segments.size()) + " segment(s), " +
+             std::to_string(total) + " samples: appending segment " + std::to_string(seg_.index) + " (" + seg_.dir +
+             ")");
+    }
+    m_.segments.push_back(seg_);
+    for (const auto& p : pending_) rejects_->add(p.prefix, p.reason, p.data, p.binary);
+    pending_.clear();
+    sync_all();
+  }
+
+  void rotate() {
+    closed_.push_back(chunk_->close());
+    ++chunk_index_;
+    chunk_ = std::make_unique<ChunkWriter>(segment_path(), chunk_file_name(chunk_index_), names_);
+    chunk_start_mono_ = batch_.mono_s();
+    sync_all();
+  }
+
+  void check_time(double t) {
+    if (have_prev_) {
+      const double dt = t - prev_t_;
+      if (dt < 0) {
+        io::RecordingEvent e;
+        e.kind = io::RecordingEvent::Kind::reset;
+        e.sample = samples_;
+        e.device_time = t;
+        e.previous = prev_t_;
+        seg_events_.push_back(e);
+        ++resets_;
+      } else if (expected_dt_ > 0) {
+        if (dt > 1.5 * expected_dt_) {
+          io::RecordingEvent e;
+          e.kind = io::RecordingEvent::Kind::gap;
+          e.sample = samples_;
+          e.device_time = t;
+          e.dt = dt;
+          e.expected_dt = expected_dt_;
+          seg_events_.push_back(e);
+          ++gaps_;
+        }
+      } else if (dt > 0) {
+        // No rate given: the median of the first intervals is the period.
+        dts_.push_back(dt);
+        if (dts_.size() == 31) {
+          std::nth_element(dts_.begin(), dts_.begin() + 15, dts_.end());
+          expected_dt_ = dts_[15];
+        }
+      }
+    }
+    prev_t_ = t;
+    have_prev_ = true;
+  }
+
+  void flush_all() {
+    if (chunk_) chunk_->flush();
+    if (rejects_) rejects_->flush();
+  }
+
+  // fsync the data, then say so in the manifest.
+  void sync_all() {
+    if (!chunk_) return;
+    chunk_->sync();
+    rejects_->sync();
+    write_manifest_now(false);
+  }
+
+  void write_manifest_now(bool closing) {
+    io::RecordingSegment& s = m_.segments.back();
+    s = seg_;
+    s.chunks = closed_;
+    if (chunk_ && !closing) s.chunks.push_back(chunk_->synced());
+    s.samples = 0;
+    for (const auto& c : s.chunks) s.samples += c.samples;
+    s.rejects = rejects_ ? rejects_->synced_count() : 0;
+    s.events = seg_events_;
+    io::write_manifest(opt_.out_dir, m_);
+  }
+
+  RecorderStatus status(double now_mono) const {
+    RecorderStatus st;
+    st.elapsed_s = now_mono - start_mono_;
+    st.samples = samples_;
+    st.rejects = rejects_ ? rejects_->count() : pending_.size();
+    st.gaps = gaps_;
+    st.resets = resets_;
+    st.reconnects = reconnects_;
+    st.device_rate_hz = expected_dt_ > 0 ? 1.0 / expected_dt_ : 0.0;
+    st.names = names_;
+    st.last = last_;
+    std::size_t bytes = chunk_ ? chunk_->bytes() : 0;
+    for (const auto& c : closed_) bytes += c.bytes;
+    st.bytes = bytes;
+    st.segment = chunk_ ? seg_.index : 0;
+    st.chunk = chunk_ ? chunk_index_ : 0;
+    return st;
+  }
+
+  friend class Recorder;
+
+  Source& src_;
+  RecorderOptions opt_;
+  io::RecordingManifest& m_;
+  bool existing_ = false;
+  int segment_index_ = 1;
+  std::optional<LineFramer> text_;
+  std::optional<FrameDecoder> bin_;
+  std::vector<std::string> names_;
+  io::RecordingSegment seg_;
+  std::vector<io::RecordingChunk> closed_;
+  std::vector<io::RecordingEvent> seg_events_;
+  std::unique_ptr<ChunkWriter> chunk_;
+  std::size_t chunk_index_ = 0;
+  double chunk_start_mono_ = 0.0;
+  std::unique_ptr<RejectsWriter> rejects_;
+  std::vector<Pending> pending_;
+  HostStamp batch_ = host_now();
+  double batch_utc_ = 0.0;
+  std::string prefix_ = ",,";
+  double start_mono_ = 0.0;
+  std::size_t samples_ = 0, gaps_ = 0, resets_ = 0, reconnects_ = 0;
+  std::vector<double> last_;
+  int time_idx_ = -1;
+  bool have_prev_ = false;
+  double prev_t_ = 0.0, expected_dt_ = 0.0;
+  std::vector<double> dts_;
+};
+
+RecorderSummary Recorder::Impl::run() {
+  std::vector<char> buf(opt_.read_buffer);
+  batch_ = host_now();
+  start_mono_ = batch_.mono_s();
+  double now = start_mono_;
+  double next_flush = now + opt_.flush_interval_s, next_sync = now + opt_.sync_interval_s,
+         next_status = now + opt_.status_interval_s;
+  std::size_t status_samples = 0;
+  double status_time = now;
+  RecordEnd end = RecordEnd::source_ended;
+  const double deadline = opt_.duration_s > 0 ? start_mono_ + opt_.duration_s : 0.0;
+  for (;;) {
+    if (opt_.stop != nullptr && *opt_.stop != 0) {
+      end = RecordEnd::stopped;
+      break;
+    }
+    if (deadline > 0 && now >= deadline) {
+      end = RecordEnd::duration;
+      break;
+    }
+    double wake = std::min({next_flush, next_sync, next_status});
+    if (deadline > 0) wake = std::min(wake, deadline);
+    const int timeout_ms = static_cast<int>(std::clamp(std::ceil((wake - now) * 1000.0), 0.0, 200.0));
+    const ReadResult r = src_.read(buf.data(), buf.size(), timeout_ms);
+    bool ended = false;
+    if (r.status == ReadResult::Status::data) {
+      batch_ = host_now();
+      now = batch_.mono_s();
+      batch_utc_ = batch_.utc_s();
+      prefix_ = stamp_prefix(batch_);
+      if (chunk_ && now - chunk_start_mono_ >= opt_.chunk_seconds && chunk_->samples() > 0) rotate();
+      const std::string_view bytes(buf.data(), r.bytes);
+      if (bin_) bin_->feed(bytes, *this);
+      else text_->feed(bytes, *this);
+    } else {
+      batch_ = host_now();
+      now = batch_.mono_s();
+      batch_utc_ = batch_.utc_s();
+      prefix_ = stamp_prefix(batch_);
+      switch (r.status) {
+        case ReadResult::Status::end:
+          ended = true;
+          break;
+        case ReadResult::Status::lost:
+          if (bin_) bin_->drop_partial("partial frame before the connection was lost", *this);
+          else text_->drop_partial("partial line before the connection was lost", *this);
+          notice(src_.describe() + ": connection lost; reconnecting");
+          break;
+        case ReadResult::Status::reconnected: {
+          io::RecordingEvent e;
+          e.kind = io::RecordingEvent::Kind::reconnect;
+          e.sample = samples_;
+          e.host_utc_s = batch_utc_;
+          seg_events_.push_back(e);
+          ++reconnects_;
+          have_prev_ = false;  // the device time may restart
+          notice(src_.describe() + ": reconnected");
+          break;
+        }
+        default:
+          break;
+      }
+    }
+    if (ended) break;
+    if (now >= next_flush) {
+      flush_all();
+      next_flush = now + opt_.flush_interval_s;
+    }
+    if (now >= next_sync) {
+      sync_all();
+      next_sync = now + opt_.sync_interval_s;
+    }
+    if (now >= next_status) {
+      if (opt_.on_status) {
+        RecorderStatus st = status(now);
+        st.samples_per_s = now > status_time ? static_cast<double>(samples_ - status_samples) / (now - status_time) : 0.0;
+        opt_.on_status(st);
+      }
+      status_samples = samples_;
+      status_time = now;
+      next_status = now + opt_.status_interval_s;
+    }
+  }
+  // The end: what is held is a reject, the chunk closed, the segment clean.
+  if (end == RecordEnd::source_ended) {
+    if (bin_) bin_->drop_partial("partial frame at end of stream", *this);
+    else text_->finish(*this);
+  } else {
+    if (bin_) bin_->drop_partial("partial frame at end of recording", *this);
+    else text_->drop_partial("partial line at end of recording", *this);
+  }
+  RecorderSummary sum;
+  sum.end = end;
+  sum.status = status(now);
+  sum.status.samples_per_s = now > start_mono_ ? static_cast<double>(samples_) / (now - start_mono_) : 0.0;
+  sum.blank_lines = text_ ? text_->blank_lines() : 0;
+  if (!chunk_ && !pending_.empty()) {
+    sum.unrecorded_rejects = pending_.size();
+    sum.first_unrecorded_reason = pending_.front().reason;
+    sum.first_unrecorded_data = pending_.front().data;
+  }
+  if (chunk_) {
+    closed_.push_back(chunk_->close());
+    rejects_->close();
+    seg_.end = io::SegmentEnd::clean;
+    const HostStamp fin = host_now();
+    seg_.end_utc = io::utc_iso8601(static_cast<std::int64_t>(fin.utc.tv_sec), fin.utc.tv_nsec);
+    write_manifest_now(true);
+    chunk_.reset();
+    sum.segment_dir = segment_path();
+    sum.chunks = closed_.size();
+    sum.status.segment = seg_.index;
+  }
+  return sum;
+}
+
+Recorder::Recorder(Source& source, RecorderOptions opt)
+    : impl_(std::make_unique<Impl>(source, std::move(opt), manifest_)) {}
+
+Recorder::~Recorder() = default;
+
+RecorderSummary Recorder::run() { return impl_->run(); }
+
+}  // namespace cubecal::acquire
