@@ -342,6 +342,40 @@ TEST_F(RecordingTest, DeviceClockResetInsideASegmentIsABreak) {
   EXPECT_DOUBLE_EQ(skip.time.back(), 3.99 + 0.99);
 }
 
+TEST_F(RecordingTest, ReconnectRestartsTheSpacingOfARateTimedRecording) {
+  // No device time: the samples are spaced at the rate from the receive
+  // stamps. The source was away for 5 s before sample 100 (its reconnect
+  // event): the samples after it start from their own receive stamp, and
+  // the break is judged by the gap policy, as one between segments.
+  m.columns = {"gx", "gy"};
+  m.time_column.reset();
+  m.rate_hz = 10.0;
+  auto& s = segment(1, kStart0, 100.0);
+  std::vector<Row> all;
+  for (std::size_t i = 0; i < 200; ++i) {
+    const double host = static_cast<double>(i) / 10.0 + (i >= 100 ? 5.0 : 0.0);
+    all.push_back({100.0 + host, kUtc0 + host, {0.01 * static_cast<double>(i % 7), static_cast<double>(i)}});
+  }
+  chunk(s, 1, {all.begin(), all.begin() + 150});
+  chunk(s, 2, {all.begin() + 150, all.end()});
+  io::RecordingEvent e;
+  e.kind = io::RecordingEvent::Kind::reconnect;
+  e.sample = 100;
+  e.host_utc_s = kUtc0 + 15.0;
+  s.events.push_back(e);
+  finish();
+  EXPECT_THROW(read(), InputError);  // a gap of 5.1 s, refused by default
+  const io::Series split = read(io::GapPolicy::split);
+  ASSERT_EQ(split.samples(), 200u);
+  ASSERT_EQ(split.segments.size(), 2u);
+  EXPECT_EQ(split.segments[1].begin, 100u);
+  const io::Series skip = read(io::GapPolicy::skip);  // 51 periods: 50 missing samples between
+  ASSERT_EQ(skip.samples(), 250u);
+  EXPECT_EQ(skip.channels[1][99], 99.0);
+  EXPECT_TRUE(std::isnan(skip.channels[1][100]));
+  EXPECT_EQ(skip.channels[1][150], 100.0);
+}
+
 TEST_F(RecordingTest, ManifestOfAnotherFormatIsNamed) {
   fs::create_directories(dir());
   std::ofstream(fs::path(dir()) / "manifest.json") << R"({"format": "something/2"})";

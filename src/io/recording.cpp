@@ -191,6 +191,14 @@ struct SegmentData {
     double host_before = 0.0, host_at = 0.0;
   };
   std::vector<Reset> resets;
+  // Reconnects of the source (Timing::rate): samples were lost while it was
+  // away, so the even spacing starts again at the receive stamp of the
+  // first sample after it.
+  struct Restart {
+    std::size_t row = 0;  // in the segment
+    double host_at = 0.0;
+  };
+  std::vector<Restart> restarts;
   std::size_t rows() const { return channels.empty() ? 0 : channels[0].size(); }
 };
 
@@ -238,6 +246,11 @@ SegmentData read_segment(const std::string& dir, const RecordingSegment& seg, co
   d.extra.resize(p.extras.size());
   bool first = true;
   double last_host_of_previous = 0.0;  // the previous chunk's last receive stamp
+  std::vector<std::size_t> reconnects;  // Timing::rate: the rows the source came back at
+  if (p.timing == Timing::rate)
+    for (const auto& e : seg.events)
+      if (e.kind == RecordingEvent::Kind::reconnect && e.sample > 0) reconnects.push_back(e.sample);
+  std::sort(reconnects.begin(), reconnects.end());
   for (const auto& c : seg.chunks) {
     const std::string path = dir + "/" + seg.dir + "/" + c.file;
     if (c.open && !std::filesystem::exists(path)) continue;  // created after the manifest's last rewrite
@@ -255,6 +268,8 @@ SegmentData read_segment(const std::string& dir, const RecordingSegment& seg, co
     if (t.rows() == 0) continue;
     places.push_back({path, first_row + d.rows(), t.first_data_line});
     std::vector<double>& host = t.extra[host_slot];
+    for (std::size_t r : reconnects)
+      if (r >= d.rows() && r < d.rows() + host.size()) d.restarts.push_back({r, host[r - d.rows()]});
     if (first) d.host_first = host.front();
     d.host_last = host.back();
     first = false;
@@ -332,7 +347,17 @@ struct Reader {
         for (double& t : d.time) t += to_origin;
       } else if (p.timing == Timing::rate) {
         d.time.resize(n);
-        for (std::size_t i = 0; i < n; ++i) d.time[i] = (host_first - first_host) + static_cast<double>(i) / p.rate_hz;
+        double start = host_first;
+        std::size_t start_row = 0;
+        auto next = d.restarts.begin();
+        for (std::size_t i = 0; i < n; ++i) {
+          if (next != d.restarts.end() && next->row == i) {
+            start = next->host_at + to_origin;
+            start_row = i;
+            ++next;
+          }
+          d.time[i] = (start - first_host) + static_cast<double>(i - start_row) / p.rate_hz;
+        }
       } else if (any && p.time != kHostUtcColumn) {
         // A device clock that ran on across the break (its interval agrees
         // with the host's) is kept; one that started again is placed where

@@ -17,7 +17,7 @@
 // is kept; a device clock that goes back inside a segment (the sensor
 // restarted, the recorder ran on) is placed the same way from there. The
 // interval at such a break is then checked like any interval of a record
-// (SeriesOptions::gaps): refused by default, cut at
+// (SeriesOptions::gaps): refused by default, cut there
 // with GapPolicy::split, filled with missing samples with GapPolicy::skip
 // when it is a whole number of periods.
 #pragma once
