@@ -16,6 +16,8 @@
 #include <string_view>
 #include <vector>
 
+#include <fast_float/fast_float.h>
+
 #include "cubecal/acquire/line_framer.hpp"
 #include "error_check.hpp"
 
@@ -43,8 +45,11 @@ class Checker final : public acquire::SampleHandler {
       while (!f.empty() && (f.front() == ' ' || f.front() == '\t')) f.remove_prefix(1);
       while (!f.empty() && (f.back() == ' ' || f.back() == '\t')) f.remove_suffix(1);
       if (!f.empty() && f.front() == '+') f.remove_prefix(1);
+      // Read back as the chunk readers read it (io/delimited_reader: fast_float,
+      // which takes a value below the smallest double as zero where
+      // std::from_chars reports it out of range).
       double v = 0;
-      const auto r = std::from_chars(f.data(), f.data() + f.size(), v);
+      const auto r = fast_float::from_chars(f.data(), f.data() + f.size(), v);
       if (i >= values.size() || r.ec != std::errc() || r.ptr != f.data() + f.size() || !std::isfinite(values[i]) ||
           v != values[i])
         fuzz::finding("line framer", "chunk fields do not read back as the sample's values");
