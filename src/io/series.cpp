@@ -59,7 +59,6 @@ std::string duration(double v) {
 // worth showing.
 std::string period_text(double v) { return to_text(v, std::chars_format::general, 6); }
 
-
 // Whether a column spec (name or 1-based index, as TableOptions resolves
 // it) designates header column i.
 bool designates(const std::string& spec, const std::vector<std::string>& header, std::size_t i) {
