@@ -376,6 +376,27 @@ TEST_F(RecordingTest, ReconnectRestartsTheSpacingOfARateTimedRecording) {
   EXPECT_EQ(skip.channels[1][150], 100.0);
 }
 
+TEST_F(RecordingTest, ARecordingBeyondTheMemoryBudgetIsReadWholeWithAWarning) {
+  // About 1.4 MB of chunks against a 1 MB budget: the size counted from the
+  // manifest, and no switch to the streamed path (which takes no recording).
+  auto& s = segment(1, kStart0, 100.0);
+  const auto all = rows(24000, 100.0, 0.0, 100.0, kUtc0, 0.5);
+  chunk(s, 1, {all.begin(), all.begin() + 12000});
+  chunk(s, 2, {all.begin() + 12000, all.end()});
+  finish();
+  ASSERT_GT(s.chunks[0].bytes + s.chunks[1].bytes, std::size_t{1} << 20);
+  for (const std::string name : {"dev", "analyze"}) {
+    const std::string unit = name == "analyze" ? " --unit deg/s" : "";
+    const auto small = test::run_cubecal(words({name, dir(), "--columns gx --memory 1M" + unit}));
+    ASSERT_EQ(small.code, 0) << name << ": " << small.err;
+    EXPECT_NE(small.err.find("a recording directory is read whole"), std::string::npos) << name << ": " << small.err;
+    const auto plain = test::run_cubecal(words({name, dir(), "--columns gx" + unit}));
+    ASSERT_EQ(plain.code, 0) << plain.err;
+    EXPECT_EQ(plain.err.find("read whole"), std::string::npos) << plain.err;
+    EXPECT_EQ(small.out, plain.out) << name;
+  }
+}
+
 TEST_F(RecordingTest, ManifestOfAnotherFormatIsNamed) {
   fs::create_directories(dir());
   std::ofstream(fs::path(dir()) / "manifest.json") << R"({"format": "something/2"})";

@@ -7,10 +7,13 @@
 #include <algorithm>
 #include <bit>
 #include <cctype>
+#include <exception>
 #include <fstream>
 #include <cmath>
 
 #include "cubecal/error.hpp"
+#include "cubecal/io/recording.hpp"
+#include "cubecal/io/recording_manifest.hpp"
 #include "progress.hpp"
 
 namespace cubecal::cli {
@@ -81,6 +84,15 @@ std::size_t memory_budget(const MemoryOptions& opt) {
 }
 
 std::size_t estimated_samples(const std::string& file, const io::SeriesOptions& opt) {
+  if (io::looks_like_recording(file)) {
+    try {
+      std::size_t samples = 0;
+      for (const auto& seg : io::read_manifest(file).segments) samples += seg.samples;
+      return samples;
+    } catch (const std::exception&) {
+      return 0;
+    }
+  }
   const std::size_t bytes = file_size_or_zero(file);
   if (bytes == 0) return 0;
   if (!opt.binary.channels.empty()) {

@@ -7,7 +7,11 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <filesystem>
+
+#include "cubecal/io/recording.hpp"
+#include "cubecal/io/recording_manifest.hpp"
 
 namespace cubecal::cli {
 
@@ -95,6 +99,17 @@ std::string format_duration(double seconds) {
 }
 
 std::size_t file_size_or_zero(const std::string& path) {
+  if (io::looks_like_recording(path)) {
+    // A recording directory (cubecal record): its chunks, as the manifest counts them.
+    try {
+      std::size_t bytes = 0;
+      for (const auto& seg : io::read_manifest(path).segments)
+        for (const auto& c : seg.chunks) bytes += c.bytes;
+      return bytes;
+    } catch (const std::exception&) {
+      return 0;  // the read that follows says what is wrong with it
+    }
+  }
   std::error_code ec;
   const auto n = std::filesystem::file_size(path, ec);
   return ec ? 0 : static_cast<std::size_t>(n);

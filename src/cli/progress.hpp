@@ -43,7 +43,7 @@ double long_work_seconds();
 // "45 s", "12 min 5 s", "3 h 20 min".
 std::string format_duration(double seconds);
 
-// Bytes of a file, 0 if unknown.
+// Bytes of a file (of a recording directory: its chunks), 0 if unknown.
 std::size_t file_size_or_zero(const std::string& path);
 
 }  // namespace cubecal::cli
