@@ -397,6 +397,60 @@ TEST_F(RecordingTest, ARecordingBeyondTheMemoryBudgetIsReadWholeWithAWarning) {
   }
 }
 
+TEST_F(RecordingTest, OneClosedSegmentIsStreamedAsOneText) {
+  // --stream reads the chunks in turn as one text: the same result as the
+  // chunks joined into one file and streamed, each chunk still checked
+  // against its CRC-32; several segments are read whole, not streamed.
+  auto& s = segment(1, kStart0, 100.0);
+  const auto all = rows(3000, 100.0, 0.0, 100.0, kUtc0, 0.5);
+  chunk(s, 1, {all.begin(), all.begin() + 1000});
+  chunk(s, 2, {all.begin() + 1000, all.begin() + 2000});
+  const std::string third = chunk(s, 3, {all.begin() + 2000, all.end()});
+  finish();
+  std::string joined = "t,gx,gy\n";
+  for (const auto& r : all) {
+    std::ostringstream o;
+    o.precision(17);
+    o << r.values[0] << ',' << r.values[1] << ',' << r.values[2] << '\n';
+    joined += o.str();
+  }
+  const std::string file = write("joined.csv", joined);
+  // Small pieces, so that pieces end inside chunks and chunks inside pieces.
+  const std::string opts = "--columns gx --format csv --stream --memory 1M";
+  const auto a = test::run_cubecal(words({"dev", dir(), opts}));
+  const auto b = test::run_cubecal(words({"dev", file, opts}));
+  ASSERT_EQ(a.code, 0) << a.err;
+  ASSERT_EQ(b.code, 0) << b.err;
+  EXPECT_EQ(a.out, b.out);
+  const auto in_memory = test::run_cubecal(words({"dev", dir(), "--columns gx --format csv"}));
+  ASSERT_EQ(in_memory.code, 0) << in_memory.err;
+  // A changed chunk: refused by name while streaming.
+  std::string text;
+  {
+    std::ifstream in(third, std::ios::binary);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    text = ss.str();
+  }
+  const std::size_t at = text.rfind(",2");
+  ASSERT_NE(at, std::string::npos);
+  text[at + 1] = '3';
+  std::ofstream(third, std::ios::binary | std::ios::trunc) << text;
+  const auto changed = test::run_cubecal(words({"dev", dir(), opts}));
+  EXPECT_EQ(changed.code, 2);
+  EXPECT_NE(changed.err.find(third), std::string::npos) << changed.err;
+  EXPECT_NE(changed.err.find("changed since it was recorded"), std::string::npos) << changed.err;
+  EXPECT_EQ(changed.out, "") << "nothing is written before the record is known whole";
+  // Two segments: read whole, not streamed.
+  auto& s2 = segment(2, "2026-11-27T13:01:00.000000000Z", 160.0);
+  chunk(s2, 1, rows(100, 100.0, 60.0, 160.0, kUtc0 + 60.0));
+  finish();
+  const auto two = test::run_cubecal(words({"dev", dir(), opts}));
+  EXPECT_EQ(two.code, 2);
+  EXPECT_NE(two.err.find("leave out --stream"), std::string::npos) << two.err;
+  EXPECT_EQ(std::count(two.err.begin(), two.err.end(), '\n'), 1) << two.err;
+}
+
 TEST_F(RecordingTest, ManifestOfAnotherFormatIsNamed) {
   fs::create_directories(dir());
   std::ofstream(fs::path(dir()) / "manifest.json") << R"({"format": "something/2"})";

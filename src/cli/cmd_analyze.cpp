@@ -415,8 +415,8 @@ int run_analyze_command(AnalyzeOptions& o) {
     const std::size_t need = in_memory_bytes(o.input.file, so);
     if (need > budget && io::looks_like_recording(o.input.file)) {
       std::cerr << fmt::format("cubecal: warning: reading {} whole would take about {:.0f} MB, more than the memory "
-                               "budget ({:.0f} MB, --memory), and a recording directory is read whole (it cannot be "
-                               "streamed)\n",
+                               "budget ({:.0f} MB, --memory), and a recording directory is read whole unless --stream "
+                               "is given (which streams one closed segment)\n",
                                o.input.file, static_cast<double>(need) / 1e6, static_cast<double>(budget) / 1e6);
     } else if (need > budget) {
       stream = true;

@@ -15,10 +15,15 @@
 #include <cmath>
 #include <cstring>
 #include <string_view>
+#include <utility>
+#include <vector>
+
+#include <zlib.h>
 
 #include "cubecal/error.hpp"
 #include "cubecal/io/file_buffer.hpp"
 #include "cubecal/io/recording.hpp"
+#include "cubecal/io/recording_manifest.hpp"
 #include "cubecal/stats/sampling.hpp"
 #include "detail/shortest_text.hpp"
 
@@ -49,13 +54,77 @@ class ByteSource {
 #endif
     label_ = label;
   }
+  // The chunks of a recording (cubecal record) as one text: the header line
+  // of every chunk after the first left out, and each chunk's bytes checked
+  // against the size and CRC-32 of the manifest as they go by.
+  struct Chunk {
+    std::string path;
+    std::size_t bytes = 0;
+    std::uint32_t crc = 0;
+  };
+  ByteSource(std::vector<Chunk> chunks, const std::string& dir, std::string& label, std::size_t& total)
+      : own_(true), label_(dir), chunks_(std::move(chunks)) {
+    label = dir;
+    total = 0;
+    for (const Chunk& c : chunks_) total += c.bytes;
+  }
   ~ByteSource() {
-    if (own_) ::close(fd_);
+    if (own_ && fd_ >= 0) ::close(fd_);
   }
   ByteSource(const ByteSource&) = delete;
   ByteSource& operator=(const ByteSource&) = delete;
   // Up to n bytes (fewer only at the end of the input).
   std::size_t read(char* dst, std::size_t n) {
+    if (chunks_.empty()) return read_fd(dst, n);
+    std::size_t got = 0;
+    while (got < n) {
+      if (fd_ < 0 && !open_next_chunk()) break;
+      std::size_t r = read_fd(dst + got, n - got);
+      const bool chunk_ended = r < n - got;
+      crc_ = static_cast<std::uint32_t>(::crc32(crc_, reinterpret_cast<const Bytef*>(dst + got), static_cast<uInt>(r)));
+      seen_ += r;
+      if (skip_header_) {  // a later chunk's header line: counted, not passed on
+        const char* nl = static_cast<const char*>(std::memchr(dst + got, '\n', r));
+        if (nl == nullptr) {
+          r = 0;
+        } else {
+          const std::size_t cut = static_cast<std::size_t>(nl - (dst + got)) + 1;
+          std::memmove(dst + got, dst + got + cut, r - cut);
+          r -= cut;
+          skip_header_ = false;
+        }
+      }
+      got += r;
+      if (chunk_ended) finish_chunk();
+    }
+    return got;
+  }
+
+ private:
+  bool open_next_chunk() {
+    if (next_ == chunks_.size()) return false;
+    const Chunk& c = chunks_[next_];
+    fd_ = ::open(c.path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd_ < 0)
+      throw InputError(c.path, 0, 0, std::string("cannot open: ") + std::strerror(errno),
+                       "the recording's manifest lists this chunk");
+    skip_header_ = next_ > 0;
+    crc_ = static_cast<std::uint32_t>(::crc32(0L, Z_NULL, 0));
+    seen_ = 0;
+    return true;
+  }
+  void finish_chunk() {
+    const Chunk& c = chunks_[next_];
+    ::close(fd_);
+    fd_ = -1;
+    ++next_;
+    if (seen_ != c.bytes || crc_ != c.crc)
+      throw InputError(c.path, 0, 0,
+                       seen_ != c.bytes ? std::to_string(seen_) + " bytes where the manifest has " + std::to_string(c.bytes)
+                                        : "CRC-32 " + crc32_hex(crc_) + " where the manifest has " + crc32_hex(c.crc),
+                       "the chunk changed since it was recorded: restore it, or remove the recording's damaged part");
+  }
+  std::size_t read_fd(char* dst, std::size_t n) {
     std::size_t got = 0;
     while (got < n) {
       const ssize_t r = ::read(fd_, dst + got, n - got);
@@ -69,10 +138,14 @@ class ByteSource {
     return got;
   }
 
- private:
   int fd_ = -1;
   bool own_ = false;
   std::string label_;
+  std::vector<Chunk> chunks_;  // a recording's chunks, read in turn
+  std::size_t next_ = 0;       // the chunk being read
+  bool skip_header_ = false;
+  std::uint32_t crc_ = 0;
+  std::size_t seen_ = 0;       // bytes of the chunk read so far
 };
 
 void check_common(const SeriesOptions& opt) {
@@ -229,6 +302,19 @@ class TextStream final : public SampleStream {
  public:
   TextStream(const std::string& path, const SeriesOptions& opt, std::size_t chunk_bytes)
       : src_(path, file_, total_bytes_), opt_(opt), chunk_bytes_(std::max<std::size_t>(chunk_bytes, 4096)) {
+    start(opt);
+  }
+  // A recording's chunks as one text.
+  TextStream(std::vector<ByteSource::Chunk> chunks, const std::string& dir, const SeriesOptions& opt,
+             std::size_t chunk_bytes)
+      : src_(std::move(chunks), dir, file_, total_bytes_), opt_(opt),
+        chunk_bytes_(std::max<std::size_t>(chunk_bytes, 4096)) {
+    start(opt);
+  }
+
+ private:
+  // The first piece: the layout, the time column, the columns, the rate.
+  void start(const SeriesOptions& opt) {
     read_piece();
     const std::string_view head(text_.data(), std::min<std::size_t>(text_.size(), 64));
     if (head.size() >= 2 && static_cast<unsigned char>(head[0]) == 0x1f && static_cast<unsigned char>(head[1]) == 0x8b)
@@ -285,6 +371,8 @@ class TextStream final : public SampleStream {
     if (has_time_) time_name_ = pending_.extra_names[extra_count_];
     set_rate();
   }
+
+ public:
 
   bool next(SampleChunk& out) override {
     if (!have_pending_) {
@@ -469,11 +557,57 @@ class TextStream final : public SampleStream {
 
 }  // namespace
 
+namespace {
+
+// A recording directory (cubecal record) streamed: its chunks read in turn
+// as one text, which the one segment of a cleanly closed recording is (a
+// device time column checked across the chunks as within one file). A
+// recording of several segments, or with a source that went away and came
+// back, or one still open, is read whole (recording.hpp places its pieces).
+std::unique_ptr<SampleStream> open_recording_stream(const std::string& dir, const SeriesOptions& opt,
+                                                    std::size_t chunk_bytes) {
+  const RecordingManifest m = read_manifest(dir);
+  const RecordingSegment* seg = nullptr;
+  std::size_t with_samples = 0;
+  for (const auto& s : m.segments)
+    if (s.samples > 0) {
+      seg = &s;
+      ++with_samples;
+    }
+  const auto whole = [&](const std::string& why) {
+    return UsageError(dir + ": " + why + ": a recording is streamed only as one closed segment without breaks; leave out "
+                                         "--stream (it is read into memory and its pieces placed on one clock)");
+  };
+  if (seg == nullptr) throw InputError(dir, 0, 0, "the recording holds no sample", "record into it first");
+  if (with_samples > 1) throw whole("it has " + std::to_string(with_samples) + " segments with samples");
+  for (const auto& e : seg->events)
+    if (e.kind != RecordingEvent::Kind::gap) throw whole("its source or device clock restarted in " + seg->dir);
+  std::vector<ByteSource::Chunk> chunks;
+  for (const auto& c : seg->chunks) {
+    if (c.open || !c.crc32) throw whole(seg->dir + "/" + c.file + " is still open (a running or crashed recorder)");
+    if (c.samples > 0) chunks.push_back({dir + "/" + seg->dir + "/" + c.file, c.bytes, *c.crc32});
+  }
+  // The columns and time as read_recording takes them: the data columns
+  // (not the host stamps, not the device time), the device time column
+  // unless a rate is given instead.
+  SeriesOptions o = opt;
+  if (o.table.columns.empty())
+    for (const auto& name : m.columns)
+      if (!m.time_column || name != *m.time_column) o.table.columns.push_back(name);
+  if (o.time_col.empty() && o.rate_hz == 0.0) {
+    if (m.time_column) o.time_col = *m.time_column;
+    else if (m.rate_hz) o.rate_hz = *m.rate_hz;
+    else throw UsageError(dir + ": the recording has no device time column and no rate: give --rate HZ");
+  }
+  return std::make_unique<TextStream>(std::move(chunks), dir, o, chunk_bytes);
+}
+
+}  // namespace
+
 std::unique_ptr<SampleStream> SampleStream::open(const std::string& path, const SeriesOptions& opt,
                                                  std::size_t chunk_bytes) {
   check_common(opt);
-  if (looks_like_recording(path))
-    throw UsageError(path + " is a recording directory (cubecal record), read into memory: leave out --stream");
+  if (looks_like_recording(path)) return open_recording_stream(path, opt, chunk_bytes);
   if (!opt.binary.channels.empty()) return std::make_unique<BinaryStream>(path, opt, chunk_bytes);
   return std::make_unique<TextStream>(path, opt, chunk_bytes);
 }
