@@ -1,8 +1,11 @@
 // A record read in bounded pieces, for analyses in constant memory: raw
 // interleaved binary (SeriesOptions::binary) or delimited text, from a file
 // or the standard input ("-"), with the same column selection, per-column
-// LSB, magnitude and timing checks as read_series. Compressed text, NumPy
-// and ROS bags are read whole by read_series and refused here.
+// LSB, magnitude and timing checks as read_series. A recording directory
+// (recording.hpp) of one closed segment without breaks is its chunks read
+// in turn as one text, each checked against the manifest's size and CRC-32.
+// Compressed text, NumPy, ROS bags and other recordings are read whole by
+// read_series and refused here.
 #pragma once
 #include <cstddef>
 #include <memory>
