@@ -122,6 +122,38 @@ class RecordingTest : public TempDirTest {
 
   void finish() { io::write_manifest(dir(), m); }
 
+  // The rows as one CSV file of the data columns (t, gx, gy).
+  static std::string joined_text(const std::vector<Row>& all) {
+    std::string joined = "t,gx,gy\n";
+    for (const auto& r : all) {
+      std::ostringstream o;
+      o.precision(17);
+      o << r.values[0] << ',' << r.values[1] << ',' << r.values[2] << '\n';
+      joined += o.str();
+    }
+    return joined;
+  }
+
+  // Changes one digit of a chunk, the digit after the last `from` (",1"),
+  // to `to`, keeping its size; returns the new text.
+  static std::string change_a_digit(const std::string& path, const std::string& from, char to) {
+    std::string text;
+    {
+      std::ifstream in(path, std::ios::binary);
+      std::stringstream ss;
+      ss << in.rdbuf();
+      text = ss.str();
+    }
+    const std::size_t at = text.rfind(from);
+    if (at == std::string::npos) {
+      ADD_FAILURE() << path << " holds no " << from;
+      return text;
+    }
+    text[at + 1] = to;
+    std::ofstream(path, std::ios::binary | std::ios::trunc) << text;
+    return text;
+  }
+
   // n samples of (t, gx, gy) at `rate`: t = t0 + i / rate, gx = bias + noise,
   // gy = i; received at host_mono = mono0 + i / rate (UTC utc0 + i / rate),
   // `batch` samples per receive stamp.
@@ -178,17 +210,7 @@ TEST_F(RecordingTest, ChunkWhoseCrcDiffersIsRefusedByName) {
   finish();
   ASSERT_EQ(read().samples(), 200u);
   // One digit changed, the size kept.
-  std::string text;
-  {
-    std::ifstream in(second, std::ios::binary);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    text = ss.str();
-  }
-  const std::size_t at = text.rfind(",1");
-  ASSERT_NE(at, std::string::npos);
-  text[at + 1] = '2';
-  std::ofstream(second, std::ios::binary | std::ios::trunc) << text;
+  const std::string text = change_a_digit(second, ",1", '2');
   try {
     read();
     FAIL() << "a changed chunk was read";
@@ -407,14 +429,7 @@ TEST_F(RecordingTest, OneClosedSegmentIsStreamedAsOneText) {
   chunk(s, 2, {all.begin() + 1000, all.begin() + 2000});
   const std::string third = chunk(s, 3, {all.begin() + 2000, all.end()});
   finish();
-  std::string joined = "t,gx,gy\n";
-  for (const auto& r : all) {
-    std::ostringstream o;
-    o.precision(17);
-    o << r.values[0] << ',' << r.values[1] << ',' << r.values[2] << '\n';
-    joined += o.str();
-  }
-  const std::string file = write("joined.csv", joined);
+  const std::string file = write("joined.csv", joined_text(all));
   // Small pieces, so that pieces end inside chunks and chunks inside pieces.
   const std::string opts = "--columns gx --format csv --stream --memory 1M";
   const auto a = test::run_cubecal(words({"dev", dir(), opts}));
@@ -425,17 +440,7 @@ TEST_F(RecordingTest, OneClosedSegmentIsStreamedAsOneText) {
   const auto in_memory = test::run_cubecal(words({"dev", dir(), "--columns gx --format csv"}));
   ASSERT_EQ(in_memory.code, 0) << in_memory.err;
   // A changed chunk: refused by name while streaming.
-  std::string text;
-  {
-    std::ifstream in(third, std::ios::binary);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    text = ss.str();
-  }
-  const std::size_t at = text.rfind(",2");
-  ASSERT_NE(at, std::string::npos);
-  text[at + 1] = '3';
-  std::ofstream(third, std::ios::binary | std::ios::trunc) << text;
+  change_a_digit(third, ",2", '3');
   const auto changed = test::run_cubecal(words({"dev", dir(), opts}));
   EXPECT_EQ(changed.code, 2);
   EXPECT_NE(changed.err.find(third), std::string::npos) << changed.err;
@@ -480,14 +485,7 @@ TEST_F(RecordingTest, CommandsReadTheDirectory) {
     EXPECT_FALSE(r.out.empty()) << cmd;
   }
   // The same numbers as the chunks concatenated into one file.
-  std::string joined = "t,gx,gy\n";
-  for (const auto& r : all) {
-    std::ostringstream o;
-    o.precision(17);
-    o << r.values[0] << ',' << r.values[1] << ',' << r.values[2] << '\n';
-    joined += o.str();
-  }
-  const std::string file = write("joined.csv", joined);
+  const std::string file = write("joined.csv", joined_text(all));
   const auto a = test::run_cubecal(words({"dev", dir(), "--columns gx --format csv"}));
   const auto b = test::run_cubecal(words({"dev", file, "--columns gx --format csv"}));
   ASSERT_EQ(a.code, 0) << a.err;
