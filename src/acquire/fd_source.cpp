@@ -6,6 +6,7 @@
 #include <system_error>
 
 #include "cubecal/acquire/source.hpp"
+#include "detail/wait_readable.hpp"
 
 namespace cubecal::acquire {
 
@@ -17,13 +18,7 @@ class FdSource final : public Source {
 
   ReadResult read(char* buffer, std::size_t capacity, int timeout_ms) override {
     if (ended_) return {ReadResult::Status::end, 0};
-    pollfd p{fd_, POLLIN, 0};
-    const int r = ::poll(&p, 1, timeout_ms);
-    if (r < 0) {
-      if (errno == EINTR) return {ReadResult::Status::timeout, 0};
-      throw std::system_error(errno, std::generic_category(), label_ + ": poll failed");
-    }
-    if (r == 0) return {ReadResult::Status::timeout, 0};
+    if (!detail::wait_readable(fd_, timeout_ms, label_)) return {ReadResult::Status::timeout, 0};
     const ssize_t n = ::read(fd_, buffer, capacity);
     if (n < 0) {
       if (errno == EINTR || errno == EAGAIN) return {ReadResult::Status::timeout, 0};

@@ -21,6 +21,7 @@
 #include "cubecal/acquire/source.hpp"
 #include "cubecal/error.hpp"
 #include "detail/reconnect_backoff.hpp"
+#include "detail/wait_readable.hpp"
 
 namespace cubecal::acquire {
 
@@ -152,11 +153,8 @@ class SerialSource final : public Source {
   }
 
   ReadResult read_terminal(char* buffer, std::size_t capacity, int timeout_ms) {
-    pollfd p{fd_, POLLIN, 0};
-    const int r = ::poll(&p, 1, timeout_ms > 0 ? timeout_ms : 1);
-    if (r < 0 && errno == EINTR) return {ReadResult::Status::timeout, 0};
-    if (r == 0) return {ReadResult::Status::timeout, 0};
-    const ssize_t n = r > 0 ? ::read(fd_, buffer, capacity) : -1;
+    if (!detail::wait_readable(fd_, timeout_ms > 0 ? timeout_ms : 1, describe())) return {ReadResult::Status::timeout, 0};
+    const ssize_t n = ::read(fd_, buffer, capacity);
     if (n > 0) return {ReadResult::Status::data, static_cast<std::size_t>(n)};
     if (n < 0 && (errno == EAGAIN || errno == EINTR)) return {ReadResult::Status::timeout, 0};
     close();  // hung up (the other side of a pseudo-terminal closed) or gone

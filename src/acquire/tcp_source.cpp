@@ -13,6 +13,7 @@
 #include <system_error>
 
 #include "cubecal/acquire/source.hpp"
+#include "detail/wait_readable.hpp"
 #include "cubecal/error.hpp"
 #include "detail/reconnect_backoff.hpp"
 
@@ -81,13 +82,7 @@ class TcpSource final : public Source {
       backoff_.succeeded();
       return {ReadResult::Status::reconnected, 0};
     }
-    pollfd p{fd_, POLLIN, 0};
-    const int r = ::poll(&p, 1, timeout_ms);
-    if (r < 0) {
-      if (errno == EINTR) return {ReadResult::Status::timeout, 0};
-      throw std::system_error(errno, std::generic_category(), describe() + ": poll failed");
-    }
-    if (r == 0) return {ReadResult::Status::timeout, 0};
+    if (!detail::wait_readable(fd_, timeout_ms, describe())) return {ReadResult::Status::timeout, 0};
     const ssize_t n = ::recv(fd_, buffer, capacity, 0);
     if (n > 0) return {ReadResult::Status::data, static_cast<std::size_t>(n)};
     if (n < 0 && (errno == EINTR || errno == EAGAIN)) return {ReadResult::Status::timeout, 0};

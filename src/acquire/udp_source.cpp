@@ -11,6 +11,7 @@
 #include <system_error>
 
 #include "cubecal/acquire/source.hpp"
+#include "detail/wait_readable.hpp"
 #include "cubecal/error.hpp"
 
 namespace cubecal::acquire {
@@ -55,13 +56,7 @@ class UdpSource final : public Source {
   }
 
   ReadResult read(char* buffer, std::size_t capacity, int timeout_ms) override {
-    pollfd p{fd_, POLLIN, 0};
-    const int r = ::poll(&p, 1, timeout_ms);
-    if (r < 0) {
-      if (errno == EINTR) return {ReadResult::Status::timeout, 0};
-      throw std::system_error(errno, std::generic_category(), describe() + ": poll failed");
-    }
-    if (r == 0) return {ReadResult::Status::timeout, 0};
+    if (!detail::wait_readable(fd_, timeout_ms, describe())) return {ReadResult::Status::timeout, 0};
     // Several datagrams per batch, as many as are waiting and fit.
     std::size_t got = 0;
     while (got < capacity) {

@@ -16,7 +16,6 @@
 #include "common_options.hpp"
 #include "cubecal/error.hpp"
 #include "cubecal/io/output_path.hpp"
-#include "cubecal/io/recording.hpp"
 #include "cubecal/noise/bias_verdict.hpp"
 #include "cubecal/noise/wic.hpp"
 #include "cubecal/noise/reported_terms.hpp"
@@ -413,11 +412,9 @@ int run_analyze_command(AnalyzeOptions& o) {
     // Streamed by itself when reading the file whole would exceed the budget
     // (a pipe's size is not known: --stream).
     const std::size_t need = in_memory_bytes(o.input.file, so);
-    if (need > budget && io::looks_like_recording(o.input.file)) {
-      std::cerr << fmt::format("cubecal: warning: reading {} whole would take about {:.0f} MB, more than the memory "
-                               "budget ({:.0f} MB, --memory), and a recording directory is read whole unless --stream "
-                               "is given (which streams one closed segment)\n",
-                               o.input.file, static_cast<double>(need) / 1e6, static_cast<double>(budget) / 1e6);
+    const std::string recording_warning = recording_beyond_budget(o.input.file, need, budget);
+    if (!recording_warning.empty()) {
+      std::cerr << recording_warning;
     } else if (need > budget) {
       stream = true;
       std::cerr << fmt::format("cubecal: note: reading {} whole would take about {:.0f} MB, more than the "

@@ -10,7 +10,6 @@
 #include "commands.hpp"
 #include "common_options.hpp"
 #include "cubecal/error.hpp"
-#include "cubecal/io/recording.hpp"
 #include "cubecal/io/series.hpp"
 #include "cubecal/pipeline/analysis_json.hpp"
 #include "cubecal/pipeline/analysis_output.hpp"
@@ -108,11 +107,9 @@ int run_dev_command(DevOptions& o) {
     // Streamed by itself when reading the file whole would exceed the budget
     // and the request can be streamed (a pipe's size is not known: --stream).
     const std::size_t need = in_memory_bytes(o.input.file, series_opt);
-    if (need > budget && io::looks_like_recording(o.input.file)) {
-      std::cerr << fmt::format("cubecal: warning: reading {} whole would take about {:.0f} MB, more than the memory "
-                               "budget ({:.0f} MB, --memory), and a recording directory is read whole unless --stream "
-                               "is given (which streams one closed segment)\n",
-                               o.input.file, static_cast<double>(need) / 1e6, static_cast<double>(budget) / 1e6);
+    const std::string recording_warning = recording_beyond_budget(o.input.file, need, budget);
+    if (!recording_warning.empty()) {
+      std::cerr << recording_warning;
     } else if (need > budget) {
       try {
         pipeline::check_streamable(req);

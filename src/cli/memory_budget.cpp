@@ -1,5 +1,7 @@
 #include "memory_budget.hpp"
 
+#include <fmt/format.h>
+
 #include "cubecal/pipeline/dev_stream.hpp"
 
 #include <unistd.h>
@@ -121,6 +123,14 @@ std::size_t in_memory_bytes(const std::string& file, const io::SeriesOptions& op
   // doubles (bench/memory.sh); the pages of the text are dropped behind the
   // parse. Rounded up to the file's size.
   return bytes;
+}
+
+std::string recording_beyond_budget(const std::string& file, std::size_t need, std::size_t budget) {
+  if (need <= budget || !io::looks_like_recording(file)) return {};
+  return fmt::format("cubecal: warning: reading {} whole would take about {:.0f} MB, more than the memory budget "
+                     "({:.0f} MB, --memory), and a recording directory is read whole unless --stream is given "
+                     "(which streams one closed segment)\n",
+                     file, static_cast<double>(need) / 1e6, static_cast<double>(budget) / 1e6);
 }
 
 }  // namespace cubecal::cli

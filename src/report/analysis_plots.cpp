@@ -53,6 +53,23 @@ PlotSeries legend_entry(std::string label, const char* c, Dash dash = Dash::soli
   return s;
 }
 
+// A channel's measured OADEV with its intervals as error lines.
+PlotSeries measured_oadev(const std::vector<StabilityPoint>& curve, const std::string& channel, const char* c) {
+  PlotSeries m;
+  for (const auto& pt : curve) {
+    m.x.push_back(pt.tau);
+    m.y.push_back(pt.dev);
+    m.lo.push_back(pt.lo);
+    m.hi.push_back(pt.hi);
+  }
+  m.mark = Mark::errorlines;
+  m.id = channel + " measured OADEV";
+  m.color = c;
+  m.width = 1.3;
+  m.point_size = 0.25;
+  return m;
+}
+
 // A power law a * tau^p drawn across [t0, t1] (a straight line in log-log).
 PlotSeries term_line(double a, double p, double t0, double t1, const char* c, std::string id) {
   PlotSeries s;
@@ -95,19 +112,7 @@ ReportFigure allan_figure(const AnalysisResult& d, const SensorGroup& g) {
     const ModelCurves mc = model_curves(ch, d.rate_hz);
     std::vector<double> tau;
     for (const auto& pt : ch.noise.adev) tau.push_back(pt.tau);
-    PlotSeries m;
-    for (const auto& pt : ch.noise.adev) {
-      m.x.push_back(pt.tau);
-      m.y.push_back(pt.dev);
-      m.lo.push_back(pt.lo);
-      m.hi.push_back(pt.hi);
-    }
-    m.mark = Mark::errorlines;
-    m.id = ch.name + " measured OADEV";
-    m.color = c;
-    m.width = 1.3;
-    m.point_size = 0.25;
-    p.series.push_back(std::move(m));
+    p.series.push_back(measured_oadev(ch.noise.adev, ch.name, c));
     // A model's curve, drawn when it has any point.
     const auto model_curve = [&](const std::vector<double>& y, const char* what, Dash dash, double width, bool& any) {
       if (!any_finite(y)) return;
@@ -194,19 +199,8 @@ ReportFigure composite_figure(const AnalysisResult& d, const ChannelAnalysis& ch
   p.height = 640;
   // The curve the models were fitted with (the record's, or its head's).
   const std::vector<StabilityPoint>& curve = ch.model.adev.empty() ? ch.noise.adev : ch.model.adev;
-  PlotSeries m;
-  for (const auto& pt : curve) {
-    m.x.push_back(pt.tau);
-    m.y.push_back(pt.dev);
-    m.lo.push_back(pt.lo);
-    m.hi.push_back(pt.hi);
-  }
-  m.mark = Mark::errorlines;
-  m.id = ch.name + " measured OADEV";
+  PlotSeries m = measured_oadev(curve, ch.name, kInk);
   m.label = "measured OADEV, " + ci + " interval";
-  m.color = kInk;
-  m.width = 1.3;
-  m.point_size = 0.25;
   p.series.push_back(std::move(m));
   // The moments the GMWM matched: the Haar wavelet variance at tau = 2^j
   // samples is half the Allan variance at m = 2^(j-1), drawn as the Allan
