@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <random>
 #include <string>
 #include <vector>
@@ -160,6 +161,40 @@ TEST(NoiseId, IdentifiesPureNoises) {
     EXPECT_EQ(identify_noise(xw, m, Stat::oadev).alpha, 0) << m;
     EXPECT_EQ(identify_noise(xr, m, Stat::oadev).alpha, -2) << m;
     EXPECT_EQ(identify_noise(wpm, m, Stat::oadev).alpha, 2) << m;
+  }
+}
+
+// The grid form shares one walk over the record among its factors; every
+// result, the unrounded estimate included, must be the single-factor one to
+// the bit. The lengths make whole blocks of 1024 averages (21505 points: 3072
+// averages at m = 7, 1024 at m = 21) and a ragged end (100001), and the
+// records give every noise type a spread of lag-1 estimates.
+TEST(NoiseId, GridEqualsEachFactorToTheBit) {
+  for (const std::size_t n : {std::size_t{21504}, std::size_t{100000}}) {
+    const auto w = white(n, 1.0, 11);
+    std::vector<double> mixed(n);
+    double walk = 0.0;
+    const auto steps = white(n, 0.02, 12);
+    for (std::size_t i = 0; i < n; ++i) mixed[i] = w[i] + (walk += steps[i]);
+    for (const std::vector<double>* y : {&w, static_cast<const std::vector<double>*>(&mixed)}) {
+      const std::vector<double> x = freq_to_phase(*y, 0.1);
+      std::vector<std::size_t> ms;
+      for (std::size_t m = 1; m <= 64; ++m) ms.push_back(m);
+      for (std::size_t m = 70; m < x.size(); m = m * 5 / 4) ms.push_back(m);
+      ms.push_back(0);
+      for (const Stat stat : {Stat::oadev, Stat::ohdev, Stat::mdev}) {
+        const std::vector<NoiseId> grid = identify_noise(x, ms, stat);
+        ASSERT_EQ(grid.size(), ms.size());
+        for (std::size_t j = 0; j < ms.size(); ++j) {
+          const NoiseId one = identify_noise(x, ms[j], stat);
+          EXPECT_EQ(grid[j].alpha, one.alpha) << n << " m " << ms[j];
+          EXPECT_EQ(grid[j].method, one.method) << n << " m " << ms[j];
+          EXPECT_EQ(std::memcmp(&grid[j].alpha_est, &one.alpha_est, sizeof(double)), 0)
+              << n << " m " << ms[j] << ": " << grid[j].alpha_est << " vs " << one.alpha_est;
+          EXPECT_EQ(grid[j].b1, one.b1) << n << " m " << ms[j];
+        }
+      }
+    }
   }
 }
 

@@ -134,47 +134,73 @@ NoiseId noise_from_b1(double b1, std::size_t phase_points, std::size_t m, std::s
   return out;
 }
 
+namespace {
+
+// The lag-1 sums of the averages at one factor and of their differences up
+// to the statistic's order, fed a block of kAcfBlock averages at a time: the
+// same blocks, and so the same bits, whether one factor's averages come
+// from a walk of its own (identify_noise at m) or from the walk all factors
+// share (identify_noise at a grid). w0 holds the block after its carry: w0[0]
+// is the last average of the previous block, carry[d] the last d-th
+// difference.
+constexpr std::size_t kAcfBlock = 1024;
+static_assert(kAcfBlock > 3);
+
+struct AcfSums {
+  int dmax = 0;
+  std::size_t k0 = 0;  // averages taken before the current block
+  LagSums sums[4];
+  double carry[4] = {0.0, 0.0, 0.0, 0.0};
+
+  // The block w0[1 .. len] (w0[0] is overwritten with the carry); scratch
+  // holds 3 (kAcfBlock + 1) doubles.
+  void add(double* w0, std::size_t len, double* scratch) noexcept {
+    w0[0] = carry[0];
+    sums[0].add(w0 + 1, len);
+    const double* src = w0;
+    for (int d = 1; d <= dmax; ++d) {
+      double* buf = scratch + static_cast<std::size_t>(d - 1) * (kAcfBlock + 1);
+      buf[0] = carry[d];
+      double* dst = buf + 1;
+      for (std::size_t j = 0; j < len; ++j) dst[j] = src[j + 1] - src[j];
+      // The d-th difference starts at index d of the sequence.
+      const std::size_t start = k0 == 0 ? static_cast<std::size_t>(d) : 0;
+      if (len > start) sums[d].add(dst + start, len - start);
+      carry[d] = buf[len];
+      src = buf;
+    }
+    carry[0] = w0[len];
+    k0 += len;
+  }
+
+  NoiseId identify(Stat stat) const {
+    double r1[4];
+    for (int d = 0; d <= dmax; ++d) r1[d] = sums[d].r1();
+    return noise_from_lag1(std::span<const double>(r1, static_cast<std::size_t>(dmax) + 1), stat);
+  }
+};
+
+}  // namespace
+
 NoiseId identify_noise(std::span<const double> x, std::size_t m, Stat stat) {
   NoiseId out;
   if (m == 0 || x.size() < m + 1) return out;
-  const int dmax = difference_order(stat);
   // Non-overlapping averages of frequency, unscaled (x[(k+1)m] - x[km]: the
   // 1/(m tau0) factor cancels in every ratio below).
   const std::size_t count = (x.size() - 1) / m;
   auto z = [&](std::size_t k) { return x[(k + 1) * m] - x[k * m]; };
 
   if (count >= kMinAcfPoints) {
-    // One pass accumulates the sums of every difference order 0..dmax,
-    // block by block. buf[d][0] carries the last value of the previous block.
-    constexpr std::size_t kBlock = 1024;
-    static_assert(kBlock > 3);
-    LagSums sums[4];
-    std::vector<double> storage(4 * (kBlock + 1), 0.0);
-    double* buf[4] = {storage.data(), storage.data() + (kBlock + 1),
-                      storage.data() + 2 * (kBlock + 1), storage.data() + 3 * (kBlock + 1)};
-    for (std::size_t k0 = 0; k0 < count; k0 += kBlock) {
-      const std::size_t len = std::min(kBlock, count - k0);
-      double* w0 = buf[0] + 1;
-      if (m == 1) {
-        const double* xs = x.data() + k0;
-        for (std::size_t j = 0; j < len; ++j) w0[j] = xs[j + 1] - xs[j];
-      } else {
-        for (std::size_t j = 0; j < len; ++j) w0[j] = z(k0 + j);
-      }
-      sums[0].add(w0, len);
-      for (int d = 1; d <= dmax; ++d) {
-        const double* src = buf[d - 1];
-        double* dst = buf[d] + 1;
-        for (std::size_t j = 0; j < len; ++j) dst[j] = src[j + 1] - src[j];
-        // The d-th difference starts at index d of the sequence.
-        const std::size_t start = k0 == 0 ? static_cast<std::size_t>(d) : 0;
-        if (len > start) sums[d].add(dst + start, len - start);
-      }
-      for (int d = 0; d <= dmax; ++d) buf[d][0] = buf[d][len];
+    AcfSums acf;
+    acf.dmax = difference_order(stat);
+    std::vector<double> storage(4 * (kAcfBlock + 1), 0.0);
+    double* w0 = storage.data();
+    for (std::size_t k0 = 0; k0 < count; k0 += kAcfBlock) {
+      const std::size_t len = std::min(kAcfBlock, count - k0);
+      for (std::size_t j = 0; j < len; ++j) w0[j + 1] = z(k0 + j);
+      acf.add(w0, len, w0 + kAcfBlock + 1);
     }
-    double r1[4];
-    for (int d = 0; d <= dmax; ++d) r1[d] = sums[d].r1();
-    return noise_from_lag1(std::span<const double>(r1, static_cast<std::size_t>(dmax) + 1), stat);
+    return acf.identify(stat);
   }
 
   // B1 ratio on the averages.
@@ -203,6 +229,78 @@ NoiseId identify_noise(std::span<const double> x, std::size_t m, Stat stat) {
       out.method = NoiseId::Method::b1_rn;
     }
   }
+  return out;
+}
+
+std::vector<NoiseId> identify_noise(std::span<const double> x, std::span<const std::size_t> ms, Stat stat) {
+  std::vector<NoiseId> out(ms.size());
+  // The factors with enough averages for the lag-1 method share one walk
+  // over x in pieces that stay in the cache: taken one factor at a time,
+  // the points x[km] of a factor beyond a few samples each sit in a cache
+  // line of their own, and the walk waits on memory for every one.
+  struct Factor {
+    std::size_t j, m, count, next;  // next: the index k of the next point x[km]
+    double prev;
+    std::size_t len;
+    AcfSums acf;
+    std::vector<double> w0;
+  };
+  std::vector<Factor> acf;
+  for (std::size_t j = 0; j < ms.size(); ++j) {
+    const std::size_t m = ms[j];
+    if (m == 0 || x.size() < m + 1 || (x.size() - 1) / m < kMinAcfPoints) {
+      out[j] = identify_noise(x, m, stat);
+      continue;
+    }
+    Factor f{j, m, (x.size() - 1) / m, 0, 0.0, 0, AcfSums{}, std::vector<double>(kAcfBlock + 1)};
+    f.acf.dmax = difference_order(stat);
+    acf.push_back(std::move(f));
+  }
+  if (acf.empty()) return out;
+  std::vector<double> scratch(3 * (kAcfBlock + 1));
+  constexpr std::size_t kPiece = std::size_t{1} << 13;  // 64 KiB of phase
+  for (std::size_t p0 = 0; p0 < x.size(); p0 += kPiece) {
+    const std::size_t p1 = std::min(x.size(), p0 + kPiece);
+    for (Factor& f : acf) {
+      // Points x[km] for k <= count (count averages need count + 1 points),
+      // the state in locals so that the loop carries nothing through memory.
+      const std::size_t m = f.m, count = f.count;
+      const std::size_t stop = std::min(count, (p1 - 1) / m);  // the last k with km in this piece
+      std::size_t k = f.next, len = f.len;
+      double prev = f.prev;
+      double* w = f.w0.data();
+      if (k == 0) {  // the first point starts the averages
+        prev = x[0];
+        k = 1;
+      }
+      while (k <= stop) {
+        // Up to the end of the block or of the piece, whichever comes first.
+        const std::size_t run = std::min(kAcfBlock - len, stop - k + 1);
+        if (m == 1) {
+          const double* xs = x.data() + k;
+          for (std::size_t i = 0; i < run; ++i) w[len + 1 + i] = xs[i] - xs[i - 1];
+          prev = xs[run - 1];
+        } else {
+          const double* xs = x.data() + k * m;
+          for (std::size_t i = 0; i < run; ++i, xs += m) {
+            const double v = *xs;
+            w[len + 1 + i] = v - prev;
+            prev = v;
+          }
+        }
+        len += run;
+        k += run;
+        if (len == kAcfBlock || k > count) {
+          f.acf.add(w, len, scratch.data());
+          len = 0;
+        }
+      }
+      f.next = k;
+      f.len = len;
+      f.prev = prev;
+    }
+  }
+  for (const Factor& f : acf) out[f.j] = f.acf.identify(stat);
   return out;
 }
 

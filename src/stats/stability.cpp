@@ -143,8 +143,19 @@ std::vector<StabilityPoint> StabilityRecord::evaluate(std::span<const std::size_
   if (!needs_type(opt)) return out;
   {
     StageTimer timer(times, Stage::noise_id);
-    for (StabilityPoint& p : out)
-      if (p.n > 0) identify(p, opt);
+    if (!opt.alpha && stat_ != Stat::theoh) {  // one walk over the record for every factor
+      std::vector<std::size_t> at, m;
+      for (std::size_t j = 0; j < out.size(); ++j)
+        if (out[j].n > 0) {
+          at.push_back(j);
+          m.push_back(out[j].m);
+        }
+      const std::vector<NoiseId> id = identify_noise(x_, m, stat_);
+      for (std::size_t k = 0; k < at.size(); ++k) out[at[k]].alpha = id[k].alpha;
+    } else {
+      for (StabilityPoint& p : out)
+        if (p.n > 0) identify(p, opt);
+    }
   }
   StageTimer timer(times, Stage::intervals);
   for (StabilityPoint& p : out)

@@ -6,6 +6,7 @@
 #pragma once
 #include <cstddef>
 #include <span>
+#include <vector>
 
 #include "cubecal/stats/statistic.hpp"
 
@@ -25,6 +26,10 @@ struct NoiseId {
 // integrated first). The identification works on the frequency averages
 // at m whichever type the user supplied.
 NoiseId identify_noise(std::span<const double> x, std::size_t m, Stat stat);
+
+// identify_noise at every factor of ms, the same results to the bit, the
+// averages of every factor taken in one walk over x.
+std::vector<NoiseId> identify_noise(std::span<const double> x, std::span<const std::size_t> ms, Stat stat);
 
 // The lag-1 step of identify_noise on its own: r1[d] is Stable32's lag-1
 // autocorrelation of the d-th differences of the averages (d = 0 ..
