@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <sys/mman.h>
 #include <cstdint>
 #include <cstring>
 #include <exception>
@@ -29,6 +30,7 @@
 #include "cubecal/error.hpp"
 #include "cubecal/io/file_buffer.hpp"
 #include "detail/binary_input.hpp"
+#include "detail/plain_decimal.hpp"
 
 namespace cubecal::io {
 
@@ -335,10 +337,14 @@ inline const char* fast_row(const char* p, const char* end, std::size_t total_co
   for (std::size_t f = 0; f < total_columns; ++f) {
     if (double* out = dst[f]) {
       double v;
-      const auto [ptr, ec] = fast_float::from_chars(s, end, v);
-      if (ec != std::errc() || ptr == s || !std::isfinite(v)) return nullptr;
+      if (const char* q = detail::plain_decimal(s, end, v)) {
+        s = q;
+      } else {
+        const auto [ptr, ec] = fast_float::from_chars(s, end, v);
+        if (ec != std::errc() || ptr == s || !std::isfinite(v)) return nullptr;
+        s = ptr;
+      }
       out[row] = v;
-      s = ptr;
     } else {
       while (s < end && *s != sep && *s != '\n') ++s;
     }
@@ -444,6 +450,21 @@ ChunkParser chunk_parser(Delimiter d) {
     case Delimiter::whitespace: break;
   }
   return parse_chunk<Delimiter::whitespace>;
+}
+
+// A column of a long record is tens of MB: in 2 MiB pages (where the kernel
+// leaves that to the program, transparent_hugepage=madvise) it is faulted in
+// 512 times less often. Advice only: nothing changes where it is refused.
+void advise_huge_pages(void* p, std::size_t bytes) {
+#ifdef MADV_HUGEPAGE
+  constexpr std::uintptr_t kHuge = std::uintptr_t{2} << 20;
+  const auto b = (reinterpret_cast<std::uintptr_t>(p) + kHuge - 1) / kHuge * kHuge;
+  const auto e = (reinterpret_cast<std::uintptr_t>(p) + bytes) / kHuge * kHuge;
+  if (e > b) ::madvise(reinterpret_cast<void*>(b), e - b, MADV_HUGEPAGE);
+#else
+  (void)p;
+  (void)bytes;
+#endif
 }
 
 // Runs job(0..n-1), job(0) on the calling thread. Jobs must not throw.
@@ -718,7 +739,11 @@ std::vector<std::vector<double>> parse_rows(std::string_view text, const std::st
   std::vector<std::exception_ptr> alloc_failure(n_chunks);
   run_parallel(n_chunks, [&](std::size_t k) {
     try {
-      for (std::size_t c = k; c < columns.size(); c += n_chunks) columns[c].resize(offset[n_chunks]);
+      for (std::size_t c = k; c < columns.size(); c += n_chunks) {
+        columns[c].reserve(offset[n_chunks]);
+        advise_huge_pages(columns[c].data(), offset[n_chunks] * sizeof(double));
+        columns[c].resize(offset[n_chunks]);
+      }
     } catch (...) {
       alloc_failure[k] = std::current_exception();
     }
