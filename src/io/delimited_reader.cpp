@@ -17,7 +17,6 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
-#include <sys/mman.h>
 #include <cstdint>
 #include <cstring>
 #include <exception>
@@ -31,6 +30,7 @@
 #include "cubecal/io/file_buffer.hpp"
 #include "detail/binary_input.hpp"
 #include "detail/plain_decimal.hpp"
+#include "../detail/huge_pages.hpp"
 
 namespace cubecal::io {
 
@@ -452,21 +452,6 @@ ChunkParser chunk_parser(Delimiter d) {
   return parse_chunk<Delimiter::whitespace>;
 }
 
-// A column of a long record is tens of MB: in 2 MiB pages (where the kernel
-// leaves that to the program, transparent_hugepage=madvise) it is faulted in
-// 512 times less often. Advice only: nothing changes where it is refused.
-void advise_huge_pages(void* p, std::size_t bytes) {
-#ifdef MADV_HUGEPAGE
-  constexpr std::uintptr_t kHuge = std::uintptr_t{2} << 20;
-  const auto b = (reinterpret_cast<std::uintptr_t>(p) + kHuge - 1) / kHuge * kHuge;
-  const auto e = (reinterpret_cast<std::uintptr_t>(p) + bytes) / kHuge * kHuge;
-  if (e > b) ::madvise(reinterpret_cast<void*>(b), e - b, MADV_HUGEPAGE);
-#else
-  (void)p;
-  (void)bytes;
-#endif
-}
-
 // Runs job(0..n-1), job(0) on the calling thread. Jobs must not throw.
 template <class Job>
 void run_parallel(std::size_t n, const Job& job) {
@@ -741,7 +726,7 @@ std::vector<std::vector<double>> parse_rows(std::string_view text, const std::st
     try {
       for (std::size_t c = k; c < columns.size(); c += n_chunks) {
         columns[c].reserve(offset[n_chunks]);
-        advise_huge_pages(columns[c].data(), offset[n_chunks] * sizeof(double));
+        cubecal::detail::advise_huge_pages(columns[c].data(), offset[n_chunks] * sizeof(double));
         columns[c].resize(offset[n_chunks]);
       }
     } catch (...) {

@@ -252,55 +252,65 @@ std::vector<NoiseId> identify_noise(std::span<const double> x, std::span<const s
       out[j] = identify_noise(x, m, stat);
       continue;
     }
-    Factor f{j, m, (x.size() - 1) / m, 0, 0.0, 0, AcfSums{}, std::vector<double>(kAcfBlock + 1)};
+    Factor f{j, m, (x.size() - 1) / m, 0, 0.0, 0, AcfSums{}, {}};
     f.acf.dmax = difference_order(stat);
     acf.push_back(std::move(f));
   }
   if (acf.empty()) return out;
   std::vector<double> scratch(3 * (kAcfBlock + 1));
   constexpr std::size_t kPiece = std::size_t{1} << 13;  // 64 KiB of phase
-  for (std::size_t p0 = 0; p0 < x.size(); p0 += kPiece) {
-    const std::size_t p1 = std::min(x.size(), p0 + kPiece);
-    for (Factor& f : acf) {
-      // Points x[km] for k <= count (count averages need count + 1 points),
-      // the state in locals so that the loop carries nothing through memory.
-      const std::size_t m = f.m, count = f.count;
-      const std::size_t stop = std::min(count, (p1 - 1) / m);  // the last k with km in this piece
-      std::size_t k = f.next, len = f.len;
-      double prev = f.prev;
-      double* w = f.w0.data();
-      if (k == 0) {  // the first point starts the averages
-        prev = x[0];
-        k = 1;
-      }
-      while (k <= stop) {
-        // Up to the end of the block or of the piece, whichever comes first.
-        const std::size_t run = std::min(kAcfBlock - len, stop - k + 1);
-        if (m == 1) {
-          const double* xs = x.data() + k;
-          for (std::size_t i = 0; i < run; ++i) w[len + 1 + i] = xs[i] - xs[i - 1];
-          prev = xs[run - 1];
-        } else {
-          const double* xs = x.data() + k * m;
-          for (std::size_t i = 0; i < run; ++i, xs += m) {
-            const double v = *xs;
-            w[len + 1 + i] = v - prev;
-            prev = v;
+  // At most kWalkFactors share a walk (8 KiB of block each), so that an
+  // all-tau grid of a long record does not hold a block for every factor.
+  constexpr std::size_t kWalkFactors = 64;
+  for (std::size_t g0 = 0; g0 < acf.size(); g0 += kWalkFactors) {
+    const std::span<Factor> group(acf.data() + g0, std::min(kWalkFactors, acf.size() - g0));
+    for (Factor& f : group) f.w0.assign(kAcfBlock + 1, 0.0);
+    for (std::size_t p0 = 0; p0 < x.size(); p0 += kPiece) {
+      const std::size_t p1 = std::min(x.size(), p0 + kPiece);
+      for (Factor& f : group) {
+        // Points x[km] for k <= count (count averages need count + 1 points),
+        // the state in locals so that the loop carries nothing through memory.
+        const std::size_t m = f.m, count = f.count;
+        const std::size_t stop = std::min(count, (p1 - 1) / m);  // the last k with km in this piece
+        std::size_t k = f.next, len = f.len;
+        double prev = f.prev;
+        double* w = f.w0.data();
+        if (k == 0) {  // the first point starts the averages
+          prev = x[0];
+          k = 1;
+        }
+        while (k <= stop) {
+          // Up to the end of the block or of the piece, whichever comes first.
+          const std::size_t run = std::min(kAcfBlock - len, stop - k + 1);
+          if (m == 1) {
+            const double* xs = x.data() + k;
+            for (std::size_t i = 0; i < run; ++i) w[len + 1 + i] = xs[i] - xs[i - 1];
+            prev = xs[run - 1];
+          } else {
+            const double* xs = x.data() + k * m;
+            for (std::size_t i = 0; i < run; ++i, xs += m) {
+              const double v = *xs;
+              w[len + 1 + i] = v - prev;
+              prev = v;
+            }
+          }
+          len += run;
+          k += run;
+          if (len == kAcfBlock || k > count) {
+            f.acf.add(w, len, scratch.data());
+            len = 0;
           }
         }
-        len += run;
-        k += run;
-        if (len == kAcfBlock || k > count) {
-          f.acf.add(w, len, scratch.data());
-          len = 0;
-        }
+        f.next = k;
+        f.len = len;
+        f.prev = prev;
       }
-      f.next = k;
-      f.len = len;
-      f.prev = prev;
+    }
+    for (Factor& f : group) {
+      out[f.j] = f.acf.identify(stat);
+      f.w0 = {};
     }
   }
-  for (const Factor& f : acf) out[f.j] = f.acf.identify(stat);
   return out;
 }
 

@@ -6,11 +6,15 @@
 #include <string>
 
 #include "cubecal/math/magnitude.hpp"
+#include "../detail/huge_pages.hpp"
 
 namespace cubecal {
 
 std::vector<double> freq_to_phase(std::span<const double> y, double tau0, double scale) {
-  std::vector<double> x(y.size() + 1, 0.0);
+  std::vector<double> x;
+  x.reserve(y.size() + 1);
+  detail::advise_huge_pages(x.data(), (y.size() + 1) * sizeof(double));
+  x.resize(y.size() + 1, 0.0);
   if (y.empty()) return x;
   const double inv = 1.0 / scale;
   // Two-pass mean (accurate for long records), then the running sum.
