@@ -456,6 +456,44 @@ TEST_F(RecordingTest, OneClosedSegmentIsStreamedAsOneText) {
   EXPECT_EQ(std::count(two.err.begin(), two.err.end(), '\n'), 1) << two.err;
 }
 
+TEST_F(RecordingTest, AStreamedRecordingsBadLineIsNamedInItsChunk) {
+  // The chunks are read as one text; a fault in the second chunk is named by
+  // that chunk's path and its own line (its header is line 1), as reading the
+  // directory whole names it, not by the directory and a line counted
+  // through the joined text.
+  auto& s = segment(1, kStart0, 100.0);
+  const auto all = rows(3000, 100.0, 0.0, 100.0, kUtc0, 0.5);
+  chunk(s, 1, {all.begin(), all.begin() + 1000});
+  const std::string second = chunk(s, 2, {all.begin() + 1000, all.begin() + 2000});
+  chunk(s, 3, {all.begin() + 2000, all.end()});
+  // Row 700 of the second chunk (line 702) gets a word for its gx; the
+  // manifest's size and CRC-32 follow, as if it had been recorded so.
+  std::string text;
+  {
+    std::ifstream in(second, std::ios::binary);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    text = ss.str();
+  }
+  std::size_t at = 0;
+  for (int line = 1; line < 702; ++line) at = text.find('\n', at) + 1;
+  at = text.find(',', text.find(',', text.find(',', at) + 1) + 1) + 1;  // gx: after host_mono, host_utc, t
+  text.replace(at, text.find(',', at) - at, "oops");
+  std::ofstream(second, std::ios::binary | std::ios::trunc) << text;
+  io::RecordingChunk& c = m.segments.back().chunks[1];
+  c.bytes = text.size();
+  c.crc32 = static_cast<std::uint32_t>(
+      ::crc32(::crc32(0L, Z_NULL, 0), reinterpret_cast<const Bytef*>(text.data()), static_cast<uInt>(text.size())));
+  finish();
+  for (const char* stream : {"--stream --memory 1M", ""}) {
+    const auto cli = test::run_cubecal(words({"dev", dir(), "--columns gx --format csv", stream}));
+    EXPECT_EQ(cli.code, 2) << stream;
+    EXPECT_TRUE(test::one_error_line(cli)) << stream << ": " << cli.err;
+    EXPECT_NE(cli.err.find(second + ":702:"), std::string::npos) << stream << ": " << cli.err;
+    EXPECT_NE(cli.err.find("'oops'"), std::string::npos) << stream << ": " << cli.err;
+  }
+}
+
 TEST_F(RecordingTest, ManifestOfAnotherFormatIsNamed) {
   fs::create_directories(dir());
   std::ofstream(fs::path(dir()) / "manifest.json") << R"({"format": "something/2"})";

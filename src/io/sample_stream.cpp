@@ -94,10 +94,24 @@ class ByteSource {
           skip_header_ = false;
         }
       }
+      lines_ += static_cast<std::size_t>(std::count(dst + got, dst + got + r, '\n'));
       got += r;
       if (chunk_ended) finish_chunk();
     }
     return got;
+  }
+
+  // Where line `line` (1-based) of the text read so far lies: for a
+  // recording's chunks, the chunk and its own line (a later chunk's header,
+  // left out of the text, counted back in); false for one file.
+  bool place(std::size_t line, std::string& file, std::size_t& local) const {
+    if (chunks_.empty() || first_line_.empty() || line == 0) return false;
+    const auto k = static_cast<std::size_t>(
+        std::upper_bound(first_line_.begin(), first_line_.end(), line) - first_line_.begin());
+    if (k == 0) return false;
+    file = chunks_[k - 1].path;
+    local = line - first_line_[k - 1] + 1 + (k > 1 ? 1 : 0);
+    return true;
   }
 
  private:
@@ -109,6 +123,7 @@ class ByteSource {
       throw InputError(c.path, 0, 0, std::string("cannot open: ") + std::strerror(errno),
                        "the recording's manifest lists this chunk");
     skip_header_ = next_ > 0;
+    first_line_.push_back(lines_ + 1);
     crc_ = static_cast<std::uint32_t>(::crc32(0L, Z_NULL, 0));
     seen_ = 0;
     return true;
@@ -146,6 +161,8 @@ class ByteSource {
   bool skip_header_ = false;
   std::uint32_t crc_ = 0;
   std::size_t seen_ = 0;       // bytes of the chunk read so far
+  std::size_t lines_ = 0;      // line ends passed on so far
+  std::vector<std::size_t> first_line_;  // the line of the text each chunk opened at
 };
 
 void check_common(const SeriesOptions& opt) {
@@ -309,7 +326,11 @@ class TextStream final : public SampleStream {
              std::size_t chunk_bytes)
       : src_(std::move(chunks), dir, file_, total_bytes_), opt_(opt),
         chunk_bytes_(std::max<std::size_t>(chunk_bytes, 4096)) {
-    start(opt);
+    try {
+      start(opt);
+    } catch (const InputError& e) {
+      placed(e);
+    }
   }
 
  private:
@@ -375,6 +396,25 @@ class TextStream final : public SampleStream {
  public:
 
   bool next(SampleChunk& out) override {
+    try {
+      return next_piece(out);
+    } catch (const InputError& e) {
+      placed(e);
+    }
+  }
+
+ private:
+  // An error at a line of a recording's joined chunks, rethrown at the chunk
+  // and line the user can open; any other error as it is.
+  [[noreturn]] void placed(const InputError& e) const {
+    std::string file;
+    std::size_t line = 0;
+    if (e.file() == file_ && src_.place(e.line(), file, line))
+      throw InputError(file, line, e.column(), e.problem(), e.hint());
+    throw;
+  }
+
+  bool next_piece(SampleChunk& out) {
     if (!have_pending_) {
       if (eof_ && carry_.empty()) return false;
       read_piece();
