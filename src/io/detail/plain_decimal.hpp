@@ -17,6 +17,8 @@
 // dependent multiply-adds.
 #pragma once
 
+#include <bit>
+#include <cfloat>
 #include <cstdint>
 #include <cstring>
 
@@ -24,7 +26,7 @@ namespace cubecal::io::detail {
 
 inline bool is_digit(char c) noexcept { return static_cast<unsigned char>(c - '0') < 10; }
 
-// The eight bytes at p (little-endian) are all '0'..'9'.
+// The eight bytes of v, loaded little-endian, are all '0'..'9'.
 inline bool eight_digits(std::uint64_t v) noexcept {
   return ((v & 0xF0F0F0F0F0F0F0F0) | (((v + 0x0606060606060606) & 0xF0F0F0F0F0F0F0F0) >> 4)) == 0x3333333333333333;
 }
@@ -44,6 +46,13 @@ inline std::uint32_t eight_digit_value(std::uint64_t v) noexcept {
 // in full. What follows the number is the caller's to check; a following
 // 'e'/'E', '.' or digit (an exponent, or digits beyond 19) gives nullptr.
 inline const char* plain_decimal(const char* p, const char* end, double& out) noexcept {
+#if !defined(FLT_EVAL_METHOD) || (FLT_EVAL_METHOD != 0 && FLT_EVAL_METHOD != 1)
+  // Division in a wider format (x87) would round twice: not the fast path.
+  (void)p;
+  (void)end;
+  (void)out;
+  return nullptr;
+#endif
   static constexpr double kPow10[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
                                       1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
   const char* s = p;
@@ -59,7 +68,9 @@ inline const char* plain_decimal(const char* p, const char* end, double& out) no
   if (s < end && *s == '.') {
     const char* const f0 = ++s;
     std::size_t room = 19 - int_digits;
-    while (room >= 8 && end - s >= 8) {
+    // The eight-digit step reads the bytes as a little-endian word; a
+    // big-endian machine (SPARC LEON flight computers) takes them one by one.
+    while (std::endian::native == std::endian::little && room >= 8 && end - s >= 8) {
       std::uint64_t chunk;
       std::memcpy(&chunk, s, 8);
       if (!eight_digits(chunk)) break;
