@@ -108,6 +108,18 @@ TEST(FrameSpec, ParsesAndRefuses) {
   EXPECT_THROW(parse_frame_spec("sync=A5;fields=t:u24"), UsageError);
   EXPECT_THROW(parse_frame_spec("fields=t:u32"), UsageError);
   EXPECT_THROW(parse_frame_spec("sync=A55;fields=t:u32"), UsageError);
+  // A key given twice is refused: two syncs would make one of 5 bytes (the
+  // fuzzer's find), two field lists one list whose names were never checked
+  // against each other.
+  for (const char* twice : {"sync=7E7E32;sync=7E7E;fields=x:u16", "sync=7E;fields=a:u8;fields=a:u8",
+                            "sync=7E;fields=a:u8;checksum=xor8;checksum=crc16", "sync=7E;endian=le;fields=a:u8;endian=be"}) {
+    try {
+      (void)parse_frame_spec(twice);
+      ADD_FAILURE() << twice << " accepted";
+    } catch (const UsageError& e) {
+      EXPECT_NE(std::string(e.what()).find("given twice"), std::string::npos) << twice << ": " << e.what();
+    }
+  }
 }
 
 TEST(FrameSpec, Checksums) {

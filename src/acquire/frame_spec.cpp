@@ -80,12 +80,16 @@ FrameSpec parse_frame_spec(std::string_view spec) {
   FrameSpec s;
   s.text = std::string(spec);
   bool have_sync = false, have_fields = false;
-  std::string fields_text;
+  std::set<std::string, std::less<>> keys;
   for (const std::string_view item : split(spec, ';')) {
     if (item.empty()) continue;
     const auto eq = item.find('=');
     if (eq == std::string_view::npos) bad("--frame: '" + std::string(item) + "' is not KEY=VALUE");
     const std::string_view key = item.substr(0, eq), value = item.substr(eq + 1);
+    // A key given twice would add a second sync to the first, or a second
+    // field list to the first, beyond what either says.
+    if (!keys.insert(std::string(key)).second)
+      bad("--frame: " + std::string(key) + " is given twice; give each key once");
     if (key == "sync") {
       if (value.size() < 2 || value.size() > 8 || value.size() % 2 != 0)
         bad("--frame: sync is 1 to 4 bytes in hex, got '" + std::string(value) + "'");
