@@ -5,12 +5,16 @@
 #include <fast_float/fast_float.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <random>
 #include <string>
+#include <vector>
 
 #include "../src/io/detail/plain_decimal.hpp"
+#include "cubecal/io/delimited_reader.hpp"
 
 namespace {
 
@@ -84,6 +88,53 @@ TEST(PlainDecimal, RandomTextsEqualFastFloatToTheBit) {
   }
   // Most random shapes are plain decimals within 19 digits.
   EXPECT_GT(taken, total / 3) << taken << " of " << total;
+}
+
+// The reader end to end: a table whose fields are written in every way a
+// logger or a spreadsheet writes numbers (fixed, shortest round trip,
+// exponent, a leading '+', padding, more than 19 digits) reads back each
+// field as fast_float reads it alone, whichever path the row takes (the
+// plain-decimal fast path, fast_float, or the general rules). Large enough
+// to be cut into chunks for both threads.
+TEST(PlainDecimal, ReaderGivesEveryFieldFastFloatsValue) {
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  std::uniform_int_distribution<int> form(0, 7), scale(-8, 8);
+  std::string text = "a,b,c\n";
+  std::vector<std::string> fields;
+  char buf[64];
+  for (int row = 0; row < 60000; ++row) {
+    for (int c = 0; c < 3; ++c) {
+      const double v = normal(rng) * std::pow(10.0, scale(rng));
+      switch (form(rng)) {
+        case 0: std::snprintf(buf, sizeof buf, "%.17g", v); break;
+        case 1: std::snprintf(buf, sizeof buf, "%.6f", v); break;
+        case 2: std::snprintf(buf, sizeof buf, "%.9e", v); break;
+        case 3: std::snprintf(buf, sizeof buf, "%+.5f", v); break;
+        case 4: std::snprintf(buf, sizeof buf, "%.25f", v); break;
+        case 5: std::snprintf(buf, sizeof buf, "%.0f", v); break;
+        case 6: std::snprintf(buf, sizeof buf, "%.10g", v); break;
+        default: std::snprintf(buf, sizeof buf, "%.3f", v); break;
+      }
+      fields.emplace_back(buf);
+      if (c > 0) text += row % 97 == 5 ? ", " : ",";
+      text += buf;
+    }
+    text += '\n';
+  }
+  const cubecal::io::Table t = cubecal::io::parse_table(text, "mixed.csv");
+  ASSERT_EQ(t.rows(), 60000u);
+  std::size_t k = 0, differ = 0;
+  for (std::size_t row = 0; row < t.rows(); ++row)
+    for (std::size_t c = 0; c < 3; ++c, ++k) {
+      const std::string& f = fields[k];
+      const char* b = f.data() + (f[0] == '+' ? 1 : 0);
+      double ref = 0.0;
+      (void)fast_float::from_chars(b, f.data() + f.size(), ref);
+      if (bits(t.data[c][row]) != bits(ref) && ++differ <= 5)
+        ADD_FAILURE() << "row " << row << " column " << c << " '" << f << "': " << t.data[c][row] << " vs " << ref;
+    }
+  EXPECT_EQ(differ, 0u);
 }
 
 // Every prefix of a field ends somewhere a chunk or window may cut it: the
