@@ -21,6 +21,7 @@
 #include "cubecal/acquire/frame_decoder.hpp"
 #include "cubecal/acquire/frame_spec.hpp"
 #include "error_check.hpp"
+#include "handed_log.hpp"
 
 namespace {
 
@@ -72,29 +73,21 @@ class Checker final : public acquire::SampleHandler {
       b = e + 1;
     }
     if (i + 1 != values.size()) fuzz::finding("frame decoder", "chunk field count differs from the value count");
-    handed_ += spec_.frame_size();
-    log_ += "S";
-    log_.append(fields);
-    log_ += "\n";
+    log_.sample(fields, spec_.frame_size());
   }
   void on_reject(std::string_view reason, std::string_view data, bool binary) override {
     if (reason.empty()) fuzz::finding("frame decoder", "reject without a reason");
     if (!binary) fuzz::finding("frame decoder", "frame bytes rejected as text");
     if (data.empty()) fuzz::finding("frame decoder", "empty reject");
-    handed_ += data.size();
-    log_ += "R";
-    log_.append(reason);
-    log_ += '|';
-    log_.append(data);
-    log_ += "\n";
+    log_.reject(reason, data);
   }
-  std::size_t handed() const { return handed_; }
-  const std::string& log() const { return log_; }
+  std::size_t handed() const { return log_.handed; }
+  const std::string& log() const { return log_.text; }
 
  private:
   const acquire::FrameSpec& spec_;
-  std::size_t layouts_ = 0, handed_ = 0;
-  std::string log_;
+  std::size_t layouts_ = 0;
+  fuzz::HandedLog log_;
 };
 
 std::string run(const acquire::FrameSpec& spec, std::string_view stream, unsigned seed) {

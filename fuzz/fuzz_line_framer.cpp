@@ -20,6 +20,7 @@
 
 #include "cubecal/acquire/line_framer.hpp"
 #include "error_check.hpp"
+#include "handed_log.hpp"
 
 namespace {
 
@@ -32,7 +33,7 @@ class Checker final : public acquire::SampleHandler {
     if (layouts_++ > 0) fuzz::finding("line framer", "layout handed on twice");
     if (names.empty()) fuzz::finding("line framer", "layout without columns");
     columns_ = names.size();
-    log_ += "L" + std::to_string(columns_) + "\n";
+    log_.layout(columns_);
   }
   void on_sample(std::string_view fields, std::span<const double> values) override {
     if (layouts_ == 0) fuzz::finding("line framer", "sample before the layout");
@@ -57,27 +58,19 @@ class Checker final : public acquire::SampleHandler {
       b = e + 1;
     }
     if (i + 1 != values.size()) fuzz::finding("line framer", "chunk field count differs from the value count");
-    handed_ += fields.size();
-    log_ += "S";
-    log_.append(fields);
-    log_ += "\n";
+    log_.sample(fields, fields.size());
   }
   void on_reject(std::string_view reason, std::string_view data, bool binary) override {
     if (reason.empty()) fuzz::finding("line framer", "reject without a reason");
     if (binary) fuzz::finding("line framer", "text reject marked binary");
-    handed_ += data.size();
-    log_ += "R";
-    log_.append(reason);
-    log_ += '|';
-    log_.append(data);
-    log_ += "\n";
+    log_.reject(reason, data);
   }
-  std::size_t handed() const { return handed_; }
-  const std::string& log() const { return log_; }
+  std::size_t handed() const { return log_.handed; }
+  const std::string& log() const { return log_.text; }
 
  private:
-  std::size_t layouts_ = 0, columns_ = 0, handed_ = 0;
-  std::string log_;
+  std::size_t layouts_ = 0, columns_ = 0;
+  fuzz::HandedLog log_;
 };
 
 acquire::LineFramerOptions options(unsigned mode) {
