@@ -107,6 +107,40 @@ TEST(Covariance, KnownMatrixWithinSampling) {
   EXPECT_NEAR(first[0][1], 0.5, 0.05);
 }
 
+// The sums walked side by side in blocks are each the one add chain of its
+// own terms in sample order: every entry is the two-pass definition's, to
+// the bit, for channel counts on both sides of a group of sums and lengths
+// on both sides of a block (a lane given another pair's operands, or a
+// block edge dropping or repeating a sample, fails it).
+TEST(Covariance, EqualsThePassPerSumDefinitionToTheBit) {
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> g(3.0, 2.0);
+  for (const std::size_t k : {1u, 3u, 6u, 9u})
+    for (const std::size_t n : {2u, 511u, 512u, 1537u, 40000u}) {
+      std::vector<std::vector<double>> ch(k, std::vector<double>(n + 5));
+      for (auto& c : ch)
+        for (double& v : c) v = g(rng) * static_cast<double>(1 + rng() % 1000);
+      std::vector<std::span<const double>> spans(ch.begin(), ch.end());
+      for (const std::size_t count : {std::size_t{0}, n}) {
+        const std::size_t used = count > 0 ? count : n + 5;
+        std::vector<double> mean(k, 0.0);
+        for (std::size_t a = 0; a < k; ++a) {
+          for (std::size_t i = 0; i < used; ++i) mean[a] += ch[a][i];
+          mean[a] /= static_cast<double>(used);
+        }
+        const auto got = covariance_matrix(spans, count);
+        for (std::size_t a = 0; a < k; ++a)
+          for (std::size_t b = a; b < k; ++b) {
+            double s = 0.0;
+            for (std::size_t i = 0; i < used; ++i) s += (ch[a][i] - mean[a]) * (ch[b][i] - mean[b]);
+            const double want = s / static_cast<double>(used - 1);
+            EXPECT_EQ(got[a][b], want) << k << " channels, " << used << " samples, " << a << "," << b;
+            EXPECT_EQ(got[b][a], want);
+          }
+      }
+    }
+}
+
 io::Series series_of(std::vector<std::vector<double>> ch, std::vector<std::string> names, double rate) {
   io::Series s;
   s.file = "memory";
