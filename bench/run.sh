@@ -57,6 +57,10 @@ BENCH_OUT="$OUT" bash "$(dirname "$0")/limits.sh" "$BUILD"
 
 BENCH_OUT="$OUT" bash "$(dirname "$0")/memory.sh" "$BUILD"
 
+echo "== temperature stage of analyze: the least-squares passes of one 72 h x 10 Hz channel (min/median/max of 5)"
+"$BUILD/bin/bench_temperature" --benchmark_repetitions=5 --benchmark_report_aggregates_only=true \
+  --benchmark_display_aggregates_only=true | grep -E "_min|_median|_max|Benchmark|---"
+
 echo "== simulator: Google Benchmark (median of 5; items = axis samples)"
 "$BUILD/bin/bench_simulator" --benchmark_repetitions=5 --benchmark_report_aggregates_only=true \
   --benchmark_display_aggregates_only=true | grep -E "median|Benchmark|---"
