@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "cubecal/stats/davar.hpp"
+#include "min_max.hpp"
 
 namespace {
 
@@ -107,12 +108,8 @@ void BM_DavarDirect(benchmark::State& state) {
   state.counters["max_rel_diff"] = worst;
 }
 
-double min_of(const std::vector<double>& v) { return *std::min_element(v.begin(), v.end()); }
-double max_of(const std::vector<double>& v) { return *std::max_element(v.begin(), v.end()); }
-
 #define DAVAR_BENCH(fn)                                                                                      \
-  BENCHMARK(fn)->Unit(benchmark::kMillisecond)->Iterations(1)->UseRealTime()->ComputeStatistics("min", min_of) \
-      ->ComputeStatistics("max", max_of)
+  BENCHMARK(fn)->Unit(benchmark::kMillisecond)->Iterations(1)->UseRealTime()->Apply(cubecal::bench::with_min_max)
 
 DAVAR_BENCH(BM_DavarFast);
 DAVAR_BENCH(BM_DavarFastIntervalsFixedAlpha);

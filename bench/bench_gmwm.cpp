@@ -16,7 +16,6 @@
 // wall time would be on idle cores.
 #include <benchmark/benchmark.h>
 
-#include <algorithm>
 #include <vector>
 
 #include "cubecal/noise/composite_model.hpp"
@@ -24,6 +23,7 @@
 #include "cubecal/pipeline/model_fit.hpp"
 #include "cubecal/sim/composite_simulator.hpp"
 #include "cubecal/stats/wavelet_variance.hpp"
+#include "min_max.hpp"
 
 namespace {
 
@@ -43,8 +43,6 @@ const std::vector<double>& record() {
   return y;
 }
 
-double min_of(const std::vector<double>& v) { return *std::min_element(v.begin(), v.end()); }
-double max_of(const std::vector<double>& v) { return *std::max_element(v.begin(), v.end()); }
 
 void BM_GmwmFit(benchmark::State& state) {
   const auto& y = record();
@@ -59,8 +57,8 @@ void BM_GmwmFit(benchmark::State& state) {
   state.counters["objective"] = objective;
   state.counters["samples"] = static_cast<double>(kSamples);
 }
-BENCHMARK(BM_GmwmFit)->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime()->ComputeStatistics("min", min_of)
-    ->ComputeStatistics("max", max_of);
+BENCHMARK(BM_GmwmFit)->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime()->Apply(
+    cubecal::bench::with_min_max);
 
 void BM_GmwmBootstrap(benchmark::State& state) {
   cubecal::io::Series s;
@@ -82,7 +80,7 @@ void BM_GmwmBootstrap(benchmark::State& state) {
   state.counters["replicates"] = static_cast<double>(replicates);
 }
 BENCHMARK(BM_GmwmBootstrap)->Arg(200)->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime()
-    ->MeasureProcessCPUTime()->ComputeStatistics("min", min_of)->ComputeStatistics("max", max_of);
+    ->MeasureProcessCPUTime()->Apply(cubecal::bench::with_min_max);
 
 }  // namespace
 

@@ -9,7 +9,6 @@
 //   bench_temperature --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 #include <benchmark/benchmark.h>
 
-#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -17,6 +16,7 @@
 
 #include "cubecal/noise/temperature.hpp"
 #include "cubecal/noise/temperature_random_walk.hpp"
+#include "min_max.hpp"
 
 namespace {
 
@@ -91,12 +91,8 @@ void BM_CompensateTemperature(benchmark::State& state) {
   set_rate(state);
 }
 
-double min_of(const std::vector<double>& v) { return *std::min_element(v.begin(), v.end()); }
-double max_of(const std::vector<double>& v) { return *std::max_element(v.begin(), v.end()); }
-
 #define TEMPERATURE_BENCH(fn)                                                                                     \
-  BENCHMARK(fn)->Unit(benchmark::kMillisecond)->Iterations(3)->UseRealTime()->ComputeStatistics("min", min_of) \
-      ->ComputeStatistics("max", max_of)
+  BENCHMARK(fn)->Unit(benchmark::kMillisecond)->Iterations(3)->UseRealTime()->Apply(cubecal::bench::with_min_max)
 
 TEMPERATURE_BENCH(BM_FitTemperatureOls);
 TEMPERATURE_BENCH(BM_FitTemperatureGls);
