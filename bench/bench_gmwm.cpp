@@ -43,7 +43,6 @@ const std::vector<double>& record() {
   return y;
 }
 
-
 void BM_GmwmFit(benchmark::State& state) {
   const auto& y = record();
   const cubecal::CompositeModel structure = cubecal::parse_composite_model("WN+2*GM+RW");
