@@ -79,8 +79,7 @@ std::size_t FrameSpec::frame_size() const noexcept { return sync.size() + payloa
 FrameSpec parse_frame_spec(std::string_view spec) {
   FrameSpec s;
   s.text = std::string(spec);
-  bool have_sync = false, have_fields = false;
-  std::set<std::string, std::less<>> keys;
+  std::set<std::string, std::less<>> keys;  // those given, each once
   for (const std::string_view item : split(spec, ';')) {
     if (item.empty()) continue;
     const auto eq = item.find('=');
@@ -98,7 +97,6 @@ FrameSpec parse_frame_spec(std::string_view spec) {
         if (hi < 0 || lo < 0) bad("--frame: sync '" + std::string(value) + "' is not hex");
         s.sync.push_back(static_cast<char>(hi * 16 + lo));
       }
-      have_sync = true;
     } else if (key == "fields") {
       std::set<std::string, std::less<>> seen;
       for (const std::string_view f : split(value, ',')) {
@@ -111,7 +109,6 @@ FrameSpec parse_frame_spec(std::string_view spec) {
         if (!seen.insert(field.name).second) bad("--frame: field '" + field.name + "' is named twice");
         s.fields.push_back(std::move(field));
       }
-      have_fields = true;
     } else if (key == "checksum") {
       if (value == "none") s.checksum = Checksum::none;
       else if (value == "xor8") s.checksum = Checksum::xor8;
@@ -127,8 +124,8 @@ FrameSpec parse_frame_spec(std::string_view spec) {
       bad("--frame: unknown key '" + std::string(key) + "' (sync, fields, checksum, endian)");
     }
   }
-  if (!have_sync) bad("--frame: sync=HEX is missing");
-  if (!have_fields || s.fields.empty()) bad("--frame: fields=NAME:TYPE,... is missing");
+  if (s.sync.empty()) bad("--frame: sync=HEX is missing");
+  if (s.fields.empty()) bad("--frame: fields=NAME:TYPE,... is missing");
   std::size_t offset = s.sync.size();
   for (auto& f : s.fields) {
     f.offset = offset;
