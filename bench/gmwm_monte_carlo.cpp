@@ -87,7 +87,8 @@ CompositeModel truth(const std::string& name) {
                     : gm_process(4000.0, 0.15, kDt);
         ++gm;
         break;
-      case ProcessKind::ma1: break;  // in none of kModels
+      case ProcessKind::ma1:
+      case ProcessKind::sin: break;  // in none of kModels
     }
   }
   return m;
@@ -122,6 +123,12 @@ std::vector<Named> physical(const CompositeModel& m) {
         const MovingAverageTerm t = moving_average_term(p, kDt);
         out.push_back({"N", t.n});
         out.push_back({"theta", t.theta});
+        break;
+      }
+      case ProcessKind::sin: {
+        const SineTerm t = sine_term(p, kDt);
+        out.push_back({"A", t.amplitude});
+        out.push_back({"f", t.frequency_hz});
         break;
       }
     }

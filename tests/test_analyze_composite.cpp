@@ -93,6 +93,7 @@ pipeline::AnalyzeRequest composite_request(const std::string& model, std::size_t
   m.model = model;
   m.bootstrap = bootstrap;
   req.composite = m;
+  req.composite_required = true;  // a model asked for: refused where it cannot be made
   return req;
 }
 
@@ -313,6 +314,25 @@ TEST(AnalyzeComposite, RefusedWhereItCannotBeMade) {
   EXPECT_THROW((void)pipeline::run_analyze(s, req), UsageError);
   req.composite->model = "WN+XY";
   EXPECT_THROW((void)pipeline::run_analyze(s, req), UsageError);
+
+  // The default twin is not required: the same record is analysed without
+  // it, and the result says why; a stream is let through and says so too.
+  pipeline::AnalyzeRequest lenient;
+  lenient.units = req.units;
+  ASSERT_TRUE(lenient.composite && pipeline::is_twin(lenient.composite->model) && !lenient.composite_required);
+  EXPECT_NO_THROW(pipeline::check_analyze_streamable(lenient, true));
+  const pipeline::AnalysisResult r = pipeline::run_analyze(s, lenient);
+  EXPECT_FALSE(r.composite);
+  EXPECT_FALSE(r.channels[0].model.composite);
+  EXPECT_NE(r.composite_skipped.find("pieces at gaps"), std::string::npos) << r.composite_skipped;
+  // Too short for any model (2 wavelet-variance scales): skipped, said why.
+  io::Series tiny = record({paper_gyro(kPaperRate)}, kPaperRate, 0.5, 6);
+  for (auto& y : tiny.channels) y.resize(10);
+  if (!tiny.time.empty()) tiny.time.resize(10);
+  tiny.segments = {{0, 10}};
+  const pipeline::AnalysisResult t = pipeline::run_analyze(tiny, lenient);
+  EXPECT_FALSE(t.channels[0].model.composite);
+  EXPECT_FALSE(t.composite_skipped.empty());
 }
 
 TEST(CompositeNoise, AtAnyPeriodKeepsThePhysicalQuantities) {
@@ -410,9 +430,14 @@ TEST_F(CompositeCli, SimulateTakesTheModelOfAnalyzeAndOfModel) {
   // Refusals: one line each.
   EXPECT_TRUE(test::one_error_line(
       run_cubecal("simulate --model " + path("m.json") + " --bias random-walk --duration 30s --out " + path("x.csv"))));
-  ASSERT_EQ(run_cubecal("analyze " + rec + " --columns gx --unit deg/s --out " + path("plain")).code, 0);
+  ASSERT_EQ(run_cubecal("analyze " + rec + " --columns gx --unit deg/s --composite none --out " + path("plain")).code,
+            0);
   EXPECT_TRUE(test::one_error_line(run_cubecal("simulate --model " + path("plain") +
                                                "/analysis.json --bias composite --duration 30s --out " + path("y.csv"))));
+  // Without --bias an analysis without a twin gives the paper's model, said so.
+  r = run_cubecal("simulate --model " + path("plain") + "/analysis.json --duration 30s --out " + path("z.csv"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("holds no twin"), std::string::npos) << r.err;
   EXPECT_TRUE(test::one_error_line(
       run_cubecal("analyze " + rec + " --columns gx --unit deg/s --composite --stream")));
   EXPECT_TRUE(test::one_error_line(run_cubecal("analyze " + rec + " --columns gx --unit deg/s --composite WN+XY")));

@@ -70,6 +70,7 @@ CompositeModel truth(const std::string& name) {
         p.value = 1.0;
         p.theta = name == "MA1+GM" ? -0.5 : 0.3;
         break;
+      case ProcessKind::sin: break;  // in none of the models here
     }
   }
   return m;

@@ -26,6 +26,7 @@
 #include "cubecal/pipeline/spectral_analysis.hpp"
 #include "cubecal/io/sample_stream.hpp"
 #include "cubecal/pipeline/estimator_config.hpp"
+#include "cubecal/pipeline/simulator_export.hpp"
 #include "cubecal/report/plot.hpp"
 #include "cubecal/report/report.hpp"
 #include "memory_budget.hpp"
@@ -61,6 +62,7 @@ struct AnalyzeOptions {
   std::string composite;               // --composite [MODEL]; given bare: "auto"
   bool composite_given = false;
   std::size_t composite_bootstrap = 0;
+  std::size_t twin_check = 0;          // --twin-check K
   MemoryOptions memory;
   Timings timings;
 };
@@ -199,7 +201,15 @@ void print_composite(std::ostream& out, const pipeline::ModelAnalysis& m, const 
                                              q.display.unit)
                                : fmt::format("{:.4g} {}", q.display.value, q.display.unit));
   std::string chosen = "as asked";
-  if (c.candidates.size() > 1) {
+  if (c.fidelity) {
+    // The twin: its search, and how close its curve lies to the measured one.
+    chosen = fmt::format("twin: {} models searched{}; twin error {:.1f} % at {:.4g} s, {} of {} taus inside the "
+                         "intervals{}",
+                         c.candidates.size(),
+                         c.lines.empty() ? std::string() : fmt::format(", {} spectral line(s)", c.lines.size()),
+                         100.0 * m.twin_error.max_error, m.twin_error.max_error_tau_s, m.twin_error.inside,
+                         m.twin_error.taus, c.faithful ? "" : "; not inside the wavelet variance's at nearly every scale");
+  } else if (c.candidates.size() > 1) {
     // The selected one is the fewest parameters near the lowest WIC (noise/wic.hpp).
     const auto lowest = std::min_element(c.candidates.begin(), c.candidates.end(),
                                          [](const auto& a, const auto& b) { return a.score.wic < b.score.wic; });
@@ -230,6 +240,7 @@ void print_summary(std::ostream& out, const pipeline::AnalysisResult& r) {
       fmt::print(out, "streamed (window bound {} samples): Allan terms from AF {} on at a stride of up to {} samples\n",
                  r.window_bound, r.channels[0].noise.adev[static_cast<std::size_t>(strided - st.begin())].m, st.back());
   }
+  if (!r.composite_skipped.empty()) fmt::print(out, "twin not fitted: {}\n", r.composite_skipped);
   for (const auto& c : r.channels) {
     const auto& ro = c.noise.readoffs;
     const auto& f = c.noise.fit;
@@ -279,6 +290,14 @@ void print_summary(std::ostream& out, const pipeline::AnalysisResult& r) {
                      ? ", fits better"
                      : "");
     if (c.model.composite) print_composite(out, c.model, r);
+    if (r.twin_check)
+      for (const pipeline::TwinCheckChannel& t : r.twin_check->channels)
+        if (t.name == c.name)
+          fmt::print(out,
+                     "  twin check {} twins of {} samples: mean curve vs measured, worst {:.1f} % to 10 s, {:.1f} % to "
+                     "100 s, {:.1f} % at {:.4g} s overall\n",
+                     r.twin_check->twins, r.twin_check->samples, 100.0 * t.max_error_10s, 100.0 * t.max_error_100s,
+                     100.0 * t.max_error, t.max_error_tau_s);
     if (c.spectral) print_spectral(out, c);
     if (c.temperature) print_temperature(out, *c.temperature, u);
   }
@@ -368,14 +387,18 @@ int run_analyze_command(AnalyzeOptions& o) {
   }
   req.threads = o.input.threads;
   req.psd = o.psd;
-  if (o.composite_given) {
+  req.twin_check = o.twin_check;
+  if (o.composite_given && o.composite == "none") {
+    req.composite.reset();
+  } else if (o.composite_given) {
     pipeline::ModelRequest m;
     m.model = o.composite.empty() ? "auto" : o.composite;
+    req.composite_required = true;
     // A selection scores its candidates by the WIC's asymptotic optimism:
     // seconds, where the bootstrap's takes a minute per channel of a 72 h
     // record (`cubecal model --wic-replicates` has the bootstrap).
     m.selection_replicates = 0;
-    (void)parse_candidate_models(m.model);  // a typo fails before the reading
+    if (!pipeline::is_twin(m.model)) (void)parse_candidate_models(m.model);  // a typo fails before the reading
     if (o.composite_bootstrap == 1)
       throw UsageError("--composite-bootstrap: give 0 (none) or at least 2 replicates");
     m.bootstrap = o.composite_bootstrap;
@@ -395,6 +418,11 @@ int run_analyze_command(AnalyzeOptions& o) {
 
   pipeline::OutputContext ctx{invocation(), o.rostopic, parse_estimators(o.estimators), o.inflate};
   if (!ctx.estimators.empty() && !req.units.empty()) pipeline::require_imu_units(req.units);
+  for (const pipeline::Estimator e : ctx.estimators)
+    if (pipeline::is_simulator(e) && !req.composite)
+      throw UsageError("--for " + std::string(pipeline::estimator_name(e)) +
+                       ": a simulator's noise model is the projection of each channel's twin; leave out "
+                       "--composite none");
 
   // A request a stream cannot take (--psd) refused before --out is made.
   if (o.memory.stream) pipeline::check_analyze_streamable(req, o.input.file != "-");
@@ -492,11 +520,20 @@ CLI::App* add_analyze_command(CLI::App& app, Command& run) {
                 "report; about 0.1 s more per channel of 2.6 million samples; not with --stream)");
   CLI::Option* composite =
       cmd->add_option("--composite", opt->composite,
-                      "Also a composite noise model beside the paper's and the Gauss-Markov model, fitted by the "
-                      "GMWM as `cubecal model` does, on the samples the models are fitted on: MODEL "
-                      "(\"WN+GM+RW\"), candidates joined by commas, or, bare or \"auto\", selected by the WIC among "
-                      "the default candidates (seconds per channel; not with --stream)")
+                      "The composite noise model beside the paper's and the Gauss-Markov model, fitted by the "
+                      "GMWM as `cubecal model` does, on the samples the models are fitted on. Default: twin, each "
+                      "channel's twin (WN or MA1, QN, RW, DR, Gauss-Markov terms and the lines of its spectrum, "
+                      "docs/twins.md; left out with the reason for a record cut at gaps, too short or streamed); "
+                      "MODEL (\"WN+GM+RW\"), candidates joined by commas, or, bare or \"auto\", selected by the WIC "
+                      "among the default candidates; none: no composite model. Given, it is required (not with "
+                      "--stream)")
           ->expected(0, 1);
+  cmd->add_option("--twin-check", opt->twin_check,
+                  "Simulate K twins of every channel at the record's length and print (and plot in the report) "
+                  "their mean Allan deviation against the measured one, with the worst error to 10 s and 100 s "
+                  "(analysis.json twin_check; seeds 1..K)")
+      ->check(whole_number(0, 10000))
+      ->capture_default_str();
   cmd->add_option("--composite-bootstrap", opt->composite_bootstrap,
                   "Parametric-bootstrap replicates of the composite model's uncertainties (0: none)")
       ->check(whole_number(0, 100000))

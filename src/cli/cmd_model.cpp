@@ -42,6 +42,7 @@ std::string term_title(ProcessKind k) {
     case ProcessKind::dr: return "DR  drift";
     case ProcessKind::gm: return "GM  Gauss-Markov";
     case ProcessKind::ma1: return "MA1 moving average";
+    case ProcessKind::sin: return "SIN periodic line";
   }
   return "";
 }
@@ -99,7 +100,7 @@ int run_model_command(const ModelOptions& o) {
   pipeline::ModelRequest req;
   req.model = o.model;
   req.selection_replicates = o.wic_replicates;
-  (void)parse_candidate_models(o.model);  // a typo fails before the reading
+  if (!pipeline::is_twin(o.model)) (void)parse_candidate_models(o.model);  // a typo fails before the reading
   if (!o.unit.empty()) req.units = parse_units(o.unit);
   req.bootstrap = o.bootstrap;
   req.seed = o.seed;
@@ -144,10 +145,12 @@ CLI::App* add_model_command(CLI::App& app, Command& run) {
                "each channel's Haar wavelet variance by the Generalized Method of Wavelet Moments (GMWM)");
   add_input_options(*cmd, opt->input);
   cmd->add_option("--model", opt->model,
-                  "The model's terms joined by +: WN, QN, RW, DR, GM (or AR1), k*GM for k Gauss-Markov terms; "
-                  "e.g. WN+RW+2*GM. Several models joined by commas (WN+RW,WN+GM) are candidates: each channel "
-                  "gets the one with the lowest Wavelet Information Criterion; auto: the candidates WN, WN+RW, "
-                  "WN+GM, WN+QN+RW, WN+QN+GM, WN+GM+RW, WN+2*GM, WN+2*GM+RW, WN+QN+GM+RW")
+                  "The model's terms joined by +: WN, QN, RW, DR, GM (or AR1), MA1, SIN (a periodic line), k*GM or "
+                  "k*SIN for k of them; e.g. WN+RW+2*GM. Several models joined by commas (WN+RW,WN+GM) are "
+                  "candidates: each channel gets the one with the lowest Wavelet Information Criterion; auto: the "
+                  "candidates WN, WN+RW, WN+GM, WN+QN+RW, WN+QN+GM, WN+GM+RW, WN+2*GM, WN+2*GM+RW, WN+QN+GM+RW; "
+                  "twin: each channel's twin, searched among WN or MA1, QN, RW, DR, up to 4 GM and the lines of "
+                  "its spectrum (docs/twins.md)")
       ->required();
   cmd->add_option("--wic-replicates", opt->wic_replicates,
                   "Bootstrap replicates of each candidate's WIC optimism, with several candidates (0: the "

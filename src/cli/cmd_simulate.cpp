@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <algorithm>
 #include <bit>
 #include <charconv>
 #include <cstdint>
@@ -39,7 +40,7 @@ namespace {
 struct SimulateOptions {
   std::string presets;
   std::string model_file;
-  std::string bias = "random-walk";
+  std::string bias = "twin";
   bool bias_given = false;   // --bias on the command line (a model.json takes composite without it)
   double rate_hz = 10.0;
   bool rate_given = false;   // --rate on the command line (else: the model's rate, or 10 Hz)
@@ -282,7 +283,7 @@ int run_simulate(const SimulateOptions& o) {
     std::vector<TriadModel> models;
     if (j.is_object() && j.contains("command") && j["command"] == "model") {
       // `cubecal model --format json`: composite models only.
-      if (o.bias_given && o.bias != "composite")
+      if (o.bias_given && o.bias != "composite" && o.bias != "twin")
         throw UsageError("--bias: " + o.model_file + " is a `cubecal model` result, which holds composite models "
                          "only (--bias composite, or leave --bias out)");
       const pipeline::ModelResult m = pipeline::model_result_from_json(j, o.model_file);
@@ -291,9 +292,22 @@ int run_simulate(const SimulateOptions& o) {
     } else {
       const pipeline::AnalysisDocument doc = pipeline::parse_analysis_json(ss.str(), o.model_file);
       if (!o.rate_given && req.triads.empty()) req.rate_hz = doc.result.rate_hz;
-      models = o.bias == "composite"
+      // The twin by default; an analysis without one (written before it, or
+      // of a record that could not carry it) gives the paper's model, said so.
+      const bool has_twin = !doc.result.channels.empty() &&
+                            std::all_of(doc.result.channels.begin(), doc.result.channels.end(),
+                                        [](const auto& ch) { return ch.model.composite.has_value(); });
+      std::string bias = o.bias;
+      if (bias == "twin" && !o.bias_given && !has_twin) {
+        bias = "random-walk";
+        fmt::print(stderr, "cubecal: note: {} holds no twin ({}); simulating the paper's random-walk model\n",
+                   o.model_file,
+                   doc.result.composite_skipped.empty() ? std::string("analyze it again to fit one")
+                                                        : doc.result.composite_skipped);
+      }
+      models = bias == "composite" || bias == "twin"
                    ? pipeline::models_from_composite(doc.result, o.model_file, req.rate_hz)
-                   : pipeline::models_from_analysis(doc.result, o.model_file, o.bias == "gauss-markov", req.rate_hz);
+                   : pipeline::models_from_analysis(doc.result, o.model_file, bias == "gauss-markov", req.rate_hz);
     }
     for (auto& m : models) req.triads.push_back(std::move(m));
   }
@@ -373,10 +387,12 @@ CLI::App* add_simulate_command(CLI::App& app, Command& run) {
                   "(--format json): simulate its composite models");
   CLI::Option* bias =
       cmd->add_option("--bias", opt->bias,
-                      "Noise model taken from --model: random-walk (the paper's), gauss-markov, or composite (the "
-                      "composite model of analyze --composite, each term in its discrete-time form at --rate; the "
-                      "only one of a cubecal model result)")
-          ->check(CLI::IsMember({"random-walk", "gauss-markov", "composite"}))
+                      "Noise model taken from --model: twin (the default: the composite model analyze fits to "
+                      "every channel, each term in its discrete-time form at --rate, with the analysis's fixed bias, "
+                      "quantizer and temperature coefficients; an analysis without one gives random-walk, said so; "
+                      "composite is the same; the only one of a cubecal model result), random-walk (the paper's) "
+                      "or gauss-markov")
+          ->check(CLI::IsMember({"twin", "random-walk", "gauss-markov", "composite"}))
           ->capture_default_str();
   CLI::Option* rate = cmd->add_option("--rate", opt->rate_hz,
                                       "Sampling rate in Hz (default: the rate of --model, else 10 Hz); a model is "

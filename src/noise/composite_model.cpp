@@ -16,18 +16,20 @@ namespace cubecal {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kPi = 3.14159265358979323846;
 
 struct Name {
   std::string_view text;
   ProcessKind kind;
 };
-constexpr std::array<Name, 7> kNames{{{"WN", ProcessKind::wn},
+constexpr std::array<Name, 8> kNames{{{"WN", ProcessKind::wn},
                                       {"QN", ProcessKind::qn},
                                       {"RW", ProcessKind::rw},
                                       {"DR", ProcessKind::dr},
                                       {"GM", ProcessKind::gm},
                                       {"AR1", ProcessKind::gm},
-                                      {"MA1", ProcessKind::ma1}}};
+                                      {"MA1", ProcessKind::ma1},
+                                      {"SIN", ProcessKind::sin}}};
 
 std::string upper_trimmed(std::string_view s) {
   while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
@@ -39,15 +41,15 @@ std::string upper_trimmed(std::string_view s) {
 
 [[noreturn]] void bad_model(const std::string& text, const std::string& why) {
   throw UsageError("model", "model '" + text + "': " + why +
-                                " (terms: WN, QN, RW, DR, GM or AR1, MA1, k*GM for k of them, joined by +; e.g. "
-                                "WN+RW+2*GM, MA1+RW+2*GM)");
+                                " (terms: WN, QN, RW, DR, GM or AR1, MA1, SIN, k*GM or k*SIN for k of them, joined by +; "
+                                "e.g. WN+RW+2*GM, MA1+RW+2*GM+SIN)");
 }
 
 }  // namespace
 
 CompositeModel parse_composite_model(const std::string& text) {
   CompositeModel model;
-  std::array<bool, 6> once{};
+  std::array<bool, 7> once{};
   std::string_view rest(text);
   if (upper_trimmed(rest).empty()) bad_model(text, "no term");
   while (true) {
@@ -68,7 +70,7 @@ CompositeModel parse_composite_model(const std::string& text) {
     for (const Name& n : kNames)
       if (n.text == name) found = &n;
     if (found == nullptr) bad_model(text, "unknown term '" + name + "'");
-    if (found->kind != ProcessKind::gm) {
+    if (found->kind != ProcessKind::gm && found->kind != ProcessKind::sin) {
       bool& seen = once[static_cast<std::size_t>(found->kind)];
       if (seen || copies > 1)
         bad_model(text, std::string(found->text) + " appears more than once (two of them cannot be told apart)");
@@ -96,7 +98,8 @@ std::string_view to_string(ProcessKind k) noexcept {
 
 std::size_t parameter_count(const CompositeModel& model) noexcept {
   std::size_t k = 0;
-  for (const Process& p : model.processes) k += p.kind == ProcessKind::gm || p.kind == ProcessKind::ma1 ? 2 : 1;
+  for (const Process& p : model.processes)
+    k += p.kind == ProcessKind::gm || p.kind == ProcessKind::ma1 || p.kind == ProcessKind::sin ? 2 : 1;
   return k;
 }
 
@@ -138,6 +141,15 @@ double haar_wavelet_variance(const Process& p, double tau) noexcept {
       if (!(p.value >= 0.0) || !(std::abs(p.theta) < 1.0)) return kNaN;
       const double w = (1.0 + p.theta) * (1.0 + p.theta);
       return p.value * (w * tau - 6.0 * p.theta) / (tau * tau);
+    }
+    case ProcessKind::sin: {
+      // The difference of two adjacent means of m = tau / 2 samples of
+      // A sin(omega t + U) is a sinusoid of amplitude
+      // 2 A sin^2(omega m / 2) / (m sin(omega / 2)); the Haar coefficient is
+      // half of it, its mean square over U half the amplitude squared.
+      if (!(p.value >= 0.0) || !(p.omega > 0.0 && p.omega < kPi)) return kNaN;
+      const double s = std::sin(p.omega * tau / 4.0), S = std::sin(p.omega / 2.0);
+      return 2.0 * p.value * s * s * s * s / (tau * tau * S * S);
     }
   }
   return kNaN;
@@ -184,6 +196,27 @@ Process ma1_process(double n, double theta, double dt) {
   if (!(n >= 0.0) || !std::isfinite(n) || !(std::abs(theta) < 1.0) || !(dt > 0.0))
     throw UsageError("model", "an MA1 term needs a finite N >= 0 and -1 < theta < 1");
   Process p{ProcessKind::ma1, n * n / (dt * (1.0 + theta) * (1.0 + theta)), 0.0, theta};
+  return p;
+}
+
+SineTerm sine_term(const Process& sin, double dt) {
+  if (sin.kind != ProcessKind::sin || !(sin.value >= 0.0) || !(sin.omega > 0.0 && sin.omega < kPi) || !(dt > 0.0))
+    throw UsageError("model", "a SIN term needs A^2 >= 0, 0 < omega < pi and a positive sample period");
+  return {std::sqrt(sin.value), sin.omega / (2.0 * kPi * dt)};
+}
+
+Process sin_process(double amplitude, double frequency_hz, double dt) {
+  if (!(dt > 0.0) || !std::isfinite(dt))
+    throw UsageError("model", "a SIN term needs a positive, finite sample period");
+  if (!(amplitude >= 0.0) || !std::isfinite(amplitude))
+    throw UsageError("model", "a SIN term needs a finite amplitude >= 0");
+  const double nyquist = 0.5 / dt;
+  if (!(frequency_hz > 0.0 && frequency_hz < nyquist))
+    throw UsageError("model", "a SIN line at " + std::to_string(frequency_hz) +
+                                  " Hz lies outside (0, " + std::to_string(nyquist) +
+                                  ") Hz, the band a record at this rate can hold (the Nyquist frequency is half the "
+                                  "rate)");
+  Process p{ProcessKind::sin, amplitude * amplitude, 0.0, 0.0, 2.0 * kPi * frequency_hz * dt};
   return p;
 }
 

@@ -30,6 +30,13 @@ constexpr double kMaxAtanh = 18.0;
 
 double ma_theta(double z) { return std::tanh(std::clamp(z, -kMaxAtanh, kMaxAtanh)); }
 
+// A SIN term's omega = pi / (1 + e^-z) stays inside (0, pi); |z| <= 36
+// keeps it off both ends in double precision.
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kMaxLogit = 36.0;
+double sin_omega(double z) { return kPi / (1.0 + std::exp(-std::clamp(z, -kMaxLogit, kMaxLogit))); }
+double sin_logit(double omega) { return std::log(omega / (kPi - omega)); }
+
 // The wavelet variance of the model with log-parameters theta at tau.
 double model_wv(const CompositeModel& structure, const VectorXd& theta, double tau) {
   double sum = 0.0;
@@ -40,6 +47,8 @@ double model_wv(const CompositeModel& structure, const VectorXd& theta, double t
       sum += gauss_markov_wavelet_variance(std::exp(std::clamp(theta(k++), kMinLogA, kMaxLogA)), v, tau);
     else if (p.kind == ProcessKind::ma1)
       sum += haar_wavelet_variance(Process{ProcessKind::ma1, v, 0.0, ma_theta(theta(k++))}, tau);
+    else if (p.kind == ProcessKind::sin)
+      sum += haar_wavelet_variance(Process{ProcessKind::sin, v, 0.0, 0.0, sin_omega(theta(k++))}, tau);
     else  // DR's parameter is omega, its logarithm omega^2's
       sum += haar_wavelet_variance(Process{p.kind, p.kind == ProcessKind::dr ? std::sqrt(v) : v, 0.0}, tau);
   }
@@ -57,6 +66,9 @@ CompositeModel to_model(const CompositeModel& structure, const VectorXd& theta) 
     } else if (p.kind == ProcessKind::ma1) {
       p.value = v;
       p.theta = ma_theta(theta(k++));
+    } else if (p.kind == ProcessKind::sin) {
+      p.value = v;
+      p.omega = sin_omega(theta(k++));
     } else {
       p.value = p.kind == ProcessKind::dr ? std::sqrt(v) : v;
     }
@@ -85,27 +97,32 @@ VectorXd theta_of(const CompositeModel& structure, const CompositeModel& m) {
     const bool ok = p.kind == ProcessKind::dr ? std::isfinite(p.value)
                                                : p.value >= 0.0 && std::isfinite(p.value) &&
                                                      (p.kind != ProcessKind::gm || (p.phi > 0.0 && p.phi < 1.0)) &&
-                                                     (p.kind != ProcessKind::ma1 || std::abs(p.theta) < 1.0);
+                                                     (p.kind != ProcessKind::ma1 || std::abs(p.theta) < 1.0) &&
+                                                     (p.kind != ProcessKind::sin || (p.omega > 0.0 && p.omega < kPi));
     if (!ok) throw UsageError("model", "the start " + model_name(m) + " has a parameter beyond its range");
     constexpr double kSmallest = 1e-300;
     theta(k++) = std::log(std::max(p.kind == ProcessKind::dr ? p.value * p.value : p.value, kSmallest));
     if (p.kind == ProcessKind::gm) theta(k++) = std::log(-std::log(p.phi));
     if (p.kind == ProcessKind::ma1) theta(k++) = std::atanh(p.theta);
+    if (p.kind == ProcessKind::sin) theta(k++) = sin_logit(p.omega);
   }
   return theta;
 }
 
 // Starting log-parameters read off the curve: `spread` in [0, 1) places the
 // Gauss-Markov terms along the scales, `share` scales each term's size,
-// `ma` is an MA1 term's theta.
+// `ma` is an MA1 term's theta. A SIN term starts at the frequency and
+// amplitude its structure carries (a line found in the spectrum), or,
+// without one, at `line` in [0, 1) of the log-frequencies the scales see and
+// the size of the curve there.
 VectorXd start_from(const CompositeModel& structure, const WaveletVariance& wv, const std::vector<double>& place,
-                    const std::vector<double>& share, double ma) {
+                    const std::vector<double>& share, double ma, const std::vector<double>& line) {
   const std::size_t J = wv.size();
   const double t1 = wv.tau.front(), n1 = wv.nu2.front();
   const double tJ = wv.tau.back(), nJ = wv.nu2.back();
   VectorXd theta(static_cast<Eigen::Index>(parameter_count(structure)));
   Eigen::Index k = 0;
-  std::size_t g = 0;
+  std::size_t g = 0, l = 0;
   for (std::size_t i = 0; i < structure.processes.size(); ++i) {
     const double f = share[i];
     switch (structure.processes[i].kind) {
@@ -129,6 +146,25 @@ VectorXd start_from(const CompositeModel& structure, const WaveletVariance& wv, 
         theta(k++) = std::log(f * n1 * t1 / ((1.0 + ma) * (1.0 + ma) - 6.0 * ma / t1));
         theta(k++) = std::atanh(ma);
         break;
+      case ProcessKind::sin: {
+        const Process& hint = structure.processes[i];
+        double omega = hint.omega, a2 = hint.value;
+        if (!(omega > 0.0 && omega < kPi)) {
+          // 4 / tau_J .. 2.6 rad per sample: the lines whose WV peaks inside the scales.
+          const double lo = std::log(4.0 / tJ), hi = std::log(2.6);
+          omega = std::exp(lo + line[l] * (hi - lo));
+        }
+        if (!(a2 > 0.0)) {
+          // The line's WV peaks near tau = 4.66 / omega at 0.26 A^2 (omega << 1).
+          std::size_t j = 0;
+          while (j + 1 < J && wv.tau[j] < 4.66 / omega) ++j;
+          a2 = wv.nu2[j] / 0.26;
+        }
+        ++l;
+        theta(k++) = std::log(f * a2);
+        theta(k++) = sin_logit(omega);
+        break;
+      }
     }
   }
   return theta;
@@ -192,6 +228,9 @@ GmwmFit fit_gmwm(const WaveletVariance& wv, const CompositeModel& structure, con
   const std::size_t terms = structure.processes.size();
   const bool has_ma = std::any_of(structure.processes.begin(), structure.processes.end(),
                                   [](const Process& p) { return p.kind == ProcessKind::ma1; });
+  const std::size_t nl = static_cast<std::size_t>(
+      std::count_if(structure.processes.begin(), structure.processes.end(),
+                    [](const Process& p) { return p.kind == ProcessKind::sin; }));
   std::mt19937_64 engine(options.seed);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
 
@@ -207,17 +246,23 @@ GmwmFit fit_gmwm(const WaveletVariance& wv, const CompositeModel& structure, con
   const std::size_t starts = options.start ? 0 : std::max<std::size_t>(options.starts, 1);
   if (options.start)
     best = minimise(structure, wv, sd0, theta_of(structure, *options.start), options.max_iterations);
+  for (const CompositeModel& warm : options.warm_starts) {
+    Run run = minimise(structure, wv, sd0, theta_of(structure, warm), options.max_iterations);
+    if (run.cost < best.cost) best = std::move(run);
+  }
   for (std::size_t s = 0; s < starts; ++s) {
-    std::vector<double> place(ng), share(terms, 1.0);
+    std::vector<double> place(ng), share(terms, 1.0), line(nl);
     for (std::size_t g = 0; g < ng; ++g) place[g] = (static_cast<double>(g) + 1.0) / (static_cast<double>(ng) + 1.0);
+    for (std::size_t i = 0; i < nl; ++i) line[i] = (static_cast<double>(i) + 0.5) / static_cast<double>(nl);
     double ma = 0.2;  // a sensor's averaging filter correlates neighbours positively
     if (s > 0) {
       for (double& p : place) p = unit(engine);
       std::sort(place.begin(), place.end());
+      for (double& p : line) p = unit(engine);
       for (double& f : share) f = std::pow(10.0, -2.0 * unit(engine));  // 0.01 .. 1
       if (has_ma) ma = 1.6 * unit(engine) - 0.8;                         // -0.8 .. 0.8
     }
-    Run run = minimise(structure, wv, sd0, start_from(structure, wv, place, share, ma), options.max_iterations);
+    Run run = minimise(structure, wv, sd0, start_from(structure, wv, place, share, ma, line), options.max_iterations);
     if (run.cost < best.cost) best = std::move(run);
   }
   if (!std::isfinite(best.cost))

@@ -61,6 +61,16 @@ GmwmAsymptotics gmwm_asymptotics(const GmwmFit& fit, const WaveletVariance& wv, 
         const double tau = wv.tau[j];
         A(row, k++) = pr.value * (2.0 * (1.0 + pr.theta) * tau - 6.0) / (tau * tau) * (1.0 - pr.theta * pr.theta);
       }
+      if (pr.kind == ProcessKind::sin) {
+        // nu2 = 2 A^2 s^4 / (tau^2 S^2), s = sin(omega tau / 4), S = sin(omega / 2):
+        // d nu2 / d omega = 2 A^2 (tau s^3 c / S^2 - s^4 C / S^3) / tau^2, and
+        // omega = pi / (1 + e^-z): d omega / dz = omega (1 - omega / pi).
+        const double tau = wv.tau[j], w = pr.omega;
+        const double s = std::sin(w * tau / 4.0), c = std::cos(w * tau / 4.0);
+        const double S = std::sin(w / 2.0), C = std::cos(w / 2.0);
+        const double d = 2.0 * pr.value * (tau * s * s * s * c / (S * S) - s * s * s * s * C / (S * S * S)) / (tau * tau);
+        A(row, k++) = d * w * (1.0 - w / 3.14159265358979323846);
+      }
     }
   }
   if (!A.allFinite())
@@ -109,6 +119,10 @@ GmwmAsymptotics gmwm_asymptotics(const GmwmFit& fit, const WaveletVariance& wv, 
     }
     if (pr.kind == ProcessKind::ma1) {  // theta = tanh z
       sd.theta = (1.0 - pr.theta * pr.theta) * std::sqrt(cov(k, k));
+      ++k;
+    }
+    if (pr.kind == ProcessKind::sin) {  // omega = pi / (1 + e^-z)
+      sd.omega = pr.omega * (1.0 - pr.omega / 3.14159265358979323846) * std::sqrt(cov(k, k));
       ++k;
     }
     out.sd.push_back(sd);

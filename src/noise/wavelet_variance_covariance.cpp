@@ -141,6 +141,14 @@ Terms terms_of(const CompositeModel& model) {
         t.wn += p.value * (1.0 + p.theta) * (1.0 + p.theta);
         t.qn -= p.value * p.theta;
         break;
+      case ProcessKind::sin:
+        // A line is deterministic but for its phase: over a record of many
+        // periods its own wavelet variance is estimated to within the
+        // record's edge effects, and its cross term with the noise is left
+        // out. The covariance is the noise's (an approximation for the
+        // WIC's optimism and the sandwich; docs/formulas/noise-terms.md §8f).
+        if (!(p.omega > 0.0 && p.omega < 3.14159265358979323846)) bad_parameter(model);
+        break;
     }
   }
   return t;

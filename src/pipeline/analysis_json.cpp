@@ -632,6 +632,11 @@ AnalysisResult read_result(const json& doc, const std::string& label) {
           model_channel_from_json(m.raw(), label, "channels[" + std::to_string(c) + "].model.composite");
       ch.model.composite_residual.rms_log = m.num("residual_rms_log");
       ch.model.composite_residual.chi2 = m.num("residual_chi2");
+      if (m.has("twin_error")) {
+        const Node e = m.at("twin_error");
+        ch.model.twin_error = {e.at("taus").count(), e.at("inside").count(), e.num("share_inside"),
+                               e.num("max_error"), e.num("max_error_tau_s")};
+      }
     }
     const Node d = cj.at("drift");
     const double window = d.num("window_s") * r.rate_hz;  // samples
@@ -664,6 +669,34 @@ AnalysisResult read_result(const json& doc, const std::string& label) {
                                     c.at("bootstrap").count(), c.at("seed").count()};
     r.composite->robust = c.has("robust") && c.at("robust").boolean();
     if (r.composite->robust) r.composite->robust_efficiency = c.num("robust_efficiency");
+  }
+  if (root.has("composite_skipped")) r.composite_skipped = root.at("composite_skipped").str();
+  if (root.has("twin_check")) {
+    const Node t = root.at("twin_check");
+    TwinCheck tc;
+    tc.twins = t.at("twins").count();
+    tc.seed = t.at("seed").count();
+    tc.samples = t.at("samples").count();
+    const Node cs = t.at("channels");
+    for (std::size_t i = 0; i < cs.size(); ++i) {
+      const Node c = cs.at(i);
+      TwinCheckChannel ch;
+      ch.name = c.at("name").str();
+      ch.tau = c.at("tau").nums();
+      ch.measured = c.at("measured").nums();
+      ch.twins = c.at("twins").nums();
+      ch.twins_lo = c.at("twins_lo").nums();
+      ch.twins_hi = c.at("twins_hi").nums();
+      const std::size_t n = ch.tau.size();
+      if (ch.measured.size() != n || ch.twins.size() != n || ch.twins_lo.size() != n || ch.twins_hi.size() != n)
+        c.fail("tau, measured, twins, twins_lo and twins_hi differ in length");
+      ch.max_error_10s = c.num("max_error_10s");
+      ch.max_error_100s = c.num("max_error_100s");
+      ch.max_error = c.num("max_error");
+      ch.max_error_tau_s = c.num("max_error_tau_s");
+      tc.channels.push_back(std::move(ch));
+    }
+    r.twin_check = std::move(tc);
   }
   return r;
 }
@@ -698,6 +731,15 @@ void to_json(json& j, const AnalysisResult& r) {
       // As the two models': its Allan variance on the curve.
       cj["residual_rms_log"] = c.model.composite_residual.rms_log;
       cj["residual_chi2"] = c.model.composite_residual.chi2;
+      const TwinError& e = c.model.twin_error;
+      cj["twin_error"] = {{"taus", e.taus},
+                          {"inside", e.inside},
+                          {"share_inside", e.share_inside},
+                          {"max_error", e.max_error},
+                          {"max_error_tau_s", e.max_error_tau_s},
+                          {"note",
+                           "on adev: the largest |sigma_model / sigma_measured - 1| and the share of taus whose model "
+                           "deviation lies inside the curve's intervals at ci"}};
     }
     ch["drift"] = {{"window_s", static_cast<double>(c.drift.window) / r.rate_hz},
                    {"fixed_bias", c.drift.mean},
@@ -728,6 +770,29 @@ void to_json(json& j, const AnalysisResult& r) {
                       {"seed", r.composite->seed},
                       {"robust", r.composite->robust}};
   if (r.composite && r.composite->robust) j["composite"]["robust_efficiency"] = r.composite->robust_efficiency;
+  if (!r.composite_skipped.empty()) j["composite_skipped"] = r.composite_skipped;
+  if (r.twin_check) {
+    json checked = json::array();
+    for (const TwinCheckChannel& c : r.twin_check->channels)
+      checked.push_back({{"name", c.name},
+                       {"tau", c.tau},
+                       {"measured", c.measured},
+                       {"twins", c.twins},
+                       {"twins_lo", c.twins_lo},
+                       {"twins_hi", c.twins_hi},
+                       {"max_error_10s", c.max_error_10s},
+                       {"max_error_100s", c.max_error_100s},
+                       {"max_error", c.max_error},
+                       {"max_error_tau_s", c.max_error_tau_s}});
+    j["twin_check"] = {{"twins", r.twin_check->twins},
+                       {"seed", r.twin_check->seed},
+                       {"samples", r.twin_check->samples},
+                       {"note",
+                        "each channel's twin simulated at the record's length, seeds seed .. seed + twins - 1; "
+                        "twins: sqrt of the mean of their Allan variances, twins_lo/hi the smallest and largest "
+                        "twin's deviation; max_error: the largest |twins / measured - 1|"},
+                       {"channels", checked}};
+  }
 }
 
 void from_json(const json& j, AnalysisResult& r) { r = read_result(j, "analysis.json"); }

@@ -9,6 +9,7 @@
 
 #include "cubecal/io/delimited_reader.hpp"
 #include "cubecal/pipeline/analysis_json.hpp"
+#include "cubecal/pipeline/simulator_export.hpp"
 
 namespace cubecal::pipeline {
 
@@ -30,6 +31,19 @@ std::string analysis_json(const AnalysisResult& r, const OutputContext& ctx) {
   json names = json::array();
   for (const Estimator e : ctx.estimators) names.push_back(std::string(estimator_name(e)));
   j["estimator_files"] = {{"for", std::move(names)}, {"noise_factor", ctx.inflate}};
+  // What each simulator export keeps of the twin (simulator_export.hpp).
+  json exports = json::array();
+  for (const Estimator e : ctx.estimators) {
+    if (!is_simulator(e)) continue;
+    for (const ExportProjection& p : simulator_projections(e, r))
+      exports.push_back({{"target", p.target},
+                         {"channel", p.channel},
+                         {"structure", p.structure},
+                         {"twin_error", p.twin_error},
+                         {"twin_error_tau_s", p.twin_error_tau / r.rate_hz},
+                         {"dropped", p.dropped}});
+  }
+  if (!exports.empty()) j["estimator_files"]["simulator_projections"] = std::move(exports);
   return j.dump(1) + "\n";
 }
 
@@ -110,8 +124,13 @@ std::vector<EstimatorFile> analysis_files(const AnalysisResult& r, const OutputC
     files.push_back(estimator_config(Estimator::kalibr, r, ec));
   else if (std::string y = kalibr_yaml(r, ctx); !y.empty())
     files.push_back({kAnalysisFiles[3], std::move(y), {}});
-  for (const Estimator e : {Estimator::openvins, Estimator::vins, Estimator::kf_gins})
-    if (asked(e)) files.push_back(estimator_config(e, r, ec));
+  // Every other estimator and simulator asked for, once each, in the order asked.
+  std::vector<Estimator> done;
+  for (const Estimator e : ctx.estimators)
+    if (e != Estimator::kalibr && std::find(done.begin(), done.end(), e) == done.end()) {
+      files.push_back(estimator_config(e, r, ec));
+      done.push_back(e);
+    }
   return files;
 }
 

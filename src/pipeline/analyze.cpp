@@ -91,6 +91,30 @@ TemperatureAnalysis analyze_temperature_of(std::size_t c, const io::Series& s, c
   }
   t.compensated_model.samples = head ? req.max_samples : s.samples();
   fit_models(t.compensated_model, dt, lsb);
+  if (req.composite && s.segments.size() == 1) {
+    // The twin of the compensated series (what `simulate` adds the
+    // temperature term to), on the samples the models are fitted on.
+    io::Series one;
+    one.file = s.file;
+    one.rate_hz = s.rate_hz;
+    one.tau0 = s.tau0;
+    one.names = {s.names[c]};
+    one.channels.emplace_back(comp.begin(), comp.begin() + static_cast<std::ptrdiff_t>(t.compensated_model.samples));
+    one.segments = {io::Segment{0, t.compensated_model.samples}};
+    ModelRequest mreq = *req.composite;
+    mreq.units = {detail::unit_of(req, c)};
+    mreq.ci = req.ci;
+    mreq.threads = 1;
+    try {
+      ModelResult m = run_model(one, mreq);
+      t.compensated_model.composite = std::move(m.channels.front());
+      detail::composite_residual(t.compensated_model, dt);
+    } catch (const std::exception&) {
+      if (req.composite_required) throw;
+      // The record's own twin stands (AnalysisResult::composite_skipped says
+      // why when that one failed too).
+    }
+  }
   return t;
 }
 
@@ -126,8 +150,8 @@ void analyze_temperature(AnalysisResult& r, const io::Series& s, const AnalyzeRe
 // The composite noise model (AnalyzeRequest::composite) must see one
 // contiguous piece: the record, or the head the sensor models are fitted on.
 void check_composite(const io::Series& s, const AnalyzeRequest& req) {
-  if (!req.composite) return;
-  (void)parse_candidate_models(req.composite->model);  // a typo fails before the work
+  if (!req.composite || !req.composite_required) return;
+  if (!is_twin(req.composite->model)) (void)parse_candidate_models(req.composite->model);  // a typo fails first
   const std::size_t first = s.segments.front().size();
   const bool head = req.max_samples > 0 && req.max_samples <= first;
   if (s.segments.size() > 1 && !head)
@@ -140,7 +164,7 @@ void check_composite(const io::Series& s, const AnalyzeRequest& req) {
 // The composite model of every channel: run_model of the samples the sensor
 // models are fitted on (the record, or its first max_samples), at the
 // analysis's units, confidence and threads.
-void fit_composite(AnalysisResult& r, const io::Series& s, const AnalyzeRequest& req) {
+void fit_composite_required(AnalysisResult& r, const io::Series& s, const AnalyzeRequest& req) {
   const StageTimer timer(req.times, Stage::fits);
   ModelRequest mreq = *req.composite;
   mreq.units.clear();
@@ -173,6 +197,30 @@ void fit_composite(AnalysisResult& r, const io::Series& s, const AnalyzeRequest&
   for (std::size_t c = 0; c < r.channels.size(); ++c) {
     r.channels[c].model.composite = std::move(m.channels[c]);
     detail::composite_residual(r.channels[c].model, s.tau0);
+  }
+}
+
+// The default twin: fitted where the record allows, else the analysis
+// says why not (AnalyzeRequest::composite_required).
+void fit_composite(AnalysisResult& r, const io::Series& s, const AnalyzeRequest& req) {
+  if (req.composite_required) return fit_composite_required(r, s, req);
+  const std::size_t first = s.segments.front().size();
+  const bool head = req.max_samples > 0 && req.max_samples <= first;
+  if (s.segments.size() > 1 && !head) {
+    r.composite_skipped = "the record is cut into " + std::to_string(s.segments.size()) +
+                          " pieces at gaps; the wavelet variance needs one contiguous piece";
+    return;
+  }
+  try {
+    fit_composite_required(r, s, req);
+  } catch (const std::exception& e) {  // UsageError: too short, missing samples; CalibrationError: no fit
+    r.composite.reset();
+    for (ChannelAnalysis& ch : r.channels) {
+      ch.model.composite.reset();
+      ch.model.composite_residual = {};
+      ch.model.twin_error = {};
+    }
+    r.composite_skipped = e.what();
   }
 }
 
@@ -280,6 +328,10 @@ AnalysisResult run_analyze(const io::Series& s, const AnalyzeRequest& req) {
   }
 
   if (req.composite) fit_composite(r, s, req);
+  if (req.twin_check > 0) {
+    const StageTimer timer(req.times, Stage::fits);
+    r.twin_check = twin_check(r, req.twin_check, req.twin_check_seed, req.threads);
+  }
 
   // The spectral view: `cubecal psd` of the record (its pieces at gaps as
   // the curves have them), the spectrum kept in log bands for the plot.

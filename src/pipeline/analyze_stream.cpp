@@ -52,7 +52,7 @@ void check_analyze_streamable(const AnalyzeRequest& req, bool can_reopen) {
                      "the spectral view needs the whole record in memory (Welch's segments are an eighth of it), "
                      "which a streamed analysis does not hold: analyze the record in memory, with a larger memory "
                      "budget if it is above it");
-  if (req.composite)
+  if (req.composite && req.composite_required)
     throw UsageError("composite",
                      "the composite model's wavelet variance reaches scales of half the record, which a streamed "
                      "analysis does not hold: analyze the record in memory (with a larger memory budget if it is "
@@ -82,6 +82,9 @@ AnalysisResult run_analyze_stream(io::SampleStream& in, const AnalyzeRequest& re
   };
 
   AnalysisResult r;
+  if (req.composite)
+    r.composite_skipped = "the wavelet variance reaches scales of half the record, which a streamed analysis does "
+                          "not hold (analyze the record in memory, or fit the model with cubecal model)";
   r.file = in.file();
   r.rate_hz = in.rate_hz();
   r.segments = 1;

@@ -9,14 +9,17 @@
 
 #include "cubecal/error.hpp"
 #include "cubecal/noise/noise_terms.hpp"
+#include "cubecal/pipeline/simulator_export.hpp"
 
 namespace cubecal::pipeline {
 
 namespace {
 
-constexpr std::array<std::string_view, 4> kNames{"kalibr", "openvins", "vins", "kf-gins"};
-constexpr std::array<std::string_view, 4> kFiles{"imu.yaml", "kalibr_imu_chain.yaml", "vins_imu.yaml",
-                                                 "kf-gins_imunoise.yaml"};
+constexpr std::array<std::string_view, 9> kNames{"kalibr", "openvins", "vins",   "kf-gins", "gazebo",
+                                                 "rotors", "navego",   "matlab", "basilisk"};
+constexpr std::array<std::string_view, 9> kFiles{
+    "imu.yaml",          "kalibr_imu_chain.yaml", "vins_imu.yaml", "kf-gins_imunoise.yaml", "gazebo_imu_noise.sdf",
+    "rotors_imu_plugin.sdf", "navego_imu.m",      "matlab_imu.m",  "basilisk_imu.py"};
 constexpr double kStandardGravity = 9.80665;  // m/s^2
 constexpr double kRadToDeg = 180.0 / std::numbers::pi;
 constexpr double kMilliGal = 1e-5;            // m/s^2
@@ -376,7 +379,14 @@ std::optional<Estimator> parse_estimator(std::string_view name) {
 
 std::string_view estimator_name(Estimator e) { return kNames[static_cast<std::size_t>(e)]; }
 
-std::string estimator_names() { return "kalibr|openvins|vins|kf-gins"; }
+std::string estimator_names() {
+  std::string s;
+  for (const std::string_view n : kNames) {
+    if (!s.empty()) s += '|';
+    s += n;
+  }
+  return s;
+}
 
 std::string_view estimator_file(Estimator e) { return kFiles[static_cast<std::size_t>(e)]; }
 
@@ -400,6 +410,7 @@ ImuNoise imu_noise(const AnalysisResult& r) {
 }
 
 EstimatorFile estimator_config(Estimator e, const AnalysisResult& r, const EstimatorContext& ctx) {
+  if (is_simulator(e)) return simulator_config(e, r, ctx);
   const Sensors s = sensors(r, ctx);
   EstimatorFile f{std::string(estimator_file(e)), {}, s.missing};
   switch (e) {
@@ -407,6 +418,7 @@ EstimatorFile estimator_config(Estimator e, const AnalysisResult& r, const Estim
     case Estimator::openvins: f.text = openvins(r, s, ctx); break;
     case Estimator::vins: f.text = vins(r, s, ctx); break;
     case Estimator::kf_gins: f.text = kf_gins(r, s, ctx); break;
+    default: break;  // the simulators, above
   }
   return f;
 }

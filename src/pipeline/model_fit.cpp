@@ -4,13 +4,16 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <exception>
 #include <limits>
+#include <span>
 
 #include "cubecal/error.hpp"
 #include "cubecal/noise/gmwm_asymptotics.hpp"
 #include "cubecal/pipeline/model_selection.hpp"
+#include "cubecal/pipeline/welch_psd.hpp"
 #include "cubecal/sim/composite_simulator.hpp"
 #include "cubecal/stats/robust_wavelet_variance.hpp"
 
@@ -34,6 +37,10 @@ std::vector<std::pair<std::string, double>> physical(const Process& p, double dt
       const MovingAverageTerm m = moving_average_term(p, dt);
       return {{"N", m.n}, {"theta", m.theta}};
     }
+    case ProcessKind::sin: {
+      const SineTerm l = sine_term(p, dt);
+      return {{"A", l.amplitude}, {"f", l.frequency_hz}};
+    }
   }
   return {};
 }
@@ -45,17 +52,19 @@ std::string raw_unit(const std::string& name, const std::string& u) {
   if (name == "R") return u + "/s";
   if (name == "T_c") return "s";
   if (name == "theta") return "";
-  return u;  // sigma_b
+  if (name == "f") return "Hz";
+  return u;  // sigma_b, A
 }
 
 Quantity shown(const std::string& name, double value, double sd, const Unit& unit) {
   if (name == "T_c") return {value, sd, "s"};
   if (name == "theta") return {value, sd, ""};
+  if (name == "f") return {value, sd, "Hz"};
   const Term term = name == "N"   ? Term::N
                     : name == "Q" ? Term::Q
                     : name == "K" ? Term::K
                     : name == "R" ? Term::R
-                                  : Term::B;  // sigma_b: a bias, in the bias instability's unit
+                                  : Term::B;  // sigma_b, A: a bias, in the bias instability's unit
   TermEstimate t;
   t.valid = true;
   t.value = value;
@@ -81,6 +90,12 @@ std::vector<double> asymptotic_sds(const ModelChannel& ch, std::size_t samples, 
     std::size_t k = 0;
     for (const Process& p : ch.fit.model.processes) {
       const auto values = physical(p, dt);
+      if (p.kind == ProcessKind::sin) {  // A = sqrt(value), f = omega / (2 pi dt), omega = pi / (1 + e^-z)
+        out.push_back(0.5 * values[0].second * std::sqrt(C(k, k)));
+        out.push_back(values[1].second * (1.0 - p.omega / 3.14159265358979323846) * std::sqrt(C(k + 1, k + 1)));
+        k += 2;
+        continue;
+      }
       if (p.kind == ProcessKind::ma1) {
         const double g = 1.0 - p.theta;
         const double var_n = 0.25 * C(k, k) + g * C(k, k + 1) + g * g * C(k + 1, k + 1);
@@ -124,9 +139,50 @@ double quantile(std::vector<double> v, double q) {
 
 }  // namespace
 
+bool is_twin(const std::string& model) {
+  std::string t;
+  for (char c : model)
+    if (c != ' ' && c != '\t') t += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return t == "twin";
+}
+
+ModelRequest twin_request() {
+  ModelRequest m;
+  m.model = "twin";
+  return m;
+}
+
+namespace {
+
+// The twin of a channel (noise/twin_selection.hpp): the lines of its Welch
+// spectrum, the forward search, and the selected model refitted as a lone
+// fit is (reweighted at its own curve) from its fit with the common weights.
+void fit_twin(ModelChannel& ch, std::span<const double> y, double rate_hz, std::size_t samples,
+              const ModelRequest& req) {
+  try {
+    ch.lines = find_spectral_lines(welch_psd(y, rate_hz));
+  } catch (const UsageError& e) {
+    ch.lines_error = e.what();  // a record too short for one segment
+  }
+  const TwinSelection sel = select_twin(ch.wv, samples, rate_hz, ch.lines, req.twin);
+  for (const TwinCandidate& c : sel.ranked)
+    ch.candidates.push_back({model_name(c.structure), parameter_count(c.structure), c.score, c.fit.objective});
+  ch.failed = sel.failed;
+  const TwinCandidate& chosen = sel.ranked.front();
+  GmwmOptions refit = req.gmwm;
+  refit.start = chosen.fit.model;
+  ch.fit = fit_gmwm(ch.wv, chosen.structure, refit);
+  ch.fidelity = twin_fidelity(ch.wv, ch.fit.nu2_model);
+  ch.faithful = sel.faithful;
+}
+
+}  // namespace
+
 ModelResult run_model(const io::Series& series, const ModelRequest& req) {
-  const std::vector<CompositeModel> candidates = parse_candidate_models(req.model);
-  const bool selecting = candidates.size() > 1;
+  const bool twin = is_twin(req.model);
+  const std::vector<CompositeModel> candidates =
+      twin ? std::vector<CompositeModel>{CompositeModel{}} : parse_candidate_models(req.model);
+  const bool selecting = !twin && candidates.size() > 1;
   if (selecting && req.selection_replicates == 1)
     throw UsageError("wic_replicates",
                      "give 0 (the WIC's asymptotic optimism) or at least 2 bootstrap replicates, not 1");
@@ -148,6 +204,10 @@ ModelResult run_model(const io::Series& series, const ModelRequest& req) {
   r.rate_hz = series.rate_hz;
   r.samples = series.samples();
   for (const CompositeModel& m : candidates) {
+    if (twin) {
+      r.model = "twin";
+      break;
+    }
     if (!r.model.empty()) r.model += ',';
     r.model += model_name(m);
   }
@@ -178,7 +238,10 @@ ModelResult run_model(const io::Series& series, const ModelRequest& req) {
       ch.name = series.names[c];
       if (!req.units.empty()) ch.unit = req.units.size() == 1 ? req.units[0] : req.units[c];
       ch.wv = wavelet_variance_of(series.channels[c], 0);
-      if (!selecting) {
+      if (twin) {
+        fit_twin(ch, series.channels[c], series.rate_hz, r.samples, req);
+        structure[c] = ch.fit.model;
+      } else if (!selecting) {
         ch.fit = fit_gmwm(ch.wv, structure[c], req.gmwm);
       } else {
         WicOptions wo;

@@ -11,6 +11,7 @@ nlohmann::json to_json(const ModelChannel& c, double rate_hz, bool bootstrapped)
     nlohmann::json params = {{"value", t.process.value}};
     if (t.kind == ProcessKind::gm) params["phi"] = t.process.phi;
     if (t.kind == ProcessKind::ma1) params["theta"] = t.process.theta;
+    if (t.kind == ProcessKind::sin) params["omega"] = t.process.omega;
     nlohmann::json qs = nlohmann::json::array();
     for (const ModelQuantity& q : t.quantities) {
       const auto maybe = [&](double v) { return bootstrapped ? nlohmann::json(v) : nlohmann::json(nullptr); };
@@ -46,7 +47,7 @@ nlohmann::json to_json(const ModelChannel& c, double rate_hz, bool bootstrapped)
                           {"optimism", m.score.optimism},
                           {"replicates", m.score.replicates},
                           {"objective", m.objective}});
-  return {{"name", c.name},
+  nlohmann::json out = {{"name", c.name},
           {"unit", c.unit.name.empty() ? nlohmann::json(nullptr) : nlohmann::json(c.unit.name)},
           {"model", c.model},
           {"candidates", candidates},
@@ -56,6 +57,26 @@ nlohmann::json to_json(const ModelChannel& c, double rate_hz, bool bootstrapped)
           {"replicates", c.replicates},
           {"terms", terms},
           {"wavelet_variance", wv}};
+  // The twin's search (ModelRequest "twin"): the spectrum's lines and the fidelity.
+  if (c.fidelity) {
+    nlohmann::json lines = nlohmann::json::array();
+    for (const SpectralLine& l : c.lines)
+      lines.push_back({{"frequency_hz", l.frequency_hz},
+                       {"power", l.power},
+                       {"amplitude", std::sqrt(2.0 * l.power)},
+                       {"peak_ratio", l.peak_ratio},
+                       {"width_hz", l.width_hz}});
+    out["lines"] = lines;
+    if (!c.lines_error.empty()) out["lines_error"] = c.lines_error;
+    const TwinFidelity& f = *c.fidelity;
+    out["fidelity"] = {{"scales", f.scales},
+                       {"inside_95", f.inside},
+                       {"share_inside", f.share_inside},
+                       {"max_error", f.max_error},
+                       {"max_error_tau_s", f.max_error_tau / rate_hz},
+                       {"faithful", c.faithful}};
+  }
+  return out;
 }
 
 nlohmann::json to_json(const ModelResult& r) {

@@ -30,9 +30,10 @@ std::vector<std::size_t> counts(const Node& a) {
 ProcessKind kind_of(const Node& t) {
   const std::string name = t.str();
   for (const ProcessKind k :
-       {ProcessKind::wn, ProcessKind::qn, ProcessKind::rw, ProcessKind::dr, ProcessKind::gm, ProcessKind::ma1})
+       {ProcessKind::wn, ProcessKind::qn, ProcessKind::rw, ProcessKind::dr, ProcessKind::gm, ProcessKind::ma1,
+        ProcessKind::sin})
     if (to_string(k) == name) return k;
-  t.fail("unknown term '" + name + "' (known: WN, QN, RW, DR, GM, MA1)");
+  t.fail("unknown term '" + name + "' (known: WN, QN, RW, DR, GM, MA1, SIN)");
 }
 
 ModelQuantity read_quantity(const Node& q) {
@@ -68,6 +69,12 @@ ModelTerm read_term(const Node& t) {
   if (term.kind == ProcessKind::ma1) {
     term.process.theta = p.num("theta");
     if (!(std::abs(term.process.theta) < 1.0)) p.at("theta").fail("not a moving-average coefficient in (-1, 1)");
+  }
+  if (term.kind == ProcessKind::sin) {
+    term.process.omega = p.num("omega");
+    if (!(term.process.omega > 0.0 && term.process.omega < 3.14159265358979323846))
+      p.at("omega").fail("not a line's angular frequency in (0, pi) rad per sample");
+    if (!(term.process.value >= 0.0)) p.at("value").fail("not a squared amplitude >= 0");
   }
   const Node qs = t.at("quantities");
   for (std::size_t i = 0; i < qs.size(); ++i) term.quantities.push_back(read_quantity(qs.at(i)));
@@ -125,6 +132,27 @@ ModelChannel read_channel(const Node& c) {
   if (ch.wv.nu2.size() != k || ch.wv.lo.size() != k || ch.wv.hi.size() != k || ch.wv.edf.size() != k ||
       ch.wv.n.size() != k || ch.fit.nu2_model.size() != k)
     wv.fail("tau_samples, nu2, lo, hi, edf, n and model differ in length");
+  if (c.has("fidelity")) {
+    const Node f = c.at("fidelity");
+    TwinFidelity t;
+    t.scales = f.at("scales").count();
+    t.inside = f.at("inside_95").count();
+    t.share_inside = f.num("share_inside");
+    t.max_error = f.num("max_error");
+    t.max_error_tau = f.num("max_error_tau_s") * (k > 0 && wv.at("tau_s").nums().front() > 0.0
+                                                       ? ch.wv.tau.front() / wv.at("tau_s").nums().front()
+                                                       : 1.0);
+    ch.fidelity = t;
+    ch.faithful = f.at("faithful").boolean();
+    if (c.has("lines")) {
+      const Node ls = c.at("lines");
+      for (std::size_t i = 0; i < ls.size(); ++i) {
+        const Node l = ls.at(i);
+        ch.lines.push_back({l.num("frequency_hz"), l.num("power"), l.num("peak_ratio"), l.num("width_hz")});
+      }
+    }
+    if (c.has("lines_error")) ch.lines_error = c.at("lines_error").str();
+  }
   return ch;
 }
 

@@ -254,6 +254,9 @@ struct CompositeChannel {
   std::string unit;
   double fixed_bias = 0.0;
   CompositeModel model;
+  double lsb = 0.0;        // the triad's quantizer (counts per unit), from its first channel
+  double temp_coeff = 0.0; // u per degC
+  double temp_ref = 25.0;  // degC
 };
 
 std::vector<TriadModel> composite_triads(const std::vector<CompositeChannel>& channels, const std::string& label,
@@ -274,6 +277,11 @@ std::vector<TriadModel> composite_triads(const std::vector<CompositeChannel>& ch
     AxisModel& ax = m.axes[c % 3];
     ax.fixed_bias = channels[c].fixed_bias;
     ax.composite = channels[c].model;
+    ax.temp_coeff = channels[c].temp_coeff;
+    if (c % 3 == 0) {
+      m.lsb = channels[c].lsb;
+      m.temp_ref = channels[c].temp_ref;
+    }
   }
   for (auto& m : out) m = model_at_rate(m, from_hz, to_hz);
   return out;
@@ -286,10 +294,24 @@ std::vector<TriadModel> models_from_composite(const AnalysisResult& r, const std
   std::vector<CompositeChannel> channels;
   for (const ChannelAnalysis& ch : r.channels) {
     if (!ch.model.composite)
-      throw UsageError("bias", label + ": channel " + ch.name +
-                                   " has no composite model (re-run analyze with --composite, or simulate the "
-                                   "random-walk or Gauss-Markov model)");
-    channels.push_back({ch.name, ch.unit.name, ch.mean, ch.model.composite->fit.model});
+      throw UsageError("bias", label + ": channel " + ch.name + " has no twin (composite model)" +
+                                   (r.composite_skipped.empty() ? std::string()
+                                                                : " (" + r.composite_skipped + ")") +
+                                   ": re-run analyze, or simulate the random-walk or Gauss-Markov model");
+    CompositeChannel cc{ch.name, ch.unit.name, ch.mean, ch.model.composite->fit.model};
+    cc.lsb = ch.model.random_walk.lsb;
+    // With a temperature analysis the twin of the compensated series and the
+    // coefficients, so that the temperature's share is simulated once; a
+    // channel whose compensated series has no twin keeps the record's twin,
+    // which carries the temperature's effect as noise, and no temperature term.
+    if (ch.temperature && ch.temperature->compensated_model.composite) {
+      const TemperatureFit& t = ch.temperature->fit;
+      cc.model = ch.temperature->compensated_model.composite->fit.model;
+      if (!t.coeff.empty()) cc.fixed_bias = t.coeff[0];
+      if (t.coeff.size() > 1) cc.temp_coeff = t.coeff[1];
+      cc.temp_ref = t.t_ref;
+    }
+    channels.push_back(std::move(cc));
   }
   return composite_triads(channels, label, r.rate_hz, rate_hz);
 }

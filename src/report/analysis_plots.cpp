@@ -98,7 +98,8 @@ ReportFigure allan_figure(const AnalysisResult& d, const SensorGroup& g) {
   p.y = {"Allan deviation σ(τ) [" + g.unit + "]", true, std::nullopt, std::nullopt};
   p.key = "outside bottom center horizontal Left reverse maxrows 3";
   p.height = 640;
-  bool any_model = false, any_gm = false, any_composite = false, any_terms = false;
+  bool any_model = false, any_gm = false, any_composite = false, any_terms = false, any_twins = false;
+  const bool twin = d.composite && pipeline::is_twin(d.composite->model);
   double tmin = INFINITY, tmax = 0;
   for (auto c : g.channels)
     for (const auto& pt : d.channels[c].noise.adev)
@@ -128,7 +129,21 @@ ReportFigure allan_figure(const AnalysisResult& d, const SensorGroup& g) {
     };
     model_curve(mc.model, "random-walk model", Dash::dashed, 1.6, any_model);
     model_curve(mc.gm, "Gauss-Markov model", Dash::dotted, 1.8, any_gm);
-    model_curve(mc.composite, "composite model", Dash::dash_dot, 1.8, any_composite);
+    model_curve(mc.composite, twin ? "twin" : "composite model", Dash::dash_dot, 1.8, any_composite);
+    // analyze --twin-check: the mean curve of the simulated twins, broad and light.
+    if (d.twin_check)
+      for (const pipeline::TwinCheckChannel& t : d.twin_check->channels)
+        if (t.name == ch.name && !t.tau.empty()) {
+          PlotSeries s;
+          s.x = t.tau;
+          s.y = t.twins;
+          s.id = ch.name + " mean of twins";
+          s.color = c;
+          s.width = 4.0;
+          s.opacity = 0.35;
+          p.series.push_back(std::move(s));
+          any_twins = true;
+        }
     // Noise-term lines of the weighted fit: N (slope -1/2), K (+1/2), and the
     // bias-instability floor at sigma_min (0.664 B) where the curve has a minimum.
     if (tmax > tmin) {
@@ -152,7 +167,11 @@ ReportFigure allan_figure(const AnalysisResult& d, const SensorGroup& g) {
   p.series.push_back(legend_entry("measured, " + ci + " interval", kInk, Dash::solid, Mark::errorlines));
   if (any_model) p.series.push_back(legend_entry("random-walk model (paper eq. 1–3)", kInk, Dash::dashed));
   if (any_gm) p.series.push_back(legend_entry("Gauss–Markov model", kInk, Dash::dotted));
-  if (any_composite) p.series.push_back(legend_entry("composite model (GMWM)", kInk, Dash::dash_dot));
+  if (any_composite)
+    p.series.push_back(legend_entry(twin ? "twin (composite model, GMWM)" : "composite model (GMWM)", kInk, Dash::dash_dot));
+  if (any_twins)
+    p.series.push_back(legend_entry("mean of " + std::to_string(d.twin_check->twins) + " simulated twins", kInk,
+                                    Dash::solid, Mark::line, 0.35));
   if (any_terms)
     p.series.push_back(legend_entry("noise terms: N (−½), B floor, K (+½)", kInk, Dash::solid, Mark::line, 0.35));
   p.notes.push_back("OADEV of each channel with its " + ci + " confidence interval (analysis.json adev),");
@@ -163,7 +182,12 @@ ReportFigure allan_figure(const AnalysisResult& d, const SensorGroup& g) {
                     html_escape(ci) + " confidence intervals)";
   if (any_model) cap += ", the fitted random-walk model of the paper (dashed)";
   if (any_gm) cap += ", the Gauss–Markov alternative (dotted)";
-  if (any_composite) cap += ", the composite noise model fitted by the GMWM (dash-dotted)";
+  if (any_composite)
+    cap += twin ? ", the twin: the composite noise model selected and fitted by the GMWM (dash-dotted)"
+                : ", the composite noise model fitted by the GMWM (dash-dotted)";
+  if (any_twins)
+    cap += ", the mean Allan deviation of " + std::to_string(d.twin_check->twins) +
+           " twins simulated at the record's length (broad, light)";
   if (any_terms)
     cap += " and, light, the noise-term lines of the weighted fit: white noise N (slope −½), rate random walk K "
            "(+½) and the bias-instability floor 0.664 B";

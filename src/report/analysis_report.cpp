@@ -338,16 +338,28 @@ std::string model_table(const AnalysisResult& r, const SensorGroup& g) {
     return Cell{gm ? "Gauss–Markov" : "random walk", "smaller RMS of ln(model / data)"};
   });
   if (r.composite) {
-    t.section("Composite noise model (GMWM, <code>analyze --composite</code>): terms and uncertainties in the "
-              "section “Composite noise model”");
+    const bool twin = pipeline::is_twin(r.composite->model);
+    t.section(twin ? "Twin (composite noise model selected and fitted by the GMWM, docs/twins.md): terms and "
+                     "uncertainties in the section “Composite noise model”"
+                   : "Composite noise model (GMWM, <code>analyze --composite</code>): terms and uncertainties in "
+                     "the section “Composite noise model”");
     t.row("model", "", [](const ChannelAnalysis& c) {
       if (!c.model.composite) return Cell{"—", ""};
       const pipeline::ModelChannel& m = *c.model.composite;
+      if (m.fidelity)
+        return Cell{html_escape(m.model), "the twin's search passed " + std::to_string(m.candidates.size()) +
+                                              " models; " + std::to_string(m.lines.size()) + " spectral line(s) found"};
       return Cell{html_escape(m.model), m.candidates.size() > 1 ? "selected by the WIC among " +
                                                                        std::to_string(m.candidates.size()) +
                                                                        " candidates"
                                                                  : std::string("as asked")};
     });
+    t.value("twin error: largest |σ_model / σ − 1| on the Allan curve", "%", [](const ChannelAnalysis& c) {
+      return c.model.composite ? finite(100.0 * c.model.twin_error.max_error) : std::nullopt;
+    }, 3);
+    t.value("taus whose model deviation lies inside the curve's interval", "%", [](const ChannelAnalysis& c) {
+      return c.model.composite ? finite(100.0 * c.model.twin_error.share_inside) : std::nullopt;
+    }, 3);
     t.value("Allan-curve residual, RMS of ln(model / data)", "", [](const ChannelAnalysis& c) {
       return c.model.composite ? finite(c.model.composite_residual.rms_log) : std::nullopt;
     }, 3);

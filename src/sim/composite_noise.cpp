@@ -3,12 +3,17 @@
 
 #include <boost/random/normal_distribution.hpp>
 #include <cmath>
+#include <random>
 #include <stdexcept>
 #include <string>
+
+#include "cubecal/error.hpp"
 
 namespace cubecal {
 
 namespace {
+
+constexpr double kPi = 3.14159265358979323846;
 
 // splitmix64 of the seed and the process index: independent streams.
 std::uint64_t process_seed(std::uint64_t seed, std::size_t i) noexcept {
@@ -22,11 +27,12 @@ void check(const Process& p, const CompositeModel& model) {
   const bool ok = p.kind == ProcessKind::dr ? std::isfinite(p.value)
                                              : (p.value >= 0.0 && std::isfinite(p.value) &&
                                                 (p.kind != ProcessKind::gm || (p.phi >= 0.0 && p.phi < 1.0)) &&
-                                                (p.kind != ProcessKind::ma1 || std::abs(p.theta) < 1.0));
+                                                (p.kind != ProcessKind::ma1 || std::abs(p.theta) < 1.0) &&
+                                                (p.kind != ProcessKind::sin || (p.omega > 0.0 && p.omega < kPi)));
   if (!ok)
     throw std::invalid_argument("composite model " + model_name(model) +
                                 ": every variance must be finite and >= 0, every Gauss-Markov phi in [0, 1), every "
-                                "MA1 theta in (-1, 1) and the drift finite");
+                                "MA1 theta in (-1, 1), every SIN omega in (0, pi) and the drift finite");
 }
 
 }  // namespace
@@ -40,6 +46,7 @@ CompositeNoise::CompositeNoise(const CompositeModel& model, std::uint64_t seed) 
     if (p.kind != ProcessKind::dr) s.scale = std::sqrt(p.value);
     if (p.kind == ProcessKind::qn || p.kind == ProcessKind::ma1) s.x = normal(s.engine);  // u_0, e_{-1}
     if (p.kind == ProcessKind::gm) s.x = std::sqrt(p.value / (1.0 - p.phi * p.phi)) * normal(s.engine);
+    if (p.kind == ProcessKind::sin) s.x = 2.0 * kPi * std::uniform_real_distribution<double>(0.0, 1.0)(s.engine);
     states_.push_back(std::move(s));
   }
 }
@@ -80,6 +87,12 @@ void CompositeNoise::add_next(std::span<double> out) {
           s.x = e;
         }
         break;
+      case ProcessKind::sin:
+        // The phase from the sample count, so that no rounding accumulates
+        // over a long record: omega k + U reduced modulo 2 pi as a whole.
+        for (std::size_t j = 0; j < out.size(); ++j)
+          out[j] += s.scale * std::sin(std::fmod(s.process.omega * static_cast<double>(k_ + j), 2.0 * kPi) + s.x);
+        break;
     }
   }
   k_ += out.size();
@@ -111,6 +124,16 @@ CompositeModel composite_at_period(const CompositeModel& model, double from_dt, 
         // N^2 = sigma2 (1 + theta)^2 dt is kept, and theta: the filter that
         // makes the moving average is taken to run at the new period.
         p.value /= r;
+        break;
+      case ProcessKind::sin:
+        // The amplitude and the frequency in Hz are kept; a line at or above
+        // the new Nyquist frequency has no place in the new record.
+        p.omega *= r;
+        if (!(p.omega > 0.0 && p.omega < kPi))
+          throw UsageError("rate", "a SIN line of the model at " + std::to_string(p.omega / (2.0 * kPi * to_dt)) +
+                                       " Hz lies at or above the Nyquist frequency " +
+                                       std::to_string(0.5 / to_dt) +
+                                       " Hz of the simulated rate: simulate at a rate above twice the line");
         break;
     }
   }

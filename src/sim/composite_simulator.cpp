@@ -9,16 +9,21 @@
 
 namespace cubecal {
 
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+}  // namespace
+
 std::vector<double> simulate_composite(const CompositeModel& model, std::size_t samples, std::uint64_t seed) {
   for (const Process& p : model.processes) {
     const bool ok = p.kind == ProcessKind::dr ? std::isfinite(p.value)
                                                : (p.value >= 0.0 && std::isfinite(p.value) &&
                                                   (p.kind != ProcessKind::gm || (p.phi > 0.0 && p.phi < 1.0)) &&
-                                                  (p.kind != ProcessKind::ma1 || std::abs(p.theta) < 1.0));
+                                                  (p.kind != ProcessKind::ma1 || std::abs(p.theta) < 1.0) &&
+                                                  (p.kind != ProcessKind::sin || (p.omega > 0.0 && p.omega < kPi)));
     if (!ok)
       throw UsageError("model", "model " + model_name(model) +
-                                    ": every variance must be finite and >= 0, every Gauss-Markov phi in (0, 1) and "
-                                    "every MA1 theta in (-1, 1)");
+                                    ": every variance must be finite and >= 0, every Gauss-Markov phi in (0, 1), "
+                                    "every MA1 theta in (-1, 1) and every SIN omega in (0, pi)");
   }
   std::vector<double> y(samples, 0.0);
   std::mt19937_64 engine(seed);
@@ -69,6 +74,12 @@ std::vector<double> simulate_composite(const CompositeModel& model, std::size_t 
           v += s * (e + p.theta * prev);
           prev = e;
         }
+        break;
+      }
+      case ProcessKind::sin: {
+        const double a = std::sqrt(p.value);
+        const double u = 2.0 * kPi * std::uniform_real_distribution<double>(0.0, 1.0)(engine);
+        for (std::size_t t = 0; t < samples; ++t) y[t] += a * std::sin(p.omega * static_cast<double>(t) + u);
         break;
       }
     }

@@ -14,6 +14,9 @@
 //       innovation variance sigma2                   nu^2(tau) = AVAR_AR1(tau / 2) / 2
 //   MA1 first-order moving average X_t = e_t + theta e_{t-1}, |theta| < 1,
 //       e white of variance sigma2                   nu^2(tau) = sigma2 ((1 + theta)^2 tau - 6 theta) / tau^2
+//   SIN a periodic line X_t = A sin(omega t + U), U uniform on [0, 2 pi),
+//       0 < omega < pi rad per sample, value A^2      nu^2(tau) = (A^2 / 2) 4 sin^4(omega tau / 4)
+//                                                                 / (tau^2 sin^2(omega / 2))
 // with tau = 2^j the dyadic scale in samples. The Haar wavelet variance is
 // half the Allan variance at m = tau / 2 (the MODWT Haar coefficient is half
 // the difference of two adjacent m-sample means), so every form above is the
@@ -21,7 +24,10 @@
 // autocovariance is that of a WN of variance sigma2 (1 + theta)^2 plus a QN
 // of Q2 = -theta sigma2, hence its form; it replaces WN (theta = 0 is WN) and
 // is refused beside WN or QN, whose sum with it is again an MA(1) that the
-// wavelet variance cannot split.
+// wavelet variance cannot split. A SIN term (simts' SIN(); Voirol et al.
+// 2023, arXiv:2303.18167) is the vibration line a real MEMS sensor shows (a
+// rotor, a fan, a tone of the acquisition); several may be given, each its
+// own frequency.
 #pragma once
 #include <cstddef>
 #include <string>
@@ -30,37 +36,39 @@
 
 namespace cubecal {
 
-enum class ProcessKind { wn, qn, rw, dr, gm, ma1 };
+enum class ProcessKind { wn, qn, rw, dr, gm, ma1, sin };
 
 struct Process {
   ProcessKind kind = ProcessKind::wn;
   // wn: sigma2; qn: Q2; rw: gamma2; gm, ma1: the innovation variance sigma2;
-  // dr: omega (per sample, any sign).
+  // dr: omega (per sample, any sign); sin: the squared amplitude A^2.
   double value = 0.0;
   double phi = 0.0;    // gm only: the lag-one correlation, 0 < phi < 1
   double theta = 0.0;  // ma1 only: the moving-average coefficient, -1 < theta < 1
+  double omega = 0.0;  // sin only: the angular frequency, rad per sample, 0 < omega < pi
 };
 
 struct CompositeModel {
   std::vector<Process> processes;
 };
 
-// "WN+QN+RW+DR+2*GM", "MA1+RW+2*GM" (case-insensitive; AR1 is a synonym of
-// GM; spaces allowed; k*TERM repeats a term): the processes with zero
-// parameters. Throws UsageError("model") naming what it could not read and
+// "WN+QN+RW+DR+2*GM", "MA1+RW+2*GM", "MA1+RW+GM+2*SIN" (case-insensitive;
+// AR1 is a synonym of GM; spaces allowed; k*TERM repeats a GM or SIN term):
+// the processes with zero parameters. Throws UsageError("model") naming what it could not read and
 // the terms it knows; each of WN, QN, RW, DR and MA1 may appear once, and
 // MA1 not beside WN or QN.
 CompositeModel parse_composite_model(const std::string& text);
 
 // "WN+QN+RW+2*GM": the model's terms in the order of parse_composite_model.
 std::string model_name(const CompositeModel& model);
-std::string_view to_string(ProcessKind kind) noexcept;  // "WN", "QN", "RW", "DR", "GM", "MA1"
-// The parameters a fit estimates: one per process, two per Gauss-Markov or MA1 term.
+std::string_view to_string(ProcessKind kind) noexcept;  // "WN", "QN", "RW", "DR", "GM", "MA1", "SIN"
+// The parameters a fit estimates: one per process, two per Gauss-Markov, MA1 or SIN term.
 std::size_t parameter_count(const CompositeModel& model) noexcept;
 
 // Theoretical Haar wavelet variance at the scale of tau samples (tau >= 2,
 // even): exact for the sampled processes. NaN for a parameter outside its
-// range (a negative variance, phi outside (0, 1), |theta| >= 1).
+// range (a negative variance, phi outside (0, 1), |theta| >= 1, omega
+// outside (0, pi)).
 double haar_wavelet_variance(const Process& process, double tau) noexcept;
 double haar_wavelet_variance(const CompositeModel& model, double tau) noexcept;
 
@@ -78,6 +86,7 @@ double gauss_markov_wavelet_variance(double a, double sigma2, double tau) noexce
 //        first scales (its spectral density at frequency 0, the WV's
 //        N^2 / (tau dt) term), and theta; its lag-one correlation is
 //        theta / (1 + theta^2)
+//   SIN: amplitude A = sqrt(value) (u), frequency f = omega / (2 pi dt) (Hz)
 struct GaussMarkovTerm {
   double tau_c = 0.0;    // s
   double sigma_b = 0.0;  // u
@@ -91,5 +100,14 @@ struct MovingAverageTerm {
 };
 MovingAverageTerm moving_average_term(const Process& ma1, double dt);
 Process ma1_process(double n, double theta, double dt);
+
+struct SineTerm {
+  double amplitude = 0.0;     // u
+  double frequency_hz = 0.0;  // Hz
+};
+SineTerm sine_term(const Process& sin, double dt);
+// Throws UsageError("model") for a negative amplitude or a frequency not
+// strictly between 0 and the Nyquist frequency 1 / (2 dt).
+Process sin_process(double amplitude, double frequency_hz, double dt);
 
 }  // namespace cubecal

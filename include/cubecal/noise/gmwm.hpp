@@ -10,12 +10,16 @@
 // that came out low is not favoured. docs/formulas/noise-terms.md §8b.
 //
 // The parameters are fitted in logarithms (variances, and a = -ln phi of
-// each Gauss-Markov term) and an MA1's theta as atanh(theta), so every one
-// stays in its range; the Gauss-Markov terms come out ordered by correlation
+// each Gauss-Markov term), an MA1's theta as atanh(theta) and a SIN term's
+// omega as logit(omega / pi), so every one stays in its range; the Gauss-Markov terms come out ordered by correlation
 // time. Levenberg-Marquardt from several starting points read off the
 // wavelet variance (the white noise or MA1 from the first scale, with theta
 // 0.2 and then scattered over (-0.8, 0.8), the random walk and drift from
-// the last, the Gauss-Markov terms spread over the scales); the best is kept.
+// the last, the Gauss-Markov terms spread over the scales, a SIN term at the
+// frequency and amplitude its structure carries: a line's wavelet variance
+// is multimodal in omega, so a structure built from a spectrum's peaks
+// gives each SIN its Process::omega and value as the start); the best is
+// kept.
 #pragma once
 #include <cstddef>
 #include <cstdint>
@@ -35,6 +39,9 @@ struct GmwmOptions {
   // A model of the same structure to start from instead (e.g. the fit a
   // parametric bootstrap replicates): the only start tried.
   std::optional<CompositeModel> start;
+  // Models of the same structure tried as starts besides the `starts`
+  // scattered ones (a model grown from a smaller fit: the twin's search).
+  std::vector<CompositeModel> warm_starts;
   // Fixed weights instead of the reweighting: the standard deviation of
   // each scale, kept throughout (one per scale; the WIC's common Omega,
   // noise/wic.hpp). Empty: the reweighted fit above.

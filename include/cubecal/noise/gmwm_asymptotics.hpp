@@ -25,6 +25,7 @@ struct ProcessSd {
   double value = 0.0;  // sd of Process::value (omega for a drift)
   double phi = 0.0;    // Gauss-Markov: sd of phi (0 otherwise)
   double theta = 0.0;  // MA1: sd of theta (0 otherwise)
+  double omega = 0.0;  // SIN: sd of omega (0 otherwise)
 };
 
 struct GmwmAsymptotics {

@@ -21,10 +21,12 @@
 #include "cubecal/stats/tau_exclusions.hpp"
 #include "cubecal/stats/tau_grid.hpp"
 #include "cubecal/noise/temperature.hpp"
+#include "cubecal/noise/twin_error.hpp"
 #include "cubecal/noise/units.hpp"
 #include "cubecal/io/series.hpp"
 #include "cubecal/pipeline/model_fit.hpp"
 #include "cubecal/pipeline/spectral_analysis.hpp"
+#include "cubecal/pipeline/twin_check.hpp"
 
 namespace cubecal::pipeline {
 
@@ -47,16 +49,27 @@ struct AnalyzeRequest {
   // run_analyze_stream refuses it (UsageError "psd": Welch's segments are an
   // eighth of the record, which a stream does not hold).
   bool psd = false;
-  // The composite noise model (`analyze --composite`): run_model of the
-  // same samples the sensor models are fitted on (the first max_samples
-  // when asked), with this request's model ("auto": selected by the WIC
-  // among the default candidates; "WN+RW+2*GM"; candidates joined by
-  // commas), selection_replicates, bootstrap, seed and gmwm options; its
-  // units, ci and threads are the analysis's. None by default: a selection
-  // costs seconds per channel. run_analyze_stream refuses it
-  // (UsageError "composite": the wavelet variance's largest scales span half
-  // the record, which a stream does not hold).
-  std::optional<ModelRequest> composite;
+  // The composite noise model: run_model of the same samples the sensor
+  // models are fitted on (the first max_samples when asked), with this
+  // request's model, selection_replicates, bootstrap, seed and gmwm
+  // options; its units, ci and threads are the analysis's. By default each
+  // channel's twin ("twin": noise/twin_selection.hpp, docs/twins.md), which
+  // `simulate --model analysis.json` simulates; "auto" (selected by the WIC
+  // among the default candidates), "WN+RW+2*GM", candidates joined by
+  // commas; none: nullopt.
+  std::optional<ModelRequest> composite = twin_request();
+  // false (the default twin): a record that cannot carry the composite model
+  // (cut at gaps, with missing samples, too short for a fit, or streamed:
+  // the wavelet variance's largest scales span half the record, which a
+  // stream does not hold) is analysed without it, and
+  // AnalysisResult::composite_skipped says why. true: such a record is
+  // refused (UsageError "composite"), as when a model was asked for.
+  bool composite_required = false;
+  // `analyze --twin-check K`: K twins of every channel simulated at the
+  // record's length and their mean curve against the measured one
+  // (pipeline/twin_check.hpp); 0: none.
+  std::size_t twin_check = 0;
+  std::uint64_t twin_check_seed = 1;
   // run_analyze_stream: called from the caller's thread after every piece
   // with the fraction of the input read (0 while its size is not known).
   // run_analyze does not call it.
@@ -89,6 +102,7 @@ struct ModelAnalysis {
   // series).
   std::optional<ModelChannel> composite;
   ModelResidual composite_residual;   // its Allan variance on adev, as the two models'
+  TwinError twin_error;               // of the composite model on adev (noise/twin_error.hpp)
 };
 
 // How the composite models were fitted (AnalyzeRequest::composite), as
@@ -162,6 +176,11 @@ struct AnalysisResult {
   std::size_t window_bound = 0;
   // AnalyzeRequest::composite: how each channel's model.composite was fitted.
   std::optional<CompositeSettings> composite;
+  // Why no composite model was fitted although the default asked for it
+  // (AnalyzeRequest::composite_required false); empty otherwise.
+  std::string composite_skipped;
+  // AnalyzeRequest::twin_check.
+  std::optional<TwinCheck> twin_check;
 };
 
 AnalysisResult run_analyze(const io::Series& series, const AnalyzeRequest& request);

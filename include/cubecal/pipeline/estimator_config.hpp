@@ -4,7 +4,9 @@
 // config. Each file states in its comments the continuous-time definitions,
 // the units, where every number came from and the rules applied (one value
 // per sensor, terms not identified, inflation). docs/formulas/noise-terms.md
-// §8 gives the formulas.
+// §8 gives the formulas. The simulator targets (gazebo, rotors, navego,
+// matlab, basilisk) export each channel's composite noise model instead:
+// pipeline/simulator_export.hpp, docs/twin-exports.md.
 #pragma once
 #include <optional>
 #include <string>
@@ -16,14 +18,16 @@
 
 namespace cubecal::pipeline {
 
-enum class Estimator { kalibr, openvins, vins, kf_gins };
+enum class Estimator { kalibr, openvins, vins, kf_gins, gazebo, rotors, navego, matlab, basilisk };
 
-// "kalibr", "openvins", "vins", "kf-gins"; nullopt for anything else.
+// "kalibr", "openvins", "vins", "kf-gins", "gazebo", "rotors", "navego",
+// "matlab", "basilisk"; nullopt for anything else.
 std::optional<Estimator> parse_estimator(std::string_view name);
 std::string_view estimator_name(Estimator e);   // as parse_estimator takes it
-std::string estimator_names();                  // "kalibr|openvins|vins|kf-gins"
+std::string estimator_names();                  // "kalibr|openvins|vins|kf-gins|gazebo|..."
 // The file written for each: imu.yaml, kalibr_imu_chain.yaml, vins_imu.yaml,
-// kf-gins_imunoise.yaml.
+// kf-gins_imunoise.yaml, gazebo_imu_noise.sdf, rotors_imu_plugin.sdf,
+// navego_imu.m, matlab_imu.m, basilisk_imu.py.
 std::string_view estimator_file(Estimator e);
 
 // Where a number came from (noise/reported_terms.hpp).
@@ -89,7 +93,8 @@ struct EstimatorFile {
 
 // The file of `e`. Throws UsageError (option "estimators") when the record
 // has neither a rate nor an acceleration channel, or when ctx.inflate is
-// below 1 or not finite; InputError as imu_noise.
+// below 1 or not finite; InputError as imu_noise. A simulator target
+// (simulator_export.hpp) also when an IMU channel has no composite model.
 EstimatorFile estimator_config(Estimator e, const AnalysisResult& r, const EstimatorContext& ctx);
 
 }  // namespace cubecal::pipeline

@@ -8,6 +8,7 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -15,7 +16,9 @@
 #include "cubecal/noise/composite_model.hpp"
 #include "cubecal/noise/gmwm.hpp"
 #include "cubecal/noise/units.hpp"
+#include "cubecal/noise/twin_selection.hpp"
 #include "cubecal/noise/wic.hpp"
+#include "cubecal/spectral/spectral_lines.hpp"
 #include "cubecal/stats/wavelet_variance.hpp"
 
 namespace cubecal::pipeline {
@@ -23,8 +26,11 @@ namespace cubecal::pipeline {
 struct ModelRequest {
   // "WN+RW+2*GM"; several models joined by commas, or "auto" (the default
   // candidates, noise/wic.hpp): each channel's is selected by the WIC
-  // (pipeline/model_selection.hpp).
+  // (pipeline/model_selection.hpp); or "twin": each channel's twin, found by
+  // the forward search of noise/twin_selection.hpp among WN/MA1, QN, RW, DR,
+  // Gauss-Markov terms and the lines of its Welch spectrum.
   std::string model;
+  TwinOptions twin;              // of the "twin" search
   std::size_t selection_replicates = 50;  // bootstrap replicates of each candidate's WIC optimism (0: its asymptotic form)
   std::vector<Unit> units;       // one per channel, one for all, or none
   double ci = 0.95;              // of the wavelet variance's intervals and the bootstrap's
@@ -44,7 +50,7 @@ struct ModelRequest {
 struct ModelQuantity {
   std::string name;              // "N", "Q", "K", "R", "sigma_b", "T_c", "theta"
   double value = 0.0;
-  std::string unit;              // of value: u*sqrt(s), u*s, u/sqrt(s), u/s, u, s; "" for theta
+  std::string unit;              // of value: u*sqrt(s), u*s, u/sqrt(s), u/s, u, s, Hz; "" for theta
   Quantity display;              // display.sigma: the bootstrap's standard deviation (0 without)
   double sd = 0.0;               // bootstrap standard deviation of value (0 without)
   double lo = 0.0, hi = 0.0;     // bootstrap percentile interval of value at ci (0 without)
@@ -60,7 +66,7 @@ struct ModelQuantity {
 struct ModelTerm {
   ProcessKind kind = ProcessKind::wn;
   Process process;               // per-sample parameters as fitted
-  std::vector<ModelQuantity> quantities;  // WN: N; QN: Q; RW: K; DR: R; GM: sigma_b, T_c; MA1: N, theta
+  std::vector<ModelQuantity> quantities;  // WN: N; QN: Q; RW: K; DR: R; GM: sigma_b, T_c; MA1: N, theta; SIN: A, f
 };
 
 // One row of a channel's model selection: a candidate and its WIC.
@@ -81,6 +87,15 @@ struct ModelChannel {
   std::vector<std::string> failed;         // candidates with no fit or no score, and why
   std::vector<ModelTerm> terms;
   std::size_t replicates = 0;    // bootstrap replicates that gave a fit
+  // "twin": the lines of the channel's Welch spectrum (the SIN terms'
+  // starts), why none could be looked for (a record too short for a
+  // spectrum), and how close the fitted model's curve lies to the measured
+  // wavelet variance (its 95 % intervals), with whether that is nearly
+  // every scale.
+  std::vector<SpectralLine> lines;
+  std::string lines_error;
+  std::optional<TwinFidelity> fidelity;
+  bool faithful = false;
 };
 
 struct ModelResult {
@@ -96,6 +111,11 @@ struct ModelResult {
   double robust_efficiency = 0.6;
   std::vector<ModelChannel> channels;
 };
+
+// ModelRequest::model asks for the twin ("twin", in any case, spaces around).
+bool is_twin(const std::string& model);
+// A request for each channel's twin, everything else at its default.
+ModelRequest twin_request();
 
 // Throws UsageError: "model" (the syntax, a model with more parameters than
 // the record has scales), "units" (a count neither 1 nor one per channel),

@@ -11,6 +11,8 @@
 //   RW  sum_{s<=k} sqrt(gamma2) z_s
 //   DR  omega k
 //   GM  x_k = phi x_{k-1} + sqrt(sigma2) z_k, x_{-1} drawn from the stationary law
+//   MA1 sqrt(sigma2) (z_k + theta z_{k-1})
+//   SIN A sin(omega k + U), U uniform on [0, 2 pi) drawn once
 // Process i draws from its own std::mt19937_64 (seeded by a splitmix64 of
 // the seed and i) through Boost.Random's normal distribution, so the same
 // seed gives the same samples on every platform and for any block sizes.
@@ -38,7 +40,7 @@ class CompositeNoise {
     Process process;
     std::mt19937_64 engine;
     double scale = 0.0;  // sqrt of the variance: WN, QN, RW, GM, MA1
-    double x = 0.0;      // QN: u_k; RW: the walk; GM: x_{k-1}; MA1: e_{k-1}
+    double x = 0.0;      // QN: u_k; RW: the walk; GM: x_{k-1}; MA1: e_{k-1}; SIN: the phase U
   };
   std::vector<State> states_;
   std::uint64_t k_ = 0;  // samples drawn
@@ -51,7 +53,9 @@ class CompositeNoise {
 //   DR omega = R dt          GM phi = exp(-dt / T_c), sigma2 = sigma_b^2 (1 - phi^2)
 //   MA1 sigma2 = N^2 / ((1 + theta)^2 dt), theta kept (a filter correlating
 //       neighbouring samples at either period).
-// Throws std::invalid_argument for a period that is not positive and finite.
+//   SIN A and the frequency in Hz kept: omega = 2 pi f dt.
+// Throws std::invalid_argument for a period that is not positive and finite,
+// UsageError("rate") for a SIN line at or above the Nyquist frequency of to_dt.
 CompositeModel composite_at_period(const CompositeModel& model, double from_dt, double to_dt);
 
 }  // namespace cubecal

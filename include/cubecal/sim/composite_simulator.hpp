@@ -6,6 +6,7 @@
 //   DR  omega t
 //   GM  x_t = phi x_{t-1} + sqrt(sigma2) z_t, started from its stationary law
 //   MA1 sqrt(sigma2) (z_t + theta z_{t-1}), z_{-1} drawn before the first sample
+//   SIN A sin(omega t + U), the phase U uniform on [0, 2 pi), drawn first
 // for the GMWM's parametric bootstrap and its Monte Carlo validation.
 // Innovations: std::mt19937_64(seed) and Boost.Random's normal
 // distribution (as the sensor simulator), the processes drawn one after the

@@ -91,8 +91,10 @@ void fit_models(ModelAnalysis& m, double dt, double lsb) {
 
 void composite_residual(ModelAnalysis& m, double dt) {
   m.composite_residual = {};
+  m.twin_error = {};
   if (!m.composite || m.adev.empty()) return;
   m.composite_residual = residual(m.composite->fit.model, dt, to_allan_curve(m.adev));
+  m.twin_error = twin_error(m.composite->fit.model, m.adev);
 }
 
 }  // namespace cubecal::pipeline::detail
