@@ -203,10 +203,11 @@ void print_composite(std::ostream& out, const pipeline::ModelAnalysis& m, const 
   std::string chosen = "as asked";
   if (c.fidelity) {
     // The twin: its search, and how close its curve lies to the measured one.
-    chosen = fmt::format("twin: {} models searched{}; twin error {:.1f} % at {:.4g} s, {} of {} taus inside the "
-                         "intervals{}",
+    chosen = fmt::format("twin: {} models searched{}; twin error {:.1f} % to 10 s, {:.1f} % to 100 s, {:.1f} % at "
+                         "{:.4g} s, {} of {} taus inside the intervals{}",
                          c.candidates.size(),
                          c.lines.empty() ? std::string() : fmt::format(", {} spectral line(s)", c.lines.size()),
+                         100.0 * m.twin_error.max_error_10s, 100.0 * m.twin_error.max_error_100s,
                          100.0 * m.twin_error.max_error, m.twin_error.max_error_tau_s, m.twin_error.inside,
                          m.twin_error.taus, c.faithful ? "" : "; not inside the wavelet variance's at nearly every scale");
   } else if (c.candidates.size() > 1) {

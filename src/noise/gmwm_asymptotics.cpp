@@ -37,7 +37,7 @@ std::vector<double> row_major(const MatrixXd& m) {
 }  // namespace
 
 GmwmAsymptotics gmwm_asymptotics(const GmwmFit& fit, const WaveletVariance& wv, std::size_t samples,
-                                 double inflation) {
+                                 double inflation, bool pseudo_inverse) {
   const std::size_t J = wv.size();
   if (!(inflation >= 1.0) || !std::isfinite(inflation))
     throw UsageError("model", "the wavelet variance's variance can only be inflated (a factor >= 1), not " +
@@ -88,11 +88,14 @@ GmwmAsymptotics gmwm_asymptotics(const GmwmFit& fit, const WaveletVariance& wv, 
   const MatrixXd Aw = rw.asDiagonal() * A;
   const Eigen::JacobiSVD<MatrixXd> svd(Aw, Eigen::ComputeThinU | Eigen::ComputeThinV);
   const Eigen::VectorXd s = svd.singularValues();
-  if (!(s.minCoeff() > 1e-10 * s.maxCoeff()))
+  const double tol = 1e-10 * s.maxCoeff();
+  if (!pseudo_inverse && !(s.minCoeff() > tol))
     throw CalibrationError(CalibrationReason::degenerate,
                            "GMWM " + model_name(fit.model) +
                                ": the wavelet variance does not determine every parameter at the fit (singular A'WA)");
-  const Eigen::VectorXd sinv = s.cwiseInverse();
+  // The pseudo-inverse: directions the curve does not see carry nothing.
+  Eigen::VectorXd sinv = s;
+  for (Eigen::Index i = 0; i < s.size(); ++i) sinv(i) = s(i) > tol ? 1.0 / s(i) : 0.0;
   const MatrixXd B = svd.matrixV() * sinv.asDiagonal() * svd.matrixU().transpose() * rw.asDiagonal();
   const MatrixXd naive = svd.matrixV() * sinv.cwiseAbs2().asDiagonal() * svd.matrixV().transpose();
   const MatrixXd cov = B * V * B.transpose();

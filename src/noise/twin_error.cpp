@@ -1,6 +1,7 @@
 // The twin error of a composite model on a measured Allan curve (noise/twin_error.hpp).
 #include "cubecal/noise/twin_error.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "cubecal/noise/sensor_noise_model.hpp"
@@ -17,6 +18,8 @@ TwinError twin_error(const CompositeModel& model, std::span<const StabilityPoint
     ++e.taus;
     if (sigma >= p.lo && sigma <= p.hi) ++e.inside;
     const double err = std::abs(sigma / p.dev - 1.0);
+    if (p.tau <= 10.0 * (1.0 + 1e-12)) e.max_error_10s = std::max(e.max_error_10s, err);
+    if (p.tau <= 100.0 * (1.0 + 1e-12)) e.max_error_100s = std::max(e.max_error_100s, err);
     if (err > e.max_error || e.taus == 1) {
       e.max_error = err;
       e.max_error_tau_s = p.tau;

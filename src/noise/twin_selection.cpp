@@ -81,7 +81,7 @@ class Search {
       o.warm_starts = warm;
       if (scattered == 0 && warm.empty()) o.starts = 1;
       c.fit = fit_gmwm(wv_, structure, o);
-      c.score = wic_score_asymptotic(wv_, sd, c.fit, samples_);
+      c.score = wic_score_asymptotic(wv_, sd, c.fit, samples_, 1.0, true);
       if (!std::isfinite(c.score.wic)) throw CalibrationError(CalibrationReason::degenerate, "a WIC that is not finite");
     } catch (const std::exception& e) {
       failed_.push_back(model_name(structure) + ": " + e.what());
@@ -179,7 +179,7 @@ class Search {
       Move drop{s, m};
       drop.structure.processes.erase(drop.structure.processes.begin() + static_cast<std::ptrdiff_t>(i));
       drop.start.processes.erase(drop.start.processes.begin() + static_cast<std::ptrdiff_t>(i));
-      if (k != ProcessKind::wn && k != ProcessKind::ma1) push(drop);
+      push(drop);  // the white term too: a filtered or oversampled sensor's curve rises from the first scale
       Move swap{s, m};
       Process& ps = swap.structure.processes[i];
       Process& pm = swap.start.processes[i];

@@ -116,14 +116,14 @@ WicScore wic_score(const WaveletVariance& wv, const std::vector<double>& sd, con
 }
 
 WicScore wic_score_asymptotic(const WaveletVariance& wv, const std::vector<double>& sd, const GmwmFit& fit,
-                              std::size_t samples, double inflation) {
+                              std::size_t samples, double inflation, bool pseudo_inverse) {
   const std::size_t J = wv.size();
   WicScore s;
   for (std::size_t j = 0; j < J; ++j) {
     const double d = (wv.nu2[j] - fit.nu2_model[j]) / sd[j];
     s.loss += d * d;
   }
-  const GmwmAsymptotics a = gmwm_asymptotics(fit, wv, samples);
+  const GmwmAsymptotics a = gmwm_asymptotics(fit, wv, samples, 1.0, pseudo_inverse);
   double tr = 0.0;  // tr(Omega V P') = sum_jk Omega_jj V_jk P_jk
   for (std::size_t j = 0; j < J; ++j)
     for (std::size_t k = 0; k < J; ++k) tr += a.nu2_covariance[j * J + k] * a.hat[j * J + k] / (sd[j] * sd[j]);

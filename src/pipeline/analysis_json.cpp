@@ -635,7 +635,8 @@ AnalysisResult read_result(const json& doc, const std::string& label) {
       if (m.has("twin_error")) {
         const Node e = m.at("twin_error");
         ch.model.twin_error = {e.at("taus").count(), e.at("inside").count(), e.num("share_inside"),
-                               e.num("max_error"), e.num("max_error_tau_s")};
+                               e.num("max_error"), e.num("max_error_tau_s"), e.num("max_error_10s"),
+                               e.num("max_error_100s")};
       }
     }
     const Node d = cj.at("drift");
@@ -737,6 +738,8 @@ void to_json(json& j, const AnalysisResult& r) {
                           {"share_inside", e.share_inside},
                           {"max_error", e.max_error},
                           {"max_error_tau_s", e.max_error_tau_s},
+                          {"max_error_10s", e.max_error_10s},
+                          {"max_error_100s", e.max_error_100s},
                           {"note",
                            "on adev: the largest |sigma_model / sigma_measured - 1| and the share of taus whose model "
                            "deviation lies inside the curve's intervals at ci"}};

@@ -46,8 +46,12 @@ struct GmwmAsymptotics {
 // UsageError("model") when the fit and the wavelet variance do not belong
 // together, and CalibrationError(degenerate) when A'WA is singular (a
 // parameter the wavelet variance does not determine, e.g. a Gauss-Markov
-// term pushed to phi -> 0).
+// term pushed to phi -> 0). With pseudo_inverse, a singular A'WA is
+// inverted on the directions the curve determines (singular values above
+// 1e-10 of the largest) and the others are left out: the hat matrix is then
+// the projection the fit makes, what the WIC's optimism needs of a fit with
+// a term driven to zero (the twin's search).
 GmwmAsymptotics gmwm_asymptotics(const GmwmFit& fit, const WaveletVariance& wv, std::size_t samples,
-                                 double inflation = 1.0);
+                                 double inflation = 1.0, bool pseudo_inverse = false);
 
 }  // namespace cubecal

@@ -18,6 +18,10 @@ struct TwinError {
   double share_inside = 0.0;     // inside / taus
   double max_error = 0.0;        // largest |sigma_model / sigma_measured - 1|
   double max_error_tau_s = 0.0;  // where
+  // The same over the taus up to 10 s and up to 100 s: the last points of a
+  // curve rest on a few averages, and a simulator's user reads these.
+  double max_error_10s = 0.0;
+  double max_error_100s = 0.0;
 };
 
 // The model's parameters are per sample of the curve's period (each point's

@@ -84,8 +84,10 @@ WicScore wic_score(const WaveletVariance& wv, const std::vector<double>& sd, con
 // gmwm_asymptotics does (CalibrationError for a parameter the wavelet
 // variance does not determine). `inflation` scales V: 1 / efficiency for
 // the robust wavelet variance (the upper bound of its variance ratio).
+// pseudo_inverse: a fit with a parameter the curve does not determine is
+// scored on the directions it does (gmwm_asymptotics), not refused.
 WicScore wic_score_asymptotic(const WaveletVariance& wv, const std::vector<double>& sd, const GmwmFit& fit,
-                              std::size_t samples, double inflation = 1.0);
+                              std::size_t samples, double inflation = 1.0, bool pseudo_inverse = false);
 
 // Ranks candidates by WIC and puts the selected one first: the one with the
 // fewest parameters among those within 2 of the lowest WIC (Burnham &
