@@ -75,6 +75,8 @@ echo "== GMWM: WN+2*GM+RW on 1e6 samples, the fit (target < 2 s) and 200 bootstr
 
 bash "$(dirname "$0")/stream.sh" "$BUILD"
 
+BENCH_OUT="$OUT" bash "$(dirname "$0")/twin.sh" "$BUILD"
+
 echo "== cubecal demo (72 h simulated in memory, written, analyzed; target < 10 s)"
 s=$(date +%s.%N)
 "$BUILD/bin/cubecal" demo --out "$OUT/demo" > "$OUT/demo.txt"
