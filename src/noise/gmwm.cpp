@@ -37,20 +37,33 @@ constexpr double kMaxLogit = 36.0;
 double sin_omega(double z) { return kPi / (1.0 + std::exp(-std::clamp(z, -kMaxLogit, kMaxLogit))); }
 double sin_logit(double omega) { return std::log(omega / (kPi - omega)); }
 
+// One process's wavelet variance at tau, its log-parameters from th[0]
+// (and th[1] for GM, MA1, SIN).
+double process_wv(ProcessKind kind, const double* th, double tau) {
+  const double v = std::exp(th[0]);
+  switch (kind) {
+    case ProcessKind::gm: return gauss_markov_wavelet_variance(std::exp(std::clamp(th[1], kMinLogA, kMaxLogA)), v, tau);
+    case ProcessKind::ma1: return haar_wavelet_variance(Process{ProcessKind::ma1, v, 0.0, ma_theta(th[1])}, tau);
+    case ProcessKind::sin: return haar_wavelet_variance(Process{ProcessKind::sin, v, 0.0, 0.0, sin_omega(th[1])}, tau);
+    case ProcessKind::dr: return haar_wavelet_variance(Process{kind, std::sqrt(v), 0.0}, tau);  // omega^2's logarithm
+    case ProcessKind::wn:
+    case ProcessKind::qn:
+    case ProcessKind::rw: return haar_wavelet_variance(Process{kind, v, 0.0}, tau);
+  }
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
+Eigen::Index parameters_of(ProcessKind kind) {
+  return kind == ProcessKind::gm || kind == ProcessKind::ma1 || kind == ProcessKind::sin ? 2 : 1;
+}
+
 // The wavelet variance of the model with log-parameters theta at tau.
 double model_wv(const CompositeModel& structure, const VectorXd& theta, double tau) {
   double sum = 0.0;
   Eigen::Index k = 0;
   for (const Process& p : structure.processes) {
-    const double v = std::exp(theta(k++));
-    if (p.kind == ProcessKind::gm)
-      sum += gauss_markov_wavelet_variance(std::exp(std::clamp(theta(k++), kMinLogA, kMaxLogA)), v, tau);
-    else if (p.kind == ProcessKind::ma1)
-      sum += haar_wavelet_variance(Process{ProcessKind::ma1, v, 0.0, ma_theta(theta(k++))}, tau);
-    else if (p.kind == ProcessKind::sin)
-      sum += haar_wavelet_variance(Process{ProcessKind::sin, v, 0.0, 0.0, sin_omega(theta(k++))}, tau);
-    else  // DR's parameter is omega, its logarithm omega^2's
-      sum += haar_wavelet_variance(Process{p.kind, p.kind == ProcessKind::dr ? std::sqrt(v) : v, 0.0}, tau);
+    sum += process_wv(p.kind, theta.data() + k, tau);
+    k += parameters_of(p.kind);
   }
   return sum;
 }
@@ -178,17 +191,56 @@ struct Run {
 
 Run minimise(const CompositeModel& structure, const WaveletVariance& wv, const std::vector<double>& sd,
              VectorXd theta, std::size_t max_iterations) {
-  const auto residuals = [&](const VectorXd& th, VectorXd& r) {
-    r.resize(static_cast<Eigen::Index>(wv.size()));
-    for (std::size_t j = 0; j < wv.size(); ++j)
-      r(static_cast<Eigen::Index>(j)) = (wv.nu2[j] - model_wv(structure, th, wv.tau[j])) / sd[j];
-    return r.allFinite();
+  // Residuals from each process's curve, and the Jacobian by central
+  // differences of step 1e-6 max(|theta_k|, 1) (as with_numeric_jacobian),
+  // each column from the one process its parameter moves: the others'
+  // curves cancel in the difference, so a model of P processes costs two
+  // process curves per parameter, not two whole models.
+  const auto J_rows = static_cast<Eigen::Index>(wv.size());
+  const std::size_t P = structure.processes.size();
+  std::vector<Eigen::Index> at(P);
+  for (std::size_t i = 0, k = 0; i < P; ++i) {
+    at[i] = static_cast<Eigen::Index>(k);
+    k += static_cast<std::size_t>(parameters_of(structure.processes[i].kind));
+  }
+  const auto curve_of = [&](std::size_t i, const double* th, Eigen::Ref<VectorXd> out) {
+    for (Eigen::Index j = 0; j < J_rows; ++j)
+      out(j) = process_wv(structure.processes[i].kind, th, wv.tau[static_cast<std::size_t>(j)]);
+  };
+  const detail::EvalFn eval = [&](const VectorXd& th, VectorXd& r, Eigen::MatrixXd* J) {
+    r = VectorXd::Zero(J_rows);
+    VectorXd c(J_rows);
+    for (std::size_t i = 0; i < P; ++i) {
+      curve_of(i, th.data() + at[i], c);
+      r += c;
+    }
+    for (Eigen::Index j = 0; j < J_rows; ++j)
+      r(j) = (wv.nu2[static_cast<std::size_t>(j)] - r(j)) / sd[static_cast<std::size_t>(j)];
+    if (!r.allFinite()) return false;
+    if (!J) return true;
+    J->resize(J_rows, th.size());
+    VectorXd cp(J_rows), cm(J_rows);
+    for (std::size_t i = 0; i < P; ++i) {
+      for (Eigen::Index q = 0; q < parameters_of(structure.processes[i].kind); ++q) {
+        const Eigen::Index k = at[i] + q;
+        const double h = 1e-6 * std::max(std::abs(th(k)), 1.0);
+        double local[2] = {th(at[i]), parameters_of(structure.processes[i].kind) == 2 ? th(at[i] + 1) : 0.0};
+        const double centre = local[q];
+        local[q] = centre + h;
+        const double up = local[q];
+        curve_of(i, local, cp);
+        local[q] = centre - h;
+        const double down = local[q];
+        curve_of(i, local, cm);
+        for (Eigen::Index j = 0; j < J_rows; ++j)
+          (*J)(j, k) = -(cp(j) - cm(j)) / (up - down) / sd[static_cast<std::size_t>(j)];
+      }
+    }
+    return J->allFinite();
   };
   Run run;
   try {
-    const VectorXd typical = VectorXd::Ones(theta.size());
-    const detail::LmOutcome lm =
-        detail::levenberg_marquardt(detail::with_numeric_jacobian(residuals, typical), std::move(theta), max_iterations);
+    const detail::LmOutcome lm = detail::levenberg_marquardt(eval, std::move(theta), max_iterations);
     if (!lm.initial_finite || !std::isfinite(lm.cost)) return run;
     run.theta = lm.p;
     run.cost = lm.cost;

@@ -76,6 +76,7 @@ class Search {
     try {
       GmwmOptions o;
       o.starts = scattered;
+      o.max_iterations = options_.max_iterations;
       o.seed = options_.seed + step;
       o.fixed_sd = sd;
       o.warm_starts = warm;
@@ -238,6 +239,8 @@ TwinFidelity twin_fidelity(const WaveletVariance& wv, const std::vector<double>&
   return f;
 }
 
+bool twin_faithful(const TwinFidelity& f) { return f.scales - f.inside <= allowed_outside(f.scales); }
+
 TwinSelection select_twin(const WaveletVariance& wv, std::size_t samples, double rate_hz,
                           const std::vector<SpectralLine>& lines, const TwinOptions& options) {
   if (wv.size() < 3)
@@ -304,8 +307,15 @@ TwinSelection select_twin(const WaveletVariance& wv, std::size_t samples, double
   }
 
   // Every model the search fitted, refitted with common weights, the spread
-  // at the curve of the model where it stopped, each from its own fit.
-  std::vector<double> sd = wic_weights(wv, path.back().fit.nu2_model);
+  // at a reference curve, each from its own fit. The reference: the
+  // geometric mean of the measured curve and that of the model where the
+  // search stopped, so that a scale which came out low is not weighed
+  // without bound, nor a model far above the last scales excused (at the
+  // model's own curve alone, one of a few degrees of freedom would weigh
+  // next to nothing where the model overshoots it).
+  std::vector<double> reference(wv.size());
+  for (std::size_t j = 0; j < wv.size(); ++j) reference[j] = std::sqrt(wv.nu2[j] * path.back().fit.nu2_model[j]);
+  std::vector<double> sd = wic_weights(wv, reference);
   TwinSelection sel;
   std::vector<CandidateFit> scored;
   std::vector<TwinCandidate> refit;
@@ -342,9 +352,8 @@ TwinSelection select_twin(const WaveletVariance& wv, std::size_t samples, double
         break;
       }
   // The first faithful one in that order; none: the WIC's choice, said so.
-  const std::size_t allowed = allowed_outside(wv.size());
   for (std::size_t i = 0; i < ranked.size(); ++i) {
-    if (ranked[i].fidelity.scales - ranked[i].fidelity.inside <= allowed) {
+    if (twin_faithful(ranked[i].fidelity)) {
       std::rotate(ranked.begin(), ranked.begin() + static_cast<std::ptrdiff_t>(i),
                   ranked.begin() + static_cast<std::ptrdiff_t>(i) + 1);
       sel.faithful = true;

@@ -198,7 +198,7 @@ void temperature_fit_json(json& tj, const TemperatureFit& f) {
 }
 
 json temperature_json(const TemperatureAnalysis& t, const Unit& u, const std::string& sensor,
-                      std::size_t record_samples) {
+                      std::size_t record_samples, double rate_hz) {
   json tj;
   tj["sensor"] = sensor;
   temperature_fit_json(tj, t.fit);
@@ -231,6 +231,14 @@ json temperature_json(const TemperatureAnalysis& t, const Unit& u, const std::st
   tj["compensated"] = noise_json(t.compensated, u);
   tj["compensated"]["adev"] = curve_json(t.compensated.adev);
   tj["compensated_model"] = model_json(t.compensated_model, u, record_samples);
+  if (t.compensated_model.composite) {
+    // The twin of the compensated series: the record's refitted (what
+    // `simulate` adds the temperature term to).
+    json& cj = tj["compensated_model"]["composite"];
+    cj = to_json(*t.compensated_model.composite, rate_hz, false);
+    cj["residual_rms_log"] = t.compensated_model.composite_residual.rms_log;
+    cj["residual_chi2"] = t.compensated_model.composite_residual.chi2;
+  }
   return tj;
 }
 
@@ -491,6 +499,13 @@ TemperatureAnalysis read_temperature(const Node& t, const ChannelAnalysis& ch, s
     ChannelAnalysis on = ch;
     on.noise.adev = a.compensated.adev;
     a.compensated_model = read_model(t.at("compensated_model"), on, dt);
+    if (t.at("compensated_model").has("composite")) {
+      const Node m = t.at("compensated_model").at("composite");
+      a.compensated_model.composite = model_channel_from_json(m.raw(), "analysis.json",
+                                                              "channels[].temperature.compensated_model.composite");
+      a.compensated_model.composite_residual.rms_log = m.num("residual_rms_log");
+      a.compensated_model.composite_residual.chi2 = m.num("residual_chi2");
+    }
   } else {
     a.compensated_model.error = a.compensated_model.gm_error =
         "not in this analysis.json (written before the compensated series' model was reported)";
@@ -748,7 +763,7 @@ void to_json(json& j, const AnalysisResult& r) {
                    {"fixed_bias", c.drift.mean},
                    {"points", c.drift.t.size()},
                    {"file", "drift.csv"}};
-    if (c.temperature) ch["temperature"] = temperature_json(*c.temperature, c.unit, r.temp_name, r.samples);
+    if (c.temperature) ch["temperature"] = temperature_json(*c.temperature, c.unit, r.temp_name, r.samples, r.rate_hz);
     if (c.spectral) ch["spectral"] = spectral_json(*c.spectral, c.noise.fit, c.unit);
     chans.push_back(std::move(ch));
   }

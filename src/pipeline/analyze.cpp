@@ -50,7 +50,7 @@ std::vector<BiasGap> bias_gaps(const io::Series& s) {
 // sensor models on it as on the record.
 TemperatureAnalysis analyze_temperature_of(std::size_t c, const io::Series& s, const AnalyzeRequest& req,
                                            const std::string& temp_name, const std::vector<BiasGap>& gaps,
-                                           double lsb) {
+                                           double lsb, const std::optional<ModelChannel>& twin) {
   const auto& temp = s.extra.at(*req.temp_index);
   const double dt = s.tau0;
   const std::size_t first = s.segments.front().size();
@@ -78,7 +78,7 @@ TemperatureAnalysis analyze_temperature_of(std::size_t c, const io::Series& s, c
     t.joint_error = std::string("no random-walk model fits the compensated series (") + e.what() +
                     "): the least-squares fit is reported";
   }
-  const std::vector<double> comp = compensate_temperature(s.channels[c], temp, t.fit);
+  std::vector<double> comp = compensate_temperature(s.channels[c], temp, t.fit);
   const DevResult cdev = run_dev({s.names[c]}, {std::span<const double>(comp)}, s.rate_hz, s.segments,
                                  oadev_request(req));
   t.compensated = noise_of(cdev.channels[0]);
@@ -91,17 +91,23 @@ TemperatureAnalysis analyze_temperature_of(std::size_t c, const io::Series& s, c
   }
   t.compensated_model.samples = head ? req.max_samples : s.samples();
   fit_models(t.compensated_model, dt, lsb);
-  if (req.composite && s.segments.size() == 1) {
+  if (twin && s.segments.size() == 1) {
     // The twin of the compensated series (what `simulate` adds the
-    // temperature term to), on the samples the models are fitted on.
+    // temperature term to), on the samples the models are fitted on: the
+    // record's twin refitted from its parameters (its structure kept: the
+    // temperature's share lies at the longest scales).
     io::Series one;
     one.file = s.file;
     one.rate_hz = s.rate_hz;
     one.tau0 = s.tau0;
     one.names = {s.names[c]};
-    one.channels.emplace_back(comp.begin(), comp.begin() + static_cast<std::ptrdiff_t>(t.compensated_model.samples));
+    comp.resize(t.compensated_model.samples);  // its last use: the series takes it
+    one.channels.push_back(std::move(comp));
     one.segments = {io::Segment{0, t.compensated_model.samples}};
     ModelRequest mreq = *req.composite;
+    mreq.model = twin->model;
+    mreq.gmwm.start = twin->fit.model;
+    mreq.bootstrap = 0;
     mreq.units = {detail::unit_of(req, c)};
     mreq.ci = req.ci;
     mreq.threads = 1;
@@ -138,7 +144,8 @@ void analyze_temperature(AnalysisResult& r, const io::Series& s, const AnalyzeRe
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
   for (std::size_t c = 0; c < nch; ++c) {
     try {
-      r.channels[c].temperature = analyze_temperature_of(c, s, req, r.temp_name, gaps, lsb_of(c));
+      r.channels[c].temperature =
+          analyze_temperature_of(c, s, req, r.temp_name, gaps, lsb_of(c), r.channels[c].model.composite);
     } catch (...) {
       failure[c] = std::current_exception();
     }

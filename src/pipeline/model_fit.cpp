@@ -169,11 +169,32 @@ void fit_twin(ModelChannel& ch, std::span<const double> y, double rate_hz, std::
     ch.candidates.push_back({model_name(c.structure), parameter_count(c.structure), c.score, c.fit.objective});
   ch.failed = sel.failed;
   const TwinCandidate& chosen = sel.ranked.front();
+  // The twin's parameters from the scales between the octaves too (a
+  // line's curve swings between them; noise/twin_selection.hpp), refitted
+  // as a lone fit is, from its fit with the common weights.
+  if (!req.robust) ch.wv = wavelet_variance_at(y, octave_and_half_factors(y.size() / 4), req.ci);
   GmwmOptions refit = req.gmwm;
   refit.start = chosen.fit.model;
   ch.fit = fit_gmwm(ch.wv, chosen.structure, refit);
   ch.fidelity = twin_fidelity(ch.wv, ch.fit.nu2_model);
-  ch.faithful = sel.faithful;
+  // The reweighting weighs each scale at the model's own value, so a model
+  // far above a scale of one or two degrees of freedom pays little for it:
+  // on a short record the lone fit can rise above the last scales. The fit
+  // with the curve's own spread as fixed weights is kept instead when it
+  // lies inside at more scales (or as many, closer).
+  GmwmOptions fixed = refit;
+  for (std::size_t j = 0; j < ch.wv.size(); ++j) fixed.fixed_sd.push_back(ch.wv.nu2[j] * std::sqrt(2.0 / ch.wv.edf[j]));
+  try {
+    GmwmFit f = fit_gmwm(ch.wv, chosen.structure, fixed);
+    const TwinFidelity ff = twin_fidelity(ch.wv, f.nu2_model);
+    if (ff.inside > ch.fidelity->inside || (ff.inside == ch.fidelity->inside && ff.max_error < ch.fidelity->max_error)) {
+      ch.fit = std::move(f);
+      ch.fidelity = ff;
+    }
+  } catch (const CalibrationError&) {
+    // No fit with fixed weights: the lone fit stands.
+  }
+  ch.faithful = twin_faithful(*ch.fidelity);
 }
 
 }  // namespace
@@ -283,7 +304,10 @@ ModelResult run_model(const io::Series& series, const ModelRequest& req) {
       const ModelChannel& ch = r.channels[c];
       try {
         const std::vector<double> y = simulate_composite(ch.fit.model, r.samples, req.seed + 1000003ULL * c + b);
-        const WaveletVariance wv = wavelet_variance_of(y, ch.wv.size());
+        // At the channel's scales (a twin's: the octaves and the half-octaves between).
+        std::vector<std::size_t> ms;
+        for (double t : ch.wv.tau) ms.push_back(static_cast<std::size_t>(t / 2.0));
+        const WaveletVariance wv = twin && !req.robust ? wavelet_variance_at(y, ms, req.ci) : wavelet_variance_of(y, ch.wv.size());
         GmwmOptions opt = req.gmwm;
         opt.start = ch.fit.model;
         const GmwmFit f = fit_gmwm(wv, structure[c], opt);

@@ -11,13 +11,16 @@ namespace cubecal {
 
 namespace {
 
-// The median of d over [lo, hi) less the guard band around k.
+// The median of d over [k - half, k + half] less the guard band around k,
+// from at most about 1024 of its bins taken at an even stride (the median of
+// a wide window is known to a percent from them).
 double background(const std::vector<double>& d, std::size_t k, std::size_t half, std::size_t guard,
                   std::vector<double>& scratch) {
   scratch.clear();
   const std::size_t lo = k > half ? k - half : 0;
   const std::size_t hi = std::min(d.size(), k + half + 1);
-  for (std::size_t i = lo; i < hi; ++i)
+  const std::size_t stride = std::max<std::size_t>(1, (hi - lo) / 1024);
+  for (std::size_t i = lo; i < hi; i += stride)
     if (i + guard < k || i > k + guard) scratch.push_back(d[i]);
   if (scratch.empty()) return d[k];
   const auto mid = scratch.begin() + static_cast<std::ptrdiff_t>(scratch.size() / 2);

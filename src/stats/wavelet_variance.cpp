@@ -14,16 +14,27 @@ namespace cubecal {
 WaveletVariance wavelet_variance(std::span<const double> y, double ci, std::size_t max_scales) {
   const std::size_t N = y.size();
   if (N < 4) throw UsageError("samples", "the wavelet variance needs at least 4 samples, not " + std::to_string(N));
-  if (!(ci > 0.0 && ci < 1.0)) throw UsageError("ci", "the confidence must lie between 0 and 1");
-  // The phase (running sum) of the scaled samples, as the deviations take it:
-  // its second differences at m are the differences of adjacent m-sums.
-  const double scale = power_of_two_scale(y);
-  const std::vector<double> x = freq_to_phase(y, 1.0, scale);
   std::vector<std::size_t> ms;
   for (std::size_t tau = 2; tau <= N / 2; tau *= 2) {
     if (max_scales > 0 && ms.size() == max_scales) break;
     ms.push_back(tau / 2);
   }
+  return wavelet_variance_at(y, ms, ci);
+}
+
+WaveletVariance wavelet_variance_at(std::span<const double> y, std::span<const std::size_t> factors, double ci) {
+  const std::size_t N = y.size();
+  if (N < 4) throw UsageError("samples", "the wavelet variance needs at least 4 samples, not " + std::to_string(N));
+  if (!(ci > 0.0 && ci < 1.0)) throw UsageError("ci", "the confidence must lie between 0 and 1");
+  for (std::size_t j = 0; j < factors.size(); ++j)
+    if (factors[j] < 1 || 4 * factors[j] > N || (j > 0 && factors[j] <= factors[j - 1]))
+      throw UsageError("scales", "the wavelet variance's averaging factors must ascend from 1 to N / 4 = " +
+                                     std::to_string(N / 4));
+  // The phase (running sum) of the scaled samples, as the deviations take it:
+  // its second differences at m are the differences of adjacent m-sums.
+  const double scale = power_of_two_scale(y);
+  const std::vector<double> x = freq_to_phase(y, 1.0, scale);
+  const std::vector<std::size_t> ms(factors.begin(), factors.end());
   std::vector<VarianceTerm> v(ms.size());
   oavar(x, ms, 1.0, v);
   WaveletVariance wv;
@@ -40,6 +51,15 @@ WaveletVariance wavelet_variance(std::span<const double> y, double ci, std::size
     wv.hi.push_back(band.hi * band.hi);
   }
   return wv;
+}
+
+std::vector<std::size_t> octave_and_half_factors(std::size_t max_m) {
+  std::vector<std::size_t> ms;
+  for (std::size_t m = 1; m <= max_m; m *= 2) {
+    ms.push_back(m);
+    if (m >= 2 && m + m / 2 <= max_m) ms.push_back(m + m / 2);
+  }
+  return ms;
 }
 
 }  // namespace cubecal

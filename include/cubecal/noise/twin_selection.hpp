@@ -29,7 +29,8 @@ namespace cubecal {
 struct TwinOptions {
   std::size_t max_gm = 4;        // Gauss-Markov terms
   std::size_t max_lines = 4;     // SIN terms, from the strongest line down
-  std::size_t starts = 4;        // per candidate fit: the warm start from the model it grows, and scattered ones
+  std::size_t starts = 2;        // per candidate fit: the warm start from the model it grows, and scattered ones
+  std::size_t max_iterations = 100;  // Levenberg-Marquardt steps per start of the search's fits
   double band = 2.0;             // a step must lower the WIC by more than this
   // The ranking picks the fewest parameters among the models within this
   // of the lowest WIC (rank_by_wic's 2, widened: the search passes many
@@ -48,6 +49,9 @@ struct TwinFidelity {
   double max_error_tau = 0.0;    // the scale (samples) where it is largest
 };
 TwinFidelity twin_fidelity(const WaveletVariance& wv, const std::vector<double>& nu2_model);
+// Inside at nearly every scale: at most as many outside as the true model
+// leaves with probability 0.99 (the 0.99 quantile of Binomial(J, 0.05)).
+bool twin_faithful(const TwinFidelity& fidelity);
 
 struct TwinCandidate {
   CompositeModel structure;      // with the SIN terms' starting frequencies and amplitudes

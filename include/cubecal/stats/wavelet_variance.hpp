@@ -32,4 +32,16 @@ struct WaveletVariance {
 // std::invalid_argument naming a sample that is not finite.
 WaveletVariance wavelet_variance(std::span<const double> y, double ci = 0.95, std::size_t max_scales = 0);
 
+// The same estimator at the scales tau = 2 m of the averaging factors m
+// given (ascending, 1 <= m <= N / 4), dyadic or not: half the overlapping
+// Allan variance at each m. The twin's fit (noise/twin_selection.hpp) adds
+// the factors 3 * 2^k between the dyadic ones, where a periodic line's
+// curve swings between them. Throws as wavelet_variance, and
+// UsageError("scales") for factors not ascending or out of that range.
+WaveletVariance wavelet_variance_at(std::span<const double> y, std::span<const std::size_t> factors, double ci = 0.95);
+
+// The dyadic factors 1, 2, 4, ... up to max_m and the factors 3 * 2^k
+// between them: 1, 2, 3, 4, 6, 8, 12, ...
+std::vector<std::size_t> octave_and_half_factors(std::size_t max_m);
+
 }  // namespace cubecal
