@@ -56,13 +56,15 @@ def analyze(data, rate=None, unit=None, temperature=None, taus="log:10", ci=0.68
     power spectral density (cubecal.psd's defaults), its power-law fit and
     the N, B, K it stands for beside the Allan curve's (to_dict()'s
     channels[i]["spectral"]).
-    composite: also a composite noise model beside the two sensor models, as
-    `cubecal analyze --composite`: True or "auto" (selected by the WIC among
-    the default candidates), a model ("WN+GM+RW") or candidates joined by
-    commas (to_dict()'s channels[i]["model"]["composite"]);
-    composite_bootstrap: replicates of its parametric-bootstrap
-    uncertainties (0: none). cubecal.simulate(analysis, bias="composite")
-    simulates it.
+    composite: the composite noise model beside the two sensor models, as
+    `cubecal analyze --composite`: None (the default) each channel's twin
+    (docs/twins.md; left out, with the reason in to_dict()["composite_skipped"],
+    for a record that cannot carry one), False or "none" none, "twin" the
+    twin required, True or "auto" (selected by the WIC among the default
+    candidates), a model ("WN+GM+RW") or candidates joined by commas
+    (to_dict()'s channels[i]["model"]["composite"]); composite_bootstrap:
+    replicates of its parametric-bootstrap uncertainties (0: none).
+    cubecal.simulate(analysis) simulates it.
     Returns an Analysis.
     """
     args = _cubecal._AnalyzeArgs()
@@ -78,9 +80,12 @@ def analyze(data, rate=None, unit=None, temperature=None, taus="log:10", ci=0.68
     args.psd = bool(psd)
     if composite is True:
         composite = "auto"
-    if composite not in (None, False):
+    if composite is False:
+        composite = "none"
+    if composite is not None:
         if not isinstance(composite, str):
-            raise _cubecal.UsageError("composite: True, \"auto\", a model such as \"WN+GM+RW\" or candidates")
+            raise _cubecal.UsageError("composite: None (the twin), False or \"none\", True or \"auto\", \"twin\", a model "
+                                      "such as \"WN+GM+RW\" or candidates")
         args.composite = composite
     args.composite_bootstrap = int(composite_bootstrap)
     # The call as the result's "command": every argument that changes the

@@ -26,9 +26,10 @@ def simulate(model, rate=None, duration=3600.0, seed=1, temperature="sine:25,5",
     keeping its N and K; a composite model keeps N, Q, K, R, sigma_b, T_c). duration: seconds, or "72h", "30m", "2d". temperature: "const:T",
     "sine:MEAN,AMPLITUDE[,PERIOD_S]" (default "sine:25,5": 25 +- 5 degC over a
     day, as the CLI) or one value per sample. bias: the noise
-    model taken from an analysis, "random-walk" (the default), "gauss-markov"
-    or "composite" (analyze(composite=...): each term in its discrete-time
-    form at rate); a model result's is composite.
+    model taken from an analysis: None (the default) its twins where every
+    channel has one, else "random-walk"; "twin" or "composite" (each term in
+    its discrete-time form at rate, as `cubecal simulate`), "random-walk"
+    (the paper's) or "gauss-markov"; a model result's is composite.
     true_input: (t, wx, wy, wz) arrays, the true rate of the gyro triad.
     flicker: bias instability B added as flicker noise to every axis (a
     flicker floor of 0.664 B in the Allan deviation): one B for all triads

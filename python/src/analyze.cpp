@@ -45,7 +45,7 @@ struct AnalyzeArgs {
   std::vector<double> model_lsb;
   unsigned threads = 0;
   bool psd = false;                 // the spectral view (analyze --psd)
-  std::string composite;            // the composite model (analyze --composite MODEL); empty: none
+  std::string composite;            // the composite model (analyze --composite MODEL); empty: the twin; "none": none
   std::size_t composite_bootstrap = 0;
 };
 
@@ -77,16 +77,19 @@ pipeline::AnalyzeRequest request(const AnalyzeArgs& a) {
   req.lsb = a.model_lsb;
   req.threads = a.threads;
   req.psd = a.psd;
-  if (!a.composite.empty()) {
+  if (a.composite == "none") {
+    req.composite.reset();
+  } else if (!a.composite.empty()) {
     pipeline::ModelRequest m;
     m.model = a.composite;
     // A selection scores its candidates by the WIC's asymptotic optimism:
     // seconds, where the bootstrap's takes a minute per channel of a 72 h
     // record (`cubecal model --wic-replicates` has the bootstrap).
     m.selection_replicates = 0;
-    (void)parse_candidate_models(m.model);  // a typo fails before the reading
+    if (!pipeline::is_twin(m.model)) (void)parse_candidate_models(m.model);  // a typo fails before the reading
     m.bootstrap = a.composite_bootstrap;
     req.composite = std::move(m);
+    req.composite_required = true;
   }
   return req;
 }

@@ -5,6 +5,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <optional>
@@ -137,17 +138,23 @@ py::tuple simulate(const SimulateArgs& a) {
       throw UsageError("model", "unknown preset '" + name + "' (known: " + known + ")");
     }
   }
-  if (!a.bias.empty() && a.bias != "random-walk" && a.bias != "gauss-markov" && a.bias != "composite")
-    throw UsageError("bias", "bias must be \"random-walk\", \"gauss-markov\" or \"composite\"");
+  if (!a.bias.empty() && a.bias != "random-walk" && a.bias != "gauss-markov" && a.bias != "composite" &&
+      a.bias != "twin")
+    throw UsageError("bias", "bias must be \"twin\", \"random-walk\", \"gauss-markov\" or \"composite\"");
   if (model != nullptr) {
     const std::string label = a.analysis ? std::string("the analysis") : a.model_file;
-    for (auto& t : a.bias == "composite"
+    // The twin by default, where every channel has one; else the paper's model.
+    const bool has_twin = !model->channels.empty() &&
+                          std::all_of(model->channels.begin(), model->channels.end(),
+                                      [](const auto& ch) { return ch.model.composite.has_value(); });
+    const bool twin = a.bias == "composite" || a.bias == "twin" || (a.bias.empty() && has_twin);
+    for (auto& t : twin
                        ? pipeline::models_from_composite(*model, label, req.rate_hz)
                        : pipeline::models_from_analysis(*model, label, a.bias == "gauss-markov", req.rate_hz))
       req.triads.push_back(std::move(t));
   }
   if (composite_file) {
-    if (!a.bias.empty() && a.bias != "composite")
+    if (!a.bias.empty() && a.bias != "composite" && a.bias != "twin")
       throw UsageError("bias", a.model_file + " is a cubecal model result, which holds composite models only "
                                               "(bias=\"composite\", or leave bias out)");
     for (auto& t : pipeline::models_from_composite(*composite_file, a.model_file, req.rate_hz))

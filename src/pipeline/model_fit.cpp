@@ -181,18 +181,23 @@ void fit_twin(ModelChannel& ch, std::span<const double> y, double rate_hz, std::
   // far above a scale of one or two degrees of freedom pays little for it:
   // on a short record the lone fit can rise above the last scales. The fit
   // with the curve's own spread as fixed weights is kept instead when it
-  // lies inside at more scales (or as many, closer).
-  GmwmOptions fixed = refit;
-  for (std::size_t j = 0; j < ch.wv.size(); ++j) fixed.fixed_sd.push_back(ch.wv.nu2[j] * std::sqrt(2.0 / ch.wv.edf[j]));
-  try {
-    GmwmFit f = fit_gmwm(ch.wv, chosen.structure, fixed);
-    const TwinFidelity ff = twin_fidelity(ch.wv, f.nu2_model);
-    if (ff.inside > ch.fidelity->inside || (ff.inside == ch.fidelity->inside && ff.max_error < ch.fidelity->max_error)) {
-      ch.fit = std::move(f);
-      ch.fidelity = ff;
+  // lies inside at more scales (or as many, closer). Tried only when the
+  // lone fit is not faithful.
+  if (!twin_faithful(*ch.fidelity)) {
+    GmwmOptions fixed = refit;
+    for (std::size_t j = 0; j < ch.wv.size(); ++j)
+      fixed.fixed_sd.push_back(ch.wv.nu2[j] * std::sqrt(2.0 / ch.wv.edf[j]));
+    try {
+      GmwmFit f = fit_gmwm(ch.wv, chosen.structure, fixed);
+      const TwinFidelity ff = twin_fidelity(ch.wv, f.nu2_model);
+      if (ff.inside > ch.fidelity->inside ||
+          (ff.inside == ch.fidelity->inside && ff.max_error < ch.fidelity->max_error)) {
+        ch.fit = std::move(f);
+        ch.fidelity = ff;
+      }
+    } catch (const CalibrationError&) {
+      // No fit with fixed weights: the lone fit stands.
     }
-  } catch (const CalibrationError&) {
-    // No fit with fixed weights: the lone fit stands.
   }
   ch.faithful = twin_faithful(*ch.fidelity);
 }
