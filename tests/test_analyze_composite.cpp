@@ -443,5 +443,94 @@ TEST_F(CompositeCli, SimulateTakesTheModelOfAnalyzeAndOfModel) {
   EXPECT_TRUE(test::one_error_line(run_cubecal("analyze " + rec + " --columns gx --unit deg/s --composite WN+XY")));
 }
 
+// The twin end to end: analyze fits it by default and writes it with its
+// twin error, --twin-check and the simulator exports; the report and
+// simulate read it back from analysis.json; simulate takes it by default,
+// the paper's model on request.
+TEST_F(CompositeCli, TheTwinByDefaultFromAnalyzeToSimulateAndTheSimulators) {
+  using test::run_cubecal;
+  const std::string rec = path("imu.csv"), out = path("t");
+  ASSERT_EQ(run_cubecal("simulate --preset sport-gyro --rate 10 --duration 3h --seed 5 --out " + rec).code, 0);
+  test::CliRun r = run_cubecal("analyze " + rec + " --columns gx,gy,gz --unit deg/s --twin-check 2 --for gazebo,navego "
+                               "--out " + out);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("twin: "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("twin check 2 twins"), std::string::npos) << r.out;
+  std::ifstream in(out + "/analysis.json");
+  const nlohmann::json j = nlohmann::json::parse(in);
+  EXPECT_EQ(j["composite"]["model"], "twin");
+  for (const auto& ch : j["channels"]) {
+    const auto& c = ch["model"]["composite"];
+    // The paper's gyro is white noise and a random walk: so is its twin,
+    // inside the intervals, within a few percent of the curve to 10 s.
+    EXPECT_EQ(c["model"], "WN+RW") << ch["name"];
+    EXPECT_TRUE(c["fidelity"]["faithful"].get<bool>());
+    EXPECT_LT(c["twin_error"]["max_error_10s"].get<double>(), 0.05);
+    EXPECT_GE(c["twin_error"]["taus"].get<std::size_t>(), 30u);  // the log:10 curve of 3 h at 10 Hz
+  }
+  ASSERT_EQ(j["twin_check"]["channels"].size(), 3u);
+  for (const auto& t : j["twin_check"]["channels"]) EXPECT_LT(t["max_error_10s"].get<double>(), 0.1) << t["name"];
+  ASSERT_EQ(j["estimator_files"]["simulator_projections"].size(), 6u);  // 2 targets x 3 axes
+  for (const char* f : {"/gazebo_imu_noise.sdf", "/navego_imu.m"}) EXPECT_TRUE(std::ifstream(out + f).good()) << f;
+  // Read back: the report of the directory, and the twin simulated by default.
+  r = run_cubecal("report " + out);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(std::ifstream(out + "/report.html").good());
+  r = run_cubecal("simulate --model " + out + "/analysis.json --duration 2h --seed 9 --out " + path("twin.csv"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.err.find("holds no twin"), std::string::npos) << r.err;
+  r = run_cubecal("analyze " + path("twin.csv") + " --columns gx,gy,gz --unit deg/s --composite none --out " + path("u"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::ifstream again(path("u") + "/analysis.json");
+  const nlohmann::json k = nlohmann::json::parse(again);
+  // The twin's record has the record's white level (N within 3 %).
+  for (std::size_t c = 0; c < 3; ++c) {
+    const double n0 = j["channels"][c]["model"]["sigma_n"].get<double>();
+    const double n1 = k["channels"][c]["model"]["sigma_n"].get<double>();
+    EXPECT_NEAR(n1 / n0, 1.0, 0.03) << c;
+  }
+  // A simulator export without a twin is refused before the work.
+  EXPECT_TRUE(test::one_error_line(
+      run_cubecal("analyze " + rec + " --columns gx --unit deg/s --composite none --for gazebo --out " + path("v"))));
+}
+
+// With a temperature: the record's twin refitted to the compensated series
+// is written and read back, and simulate adds the temperature term to it
+// once: the twin's record gives the coefficient back.
+TEST_F(CompositeCli, TheTwinWithATemperatureSimulatesItsCoefficientOnce) {
+  using test::run_cubecal;
+  const std::string rec = path("mag.csv"), out = path("m");
+  ASSERT_EQ(run_cubecal("simulate --preset sport-mag --rate 10 --duration 24h --temp sine:25,5,21600 --seed 4 --out " +
+                        rec).code,
+            0);
+  test::CliRun r = run_cubecal("analyze " + rec + " --columns mx --unit mGauss --temp-col temp --out " + out);
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::ifstream in(out + "/analysis.json");
+  const nlohmann::json j = nlohmann::json::parse(in);
+  const auto& t = j["channels"][0]["temperature"];
+  ASSERT_TRUE(t["compensated_model"].contains("composite")) << t["compensated_model"].dump();
+  const double coeff = t["coeff"][0].get<double>();
+  EXPECT_NEAR(coeff, 0.7, 0.05);
+  r = run_cubecal("simulate --model " + out + "/analysis.json --duration 24h --temp sine:25,5,21600 --seed 8 --out " +
+                  path("twin.csv"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  r = run_cubecal("analyze " + path("twin.csv") + " --columns mx --unit mGauss --temp-col temp --out " + path("n"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::ifstream again(path("n") + "/analysis.json");
+  const nlohmann::json k = nlohmann::json::parse(again);
+  const auto& t2 = k["channels"][0]["temperature"];
+  EXPECT_NEAR(t2["coeff"][0].get<double>(), coeff, 3.0 * t2["coeff_sigma"][0].get<double>() + 0.02);
+  // And the compensated curves agree at every tau to 1000 s: the twin of the
+  // record itself (which carries the temperature's swing as noise) under
+  // the temperature term would stand far above from minutes on.
+  const auto& a0 = t["compensated"]["adev"];
+  const auto& a1 = t2["compensated"]["adev"];
+  ASSERT_EQ(a0["tau"].size(), a1["tau"].size());
+  for (std::size_t i = 0; i < a0["tau"].size(); ++i) {
+    if (a0["tau"][i].get<double>() > 1000.0) break;
+    EXPECT_NEAR(a1["dev"][i].get<double>() / a0["dev"][i].get<double>(), 1.0, 0.25) << a0["tau"][i];
+  }
+}
+
 }  // namespace
 }  // namespace cubecal
