@@ -8,6 +8,7 @@
 #include <numbers>
 
 #include "cubecal/error.hpp"
+#include "detail/config_numbers.hpp"
 #include "cubecal/noise/noise_terms.hpp"
 #include "cubecal/pipeline/simulator_export.hpp"
 
@@ -24,23 +25,10 @@ constexpr double kStandardGravity = 9.80665;  // m/s^2
 constexpr double kRadToDeg = 180.0 / std::numbers::pi;
 constexpr double kMilliGal = 1e-5;            // m/s^2
 
-// Scientific notation with a decimal point, which YAML 1.1 readers (PyYAML,
-// hence Kalibr) need to take "1e-05" as a number rather than a string.
-std::string num(double v) {
-  char b[40];
-  std::snprintf(b, sizeof b, "%.9e", v);
-  return b;
-}
-
-// Plain numbers for the rate, gravity and times: "%.9g" with ".0" appended
-// when it reads as an integer.
-std::string plain(double v) {
-  char b[40];
-  std::snprintf(b, sizeof b, "%.9g", v);
-  std::string s = b;
-  if (s.find_first_of(".e") == std::string::npos) s += ".0";
-  return s;
-}
+using detail::config_number;
+using detail::config_plain;
+std::string num(double v) { return config_number(v); }
+std::string plain(double v) { return config_plain(v); }
 
 AxisNoise axis_noise(const ChannelAnalysis& c, const std::string& file) {
   const auto& curve = c.noise.adev;

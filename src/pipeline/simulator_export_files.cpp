@@ -12,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include "detail/config_numbers.hpp"
 #include "cubecal/error.hpp"
 #include "cubecal/pipeline/simulator_export.hpp"
 
@@ -22,19 +23,10 @@ namespace {
 constexpr double kRadToDeg = 180.0 / std::numbers::pi;
 constexpr double kStandardGravity = 9.80665;  // m/s^2, NaveGo's G (imu_si_errors.m)
 
-std::string num(double v) {
-  char b[40];
-  std::snprintf(b, sizeof b, "%.9e", v);
-  return b;
-}
-
-std::string plain(double v) {
-  char b[40];
-  std::snprintf(b, sizeof b, "%.9g", v);
-  std::string s = b;
-  if (s.find_first_of(".e") == std::string::npos) s += ".0";
-  return s;
-}
+using detail::config_number;
+using detail::config_plain;
+std::string num(double v) { return config_number(v); }
+std::string plain(double v) { return config_plain(v); }
 
 std::string g3(double v) {
   char b[32];
