@@ -5,6 +5,7 @@
 #include <array>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <string_view>
 
@@ -212,10 +213,12 @@ Process sin_process(double amplitude, double frequency_hz, double dt) {
     throw UsageError("model", "a SIN term needs a finite amplitude >= 0");
   const double nyquist = 0.5 / dt;
   if (!(frequency_hz > 0.0 && frequency_hz < nyquist))
-    throw UsageError("model", "a SIN line at " + std::to_string(frequency_hz) +
-                                  " Hz lies outside (0, " + std::to_string(nyquist) +
-                                  ") Hz, the band a record at this rate can hold (the Nyquist frequency is half the "
-                                  "rate)");
+  {
+    char b[96];
+    std::snprintf(b, sizeof b, "a SIN line at %.6g Hz lies outside (0, %.6g) Hz", frequency_hz, nyquist);
+    throw UsageError("model", std::string(b) + ", the band a record at this rate can hold (the Nyquist frequency is "
+                                                 "half the rate)");
+  }
   Process p{ProcessKind::sin, amplitude * amplitude, 0.0, 0.0, 2.0 * kPi * frequency_hz * dt};
   return p;
 }

@@ -3,6 +3,7 @@
 
 #include <boost/random/normal_distribution.hpp>
 #include <cmath>
+#include <cstdio>
 #include <random>
 #include <stdexcept>
 #include <string>
@@ -14,6 +15,12 @@ namespace cubecal {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+
+std::string hz(double f) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.6g", f);
+  return b;
+}
 
 // splitmix64 of the seed and the process index: independent streams.
 std::uint64_t process_seed(std::uint64_t seed, std::size_t i) noexcept {
@@ -130,9 +137,8 @@ CompositeModel composite_at_period(const CompositeModel& model, double from_dt, 
         // the new Nyquist frequency has no place in the new record.
         p.omega *= r;
         if (!(p.omega > 0.0 && p.omega < kPi))
-          throw UsageError("rate", "a SIN line of the model at " + std::to_string(p.omega / (2.0 * kPi * to_dt)) +
-                                       " Hz lies at or above the Nyquist frequency " +
-                                       std::to_string(0.5 / to_dt) +
+          throw UsageError("rate", "a SIN line of the model at " + hz(p.omega / (2.0 * kPi * to_dt)) +
+                                       " Hz lies at or above the Nyquist frequency " + hz(0.5 / to_dt) +
                                        " Hz of the simulated rate: simulate at a rate above twice the line");
         break;
     }
