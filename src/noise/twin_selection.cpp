@@ -127,6 +127,9 @@ class Search {
       add({}, Process{ProcessKind::ma1, std::max(white, 1e-3 * wv_.nu2[0] * wv_.tau[0]) / 1.44, 0.0, 0.2}, &st);
       add(Process{ProcessKind::qn}, Process{ProcessKind::qn, floor_of(0) * wv_.tau[0] * wv_.tau[0] / 6.0});
     }
+    // A model the backward half left without a white term may take one back.
+    if (wn == 0 && count(s, ProcessKind::ma1) == 0)
+      add(Process{ProcessKind::wn}, Process{ProcessKind::wn, floor_of(0) * wv_.tau[0]});
     const double tJ = wv_.tau[J - 1];
     if (count(s, ProcessKind::rw) == 0)
       add(Process{ProcessKind::rw}, Process{ProcessKind::rw, floor_of(J - 1) * 12.0 * tJ / (tJ * tJ + 2.0)});
