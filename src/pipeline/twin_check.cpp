@@ -1,17 +1,15 @@
 // Simulated twins against the measured curve (pipeline/twin_check.hpp).
 #include "cubecal/pipeline/twin_check.hpp"
 
-#include <omp.h>
-
 #include <algorithm>
 #include <cmath>
-#include <exception>
 #include <limits>
 
 #include "cubecal/error.hpp"
 #include "cubecal/pipeline/analyze.hpp"
 #include "cubecal/sim/composite_simulator.hpp"
 #include "cubecal/stats/deviation.hpp"
+#include "detail/for_channels.hpp"
 
 namespace cubecal::pipeline {
 
@@ -32,31 +30,23 @@ TwinCheck twin_check(const AnalysisResult& r, std::size_t twins, std::uint64_t s
   const std::size_t nc = with.size();
   // [channel][twin][point]: each twin's Allan variance at the curve's taus.
   std::vector<std::vector<std::vector<double>>> avar(nc, std::vector<std::vector<double>>(twins));
-  std::vector<std::exception_ptr> failure(nc * twins);
-  const int nthreads = threads > 0 ? static_cast<int>(threads) : omp_get_max_threads();
-#pragma omp parallel for schedule(dynamic, 1) num_threads(nthreads)
-  for (std::size_t k = 0; k < nc * twins; ++k) {
+  // Every (channel, twin) on the threads, each from its own seed.
+  detail::for_channels(nc * twins, threads, [&](std::size_t k) {
     const std::size_t i = k / twins, b = k % twins;
-    try {
-      const ModelAnalysis& m = r.channels[with[i]].model;
-      const std::vector<double> y = simulate_composite(m.composite->fit.model, m.samples, seed + b);
-      TauGrid grid;
-      grid.kind = TauGrid::Kind::list;
-      for (const StabilityPoint& p : m.adev) grid.taus.push_back(p.tau);
-      StabilityOptions o;
-      o.intervals = false;
-      const std::vector<StabilityPoint> dev = oadev(y, r.rate_hz, DataType::freq, grid, o);
-      std::vector<double>& v = avar[i][b];
-      v.assign(m.adev.size(), std::numeric_limits<double>::quiet_NaN());
-      for (const StabilityPoint& p : dev)
-        for (std::size_t j = 0; j < m.adev.size(); ++j)
-          if (m.adev[j].m == p.m) v[j] = p.dev * p.dev;
-    } catch (...) {
-      failure[k] = std::current_exception();
-    }
-  }
-  for (const auto& e : failure)
-    if (e) std::rethrow_exception(e);
+    const ModelAnalysis& m = r.channels[with[i]].model;
+    const std::vector<double> y = simulate_composite(m.composite->fit.model, m.samples, seed + b);
+    TauGrid grid;
+    grid.kind = TauGrid::Kind::list;
+    for (const StabilityPoint& p : m.adev) grid.taus.push_back(p.tau);
+    StabilityOptions o;
+    o.intervals = false;
+    const std::vector<StabilityPoint> dev = oadev(y, r.rate_hz, DataType::freq, grid, o);
+    std::vector<double>& v = avar[i][b];
+    v.assign(m.adev.size(), std::numeric_limits<double>::quiet_NaN());
+    for (const StabilityPoint& p : dev)
+      for (std::size_t j = 0; j < m.adev.size(); ++j)
+        if (m.adev[j].m == p.m) v[j] = p.dev * p.dev;
+  });
 
   for (std::size_t i = 0; i < nc; ++i) {
     const ChannelAnalysis& ch = r.channels[with[i]];

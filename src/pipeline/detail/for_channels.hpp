@@ -1,5 +1,6 @@
 // Per-channel work of a streamed run spread over the request's threads
-// (analyze_stream.cpp, dev_stream.cpp). Not an installed header.
+// (analyze_stream.cpp, dev_stream.cpp), or any per-item work with an
+// exception to carry (twin_check.cpp). Not an installed header.
 #pragma once
 #include <cstddef>
 #include <exception>
