@@ -117,8 +117,8 @@ TemperatureAnalysis analyze_temperature_of(std::size_t c, const io::Series& s, c
       detail::composite_residual(t.compensated_model, dt);
     } catch (const std::exception&) {
       if (req.composite_required) throw;
-      // The record's own twin stands (AnalysisResult::composite_skipped says
-      // why when that one failed too).
+      // No refit: the record's own twin stands, and `simulate` takes it
+      // without the temperature term (it carries the swing as noise).
     }
   }
   return t;
