@@ -471,6 +471,15 @@ TEST_F(CompositeCli, TheTwinByDefaultFromAnalyzeToSimulateAndTheSimulators) {
   ASSERT_EQ(j["twin_check"]["channels"].size(), 3u);
   for (const auto& t : j["twin_check"]["channels"]) EXPECT_LT(t["max_error_10s"].get<double>(), 0.1) << t["name"];
   ASSERT_EQ(j["estimator_files"]["simulator_projections"].size(), 6u);  // 2 targets x 3 axes
+  for (const auto& p : j["estimator_files"]["simulator_projections"]) {
+    // The error to 10 s is over fewer scales than that to 100 s, and that one than every scale's.
+    EXPECT_LE(p["twin_error_10s"].get<double>(), p["twin_error_100s"].get<double>());
+    EXPECT_LE(p["twin_error_100s"].get<double>(), p["twin_error"].get<double>());
+    // NaveGo holds white noise and a random walk, the whole of these twins.
+    if (p["target"] == "navego") {
+      EXPECT_LT(p["twin_error"].get<double>(), 0.01) << p["channel"];
+    }
+  }
   for (const char* f : {"/gazebo_imu_noise.sdf", "/navego_imu.m"}) EXPECT_TRUE(std::ifstream(out + f).good()) << f;
   // Read back: the report of the directory, and the twin simulated by default.
   r = run_cubecal("report " + out);

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <numeric>
 #include <random>
 #include <stdexcept>
@@ -32,7 +33,7 @@ double ma_theta(double z) { return std::tanh(std::clamp(z, -kMaxAtanh, kMaxAtanh
 
 // A SIN term's omega = pi / (1 + e^-z) stays inside (0, pi); |z| <= 36
 // keeps it off both ends in double precision.
-constexpr double kPi = 3.14159265358979323846;
+constexpr double kPi = std::numbers::pi;
 constexpr double kMaxLogit = 36.0;
 double sin_omega(double z) { return kPi / (1.0 + std::exp(-std::clamp(z, -kMaxLogit, kMaxLogit))); }
 double sin_logit(double omega) { return std::log(omega / (kPi - omega)); }

@@ -4,6 +4,7 @@
 
 #include <Eigen/Dense>
 #include <cmath>
+#include <numbers>
 #include <string>
 
 #include "cubecal/error.hpp"
@@ -69,7 +70,7 @@ GmwmAsymptotics gmwm_asymptotics(const GmwmFit& fit, const WaveletVariance& wv, 
         const double s = std::sin(w * tau / 4.0), c = std::cos(w * tau / 4.0);
         const double S = std::sin(w / 2.0), C = std::cos(w / 2.0);
         const double d = 2.0 * pr.value * (tau * s * s * s * c / (S * S) - s * s * s * s * C / (S * S * S)) / (tau * tau);
-        A(row, k++) = d * w * (1.0 - w / 3.14159265358979323846);
+        A(row, k++) = d * w * (1.0 - w / std::numbers::pi);
       }
     }
   }
@@ -125,7 +126,7 @@ GmwmAsymptotics gmwm_asymptotics(const GmwmFit& fit, const WaveletVariance& wv, 
       ++k;
     }
     if (pr.kind == ProcessKind::sin) {  // omega = pi / (1 + e^-z)
-      sd.omega = pr.omega * (1.0 - pr.omega / 3.14159265358979323846) * std::sqrt(cov(k, k));
+      sd.omega = pr.omega * (1.0 - pr.omega / std::numbers::pi) * std::sqrt(cov(k, k));
       ++k;
     }
     out.sd.push_back(sd);

@@ -6,6 +6,7 @@
 #include <boost/math/distributions/binomial.hpp>
 #include <boost/math/distributions/chi_squared.hpp>
 #include <cmath>
+#include <numbers>
 #include <exception>
 #include <optional>
 
@@ -15,7 +16,7 @@ namespace cubecal {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+constexpr double kPi = std::numbers::pi;
 
 // The order terms are written in: the white part, QN, RW, DR, the
 // Gauss-Markov terms, the lines.

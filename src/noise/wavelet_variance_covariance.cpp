@@ -20,6 +20,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <map>
 #include <string>
 #include <utility>
@@ -147,7 +148,7 @@ Terms terms_of(const CompositeModel& model) {
         // record's edge effects, and its cross term with the noise is left
         // out. The covariance is the noise's (an approximation for the
         // WIC's optimism and the sandwich; docs/formulas/noise-terms.md §8f).
-        if (!(p.omega > 0.0 && p.omega < 3.14159265358979323846)) bad_parameter(model);
+        if (!(p.omega > 0.0 && p.omega < std::numbers::pi)) bad_parameter(model);
         break;
     }
   }

@@ -35,24 +35,15 @@ std::string analysis_json(const AnalysisResult& r, const OutputContext& ctx) {
   json exports = json::array();
   for (const Estimator e : ctx.estimators) {
     if (!is_simulator(e)) continue;
-    for (const ExportProjection& p : simulator_projections(e, r)) {
-      // As the twin's own: the largest error up to 10 s and 100 s too (the
-      // last scales rest on one or two degrees of freedom).
-      double to10 = 0.0, to100 = 0.0;
-      for (std::size_t k = 0; k < p.tau.size() && k < p.nu2.size() && k < p.nu2_twin.size(); ++k) {
-        const double tau_s = p.tau[k] / r.rate_hz, err = std::abs(std::sqrt(p.nu2[k] / p.nu2_twin[k]) - 1.0);
-        if (tau_s <= 10.0) to10 = std::max(to10, err);
-        if (tau_s <= 100.0) to100 = std::max(to100, err);
-      }
+    for (const ExportProjection& p : simulator_projections(e, r))
       exports.push_back({{"target", p.target},
                          {"channel", p.channel},
                          {"structure", p.structure},
                          {"twin_error", p.twin_error},
                          {"twin_error_tau_s", p.twin_error_tau / r.rate_hz},
-                         {"twin_error_10s", to10},
-                         {"twin_error_100s", to100},
+                         {"twin_error_10s", p.twin_error_10s},
+                         {"twin_error_100s", p.twin_error_100s},
                          {"dropped", p.dropped}});
-    }
   }
   if (!exports.empty()) j["estimator_files"]["simulator_projections"] = std::move(exports);
   return j.dump(1) + "\n";

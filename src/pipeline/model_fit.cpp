@@ -8,6 +8,7 @@
 #include <cmath>
 #include <exception>
 #include <limits>
+#include <numbers>
 #include <span>
 
 #include "cubecal/error.hpp"
@@ -92,7 +93,7 @@ std::vector<double> asymptotic_sds(const ModelChannel& ch, std::size_t samples, 
       const auto values = physical(p, dt);
       if (p.kind == ProcessKind::sin) {  // A = sqrt(value), f = omega / (2 pi dt), omega = pi / (1 + e^-z)
         out.push_back(0.5 * values[0].second * std::sqrt(C(k, k)));
-        out.push_back(values[1].second * (1.0 - p.omega / 3.14159265358979323846) * std::sqrt(C(k + 1, k + 1)));
+        out.push_back(values[1].second * (1.0 - p.omega / std::numbers::pi) * std::sqrt(C(k + 1, k + 1)));
         k += 2;
         continue;
       }

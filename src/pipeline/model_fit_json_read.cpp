@@ -3,6 +3,7 @@
 // channel of it (analysis.json's channels[i].model.composite).
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -72,7 +73,7 @@ ModelTerm read_term(const Node& t) {
   }
   if (term.kind == ProcessKind::sin) {
     term.process.omega = p.num("omega");
-    if (!(term.process.omega > 0.0 && term.process.omega < 3.14159265358979323846))
+    if (!(term.process.omega > 0.0 && term.process.omega < std::numbers::pi))
       p.at("omega").fail("not a line's angular frequency in (0, pi) rad per sample");
     if (!(term.process.value >= 0.0)) p.at("value").fail("not a squared amplitude >= 0");
   }
@@ -139,9 +140,9 @@ ModelChannel read_channel(const Node& c) {
     t.inside = f.at("inside_95").count();
     t.share_inside = f.num("share_inside");
     t.max_error = f.num("max_error");
-    t.max_error_tau = f.num("max_error_tau_s") * (k > 0 && wv.at("tau_s").nums().front() > 0.0
-                                                       ? ch.wv.tau.front() / wv.at("tau_s").nums().front()
-                                                       : 1.0);
+    // Seconds back to samples by the scales' own ratio (tau_samples / tau_s: the rate).
+    const std::vector<double> tau_s = wv.at("tau_s").nums();
+    t.max_error_tau = f.num("max_error_tau_s") * (k > 0 && tau_s.front() > 0.0 ? ch.wv.tau.front() / tau_s.front() : 1.0);
     ch.fidelity = t;
     ch.faithful = f.at("faithful").boolean();
     if (c.has("lines")) {

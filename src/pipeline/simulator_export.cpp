@@ -256,6 +256,9 @@ ExportProjection measured(const Axis& a, std::string target, const std::string& 
       p.twin_error = e;
       p.twin_error_tau = p.tau[j];
     }
+    const double tau_s = p.tau[j] * a.dt;
+    if (tau_s <= 10.0 && !(e <= p.twin_error_10s)) p.twin_error_10s = e;
+    if (tau_s <= 100.0 && !(e <= p.twin_error_100s)) p.twin_error_100s = e;
   }
   p.dropped = dropped_terms(*a.twin, p.model, a.dt, a.channel->unit);
   return p;

@@ -383,14 +383,17 @@ std::string rotors(const Context& x) {
 
 // ---------------------------------------------------------------- navego
 
-std::string vector3(const std::vector<double>& v) {
+// "[a b c]" (NaveGo's rows) or "[a, b, c]" (MATLAB's).
+std::string bracketed(const std::vector<double>& v, const char* separator) {
   std::string s = "[";
   for (std::size_t i = 0; i < v.size(); ++i) {
-    if (i) s += ' ';
+    if (i) s += separator;
     s += num(v[i]);
   }
   return s + "]";
 }
+
+std::string vector3(const std::vector<double>& v) { return bracketed(v, " "); }
 
 std::string navego(const Context& x) {
   std::vector<std::string> h =
@@ -464,14 +467,7 @@ std::string navego(const Context& x) {
 
 // ---------------------------------------------------------------- matlab
 
-std::string matlab_vector(const std::vector<double>& v) {
-  std::string s = "[";
-  for (std::size_t i = 0; i < v.size(); ++i) {
-    if (i) s += ", ";
-    s += num(v[i]);
-  }
-  return s + "]";
-}
+std::string matlab_vector(const std::vector<double>& v) { return bracketed(v, ", "); }
 
 std::string matlab(const Context& x) {
   std::vector<std::string> h =

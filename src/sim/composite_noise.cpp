@@ -3,6 +3,7 @@
 
 #include <boost/random/normal_distribution.hpp>
 #include <cmath>
+#include <numbers>
 #include <cstdio>
 #include <random>
 #include <stdexcept>
@@ -14,7 +15,7 @@ namespace cubecal {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+constexpr double kPi = std::numbers::pi;
 
 std::string hz(double f) {
   char b[32];

@@ -3,6 +3,7 @@
 
 #include <boost/random/normal_distribution.hpp>
 #include <cmath>
+#include <numbers>
 #include <random>
 
 #include "cubecal/error.hpp"
@@ -10,7 +11,7 @@
 namespace cubecal {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
+constexpr double kPi = std::numbers::pi;
 }  // namespace
 
 std::vector<double> simulate_composite(const CompositeModel& model, std::size_t samples, std::uint64_t seed) {

@@ -47,6 +47,10 @@ struct ExportProjection {
   std::vector<double> nu2;         // the projection's
   double twin_error = 0.0;         // max over tau of |sqrt(nu2 / nu2_twin) - 1|
   double twin_error_tau = 0.0;     // the scale where it is largest, samples
+  // The same over the scales up to 10 s and up to 100 s (tau dt): the last
+  // scales rest on one or two degrees of freedom.
+  double twin_error_10s = 0.0;
+  double twin_error_100s = 0.0;
   // The twin's terms the target has no place for: "SIN 12.5 Hz (A = 0.01
   // deg/s)", "MA1's theta = 0.3", "QN", "DR", a GM without a Gauss-Markov
   // term in the structure.
