@@ -108,7 +108,7 @@ void BM_DavarDirect(benchmark::State& state) {
   state.counters["max_rel_diff"] = worst;
 }
 
-#define DAVAR_BENCH(fn)                                                                                      \
+#define DAVAR_BENCH(fn) \
   BENCHMARK(fn)->Unit(benchmark::kMillisecond)->Iterations(1)->UseRealTime()->Apply(cubecal::bench::with_min_max)
 
 DAVAR_BENCH(BM_DavarFast);

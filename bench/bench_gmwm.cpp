@@ -56,8 +56,7 @@ void BM_GmwmFit(benchmark::State& state) {
   state.counters["objective"] = objective;
   state.counters["samples"] = static_cast<double>(kSamples);
 }
-BENCHMARK(BM_GmwmFit)->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime()->Apply(
-    cubecal::bench::with_min_max);
+BENCHMARK(BM_GmwmFit)->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime()->Apply(cubecal::bench::with_min_max);
 
 void BM_GmwmBootstrap(benchmark::State& state) {
   cubecal::io::Series s;
@@ -78,8 +77,13 @@ void BM_GmwmBootstrap(benchmark::State& state) {
   }
   state.counters["replicates"] = static_cast<double>(replicates);
 }
-BENCHMARK(BM_GmwmBootstrap)->Arg(200)->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime()
-    ->MeasureProcessCPUTime()->Apply(cubecal::bench::with_min_max);
+BENCHMARK(BM_GmwmBootstrap)
+    ->Arg(200)
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MeasureProcessCPUTime()
+    ->Apply(cubecal::bench::with_min_max);
 
 }  // namespace
 

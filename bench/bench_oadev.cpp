@@ -35,7 +35,8 @@ const std::vector<double>& phase() {
 #if defined(__x86_64__) && defined(__GNUC__)
 __attribute__((target_clones("avx2", "default")))
 #endif
-double streaming_sum(const double* p, std::size_t n) {
+double
+streaming_sum(const double* p, std::size_t n) {
   double s[8] = {0, 0, 0, 0, 0, 0, 0, 0};
   std::size_t i = 0;
   for (; i + 8 <= n; i += 8)
@@ -62,8 +63,7 @@ void BM_OadevKernel(benchmark::State& state) {
   }
   state.SetBytesProcessed(static_cast<int64_t>(state.iterations() * count * sizeof(double)));
   state.counters["operand_bytes_per_s"] = benchmark::Counter(
-      static_cast<double>(state.iterations() * count * 3 * sizeof(double)),
-      benchmark::Counter::kIsRate);
+      static_cast<double>(state.iterations() * count * 3 * sizeof(double)), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_OadevKernel)->Arg(1)->Arg(100)->Arg(10000)->Arg(100000)->Unit(benchmark::kMicrosecond);
 

@@ -91,7 +91,7 @@ void BM_CompensateTemperature(benchmark::State& state) {
   set_rate(state);
 }
 
-#define TEMPERATURE_BENCH(fn)                                                                                     \
+#define TEMPERATURE_BENCH(fn) \
   BENCHMARK(fn)->Unit(benchmark::kMillisecond)->Iterations(3)->UseRealTime()->Apply(cubecal::bench::with_min_max)
 
 TEMPERATURE_BENCH(BM_FitTemperatureOls);

@@ -102,8 +102,8 @@ struct Named {
 };
 
 std::vector<Named> physical(const CompositeModel& m) {
-  const auto gms = std::count_if(m.processes.begin(), m.processes.end(),
-                                 [](const Process& p) { return p.kind == ProcessKind::gm; });
+  const auto gms =
+      std::count_if(m.processes.begin(), m.processes.end(), [](const Process& p) { return p.kind == ProcessKind::gm; });
   std::vector<Named> out;
   int g = 0;
   for (const Process& p : m.processes) {
@@ -139,8 +139,8 @@ std::vector<Named> physical(const CompositeModel& m) {
 // The fit's own per-sample parameters (--natural): each term's variance (DR:
 // omega) and a Gauss-Markov term's a = -ln(phi), the parameters the fit moves.
 std::vector<Named> natural(const CompositeModel& m) {
-  const auto gms = std::count_if(m.processes.begin(), m.processes.end(),
-                                 [](const Process& p) { return p.kind == ProcessKind::gm; });
+  const auto gms =
+      std::count_if(m.processes.begin(), m.processes.end(), [](const Process& p) { return p.kind == ProcessKind::gm; });
   std::vector<Named> out;
   int g = 0;
   for (const Process& p : m.processes) {
@@ -150,9 +150,10 @@ std::vector<Named> natural(const CompositeModel& m) {
       out.push_back({"GM" + k + " sigma2", p.value});
       out.push_back({"GM" + k + " a", -std::log(p.phi)});
     } else {
-      out.push_back({kind + (p.kind == ProcessKind::dr ? " omega" : p.kind == ProcessKind::rw ? " gamma2"
-                                                                 : p.kind == ProcessKind::qn ? " Q2"
-                                                                                             : " sigma2"),
+      out.push_back({kind + (p.kind == ProcessKind::dr   ? " omega"
+                             : p.kind == ProcessKind::rw ? " gamma2"
+                             : p.kind == ProcessKind::qn ? " Q2"
+                                                         : " sigma2"),
                      p.value});
     }
   }
@@ -169,13 +170,13 @@ struct Estimate {
 struct SeedResult {
   bool ok = false;
   std::string error;
-  std::vector<Estimate> gmwm;                  // physical(truth) order
-  std::vector<Estimate> gmwm_natural;          // natural(truth) order
+  std::vector<Estimate> gmwm;                    // physical(truth) order
+  std::vector<Estimate> gmwm_natural;            // natural(truth) order
   std::map<std::string, Estimate> fit, readoff;  // IEEE 952: N, K, Q
   std::size_t replicates = 0;
   bool converged = false;
-  std::string selected;                        // --mode select
-  std::size_t truth_rank = 0;                  // 1: selected
+  std::string selected;        // --mode select
+  std::size_t truth_rank = 0;  // 1: selected
   nlohmann::json ranking;
   double seconds = 0.0;
 };
@@ -465,8 +466,9 @@ void report_fit(const Options& o, const std::string& name, const std::vector<See
 
   // The IEEE 952 route on the same records, beside the GMWM.
   std::printf("\nIEEE 952 on the same records (OADEV log:10, 68.3 %% intervals) beside the GMWM:\n\n");
-  std::printf("| quantity | estimator | valid | truth | mean | bias | SE | bias/SE | MC sd | median | bias/truth | "
-              "within 2 SE | RMSE/truth |\n");
+  std::printf(
+      "| quantity | estimator | valid | truth | mean | bias | SE | bias/SE | MC sd | median | bias/truth | "
+      "within 2 SE | RMSE/truth |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const char* qn : {"N", "Q", "K"}) {
     std::size_t qi = q.size();
@@ -477,11 +479,13 @@ void report_fit(const Options& o, const std::string& name, const std::vector<See
     const auto row = [&](const char* est, const std::vector<double>& v) {
       const Summary s = summarise(v);
       if (s.valid == 0) {
-        std::printf("| %s | %s | 0/%zu | %s | - | - | - | - | - | - | - | - | - |\n", qn, est, ok.size(), num(t).c_str());
+        std::printf("| %s | %s | 0/%zu | %s | - | - | - | - | - | - | - | - | - |\n", qn, est, ok.size(),
+                    num(t).c_str());
         return;
       }
-      const double rmse = std::sqrt((s.mean - t) * (s.mean - t) + s.sd * s.sd * static_cast<double>(s.valid - 1) /
-                                                                    static_cast<double>(std::max<std::size_t>(s.valid, 1)));
+      const double rmse =
+          std::sqrt((s.mean - t) * (s.mean - t) + s.sd * s.sd * static_cast<double>(s.valid - 1) /
+                                                      static_cast<double>(std::max<std::size_t>(s.valid, 1)));
       std::printf("| %s | %s | %zu/%zu | %s | %s |\n", qn, est, s.valid, ok.size(), bias_cells(t, s).c_str(),
                   s.valid ? fixed(100.0 * rmse / t, 2).append(" %").c_str() : "-");
     };
@@ -510,9 +514,10 @@ void report_select(const Options& o, const std::string& name, const std::vector<
     ++ranks[r.truth_rank];
   }
   const double rate = ok ? static_cast<double>(right) / static_cast<double>(ok) : 0.0;
-  std::printf("\nSelection among default_candidate_models() (WIC, %zu replicates per candidate): the true %s "
-              "picked in %zu of %zu seeds = %s %%.\n\n",
-              o.selection_replicates, name.c_str(), right, ok, fixed(100.0 * rate, 0).c_str());
+  std::printf(
+      "\nSelection among default_candidate_models() (WIC, %zu replicates per candidate): the true %s "
+      "picked in %zu of %zu seeds = %s %%.\n\n",
+      o.selection_replicates, name.c_str(), right, ok, fixed(100.0 * rate, 0).c_str());
   std::printf("| selected | seeds |\n|---|---|\n");
   std::vector<std::pair<std::string, std::size_t>> sorted(picks.begin(), picks.end());
   std::sort(sorted.begin(), sorted.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
@@ -541,8 +546,11 @@ nlohmann::json raw_line(const Options& o, const std::string& name, std::size_t n
   const auto q = physical(m);
   const auto p = natural(m);
   for (std::size_t i = 0; i < q.size() && i < r.gmwm.size(); ++i)
-    j["gmwm"][q[i].name] = {{"value", r.gmwm[i].value}, {"lo", r.gmwm[i].lo}, {"hi", r.gmwm[i].hi},
-                            {"sd", r.gmwm[i].sd}, {"truth", q[i].value}};
+    j["gmwm"][q[i].name] = {{"value", r.gmwm[i].value},
+                            {"lo", r.gmwm[i].lo},
+                            {"hi", r.gmwm[i].hi},
+                            {"sd", r.gmwm[i].sd},
+                            {"truth", q[i].value}};
   for (std::size_t i = 0; i < p.size() && i < r.gmwm_natural.size(); ++i)
     j["natural"][p[i].name] = {{"value", r.gmwm_natural[i].value}, {"truth", p[i].value}};
   for (const auto& [k, e] : r.fit) j["ieee_fit"][k] = e.valid ? nlohmann::json(e.value) : nlohmann::json();
@@ -575,8 +583,8 @@ int main(int argc, char** argv) {
               static_cast<unsigned long long>(o.first_seed),
               static_cast<unsigned long long>(o.first_seed + o.seeds - 1),
               o.mode == "select" ? ("WIC replicates " + std::to_string(o.selection_replicates)).c_str()
-              : o.bootstrap > 0 ? ("bootstrap B = " + std::to_string(o.bootstrap) + " at ci " + num(o.ci)).c_str()
-                                : "no bootstrap",
+              : o.bootstrap > 0  ? ("bootstrap B = " + std::to_string(o.bootstrap) + " at ci " + num(o.ci)).c_str()
+                                 : "no bootstrap",
               threads);
   for (const std::string& name : o.models) {
     for (const std::size_t n : o.samples) {

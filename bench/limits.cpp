@@ -155,9 +155,9 @@ int main(int argc, char** argv) {
   const std::vector<std::size_t> cut = line_cuts(text, body, parts);
   std::vector<std::size_t> first_row(parts + 1, 0);
   for (std::size_t k = 0; k < parts; ++k)
-    first_row[k + 1] = first_row[k] + static_cast<std::size_t>(std::count(
-                                          text.begin() + static_cast<std::ptrdiff_t>(cut[k]),
-                                          text.begin() + static_cast<std::ptrdiff_t>(cut[k + 1]), '\n'));
+    first_row[k + 1] = first_row[k] + static_cast<std::size_t>(
+                                          std::count(text.begin() + static_cast<std::ptrdiff_t>(cut[k]),
+                                                     text.begin() + static_cast<std::ptrdiff_t>(cut[k + 1]), '\n'));
   const std::size_t rows = first_row[parts];
   std::vector<std::vector<double>> cols(fields, std::vector<double>(rows, 0.0));  // faulted in here, not timed
 
@@ -203,8 +203,8 @@ int main(int argc, char** argv) {
 
   std::printf("info threads %d\ninfo bytes %zu\ninfo rows %zu\ninfo columns %zu\ninfo taus %zu\ninfo terms %.6g\n",
               threads, size, rows, fields - 1, ms.size(), terms * static_cast<double>(fields - 1));
-  for (const auto& [name, s] : {std::pair{"read", read}, std::pair{"doubles", doubles}, std::pair{"parse", parse},
-                                std::pair{"oadev", oadev}})
+  for (const auto& [name, s] :
+       {std::pair{"read", read}, std::pair{"doubles", doubles}, std::pair{"parse", parse}, std::pair{"oadev", oadev}})
     std::printf("limit %s %.4f %.4f %.4f\n", name, s.min, s.median, s.max);
   return 0;
 }

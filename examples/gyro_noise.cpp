@@ -13,9 +13,9 @@ int main() {
     axis.bias = cubecal::BiasProcess::random_walk;
     axis.bias_sigma = 1e-3;  // sigma_mu, deg/s/s: the bias moves sigma_mu dt n_k per sample
   }
-  const double rate = 100.0;                              // Hz
-  const std::size_t n = 2 * 3600 * 100;                   // 2 h
-  cubecal::TriadSimulator gyro(model, 1.0 / rate, 42);    // seed 42
+  const double rate = 100.0;                            // Hz
+  const std::size_t n = 2 * 3600 * 100;                 // 2 h
+  cubecal::TriadSimulator gyro(model, 1.0 / rate, 42);  // seed 42
   std::vector<double> xyz(3 * n), x(n);
   gyro.run(n, {}, {}, xyz);
   for (std::size_t i = 0; i < n; ++i) x[i] = xyz[3 * i];

@@ -49,7 +49,8 @@ class Checker final : public acquire::SampleHandler {
   }
   void on_sample(std::string_view fields, std::span<const double> values) override {
     if (layouts_ == 0) fuzz::finding("frame decoder", "sample before the layout");
-    if (values.size() != spec_.fields.size()) fuzz::finding("frame decoder", "sample with a value count other than the spec's");
+    if (values.size() != spec_.fields.size())
+      fuzz::finding("frame decoder", "sample with a value count other than the spec's");
     std::size_t i = 0;
     for (std::size_t b = 0;; ++i) {
       const std::size_t e = std::min(fields.find(',', b), fields.size());

@@ -38,7 +38,8 @@ class Checker final : public acquire::SampleHandler {
   void on_sample(std::string_view fields, std::span<const double> values) override {
     if (layouts_ == 0) fuzz::finding("line framer", "sample before the layout");
     if (values.size() != columns_) fuzz::finding("line framer", "sample with a value count other than the layout's");
-    if (fields.find_first_of("\r\n") != std::string_view::npos) fuzz::finding("line framer", "line end inside a sample");
+    if (fields.find_first_of("\r\n") != std::string_view::npos)
+      fuzz::finding("line framer", "line end inside a sample");
     std::size_t i = 0;
     for (std::size_t b = 0;; ++i) {
       const std::size_t e = std::min(fields.find(',', b), fields.size());
@@ -128,7 +129,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   // A line longer than max_line is cut where the pieces happen to end: the
   // comparison holds when no line can reach it.
   const bool long_lines = (mode & 16u) != 0;
-  if (!long_lines && pieces_done != whole_done) fuzz::finding("line framer", "an error depends on how the bytes were split");
+  if (!long_lines && pieces_done != whole_done)
+    fuzz::finding("line framer", "an error depends on how the bytes were split");
   if (!long_lines && pieces_done && whole_done && pieces != whole)
     fuzz::finding("line framer", "samples or rejects depend on how the bytes were split");
   return 0;

@@ -11,8 +11,8 @@ namespace cubecal {
 
 namespace {
 
-std::string format_message(const std::string& file, std::size_t line, std::size_t column,
-                           const std::string& problem, const std::string& hint) {
+std::string format_message(const std::string& file, std::size_t line, std::size_t column, const std::string& problem,
+                           const std::string& hint) {
   std::string msg = file;
   // A column without a line cannot be located, so it is dropped with it.
   if (line != 0) {
@@ -35,8 +35,7 @@ std::string format_message(const std::string& file, std::size_t line, std::size_
 
 }  // namespace
 
-InputError::InputError(std::string file, std::size_t line, std::size_t column, std::string what,
-                       std::string hint)
+InputError::InputError(std::string file, std::size_t line, std::size_t column, std::string what, std::string hint)
     : std::runtime_error(format_message(file, line, column, what, hint)),
       file_(std::move(file)),
       line_(line),

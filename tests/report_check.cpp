@@ -83,7 +83,8 @@ PngImage decode_png(const std::string& bytes) {
   const std::size_t stride = std::size_t(img.width) * channels;
   std::vector<unsigned char> raw((stride + 1) * img.height);
   uLongf n = static_cast<uLongf>(raw.size());
-  if (uncompress(raw.data(), &n, reinterpret_cast<const Bytef*>(idat.data()), static_cast<uLong>(idat.size())) != Z_OK ||
+  if (uncompress(raw.data(), &n, reinterpret_cast<const Bytef*>(idat.data()), static_cast<uLong>(idat.size())) !=
+          Z_OK ||
       n != raw.size())
     return {};
   std::vector<unsigned char> prev(stride, 0), cur(stride);
@@ -123,8 +124,9 @@ BrowserPage load_in_chromium(const std::string& chromium, const fs::path& html_i
   BrowserPage page;
   fs::create_directories(work);
   const fs::path html = fs::absolute(html_in);
-  const std::string flags = " --headless --no-sandbox --disable-gpu --no-first-run --disable-background-networking"
-                            " --disable-component-update --disable-sync --hide-scrollbars";
+  const std::string flags =
+      " --headless --no-sandbox --disable-gpu --no-first-run --disable-background-networking"
+      " --disable-component-update --disable-sync --hide-scrollbars";
   const std::string url = shell_quote("file://" + html.string());
   const fs::path logf = work / "chromium.log";
   const std::string log = shell_quote(logf.string());
@@ -133,10 +135,10 @@ BrowserPage load_in_chromium(const std::string& chromium, const fs::path& html_i
   // Screenshot.
   page.shot = work / "shot.png";
   const auto t0 = std::chrono::steady_clock::now();
-  const std::string cmd1 = timeout + shell_quote(chromium) + flags + " --user-data-dir=" +
-                           shell_quote((work / "profile1").string()) + " --screenshot=" +
-                           shell_quote(page.shot.string()) + " --window-size=" + std::to_string(width) + "," +
-                           std::to_string(height) + " " + url + " > " + log + " 2>&1";
+  const std::string cmd1 =
+      timeout + shell_quote(chromium) + flags + " --user-data-dir=" + shell_quote((work / "profile1").string()) +
+      " --screenshot=" + shell_quote(page.shot.string()) + " --window-size=" + std::to_string(width) + "," +
+      std::to_string(height) + " " + url + " > " + log + " 2>&1";
   const int rc1 = std::system(cmd1.c_str());
   page.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (rc1 != 0 || !fs::exists(page.shot)) {
@@ -154,9 +156,9 @@ BrowserPage load_in_chromium(const std::string& chromium, const fs::path& html_i
 
   // The DOM after the page's scripts ran.
   const fs::path dom = work / "dom.html";
-  const std::string cmd2 = timeout + shell_quote(chromium) + flags + " --user-data-dir=" +
-                           shell_quote((work / "profile2").string()) + " --virtual-time-budget=5000 --dump-dom " + url +
-                           " > " + shell_quote(dom.string()) + " 2> " + log;
+  const std::string cmd2 =
+      timeout + shell_quote(chromium) + flags + " --user-data-dir=" + shell_quote((work / "profile2").string()) +
+      " --virtual-time-budget=5000 --dump-dom " + url + " > " + shell_quote(dom.string()) + " 2> " + log;
   if (std::system(cmd2.c_str()) != 0) {
     page.error = cmd2 + "\n" + slurp(logf);
     return page;

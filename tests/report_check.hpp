@@ -32,14 +32,14 @@ struct PngImage {
 PngImage decode_png(const std::string& bytes);
 
 struct BrowserPage {
-  std::string error;              // not empty: a Chromium run failed (the command and its output)
-  std::filesystem::path shot;     // the screenshot
+  std::string error;           // not empty: a Chromium run failed (the command and its output)
+  std::filesystem::path shot;  // the screenshot
   std::uintmax_t shot_bytes = 0;
-  PngImage image;                 // the screenshot decoded
-  std::size_t colours = 0;        // distinct colours in it
-  double ink_fraction = 0.0;      // share of pixels that are not white
-  double seconds = 0.0;           // of the screenshot run
-  std::string dom;                // the DOM after the page's scripts ran
+  PngImage image;             // the screenshot decoded
+  std::size_t colours = 0;    // distinct colours in it
+  double ink_fraction = 0.0;  // share of pixels that are not white
+  double seconds = 0.0;       // of the screenshot run
+  std::string dom;            // the DOM after the page's scripts ran
 };
 
 // `html` in headless Chromium: a width x height screenshot and a DOM dump,

@@ -133,8 +133,8 @@ inline std::string decompress(const Chunk& k) {
 inline std::string chunk_record(const std::string& plain, const std::string& compression, std::uint64_t start = 0,
                                 std::uint64_t end = 0, bool with_crc = true) {
   const std::string stored = compress(plain, compression);
-  return record(0x06, u64(start) + u64(end) + u64(plain.size()) + u32(with_crc ? crc_of(plain) : 0) +
-                          str(compression) + u64(stored.size()) + stored);
+  return record(0x06, u64(start) + u64(end) + u64(plain.size()) + u32(with_crc ? crc_of(plain) : 0) + str(compression) +
+                          u64(stored.size()) + stored);
 }
 
 // The file with every chunk decompressed, edited and stored again with
@@ -198,7 +198,9 @@ inline std::vector<McapMessage> mcap_messages(const std::string& file) {
 // from the byte after it.
 class Cdr {
  public:
-  explicit Cdr(bool little) : little_(little) { b_ = std::string("\0", 1) + (little ? '\1' : '\0') + std::string(2, '\0'); }
+  explicit Cdr(bool little) : little_(little) {
+    b_ = std::string("\0", 1) + (little ? '\1' : '\0') + std::string(2, '\0');
+  }
   Cdr& u32v(std::uint32_t v) { return put(v, 4); }
   Cdr& f64(double d) {
     std::uint64_t v;
@@ -272,11 +274,12 @@ class Db3Writer {
  public:
   explicit Db3Writer(const std::string& path) {
     EXPECT_EQ(sqlite3_open(path.c_str(), &db_), SQLITE_OK);
-    exec("CREATE TABLE schema(schema_version INTEGER PRIMARY KEY, ros_distro TEXT NOT NULL);"
-         "CREATE TABLE topics(id INTEGER PRIMARY KEY, name TEXT NOT NULL, type TEXT NOT NULL, "
-         "serialization_format TEXT NOT NULL, offered_qos_profiles TEXT NOT NULL);"
-         "CREATE TABLE messages(id INTEGER PRIMARY KEY, topic_id INTEGER NOT NULL, timestamp INTEGER NOT NULL, "
-         "data BLOB NOT NULL);");
+    exec(
+        "CREATE TABLE schema(schema_version INTEGER PRIMARY KEY, ros_distro TEXT NOT NULL);"
+        "CREATE TABLE topics(id INTEGER PRIMARY KEY, name TEXT NOT NULL, type TEXT NOT NULL, "
+        "serialization_format TEXT NOT NULL, offered_qos_profiles TEXT NOT NULL);"
+        "CREATE TABLE messages(id INTEGER PRIMARY KEY, topic_id INTEGER NOT NULL, timestamp INTEGER NOT NULL, "
+        "data BLOB NOT NULL);");
   }
   ~Db3Writer() { sqlite3_close(db_); }
   void topic(int id, const std::string& name, const std::string& type) {
@@ -284,9 +287,9 @@ class Db3Writer {
   }
   void message(int topic, std::int64_t timestamp, const std::string& data) {
     sqlite3_stmt* s = nullptr;
-    ASSERT_EQ(sqlite3_prepare_v2(db_, "INSERT INTO messages(topic_id, timestamp, data) VALUES(?, ?, ?)", -1, &s,
-                                 nullptr),
-              SQLITE_OK);
+    ASSERT_EQ(
+        sqlite3_prepare_v2(db_, "INSERT INTO messages(topic_id, timestamp, data) VALUES(?, ?, ?)", -1, &s, nullptr),
+        SQLITE_OK);
     sqlite3_bind_int(s, 1, topic);
     sqlite3_bind_int64(s, 2, timestamp);
     sqlite3_bind_blob(s, 3, data.data(), static_cast<int>(data.size()), SQLITE_TRANSIENT);

@@ -18,8 +18,7 @@ std::vector<Stable32Row> read_stable32(const std::string& path) {
   std::vector<Stable32Row> rows;
   std::string line;
   while (std::getline(in, line)) {
-    if (line.find('#') != std::string::npos || line.find_first_not_of(" \t\r") == std::string::npos)
-      continue;
+    if (line.find('#') != std::string::npos || line.find_first_not_of(" \t\r") == std::string::npos) continue;
     std::istringstream ss(line);
     Stable32Row r;
     if (ss >> r.af >> r.tau >> r.n >> r.alpha >> r.lo >> r.dev >> r.hi) rows.push_back(r);

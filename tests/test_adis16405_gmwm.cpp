@@ -110,12 +110,12 @@ TEST_P(Adis16405Gyro, ModelInsideTheIntervalsFromTheSecondScale) {
 //   ./build/bin/test_adis16405_gmwm --gtest_filter='*Table*'
 TEST(Adis16405Gmwm, Table) {
   if (!std::filesystem::exists(run1())) GTEST_SKIP() << "no ADIS16405 data at " << run1();
-  std::printf("| run | axis | from tau [s] | objective / scales | outside (tau [s]) | N [deg/sqrt(h)] | white level "
-              "[deg/sqrt(h)] | K [deg/h/sqrt(h)] | GM sigma_b [deg/h], T_c [s] |\n");
+  std::printf(
+      "| run | axis | from tau [s] | objective / scales | outside (tau [s]) | N [deg/sqrt(h)] | white level "
+      "[deg/sqrt(h)] | K [deg/h/sqrt(h)] | GM sigma_b [deg/h], T_c [s] |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|\n");
   for (int run = 1; run <= 6; ++run) {
-    const std::string path =
-        std::string(CUBECAL_SHARED_DATA) + "/imu/adis16405/run" + std::to_string(run) + ".csv.gz";
+    const std::string path = std::string(CUBECAL_SHARED_DATA) + "/imu/adis16405/run" + std::to_string(run) + ".csv.gz";
     const io::Series s = io::read_series(path, io::SeriesOptions{});
     for (std::size_t c = 0; c < 3; ++c)
       for (const std::size_t drop : {std::size_t{1}, std::size_t{4}}) {
@@ -166,12 +166,12 @@ TEST(Adis16405Gmwm, Table) {
 //   ./build/bin/test_adis16405_gmwm --gtest_filter='*MovingAverage*'
 TEST(Adis16405Gmwm, MovingAverageTableInsideEveryScale) {
   if (!std::filesystem::exists(run1())) GTEST_SKIP() << "no ADIS16405 data at " << run1();
-  std::printf("| run | axis | lag-1 autocorrelation | theta (its lag-1) | N [deg/sqrt(h)] | K [deg/h/sqrt(h)] | GM "
-              "sigma_b [deg/h], T_c [s] | objective / scales | inside |\n");
+  std::printf(
+      "| run | axis | lag-1 autocorrelation | theta (its lag-1) | N [deg/sqrt(h)] | K [deg/h/sqrt(h)] | GM "
+      "sigma_b [deg/h], T_c [s] | objective / scales | inside |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|\n");
   for (int run = 1; run <= 6; ++run) {
-    const std::string path =
-        std::string(CUBECAL_SHARED_DATA) + "/imu/adis16405/run" + std::to_string(run) + ".csv.gz";
+    const std::string path = std::string(CUBECAL_SHARED_DATA) + "/imu/adis16405/run" + std::to_string(run) + ".csv.gz";
     const io::Series s = io::read_series(path, io::SeriesOptions{});
     const double dt = s.tau0;
     for (std::size_t c = 0; c < 2; ++c) {
@@ -217,9 +217,7 @@ TEST(Adis16405Gmwm, MovingAverageTableInsideEveryScale) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Run1, Adis16405Gyro, ::testing::Values(0, 1),
-                         [](const ::testing::TestParamInfo<int>& axis) {
-                           return axis.param == 0 ? "GyroX" : "GyroY";
-                         });
+                         [](const ::testing::TestParamInfo<int>& axis) { return axis.param == 0 ? "GyroX" : "GyroY"; });
 
 }  // namespace
 }  // namespace cubecal

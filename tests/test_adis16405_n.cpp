@@ -69,7 +69,7 @@ struct Row {
   bool white_at_1s = false;
   double slope_below = 0.0;  // log-log slope of the curve over 0.5..1 s and 1..2 s
   double slope_above = 0.0;
-  TermEstimate n;            // cubecal's N (read-off, data unit * sqrt(s))
+  TermEstimate n;  // cubecal's N (read-off, data unit * sqrt(s))
   double n_ind = 0.0, lo = 0.0, hi = 0.0;
   ReportedTerms rep;
   double sigma_min = 0.0, tau_min = 0.0;
@@ -142,7 +142,8 @@ TEST(Adis16405, NIsSigmaAtOneSecondWhereTheCurveIsWhite) {
       EXPECT_LE(r.n.value, r.hi);
     } else {
       // Not white at 1 s: N is the white arm's line, read where the arm is.
-      EXPECT_FALSE(range_has_1s) << r.n.tau_lo << ".." << r.n.tau_hi << " slopes " << r.slope_below << ", " << r.slope_above;
+      EXPECT_FALSE(range_has_1s) << r.n.tau_lo << ".." << r.n.tau_hi << " slopes " << r.slope_below << ", "
+                                 << r.slope_above;
     }
   }
   // Every gyroscope axis is white at 1 s on these runs.
@@ -151,8 +152,9 @@ TEST(Adis16405, NIsSigmaAtOneSecondWhereTheCurveIsWhite) {
 
 TEST(Adis16405, Table) {
   if (rows().empty()) GTEST_SKIP() << "no ADIS16405 data";
-  std::printf("| run | axis | N cubecal [u*sqrt(s)] | read over [s] | N_ind = sigma(1 s) | 68.3 %% interval | ratio | "
-              "white at 1 s | K estimate [u/sqrt(s)] | K sigma | K significant | K reported | B [u] |\n");
+  std::printf(
+      "| run | axis | N cubecal [u*sqrt(s)] | read over [s] | N_ind = sigma(1 s) | 68.3 %% interval | ratio | "
+      "white at 1 s | K estimate [u/sqrt(s)] | K sigma | K significant | K reported | B [u] |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const Row& r : rows()) {
     char k[64] = "—", ks[64] = "—";
@@ -168,10 +170,11 @@ TEST(Adis16405, Table) {
       std::snprintf(b, sizeof b, "no minimum within the record (< %.3g)", r.rep.B.value());
     else
       std::snprintf(b, sizeof b, "%.3g ± %.2g (T %.3g s)", r.rep.B.value(), r.rep.B.estimate.sigma, r.tau_min);
-    std::printf("| %s | %s | %.5g ± %.2g | %.3g–%.3g | %.5g | %.5g–%.5g | %.4f | %s (%.2f, %.2f) | %s | %s | %s | %s | %s |\n",
-                r.run.c_str(), r.axis.c_str(), r.n.value, r.n.sigma, r.n.tau_lo, r.n.tau_hi, r.n_ind, r.lo, r.hi,
-                r.n.value / r.n_ind, r.white_at_1s ? "yes" : "no", r.slope_below, r.slope_above, k, ks,
-                r.rep.K.bound() ? "no" : "yes", kr, b);
+    std::printf(
+        "| %s | %s | %.5g ± %.2g | %.3g–%.3g | %.5g | %.5g–%.5g | %.4f | %s (%.2f, %.2f) | %s | %s | %s | %s | %s |\n",
+        r.run.c_str(), r.axis.c_str(), r.n.value, r.n.sigma, r.n.tau_lo, r.n.tau_hi, r.n_ind, r.lo, r.hi,
+        r.n.value / r.n_ind, r.white_at_1s ? "yes" : "no", r.slope_below, r.slope_above, k, ks,
+        r.rep.K.bound() ? "no" : "yes", kr, b);
   }
 }
 

@@ -90,7 +90,8 @@ pipeline::AnalysisResult round_trip(const pipeline::AnalysisResult& r) {
   return json::parse(j.dump(1)).get<pipeline::AnalysisResult>();
 }
 
-void expect_points(const std::vector<StabilityPoint>& a, const std::vector<StabilityPoint>& b, const std::string& what) {
+void expect_points(const std::vector<StabilityPoint>& a, const std::vector<StabilityPoint>& b,
+                   const std::string& what) {
   ASSERT_EQ(a.size(), b.size()) << what;
   for (std::size_t i = 0; i < a.size(); ++i) {
     EXPECT_EQ(a[i].m, b[i].m) << what << " " << i;
@@ -256,8 +257,7 @@ TEST(AnalysisJson, MissingKeyIsAUsageErrorNamingIt) {
     (void)pipeline::parse_analysis_json("{ truncated", "x.json");
     FAIL() << "no error";
   } catch (const UsageError& e) {
-    EXPECT_NE(std::string(e.what()).find("x.json: not an analysis.json written by cubecal analyze"),
-              std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("x.json: not an analysis.json written by cubecal analyze"), std::string::npos)
         << e.what();
   }
 }
@@ -472,8 +472,7 @@ TEST(AnalysisJson, SimulateModelsFromTheTypedResult) {
     FAIL() << "no error for a channel without a model";
   } catch (const UsageError& e) {
     EXPECT_EQ(e.option(), "bias");
-    EXPECT_NE(std::string(e.what()).find("a.json: channel white has no fitted random-walk model ("),
-              std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("a.json: channel white has no fitted random-walk model ("), std::string::npos)
         << e.what();
   }
   EXPECT_THROW((void)pipeline::models_from_analysis(pipeline::AnalysisResult{}, "a.json", false), UsageError);

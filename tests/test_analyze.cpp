@@ -200,8 +200,8 @@ TEST(Analyze, JsonKeysAndKalibrYaml) {
   for (const char* k : {"name", "unit", "kind", "mean", "adev", "noise", "model", "temperature"})
     EXPECT_TRUE(c.contains(k)) << k;
   for (const char* k : {"tau", "dev", "lo", "hi", "n"}) EXPECT_TRUE(c["adev"].contains(k)) << k;
-  for (const char* k : {"arw", "bias_instability", "time_constant_s", "rate_random_walk", "quantization",
-                        "rate_ramp", "fit"})
+  for (const char* k :
+       {"arw", "bias_instability", "time_constant_s", "rate_random_walk", "quantization", "rate_ramp", "fit"})
     EXPECT_TRUE(c["noise"].contains(k)) << k;
   for (const char* k : {"value", "unit", "sigma"}) EXPECT_TRUE(c["noise"]["arw"].contains(k)) << k;
   EXPECT_EQ(c["noise"]["arw"]["unit"], "deg/sqrt(h)");
@@ -256,9 +256,8 @@ TEST(Analyze, AdisRunsAnalyzedWithoutError) {
   std::vector<double> arw;
   for (int run = 1; run <= 6; ++run) {
     io::SeriesOptions so;
-    const auto s = io::read_series(std::string(CUBECAL_SHARED_DATA) + "/imu/adis16405/run" + std::to_string(run) +
-                                       ".csv.gz",
-                                   so);
+    const auto s =
+        io::read_series(std::string(CUBECAL_SHARED_DATA) + "/imu/adis16405/run" + std::to_string(run) + ".csv.gz", so);
     ASSERT_EQ(s.samples(), 1000000u);
     pipeline::AnalyzeRequest req;
     for (int k = 0; k < 3; ++k) req.units.push_back(*parse_unit("deg/s"));
@@ -308,8 +307,8 @@ TEST(SpectralView, DifferenceInCombinedSigmas) {
   EXPECT_NEAR(*v[0].difference_sigmas, 0.5 / std::sqrt(0.05), 1e-15);
   EXPECT_EQ(v[0].allan.value, 1.0);
   EXPECT_EQ(v[0].spectrum.value, 1.5);
-  EXPECT_FALSE(v[1].difference_sigmas.has_value());  // not in the spectrum
-  EXPECT_FALSE(v[2].difference_sigmas.has_value());  // not in the Allan fit
+  EXPECT_FALSE(v[1].difference_sigmas.has_value());                                   // not in the spectrum
+  EXPECT_FALSE(v[2].difference_sigmas.has_value());                                   // not in the Allan fit
   EXPECT_TRUE(pipeline::compare_views(allan, pipeline::SpectralAnalysis{}).empty());  // no fit: nothing
 }
 
@@ -369,9 +368,9 @@ void expect_same_spectral(const pipeline::SpectralAnalysis& a, const pipeline::S
 // Two deg/s channels at 10 Hz, white noise plus a walk, cut at a gap.
 io::Series split_record() {
   const std::size_t n = std::size_t{1} << 17;
-  io::Series s = series_of({white_plus_walk(n, 0.1, 0.014, 0.0035, 31, 0.2),
-                            white_plus_walk(n, 0.1, 0.013, 0.00066, 32, -1.5)},
-                           {"gx", "gy"}, 10.0);
+  io::Series s =
+      series_of({white_plus_walk(n, 0.1, 0.014, 0.0035, 31, 0.2), white_plus_walk(n, 0.1, 0.013, 0.00066, 32, -1.5)},
+                {"gx", "gy"}, 10.0);
   s.segments = {{0, 50000}, {50000, n}};
   s.gaps = io::GapPolicy::split;
   return s;

@@ -117,13 +117,15 @@ TEST(AnalyzeComposite, PaperGyroFitsTheWhiteArmAndTheMinimumWhereEquationThreeCa
 
   // The record is the paper's gyro: its curve at 1 s is the paper's measured
   // N (sigma(1 s) 60 in deg/sqrt(h)), its minimum the measured B.
-  const auto at_1s = std::find_if(curve.begin(), curve.end(), [](const auto& p) { return std::abs(p.tau - 1.0) < 1e-9; });
+  const auto at_1s =
+      std::find_if(curve.begin(), curve.end(), [](const auto& p) { return std::abs(p.tau - 1.0) < 1e-9; });
   ASSERT_NE(at_1s, curve.end());
   const Quantity B = display(c.noise.readoffs.B, Term::B, c.unit);
-  std::printf("  record: sigma(1 s) 60 = %.4f deg/sqrt(h), B %.3f %s, T %.3g s (the paper: 0.3218, 12.68, 34.2); "
-              "N read on the white arm %.4f\n",
-              at_1s->dev * 60.0, B.value, B.unit.c_str(), c.noise.readoffs.tau_min,
-              display(c.noise.readoffs.N, Term::N, c.unit).value);
+  std::printf(
+      "  record: sigma(1 s) 60 = %.4f deg/sqrt(h), B %.3f %s, T %.3g s (the paper: 0.3218, 12.68, 34.2); "
+      "N read on the white arm %.4f\n",
+      at_1s->dev * 60.0, B.value, B.unit.c_str(), c.noise.readoffs.tau_min,
+      display(c.noise.readoffs.N, Term::N, c.unit).value);
   EXPECT_NEAR(at_1s->dev * 60.0 / 0.3218, 1.0, 0.05);
   EXPECT_NEAR(B.value / 12.6832, 1.0, 0.10);
 
@@ -132,9 +134,8 @@ TEST(AnalyzeComposite, PaperGyroFitsTheWhiteArmAndTheMinimumWhereEquationThreeCa
   for (std::size_t i = 0; i < curve.size(); ++i)
     if (curve[i].tau >= 0.5 && curve[i].tau <= 2.0) arm.push_back(i);
   ASSERT_GE(arm.size(), 3u);
-  const auto lowest = std::min_element(curve.begin(), curve.end(), [](const auto& a, const auto& b) {
-    return a.dev < b.dev;
-  });
+  const auto lowest =
+      std::min_element(curve.begin(), curve.end(), [](const auto& a, const auto& b) { return a.dev < b.dev; });
   const std::size_t imin = static_cast<std::size_t>(lowest - curve.begin());
   ASSERT_GT(imin, arm.back());
   ASSERT_LT(imin + 1, curve.size());
@@ -145,15 +146,16 @@ TEST(AnalyzeComposite, PaperGyroFitsTheWhiteArmAndTheMinimumWhereEquationThreeCa
     paper_arm += inside(paper_dev(curve[i]), curve[i]);
   }
   const StabilityPoint& m = curve[imin];
-  std::printf("  tau 1 s: measured %.5g [%.5g, %.5g], composite %.5g, eq. (3) %.5g deg/s\n", curve[arm[arm.size() / 2]].dev,
-              curve[arm[arm.size() / 2]].lo, curve[arm[arm.size() / 2]].hi, composite_dev(curve[arm[arm.size() / 2]]),
-              paper_dev(curve[arm[arm.size() / 2]]));
+  std::printf("  tau 1 s: measured %.5g [%.5g, %.5g], composite %.5g, eq. (3) %.5g deg/s\n",
+              curve[arm[arm.size() / 2]].dev, curve[arm[arm.size() / 2]].lo, curve[arm[arm.size() / 2]].hi,
+              composite_dev(curve[arm[arm.size() / 2]]), paper_dev(curve[arm[arm.size() / 2]]));
   std::printf("  minimum at %.4g s: measured %.5g [%.5g, %.5g], composite %.5g, eq. (3) %.5g deg/s\n", m.tau, m.dev,
               m.lo, m.hi, composite_dev(m), paper_dev(m));
-  std::printf("  white arm: composite inside at %zu of %zu points, eq. (3) at %zu; model %s, residual %.4f vs "
-              "eq. (3) %.4f\n",
-              composite_arm, arm.size(), paper_arm, c.model.composite->model.c_str(), c.model.composite_residual.rms_log,
-              c.model.random_walk_residual.rms_log);
+  std::printf(
+      "  white arm: composite inside at %zu of %zu points, eq. (3) at %zu; model %s, residual %.4f vs "
+      "eq. (3) %.4f\n",
+      composite_arm, arm.size(), paper_arm, c.model.composite->model.c_str(), c.model.composite_residual.rms_log,
+      c.model.random_walk_residual.rms_log);
   // The composite model: inside the measured intervals over the whole white arm and at the minimum.
   EXPECT_EQ(composite_arm, arm.size());
   EXPECT_TRUE(inside(composite_dev(m), m));
@@ -198,7 +200,8 @@ TEST(AnalyzeComposite, SimulatedAtAnotherRateTheFitComesBackWithinItsSpread) {
   const struct {
     ProcessKind kind;
     const char* name;
-  } quantities[] = {{ProcessKind::wn, "N"}, {ProcessKind::gm, "sigma_b"}, {ProcessKind::gm, "T_c"}, {ProcessKind::rw, "K"}};
+  } quantities[] = {
+      {ProcessKind::wn, "N"}, {ProcessKind::gm, "sigma_b"}, {ProcessKind::gm, "T_c"}, {ProcessKind::rw, "K"}};
   for (const auto& q : quantities) {
     const double x = quantity(a, q.kind, q.name), y = quantity(b, q.kind, q.name);
     const double spread = std::hypot(quantity(a, q.kind, q.name, true), quantity(b, q.kind, q.name, true));
@@ -411,8 +414,10 @@ TEST_F(CompositeCli, SimulateTakesTheModelOfAnalyzeAndOfModel) {
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("composite WN+RW"), std::string::npos) << r.out;
   // From analysis.json: the composite model at another rate.
-  r = run_cubecal("simulate --model " + out + "/analysis.json --bias composite --rate 25 --duration 60s --seed 2 "
-                  "--temp const:20 --out " + path("twin.csv"));
+  r = run_cubecal("simulate --model " + out +
+                  "/analysis.json --bias composite --rate 25 --duration 60s --seed 2 "
+                  "--temp const:20 --out " +
+                  path("twin.csv"));
   ASSERT_EQ(r.code, 0) << r.err;
   std::ifstream twin(path("twin.csv"));
   std::string header, line;
@@ -432,14 +437,13 @@ TEST_F(CompositeCli, SimulateTakesTheModelOfAnalyzeAndOfModel) {
       run_cubecal("simulate --model " + path("m.json") + " --bias random-walk --duration 30s --out " + path("x.csv"))));
   ASSERT_EQ(run_cubecal("analyze " + rec + " --columns gx --unit deg/s --composite none --out " + path("plain")).code,
             0);
-  EXPECT_TRUE(test::one_error_line(run_cubecal("simulate --model " + path("plain") +
-                                               "/analysis.json --bias composite --duration 30s --out " + path("y.csv"))));
+  EXPECT_TRUE(test::one_error_line(run_cubecal(
+      "simulate --model " + path("plain") + "/analysis.json --bias composite --duration 30s --out " + path("y.csv"))));
   // Without --bias an analysis without a twin gives the paper's model, said so.
   r = run_cubecal("simulate --model " + path("plain") + "/analysis.json --duration 30s --out " + path("z.csv"));
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.err.find("holds no twin"), std::string::npos) << r.err;
-  EXPECT_TRUE(test::one_error_line(
-      run_cubecal("analyze " + rec + " --columns gx --unit deg/s --composite --stream")));
+  EXPECT_TRUE(test::one_error_line(run_cubecal("analyze " + rec + " --columns gx --unit deg/s --composite --stream")));
   EXPECT_TRUE(test::one_error_line(run_cubecal("analyze " + rec + " --columns gx --unit deg/s --composite WN+XY")));
 }
 
@@ -451,8 +455,10 @@ TEST_F(CompositeCli, TheTwinByDefaultFromAnalyzeToSimulateAndTheSimulators) {
   using test::run_cubecal;
   const std::string rec = path("imu.csv"), out = path("t");
   ASSERT_EQ(run_cubecal("simulate --preset sport-gyro --rate 10 --duration 3h --seed 5 --out " + rec).code, 0);
-  test::CliRun r = run_cubecal("analyze " + rec + " --columns gx,gy,gz --unit deg/s --twin-check 2 --for gazebo,navego "
-                               "--out " + out);
+  test::CliRun r = run_cubecal("analyze " + rec +
+                               " --columns gx,gy,gz --unit deg/s --twin-check 2 --for gazebo,navego "
+                               "--out " +
+                               out);
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("twin: "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("twin check 2 twins"), std::string::npos) << r.out;
@@ -488,7 +494,8 @@ TEST_F(CompositeCli, TheTwinByDefaultFromAnalyzeToSimulateAndTheSimulators) {
   r = run_cubecal("simulate --model " + out + "/analysis.json --duration 2h --seed 9 --out " + path("twin.csv"));
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_EQ(r.err.find("holds no twin"), std::string::npos) << r.err;
-  r = run_cubecal("analyze " + path("twin.csv") + " --columns gx,gy,gz --unit deg/s --composite none --out " + path("u"));
+  r = run_cubecal("analyze " + path("twin.csv") + " --columns gx,gy,gz --unit deg/s --composite none --out " +
+                  path("u"));
   ASSERT_EQ(r.code, 0) << r.err;
   std::ifstream again(path("u") + "/analysis.json");
   const nlohmann::json k = nlohmann::json::parse(again);
@@ -509,9 +516,10 @@ TEST_F(CompositeCli, TheTwinByDefaultFromAnalyzeToSimulateAndTheSimulators) {
 TEST_F(CompositeCli, TheTwinWithATemperatureSimulatesItsCoefficientOnce) {
   using test::run_cubecal;
   const std::string rec = path("mag.csv"), out = path("m");
-  ASSERT_EQ(run_cubecal("simulate --preset sport-mag --rate 10 --duration 24h --temp sine:25,5,21600 --seed 4 --out " +
-                        rec).code,
-            0);
+  ASSERT_EQ(
+      run_cubecal("simulate --preset sport-mag --rate 10 --duration 24h --temp sine:25,5,21600 --seed 4 --out " + rec)
+          .code,
+      0);
   test::CliRun r = run_cubecal("analyze " + rec + " --columns mx --unit mGauss --temp-col temp --out " + out);
   ASSERT_EQ(r.code, 0) << r.err;
   std::ifstream in(out + "/analysis.json");

@@ -69,18 +69,18 @@ TEST_F(AnalyzePsd, TwoViewsAgreeWithEachOtherAndWithTheSimulatedTruth) {
     const AxisModel& a = model.axes[c];
     const double n_true = std::sqrt(a.white_sigma * a.white_sigma + q * q / 12.0) * std::sqrt(dt);
     const double k_true = a.bias_sigma * std::sqrt(dt);
-    for (const auto& [letter, term, truth] :
-         {std::tuple{"N", Term::N, n_true}, std::tuple{"K", Term::K, k_true}}) {
+    for (const auto& [letter, term, truth] : {std::tuple{"N", Term::N, n_true}, std::tuple{"K", Term::K, k_true}}) {
       // In deg/sqrt(h) and deg/h/sqrt(h), as analysis.json holds the terms.
       const double shown = display(TermEstimate{true, truth, 0.0, 0.0, 0.0}, term, u).value;
       const auto& t = spectral_term(ch, letter);
       const double s = t.at("value").get<double>(), ss = t.at("sigma").get<double>();
       const double f = t.at("allan_fit").at("value").get<double>(), fs_ = t.at("allan_fit").at("sigma").get<double>();
       const double d = t.at("difference_sigmas").get<double>();
-      std::printf("  %s %s: truth %.5g, spectrum %.5g +- %.2g (%+.2f sigma), Allan fit %.5g +- %.2g (%+.2f sigma); "
-                  "spectrum - fit %+.2f combined sigma\n",
-                  ch.at("name").get<std::string>().c_str(), letter, shown, s, ss, (s - shown) / ss, f, fs_,
-                  (f - shown) / fs_, d);
+      std::printf(
+          "  %s %s: truth %.5g, spectrum %.5g +- %.2g (%+.2f sigma), Allan fit %.5g +- %.2g (%+.2f sigma); "
+          "spectrum - fit %+.2f combined sigma\n",
+          ch.at("name").get<std::string>().c_str(), letter, shown, s, ss, (s - shown) / ss, f, fs_, (f - shown) / fs_,
+          d);
       EXPECT_EQ(t.at("unit"), display(TermEstimate{}, term, u).unit);
       EXPECT_NEAR(d, (s - f) / std::hypot(ss, fs_), 1e-9);
       EXPECT_LT(std::abs(d), 3.0) << letter << " of " << ch.at("name");
@@ -98,8 +98,7 @@ TEST_F(AnalyzePsd, SpectralPartIsPsdAtTwentyBandsPerDecade) {
   const CliRun a = run_cubecal("analyze " + file + " --columns gx,gy,gz --unit deg/s --psd --out " + dir);
   ASSERT_EQ(a.code, 0) << a.err;
   EXPECT_NE(a.out.find("spectrum  N "), std::string::npos) << a.out;
-  const CliRun p =
-      run_cubecal("psd " + file + " --columns gx,gy,gz --unit deg/s --bins-per-decade 20 --format json");
+  const CliRun p = run_cubecal("psd " + file + " --columns gx,gy,gz --unit deg/s --bins-per-decade 20 --format json");
   ASSERT_EQ(p.code, 0) << p.err;
   const auto aj = read_json(dir + "/analysis.json");
   const auto pj = nlohmann::json::parse(p.out);
@@ -152,8 +151,7 @@ TEST_F(AnalyzePsd, ReportShowsBothViewsAndFilesWithAndWithoutThemLoad) {
   if (!report::find_gnuplot()) GTEST_SKIP() << "gnuplot not installed: install gnuplot-nox (scripts/install-deps.sh)";
   const std::string file = simulate("2h", 4);
   const std::string dir = path("with");
-  const CliRun a =
-      run_cubecal("analyze " + file + " --columns gx,gy,gz --unit deg/s --psd --out " + dir + " --report");
+  const CliRun a = run_cubecal("analyze " + file + " --columns gx,gy,gz --unit deg/s --psd --out " + dir + " --report");
   ASSERT_EQ(a.code, 0) << a.err;
   const auto page = [&](const std::string& d) { return slurp(fs::path(d) / "report.html"); };
   std::string html = page(dir);

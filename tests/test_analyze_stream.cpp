@@ -245,9 +245,8 @@ TEST_F(AnalyzeStreamTest, StridedTermsLieWithinTheInMemoryIntervals) {
     d.grid.kind = TauGrid::Kind::list;
     for (const StabilityPoint& p : got) d.grid.taus.push_back(p.tau);
     d.options.conservative_short = true;
-    const auto want = pipeline::run_dev({"c"}, {std::span<const double>(whole.channels[c])}, whole.rate_hz, {}, d)
-                          .channels[0]
-                          .points;
+    const auto want =
+        pipeline::run_dev({"c"}, {std::span<const double>(whole.channels[c])}, whole.rate_hz, {}, d).channels[0].points;
     ASSERT_EQ(want.size(), got.size());
     for (std::size_t k = 0; k < got.size(); ++k) {
       ASSERT_EQ(got[k].m, want[k].m);
@@ -297,13 +296,13 @@ TEST_F(AnalyzeStreamTest, TemperatureByLeastSquaresAndTheCompensatedCurves) {
 
 TEST_F(AnalyzeStreamTest, CommandLine) {
   const std::string file = record();
-  const auto r = test::run_cubecal("analyze " + file + " --columns gx,gy --unit deg/s --stream --window 256 --out " +
-                                   path("out"));
+  const auto r =
+      test::run_cubecal("analyze " + file + " --columns gx,gy --unit deg/s --stream --window 256 --out " + path("out"));
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("streamed (window bound 256 samples): Allan terms from AF"), std::string::npos) << r.out;
   // A pipe cannot be read twice: a temperature is refused before any reading.
-  const auto t = test::run_cubecal_piped("cat " + file,
-                                         "analyze - --columns gx,gy --unit deg/s --temp-col temp --stream");
+  const auto t =
+      test::run_cubecal_piped("cat " + file, "analyze - --columns gx,gy --unit deg/s --temp-col temp --stream");
   EXPECT_TRUE(test::one_error_line(t)) << t.err;
   EXPECT_NE(t.err.find("give the record as a file"), std::string::npos) << t.err;
   // analysis.json says the stream and its strides, and reads back.

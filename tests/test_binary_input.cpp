@@ -33,17 +33,15 @@ void put(std::string& out, std::uint64_t u, std::size_t bytes, bool big_endian) 
 }
 void put_f64(std::string& out, double v, bool be = false) { put(out, std::bit_cast<std::uint64_t>(v), 8, be); }
 void put_f32(std::string& out, float v, bool be = false) { put(out, std::bit_cast<std::uint32_t>(v), 4, be); }
-void put_i16(std::string& out, std::int16_t v, bool be = false) {
-  put(out, static_cast<std::uint16_t>(v), 2, be);
-}
+void put_i16(std::string& out, std::int16_t v, bool be = false) { put(out, static_cast<std::uint16_t>(v), 2, be); }
 
 // A .npy file as numpy.save writes it: magic, version, header length, the
 // header dict padded with spaces to a multiple of 64 bytes and ended by a
 // newline, then the data.
 std::string npy(const std::string& descr, bool fortran, const std::string& shape, const std::string& data,
                 int major = 1) {
-  std::string dict = "{'descr': '" + descr + "', 'fortran_order': " + (fortran ? "True" : "False") +
-                     ", 'shape': " + shape + ", }";
+  std::string dict =
+      "{'descr': '" + descr + "', 'fortran_order': " + (fortran ? "True" : "False") + ", 'shape': " + shape + ", }";
   const std::size_t preamble = major == 1 ? 10 : 12;
   const std::size_t unpadded = preamble + dict.size() + 1;
   dict += std::string((64 - unpadded % 64) % 64, ' ') + "\n";
@@ -200,9 +198,9 @@ TEST_F(BinaryInput, NpyDamageIsLocated) {
   put_f64(nan, std::numeric_limits<double>::quiet_NaN());
   nan_data.replace(8 * 123, 8, nan);
   const std::string with_nan = write_bytes("nan.npy", npy("<f8", false, "(400,)", nan_data));
-  expect_error("dev " + with_nan + " --rate 100",
-               {with_nan + ": NaN at byte offset " + std::to_string(data_at + 8 * 123) + " (row 124, column 1)",
-                "--gaps skip"});
+  expect_error(
+      "dev " + with_nan + " --rate 100",
+      {with_nan + ": NaN at byte offset " + std::to_string(data_at + 8 * 123) + " (row 124, column 1)", "--gaps skip"});
 }
 
 // --gaps skip: a NaN sample of a .npy array or of raw frames is a missing
@@ -276,10 +274,10 @@ TEST_F(BinaryInput, NanIsAMissingSampleUnderGapsSkip) {
   }
   // Without --gaps skip: the first NaN (row 6, column 1) at its byte offset.
   const std::size_t npy_data_at = npy("<f8", false, "(400, 2)", "").size();
-  expect_error("dev " + binaries[0].file + " --rate 100",
-               {binaries[0].file + ": NaN at byte offset " + std::to_string(npy_data_at + 16 * 5) +
-                    " (row 6, column 1)",
-                "--gaps skip"});
+  expect_error(
+      "dev " + binaries[0].file + " --rate 100",
+      {binaries[0].file + ": NaN at byte offset " + std::to_string(npy_data_at + 16 * 5) + " (row 6, column 1)",
+       "--gaps skip"});
   expect_error("davar " + binaries[1].file + " --rate 100",
                {"NaN at byte offset " + std::to_string(npy_data_at + 8 * 5) + " (row 6, column 1)", "--gaps skip"});
   // Raw frames: columns are checked in order, so column 1's NaN at row 6.
@@ -302,25 +300,24 @@ TEST_F(BinaryInput, NanIsAMissingSampleUnderGapsSkip) {
   put_f64(one, std::numeric_limits<double>::infinity());
   inf.replace(16 * 50 + 8, 8, one);
   const std::string with_inf = write_bytes("inf.npy", npy("<f8", false, "(400, 2)", inf));
-  expect_error("dev " + with_inf + skip,
-               {with_inf + ": infinite value at byte offset " + std::to_string(npy_data_at + 16 * 50 + 8) +
-                " (row 51, column 2)"});
+  expect_error("dev " + with_inf + skip, {with_inf + ": infinite value at byte offset " +
+                                          std::to_string(npy_data_at + 16 * 50 + 8) + " (row 51, column 2)"});
 }
 
 // Files written by NumPy itself, when this machine's python3 has it.
 TEST_F(BinaryInput, NpyWrittenByNumpy) {
   if (std::system("/usr/bin/python3 -c 'import numpy' >/dev/null 2>&1") != 0)
     GTEST_SKIP() << "no numpy for /usr/bin/python3";
-  const std::string script = write_bytes(
-      "w.py",
-      "import numpy as np, sys\n"
-      "a = np.array([[np.sin(0.37*r + c)*(1+c) + 1e-3*((r*7919 + c*104729) % 1000) for c in range(3)] "
-      "for r in range(400)])\n"
-      "np.save(sys.argv[1] + '/c.npy', a)\n"
-      "np.save(sys.argv[1] + '/f.npy', np.asfortranarray(a))\n"
-      "np.save(sys.argv[1] + '/i.npy', (a * 1000).astype('>i2'))\n"
-      "np.savetxt(sys.argv[1] + '/a.csv', a, delimiter=',', fmt='%.17g')\n"
-      "np.savetxt(sys.argv[1] + '/i.csv', (a * 1000).astype('>i2'), delimiter=',', fmt='%d')\n");
+  const std::string script =
+      write_bytes("w.py",
+                  "import numpy as np, sys\n"
+                  "a = np.array([[np.sin(0.37*r + c)*(1+c) + 1e-3*((r*7919 + c*104729) % 1000) for c in range(3)] "
+                  "for r in range(400)])\n"
+                  "np.save(sys.argv[1] + '/c.npy', a)\n"
+                  "np.save(sys.argv[1] + '/f.npy', np.asfortranarray(a))\n"
+                  "np.save(sys.argv[1] + '/i.npy', (a * 1000).astype('>i2'))\n"
+                  "np.savetxt(sys.argv[1] + '/a.csv', a, delimiter=',', fmt='%.17g')\n"
+                  "np.savetxt(sys.argv[1] + '/i.csv', (a * 1000).astype('>i2'), delimiter=',', fmt='%d')\n");
   ASSERT_EQ(std::system(("/usr/bin/python3 " + script + " " + dir_.string()).c_str()), 0);
   const std::string text = dev(path("a.csv"));
   EXPECT_EQ(dev(path("c.npy")), text);

@@ -522,8 +522,8 @@ void expect_same(const pipeline::RunSummary& b, const pipeline::RunSummary& r) {
       EXPECT_EQ(x.adev[i].alpha, y.adev[i].alpha);
     }
     const SlopeReadOffs &p = x.readoffs, &q = y.readoffs;
-    for (const auto& [t, u] : {std::pair{p.Q, q.Q}, std::pair{p.N, q.N}, std::pair{p.B, q.B}, std::pair{p.K, q.K},
-                               std::pair{p.R, q.R}}) {
+    for (const auto& [t, u] :
+         {std::pair{p.Q, q.Q}, std::pair{p.N, q.N}, std::pair{p.B, q.B}, std::pair{p.K, q.K}, std::pair{p.R, q.R}}) {
       EXPECT_EQ(t.valid, u.valid);
       EXPECT_EQ(t.value, u.value);
       EXPECT_EQ(t.sigma, u.sigma);

@@ -182,9 +182,10 @@ TEST_F(Cli, ListedTausBeyondTheLimitAreReported) {
   ASSERT_EQ(j.code, 0) << j.err;
   const auto w = lines_with(j.err, "warning");
   ASSERT_EQ(w.size(), 1u) << j.err;
-  EXPECT_EQ(w[0], "cubecal: warning: --taus: 1 listed tau not evaluated: 1e+06 s (oadev needs at least "
-                  "4m+1 = 4000001 phase samples for m = 1000000, the record has 1001) (record longer data "
-                  "or list smaller taus)");
+  EXPECT_EQ(w[0],
+            "cubecal: warning: --taus: 1 listed tau not evaluated: 1e+06 s (oadev needs at least "
+            "4m+1 = 4000001 phase samples for m = 1000000, the record has 1001) (record longer data "
+            "or list smaller taus)");
   const auto doc = nlohmann::json::parse(j.out);
   EXPECT_EQ(doc["columns"][0]["tau"], nlohmann::json({1.0, 10.0}));
   ASSERT_EQ(doc["excluded_taus"].size(), 1u);
@@ -223,10 +224,11 @@ TEST_F(Cli, AnalyzeReportsListedTausBeyondTheLimit) {
   ASSERT_EQ(r.code, 0) << r.err;
   const auto w = lines_with(r.err, "warning: --taus");
   ASSERT_EQ(w.size(), 1u) << r.err;
-  EXPECT_EQ(w[0], "cubecal: warning: --taus: 1 listed tau not evaluated: 100 s (oadev needs at least 4m = 4000 "
-                  "samples for m = 1000, the record has 2000); 1 listed tau left out of the model fit: 50 s (oadev "
-                  "needs at least 4m = 2000 samples for m = 500, the part the model is fitted on has 1000) (record "
-                  "longer data or list smaller taus)");
+  EXPECT_EQ(w[0],
+            "cubecal: warning: --taus: 1 listed tau not evaluated: 100 s (oadev needs at least 4m = 4000 "
+            "samples for m = 1000, the record has 2000); 1 listed tau left out of the model fit: 50 s (oadev "
+            "needs at least 4m = 2000 samples for m = 500, the part the model is fitted on has 1000) (record "
+            "longer data or list smaller taus)");
   std::ifstream in(dir_ / "an" / "analysis.json");
   const auto j = nlohmann::json::parse(in);
   ASSERT_EQ(j["excluded_taus"].size(), 1u);
@@ -256,7 +258,8 @@ TEST_F(Cli, NeverOverwritesWithoutForce) {
 
 TEST_F(Cli, GapsSplitSaysSo) {
   std::string text = "t,g\n";
-  for (int i = 0; i < 200; ++i) text += std::to_string(i < 100 ? i * 0.1 : 20.0 + i * 0.1) + "," + std::to_string((i * 7919) % 13) + "\n";
+  for (int i = 0; i < 200; ++i)
+    text += std::to_string(i < 100 ? i * 0.1 : 20.0 + i * 0.1) + "," + std::to_string((i * 7919) % 13) + "\n";
   const std::string f = write("gap.csv", text);
   const Result e = run("dev " + f + " --taus 0.1,0.2");
   EXPECT_EQ(e.code, 2);
@@ -355,13 +358,14 @@ TEST_F(Cli, SimulateThenAnalyzeRoundTrip) {
   EXPECT_EQ(run("simulate --preset sport-gyro --duration 1h --out " + rec).code, 2) << "existing file kept";
 
   const std::string out = (dir_ / "an").string();
-  const Result an = run("analyze " + rec + " --columns gx,gy,gz --unit deg/s --model-lsb 145.6 --out " + out +
-                        " --format json");
+  const Result an =
+      run("analyze " + rec + " --columns gx,gy,gz --unit deg/s --model-lsb 145.6 --out " + out + " --format json");
   ASSERT_EQ(an.code, 0) << an.err;
   const auto j = nlohmann::json::parse(an.out);
   const double sn = j["channels"][2]["model"]["sigma_n"].get<double>();
   EXPECT_NEAR(sn / 13.0e-3, 1.0, 0.03);  // sport-gyro z white noise
-  for (const char* f : {"analysis.json", "adev.csv", "drift.csv", "imu.yaml"}) EXPECT_TRUE(fs::exists(dir_ / "an" / f)) << f;
+  for (const char* f : {"analysis.json", "adev.csv", "drift.csv", "imu.yaml"})
+    EXPECT_TRUE(fs::exists(dir_ / "an" / f)) << f;
   const Result again = run("analyze " + rec + " --columns gx,gy,gz --unit deg/s --out " + out);
   EXPECT_EQ(again.code, 2) << "results are not replaced without --force";
 
@@ -395,8 +399,8 @@ TEST_F(Cli, TurnonAndCompareOnSimulatedPowerCycles) {
   std::string files;
   for (int s = 1; s <= 5; ++s) {
     const std::string f = (dir_ / ("run" + std::to_string(s) + ".csv")).string();
-    ASSERT_EQ(run("simulate --preset sport-gyro --rate 10 --duration 20m --temp const:25 --seed " +
-                  std::to_string(s) + " --out " + f)
+    ASSERT_EQ(run("simulate --preset sport-gyro --rate 10 --duration 20m --temp const:25 --seed " + std::to_string(s) +
+                  " --out " + f)
                   .code,
               0);
     files += " " + f;
@@ -420,8 +424,10 @@ TEST_F(Cli, TurnonAndCompareOnSimulatedPowerCycles) {
 
 TEST_F(Cli, CalibrateTemperatureRecoversCoefficient) {
   const std::string f = (dir_ / "mag.csv").string();
-  ASSERT_EQ(run("simulate --preset sport-mag --rate 1 --duration 48h --temp sine:25,10,21600 --seed 2 --out " + f).code, 0);
-  const Result r = run("calibrate temperature " + f + " --columns mx,my,mz --temp-col temp --unit mGauss --format json");
+  ASSERT_EQ(run("simulate --preset sport-mag --rate 1 --duration 48h --temp sine:25,10,21600 --seed 2 --out " + f).code,
+            0);
+  const Result r =
+      run("calibrate temperature " + f + " --columns mx,my,mz --temp-col temp --unit mGauss --format json");
   ASSERT_EQ(r.code, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
   for (int a = 0; a < 3; ++a) {
@@ -441,10 +447,12 @@ TEST_F(Cli, CalibrateTemperatureRecoversCoefficient) {
 // temperature swing.
 TEST_F(Cli, AnalyzeWithTemperatureReportsTheCompensatedModel) {
   const std::string swing = path("swing.csv"), flat = path("flat.csv");
-  ASSERT_EQ(run("simulate --preset sport-mag --rate 1 --duration 24h --temp sine:25,5,21600 --seed 4 --out " + swing).code, 0);
+  ASSERT_EQ(
+      run("simulate --preset sport-mag --rate 1 --duration 24h --temp sine:25,5,21600 --seed 4 --out " + swing).code,
+      0);
   ASSERT_EQ(run("simulate --preset sport-mag --rate 1 --duration 24h --temp const:25 --seed 4 --out " + flat).code, 0);
-  const Result r = run("analyze " + swing +
-                       " --columns mx,my,mz --unit mGauss --temp-col temp --model-lsb 1.3 --out " + path("swing"));
+  const Result r = run("analyze " + swing + " --columns mx,my,mz --unit mGauss --temp-col temp --model-lsb 1.3 --out " +
+                       path("swing"));
   ASSERT_EQ(r.code, 0) << r.err;
   ASSERT_EQ(run("analyze " + flat + " --columns mx,my,mz --unit mGauss --model-lsb 1.3 --out " + path("flat")).code, 0);
   EXPECT_NE(r.out.find("jointly with the random-walk bias (least squares"), std::string::npos) << r.out;
@@ -479,8 +487,8 @@ TEST_F(Cli, AnalyzeWithTemperatureReportsTheCompensatedModel) {
 // a plain std::invalid_argument would get no hint).
 
 using cubecal::CalibrationReason;
-using cubecal::cli::CalibrationCommand;
 using cubecal::cli::calibration_hint;
+using cubecal::cli::CalibrationCommand;
 using cubecal::cli::HintContext;
 
 TEST(CalibrationHints, OneHintPerCommandAndReason) {
@@ -518,8 +526,8 @@ std::string cap_points() {
   std::string text = "mx,my,mz\n";
   for (int k = 0; k < 300; ++k) {
     const double th = 0.4 * (k % 17) / 16.0, ph = 0.37 * k;
-    text += std::to_string(40 * std::sin(th) * std::cos(ph) + 3) + "," + std::to_string(40 * std::sin(th) * std::sin(ph) - 2) +
-            "," + std::to_string(40 * std::cos(th) + 1) + "\n";
+    text += std::to_string(40 * std::sin(th) * std::cos(ph) + 3) + "," +
+            std::to_string(40 * std::sin(th) * std::sin(ph) - 2) + "," + std::to_string(40 * std::cos(th) + 1) + "\n";
   }
   return text;
 }
@@ -530,7 +538,8 @@ TEST_F(Cli, CalibrateMagPoorCoverageHintsAllowPartial) {
   EXPECT_EQ(two.code, 2);
   EXPECT_TRUE(one_error_line(two)) << two.err;
   EXPECT_NE(two.err.find("(add --allow-partial to fit anyway)"), std::string::npos) << two.err;
-  const Result ell = run("calibrate mag " + std::string(CUBECAL_SHARED_DATA) + "/mag/cubesat-adcs/meas_for_mag_calib.csv");
+  const Result ell =
+      run("calibrate mag " + std::string(CUBECAL_SHARED_DATA) + "/mag/cubesat-adcs/meas_for_mag_calib.csv");
   EXPECT_EQ(ell.code, 2);
   EXPECT_NE(ell.err.find("--allow-partial"), std::string::npos) << ell.err;
   EXPECT_NE(ell.err.find("or use --method twostep"), std::string::npos) << ell.err;
@@ -558,7 +567,8 @@ TEST_F(Cli, CalibrateMultipositionTooFewPosesHintsInitStatic) {
   EXPECT_EQ(r.code, 2);
   EXPECT_TRUE(one_error_line(r)) << r.err;
   EXPECT_NE(r.err.find("fewer than 12 static intervals"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("(check --init-static (the sensor must be still then) and --rate/--time-col)"), std::string::npos)
+  EXPECT_NE(r.err.find("(check --init-static (the sensor must be still then) and --rate/--time-col)"),
+            std::string::npos)
       << r.err;
 }
 

@@ -43,8 +43,8 @@ TEST_F(CliHardening, SimulateModelRescalesToTheRequestedRate) {
   const auto j100 = nlohmann::json::parse(an.out)["channels"][0]["noise"]["arw"];
   const std::string model = path("an") + "/analysis.json";
 
-  const Result s10 = run("simulate --model " + model + " --rate 10 --duration 4h --seed 5 --temp const:25 --out " +
-                         path("g10.csv"));
+  const Result s10 =
+      run("simulate --model " + model + " --rate 10 --duration 4h --seed 5 --temp const:25 --out " + path("g10.csv"));
   ASSERT_EQ(s10.code, 0) << s10.err;
   EXPECT_NE(s10.err.find("at 10 Hz"), std::string::npos) << s10.err;
   const Result a10 = run("analyze " + path("g10.csv") + " --columns gx --unit deg/s --format json");
@@ -135,13 +135,16 @@ TEST_F(CliHardening, RateContradictingTheTimeColumnIsAnError) {
   ASSERT_EQ(run("simulate --preset sport-gyro --rate 10 --duration 10m --seed 3 --out " + rec).code, 0);
   for (const std::string cmd : {"dev", "analyze"}) {
     for (const std::string extra : {"", " --time-col t"}) {
-      const Result r = run(cmd + " " + rec + " --columns gx --rate 20" + extra + (cmd == "analyze" ? " --unit deg/s" : ""));
+      const Result r =
+          run(cmd + " " + rec + " --columns gx --rate 20" + extra + (cmd == "analyze" ? " --unit deg/s" : ""));
       EXPECT_EQ(r.code, 2) << cmd << extra << ": " << r.err;
       EXPECT_TRUE(one_error_line(r)) << r.err;
       if (!extra.empty()) continue;  // --time-col: each stamp is checked against --rate (a "gap" at line 3)
-      EXPECT_NE(r.err.find("--rate: " + rec + ": the rate 20 Hz contradicts the time column 't' (10 Hz, median "
-                           "interval 0.1 s): leave the rate out to take it from the time stamps, or fix the time column"),
-                std::string::npos)
+      EXPECT_NE(
+          r.err.find("--rate: " + rec +
+                     ": the rate 20 Hz contradicts the time column 't' (10 Hz, median "
+                     "interval 0.1 s): leave the rate out to take it from the time stamps, or fix the time column"),
+          std::string::npos)
           << r.err;
     }
   }
@@ -195,8 +198,8 @@ TEST_F(CliHardening, RatesAndMagnitudesOutOfRangeAreRefused) {
   const std::string edge = write("edge.csv", text);
   for (const std::string rate : {"1e-9", "1e9"})
     for (const std::string cmd : {"dev", "analyze"}) {
-      const Result r = run(cmd + " " + edge + " --rate " + rate + (cmd == "analyze" ? " --unit deg/s" : "") +
-                           " --format json");
+      const Result r =
+          run(cmd + " " + edge + " --rate " + rate + (cmd == "analyze" ? " --unit deg/s" : "") + " --format json");
       ASSERT_EQ(r.code, 0) << cmd << " " << rate << ": " << r.err;
       EXPECT_EQ(r.out.find("nan"), std::string::npos) << cmd << " " << rate;
       EXPECT_EQ(r.out.find("inf"), std::string::npos) << cmd << " " << rate;

@@ -37,9 +37,9 @@ namespace cubecal {
 namespace {
 
 namespace fs = std::filesystem;
+using test::count;
 using test::one_error_line;
 using test::run_cubecal;
-using test::count;
 using test::slurp;
 using test::spit;
 
@@ -152,8 +152,8 @@ class CommandReports : public ::testing::Test {
   // A rate-table run: the simulated gyro turned through 10 plateaus of 40 s
   // (--true-input), with the table's rates appended as columns rx, ry, rz.
   static void write_rate_table() {
-    const std::vector<std::array<double, 3>> rates{{0, 0, 0},   {10, 0, 0},  {-10, 0, 0}, {0, 10, 0},  {0, -10, 0},
-                                                   {0, 0, 10},  {0, 0, -10}, {20, 20, 0}, {0, -15, 15}, {0, 0, 0}};
+    const std::vector<std::array<double, 3>> rates{{0, 0, 0},  {10, 0, 0},  {-10, 0, 0}, {0, 10, 0},   {0, -10, 0},
+                                                   {0, 0, 10}, {0, 0, -10}, {20, 20, 0}, {0, -15, 15}, {0, 0, 0}};
     std::string prof = "t,wx,wy,wz\n";
     for (std::size_t k = 0; k < rates.size(); ++k)
       prof += std::to_string(40 * k) + "," + std::to_string(rates[k][0]) + "," + std::to_string(rates[k][1]) + "," +
@@ -193,8 +193,7 @@ class CommandReports : public ::testing::Test {
       const double scale = (k == 50 || k == 150 || k == 250) ? 5.0 : 1.0;
       char line[128];
       double h[3];
-      for (int i = 0; i < 3; ++i)
-        h[i] = b[i] + scale * F * (M[i][0] * u[0] + M[i][1] * u[1] + M[i][2] * u[2]) + g(rng);
+      for (int i = 0; i < 3; ++i) h[i] = b[i] + scale * F * (M[i][0] * u[0] + M[i][1] * u[1] + M[i][2] * u[2]) + g(rng);
       std::snprintf(line, sizeof line, "%.5f,%.5f,%.5f\n", h[0], h[1], h[2]);
       s += line;
     }
@@ -224,9 +223,10 @@ class CommandReports : public ::testing::Test {
 };
 fs::path CommandReports::root_;
 
-#define REQUIRE_GNUPLOT()                                                                           \
-  if (!have_gnuplot()) GTEST_SKIP() << "gnuplot not installed: install gnuplot-nox "                \
-                                       "(scripts/install-deps.sh) to render and check the plots"
+#define REQUIRE_GNUPLOT()                                       \
+  if (!have_gnuplot())                                          \
+  GTEST_SKIP() << "gnuplot not installed: install gnuplot-nox " \
+                  "(scripts/install-deps.sh) to render and check the plots"
 
 const std::vector<std::string> kTurnonPlots{"turnon_bias_gx", "turnon_bias_gy", "turnon_bias_gz",
                                             "runs_allan_gx",  "runs_allan_gy",  "runs_allan_gz"};
@@ -270,10 +270,10 @@ TEST(CommandReportPage, EscapesEveryStringAndLaysOutTheParts) {
   const std::string html = report::command_report_html(r, {}, "Plots not rendered: why.");
   for (const char* raw : {"<script>alert", "<img src=x", "g<x>", "Table <1>", "a<b>.csv", "\"quoted\""})
     EXPECT_EQ(html.find(raw), std::string::npos) << raw;
-  for (const char* esc : {"Report of &lt;script&gt;alert(1)&lt;/script&gt;", "&lt;img src=x onerror=alert(2)&gt;.csv",
-                          "<th>g&lt;x&gt;</th><td class=\"num\">1 ± 0.1</td>", "Table &lt;1&gt;", "note &amp; more",
-                          "10 Hz &amp; more", "cubecal turnon &#39;a&lt;b&gt;.csv&#39; --report out",
-                          "careful: &quot;quoted&quot;"})
+  for (const char* esc :
+       {"Report of &lt;script&gt;alert(1)&lt;/script&gt;", "&lt;img src=x onerror=alert(2)&gt;.csv",
+        "<th>g&lt;x&gt;</th><td class=\"num\">1 ± 0.1</td>", "Table &lt;1&gt;", "note &amp; more", "10 Hz &amp; more",
+        "cubecal turnon &#39;a&lt;b&gt;.csv&#39; --report out", "careful: &quot;quoted&quot;"})
     EXPECT_NE(html.find(esc), std::string::npos) << esc;
   EXPECT_NE(html.find("A <b>lead</b>."), std::string::npos) << "the lead is HTML";
   EXPECT_NE(html.find("<p class=\"note\">Plots not rendered: why.</p>"), std::string::npos);
@@ -488,17 +488,18 @@ std::string expect_table_page(const fs::path& dir) {
   EXPECT_FALSE(fs::exists(dir / "report.html.partial"));
   const std::string html = slurp(dir / "report.html");
   EXPECT_EQ(html.rfind("<!DOCTYPE html>", 0), 0u);
-  for (const char* bad : {"http://", "https://", "<link", "<img", "<script src"}) EXPECT_EQ(html.find(bad), std::string::npos) << bad;
+  for (const char* bad : {"http://", "https://", "<link", "<img", "<script src"})
+    EXPECT_EQ(html.find(bad), std::string::npos) << bad;
   return html;
 }
 
 TEST_F(CommandReports, TemperatureAndMultipositionPagesFromTheCli) {
   REQUIRE_GNUPLOT();
   const fs::path mag = root_ / "mag_temp.csv";
-  ASSERT_EQ(run_cubecal("simulate --preset sport-mag --rate 1 --duration 2h --temp sine:25,10,3600 --seed 3 --out " +
-                        q(mag))
-                .code,
-            0);
+  ASSERT_EQ(
+      run_cubecal("simulate --preset sport-mag --rate 1 --duration 2h --temp sine:25,10,3600 --seed 3 --out " + q(mag))
+          .code,
+      0);
   const fs::path dt = root_ / "temperature";
   const auto t = run_cubecal("calibrate temperature " + q(mag) + " --columns mx,my,mz --temp-col temp --unit mGauss " +
                              "--format json --report " + q(dt));
@@ -507,15 +508,17 @@ TEST_F(CommandReports, TemperatureAndMultipositionPagesFromTheCli) {
   const std::string tp = expect_table_page(dt);
   EXPECT_NE(tp.find("Temperature calibration: mag_temp.csv"), std::string::npos);
   EXPECT_NE(tp.find("mGauss/degC"), std::string::npos);
-  const auto again = run_cubecal("calibrate temperature " + q(mag) + " --columns mx,my,mz --temp-col temp --report " +
-                                 q(dt));
+  const auto again =
+      run_cubecal("calibrate temperature " + q(mag) + " --columns mx,my,mz --temp-col temp --report " + q(dt));
   EXPECT_TRUE(one_error_line(again)) << again.err;
   EXPECT_TRUE(again.out.empty()) << "refused before the work";
 
   const std::string xsens = std::string(CUBECAL_SHARED_DATA) + "/imu/xsens-multiposition/";
   const fs::path dm = root_ / "multiposition";
-  const auto m = run_cubecal("calibrate multiposition " + xsens + "xsens_acc.txt --acc-columns 2,3,4 --time-col 1 "
-                             "--g 9.81744 --acc-bias 32768 --report " + q(dm));
+  const auto m = run_cubecal("calibrate multiposition " + xsens +
+                             "xsens_acc.txt --acc-columns 2,3,4 --time-col 1 "
+                             "--g 9.81744 --acc-bias 32768 --report " +
+                             q(dm));
   ASSERT_EQ(m.code, 0) << m.err;
   const std::string mp = expect_table_page(dm);
   EXPECT_NE(mp.find("Static poses"), std::string::npos);
@@ -563,10 +566,9 @@ TEST_F(CommandReports, MissingGnuplotStopsBeforeTheWork) {
   fs::create_directories(empty);
   ::setenv("PATH", empty.c_str(), 1);  // the binary is run by its full path, by /bin/sh
   const fs::path out = root_ / "never.txt";
-  const std::vector<test::CliRun> runs{turnon(root_ / "ng1", " --out " + q(out)),
-                                       compare(root_ / "ng2", " --out " + q(out)),
-                                       rate_table(root_ / "ng3", " --out " + q(out)),
-                                       mag(root_ / "ng4", " --out " + q(out))};
+  const std::vector<test::CliRun> runs{
+      turnon(root_ / "ng1", " --out " + q(out)), compare(root_ / "ng2", " --out " + q(out)),
+      rate_table(root_ / "ng3", " --out " + q(out)), mag(root_ / "ng4", " --out " + q(out))};
   ::setenv("PATH", saved.c_str(), 1);
   for (const auto& r : runs) {
     EXPECT_TRUE(one_error_line(r)) << r.code << " " << r.err;

@@ -294,8 +294,8 @@ TEST(CompositeModel, ModelSyntax) {
       EXPECT_NE(std::string(e.what()).find("MA1 with"), std::string::npos) << e.what();
     }
   }
-  for (const char* bad : {"", "WN+", "WN++RW", "XX", "WN+WN", "2*RW", "0*GM", "x*GM", "100*GM", "MA1+MA1", "2*MA1",
-                          "MA2"}) {
+  for (const char* bad :
+       {"", "WN+", "WN++RW", "XX", "WN+WN", "2*RW", "0*GM", "x*GM", "100*GM", "MA1+MA1", "2*MA1", "MA2"}) {
     try {
       parse_composite_model(bad);
       ADD_FAILURE() << "accepted '" << bad << "'";

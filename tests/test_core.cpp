@@ -31,8 +31,7 @@ std::vector<double> white(std::size_t n, double sigma, std::uint64_t seed) {
 }
 
 TEST(TauGrid, Octave) {
-  EXPECT_EQ(averaging_factors(parse_tau_grid("octave"), 100, 1.0),
-            (std::vector<std::size_t>{1, 2, 4, 8, 16, 32, 64}));
+  EXPECT_EQ(averaging_factors(parse_tau_grid("octave"), 100, 1.0), (std::vector<std::size_t>{1, 2, 4, 8, 16, 32, 64}));
 }
 
 TEST(TauGrid, Decade) {
@@ -220,8 +219,8 @@ TEST(Confidence, ChiSquaredFactors) {
   // docs/formulas/stability.md §6.2, 68.27 % factors.
   const struct {
     double edf, lo, hi;
-  } ref[] = {{1, 0.7094, 4.9957}, {2, 0.7370, 2.4059}, {5, 0.7927, 1.5595},
-             {10, 0.8355, 1.3268}, {100, 0.9362, 1.0789}};
+  } ref[] = {
+      {1, 0.7094, 4.9957}, {2, 0.7370, 2.4059}, {5, 0.7927, 1.5595}, {10, 0.8355, 1.3268}, {100, 0.9362, 1.0789}};
   for (const auto& r : ref) {
     const auto ci = chi2_interval(1.0, r.edf, 0.6827);
     EXPECT_NEAR(ci.lo, r.lo, 2e-4) << r.edf;
@@ -329,8 +328,10 @@ TEST(LargestMagnitude, EqualsThePlainLoopAtEveryPlace) {
           if (std::isfinite(u[k])) plain = std::max(plain, std::fabs(u[k]));
         const Magnitude b = largest_magnitude(u);
         EXPECT_FALSE(b.finite) << n << " " << at;
-        if (std::isnan(bad)) EXPECT_EQ(b.largest, plain);  // a NaN is passed over
-        else EXPECT_EQ(b.largest, HUGE_VAL);                // an infinity is the largest
+        if (std::isnan(bad))
+          EXPECT_EQ(b.largest, plain);  // a NaN is passed over
+        else
+          EXPECT_EQ(b.largest, HUGE_VAL);  // an infinity is the largest
       }
     }
   }

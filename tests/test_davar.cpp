@@ -260,8 +260,8 @@ TEST(Davar, MissingSamplesFastEqualsDirect) {
       bare.intervals = false;
       double from_definition = 0.0;
       for (std::size_t k = 0; k < direct.windows(); k += std::max<std::size_t>(1, direct.windows() / 7)) {
-        const auto pts = oadev_skipping_missing(std::span<const double>(y).subspan(k * c.step, c.window), type, 0.1,
-                                                direct.m, bare);
+        const auto pts =
+            oadev_skipping_missing(std::span<const double>(y).subspan(k * c.step, c.window), type, 0.1, direct.m, bare);
         for (std::size_t j = 0; j < direct.taus(); ++j) {
           ASSERT_EQ(direct.terms_at(j, k), pts[j].n) << "window " << k << ", m " << direct.m[j];
           if (pts[j].n > 0)
@@ -310,9 +310,10 @@ TEST(Davar, MissingSamplesEachCellIsDevGapsSkipOnItsWindow) {
         EXPECT_NEAR(mx.hi[c] / pts[j].hi, 1.0, 1e-12);
       }
     }
-    std::printf("davar vs dev --gaps skip on each window's samples: max relative difference %.3g "
-                "(%zu of %zu windows with missing samples, %zu cells without a whole term)\n",
-                worst, gapped_windows, mx.windows(), without_value);
+    std::printf(
+        "davar vs dev --gaps skip on each window's samples: max relative difference %.3g "
+        "(%zu of %zu windows with missing samples, %zu cells without a whole term)\n",
+        worst, gapped_windows, mx.windows(), without_value);
     EXPECT_LT(worst, 1e-12);
     EXPECT_GT(gapped_windows, 0u);
     EXPECT_LT(gapped_windows, mx.windows()) << "whole windows too";
@@ -453,15 +454,16 @@ TEST(Davar, LocatesAChangeOfRandomWalkStrength) {
   auto level = [&](double q) { return q * (2.0 * m * m + 1.0) / (6.0 * m) + sw * sw / m; };
   const Located at = locate(mx, 2, level(q1), level(q2));
   const double planted = static_cast<double>(change) * tau0, step = static_cast<double>(S) * tau0;
-  std::printf("random-walk change at %.1f s located at %.1f s (%+.1f s, step %.0f s, %zu crossing)\n", planted,
-              at.time, at.time - planted, step, at.crossings);
+  std::printf("random-walk change at %.1f s located at %.1f s (%+.1f s, step %.0f s, %zu crossing)\n", planted, at.time,
+              at.time - planted, step, at.crossings);
   EXPECT_EQ(at.crossings, 1u);
   EXPECT_LE(std::abs(at.time - planted), step);
   // Far from the change the surface sits at the two levels (within 4 times
   // the relative standard deviation sqrt(2 / EDF) of a window's variance).
   const double edf = edf_for(Stat::oadev, -2, 4, W + 1);
   const double tol = 4.0 * std::sqrt(2.0 / edf);
-  for (std::size_t k : {std::size_t{0}, std::size_t{1}}) EXPECT_NEAR(mx.dev_at(2, k) * mx.dev_at(2, k) / level(q1), 1.0, tol);
+  for (std::size_t k : {std::size_t{0}, std::size_t{1}})
+    EXPECT_NEAR(mx.dev_at(2, k) * mx.dev_at(2, k) / level(q1), 1.0, tol);
   const std::size_t last = mx.windows() - 1;
   EXPECT_NEAR(mx.dev_at(2, last) * mx.dev_at(2, last) / level(q2), 1.0, tol);
 }
@@ -540,8 +542,8 @@ TEST_F(DavarCli, GapsSkipEachColumnIsDevGapsSkipOnItsWindow) {
   const std::size_t n = 2400, W = 400, S = 250;
   const double nan = std::numeric_limits<double>::quiet_NaN();
   std::vector<double> gx = white(n, 1.0, 21), gy = white(n, 0.5, 22);
-  gx[130] = nan;                                      // an empty field
-  gx[700] = gy[700] = nan;                            // NaN
+  gx[130] = nan;                                                  // an empty field
+  gx[700] = gy[700] = nan;                                        // NaN
   for (std::size_t k = 1000; k < 1003; ++k) gx[k] = gy[k] = nan;  // rows never logged
   for (std::size_t k = 1500; k < 2000; k += 5) gx[k] = nan;       // every fifth sample, empty
   std::string text = "t,gx,gy\n";
@@ -610,9 +612,10 @@ TEST_F(DavarCli, GapsSkipEachColumnIsDevGapsSkipOnItsWindow) {
       }
     }
   }
-  std::printf("davar --gaps skip vs dev --gaps skip on each window: %zu cells, max relative difference %.3g, "
-              "%zu cells without a whole term\n",
-              compared, worst, nulls);
+  std::printf(
+      "davar --gaps skip vs dev --gaps skip on each window: %zu cells, max relative difference %.3g, "
+      "%zu cells without a whole term\n",
+      compared, worst, nulls);
   EXPECT_LT(worst, 1e-12);
   EXPECT_GT(nulls, 0u);
   EXPECT_GT(compared, 100u);
@@ -759,7 +762,8 @@ TEST_F(DavarCli, BadInputIsOneLineExitTwo) {
   EXPECT_NE(run_cubecal("davar " + f + " --window 2h").err.find("--window: "), std::string::npos);
   // A record cut at a gap: one window slides along one contiguous record.
   std::string gapped = "t,gx\n";
-  for (int i = 0; i < 400; ++i) gapped += std::to_string(0.1 * (i < 200 ? i : i + 50)) + "," + std::to_string(i % 7) + "\n";
+  for (int i = 0; i < 400; ++i)
+    gapped += std::to_string(0.1 * (i < 200 ? i : i + 50)) + "," + std::to_string(i % 7) + "\n";
   const auto split = run_cubecal("davar " + write("gapped.csv", gapped) + " --gaps split --window 50");
   EXPECT_EQ(split.code, 2);
   EXPECT_TRUE(one_error_line(split)) << split.err;

@@ -93,8 +93,7 @@ double direct_deviation(Stat stat, const std::vector<double>& x, std::size_t m) 
   return stat == Stat::tdev ? dev * static_cast<double>(m) / std::sqrt(3.0) : dev;
 }
 
-constexpr Stat kStats[] = {Stat::adev, Stat::oadev, Stat::mdev, Stat::tdev,
-                           Stat::hdev, Stat::ohdev, Stat::totdev};
+constexpr Stat kStats[] = {Stat::adev, Stat::oadev, Stat::mdev, Stat::tdev, Stat::hdev, Stat::ohdev, Stat::totdev};
 
 StabilityOptions no_intervals() {
   StabilityOptions o;
@@ -127,8 +126,7 @@ TEST(DenseGrid, AllTausMatchTheDefinitionForEveryStatistic) {
       ASSERT_EQ(piped[j].m, m);
       const double want = direct_deviation(stat, x, m) * scale;
       ASSERT_GT(want, 0.0);
-      worst = std::max({worst, std::abs(front[j].dev / want - 1.0),
-                        std::abs(piped[j].dev / want - 1.0)});
+      worst = std::max({worst, std::abs(front[j].dev / want - 1.0), std::abs(piped[j].dev / want - 1.0)});
     }
     EXPECT_LT(worst, 1e-12);
   }
@@ -173,7 +171,7 @@ TEST(DenseGrid, TiledSparseFactorsAreTheBitsOfOneFactorAtATime) {
       const auto m = static_cast<std::size_t>(f);
       if (ms.empty() || m != ms.back()) ms.push_back(m);
     }
-    ms.push_back((x.size() - 1) / 2);  // the largest that fits
+    ms.push_back((x.size() - 1) / 2);      // the largest that fits
     ms.push_back((x.size() - 1) / 2 + 1);  // does not fit: n == 0
     std::vector<VarianceTerm> tiled(ms.size());
     oavar(x, ms, 0.1, tiled);

@@ -32,9 +32,9 @@ TEST(FrontDoor, EveryStatisticMatchesStable32OnItsOctaveGrid) {
   const std::vector<double> x = read_column(shared_data("stable32/phasedat/PHASE.DAT"));
   ASSERT_FALSE(x.empty());
   const Table tables[] = {
-      {Stat::adev, "phase_dat_adev_octave.txt"},   {Stat::oadev, "phase_dat_oadev_octave.txt"},
-      {Stat::mdev, "phase_dat_mdev_octave.txt"},   {Stat::tdev, "phase_dat_tdev_octave.txt"},
-      {Stat::hdev, "phase_dat_hdev_octave.txt"},   {Stat::ohdev, "phase_dat_ohdev_octave.txt"},
+      {Stat::adev, "phase_dat_adev_octave.txt"},     {Stat::oadev, "phase_dat_oadev_octave.txt"},
+      {Stat::mdev, "phase_dat_mdev_octave.txt"},     {Stat::tdev, "phase_dat_tdev_octave.txt"},
+      {Stat::hdev, "phase_dat_hdev_octave.txt"},     {Stat::ohdev, "phase_dat_ohdev_octave.txt"},
       {Stat::totdev, "phase_dat_totdev_octave.txt"},
   };
   for (const auto& t : tables) {
@@ -68,8 +68,8 @@ TEST(FrontDoor, NamedCallsEqualThePipeline) {
   }
   using Fn = std::vector<StabilityPoint> (*)(std::span<const double>, double, DataType, const TauGrid&,
                                              const StabilityOptions&);
-  const std::pair<Stat, Fn> calls[] = {{Stat::adev, adev},   {Stat::oadev, oadev}, {Stat::mdev, mdev},
-                                       {Stat::tdev, tdev},   {Stat::hdev, hdev},   {Stat::ohdev, ohdev},
+  const std::pair<Stat, Fn> calls[] = {{Stat::adev, adev},    {Stat::oadev, oadev}, {Stat::mdev, mdev},
+                                       {Stat::tdev, tdev},    {Stat::hdev, hdev},   {Stat::ohdev, ohdev},
                                        {Stat::totdev, totdev}};
   TauGrid grid;
   grid.kind = TauGrid::Kind::log;

@@ -49,7 +49,8 @@ class EstimatorCli : public TempDirTest {
 
 TEST_F(EstimatorCli, ForWritesEachFormatAndInflateScalesIt) {
   const std::string rec = record();
-  const auto plain = run_cubecal("analyze " + rec + kUnits + " --out " + path("a") + " --for kalibr,openvins,vins,kf-gins");
+  const auto plain =
+      run_cubecal("analyze " + rec + kUnits + " --out " + path("a") + " --for kalibr,openvins,vins,kf-gins");
   ASSERT_EQ(plain.code, 0) << plain.err;
   const auto inflated = run_cubecal("analyze " + rec + kUnits + " --out " + path("b") +
                                     " --for kalibr --for openvins,vins --for kf-gins --inflate 3");
@@ -74,7 +75,8 @@ TEST_F(EstimatorCli, ForWritesEachFormatAndInflateScalesIt) {
   // White noise only: every channel's curve still falls at its last tau and
   // shows no random walk; the console says so rather than printing numbers.
   std::size_t no_min = 0, no_k = 0;
-  for (std::size_t at = plain.out.find("\n  B         no minimum within the record (the curve is lowest at its last tau");
+  for (std::size_t at =
+           plain.out.find("\n  B         no minimum within the record (the curve is lowest at its last tau");
        at != std::string::npos; at = plain.out.find("\n  B         no minimum within the record", at + 1))
     ++no_min;
   for (std::size_t at = plain.out.find("\n  K         not "); at != std::string::npos;
@@ -105,12 +107,13 @@ TEST_F(EstimatorCli, ForWritesEachFormatAndInflateScalesIt) {
   EXPECT_NEAR(arw, 0.12, 3.0 * arw_sigma);
   EXPECT_LT(arw_sigma, 0.05 * arw);
 
-  for (const char* key : {"gyroscope_noise_density", "gyroscope_random_walk", "accelerometer_noise_density",
-                          "accelerometer_random_walk"})
+  for (const char* key :
+       {"gyroscope_noise_density", "gyroscope_random_walk", "accelerometer_noise_density", "accelerometer_random_walk"})
     EXPECT_NEAR(number(kb, key) / number(ka, key), 3.0, 3e-9) << key;
   const auto va = yaml_keys(slurp(dir_ / "a" / "vins_imu.yaml"));
   const auto vb = yaml_keys(slurp(dir_ / "b" / "vins_imu.yaml"));
-  for (const char* key : {"acc_n", "gyr_n", "acc_w", "gyr_w"}) EXPECT_NEAR(number(vb, key) / number(va, key), 3.0, 3e-9);
+  for (const char* key : {"acc_n", "gyr_n", "acc_w", "gyr_w"})
+    EXPECT_NEAR(number(vb, key) / number(va, key), 3.0, 3e-9);
   EXPECT_EQ(number(vb, "g_norm"), number(va, "g_norm"));
   const auto ga = yaml_keys(slurp(dir_ / "a" / "kf-gins_imunoise.yaml"));
   const auto gb = yaml_keys(slurp(dir_ / "b" / "kf-gins_imunoise.yaml"));
@@ -137,8 +140,8 @@ TEST_F(EstimatorCli, ExistingEstimatorFileIsRefusedBeforeTheWork) {
 TEST_F(EstimatorCli, BadRequestsAreUsageErrors) {
   const std::string rec = record();
   for (const std::string& args : std::vector<std::string>{" --out " + path("x") + " --for okvis", " --for kalibr",
-                                 " --out " + path("y") + " --for vins --inflate 0.5",
-                                 " --out " + path("z") + " --for vins --inflate nan"}) {
+                                                          " --out " + path("y") + " --for vins --inflate 0.5",
+                                                          " --out " + path("z") + " --for vins --inflate nan"}) {
     const auto r = run_cubecal("analyze " + rec + kUnits + args);
     EXPECT_TRUE(one_error_line(r)) << args << ": " << r.code << " " << r.err;
   }

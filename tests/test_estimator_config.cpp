@@ -224,9 +224,11 @@ TEST(EstimatorConfig, InflateScalesEveryNoiseTermExactly) {
   const double K = 2.5;
   const std::vector<std::pair<pipeline::Estimator, std::vector<std::string>>> cases{
       {pipeline::Estimator::kalibr,
-       {"gyroscope_noise_density", "gyroscope_random_walk", "accelerometer_noise_density", "accelerometer_random_walk"}},
+       {"gyroscope_noise_density", "gyroscope_random_walk", "accelerometer_noise_density",
+        "accelerometer_random_walk"}},
       {pipeline::Estimator::openvins,
-       {"gyroscope_noise_density", "gyroscope_random_walk", "accelerometer_noise_density", "accelerometer_random_walk"}},
+       {"gyroscope_noise_density", "gyroscope_random_walk", "accelerometer_noise_density",
+        "accelerometer_random_walk"}},
       {pipeline::Estimator::vins, {"acc_n", "gyr_n", "acc_w", "gyr_w"}}};
   for (const auto& [e, keys] : cases) {
     const auto one = yaml_keys(file(e, r).text);
@@ -252,14 +254,15 @@ TEST(EstimatorConfig, InflateBelowOneIsRefused) {
 }
 
 TEST(EstimatorConfig, GyroOnlyRecordSaysTheAccelerometerTermsAreAbsent) {
-  const auto r = analyze({white_plus_walk(20000, 0.02, 0.0, 1), white_plus_walk(20000, 0.03, 0.0, 2)},
-                         {"gx", "gy"}, "deg/s");
+  const auto r =
+      analyze({white_plus_walk(20000, 0.02, 0.0, 1), white_plus_walk(20000, 0.03, 0.0, 2)}, {"gx", "gy"}, "deg/s");
   for (const auto e : {pipeline::Estimator::kalibr, pipeline::Estimator::openvins, pipeline::Estimator::vins,
                        pipeline::Estimator::kf_gins}) {
     const auto f = file(e, r);
     EXPECT_EQ(f.missing, "accelerometer") << f.name;
     const auto y = yaml_keys(f.text);
-    for (const char* key : {"accelerometer_noise_density", "accelerometer_random_walk", "acc_n", "acc_w", "vrw", "abstd"})
+    for (const char* key :
+         {"accelerometer_noise_density", "accelerometer_random_walk", "acc_n", "acc_w", "vrw", "abstd"})
       EXPECT_FALSE(y.count(key)) << f.name << " " << key;
     EXPECT_NE(f.text.find("accelerometer terms absent: the record has no acceleration (g, m/s^2) channel"),
               std::string::npos)

@@ -63,8 +63,9 @@ class FirstHour : public cubecal::test::TempDirTest {
 TEST_F(FirstHour, AnalyzeTakesTheUnitsFromTheColumnSuffixes) {
   const auto r = run("analyze " + kData + "/imu/adis16405/run1.csv.gz --taus log:5");
   ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_TRUE(has(r.err, "units from the column names: gyro_x_dps,gyro_y_dps,gyro_z_dps deg/s; "
-                         "acc_x_g,acc_y_g,acc_z_g g (--unit overrides)"))
+  EXPECT_TRUE(has(r.err,
+                  "units from the column names: gyro_x_dps,gyro_y_dps,gyro_z_dps deg/s; "
+                  "acc_x_g,acc_y_g,acc_z_g g (--unit overrides)"))
       << r.err;
   EXPECT_TRUE(has(r.out, "gyro_x_dps [deg/s, rate]")) << r.out;
   EXPECT_TRUE(has(r.out, "deg/sqrt(h)"));
@@ -185,8 +186,8 @@ TEST_F(FirstHour, GnuplotPathThatDoesNotExistIsAClearError) {
       "analyze " + rec + " --out " + path("o1") + " --report --gnuplot " + bad,
       "turnon " + rec + " " + rec + " --report " + path("o2") + " --gnuplot " + bad,
       "compare " + rec + " " + rec + " --report " + path("o3") + " --gnuplot " + bad,
-      "calibrate mag " + kData + "/mag/cubesat-adcs/meas_for_mag_calib.csv --report " + path("o4") +
-          " --gnuplot " + bad,
+      "calibrate mag " + kData + "/mag/cubesat-adcs/meas_for_mag_calib.csv --report " + path("o4") + " --gnuplot " +
+          bad,
       "demo --hours 0.5 --out " + path("o5") + " --gnuplot " + bad,
   };
   for (const auto& c : cmds) {

@@ -27,8 +27,8 @@ std::vector<double> load(const std::string& path) {
   std::ifstream in(path);
   std::vector<double> v;
   std::string token;
-  while (in >> token) v.push_back(token == "nan" || token == "NaN" ? std::numeric_limits<double>::quiet_NaN()
-                                                                   : std::stod(token));
+  while (in >> token)
+    v.push_back(token == "nan" || token == "NaN" ? std::numeric_limits<double>::quiet_NaN() : std::stod(token));
   return v;
 }
 

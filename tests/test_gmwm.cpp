@@ -76,7 +76,8 @@ CompositeModel truth(const std::string& name) {
   return m;
 }
 
-void expect_parameters_near(const CompositeModel& got, const CompositeModel& want, double rel, const std::string& what) {
+void expect_parameters_near(const CompositeModel& got, const CompositeModel& want, double rel,
+                            const std::string& what) {
   ASSERT_EQ(got.processes.size(), want.processes.size());
   for (std::size_t i = 0; i < want.processes.size(); ++i) {
     const Process& g = got.processes[i];
@@ -141,8 +142,8 @@ TEST(Gmwm, SeededRecordsUnbiasedWithinTheirSpread) {
     mean /= kSeeds;
     for (double v : est[k]) var += (v - mean) * (v - mean);
     const double se = std::sqrt(var / (kSeeds - 1) / kSeeds);
-    EXPECT_LT(std::abs(mean - want[k]), 3.0 * se) << "parameter " << k << ": mean " << mean << " truth " << want[k]
-                                                   << " se " << se;
+    EXPECT_LT(std::abs(mean - want[k]), 3.0 * se)
+        << "parameter " << k << ": mean " << mean << " truth " << want[k] << " se " << se;
     EXPECT_GT(se, 0.0);
   }
 }
@@ -178,11 +179,11 @@ TEST(Gmwm, SeededMovingAverageRecordsUnbiasedWithinTheirSpread) {
     for (double v : est[k]) var += (v - mean) * (v - mean);
     const double sd = std::sqrt(var / (kSeeds - 1));
     const double se = sd / std::sqrt(static_cast<double>(kSeeds));
-    EXPECT_LT(std::abs(mean - want[k]), 3.0 * se) << "parameter " << k << ": mean " << mean << " truth " << want[k]
-                                                   << " se " << se;
+    EXPECT_LT(std::abs(mean - want[k]), 3.0 * se)
+        << "parameter " << k << ": mean " << mean << " truth " << want[k] << " se " << se;
     EXPECT_GT(se, 0.0);
-    EXPECT_NEAR(sandwich[k] / sd, 1.0, 3.0 / std::sqrt(78.0)) << "parameter " << k << ": sandwich " << sandwich[k]
-                                                              << " spread " << sd;
+    EXPECT_NEAR(sandwich[k] / sd, 1.0, 3.0 / std::sqrt(78.0))
+        << "parameter " << k << ": sandwich " << sandwich[k] << " spread " << sd;
   }
 }
 

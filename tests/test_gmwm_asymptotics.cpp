@@ -106,10 +106,10 @@ TEST(GmwmAsymptotics, HatMatrixSandwichAndJacobian) {
 }
 
 struct Spread {
-  std::vector<double> mc_sd;        // of the fitted log-parameters
-  std::vector<double> truth_sd;     // the sandwich at the truth
-  std::vector<double> median_sd;    // the median of the sandwich at each record's fit
-  std::vector<double> naive_sd;     // (A'WA)^-1 at the truth
+  std::vector<double> mc_sd;      // of the fitted log-parameters
+  std::vector<double> truth_sd;   // the sandwich at the truth
+  std::vector<double> median_sd;  // the median of the sandwich at each record's fit
+  std::vector<double> naive_sd;   // (A'WA)^-1 at the truth
 };
 
 Spread spread(const CompositeModel& truth, std::size_t N, std::size_t records, std::uint64_t seed) {
@@ -163,11 +163,11 @@ TEST(GmwmAsymptotics, SandwichMatchesTheMonteCarloSpread) {
   for (const Case& c : {Case{kWnRw, {"ln sigma2", "ln gamma2"}}, Case{kWnGm, {"ln sigma2", "ln s2_GM", "ln a"}}}) {
     const Spread s = spread(c.truth, N, records, 7000);
     for (std::size_t i = 0; i < s.mc_sd.size(); ++i) {
-      std::printf("%-6s %-10s MC sd %.4f  sandwich at truth %.4f (%.2f)  median at fits %.4f (%.2f)  naive %.4f "
-                  "(sandwich / naive %.2f)\n",
-                  model_name(c.truth).c_str(), c.names[i].c_str(), s.mc_sd[i], s.truth_sd[i],
-                  s.truth_sd[i] / s.mc_sd[i], s.median_sd[i], s.median_sd[i] / s.mc_sd[i], s.naive_sd[i],
-                  s.truth_sd[i] / s.naive_sd[i]);
+      std::printf(
+          "%-6s %-10s MC sd %.4f  sandwich at truth %.4f (%.2f)  median at fits %.4f (%.2f)  naive %.4f "
+          "(sandwich / naive %.2f)\n",
+          model_name(c.truth).c_str(), c.names[i].c_str(), s.mc_sd[i], s.truth_sd[i], s.truth_sd[i] / s.mc_sd[i],
+          s.median_sd[i], s.median_sd[i] / s.mc_sd[i], s.naive_sd[i], s.truth_sd[i] / s.naive_sd[i]);
       EXPECT_NEAR(s.truth_sd[i] / s.mc_sd[i], 1.0, 0.15) << model_name(c.truth) << " " << c.names[i];
       EXPECT_NEAR(s.median_sd[i] / s.mc_sd[i], 1.0, 0.15) << model_name(c.truth) << " " << c.names[i];
     }

@@ -99,7 +99,9 @@ TEST_F(Hdf5, OneDimensionalDatasetIsOneNamedChannel) {
 TEST_F(Hdf5, TwoDimensionalDatasetGivesColumns) {
   const std::vector<double> v = table(3);
   std::vector<float> f32(v.begin(), v.end());
-  const std::string f = h5("b.h5", [&](hid_t loc) { put(loc, "data", {kRows, 3}, H5T_IEEE_F32BE, H5T_NATIVE_FLOAT, f32.data()); });
+  const std::string f = h5("b.h5", [&](hid_t loc) {
+    put(loc, "data", {kRows, 3}, H5T_IEEE_F32BE, H5T_NATIVE_FLOAT, f32.data());
+  });
   const io::Series s = io::read_series(f, at_rate(50));
   ASSERT_EQ(s.names, (std::vector<std::string>{"col1", "col2", "col3"}));
   for (std::size_t r = 0; r < kRows; ++r)
@@ -121,7 +123,8 @@ TEST_F(Hdf5, CompoundMembersAreNamedColumns) {
   };
   std::vector<Row> rows(kRows);
   for (std::size_t r = 0; r < kRows; ++r)
-    rows[r] = {0.01 * static_cast<double>(r), static_cast<float>(wave(r, 0)), static_cast<std::int16_t>(r % 300 - 150), "ab"};
+    rows[r] = {0.01 * static_cast<double>(r), static_cast<float>(wave(r, 0)), static_cast<std::int16_t>(r % 300 - 150),
+               "ab"};
   const std::string f = h5("c.h5", [&](hid_t loc) {
     const hid_t str = H5Tcopy(H5T_C_S1);
     H5Tset_size(str, 4);
@@ -150,7 +153,9 @@ TEST_F(Hdf5, Int16WithAnLsbPerColumn) {
     counts[2 * r] = static_cast<std::int16_t>(131.0 * wave(r, 0));
     counts[2 * r + 1] = static_cast<std::int16_t>(16384 + 100.0 * wave(r, 1));
   }
-  const std::string f = h5("i.h5", [&](hid_t loc) { put(loc, "raw", {kRows, 2}, H5T_STD_I16LE, H5T_NATIVE_INT16, counts.data()); });
+  const std::string f = h5("i.h5", [&](hid_t loc) {
+    put(loc, "raw", {kRows, 2}, H5T_STD_I16LE, H5T_NATIVE_INT16, counts.data());
+  });
   io::SeriesOptions o = at_rate(100);
   o.lsb = {131, 16384};
   const io::Series s = io::read_series(f, o);
@@ -235,7 +240,9 @@ TEST_F(Hdf5, GroupOfOneDimensionalDatasets) {
 TEST_F(Hdf5, NaNIsRefusedAtItsRow) {
   std::vector<double> v = table(2);
   v[2 * 123 + 1] = std::nan("");
-  const std::string f = h5("n.h5", [&](hid_t loc) { put(loc, "d", {kRows, 2}, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, v.data()); });
+  const std::string f = h5("n.h5", [&](hid_t loc) {
+    put(loc, "d", {kRows, 2}, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, v.data());
+  });
   const std::string e = error_of(f, at_rate(10));
   EXPECT_NE(e.find("NaN in dataset /d at row 124, column 2"), std::string::npos) << e;
   // Read for --gaps skip: a missing sample.
@@ -269,7 +276,9 @@ TEST_F(Hdf5, NaNIsAMissingSampleUnderGapsSkip) {
   std::vector<Row> rows;
   for (std::size_t r = 0; r < kRows; ++r)
     if (r < 300 || r > 302) rows.push_back({0.1 * static_cast<double>(r), gx[r]});
-  const std::string d2 = h5("d2.h5", [&](hid_t loc) { put(loc, "d", {kRows, 2}, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, v.data()); });
+  const std::string d2 = h5("d2.h5", [&](hid_t loc) {
+    put(loc, "d", {kRows, 2}, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, v.data());
+  });
   const std::string group = h5("g.h5", [&](hid_t loc) {
     const hid_t g = H5Gcreate2(loc, "imu", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
     put(g, "gx_dps", {kRows}, H5T_IEEE_F32LE, H5T_NATIVE_FLOAT, gx.data());
@@ -305,9 +314,9 @@ TEST_F(Hdf5, NaNIsAMissingSampleUnderGapsSkip) {
   struct Case {
     std::string h5, csv, options, missing;
   };
-  for (const Case& c : {Case{d2, write("d2.csv", t2), " --rate 10", "5"},
-                        Case{group, write("g.csv", tg), " --rate 10", "5"},
-                        Case{compound, write("c.csv", tc), "", "6"}}) {
+  for (const Case& c :
+       {Case{d2, write("d2.csv", t2), " --rate 10", "5"}, Case{group, write("g.csv", tg), " --rate 10", "5"},
+        Case{compound, write("c.csv", tc), "", "6"}}) {
     SCOPED_TRACE(c.h5);
     const std::string h5_options = c.options + (c.h5 == group ? " --dataset /imu" : "");
     const std::string dev = output("dev " + c.h5 + h5_options, c.missing);
@@ -325,7 +334,9 @@ TEST_F(Hdf5, NaNIsAMissingSampleUnderGapsSkip) {
   EXPECT_NE(r.err.find("NaN in dataset /imu at row 11, column 1 (gx_dps)"), std::string::npos) << r.err;
   // An infinity is never a missing sample.
   v[2 * 77 + 1] = INFINITY;
-  const std::string inf = h5("inf.h5", [&](hid_t loc) { put(loc, "d", {kRows, 2}, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, v.data()); });
+  const std::string inf = h5("inf.h5", [&](hid_t loc) {
+    put(loc, "d", {kRows, 2}, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, v.data());
+  });
   r = run_cubecal("dev " + inf + " --rate 10 --gaps skip");
   EXPECT_TRUE(one_error_line(r)) << r.err;
   EXPECT_NE(r.err.find("infinite value in dataset /d at row 78, column 2"), std::string::npos) << r.err;
@@ -334,7 +345,9 @@ TEST_F(Hdf5, NaNIsAMissingSampleUnderGapsSkip) {
 // Truncated and garbage files: one InputError line, no library stack.
 TEST_F(Hdf5, TruncatedAndGarbageFilesGiveOneErrorLine) {
   const std::vector<double> v = table(3);
-  const std::string f = h5("t.h5", [&](hid_t loc) { put(loc, "d", {kRows, 3}, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, v.data()); });
+  const std::string f = h5("t.h5", [&](hid_t loc) {
+    put(loc, "d", {kRows, 3}, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, v.data());
+  });
   std::ifstream in(f, std::ios::binary);
   const std::string bytes((std::istreambuf_iterator<char>(in)), {});
   ASSERT_GT(bytes.size(), 2000U);

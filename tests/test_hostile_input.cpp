@@ -166,8 +166,8 @@ TEST_F(HostileInput, TwoGigabytesOfZeros) {
 // "no data rows").
 TEST_F(HostileInput, NoLineBreakIsNotText) {
   const std::string f = write_bytes("log.dat", std::string(std::size_t{1} << 20, '\xff'));
-  expect_refused(f, {f + ": not a text or known binary format: no line break in its first 65536 bytes",
-                     "--binary TYPE,TYPE"});
+  expect_refused(
+      f, {f + ": not a text or known binary format: no line break in its first 65536 bytes", "--binary TYPE,TYPE"});
 }
 
 // Lines of bytes that are not UTF-8 (nor mostly ASCII).
@@ -180,7 +180,9 @@ TEST_F(HostileInput, MostlyNonUtf8IsNotText) {
 
 // Latin-1 text (a degree sign in the header) is still text.
 TEST_F(HostileInput, Latin1HeaderIsText) {
-  const std::string f = write_bytes("imu.csv", "t,gx,temp \xb0" "C\n0,1,20\n0.01,2,20\n0.02,3,20\n0.03,4,20\n");
+  const std::string f = write_bytes("imu.csv",
+                                    "t,gx,temp \xb0"
+                                    "C\n0,1,20\n0.01,2,20\n0.02,3,20\n0.03,4,20\n");
   const cubecal::test::CliRun ok = cubecal::test::run_cubecal("dev " + f + " --columns gx --format csv");
   EXPECT_EQ(ok.code, 0) << ok.err;
 }
@@ -209,8 +211,8 @@ TEST_F(HostileInput, CorruptGzipMemberIsLocated) {
   second[10] = '\x07';  // BFINAL = 1, BTYPE = 3 (reserved)
   for (std::size_t i = second.size() - 4; i < second.size(); ++i) second[i] = '\xff';
   const std::string f = write_bytes("imu.csv.gz", first + second);
-  expect_refused(f, {"corrupt gzip data at byte offset " + std::to_string(first.size() + 11),
-                     "gzip member 2", "invalid block type"});
+  expect_refused(f, {"corrupt gzip data at byte offset " + std::to_string(first.size() + 11), "gzip member 2",
+                     "invalid block type"});
 }
 
 // Library callers get the same printable message from text in memory.

@@ -151,8 +151,7 @@ TEST(LongWorkPipeline, RunDevReportsProgress) {
 TEST_F(LongWork, SimulateRefusesARecordOfGigabytes) {
   ScopedFileSizeLimit limit(50'000'000);
   const std::string out = path("big.csv");
-  const test::CliRun r =
-      run_cubecal("simulate --preset sport-gyro --rate 1000 --duration 72d --out " + out);
+  const test::CliRun r = run_cubecal("simulate --preset sport-gyro --rate 1000 --duration 72d --out " + out);
   EXPECT_TRUE(test::one_error_line(r)) << r.code << ' ' << r.err;
   EXPECT_NE(r.err.find("373 GB"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("--force"), std::string::npos) << r.err;

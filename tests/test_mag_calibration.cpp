@@ -40,10 +40,10 @@ using cubecal::Vec3;
 
 constexpr double kPi = 3.14159265358979323846;
 
-using cubecal::test::mul;
 using cubecal::test::inverse;
-using cubecal::test::norm;
 using cubecal::test::max_abs_diff;
+using cubecal::test::mul;
+using cubecal::test::norm;
 
 Vec3 add(const Vec3& a, const Vec3& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
 Vec3 scale(double s, const Vec3& a) { return {s * a[0], s * a[1], s * a[2]}; }
@@ -121,8 +121,7 @@ TEST(Twostep, SixPointBiasOnlyExactWithKnownCovariance) {
   EXPECT_TRUE(r.converged);
   ASSERT_EQ(r.cov.size(), 3u);
   for (std::size_t i = 0; i < 3; ++i)
-    for (std::size_t j = 0; j < 3; ++j)
-      EXPECT_NEAR(r.cov[i][j], i == j ? 5.00075e-5 : 0.0, 1e-17) << i << j;
+    for (std::size_t j = 0; j < 3; ++j) EXPECT_NEAR(r.cov[i][j], i == j ? 5.00075e-5 : 0.0, 1e-17) << i << j;
   EXPECT_NEAR(std::sqrt(r.cov[0][0]), 7.0716e-3, 1e-7);
   EXPECT_NEAR(r.chi2, 0.0, 1e-20);
   EXPECT_EQ(r.dof, 3u);
@@ -158,8 +157,8 @@ TEST(Twostep, BiasOnlyOnOneConeNeedsStepTwo) {
   std::vector<Vec3> B;
   for (int k = 0; k < 60; ++k) {
     const double a = 2.0 * kPi * k / 60.0;
-    B.push_back(add(scale(0.5, {std::sin(kPi / 3) * std::cos(a), std::sin(kPi / 3) * std::sin(a), std::cos(kPi / 3)}),
-                    kBias));
+    B.push_back(
+        add(scale(0.5, {std::sin(kPi / 3) * std::cos(a), std::sin(kPi / 3) * std::sin(a), std::cos(kPi / 3)}), kBias));
   }
   TwostepOptions o;
   o.noise = 1e-3;
@@ -206,9 +205,10 @@ TEST(Twostep, FullConstantNormStepOneWrongStepTwoExact) {
   EXPECT_LE(r.iterations, 4u);  // exact after 2; the rest confirm eta < tol
   // Hard-iron form: offset = (I+D)^-1 b.
   EXPECT_LT(max_abs_diff(r.offset, mul(inverse(plus_identity(kD)), kBias)), 1e-14);
-  std::printf("[ note ] full, constant |H|: centred max|dD| = %.3g, after step 2 max|dD| = %.3g, max|db| = %.3g, %zu "
-              "iterations (eta %.2g)\n",
-              dD_centred, max_abs_diff(r.D, kD), max_abs_diff(r.b, kBias), r.iterations, r.eta);
+  std::printf(
+      "[ note ] full, constant |H|: centred max|dD| = %.3g, after step 2 max|dD| = %.3g, max|db| = %.3g, %zu "
+      "iterations (eta %.2g)\n",
+      dD_centred, max_abs_diff(r.D, kD), max_abs_diff(r.b, kBias), r.iterations, r.eta);
 }
 
 TEST(Twostep, FullVaryingNormCentredAlreadyExact) {
@@ -303,7 +303,8 @@ TEST(Twostep, NoiseEstimatedFromResidualsAndChiSquared) {
   std::normal_distribution<double> g(0.0, 1.0);
   const double s = 2e-3, F = 0.5;
   std::vector<Vec3> B;
-  for (int k = 0; k < 1000; ++k) B.push_back(add(add(scale(F, random_unit(rng)), kBias), {s * g(rng), s * g(rng), s * g(rng)}));
+  for (int k = 0; k < 1000; ++k)
+    B.push_back(add(add(scale(F, random_unit(rng)), kBias), {s * g(rng), s * g(rng), s * g(rng)}));
   TwostepOptions o;
   const TwostepResult est = twostep(B, std::vector<double>{F}, o);
   EXPECT_TRUE(est.noise_estimated);
@@ -346,7 +347,8 @@ TEST(Ellipsoid, SyntheticVectorExact) {
   EXPECT_LT(dn, 2e-13);
   // 4J - I^2 = 1, M positive definite, semi-axes = 50 x eigenvalues of A.
   const auto& v = f.coeff;
-  const double I = v[0] + v[1] + v[2], J = v[0] * v[1] + v[1] * v[2] + v[2] * v[0] - v[3] * v[3] - v[4] * v[4] - v[5] * v[5];
+  const double I = v[0] + v[1] + v[2],
+               J = v[0] * v[1] + v[1] * v[2] + v[2] * v[0] - v[3] * v[3] - v[4] * v[4] - v[5] * v[5];
   EXPECT_NEAR(4.0 * J - I * I, 1.0, 1e-12);
   EXPECT_GT(f.m_eigenvalues[0], 0.0);
   EXPECT_GT(f.axis_ratio, 1.0);
@@ -734,7 +736,8 @@ TEST(MagCalibration, TwostepFullEqualsEllipsoidOnNoiseFreeData) {
 std::vector<Vec3> cubesat_points() {
   cubecal::io::TableOptions to;
   to.columns = {"magx", "magy", "magz"};
-  const auto t = cubecal::io::read_table(std::string(CUBECAL_SHARED_DATA) + "/mag/cubesat-adcs/meas_for_mag_calib.csv", to);
+  const auto t =
+      cubecal::io::read_table(std::string(CUBECAL_SHARED_DATA) + "/mag/cubesat-adcs/meas_for_mag_calib.csv", to);
   std::vector<Vec3> h(t.rows());
   for (std::size_t i = 0; i < t.rows(); ++i) h[i] = {t.data[0][i], t.data[1][i], t.data[2][i]};
   return h;
@@ -761,13 +764,14 @@ TEST(MagCalibration, RealCubesatAdcsPoints) {
     o.method = m;
     o.check_coverage = m == Method::twostep;
     const Result r = calibrate(h, o);
-    std::printf("[ note ] cubesat-adcs %-12s F %.6f  norm error before rms %.3e max %.3e, after rms %.3e max %.3e\n"
-                "         b (%.2e, %.2e, %.2e) +- (%.1e, %.1e, %.1e)  axis ratio %.6f  s %.3e  chi2/dof %.1f/%zu  "
-                "coverage lambda_min %.3f resultant %.3f spread %.3f %.3f %.3f\n",
-                std::string(to_string(m)).c_str(), r.field_norm, r.before.rms, r.before.max, r.after.rms, r.after.max,
-                r.bias[0], r.bias[1], r.bias[2], r.bias_sigma[0], r.bias_sigma[1], r.bias_sigma[2], r.axis_ratio,
-                r.noise, r.chi2, r.dof, r.coverage.lambda_min, r.coverage.resultant, r.coverage.spread[0],
-                r.coverage.spread[1], r.coverage.spread[2]);
+    std::printf(
+        "[ note ] cubesat-adcs %-12s F %.6f  norm error before rms %.3e max %.3e, after rms %.3e max %.3e\n"
+        "         b (%.2e, %.2e, %.2e) +- (%.1e, %.1e, %.1e)  axis ratio %.6f  s %.3e  chi2/dof %.1f/%zu  "
+        "coverage lambda_min %.3f resultant %.3f spread %.3f %.3f %.3f\n",
+        std::string(to_string(m)).c_str(), r.field_norm, r.before.rms, r.before.max, r.after.rms, r.after.max,
+        r.bias[0], r.bias[1], r.bias[2], r.bias_sigma[0], r.bias_sigma[1], r.bias_sigma[2], r.axis_ratio, r.noise,
+        r.chi2, r.dof, r.coverage.lambda_min, r.coverage.resultant, r.coverage.spread[0], r.coverage.spread[1],
+        r.coverage.spread[2]);
     EXPECT_LE(r.after.rms, r.before.rms);
     EXPECT_EQ(r.points_used, 1636u);
     // The noise estimate is the rounding noise of 4 decimals.
@@ -794,8 +798,7 @@ class MagCli : public ::testing::Test {
   void TearDown() override { fs::remove_all(dir_); }
   // Points as CSV "t,mx,my,mz,H" (a column the command must skip, and a
   // field norm), values multiplied by `counts`.
-  std::string write_points(const std::string& name, const std::vector<Vec3>& h, double counts = 1.0,
-                           double H = 50.0) {
+  std::string write_points(const std::string& name, const std::vector<Vec3>& h, double counts = 1.0, double H = 50.0) {
     const fs::path p = dir_ / name;
     std::ofstream f(p);
     f.precision(17);
@@ -854,7 +857,8 @@ TEST_F(MagCli, LsbRejectionAndPerPointFieldNorm) {
   EXPECT_EQ(j["rejected_lines"][0], 12);  // header on line 1, row 10 on line 12
   for (std::size_t i = 0; i < 3; ++i) EXPECT_NEAR(j["bias"][i].get<double>(), kB[i], 1e-9);
   // TWOSTEP with the field norm of each point from a column (not scaled by --lsb).
-  r = cubecal("calibrate mag " + f + " --columns mx,my,mz --lsb 1000 --reject 3 --field-col H --method twostep-full "
+  r = cubecal("calibrate mag " + f +
+              " --columns mx,my,mz --lsb 1000 --reject 3 --field-col H --method twostep-full "
               "--noise 0.01 --format json");
   ASSERT_EQ(r.code, 0) << r.err;
   j = nlohmann::json::parse(r.out);

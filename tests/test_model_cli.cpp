@@ -109,8 +109,7 @@ TEST_F(ModelCli, MovingAverageTermInQuotedUnitsAndJsonRoundTrip) {
   const auto& c = j.at("channels").at(0);
   const auto& n = quantity(c, "MA1", "N");
   EXPECT_EQ(n.at("display").at("unit"), "deg/sqrt(h)");
-  EXPECT_NEAR(n.at("display").at("value").get<double>(), 0.3,
-              4.0 * n.at("display").at("asymptotic_sd").get<double>());
+  EXPECT_NEAR(n.at("display").at("value").get<double>(), 0.3, 4.0 * n.at("display").at("asymptotic_sd").get<double>());
   const auto& th = quantity(c, "MA1", "theta");
   EXPECT_EQ(th.at("unit"), "");
   EXPECT_NEAR(th.at("value").get<double>(), 0.25, 4.0 * th.at("asymptotic_sd").get<double>());
@@ -152,7 +151,8 @@ TEST_F(ModelCli, BootstrapIsReproducibleOnAnyThreadsAndHoldsTheTruth) {
 TEST_F(ModelCli, CandidatesAreRankedByTheWicAndTheSelectedOneIsFitted) {
   std::vector<double> y;
   const std::string file = record(100000, &y);
-  const std::string args = "model " + file + " --model WN,WN+RW,WN+GM,WN+2*GM --unit deg/s --format json "
+  const std::string args = "model " + file +
+                           " --model WN,WN+RW,WN+GM,WN+2*GM --unit deg/s --format json "
                            "--wic-replicates 20 --seed 3";
   const CliRun one = run_cubecal(args + " --threads 1");
   const CliRun two = run_cubecal(args + " --threads 2");

@@ -37,10 +37,10 @@ using cubecal::Vec3;
 
 constexpr double kPi = 3.14159265358979323846;
 
-using cubecal::test::mul;
-using cubecal::test::transpose;
 using cubecal::test::inverse;
+using cubecal::test::mul;
 using cubecal::test::norm;
+using cubecal::test::transpose;
 
 // ---------------------------------------------------------------------------
 // Small 3x3 algebra (the rest in mat3.hpp).
@@ -689,8 +689,9 @@ TEST(MultiPositionCli, GapInTheTimeColumnIsRefusedAtItsLineJitterIsSaid) {
   fs::create_directories(dir);
   const std::string acc = xsens_without("xsens_acc.txt", 5300, 50, dir.string());
   const std::string gyro = xsens_without("xsens_gyro.txt", 5300, 50, dir.string());
-  const std::string opts = " --acc-columns 2,3,4 --time-col 1 --g 9.81744 --init-static 50 --acc-bias 32768 "
-                           "--gyro-scale 1.598e-4";
+  const std::string opts =
+      " --acc-columns 2,3,4 --time-col 1 --g 9.81744 --init-static 50 --acc-bias 32768 "
+      "--gyro-scale 1.598e-4";
   const CliRun r = run_cli("calibrate multiposition " + acc + " " + gyro + opts);
   EXPECT_EQ(r.code, 2);
   EXPECT_TRUE(one_error_line(r)) << r.err;

@@ -51,8 +51,7 @@ constexpr std::size_t kLengths[] = {64, 128, 256, 512, 1000};
 constexpr int kSeeds = 24;
 constexpr double kNarrowest = 0.5;  // W_identified / W_true below this fails
 
-const Stat kStats[] = {Stat::adev, Stat::oadev, Stat::mdev, Stat::tdev,
-                       Stat::hdev, Stat::ohdev, Stat::totdev};
+const Stat kStats[] = {Stat::adev, Stat::oadev, Stat::mdev, Stat::tdev, Stat::hdev, Stat::ohdev, Stat::totdev};
 
 std::vector<int> alphas_of(Stat s) {
   if (s == Stat::hdev || s == Stat::ohdev) return {2, 1, 0, -1, -2, -3, -4};
@@ -89,10 +88,12 @@ double log_slope(const std::vector<StabilityPoint>& pts, std::size_t lo_m, std::
 // PM, HDEV tau^((-alpha-1)/2) down to alpha = -4 (NIST SP 1065 Table 7).
 // Averaged over seeds in log space; 4096 samples, m from 2 to 256.
 TEST(PowerLawNoise, DeviationSlopesMatchTheirAlpha) {
-  const struct { double alpha; Stat stat; double slope; } cases[] = {
-      {2, Stat::mdev, -1.5}, {1, Stat::mdev, -1.0}, {0, Stat::oadev, -0.5},
-      {-1, Stat::oadev, 0.0}, {-2, Stat::oadev, 0.5}, {-3, Stat::hdev, 1.0},
-      {-4, Stat::hdev, 1.5}};
+  const struct {
+    double alpha;
+    Stat stat;
+    double slope;
+  } cases[] = {{2, Stat::mdev, -1.5},  {1, Stat::mdev, -1.0}, {0, Stat::oadev, -0.5}, {-1, Stat::oadev, 0.0},
+               {-2, Stat::oadev, 0.5}, {-3, Stat::hdev, 1.0}, {-4, Stat::hdev, 1.5}};
   const std::vector<std::size_t> ms{2, 4, 8, 16, 32, 64, 128, 256};
   StabilityOptions no_ci;
   no_ci.intervals = false;
@@ -104,8 +105,7 @@ TEST(PowerLawNoise, DeviationSlopesMatchTheirAlpha) {
         const auto data = power_law_noise(c.alpha, 4096, 500 + static_cast<std::uint64_t>(s), type);
         mean += log_slope(stability(data, type, 1.0, c.stat, ms, no_ci), 2, 256) / seeds;
       }
-      EXPECT_NEAR(mean, c.slope, 0.1) << "alpha " << c.alpha << " " << to_string(type) << " "
-                                      << to_string(c.stat);
+      EXPECT_NEAR(mean, c.slope, 0.1) << "alpha " << c.alpha << " " << to_string(type) << " " << to_string(c.stat);
     }
   }
 }
@@ -190,8 +190,20 @@ Tallies run_power_law_check(bool widest) {
                 continue;
               }
               const NoiseId nid = identify_noise(rec.phase(), ms[j], stat);
-              const Row r{stat, alpha, type, n, seed, ms[j], ms.size() - 1 - j, p.alpha, nid.method, nid.alpha_est,
-                          p.edf, q.edf, std::log(p.hi / p.lo), std::log(q.hi / q.lo)};
+              const Row r{stat,
+                          alpha,
+                          type,
+                          n,
+                          seed,
+                          ms[j],
+                          ms.size() - 1 - j,
+                          p.alpha,
+                          nid.method,
+                          nid.alpha_est,
+                          p.edf,
+                          q.edf,
+                          std::log(p.hi / p.lo),
+                          std::log(q.hi / q.lo)};
               t.worst = std::min(t.worst, r.ratio());
               if (r.ratio() < kNarrowest) {
                 ++t.failing;
@@ -212,9 +224,8 @@ Tallies run_power_law_check(bool widest) {
   for (Stat stat : kStats)
     for (int alpha : alphas_of(stat)) {
       const Tally &f = tally[{stat, alpha, DataType::freq}], &p = tally[{stat, alpha, DataType::phase}];
-      std::printf("%-7s %5d | %11zu %5zu %6zu %5.3f | %11zu %5zu %6zu %5.3f\n",
-                  std::string(to_string(stat)).c_str(), alpha, f.rows, f.failing, f.no_interval, f.worst,
-                  p.rows, p.failing, p.no_interval, p.worst);
+      std::printf("%-7s %5d | %11zu %5zu %6zu %5.3f | %11zu %5zu %6zu %5.3f\n", std::string(to_string(stat)).c_str(),
+                  alpha, f.rows, f.failing, f.no_interval, f.worst, p.rows, p.failing, p.no_interval, p.worst);
     }
 
   // The failing rows: the three narrowest of each statistic, noise type and
@@ -228,13 +239,13 @@ Tallies run_power_law_check(bool widest) {
   std::printf("%zu of %zu rows fail\n", failing.size(), rows);
   if (!failing.empty()) {
     std::printf("\n%zu failing rows; the narrowest three per (stat, alpha, type):\n", failing.size());
-    std::printf("%-7s %5s %5s %5s %6s %4s %6s %-10s %7s %9s %9s %7s %7s %6s\n", "stat", "alpha", "type", "N",
-                "seed", "AF", "id", "method", "a_est", "edf_id", "edf_true", "W_id", "W_true", "ratio");
+    std::printf("%-7s %5s %5s %5s %6s %4s %6s %-10s %7s %9s %9s %7s %7s %6s\n", "stat", "alpha", "type", "N", "seed",
+                "AF", "id", "method", "a_est", "edf_id", "edf_true", "W_id", "W_true", "ratio");
     std::size_t shown = 0;
     for (std::size_t i = 0; i < failing.size(); ++i) {
       const Row& r = failing[i];
-      if (i > 0 && std::tie(r.stat, r.alpha, r.type) == std::tie(failing[i - 1].stat, failing[i - 1].alpha,
-                                                                 failing[i - 1].type))
+      if (i > 0 &&
+          std::tie(r.stat, r.alpha, r.type) == std::tie(failing[i - 1].stat, failing[i - 1].alpha, failing[i - 1].type))
         ++shown;
       else
         shown = 0;
@@ -277,8 +288,9 @@ TEST(NoiseIdPowerLaw, NoIntervalNarrowerThanTheTrueTypesByMoreThan2x) {
     for (int alpha : alphas_of(stat))
       for (DataType type : {DataType::freq, DataType::phase}) {
         const Tally& t = tally[{stat, alpha, type}];
-        EXPECT_EQ(t.failing, 0u) << to_string(stat) << " alpha " << alpha << " " << to_string(type) << " data: "
-                                 << t.failing << " of " << t.rows << " intervals narrower than the true type's "
+        EXPECT_EQ(t.failing, 0u) << to_string(stat) << " alpha " << alpha << " " << to_string(type)
+                                 << " data: " << t.failing << " of " << t.rows
+                                 << " intervals narrower than the true type's "
                                  << "by more than 2x (worst W ratio " << t.worst << ")";
       }
 }

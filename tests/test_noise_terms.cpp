@@ -30,14 +30,13 @@ struct Terms {
 };
 
 double closed_form_avar(const Terms& t, double tau) {
-  return 3.0 * t.Q * t.Q / (tau * tau) + t.N * t.N / tau + (kFloor * t.B) * (kFloor * t.B) +
-         t.K * t.K * tau / 3.0 + t.R * t.R * tau * tau / 2.0;
+  return 3.0 * t.Q * t.Q / (tau * tau) + t.N * t.N / tau + (kFloor * t.B) * (kFloor * t.B) + t.K * t.K * tau / 3.0 +
+         t.R * t.R * tau * tau / 2.0;
 }
 
 // NIST SP 1065 simple EDF of overlapping AVAR for white FM, n_phase points.
 double edf_white_fm(double m, double n_phase) {
-  return (3.0 * (n_phase - 1.0) / (2.0 * m) - 2.0 * (n_phase - 2.0) / n_phase) * 4.0 * m * m /
-         (4.0 * m * m + 5.0);
+  return (3.0 * (n_phase - 1.0) / (2.0 * m) - 2.0 * (n_phase - 2.0) / n_phase) * 4.0 * m * m / (4.0 * m * m + 5.0);
 }
 
 // Averaging factors round(10^(j/K)), deduplicated, up to max_m.
@@ -71,10 +70,8 @@ AllanCurve synthetic_curve(F avar, double tau0, double samples, unsigned per_dec
   return c;
 }
 
-AllanCurve synthetic_curve(const Terms& t, double tau0 = 0.1, double samples = 2592208.0,
-                           unsigned per_decade = 10) {
-  return synthetic_curve([&](double tau) { return closed_form_avar(t, tau); }, tau0, samples,
-                         per_decade);
+AllanCurve synthetic_curve(const Terms& t, double tau0 = 0.1, double samples = 2592208.0, unsigned per_decade = 10) {
+  return synthetic_curve([&](double tau) { return closed_form_avar(t, tau); }, tau0, samples, per_decade);
 }
 
 // Five terms, each dominating about a decade or more of 0.01 .. 1e5 s:
@@ -106,8 +103,7 @@ TEST(AllanCurve, KeepsSupportedPositivePointsInTauOrder) {
 TEST(NoiseModel, AdevIsTheRootOfThePowerSeries) {
   const std::array<double, 5> c{2.0, 3.0, 5.0, 7.0, 11.0};
   const double tau = 2.0;
-  EXPECT_DOUBLE_EQ(noise_model_adev(c, tau),
-                   std::sqrt(2.0 / 4.0 + 3.0 / 2.0 + 5.0 + 7.0 * 2.0 + 11.0 * 4.0));
+  EXPECT_DOUBLE_EQ(noise_model_adev(c, tau), std::sqrt(2.0 / 4.0 + 3.0 / 2.0 + 5.0 + 7.0 * 2.0 + 11.0 * 4.0));
   EXPECT_EQ(noise_model_adev(c, 0.0), 0.0);
 }
 
@@ -157,9 +153,8 @@ TEST(NoiseFit, TermRangesAreWhereEachTermHasAQuarterOfTheVariance) {
   // Shares of the true closed-form terms on the curve's taus.
   const Terms& t = kFiveTerms;
   const auto share = [&](int k, double tau) {
-    const double parts[5] = {3.0 * t.Q * t.Q / (tau * tau), t.N * t.N / tau,
-                             (kFloor * t.B) * (kFloor * t.B), t.K * t.K * tau / 3.0,
-                             t.R * t.R * tau * tau / 2.0};
+    const double parts[5] = {3.0 * t.Q * t.Q / (tau * tau), t.N * t.N / tau, (kFloor * t.B) * (kFloor * t.B),
+                             t.K * t.K * tau / 3.0, t.R * t.R * tau * tau / 2.0};
     return parts[k] / closed_form_avar(t, tau);
   };
   const TermEstimate* terms[5] = {&f.Q, &f.N, &f.B, &f.K, &f.R};
@@ -506,7 +501,7 @@ TEST(ReadOff, QuantizationAndRateRamp) {
     if (c.tau[i] >= r.N.tau_lo && c.tau[i] <= r.N.tau_hi && relative_uncertainty(c, i) <= 3.0 * best)
       expect = std::min(expect, c.dev[i] * std::sqrt(c.tau[i]));
   EXPECT_DOUBLE_EQ(r.N.value, expect);
-  EXPECT_GT(r.N.value, t.N);             // never below the true white level here
+  EXPECT_GT(r.N.value, t.N);  // never below the true white level here
   EXPECT_NEAR(r.N.value, t.N, 0.06 * t.N);
   EXPECT_FALSE(r.K.valid);
 }
@@ -776,11 +771,10 @@ TEST(MonteCarlo, ReportedSigmasCoverTheTruth) {
         "seed %2llu  fit N %.5g +- %.2g  K %.4g +- %.2g  chi2/dof %.2f | read-off N %.5g +- "
         "%.2g  K %s%.4g +- %.2g\n",
         static_cast<unsigned long long>(seed), f.N.value, f.N.sigma, f.K.value, f.K.sigma,
-        f.chi2 / static_cast<double>(f.dof), r.N.value, r.N.sigma, r.K.valid ? "" : "(invalid) ",
-        r.K.value, r.K.sigma);
+        f.chi2 / static_cast<double>(f.dof), r.N.value, r.N.sigma, r.K.valid ? "" : "(invalid) ", r.K.value, r.K.sigma);
   }
-  std::printf("coverage (3 sigma, of 10): fit N %d, fit K %d, read-off N %d, read-off K %d of %d\n",
-              cov.fit_n, cov.fit_k, cov.read_n, cov.read_k, read_k_valid);
+  std::printf("coverage (3 sigma, of 10): fit N %d, fit K %d, read-off N %d, read-off K %d of %d\n", cov.fit_n,
+              cov.fit_k, cov.read_n, cov.read_k, read_k_valid);
   RecordProperty("fit_N_covered", cov.fit_n);
   RecordProperty("fit_K_covered", cov.fit_k);
   RecordProperty("readoff_N_covered", cov.read_n);

@@ -107,9 +107,9 @@ TEST_F(OutputChecks, EveryDirectoryOutputIsCheckedBeforeTheWork) {
       const std::string cmd = with(c, "--report " + k.dir);
       expect_refused(run(cmd), cmd, "--report", k.says);
     }
-    for (const std::string& cmd : {"analyze " + bad_ + " --unit deg/s --out " + k.dir,
-                                   "analyze " + bad_ + " --unit deg/s --report --force --out " + k.dir,
-                                   "demo --hours 1 --out " + k.dir})
+    for (const std::string& cmd :
+         {"analyze " + bad_ + " --unit deg/s --out " + k.dir,
+          "analyze " + bad_ + " --unit deg/s --report --force --out " + k.dir, "demo --hours 1 --out " + k.dir})
       expect_refused(run(cmd), cmd, "--out", k.says);
   }
   // An earlier report is kept unless --force.

@@ -44,11 +44,12 @@ class PerColumnScale : public cubecal::test::TempDirTest {};
 TEST_F(PerColumnScale, OneAnalyzeGivesBothSensorsAsTwoSingleSensorRuns) {
   for (const std::string file : {"imu_static_test.csv", "example_data_tinit_calc.csv"}) {
     const std::string in = "'" + kMpu + file + "' --skip-rows 4 --rate 100";
-    const auto both = run_cubecal("analyze " + in +
-                                  " --lsb 16384,16384,16384,131,131,131 --unit g,g,g,deg/s,deg/s,deg/s --out " +
-                                  path(file + ".both"));
+    const auto both =
+        run_cubecal("analyze " + in + " --lsb 16384,16384,16384,131,131,131 --unit g,g,g,deg/s,deg/s,deg/s --out " +
+                    path(file + ".both"));
     ASSERT_EQ(both.code, 0) << both.err;
-    const auto gyro = run_cubecal("analyze " + in + " --columns gx,gy,gz --lsb 131 --unit deg/s --out " + path(file + ".g"));
+    const auto gyro =
+        run_cubecal("analyze " + in + " --columns gx,gy,gz --lsb 131 --unit deg/s --out " + path(file + ".g"));
     ASSERT_EQ(gyro.code, 0) << gyro.err;
     const auto accel = run_cubecal("analyze " + in + " --columns ax,ay,az --lsb 16384 --unit g --for kalibr --out " +
                                    path(file + ".a"));
@@ -85,8 +86,9 @@ TEST_F(PerColumnScale, AnLsbCountThatIsNotTheColumnsIsRefused) {
     const auto r = run_cubecal(cmd + " " + in + " --columns gx,gy,gz --lsb 131,131");
     EXPECT_TRUE(one_error_line(r)) << cmd << ": " << r.err;
     EXPECT_TRUE(has(r.err, "--lsb: ")) << r.err;
-    EXPECT_TRUE(has(r.err, "imu_static_test.csv: 2 LSB values for 3 columns (gx,gy,gz): give one value for every "
-                           "column, or one per column"))
+    EXPECT_TRUE(has(r.err,
+                    "imu_static_test.csv: 2 LSB values for 3 columns (gx,gy,gz): give one value for every "
+                    "column, or one per column"))
         << cmd << ": " << r.err;
   }
   const auto bad = run_cubecal("dev " + in + " --lsb 131,zero");
@@ -112,7 +114,8 @@ TEST_F(PerColumnScale, DevScalesEachColumnAndSingleScaleCommandsRefuseLists) {
   EXPECT_EQ(j["columns"][0], nlohmann::json::parse(az.out)["columns"][0]);
   EXPECT_EQ(j["columns"][1], nlohmann::json::parse(gz.out)["columns"][0]);
 
-  const auto mag = run_cubecal("calibrate mag '" + kMpu + "imu_static_test.csv' --skip-rows 4 --columns ax,ay,az "
+  const auto mag = run_cubecal("calibrate mag '" + kMpu +
+                               "imu_static_test.csv' --skip-rows 4 --columns ax,ay,az "
                                "--lsb 1,2,3");
   EXPECT_TRUE(one_error_line(mag)) << mag.err;
   EXPECT_TRUE(has(mag.err, "--lsb: '1,2,3': one value here, for all three axes")) << mag.err;
@@ -162,7 +165,8 @@ TEST_F(PerFileOptions, CompareAndTurnonReadEachFileWithItsOwnOptions) {
     EXPECT_EQ(j[k]["channels"][1]["name"], "gz");
   }
   // Each run is what a command with those options gives on that file alone.
-  const auto alone = run_cubecal("compare '" + raw + "' --skip-rows 4 --rate 100 --columns gx,gz --lsb 131 "
+  const auto alone = run_cubecal("compare '" + raw +
+                                 "' --skip-rows 4 --rate 100 --columns gx,gz --lsb 131 "
                                  "--unit deg/s --format json");
   ASSERT_EQ(alone.code, 0) << alone.err;
   EXPECT_EQ(j[0], nlohmann::json::parse(alone.out)["runs"][0]);
@@ -188,16 +192,16 @@ TEST_F(PerFileOptions, CompareAndTurnonReadEachFileWithItsOwnOptions) {
 
 TEST_F(PerFileOptions, BadPerFileOptionsAreOneLineErrors) {
   const std::string raw = kMpu + "imu_static_test.csv";
-  for (const auto& [arg, says] : std::vector<std::pair<std::string, std::string>>{
-           {raw + ":rate=100,foo=3", "unknown key 'foo'"},
-           {raw + ":rate=100,rate=50", "'rate' given twice"},
-           {raw + ":skip=4,skip-rows=4", "'skip-rows' given twice"},
-           {raw + ":rate=-1", "rate=-1 is not a non-negative number"},
-           {raw + ":skip=2.5", "skip=2.5 is not a whole number of lines"},
-           {raw + ":lsb=131,x", "--lsb: 'x' is not a positive number"},
-           {raw + ":unit=furlong", "unknown unit 'furlong'"},
-           {raw + ":gaps=ignore", "gaps=ignore is not error or split"},
-           {raw + ":columns=", "'columns=' has no value"}}) {
+  for (const auto& [arg, says] :
+       std::vector<std::pair<std::string, std::string>>{{raw + ":rate=100,foo=3", "unknown key 'foo'"},
+                                                        {raw + ":rate=100,rate=50", "'rate' given twice"},
+                                                        {raw + ":skip=4,skip-rows=4", "'skip-rows' given twice"},
+                                                        {raw + ":rate=-1", "rate=-1 is not a non-negative number"},
+                                                        {raw + ":skip=2.5", "skip=2.5 is not a whole number of lines"},
+                                                        {raw + ":lsb=131,x", "--lsb: 'x' is not a positive number"},
+                                                        {raw + ":unit=furlong", "unknown unit 'furlong'"},
+                                                        {raw + ":gaps=ignore", "gaps=ignore is not error or split"},
+                                                        {raw + ":columns=", "'columns=' has no value"}}) {
     const auto r = run_cubecal("compare '" + arg + "' '" + raw + "'");
     EXPECT_TRUE(one_error_line(r)) << arg << ": " << r.err;
     EXPECT_TRUE(has(r.err, says)) << arg << ": " << r.err;

@@ -97,7 +97,8 @@ TEST(DevPipeline, ChannelsInBatchesEqualEachChannelAlone) {
       EXPECT_EQ(progress.back(), 1.0);
       EXPECT_TRUE(std::is_sorted(progress.begin(), progress.end())) << grid << " " << threads;
       for (std::size_t c = 0; c < s.channels.size(); ++c) {
-        const DevResult one = run_dev({s.names[c]}, {std::span<const double>(s.channels[c])}, s.rate_hz, s.segments, req);
+        const DevResult one =
+            run_dev({s.names[c]}, {std::span<const double>(s.channels[c])}, s.rate_hz, s.segments, req);
         const auto& p = all.channels[c].points;
         const auto& q = one.channels[0].points;
         ASSERT_EQ(p.size(), q.size()) << grid;
@@ -167,9 +168,11 @@ std::string tau_list_text(const std::vector<double>& taus) {
 TEST(DevPipeline, ListedTausBeyondTheStatisticsLimitAreReported) {
   const std::vector<double> y = white(1000, 11);
   const double tau0 = 0.1;
-  const struct { Stat stat; std::size_t max_m, per; } cases[] = {
-      {Stat::adev, 200, 5}, {Stat::oadev, 250, 4}, {Stat::mdev, 250, 4}, {Stat::tdev, 250, 4},
-      {Stat::hdev, 200, 5}, {Stat::ohdev, 250, 4}, {Stat::totdev, 500, 2}};
+  const struct {
+    Stat stat;
+    std::size_t max_m, per;
+  } cases[] = {{Stat::adev, 200, 5}, {Stat::oadev, 250, 4}, {Stat::mdev, 250, 4},  {Stat::tdev, 250, 4},
+               {Stat::hdev, 200, 5}, {Stat::ohdev, 250, 4}, {Stat::totdev, 500, 2}};
   for (const auto& c : cases) {
     SCOPED_TRACE(std::string(to_string(c.stat)));
     const double last = static_cast<double>(c.max_m) * tau0;
@@ -187,8 +190,8 @@ TEST(DevPipeline, ListedTausBeyondTheStatisticsLimitAreReported) {
     EXPECT_EQ(e.needs, static_cast<double>(c.per * (c.max_m + 1)));
     EXPECT_EQ(e.has, 1000u);
     const std::string want = std::string(to_string(c.stat)) + " needs at least " + std::to_string(c.per) +
-                             "m = " + std::to_string(c.per * (c.max_m + 1)) + " samples for m = " +
-                             std::to_string(c.max_m + 1) + ", the record has 1000";
+                             "m = " + std::to_string(c.per * (c.max_m + 1)) +
+                             " samples for m = " + std::to_string(c.max_m + 1) + ", the record has 1000";
     EXPECT_EQ(e.reason, want);
     EXPECT_EQ(r.tau_list.excluded[1].tau, 1e6);
     EXPECT_EQ(r.tau_list.excluded[1].m, 1e7);

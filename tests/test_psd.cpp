@@ -180,14 +180,12 @@ TEST(WelchPsd, RefusesWhatTheRecordCannotGive) {
 // Parseval
 
 // sum_k P_k df over the whole one-sided spectrum.
-double integral(const Psd& p) {
-  return std::accumulate(p.density.begin(), p.density.end(), 0.0) * p.resolution_hz();
-}
+double integral(const Psd& p) { return std::accumulate(p.density.begin(), p.density.end(), 0.0) * p.resolution_hz(); }
 
 TEST(Parseval, ExactForRectangularWithoutDetrendOrOverlap) {
   const std::size_t l = 1000;
   auto x = white(20 * l + 37, 3.0, 8);  // the last 37 samples fall outside every segment
-  for (double& v : x) v += 0.5;          // a mean, which no detrend keeps
+  for (double& v : x) v += 0.5;         // a mean, which no detrend keeps
   const Psd p = pipeline::welch_psd(x, 50.0, options(Window::rectangular, Detrend::none, l, 0.0));
   double ms = 0.0;
   for (std::size_t i = 0; i < 20 * l; ++i) ms += x[i] * x[i];
@@ -234,8 +232,7 @@ TEST(Parseval, TheVarianceWithinItsDerivedTolerance) {
   for (double v : win) sw2 += v * v;
   std::vector<double> a(x.size(), 0.0);
   for (std::size_t i = 0; i < p.segments; ++i)
-    for (std::size_t t = 0; t < l; ++t)
-      a[i * (l / 2) + t] += win[t] * win[t] / (static_cast<double>(p.segments) * sw2);
+    for (std::size_t t = 0; t < l; ++t) a[i * (l / 2) + t] += win[t] * win[t] / (static_cast<double>(p.segments) * sw2);
   double sa2 = 0.0;
   for (double v : a) sa2 += v * v;
   const double s2 = sigma * sigma;
@@ -260,8 +257,8 @@ TEST_P(BandVariance, MatchesMonteCarlo) {
   const std::size_t l = 256;
   const std::size_t n = 16 * l;
   const int runs = 400;
-  const std::size_t a = 10, m = 20;   // a band of 20 raw bins
-  const std::size_t b = 30, k = 5;    // its neighbour
+  const std::size_t a = 10, m = 20;  // a band of 20 raw bins
+  const std::size_t b = 30, k = 5;   // its neighbour
   std::vector<double> ga, gb;
   Psd first;
   for (int r = 0; r < runs; ++r) {
@@ -448,8 +445,8 @@ TEST(AllanConversion, TermsToCoefficientsAndBack) {
   struct Row {
     Term term;
     double value;
-    double h;            // one-sided, by the formulas of noise-terms.md §1.2
-    double avar_at_2s;   // the IEEE 952 AVAR of the term at tau = 2 s
+    double h;           // one-sided, by the formulas of noise-terms.md §1.2
+    double avar_at_2s;  // the IEEE 952 AVAR of the term at tau = 2 s
   };
   const double q = 0.01, n = 0.2, b = 0.03, k = 0.004;
   const Row rows[] = {
@@ -493,13 +490,13 @@ TEST(AllanConversion, SampledWhiteNoiseIsSigmaSquaredOverM) {
   // Samples of variance s2: S = 2 s2 / fs on [0, fs/2]; AVAR(m tau0) = s2 / m.
   const double rate = 20.0, s2 = 0.3;
   const std::size_t l = 1 << 14;
-  auto d = grid(l, rate, [](double, double v) { return v; }, 2.0 * s2 / rate);
+  auto d = grid(
+      l, rate, [](double, double v) { return v; }, 2.0 * s2 / rate);
   d[0] = 0.5 * 2.0 * s2 / rate;
   std::vector<double> taus;
   for (std::size_t m = 1; m <= 1024; m *= 2) taus.push_back(static_cast<double>(m) / rate);
   const auto avar = avar_from_density(d, rate / static_cast<double>(l), taus, rate, AllanKernel::sampled);
-  for (std::size_t i = 0; i < taus.size(); ++i)
-    EXPECT_NEAR(avar[i] / (s2 / (taus[i] * rate)), 1.0, 1e-12) << taus[i];
+  for (std::size_t i = 0; i < taus.size(); ++i) EXPECT_NEAR(avar[i] / (s2 / (taus[i] * rate)), 1.0, 1e-12) << taus[i];
 }
 
 TEST(AllanConversion, SampledRandomWalkIsExact) {
@@ -510,8 +507,8 @@ TEST(AllanConversion, SampledRandomWalkIsExact) {
   const double tau0 = 1.0 / rate;
   const std::size_t l = 1 << 16;
   const double df = rate / static_cast<double>(l);
-  auto d = grid(l, rate, [](double f, double qt) { return qt / (2.0 * std::pow(std::sin(kPi * f / 10.0), 2)); },
-                q * tau0);
+  auto d = grid(
+      l, rate, [](double f, double qt) { return qt / (2.0 * std::pow(std::sin(kPi * f / 10.0), 2)); }, q * tau0);
   for (double m : {1.0, 2.0, 5.0, 16.0, 100.0, 512.0}) {
     const double tau = m * tau0;
     const double avar = avar_from_density(d, df, std::vector<double>{tau}, rate)[0] + q * m * m * tau0 * df / 2.0;
@@ -527,7 +524,8 @@ TEST(AllanConversion, ContinuousRandomWalkWithinTheTruncationBound) {
   const std::size_t l = 1 << 18;
   const double df = rate / static_cast<double>(l);
   const double big_f = rate / 2.0;
-  auto d = grid(l, rate, [](double f, double hh) { return hh / (f * f); }, h);
+  auto d = grid(
+      l, rate, [](double f, double hh) { return hh / (f * f); }, h);
   for (double tau : {0.1, 1.0, 10.0, 50.0}) {
     const double num = avar_from_density(d, df, std::vector<double>{tau}, rate, AllanKernel::continuous)[0] +
                        h * kPi * kPi * tau * tau * df;

@@ -97,7 +97,8 @@ TEST_F(PsdCli, TableIsLogBinnedAndCsvKeepsEveryBin) {
   while (std::getline(lines, line)) ++rows;
   EXPECT_EQ(rows, lb.size());
 
-  const CliRun c = run_cubecal("psd " + file + " --columns gx --format csv --window blackman --segment 1000 "
+  const CliRun c = run_cubecal("psd " + file +
+                               " --columns gx --format csv --window blackman --segment 1000 "
                                "--overlap 0.25 --detrend linear");
   ASSERT_EQ(c.code, 0) << c.err;
   WelchOptions o;

@@ -30,8 +30,8 @@ struct Spec {
 };
 
 std::string spec_text(const Spec& s) {
-  return std::string(s.scipy_window) + ":" + std::string(to_string(s.detrend)) + ":" + std::to_string(s.nperseg) +
-         ":" + std::to_string(s.noverlap);
+  return std::string(s.scipy_window) + ":" + std::string(to_string(s.detrend)) + ":" + std::to_string(s.nperseg) + ":" +
+         std::to_string(s.noverlap);
 }
 
 std::vector<std::pair<double, double>> read_pairs(const std::string& path) {

@@ -164,9 +164,10 @@ void expect_paper_recovered(const RateTableCalibration& c, const char* how) {
     EXPECT_NEAR(c.beta[i], kPaperBeta[i], 3.0 * c.beta_sigma[i]) << how << " beta" << i;
   }
   const Errors e = paper_errors(c);
-  std::printf("[ paper eq. 10-11 from %s ] A: max |error| %.2g (%.2f sigma, sigma ~%.2g); "
-              "beta: max |error| %.2g deg/s (%.2f sigma, sigma ~%.2g deg/s)\n",
-              how, e.A_abs, e.A_sigmas, c.A_sigma[0][0], e.beta_abs, e.beta_sigmas, c.beta_sigma[0]);
+  std::printf(
+      "[ paper eq. 10-11 from %s ] A: max |error| %.2g (%.2f sigma, sigma ~%.2g); "
+      "beta: max |error| %.2g deg/s (%.2f sigma, sigma ~%.2g deg/s)\n",
+      how, e.A_abs, e.A_sigmas, c.A_sigma[0][0], e.beta_abs, e.beta_sigmas, c.beta_sigma[0]);
 }
 
 // Normalized estimation error squared e^T P^-1 e by Cholesky.
@@ -204,8 +205,8 @@ TEST(RateTable, FormulasTestCaseIsRecoveredExactly) {
     }
   const RateTableCalibration c = calibrate_rate_table(plateaus);
   const Mat3 A_expected{{{0.990106868, -0.002009196, 0.00296354},
-                            {-0.001008081, 1.010115240, -0.004023368},
-                            {0.001973371, -0.003019268, 0.995042783}}};
+                         {-0.001008081, 1.010115240, -0.004023368},
+                         {0.001973371, -0.003019268, 0.995042783}}};
   const Mat3 A_exact = inverse(S);
   // As given to 9 significant digits in the reference values: A to 9 significant digits (A_yy = 1.010115240
   // is 1.0101152387 rounded, hence 2e-9 below), beta to 6.
@@ -376,8 +377,9 @@ TEST(RateTable, MonteCarloNeesMatchesReportedCovariance) {
   // (inverse-Wishart mean): 13.9 for the paper's 33 plateaus.
   const double nu = static_cast<double>(dof);
   const double expected = 12.0 * nu / (nu - 4.0);
-  std::printf("[ NEES over %d runs ] forward (S, b_g) %.2f, inverse (A, beta) %.2f; expected %.2f (12 if R were known)\n",
-              kRuns, forward, inverse_form, expected);
+  std::printf(
+      "[ NEES over %d runs ] forward (S, b_g) %.2f, inverse (A, beta) %.2f; expected %.2f (12 if R were known)\n",
+      kRuns, forward, inverse_form, expected);
   EXPECT_NEAR(forward, 12.0, 3.0);
   EXPECT_NEAR(forward, expected, 2.0);
   EXPECT_NEAR(inverse_form, expected, 2.0);
@@ -470,7 +472,8 @@ TEST(RateTableErrors, ThreePlateausAreNotEnough) {
 
 TEST(RateTableErrors, DegenerateGeometryIsRefused) {
   std::vector<Plateau> p;
-  for (double r : {5.0, -5.0, 10.0, -10.0, 100.0, -100.0}) p.push_back(exact_plateau(paper_S(), paper_bias(), {r, 0.0, 0.0}));
+  for (double r : {5.0, -5.0, 10.0, -10.0, 100.0, -100.0})
+    p.push_back(exact_plateau(paper_S(), paper_bias(), {r, 0.0, 0.0}));
   const std::string line = message_of([&] { calibrate_rate_table(p); });
   EXPECT_NE(line.find("degenerate"), std::string::npos) << line;
   EXPECT_NE(line.find("one axis"), std::string::npos) << line;
@@ -663,7 +666,8 @@ class RateTableCli : public ::testing::Test {
     const fs::path p = dir_ / name;
     std::ofstream out(p);
     out << "t_begin,t_end,wx,wy,wz\n";
-    for (const auto& r : rows) out << r.t_begin << ',' << r.t_end << ',' << r.rate[0] << ',' << r.rate[1] << ',' << r.rate[2] << '\n';
+    for (const auto& r : rows)
+      out << r.t_begin << ',' << r.t_end << ',' << r.rate[0] << ',' << r.rate[1] << ',' << r.rate[2] << '\n';
     return p.string();
   }
 
@@ -673,7 +677,8 @@ class RateTableCli : public ::testing::Test {
 
 TEST_F(RateTableCli, JsonFromReferenceColumns) {
   const std::string log = write_log("run.csv");
-  const CliRun r = cubecal_cli("calibrate rate-table " + log + " --columns gx,gy,gz --ref-columns rx,ry,rz --format json");
+  const CliRun r =
+      cubecal_cli("calibrate rate-table " + log + " --columns gx,gy,gz --ref-columns rx,ry,rz --format json");
   ASSERT_EQ(r.code, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
   for (const char* k : {"A", "beta", "A_sigma", "beta_sigma", "residual_before", "residual_after", "error_covariance",
@@ -681,9 +686,11 @@ TEST_F(RateTableCli, JsonFromReferenceColumns) {
     EXPECT_TRUE(j.contains(k)) << k;
   EXPECT_EQ(j["unit"], "deg/s");
   ASSERT_EQ(j["plateaus"].size(), 15u);
-  for (const char* k : {"t_begin", "t_end", "n", "ref", "gyro", "gyro_std"}) EXPECT_TRUE(j["plateaus"][0].contains(k)) << k;
+  for (const char* k : {"t_begin", "t_end", "n", "ref", "gyro", "gyro_std"})
+    EXPECT_TRUE(j["plateaus"][0].contains(k)) << k;
   EXPECT_EQ(j["plateaus"][0]["n"], 400);
-  for (const char* k : {"S", "bias", "scale_factor_ppm", "misalignment_mrad"}) EXPECT_TRUE(j["forward"].contains(k)) << k;
+  for (const char* k : {"S", "bias", "scale_factor_ppm", "misalignment_mrad"})
+    EXPECT_TRUE(j["forward"].contains(k)) << k;
   EXPECT_EQ(j["forward"]["misalignment_mrad"].size(), 6u);
   EXPECT_TRUE(j["residual_after"].contains("max"));
   EXPECT_TRUE(j["residual_after"].contains("rms"));
@@ -696,7 +703,8 @@ TEST_F(RateTableCli, JsonFromReferenceColumns) {
   }
   const double ppm_x = j["forward"]["scale_factor_ppm"][0].get<double>();
   EXPECT_NEAR(ppm_x, 1e6 * (paper_S()[0][0] - 1.0), 100.0);
-  EXPECT_NEAR(j["forward"]["misalignment_mrad"]["xy"].get<double>(), 1e3 * std::atan(paper_S()[0][1] / paper_S()[0][0]), 0.1);
+  EXPECT_NEAR(j["forward"]["misalignment_mrad"]["xy"].get<double>(), 1e3 * std::atan(paper_S()[0][1] / paper_S()[0][0]),
+              0.1);
 }
 
 TEST_F(RateTableCli, TableFromScheduleAndFromSignal) {
@@ -722,7 +730,8 @@ TEST_F(RateTableCli, TableFromScheduleAndFromSignal) {
 
   // Never replaced unasked.
   const auto before = fs::file_size(out);
-  const CliRun again = cubecal_cli("calibrate rate-table " + log + " --columns gx,gy,gz --schedule " + sched + " --out " + out);
+  const CliRun again =
+      cubecal_cli("calibrate rate-table " + log + " --columns gx,gy,gz --schedule " + sched + " --out " + out);
   EXPECT_TRUE(one_error_line(again)) << again.err;
   EXPECT_NE(again.err.find("already exists"), std::string::npos);
   EXPECT_EQ(fs::file_size(out), before);
@@ -752,7 +761,8 @@ TEST_F(RateTableCli, ErrorsAreOneLineWithExitCode2) {
   const CliRun unknown_ref = cubecal_cli(base + " --ref-columns rx,ry,nope");
   EXPECT_TRUE(one_error_line(unknown_ref)) << unknown_ref.err;
 
-  const CliRun missing = cubecal_cli("calibrate rate-table " + (dir_ / "nope.csv").string() + " --ref-columns rx,ry,rz");
+  const CliRun missing =
+      cubecal_cli("calibrate rate-table " + (dir_ / "nope.csv").string() + " --ref-columns rx,ry,rz");
   EXPECT_TRUE(one_error_line(missing)) << missing.err;
 
   const CliRun no_schedule = cubecal_cli(base + " --schedule " + (dir_ / "none.csv").string());
@@ -778,7 +788,8 @@ TEST_F(RateTableCli, ErrorsAreOneLineWithExitCode2) {
   EXPECT_NE(too_long.err.find("no plateau found"), std::string::npos) << too_long.err;
 
   const std::string x_only = write_log("x.csv", {0});
-  const CliRun degenerate = cubecal_cli("calibrate rate-table " + x_only + " --columns gx,gy,gz --ref-columns rx,ry,rz");
+  const CliRun degenerate =
+      cubecal_cli("calibrate rate-table " + x_only + " --columns gx,gy,gz --ref-columns rx,ry,rz");
   EXPECT_TRUE(one_error_line(degenerate)) << degenerate.err;
   EXPECT_NE(degenerate.err.find("degenerate"), std::string::npos) << degenerate.err;
 }

@@ -283,8 +283,7 @@ TEST_F(Reader, PlainFileIsNotGzip) {
 std::string big_text(std::size_t rows) {
   std::string s = "t,a,b\n";
   for (std::size_t i = 0; i < rows; ++i) {
-    s += std::to_string(i) + "," + std::to_string(static_cast<double>(i) * 0.5) + ",-" + std::to_string(i % 97) +
-         "\n";
+    s += std::to_string(i) + "," + std::to_string(static_cast<double>(i) * 0.5) + ",-" + std::to_string(i % 97) + "\n";
     if (i % 1000 == 999) s += "# comment inside the data\n\n";
   }
   return s;
@@ -308,7 +307,8 @@ TEST_F(Reader, ErrorInALaterChunkHasItsLineNumber) {
   const std::string bad = "\n299998,";
   const std::size_t pos = text.find(bad) + bad.size();
   text.replace(pos, 1, "x");  // "149999" -> "x49999"
-  const std::size_t line = 1 + static_cast<std::size_t>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(pos), '\n'));
+  const std::size_t line =
+      1 + static_cast<std::size_t>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(pos), '\n'));
   for (unsigned threads : {1u, 2u, 4u}) {
     TableOptions opt;
     opt.threads = threads;
@@ -346,7 +346,8 @@ TEST_F(Reader, FileParsedInWindowsEqualsTheTextInMemory) {
   const std::size_t pos = bad.find("\n599000,") + 8;
   bad[pos] = 'x';
   const std::string bad_path = write("bad.csv", bad);
-  const std::size_t line = 1 + static_cast<std::size_t>(std::count(bad.begin(), bad.begin() + static_cast<std::ptrdiff_t>(pos), '\n'));
+  const std::size_t line =
+      1 + static_cast<std::size_t>(std::count(bad.begin(), bad.begin() + static_cast<std::ptrdiff_t>(pos), '\n'));
   const InputError e = input_error([&] { read_table(bad_path); });
   EXPECT_EQ(e.line(), line);
   EXPECT_EQ(e.column(), 8u);
@@ -383,8 +384,9 @@ TEST_F(Reader, LocateFindsLineAndColumn) {
 TEST_F(Reader, NonNumericFieldPointsAtTheField) {
   const std::string path = write("bad.csv", "t,gx,gz\n0,1,2\n1,2,abc\n");
   const InputError e = input_error([&] { read_table(path); });
-  EXPECT_EQ(std::string(e.what()), path + ":3:5: non-numeric field 'abc' in column 3 'gz' "
-                                          "(fix the row, remove it or comment it out with '#')");
+  EXPECT_EQ(std::string(e.what()), path +
+                                       ":3:5: non-numeric field 'abc' in column 3 'gz' "
+                                       "(fix the row, remove it or comment it out with '#')");
 }
 
 TEST_F(Reader, TrailingGarbageIsNonNumeric) {
@@ -414,16 +416,16 @@ TEST_F(Reader, WrongFieldCount) {
   EXPECT_EQ(std::string(e.what()), path + ":3:10: row has 5 fields, expected 8 (header has 8)");
 
   const InputError more = input_error([&] { parse_table("1 2\n3 4 5\n", "mem"); });
-  EXPECT_EQ(std::string(more.what()),
-            "mem:2:5: row has 3 fields, expected 2 (the first data row, line 1, has 2)");
+  EXPECT_EQ(std::string(more.what()), "mem:2:5: row has 3 fields, expected 2 (the first data row, line 1, has 2)");
 }
 
 TEST_F(Reader, NaNIsRejected) {
   const std::string path = write("nan.csv", "t,gx\n0,1\n1,nan\n");
   const InputError e = input_error([&] { read_table(path); });
-  EXPECT_EQ(std::string(e.what()), path + ":3:3: NaN is not accepted in column 2 'gx' (a missing sample: --gaps "
-                                          "skip leaves it out of the OADEV terms (dev, davar); otherwise remove the "
-                                          "row or split the record there)");
+  EXPECT_EQ(std::string(e.what()), path +
+                                       ":3:3: NaN is not accepted in column 2 'gx' (a missing sample: --gaps "
+                                       "skip leaves it out of the OADEV terms (dev, davar); otherwise remove the "
+                                       "row or split the record there)");
   EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos);
 }
 
@@ -441,9 +443,10 @@ TEST_F(Reader, OutOfRangeIsRejected) {
 TEST_F(Reader, EmptyFieldIsRejected) {
   const std::string path = write("empty_field.csv", "t,gx,gy\n0,1,2\n1,,2\n");
   const InputError e = input_error([&] { read_table(path); });
-  EXPECT_EQ(std::string(e.what()), path + ":3:3: empty field in column 2 'gx' (a missing sample: --gaps skip "
-                                          "leaves it out of the OADEV terms (dev, davar); otherwise fill or remove "
-                                          "the row)");
+  EXPECT_EQ(std::string(e.what()), path +
+                                       ":3:3: empty field in column 2 'gx' (a missing sample: --gaps skip "
+                                       "leaves it out of the OADEV terms (dev, davar); otherwise fill or remove "
+                                       "the row)");
   EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos);
 }
 
@@ -665,7 +668,8 @@ TEST_F(Reader, NoRateAndNoTimeColumnIsAUsageError) {
     read_series(path, {});
     FAIL() << "no UsageError";
   } catch (const UsageError& e) {
-    EXPECT_EQ(std::string(e.what()), path + ": no sampling rate: no column is named as a time column (t, time, t_s, "
+    EXPECT_EQ(std::string(e.what()), path +
+                                         ": no sampling rate: no column is named as a time column (t, time, t_s, "
                                          "timestamp...): give --rate HZ or --time-col NAME");
   }
 }
@@ -673,15 +677,17 @@ TEST_F(Reader, NoRateAndNoTimeColumnIsAUsageError) {
 TEST_F(Reader, NonMonotonicTimeStamp) {
   const std::string path = write("nm.csv", "t,gx\n12.2,0\n12.4,1\n12.3,2\n12.5,3\n");
   const InputError e = input_error([&] { read_series(path, {}); });
-  EXPECT_EQ(std::string(e.what()), path + ":4:1: time stamp 12.3 s is not after the previous one 12.4 s "
-                                          "(sort the file or fix the logger clock)");
+  EXPECT_EQ(std::string(e.what()), path +
+                                       ":4:1: time stamp 12.3 s is not after the previous one 12.4 s "
+                                       "(sort the file or fix the logger clock)");
 }
 
 TEST_F(Reader, DuplicatedTimeStamp) {
   const std::string path = write("dt.csv", "gx, time\n0, 1.0\n1, 2.0\n2, 2.0\n");
   const InputError e = input_error([&] { read_series(path, {}); });
-  EXPECT_EQ(std::string(e.what()), path + ":4:4: time stamp 2 s is not after the previous one 2 s "
-                                          "(duplicated time stamp: remove the repeated row or fix the logger clock)");
+  EXPECT_EQ(std::string(e.what()), path +
+                                       ":4:4: time stamp 2 s is not after the previous one 2 s "
+                                       "(duplicated time stamp: remove the repeated row or fix the logger clock)");
 }
 
 TEST_F(Reader, GapIsAnErrorByDefault) {
@@ -689,8 +695,9 @@ TEST_F(Reader, GapIsAnErrorByDefault) {
   for (std::size_t i = 10; i < t.size(); ++i) t[i] += 2.9;  // 29 missing samples
   const std::string path = write("gap.csv", timed_csv(t));
   const InputError e = input_error([&] { read_series(path, {}); });
-  EXPECT_EQ(std::string(e.what()), path + ":12:1: gap of 3.000 s (30 periods of 0.1 s) after t = 0.9 s "
-                                          "(use --gaps split to analyze the contiguous pieces)");
+  EXPECT_EQ(std::string(e.what()), path +
+                                       ":12:1: gap of 3.000 s (30 periods of 0.1 s) after t = 0.9 s "
+                                       "(use --gaps split to analyze the contiguous pieces)");
 }
 
 TEST_F(Reader, GapSplitsIntoSegments) {
@@ -717,8 +724,9 @@ TEST_F(Reader, JitterBeyondTolerance) {
   EXPECT_EQ(e.line(), 9u);
   EXPECT_EQ(e.column(), 1u);
   EXPECT_EQ(e.problem(), "jitter: interval 0.1043 s differs from the period 0.1 s by 4.3 %");
-  EXPECT_EQ(e.hint(), "use --gaps split to cut the record at irregular intervals, "
-                      "or give --rate HZ to ignore the time stamps");
+  EXPECT_EQ(e.hint(),
+            "use --gaps split to cut the record at irregular intervals, "
+            "or give --rate HZ to ignore the time stamps");
 
   SeriesOptions loose;
   loose.tolerance = 0.05;
@@ -745,7 +753,8 @@ TEST_F(Reader, TooShortSeries) {
   opt.min_samples = 10;
   const std::string path = write("short.csv", timed_csv(regular_times(5, 1)));
   const InputError e = input_error([&] { read_series(path, opt); });
-  EXPECT_EQ(std::string(e.what()), path + ": series too short: 5 samples, at least 10 needed (a longer record is needed)");
+  EXPECT_EQ(std::string(e.what()),
+            path + ": series too short: 5 samples, at least 10 needed (a longer record is needed)");
 }
 
 TEST_F(Reader, TooShortAfterSplitting) {
@@ -804,8 +813,8 @@ TEST(RealFiles, Adis16405GzipSeries) {
   EXPECT_TRUE(s.rate_from_time);
   EXPECT_NEAR(s.rate_hz, 100.0, 1e-6);
   EXPECT_EQ(s.segments.size(), 1u);
-  EXPECT_EQ(s.names, (std::vector<std::string>{"gyro_x_dps", "gyro_y_dps", "gyro_z_dps", "acc_x_g", "acc_y_g",
-                                               "acc_z_g"}));
+  EXPECT_EQ(s.names,
+            (std::vector<std::string>{"gyro_x_dps", "gyro_y_dps", "gyro_z_dps", "acc_x_g", "acc_y_g", "acc_z_g"}));
   EXPECT_EQ(s.channels[0][1], 0.35);
   EXPECT_EQ(s.channels[5][999999], -1.01898);
 }

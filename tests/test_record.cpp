@@ -111,8 +111,9 @@ TEST(FrameSpec, ParsesAndRefuses) {
   // A key given twice is refused: two syncs would make one of 5 bytes (the
   // fuzzer's find), two field lists one list whose names were never checked
   // against each other.
-  for (const char* twice : {"sync=7E7E32;sync=7E7E;fields=x:u16", "sync=7E;fields=a:u8;fields=a:u8",
-                            "sync=7E;fields=a:u8;checksum=xor8;checksum=crc16", "sync=7E;endian=le;fields=a:u8;endian=be"}) {
+  for (const char* twice :
+       {"sync=7E7E32;sync=7E7E;fields=x:u16", "sync=7E;fields=a:u8;fields=a:u8",
+        "sync=7E;fields=a:u8;checksum=xor8;checksum=crc16", "sync=7E;endian=le;fields=a:u8;endian=be"}) {
     try {
       (void)parse_frame_spec(twice);
       ADD_FAILURE() << twice << " accepted";
@@ -156,7 +157,8 @@ TEST(FrameDecoder, DecodesResyncsAndRejectsBadChecksums) {
   EXPECT_EQ(c.names, (std::vector<std::string>{"t", "gx", "v"}));
   EXPECT_EQ(c.samples, (std::vector<std::string>{"1,-5,0.5", "3,-32768,-2.25"}));
   ASSERT_EQ(c.rejects.size(), 4u);
-  EXPECT_EQ(c.rejects[0], (std::pair<std::string, std::string>{"bytes skipped looking for the sync bytes", "\x01\x02\x03"}));
+  EXPECT_EQ(c.rejects[0],
+            (std::pair<std::string, std::string>{"bytes skipped looking for the sync bytes", "\x01\x02\x03"}));
   EXPECT_EQ(c.rejects[1].first, "bad checksum");
   EXPECT_EQ(c.rejects[1].second.size(), s.frame_size());
   EXPECT_EQ(c.rejects[2].second, "zz");
@@ -295,7 +297,8 @@ TEST(ChunkWriter, CrcAndRecoveryOfAPartialTail) {
     const io::RecordingChunk c = w.close();
     const std::string data = slurp(d + "/chunk-000001.csv");
     EXPECT_EQ(c.bytes, data.size());
-    EXPECT_EQ(*c.crc32, static_cast<std::uint32_t>(crc32(0, reinterpret_cast<const Bytef*>(data.data()), static_cast<uInt>(data.size()))));
+    EXPECT_EQ(*c.crc32, static_cast<std::uint32_t>(
+                            crc32(0, reinterpret_cast<const Bytef*>(data.data()), static_cast<uInt>(data.size()))));
     EXPECT_EQ(c.samples, 3u);
   }
   // A crashed chunk: the manifest vouched for the header and one line; two
@@ -316,6 +319,7 @@ TEST(ChunkWriter, CrcAndRecoveryOfAPartialTail) {
   EXPECT_DOUBLE_EQ(r.chunk.last_host_utc_s, 101.5);
   EXPECT_FALSE(r.chunk.open);
   EXPECT_EQ(slurp(d + "/chunk-000002.csv"), body);
-  EXPECT_EQ(*r.chunk.crc32, static_cast<std::uint32_t>(crc32(0, reinterpret_cast<const Bytef*>(body.data()), static_cast<uInt>(body.size()))));
+  EXPECT_EQ(*r.chunk.crc32, static_cast<std::uint32_t>(
+                                crc32(0, reinterpret_cast<const Bytef*>(body.data()), static_cast<uInt>(body.size()))));
   EXPECT_EQ(std::system(("rm -rf " + d).c_str()), 0);
 }

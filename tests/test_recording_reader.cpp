@@ -164,7 +164,8 @@ class RecordingTest : public TempDirTest {
     std::vector<Row> out;
     for (std::size_t i = 0; i < n; ++i) {
       const double host = static_cast<double>((i / batch) * batch) / rate;
-      out.push_back({mono0 + host, utc0 + host,
+      out.push_back({mono0 + host,
+                     utc0 + host,
                      {t0 + static_cast<double>(i) / rate, bias + noise(gen), static_cast<double>(first_index + i)}});
     }
     return out;

@@ -108,9 +108,10 @@ class ReportTest : public ::testing::Test {
 };
 fs::path ReportTest::root_;
 
-#define REQUIRE_GNUPLOT()                                                                           \
-  if (!have_gnuplot()) GTEST_SKIP() << "gnuplot not installed: install gnuplot-nox "                \
-                                       "(scripts/install-deps.sh) to render and check the plots"
+#define REQUIRE_GNUPLOT()                                       \
+  if (!have_gnuplot())                                          \
+  GTEST_SKIP() << "gnuplot not installed: install gnuplot-nox " \
+                  "(scripts/install-deps.sh) to render and check the plots"
 
 // ---------------------------------------------------------------------------
 // Pieces
@@ -296,11 +297,10 @@ TEST_F(ReportTest, SelfContainedPageWithEveryPlotAndItsScript) {
     EXPECT_EQ((*it)[1].str().rfind("data:image/svg+xml;base64,", 0), 0u) << (*it)[1];
 
   // Allan, drift, temperature and compensated plots of the rate and field sensors.
-  const std::vector<std::string> expected{"allan_rate",        "allan_field",       "drift_rate",
-                                          "drift_field",       "temperature_rate",  "temperature_field",
-                                          "compensated_rate",  "compensated_field"};
-  for (const auto& e : expected)
-    EXPECT_NE(std::find(r.plots.begin(), r.plots.end(), e), r.plots.end()) << e;
+  const std::vector<std::string> expected{"allan_rate",       "allan_field",      "drift_rate",
+                                          "drift_field",      "temperature_rate", "temperature_field",
+                                          "compensated_rate", "compensated_field"};
+  for (const auto& e : expected) EXPECT_NE(std::find(r.plots.begin(), r.plots.end(), e), r.plots.end()) << e;
   EXPECT_EQ(images, r.plots.size());
   for (const auto& name : r.plots) {
     for (const char* ext : {".gp", ".dat", ".svg", ".png"})
@@ -316,9 +316,9 @@ TEST_F(ReportTest, SelfContainedPageWithEveryPlotAndItsScript) {
 
   // The parameter table, model, covariance and the command that reproduces it.
   for (const char* s : {"fixed bias", "N, white noise", "B, bias instability", "T, time constant",
-                        "K, rate random walk", "Q, quantization", "R, rate ramp", "σ<sub>n</sub>",
-                        "σ<sub>μ</sub>", "Gauss–Markov", "c<sub>1</sub>, temperature coefficient",
-                        "Covariance", "Correlation", "deg/sqrt(h)", "mGauss/degC", "10 Hz", "sport_static.csv"})
+                        "K, rate random walk", "Q, quantization", "R, rate ramp", "σ<sub>n</sub>", "σ<sub>μ</sub>",
+                        "Gauss–Markov", "c<sub>1</sub>, temperature coefficient", "Covariance", "Correlation",
+                        "deg/sqrt(h)", "mGauss/degC", "10 Hz", "sport_static.csv"})
     EXPECT_NE(html.find(s), std::string::npos) << s;
   EXPECT_NE(html.find("cubecal analyze sport_static.csv --unit deg/s,deg/s,deg/s,mGauss,mGauss,mGauss --temp-col temp "
                       "--out base"),
@@ -335,8 +335,9 @@ TEST_F(ReportTest, EscapesEveryStringFromTheData) {
   const std::string html = slurp(d / "report.html");
   for (const char* raw : {"<b>x</b>", "<i>x", "<img src=x", "<script>alert", "gy&amp;<", "g'z\""})
     EXPECT_EQ(html.find(raw), std::string::npos) << raw;
-  for (const char* esc : {"g&lt;b&gt;x&lt;/b&gt;", "gy&amp;amp;", "g&#39;z&quot;", "&lt;img src=x onerror=alert(1)&gt;.csv",
-                          "&lt;script&gt;alert(&quot;pwned&quot;)&lt;/script&gt;"})
+  for (const char* esc :
+       {"g&lt;b&gt;x&lt;/b&gt;", "gy&amp;amp;", "g&#39;z&quot;", "&lt;img src=x onerror=alert(1)&gt;.csv",
+        "&lt;script&gt;alert(&quot;pwned&quot;)&lt;/script&gt;"})
     EXPECT_NE(html.find(esc), std::string::npos) << esc;
   EXPECT_EQ(count(html, "<script>"), 1u) << "only the page's own image check";
   // The legends of the plots carry the names too, quoted for gnuplot.

@@ -195,7 +195,6 @@ TEST(BiweightVariance, ZerosAndTheEquationWithoutRoot) {
   EXPECT_GT(mean_chi(v, r2 * 0.999, t.c), t.a);
 }
 
-
 // Window sums against long double on the samples as given: a drift of 0.5
 // per sample on an offset, a random walk and white noise, 1e5 samples
 // (the plain running sum of the mean-removed samples reaches 6e8 and
@@ -218,7 +217,7 @@ TEST(HaarCoefficients, EqualLongDoubleWindowSumsUnderDriftAndWalk) {
     ASSERT_EQ(w.size(), kN - tau + 1);
     const std::size_t m = tau / 2;
     double worst = 0.0, worst_plain = 0.0;
-    for (std::size_t t = 0; t < w.size(); t += tau > 16 ? 7 : 1) {
+    for (std::size_t t = 0; t<w.size(); t += tau> 16 ? 7 : 1) {
       long double s1 = 0.0L, s2 = 0.0L, mag = 0.0L;
       for (std::size_t i = 0; i < m; ++i) {
         s1 += y[t + i];
@@ -227,7 +226,8 @@ TEST(HaarCoefficients, EqualLongDoubleWindowSumsUnderDriftAndWalk) {
       }
       const double ref = static_cast<double>((s2 - s1) / tau);
       // A few roundings of the window's values and of the mean.
-      const double bound = kEps * (static_cast<double>(mag) + static_cast<double>(tau) * mean) / static_cast<double>(tau);
+      const double bound =
+          kEps * (static_cast<double>(mag) + static_cast<double>(tau) * mean) / static_cast<double>(tau);
       worst = std::max(worst, std::abs(w[t] - ref) / bound);
       const double plain = ((x[t + tau] - x[t + m]) - (x[t + m] - x[t])) / static_cast<double>(tau);
       worst_plain = std::max(worst_plain, std::abs(plain - ref) / bound);
@@ -284,7 +284,8 @@ std::vector<double> haar_autocovariance(const CompositeModel& model, std::size_t
   for (const Process& p : model.processes) {
     if (p.kind == ProcessKind::rw) {
       std::vector<double> G(tau + 1, 0.0);
-      for (long j = 1; j < static_cast<long>(tau); ++j) G[j] = static_cast<double>(j <= m ? j : static_cast<long>(tau) - j) / td;
+      for (long j = 1; j < static_cast<long>(tau); ++j)
+        G[j] = static_cast<double>(j <= m ? j : static_cast<long>(tau) - j) / td;
       for (std::size_t l = 0; l < std::min(L, tau); ++l) {
         double s = 0.0;
         for (std::size_t j = 1; j + l < tau; ++j) s += G[j] * G[j + l];
@@ -383,8 +384,8 @@ std::vector<ScaleMoments> monte_carlo(const CompositeModel& model, int records, 
 
 CompositeModel clean_model(const std::string& name) {
   CompositeModel m = parse_composite_model(name);
-  m.processes[0].value = 1.0;  // WN
-  if (name == "WN+RW") m.processes[1].value = 1e-4;  // crosses the white noise near tau = 350
+  m.processes[0].value = 1.0;                                          // WN
+  if (name == "WN+RW") m.processes[1].value = 1e-4;                    // crosses the white noise near tau = 350
   if (name == "WN+GM") m.processes[1] = gm_process(100.0, 0.25, 1.0);  // peaks near tau = 380
   return m;
 }
@@ -406,8 +407,8 @@ TEST(RobustWaveletVariance, CleanRecordsUnbiasedWithThePredictedVariance) {
       const double theory = haar_wavelet_variance(model, static_cast<double>(tau));
       const double ratio = predicted_variance_ratio(model, tau, M, terms);
       const double got = mc[j].var_r / mc[j].var_c;
-      std::printf("%s tau %5zu  eta3 %7.1f  bias %+.4f +- %.4f  var ratio %.3f +- %.3f  predicted %.3f\n",
-                  name.c_str(), tau, static_cast<double>(M) / static_cast<double>(tau), mc[j].mean_r / theory - 1.0,
+      std::printf("%s tau %5zu  eta3 %7.1f  bias %+.4f +- %.4f  var ratio %.3f +- %.3f  predicted %.3f\n", name.c_str(),
+                  tau, static_cast<double>(M) / static_cast<double>(tau), mc[j].mean_r / theory - 1.0,
                   std::sqrt(mc[j].var_r / kRecords) / theory, got, got * mc[j].se_log_ratio, ratio);
       EXPECT_GE(ratio, 1.0) << name << " tau " << tau;
       EXPECT_LE(ratio, 1.0 / t.efficiency) << name << " tau " << tau;
@@ -430,7 +431,8 @@ void contaminate(std::vector<double>& y, double sigma, std::uint64_t seed, doubl
   std::uniform_int_distribution<std::size_t> at(0, y.size() - 1);
   std::uniform_real_distribution<double> size(50.0, 100.0);
   std::bernoulli_distribution sign(0.5);
-  for (std::size_t k = 0; k < static_cast<std::size_t>(share * static_cast<double>(y.size())); ++k) y[at(rng)] = (sign(rng) ? 1.0 : -1.0) * size(rng) * sigma;
+  for (std::size_t k = 0; k < static_cast<std::size_t>(share * static_cast<double>(y.size())); ++k)
+    y[at(rng)] = (sign(rng) ? 1.0 : -1.0) * size(rng) * sigma;
 }
 
 // At the smallest scales, where an outlier's coefficients are far out and

@@ -62,7 +62,9 @@ std::string f64(double d) {
   for (int k = 0; k < 8; ++k) s[static_cast<std::size_t>(k)] = static_cast<char>((v >> (8 * k)) & 0xff);
   return s;
 }
-std::string field(const std::string& name, const std::string& value) { return u32(static_cast<std::uint32_t>(name.size() + 1 + value.size())) + name + "=" + value; }
+std::string field(const std::string& name, const std::string& value) {
+  return u32(static_cast<std::uint32_t>(name.size() + 1 + value.size())) + name + "=" + value;
+}
 std::string record(const std::string& header, const std::string& data) {
   return u32(static_cast<std::uint32_t>(header.size())) + header + u32(static_cast<std::uint32_t>(data.size())) + data;
 }
@@ -170,15 +172,16 @@ std::string written_bag(std::size_t n) {
     const double g[3] = {static_cast<double>(i), 0.5, -0.5};
     const double a[3] = {0.1, 0.2, 9.81 + static_cast<double>(i) / 1000.0};
     chunk += message(0, sec, nsec, imu_msg(static_cast<std::uint32_t>(i), sec, nsec, g, a));
-    chunk += message(1, sec, nsec, temp_msg(static_cast<std::uint32_t>(i), sec, nsec, 20.0 + static_cast<double>(i) / 100.0));
+    chunk += message(1, sec, nsec,
+                     temp_msg(static_cast<std::uint32_t>(i), sec, nsec, 20.0 + static_cast<double>(i) / 100.0));
   }
   std::string bag(io::kRos1BagMagic);
   bag += record(field("op", "\x03") + field("index_pos", std::string(8, '\0')) + field("conn_count", u32(2)) +
                     field("chunk_count", u32(1)),
                 std::string(64, ' '));
-  bag += record(field("op", "\x05") + field("compression", "none") +
-                    field("size", u32(static_cast<std::uint32_t>(chunk.size()))),
-                chunk);
+  bag += record(
+      field("op", "\x05") + field("compression", "none") + field("size", u32(static_cast<std::uint32_t>(chunk.size()))),
+      chunk);
   return bag;
 }
 
@@ -193,15 +196,33 @@ struct Expected {
 };
 
 const Expected kBags[] = {
-    {kPhidgets, "/imu/data_raw", "/imu/mag", 13964, 250.00321869225726, 1360242236, 211312933,
+    {kPhidgets,
+     "/imu/data_raw",
+     "/imu/mag",
+     13964,
+     250.00321869225726,
+     1360242236,
+     211312933,
      {0.0, 0.000351509311351658, 0.004450415059660341},
      {-0.202086008644104, -0.10555560451507569, -9.869743322172164},
      {3.6360000000000004e-06, 1.4241000000000001e-05, 3.4542e-05}},
-    {kArdrone, "/ardrone/imu", "/ardrone/mag", 4308, 49.99110856843184, 1352907204, 593772365,
+    {kArdrone,
+     "/ardrone/imu",
+     "/ardrone/mag",
+     4308,
+     49.99110856843184,
+     1352907204,
+     593772365,
      {0.0009021772812690954, 0.00018132710156529633, 0.0004190723536248893},
      {0.11456839870661498, 0.11541380174458028, 9.681935966014862},
      {-4.614481946075264e-05, -8.809465533416413e-05, 1.0487458968352874e-05}},
-    {kRazor, "/imu/data_raw", "/imu/mag", 2144, 68.9512411638994, 1352907614, 798383951,
+    {kRazor,
+     "/imu/data_raw",
+     "/imu/mag",
+     2144,
+     68.9512411638994,
+     1352907614,
+     798383951,
      {-0.15055361895464128, -0.2501132701988396, 0.2598264069055906},
      {9.20625, 4.181171875, -0.61375},
      {-4.9347701270403665e-05, -6.37033961854302e-05, -5.92172415244844e-05}},
@@ -321,7 +342,8 @@ TEST(Ros1Bag, CorruptMessageLengthIsAnInputErrorNamingTheField) {
   io::SeriesOptions o;
   o.gaps = io::GapPolicy::split;
   try {
-    const std::string path = std::filesystem::temp_directory_path() / ("cubecal_bad_" + std::to_string(::getpid()) + ".bag");
+    const std::string path =
+        std::filesystem::temp_directory_path() / ("cubecal_bad_" + std::to_string(::getpid()) + ".bag");
     std::ofstream(path, std::ios::binary) << bad;
     struct Remove {
       std::string p;
@@ -337,7 +359,8 @@ TEST(Ros1Bag, CorruptMessageLengthIsAnInputErrorNamingTheField) {
 }
 
 TEST(Ros1Bag, TemperatureTopicIsAnExtraColumnAndTimeCanBeTheRecordTime) {
-  const std::string path = std::filesystem::temp_directory_path() / ("cubecal_temp_" + std::to_string(::getpid()) + ".bag");
+  const std::string path =
+      std::filesystem::temp_directory_path() / ("cubecal_temp_" + std::to_string(::getpid()) + ".bag");
   std::ofstream(path, std::ios::binary) << written_bag(300);
   struct Remove {
     std::string p;
@@ -368,10 +391,11 @@ TEST(Ros1Bag, SeveralImuTopicsAreListedNoneTaken) {
   std::string bag = written_bag(10);
   // A second IMU topic: one more connection record, in a chunk of its own.
   const std::string chunk = connection(5, "/imu2", "sensor_msgs/Imu");
-  bag += record(field("op", "\x05") + field("compression", "none") +
-                    field("size", u32(static_cast<std::uint32_t>(chunk.size()))),
-                chunk);
-  const std::string path = std::filesystem::temp_directory_path() / ("cubecal_two_" + std::to_string(::getpid()) + ".bag");
+  bag += record(
+      field("op", "\x05") + field("compression", "none") + field("size", u32(static_cast<std::uint32_t>(chunk.size()))),
+      chunk);
+  const std::string path =
+      std::filesystem::temp_directory_path() / ("cubecal_two_" + std::to_string(::getpid()) + ".bag");
   std::ofstream(path, std::ios::binary) << bag;
   struct Remove {
     std::string p;

@@ -89,8 +89,8 @@ TEST_F(Ros2Bag, Db3FileAndDirectoryTopicsTypesAndCounts) {
   expect_phidgets_topics(dir);
   EXPECT_EQ(dir.parts, (std::vector<std::string>{"phidgets_imu_upside_down_0.db3"}));
   EXPECT_EQ(dir.payload, file.payload);
-  EXPECT_EQ(dir.where(dir.messages[0]), "row " + std::to_string(dir.messages[0].offset) +
-                                            " of phidgets_imu_upside_down_0.db3's messages table");
+  EXPECT_EQ(dir.where(dir.messages[0]),
+            "row " + std::to_string(dir.messages[0].offset) + " of phidgets_imu_upside_down_0.db3's messages table");
 }
 
 // The MCAP's messages, read by the test's own walker, are the db3's rows
@@ -361,8 +361,8 @@ TEST_F(Ros2Bag, CorruptLengthsCrcsAndCompressedBytesAreInputErrors) {
   // An uncompressed size that is not what the data inflate to.
   bad = file;
   bad.replace(chunk.offset + 9 + 16, 8, u64(k.size + 1));
-  EXPECT_NE(error_of(bad).find("byte 80: zstd chunk inflates to " + std::to_string(k.size) + " bytes, its header says " +
-                               std::to_string(k.size + 1)),
+  EXPECT_NE(error_of(bad).find("byte 80: zstd chunk inflates to " + std::to_string(k.size) +
+                               " bytes, its header says " + std::to_string(k.size + 1)),
             std::string::npos)
       << error_of(bad);
   bad = file;
@@ -498,8 +498,9 @@ TEST_F(Ros2Bag, DirectoryReadsItsFilesInTheOrderMetadataListsThem) {
 TEST_F(Ros2Bag, McapBagDirectoryReadsAsItsFile) {
   fs::create_directories(dir_ / "bag");
   fs::copy_file(kMcap, dir_ / "bag" / "phidgets_0.mcap");
-  put("bag/metadata.yaml", "rosbag2_bagfile_information:\n  version: 8\n  storage_identifier: mcap\n"
-                           "  relative_file_paths:\n    - phidgets_0.mcap\n");
+  put("bag/metadata.yaml",
+      "rosbag2_bagfile_information:\n  version: 8\n  storage_identifier: mcap\n"
+      "  relative_file_paths:\n    - phidgets_0.mcap\n");
   EXPECT_EQ(io::read_series((dir_ / "bag").string(), imu_options()).channels,
             io::read_series(kMcap, imu_options()).channels);
 }

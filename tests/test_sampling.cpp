@@ -50,10 +50,12 @@ TEST(MedianInterval, EqualsTheSortedMedianWhenTheSampleMissesIt) {
   // stride: the sample brackets the wrong intervals, and the exact answer
   // must still come out.
   const std::size_t n = 300'000;
-  const auto halves = stamps(n, [&](std::size_t i) { return i < n / 2 ? 0.01 : 0.02 + 1e-9 * static_cast<double>(i % 7); });
+  const auto halves =
+      stamps(n, [&](std::size_t i) { return i < n / 2 ? 0.01 : 0.02 + 1e-9 * static_cast<double>(i % 7); });
   EXPECT_EQ(cubecal::median_interval(halves), sorted_median(halves));
   const std::size_t stride = (n - 1) / 4096;
-  const auto aliased = stamps(n, [&](std::size_t i) { return (i - 1) % stride == 0 ? 0.5 : 0.01 + 1e-9 * static_cast<double>(i % 5); });
+  const auto aliased =
+      stamps(n, [&](std::size_t i) { return (i - 1) % stride == 0 ? 0.5 : 0.01 + 1e-9 * static_cast<double>(i % 5); });
   EXPECT_EQ(cubecal::median_interval(aliased), sorted_median(aliased));
 }
 

@@ -69,9 +69,7 @@ AllanCurve exact_curve(const Model& model, const std::vector<std::size_t>& ms, d
 }
 
 // Continuous Gauss-Markov AVAR over sigma^2 (IEEE 952 Annex C), x = tau/T.
-double gm_continuous(double x) {
-  return 2.0 / x * (1.0 - (3.0 - 4.0 * std::exp(-x) + std::exp(-2.0 * x)) / (2.0 * x));
-}
+double gm_continuous(double x) { return 2.0 / x * (1.0 - (3.0 - 4.0 * std::exp(-x) + std::exp(-2.0 * x)) / (2.0 * x)); }
 
 // Quantile with linear interpolation between order statistics (numpy default).
 double quantile(std::vector<double> v, double p) {
@@ -86,8 +84,8 @@ double quantile(std::vector<double> v, double p) {
 // The paper's gyro model, eq. 1-3: w_k = beta + b_k + sigma_n n_k,
 // b_{k+1} = b_k + sigma_mu dt n'_k, then int(w * lsb) / lsb (truncation toward
 // zero) when lsb > 0.
-std::vector<double> simulate_paper_gyro(std::size_t n, double sigma_n, double sigma_mu, double dt,
-                                        double beta, double lsb, std::uint64_t seed) {
+std::vector<double> simulate_paper_gyro(std::size_t n, double sigma_n, double sigma_mu, double dt, double beta,
+                                        double lsb, std::uint64_t seed) {
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> gauss(0.0, 1.0);
   std::vector<double> y(n);
@@ -102,8 +100,7 @@ std::vector<double> simulate_paper_gyro(std::size_t n, double sigma_n, double si
 
 AllanCurve oadev_curve(const std::vector<double>& y, double dt, unsigned per_decade = 20) {
   const std::size_t max_m = cubecal::max_averaging_factor(cubecal::Stat::oadev, y.size() + 1);
-  const auto ms = cubecal::averaging_factors(
-      cubecal::parse_tau_grid("log:" + std::to_string(per_decade)), max_m, dt);
+  const auto ms = cubecal::averaging_factors(cubecal::parse_tau_grid("log:" + std::to_string(per_decade)), max_m, dt);
   const auto pts = cubecal::stability(y, cubecal::DataType::freq, dt, cubecal::Stat::oadev, ms);
   return cubecal::to_allan_curve(pts);
 }
@@ -126,8 +123,7 @@ TEST(RandomWalkAvar, DiscreteRandomWalkAgainstClosedForms) {
   // docs/formulas/noise-terms.md §6.2: K^2 tau / 3 + K^2 dt^2 / (6 tau).
   for (std::size_t m : {1u, 2u, 3u, 10u, 1000u, 100000u}) {
     const double tau = static_cast<double>(m) * dt;
-    EXPECT_NEAR(cubecal::avar(rw, m) / (k2 * tau / 3.0 + k2 * dt * dt / (6.0 * tau)), 1.0, 1e-12)
-        << "m=" << m;
+    EXPECT_NEAR(cubecal::avar(rw, m) / (k2 * tau / 3.0 + k2 * dt * dt / (6.0 * tau)), 1.0, 1e-12) << "m=" << m;
   }
   // m = 1: 1.5 times the continuous sigma_mu^2 dt tau / 3; large m: the continuous value.
   EXPECT_NEAR(cubecal::avar(rw, 1) / (sigma_mu * sigma_mu * dt * dt / 3.0), 1.5, 1e-12);
@@ -140,8 +136,7 @@ TEST(RandomWalkAvar, WhiteAndQuantizationShare) {
   for (std::size_t m : {1u, 7u, 420u}) {
     const double md = static_cast<double>(m);
     EXPECT_NEAR(cubecal::avar(white, m), 13.9e-3 * 13.9e-3 / md, 1e-18);
-    EXPECT_NEAR(cubecal::avar(quant, m) - cubecal::avar(white, m),
-                1.0 / (12.0 * kGyroLsb * kGyroLsb) / md, 1e-18);
+    EXPECT_NEAR(cubecal::avar(quant, m) - cubecal::avar(white, m), 1.0 / (12.0 * kGyroLsb * kGyroLsb) / md, 1e-18);
   }
   EXPECT_TRUE(std::isnan(cubecal::avar(white, 0)));
 }
@@ -169,11 +164,13 @@ TEST(RandomWalkAvar, MatchesSimulatedRecord) {
 TEST(GaussMarkovAvar, ZhangAr1TestValues) {
   // av_ar1(n, phi, sigma_w^2) of R avar: innovation variance sigma_w^2, so the
   // stationary variance is sigma_w^2 / (1 - phi^2).
-  struct Case { std::size_t n; double phi, sw2, want; };
+  struct Case {
+    std::size_t n;
+    double phi, sw2, want;
+  };
   for (const Case c : {Case{5, 0.9, 1.0, 1.304282188}, Case{8, 0.5, 2.0, 0.751300812}}) {
     const double dt = 1.0;
-    const GaussMarkovModel gm{0.0, std::sqrt(c.sw2 / (1.0 - c.phi * c.phi)), -dt / std::log(c.phi),
-                              dt, 0.0};
+    const GaussMarkovModel gm{0.0, std::sqrt(c.sw2 / (1.0 - c.phi * c.phi)), -dt / std::log(c.phi), dt, 0.0};
     EXPECT_NEAR(cubecal::avar(gm, c.n), c.want, 2e-9) << "n=" << c.n;
   }
 }
@@ -182,10 +179,11 @@ TEST(GaussMarkovAvar, ContinuousValuesAndPeak) {
   const double t = 1.0;
   const double dt = 1e-6;  // continuous limit: discrete corrections ~ (dt/tau)^2
   const GaussMarkovModel gm{0.0, 1.0, t, dt, 0.0};
-  struct Case { double x, want, tol; };
-  for (const Case c : {Case{0.01, 0.0066169, 1e-4}, Case{0.1, 0.0618919, 1e-5},
-                       Case{1.0, 0.3361825, 1e-6}, Case{10.0, 0.1700018, 1e-6},
-                       Case{100.0, 0.0197, 1e-3}}) {
+  struct Case {
+    double x, want, tol;
+  };
+  for (const Case c : {Case{0.01, 0.0066169, 1e-4}, Case{0.1, 0.0618919, 1e-5}, Case{1.0, 0.3361825, 1e-6},
+                       Case{10.0, 0.1700018, 1e-6}, Case{100.0, 0.0197, 1e-3}}) {
     const auto m = static_cast<std::size_t>(std::llround(c.x * t / dt));
     EXPECT_NEAR(cubecal::avar(gm, m) / c.want, 1.0, c.tol) << "tau/T=" << c.x;
   }
@@ -195,7 +193,10 @@ TEST(GaussMarkovAvar, ContinuousValuesAndPeak) {
   std::size_t best_m = 0;
   for (std::size_t m = 17000; m <= 21000; ++m) {
     const double v = cubecal::avar(coarse, m);
-    if (v > best) { best = v; best_m = m; }
+    if (v > best) {
+      best = v;
+      best_m = m;
+    }
   }
   EXPECT_NEAR(std::sqrt(best), 0.617364, 1e-6);
   EXPECT_NEAR(static_cast<double>(best_m) * 1e-4, 1.892618, 2e-4);
@@ -221,8 +222,7 @@ TEST(GaussMarkovAvar, DiscreteAtSmallAndLongCorrelation) {
   const double step2 = -std::expm1(-2.0 * dt / tc);
   for (std::size_t m : {1u, 2u, 10u, 1000u}) {
     const double md = static_cast<double>(m);
-    EXPECT_NEAR(cubecal::avar(slow, m) / (step2 * (2.0 * md * md + 1.0) / (6.0 * md)), 1.0, 1e-5)
-        << "m=" << m;
+    EXPECT_NEAR(cubecal::avar(slow, m) / (step2 * (2.0 * md * md + 1.0) / (6.0 * md)), 1.0, 1e-5) << "m=" << m;
   }
   // Both branches of the evaluation meet: no jump across m * dt / T = 0.25.
   const GaussMarkovModel g2{0.0, 1.0, 400.0, 1.0, 0.0};
@@ -230,8 +230,7 @@ TEST(GaussMarkovAvar, DiscreteAtSmallAndLongCorrelation) {
   EXPECT_NEAR((v99 + v101) / 2.0 / v100, 1.0, 1e-4);
   // White part adds as for the random-walk model; T_c = 0 is white with sigma_b.
   const GaussMarkovModel white{0.01, 0.002, 0.0, 0.1, kGyroLsb};
-  EXPECT_NEAR(cubecal::avar(white, 4),
-              (0.01 * 0.01 + 0.002 * 0.002 + 1.0 / (12.0 * kGyroLsb * kGyroLsb)) / 4.0, 1e-18);
+  EXPECT_NEAR(cubecal::avar(white, 4), (0.01 * 0.01 + 0.002 * 0.002 + 1.0 / (12.0 * kGyroLsb * kGyroLsb)) / 4.0, 1e-18);
 }
 
 // ---------------------------------------------------------------------------
@@ -243,7 +242,10 @@ TEST(RandomWalkModelFit, PaperClosedFormMinimum) {
   std::size_t best_m = 0;
   for (std::size_t m = 1; m < 10000; ++m) {
     const double v = cubecal::avar(x, m);
-    if (v < best) { best = v; best_m = m; }
+    if (v < best) {
+      best = v;
+      best_m = m;
+    }
   }
   const double tau_star = std::sqrt(3.0) * x.sigma_n / x.sigma_mu;
   EXPECT_NEAR(tau_star, 6.879, 5e-4);
@@ -397,8 +399,7 @@ TEST(RandomWalkModelFit, IgnoresChanceDipInTheTail) {
   // Below the V the GM is a random walk with K^2 = 2 sigma_b^2 / T_c, but it
   // already bends under it at the V (tau ~ 0.27 T_c: factor ~ 1 - 0.75 tau/T_c),
   // so the adjusted walk is ~20 % weaker in variance.
-  const double k2_ratio =
-      rw.sigma_mu * rw.sigma_mu * kPaperDt / (2.0 * gm.sigma_b * gm.sigma_b / gm.tau_c);
+  const double k2_ratio = rw.sigma_mu * rw.sigma_mu * kPaperDt / (2.0 * gm.sigma_b * gm.sigma_b / gm.tau_c);
   EXPECT_GT(k2_ratio, 0.7);
   EXPECT_LT(k2_ratio, 0.9);
 }
@@ -419,9 +420,8 @@ TEST(RandomWalkModelFit, MonteCarloReproducesPaperModelRow) {
       std::vector<double> n_s, nt_s, b_s, t_s, fn_s, fmu_s;
       int tail = 0;
       for (int seed = 0; seed < kSeeds; ++seed) {
-        const auto y = simulate_paper_gyro(kPaperSamples, kSigmaN[axis], kSigmaMu[axis], kPaperDt,
-                                           kFixedBias[axis], lsb,
-                                           1000u * static_cast<unsigned>(axis) + static_cast<unsigned>(seed));
+        const auto y = simulate_paper_gyro(kPaperSamples, kSigmaN[axis], kSigmaMu[axis], kPaperDt, kFixedBias[axis],
+                                           lsb, 1000u * static_cast<unsigned>(axis) + static_cast<unsigned>(seed));
         const auto c = oadev_curve(y, kPaperDt);
         std::size_t imin = 0;
         for (std::size_t i = 0; i < c.size() && c.tau[i] <= tau_read_max; ++i)
@@ -441,13 +441,12 @@ TEST(RandomWalkModelFit, MonteCarloReproducesPaperModelRow) {
           "[ paper  ] lsb %-5g axis %c  N %.4f [%.4f %.4f] Ntan %.4f [%.4f %.4f] paper %.4f | "
           "B %.3f [%.3f %.3f] paper %.3f | T %.1f [%.1f %.1f] paper %.1f tail %d | "
           "fit sigma_n %.2fe-3 [%.2f %.2f] sigma_mu %.3fe-3 [%.3f %.3f]\n",
-          lsb, names[axis], quantile(n_s, 0.5), quantile(n_s, 0.025), quantile(n_s, 0.975),
-          quantile(nt_s, 0.5), quantile(nt_s, 0.025), quantile(nt_s, 0.975),
-          kPaperN[axis], quantile(b_s, 0.5), quantile(b_s, 0.025), quantile(b_s, 0.975),
-          kPaperB[axis], quantile(t_s, 0.5), *std::min_element(t_s.begin(), t_s.end()),
-          *std::max_element(t_s.begin(), t_s.end()), kPaperT[axis], tail,
-          quantile(fn_s, 0.5) * 1e3, quantile(fn_s, 0.025) * 1e3, quantile(fn_s, 0.975) * 1e3,
-          quantile(fmu_s, 0.5) * 1e3, quantile(fmu_s, 0.025) * 1e3, quantile(fmu_s, 0.975) * 1e3);
+          lsb, names[axis], quantile(n_s, 0.5), quantile(n_s, 0.025), quantile(n_s, 0.975), quantile(nt_s, 0.5),
+          quantile(nt_s, 0.025), quantile(nt_s, 0.975), kPaperN[axis], quantile(b_s, 0.5), quantile(b_s, 0.025),
+          quantile(b_s, 0.975), kPaperB[axis], quantile(t_s, 0.5), *std::min_element(t_s.begin(), t_s.end()),
+          *std::max_element(t_s.begin(), t_s.end()), kPaperT[axis], tail, quantile(fn_s, 0.5) * 1e3,
+          quantile(fn_s, 0.025) * 1e3, quantile(fn_s, 0.975) * 1e3, quantile(fmu_s, 0.5) * 1e3,
+          quantile(fmu_s, 0.025) * 1e3, quantile(fmu_s, 0.975) * 1e3);
       // The adjustment run on the simulated curves gives back the model.
       EXPECT_NEAR(quantile(fn_s, 0.5) / kSigmaN[axis], 1.0, 0.02) << "axis " << names[axis];
       EXPECT_NEAR(quantile(fmu_s, 0.5) / kSigmaMu[axis], 1.0, 0.15) << "axis " << names[axis];

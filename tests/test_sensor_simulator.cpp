@@ -44,8 +44,7 @@ using cubecal::TriadSimulator;
 constexpr double kGyroLsb = 145.6;  // LSB/(deg/s), eq. 3
 
 // A model with the same axis on x, y and z, no quantization, no saturation.
-TriadModel uniform_model(const AxisModel& axis, double lsb = 0.0,
-                         Quantizer q = Quantizer::truncate) {
+TriadModel uniform_model(const AxisModel& axis, double lsb = 0.0, Quantizer q = Quantizer::truncate) {
   TriadModel m;  // name and unit left empty (GCC 12 -Wrestrict false positive on literal assignment)
   m.axes = {axis, axis, axis};
   m.lsb = lsb;
@@ -54,9 +53,7 @@ TriadModel uniform_model(const AxisModel& axis, double lsb = 0.0,
 }
 
 // A noiseless model: output = Q(M * true + fixed_bias + temperature term).
-TriadModel noiseless(double lsb = 0.0, Quantizer q = Quantizer::truncate) {
-  return uniform_model(AxisModel{}, lsb, q);
-}
+TriadModel noiseless(double lsb = 0.0, Quantizer q = Quantizer::truncate) { return uniform_model(AxisModel{}, lsb, q); }
 
 std::vector<double> column(const std::vector<double>& triads, std::size_t axis) {
   std::vector<double> y(triads.size() / 3);
@@ -124,18 +121,21 @@ struct Count {
   std::size_t total() const { return inside + below + above; }
   double coverage() const { return total() ? static_cast<double>(inside) / static_cast<double>(total()) : 0.0; }
   void add(double truth, double lo, double hi) {
-    if (truth < lo) ++below;
-    else if (truth > hi) ++above;
-    else ++inside;
+    if (truth < lo)
+      ++below;
+    else if (truth > hi)
+      ++above;
+    else
+      ++inside;
   }
 };
 
 struct Coverage {
   double factor = kCorrelationFactor;  // assumed, for the band
-  double observed_factor = 0.0;  // variance of the per-record coverage / binomial variance
-  Count counted;   // N/m >= 30
-  Count sparse;    // N/m < 30 (reported only)
-  Count control;   // wrong closed form, N/m >= 30
+  double observed_factor = 0.0;        // variance of the per-record coverage / binomial variance
+  Count counted;                       // N/m >= 30
+  Count sparse;                        // N/m < 30 (reported only)
+  Count control;                       // wrong closed form, N/m >= 30
   double half_band() const {
     const double n = static_cast<double>(counted.total());
     return 4.0 * std::sqrt(kNominal * (1.0 - kNominal) * factor / n);
@@ -144,8 +144,7 @@ struct Coverage {
 
 using AvarFn = std::function<double(std::size_t)>;
 
-Coverage coverage(const TriadModel& model, double dt, const AvarFn& truth, const AvarFn& wrong,
-                  std::uint64_t seed0) {
+Coverage coverage(const TriadModel& model, double dt, const AvarFn& truth, const AvarFn& wrong, std::uint64_t seed0) {
   const std::size_t max_m = cubecal::max_averaging_factor(cubecal::Stat::oadev, kSamples + 1);
   const auto ms = cubecal::averaging_factors(cubecal::parse_tau_grid("log:10"), max_m, dt);
   Coverage c;
@@ -157,14 +156,12 @@ Coverage coverage(const TriadModel& model, double dt, const AvarFn& truth, const
     sim.run(kSamples, {}, {}, out);
     for (std::size_t axis = 0; axis < 3; ++axis) {
       const auto y = column(out, axis);
-      const auto pts =
-          cubecal::stability(y, cubecal::DataType::freq, dt, cubecal::Stat::oadev, ms);
+      const auto pts = cubecal::stability(y, cubecal::DataType::freq, dt, cubecal::Stat::oadev, ms);
       const Count before = c.counted;
       for (const auto& p : pts) {
         if (p.n == 0) continue;
         const double dev = std::sqrt(truth(p.m));
-        const bool dense =
-            static_cast<double>(kSamples) / static_cast<double>(p.m) >= kMinAveragedPoints;
+        const bool dense = static_cast<double>(kSamples) / static_cast<double>(p.m) >= kMinAveragedPoints;
         (dense ? c.counted : c.sparse).add(dev, p.lo, p.hi);
         if (dense) c.control.add(std::sqrt(wrong(p.m)), p.lo, p.hi);
       }
@@ -188,10 +185,10 @@ void report_and_check(const char* name, const char* control_name, const Coverage
       "[coverage] %-26s N/m<30:  %4zu/%4zu = %.3f (below lo %zu, above hi %zu; not asserted)\n"
       "[coverage] %-26s control (%s): %zu/%zu = %.3f (must be < %.3f); observed correlation "
       "factor %.1f (band assumes %.0f)\n",
-      name, c.counted.inside, c.counted.total(), c.counted.coverage(), c.counted.below,
-      c.counted.above, kNominal - hb, kNominal + hb, name, c.sparse.inside, c.sparse.total(),
-      c.sparse.coverage(), c.sparse.below, c.sparse.above, name, control_name, c.control.inside,
-      c.control.total(), c.control.coverage(), kNominal - hb, c.observed_factor, c.factor);
+      name, c.counted.inside, c.counted.total(), c.counted.coverage(), c.counted.below, c.counted.above, kNominal - hb,
+      kNominal + hb, name, c.sparse.inside, c.sparse.total(), c.sparse.coverage(), c.sparse.below, c.sparse.above, name,
+      control_name, c.control.inside, c.control.total(), c.control.coverage(), kNominal - hb, c.observed_factor,
+      c.factor);
   EXPECT_GT(c.counted.total(), 1000u);
   EXPECT_NEAR(c.counted.coverage(), kNominal, hb) << name;
   EXPECT_LT(c.control.coverage(), kNominal - hb) << name << ": the wrong closed form is not rejected";
@@ -203,8 +200,9 @@ TEST(SimulatorCoverage, WhiteNoise) {
   const double dt = 0.1;
   const RandomWalkModel rw{a.white_sigma, 0.0, dt, 0.0};
   const RandomWalkModel off{a.white_sigma * 1.03, 0.0, dt, 0.0};  // sigma_n 3 % high
-  const auto c = coverage(uniform_model(a), dt, [&](std::size_t m) { return cubecal::avar(rw, m); },
-                          [&](std::size_t m) { return cubecal::avar(off, m); }, 1000);
+  const auto c = coverage(
+      uniform_model(a), dt, [&](std::size_t m) { return cubecal::avar(rw, m); },
+      [&](std::size_t m) { return cubecal::avar(off, m); }, 1000);
   report_and_check("white", "sigma_n x1.03", c);
 }
 
@@ -219,8 +217,9 @@ TEST(SimulatorCoverage, RandomWalkBias) {
   // 5 % high -- an error of 10 % in AVAR, the size of a sqrt(dt) slip in the
   // increment scaling at dt ~ 0.8.
   const RandomWalkModel off{a.white_sigma, a.bias_sigma * 1.05, dt, 0.0};
-  auto c = coverage(uniform_model(a), dt, [&](std::size_t m) { return cubecal::avar(rw, m); },
-                    [&](std::size_t m) { return cubecal::avar(off, m); }, 2000);
+  auto c = coverage(
+      uniform_model(a), dt, [&](std::size_t m) { return cubecal::avar(rw, m); },
+      [&](std::size_t m) { return cubecal::avar(off, m); }, 2000);
   c.factor = kRandomWalkCorrelationFactor;
   report_and_check("random walk (+tiny white)", "sigma_mu x1.05", c);
 }
@@ -235,8 +234,9 @@ TEST(SimulatorCoverage, GaussMarkovBias) {
   const GaussMarkovModel gm{a.white_sigma, a.bias_sigma, a.tau_c, dt, 0.0};
   // Control: T_c 30 % long -- moves the GM bump by a third of a grid decade.
   const GaussMarkovModel off{a.white_sigma, a.bias_sigma, a.tau_c * 1.3, dt, 0.0};
-  const auto c = coverage(uniform_model(a), dt, [&](std::size_t m) { return cubecal::avar(gm, m); },
-                          [&](std::size_t m) { return cubecal::avar(off, m); }, 3000);
+  const auto c = coverage(
+      uniform_model(a), dt, [&](std::size_t m) { return cubecal::avar(gm, m); },
+      [&](std::size_t m) { return cubecal::avar(off, m); }, 3000);
   report_and_check("Gauss-Markov (+white)", "T_c x1.3", c);
 }
 
@@ -251,9 +251,9 @@ void quantization_case(Quantizer q, double fixed_bias, const char* name, std::ui
   const double dt = 0.1;
   const RandomWalkModel with_q{a.white_sigma, 0.0, dt, kGyroLsb};
   const RandomWalkModel no_q{a.white_sigma, 0.0, dt, 0.0};
-  const auto c = coverage(uniform_model(a, kGyroLsb, q), dt,
-                          [&](std::size_t m) { return cubecal::avar(with_q, m); },
-                          [&](std::size_t m) { return cubecal::avar(no_q, m); }, seed0);
+  const auto c = coverage(
+      uniform_model(a, kGyroLsb, q), dt, [&](std::size_t m) { return cubecal::avar(with_q, m); },
+      [&](std::size_t m) { return cubecal::avar(no_q, m); }, seed0);
   report_and_check(name, "no q^2 term", c);
 }
 
@@ -283,9 +283,9 @@ TEST(SimulatorCoverage, PaperGyroYAxis) {
   const double dt = 0.1;
   const RandomWalkModel model{a.white_sigma, a.bias_sigma, dt, kGyroLsb};
   const RandomWalkModel off{a.white_sigma, a.bias_sigma * 1.20, dt, kGyroLsb};
-  const auto c = coverage(uniform_model(a, kGyroLsb, Quantizer::truncate), dt,
-                          [&](std::size_t m) { return cubecal::avar(model, m); },
-                          [&](std::size_t m) { return cubecal::avar(off, m); }, 6000);
+  const auto c = coverage(
+      uniform_model(a, kGyroLsb, Quantizer::truncate), dt, [&](std::size_t m) { return cubecal::avar(model, m); },
+      [&](std::size_t m) { return cubecal::avar(off, m); }, 6000);
   report_and_check("paper gyro y (white+RW+q)", "sigma_mu x1.20", c);
 }
 
@@ -328,8 +328,8 @@ TEST(SimulatorTurnOn, SpreadOverPowerCyclesMatchesPreset) {
   for (std::size_t i = 0; i < 3; ++i) {
     const double want = gyro.axes[i].turn_on_sigma;
     const double sd = sd_of(draws[i]);
-    std::printf("[turn-on] axis %zu: sample std over 200 runs %.4g, preset %.4g (ratio %.3f)\n", i,
-                sd, want, sd / want);
+    std::printf("[turn-on] axis %zu: sample std over 200 runs %.4g, preset %.4g (ratio %.3f)\n", i, sd, want,
+                sd / want);
     EXPECT_NEAR(sd / want, 1.0, 0.15) << "axis " << i;  // 15 % = 3 sd of a 200-draw std
     EXPECT_NEAR(mean_of(draws[i]), 0.0, 4.0 * want / std::sqrt(200.0)) << "axis " << i;
   }
@@ -407,9 +407,10 @@ TEST(SimulatorTemperature, MagnetometerFollowsCoefficient) {
     // Truncation toward zero shifts the mean by half an LSB toward zero.
     const double field = m.axes[axis].fixed_bias;
     const double want_at_ref = field - std::copysign(0.5 / m.lsb, field);
-    std::printf("[temperature] axis %zu: slope %.5f mGauss/degC (preset 0.7, %+.2f %%), "
-                "at %.0f degC %.3f mGauss (expected %.3f)\n",
-                axis, slope, 100.0 * (slope / 0.7 - 1.0), m.temp_ref, at_ref, want_at_ref);
+    std::printf(
+        "[temperature] axis %zu: slope %.5f mGauss/degC (preset 0.7, %+.2f %%), "
+        "at %.0f degC %.3f mGauss (expected %.3f)\n",
+        axis, slope, 100.0 * (slope / 0.7 - 1.0), m.temp_ref, at_ref, want_at_ref);
     EXPECT_NEAR(slope / m.axes[axis].temp_coeff, 1.0, 0.01) << "axis " << axis;
     EXPECT_NEAR(at_ref, want_at_ref, 0.1) << "axis " << axis;
   }
@@ -429,8 +430,7 @@ TEST(SimulatorTemperature, ProfileAt) {
   s.phase_rad = 0.3;
   for (std::size_t k : {0u, 1u, 25u, 250u, 999u, 123457u}) {
     const double t = static_cast<double>(k) * 0.1;
-    EXPECT_NEAR(s.at(k, 0.1), 26.5 + 1.5 * std::sin(2.0 * std::numbers::pi * t / 100.0 + 0.3), 1e-12)
-        << "k=" << k;
+    EXPECT_NEAR(s.at(k, 0.1), 26.5 + 1.5 * std::sin(2.0 * std::numbers::pi * t / 100.0 + 0.3), 1e-12) << "k=" << k;
   }
   s.phase_rad = 0.0;
   EXPECT_NEAR(s.at(250, 0.1), 26.5 + 1.5, 1e-12);  // a quarter period
@@ -545,10 +545,9 @@ TEST(SimulatorStepRun, IdenticalSequences) {
       std::memcpy(&single[3 * k], y.data(), sizeof y);
     }
     const std::size_t cut1 = 1, cut2 = 7777;
-    c.run(cut1, std::span(in).first(3 * cut1), std::span(temp).first(cut1),
-          std::span(chunked).first(3 * cut1));
-    c.run(cut2 - cut1, std::span(in).subspan(3 * cut1, 3 * (cut2 - cut1)),
-          std::span(temp).subspan(cut1, cut2 - cut1), std::span(chunked).subspan(3 * cut1, 3 * (cut2 - cut1)));
+    c.run(cut1, std::span(in).first(3 * cut1), std::span(temp).first(cut1), std::span(chunked).first(3 * cut1));
+    c.run(cut2 - cut1, std::span(in).subspan(3 * cut1, 3 * (cut2 - cut1)), std::span(temp).subspan(cut1, cut2 - cut1),
+          std::span(chunked).subspan(3 * cut1, 3 * (cut2 - cut1)));
     c.run(n - cut2, std::span(in).subspan(3 * cut2), std::span(temp).subspan(cut2),
           std::span(chunked).subspan(3 * cut2));
     EXPECT_EQ(std::memcmp(batch.data(), single.data(), batch.size() * sizeof(double)), 0);
@@ -643,8 +642,7 @@ TEST(SimulatorDeterminism, GoldenValues) {
   sim.run(1000, {}, {}, out);
   const std::array<double, 4> got{out[0], out[1], out[2], out[2999]};
   std::printf("[golden] %.17g %.17g %.17g %.17g\n", got[0], got[1], got[2], got[3]);
-  const std::array<double, 4> want{28.0 / kGyroLsb, 218.0 / kGyroLsb, -216.0 / kGyroLsb,
-                                    -222.0 / kGyroLsb};
+  const std::array<double, 4> want{28.0 / kGyroLsb, 218.0 / kGyroLsb, -216.0 / kGyroLsb, -222.0 / kGyroLsb};
   EXPECT_EQ(got, want);
 }
 

@@ -55,9 +55,9 @@ TriadModel measured_sensor() {
   m.name = "adis-like";
   m.unit = "deg/s";
   m.axis_names = {"gx", "", ""};
-  m.axes[0].white_sigma = 0.3;      // deg/s per sample at 100 Hz
+  m.axes[0].white_sigma = 0.3;  // deg/s per sample at 100 Hz
   m.axes[0].bias = BiasProcess::random_walk;
-  m.axes[0].bias_sigma = 0.104;     // deg/s^2 per sample at 100 Hz: K = 0.0104 deg/s/sqrt(s)
+  m.axes[0].bias_sigma = 0.104;  // deg/s^2 per sample at 100 Hz: K = 0.0104 deg/s/sqrt(s)
   return m;
 }
 

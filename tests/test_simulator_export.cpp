@@ -84,15 +84,15 @@ const pipeline::AnalysisResult& imu_record() {
     a.rate_hz = kRate;
     a.duration_s = static_cast<double>(kRecord) * kDt;
     const double n = 0.005;  // deg/s/sqrt(Hz): 0.3 deg/sqrt(h)
-    a.channels.push_back(channel("gx", "deg/s",
-                                 {{ma1_process(n, 0.3, kDt), rw(2e-5), gm_process(2.0, 2e-3, kDt),
-                                   gm_process(200.0, 1e-3, kDt)}}));
-    a.channels.push_back(channel("gy", "deg/s",
-                                 {{ma1_process(1.2 * n, 0.25, kDt), rw(1.5e-5), gm_process(5.0, 1.5e-3, kDt),
-                                   gm_process(600.0, 8e-4, kDt)}}));
-    a.channels.push_back(channel("gz", "deg/s",
-                                 {{ma1_process(0.8 * n, 0.35, kDt), rw(2.5e-5), gm_process(100.0, 1.2e-3, kDt),
-                                   sin_process(0.03, 12.5, kDt)}}));
+    a.channels.push_back(
+        channel("gx", "deg/s",
+                {{ma1_process(n, 0.3, kDt), rw(2e-5), gm_process(2.0, 2e-3, kDt), gm_process(200.0, 1e-3, kDt)}}));
+    a.channels.push_back(channel(
+        "gy", "deg/s",
+        {{ma1_process(1.2 * n, 0.25, kDt), rw(1.5e-5), gm_process(5.0, 1.5e-3, kDt), gm_process(600.0, 8e-4, kDt)}}));
+    a.channels.push_back(channel(
+        "gz", "deg/s",
+        {{ma1_process(0.8 * n, 0.35, kDt), rw(2.5e-5), gm_process(100.0, 1.2e-3, kDt), sin_process(0.03, 12.5, kDt)}}));
     a.channels.push_back(channel("ax", "g", {{wn(1e-4), qn(2e-6), rw(2e-7), gm_process(60.0, 3e-5, kDt)}}));
     a.channels.push_back(channel("ay", "g", {{wn(1.2e-4), rw(1.5e-7), dr(2e-9), gm_process(30.0, 2e-5, kDt)}}));
     a.channels.push_back(channel("az", "g", {{wn(0.9e-4), rw(3e-7), gm_process(300.0, 4e-5, kDt)}}));
@@ -183,11 +183,11 @@ std::map<std::string, double> reported_twin_errors(const std::string& text) {
 // ------------------------------------------------------------ checking
 
 struct Sim {
-  std::string label;                   // "gazebo gx"
-  std::vector<std::string> channels;   // whose twins the exported numbers stand for
-  CompositeModel model_si;             // the projection the exported numbers define, per sample, SI
+  std::string label;                             // "gazebo gx"
+  std::vector<std::string> channels;             // whose twins the exported numbers stand for
+  CompositeModel model_si;                       // the projection the exported numbers define, per sample, SI
   std::function<double(std::mt19937_64&)> step;  // one output sample of the target's equations, SI
-  std::string twin_key_suffix;         // "/matlab-pre-R2023b" for the fallback's reported errors
+  std::string twin_key_suffix;                   // "/matlab-pre-R2023b" for the fallback's reported errors
 };
 
 const pipeline::ChannelAnalysis& channel_named(const std::string& name) {
@@ -239,9 +239,10 @@ Figures check(const Sim& s, const std::map<std::string, double>& reported,
         EXPECT_NEAR(p.twin_error, err, 1e-6 * std::max(1.0, err)) << s.label << " " << name;
       }
     EXPECT_TRUE(found) << s.label << " " << name;
-    std::printf("  %-28s %-3s twin error %6.2f %%  simulated: %2zu/%2zu scales inside 99 %%, max |sim/theory - 1| "
-                "%.3f (EDF >= 100)\n",
-                s.label.c_str(), name.c_str(), 100.0 * err, f.scales - f.outside, f.scales, f.max_rel);
+    std::printf(
+        "  %-28s %-3s twin error %6.2f %%  simulated: %2zu/%2zu scales inside 99 %%, max |sim/theory - 1| "
+        "%.3f (EDF >= 100)\n",
+        s.label.c_str(), name.c_str(), 100.0 * err, f.scales - f.outside, f.scales, f.max_rel);
   }
   return f;
 }
@@ -430,8 +431,8 @@ TEST(SimulatorExport, MatlabScriptReproducesItsProjections) {
   std::uint64_t seed = 41;
   for (const bool with_filter : {true, false}) {
     for (const bool gyro : {true, false}) {
-      const std::size_t at = f.text.find(gyro ? "gyro = gyroparams(" : "accel = accelparams(",
-                                         with_filter ? branch_new : branch_old);
+      const std::size_t at =
+          f.text.find(gyro ? "gyro = gyroparams(" : "accel = accelparams(", with_filter ? branch_new : branch_old);
       const std::size_t end = f.text.find(");", at);
       const std::string call = f.text.substr(at, end - at + 2);
       const auto nd = list_after(call, 0, "'NoiseDensity'");
@@ -494,9 +495,12 @@ TEST(SimulatorExport, BasiliskSnippetReproducesItsProjection) {
       const double p = P[i], a = A[i];
       ASSERT_GE(a, 0.0);
       ASSERT_LE(a, 1.0);
-      if (a == 0.0) s.model_si = {{{ProcessKind::wn, p * p}}};
-      else if (a == 1.0) s.model_si = {{{ProcessKind::rw, p * p}}};
-      else s.model_si = {{{ProcessKind::gm, p * p, a}}};
+      if (a == 0.0)
+        s.model_si = {{{ProcessKind::wn, p * p}}};
+      else if (a == 1.0)
+        s.model_si = {{{ProcessKind::rw, p * p}}};
+      else
+        s.model_si = {{{ProcessKind::gm, p * p, a}}};
       auto x = std::make_shared<double>(0.0);
       s.step = [=](std::mt19937_64& e) {
         const double w = normal(e, 0.0, 1.0);  // noise first, then the propagation

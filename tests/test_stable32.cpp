@@ -91,8 +91,7 @@ const ReferenceFault* reference_fault(const std::string& table, std::size_t af) 
 // Whether the listed fault is borne out: the row differs from cubecal, and
 // cubecal's type equals the one Stable32's all-tau run gives at the
 // neighbouring AFs below and above.
-bool reference_fault_shown(const ReferenceFault& f, const test::Stable32Row& row,
-                           const StabilityPoint& p) {
+bool reference_fault_shown(const ReferenceFault& f, const test::Stable32Row& row, const StabilityPoint& p) {
   const auto all = read_stable32(shared_data(f.all_tau));
   const test::Stable32Row* below = nullptr;
   const test::Stable32Row* above = nullptr;
@@ -100,8 +99,7 @@ bool reference_fault_shown(const ReferenceFault& f, const test::Stable32Row& row
     if (r.af < f.af) below = &r;
     if (r.af > f.af && !above) above = &r;
   }
-  return below && above && below->alpha == p.alpha && above->alpha == p.alpha &&
-         row.alpha != p.alpha;
+  return below && above && below->alpha == p.alpha && above->alpha == p.alpha && row.alpha != p.alpha;
 }
 
 // What one table gives: worst errors, and the counts of the agreement table.
@@ -112,7 +110,7 @@ struct Summary {
   std::size_t alpha_rows = 0, alpha_match = 0;  // rows where cubecal identifies the noise
   std::size_t ci_rows = 0, ci_1e3 = 0, ci_1e2 = 0;
   std::size_t faults = 0, ci_faults = 0;  // rows of kReferenceFaults (shown)
-  std::vector<std::string> differences;  // one line per alpha disagreement
+  std::vector<std::string> differences;   // one line per alpha disagreement
 };
 
 // Compares one table row by row; with `check`, every per-row target is
@@ -122,8 +120,8 @@ Summary compare(const Case& c, bool check) {
   s.table = c.table;
   const auto rows = read_stable32(shared_data(c.table));
   if (check) {
-      EXPECT_FALSE(rows.empty()) << c.table;
-    }
+    EXPECT_FALSE(rows.empty()) << c.table;
+  }
   const auto data = load(*c.input);
   const StabilityRecord rec(data, c.input->type, c.input->tau0, c.stat);
 
@@ -168,8 +166,8 @@ Summary compare(const Case& c, bool check) {
       if (ex > 0) {
         const double e = rel(p.dev, ex);
         if (check) {
-      EXPECT_LE(e, 1e-4) << "dev " << p.dev << " vs exact-data table " << ex;
-    }
+          EXPECT_LE(e, 1e-4) << "dev " << p.dev << " vs exact-data table " << ex;
+        }
         s.worst_dev = std::max(s.worst_dev, e);
         ++exact_checked;
       }
@@ -188,7 +186,8 @@ Summary compare(const Case& c, bool check) {
       fault_row = reference_fault_shown(*fault, row, p);
       if (check) {
         EXPECT_TRUE(fault_row) << "listed as a fault of the reference, but not shown to be one "
-                                  "(cubecal alpha " << p.alpha << ", Stable32 " << row.alpha << ")";
+                                  "(cubecal alpha "
+                               << p.alpha << ", Stable32 " << row.alpha << ")";
       }
       if (fault_row) {
         ++s.faults;
@@ -201,9 +200,8 @@ Summary compare(const Case& c, bool check) {
       if (p.alpha == row.alpha) {
         ++s.alpha_match;
       } else {
-        s.differences.push_back(std::string(c.table) + " AF " + std::to_string(row.af) + " (" +
-                                std::to_string(points) + " points): alpha " +
-                                std::to_string(p.alpha) + ", Stable32 " +
+        s.differences.push_back(std::string(c.table) + " AF " + std::to_string(row.af) + " (" + std::to_string(points) +
+                                " points): alpha " + std::to_string(p.alpha) + ", Stable32 " +
                                 std::to_string(row.alpha));
       }
       // Where 30 or more averaged points remain, Stable32 identifies the
@@ -220,8 +218,8 @@ Summary compare(const Case& c, bool check) {
       const StabilityPoint q = rec.evaluate(row.af, forced);
       const double ef = std::max(rel(q.lo, ref_lo), rel(q.hi, ref_hi));
       if (check) {
-        EXPECT_LE(ef, 1e-3) << "forced alpha " << row.alpha << ": [" << q.lo << ", " << q.hi
-                            << "] vs [" << ref_lo << ", " << ref_hi << "] edf " << q.edf;
+        EXPECT_LE(ef, 1e-3) << "forced alpha " << row.alpha << ": [" << q.lo << ", " << q.hi << "] vs [" << ref_lo
+                            << ", " << ref_hi << "] edf " << q.edf;
       }
       s.worst_ci_forced = std::max(s.worst_ci_forced, ef);
       const double ec = std::max(rel(p.lo, ref_lo), rel(p.hi, ref_hi));
@@ -231,8 +229,7 @@ Summary compare(const Case& c, bool check) {
         s.worst_ci = std::max(s.worst_ci, ec);
       }
       if (check && p.alpha == row.alpha) {
-        EXPECT_LE(ec, 1e-3) << "[" << p.lo << ", " << p.hi << "] vs [" << ref_lo << ", " << ref_hi
-                            << "]";
+        EXPECT_LE(ec, 1e-3) << "[" << p.lo << ", " << p.hi << "] vs [" << ref_lo << ", " << ref_hi << "]";
       }
     }
   }
@@ -244,8 +241,10 @@ Summary compare(const Case& c, bool check) {
   }
   if (check && c.exact_table) {
     EXPECT_GE(exact_checked, 4u) << "too few AFs shared with the exact-data table";
-    std::printf("  %-45s deviation vs this (rounded-input) table: worst %.2e; %zu AFs checked"
-                " against %s\n", c.table, worst_vs_rounded, exact_checked, c.exact_table);
+    std::printf(
+        "  %-45s deviation vs this (rounded-input) table: worst %.2e; %zu AFs checked"
+        " against %s\n",
+        c.table, worst_vs_rounded, exact_checked, c.exact_table);
   }
   return s;
 }
@@ -255,10 +254,10 @@ class Stable32 : public ::testing::TestWithParam<Case> {};
 TEST_P(Stable32, MatchesTable) {
   const Summary s = compare(GetParam(), true);
   for (const auto& d : s.differences) std::printf("  noise id differs: %s\n", d.c_str());
-  std::printf("  %-45s rows %3zu  worst dev %.2e  alpha %zu/%zu  CI rows %2zu  worst CI %.2e"
-              "  worst CI (Stable32 alpha) %.2e\n",
-              s.table.c_str(), s.rows, s.worst_dev, s.alpha_match, s.alpha_rows, s.ci_rows,
-              s.worst_ci, s.worst_ci_forced);
+  std::printf(
+      "  %-45s rows %3zu  worst dev %.2e  alpha %zu/%zu  CI rows %2zu  worst CI %.2e"
+      "  worst CI (Stable32 alpha) %.2e\n",
+      s.table.c_str(), s.rows, s.worst_dev, s.alpha_match, s.alpha_rows, s.ci_rows, s.worst_ci, s.worst_ci_forced);
 }
 
 const Case kCases[] = {
@@ -285,20 +284,13 @@ const Case kCases[] = {
     // Made with the noise type fixed at alpha 0 (its name and every row say so).
     {"stable32/pink_frequency/totdev_alpha0.txt", &kPink42, Stat::totdev, false, nullptr, 0},
     {"stable32/pink_frequency/s32_oadev_octave.txt", &kPink1, Stat::oadev, true},
-    {"stable32/ocxo/adev_octave.txt", &kOcxo, Stat::adev, true,
-     "stable32/ocxo/stable32_adev_alltau.txt"},
-    {"stable32/ocxo/oadev_octave.txt", &kOcxo, Stat::oadev, true,
-     "stable32/ocxo/stable32_oadev_alltau.txt"},
-    {"stable32/ocxo/mdev_octave.txt", &kOcxo, Stat::mdev, true,
-     "stable32/ocxo/stable32_mdev_alltau.txt"},
-    {"stable32/ocxo/tdev_octave.txt", &kOcxo, Stat::tdev, true,
-     "stable32/ocxo/stable32_tdev_alltau.txt"},
-    {"stable32/ocxo/hdev_octave.txt", &kOcxo, Stat::hdev, true,
-     "stable32/ocxo/stable32_hdev_alltau.txt"},
-    {"stable32/ocxo/ohdev_octave.txt", &kOcxo, Stat::ohdev, true,
-     "stable32/ocxo/stable32_ohdev_alltau.txt"},
-    {"stable32/ocxo/totdev_octave.txt", &kOcxo, Stat::totdev, true,
-     "stable32/ocxo/stable32_totdev_alltau.txt"},
+    {"stable32/ocxo/adev_octave.txt", &kOcxo, Stat::adev, true, "stable32/ocxo/stable32_adev_alltau.txt"},
+    {"stable32/ocxo/oadev_octave.txt", &kOcxo, Stat::oadev, true, "stable32/ocxo/stable32_oadev_alltau.txt"},
+    {"stable32/ocxo/mdev_octave.txt", &kOcxo, Stat::mdev, true, "stable32/ocxo/stable32_mdev_alltau.txt"},
+    {"stable32/ocxo/tdev_octave.txt", &kOcxo, Stat::tdev, true, "stable32/ocxo/stable32_tdev_alltau.txt"},
+    {"stable32/ocxo/hdev_octave.txt", &kOcxo, Stat::hdev, true, "stable32/ocxo/stable32_hdev_alltau.txt"},
+    {"stable32/ocxo/ohdev_octave.txt", &kOcxo, Stat::ohdev, true, "stable32/ocxo/stable32_ohdev_alltau.txt"},
+    {"stable32/ocxo/totdev_octave.txt", &kOcxo, Stat::totdev, true, "stable32/ocxo/stable32_totdev_alltau.txt"},
     {"stable32/ocxo/stable32_adev_alltau.txt", &kOcxo, Stat::adev, false},
     {"stable32/ocxo/stable32_oadev_alltau.txt", &kOcxo, Stat::oadev, false},
     {"stable32/ocxo/stable32_mdev_alltau.txt", &kOcxo, Stat::mdev, false},
@@ -362,15 +354,16 @@ TEST(Stable32Agreement, Table) {
     }
     differences.insert(differences.end(), s.differences.begin(), s.differences.end());
   }
-  std::printf("  | dataset | rows | faults of the reference | alpha agrees | rows with CI "
-              "(faults) | CI within 1e-3 | CI within 1e-2 |\n"
-              "  |---|---|---|---|---|---|---|\n");
+  std::printf(
+      "  | dataset | rows | faults of the reference | alpha agrees | rows with CI "
+      "(faults) | CI within 1e-3 | CI within 1e-2 |\n"
+      "  |---|---|---|---|---|---|---|\n");
   auto line = [](const std::string& name, const Total& t) {
-    std::printf("  | %s | %zu | %zu | %zu/%zu (%.2f %%) | %zu (%zu) | %zu | %zu |\n", name.c_str(),
-                t.rows, t.faults, t.alpha_match, t.alpha_rows,
-                100.0 * static_cast<double>(t.alpha_match) /
-                    static_cast<double>(std::max<std::size_t>(t.alpha_rows, 1)),
-                t.ci_rows, t.ci_faults, t.ci_1e3, t.ci_1e2);
+    std::printf(
+        "  | %s | %zu | %zu | %zu/%zu (%.2f %%) | %zu (%zu) | %zu | %zu |\n", name.c_str(), t.rows, t.faults,
+        t.alpha_match, t.alpha_rows,
+        100.0 * static_cast<double>(t.alpha_match) / static_cast<double>(std::max<std::size_t>(t.alpha_rows, 1)),
+        t.ci_rows, t.ci_faults, t.ci_1e3, t.ci_1e2);
   };
   for (const auto& [name, t] : by_set) line(name, t);
   line("all", all);
@@ -382,8 +375,7 @@ TEST(Stable32Agreement, Table) {
   // Alpha: the target is 97 % of the rows. One row is off and not
   // explained: 5071A HDEV AF 53297 (10 averages), random-run FM (-4) in
   // Stable32, random-walk FM (-2) by the B1 ratio (printed above).
-  const std::vector<std::string> known = {
-      "stable32/cs5071a/hdev_all.txt AF 53297 (10 points): alpha -2, Stable32 -4"};
+  const std::vector<std::string> known = {"stable32/cs5071a/hdev_all.txt AF 53297 (10 points): alpha -2, Stable32 -4"};
   EXPECT_EQ(differences, known);
   EXPECT_GE(static_cast<double>(all.alpha_match), 0.97 * static_cast<double>(all.alpha_rows));
 }

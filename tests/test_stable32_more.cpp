@@ -127,7 +127,7 @@ Outcome compare(const Case& c) {
     EXPECT_LE(rel(p.tau, row.tau), 5e-5);  // tau printed with 5 digits
     const double n_want = c.n_terms == NTerms::record ? static_cast<double>(x.size()) : row.n;
     if (c.n_terms == NTerms::record) {
-      EXPECT_EQ(row.n, n_want);  // the record length
+      EXPECT_EQ(row.n, n_want);                                                   // the record length
       EXPECT_EQ(static_cast<double>(p.n), n_want - static_cast<double>(row.af));  // N - m windows
     } else if (c.stat == Stat::theo1 || c.stat == Stat::theobr) {
       // Stable32 prints Theo1's # with five significant digits (1.0050e+05).
@@ -440,8 +440,8 @@ TEST(TotalVariances, EdfBySimulation) {
       const double hm = h1 / kRuns, hvar = h2 / kRuns - hm * hm;
       const double mtot_sim = 2 * mm * mm / mv, htot_sim = 2 * hm * hm / hvar;
       const double mtot_edf = edf_for(Stat::mtotdev, alpha, m, kN), htot_edf = edf_for(Stat::htotdev, alpha, m, kN);
-      std::printf("  alpha %2d m %2zu: MTOT EDF simulated %.1f, ours %.1f; HTOT simulated %.1f, ours %.1f\n",
-                  alpha, m, mtot_sim, mtot_edf, htot_sim, htot_edf);
+      std::printf("  alpha %2d m %2zu: MTOT EDF simulated %.1f, ours %.1f; HTOT simulated %.1f, ours %.1f\n", alpha, m,
+                  mtot_sim, mtot_edf, htot_sim, htot_edf);
       if (m >= 16) {
         EXPECT_NEAR(mtot_edf / mtot_sim, 1.0, 0.3) << alpha << " " << m;
         EXPECT_NEAR(htot_edf / htot_sim, 1.0, 0.3) << alpha << " " << m;
@@ -566,7 +566,8 @@ TEST(Stable32Intervals, SecondRecordMtotAndHtot) {
     EXPECT_LE(e, 1e-3) << to_string(r.stat) << " m " << r.m << ": [" << ci.lo << ", " << ci.hi << "]";
     worst = std::max(worst, e);
   }
-  std::printf("  Stable32's MTOT and HTOT intervals of the Sr87 record (%zu rows): worst %.2e\n", std::size(rows), worst);
+  std::printf("  Stable32's MTOT and HTOT intervals of the Sr87 record (%zu rows): worst %.2e\n", std::size(rows),
+              worst);
 }
 
 // ---------------------------------------------------------------------------
@@ -582,14 +583,13 @@ TEST(Cli, EveryNewStatisticThroughDevJson) {
     bool intervals;
   };
   const Want wants[] = {
-      {"tierms", 4, 4, 5.7044e-01, false},  {"mtie", 1, 1, 5.0597e-01, false},
-      {"mtotdev", 4, 4, 9.4613e-02, true},  {"ttotdev", 4, 4, 2.1850e-01, true},
-      {"htotdev", 4, 4, 1.4216e-01, true},  {"theo1", 16, 12, 8.5040e-02, true},
+      {"tierms", 4, 4, 5.7044e-01, false},  {"mtie", 1, 1, 5.0597e-01, false},   {"mtotdev", 4, 4, 9.4613e-02, true},
+      {"ttotdev", 4, 4, 2.1850e-01, true},  {"htotdev", 4, 4, 1.4216e-01, true}, {"theo1", 16, 12, 8.5040e-02, true},
       {"theobr", 16, 12, 6.6025e-02, true},
   };
   for (const Want& w : wants) {
-    const auto r = test::run_cubecal("dev " + kPhaseDat + " --type phase --rate 1 --stat " + w.stat +
-                                     " --taus " + std::to_string(w.tau) + " --format json");
+    const auto r = test::run_cubecal("dev " + kPhaseDat + " --type phase --rate 1 --stat " + w.stat + " --taus " +
+                                     std::to_string(w.tau) + " --format json");
     ASSERT_EQ(r.code, 0) << w.stat << ": " << r.err;
     const auto j = nlohmann::json::parse(r.out);
     EXPECT_EQ(j["stat"], w.stat);

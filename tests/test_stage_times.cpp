@@ -91,7 +91,8 @@ TEST_F(TimingsCli, TimingsListTheStagesAfterTheResultAndOnlyWhenAsked) {
   std::string csv = "t,gx,gy\n";
   std::mt19937_64 rng(9);
   std::normal_distribution<double> g(0.0, 0.01);
-  for (int i = 0; i < 20000; ++i) csv += std::to_string(i * 0.01) + "," + std::to_string(g(rng)) + "," + std::to_string(g(rng)) + "\n";
+  for (int i = 0; i < 20000; ++i)
+    csv += std::to_string(i * 0.01) + "," + std::to_string(g(rng)) + "," + std::to_string(g(rng)) + "\n";
   const std::string file = write("g.csv", csv);
 
   const test::CliRun quiet = test::run_cubecal("dev " + file + " --taus octave --format csv");
@@ -103,14 +104,16 @@ TEST_F(TimingsCli, TimingsListTheStagesAfterTheResultAndOnlyWhenAsked) {
   EXPECT_EQ(dev.out, quiet.out);  // the result is the same
   for (const char* stage : {"read", "phase", "kernels", "noise id", "intervals", "output", "total"})
     EXPECT_TRUE(std::regex_search(dev.err, std::regex(std::string("cubecal: timing: ") + stage + " +[0-9.]+ s")))
-        << stage << "\n" << dev.err;
+        << stage << "\n"
+        << dev.err;
   EXPECT_EQ(dev.err.find("timing: temperature"), std::string::npos);
 
   const test::CliRun an = test::run_cubecal("analyze " + file + " --unit deg/s --timings");
   ASSERT_EQ(an.code, 0) << an.err;
   for (const char* stage : {"read", "kernels", "fits", "drift", "covariance", "output", "total"})
     EXPECT_TRUE(std::regex_search(an.err, std::regex(std::string("cubecal: timing: ") + stage + " +[0-9.]+ s")))
-        << stage << "\n" << an.err;
+        << stage << "\n"
+        << an.err;
 }
 
 }  // namespace

@@ -22,18 +22,21 @@ using cubecal::test::run_cubecal_piped;
 using cubecal::test::TempDirTest;
 using nlohmann::json;
 
-const std::string kSim = std::string(CUBECAL_BINARY) + " simulate --preset sport-gyro --rate 100 --duration 3h --seed 5";
+const std::string kSim =
+    std::string(CUBECAL_BINARY) + " simulate --preset sport-gyro --rate 100 --duration 3h --seed 5";
 const std::string kFrames = "--binary float64le,float64le,float64le,float64le --rate 100";
 
 class StreamCli : public TempDirTest {};
 
 TEST_F(StreamCli, PipedRawEqualsInMemory) {
   const std::string raw = path("g.raw");
-  ASSERT_EQ(run_cubecal("simulate --preset sport-gyro --rate 100 --duration 3h --seed 5 --format raw --out " + raw).code, 0);
+  ASSERT_EQ(
+      run_cubecal("simulate --preset sport-gyro --rate 100 --duration 3h --seed 5 --format raw --out " + raw).code, 0);
   const CliRun mem = run_cubecal("dev " + raw + " " + kFrames + " --columns 1,3 --taus log:5 --format json");
   ASSERT_EQ(mem.code, 0) << mem.err;
-  const CliRun st = run_cubecal_piped(kSim + " --format raw --out -",
-                                      "dev - " + kFrames + " --columns 1,3 --taus log:5 --format json --stream --memory 16M");
+  const CliRun st =
+      run_cubecal_piped(kSim + " --format raw --out -",
+                        "dev - " + kFrames + " --columns 1,3 --taus log:5 --format json --stream --memory 16M");
   ASSERT_EQ(st.code, 0) << st.err;
   const json a = json::parse(mem.out), b = json::parse(st.out);
   ASSERT_TRUE(b.contains("stream"));
@@ -118,7 +121,8 @@ TEST_F(StreamCli, PipedTextWithTimeColumn) {
 
 TEST_F(StreamCli, ChosenWhenTheFileExceedsTheBudget) {
   const std::string raw = path("big.raw");
-  ASSERT_EQ(run_cubecal("simulate --preset sport-gyro --rate 100 --duration 2h --seed 7 --format raw --out " + raw).code, 0);
+  ASSERT_EQ(
+      run_cubecal("simulate --preset sport-gyro --rate 100 --duration 2h --seed 7 --format raw --out " + raw).code, 0);
   const CliRun r = run_cubecal("dev " + raw + " " + kFrames + " --columns 2 --memory 8M --format csv");
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.err.find("streaming it in one pass"), std::string::npos) << r.err;
@@ -130,12 +134,11 @@ TEST_F(StreamCli, ChosenWhenTheFileExceedsTheBudget) {
 
 TEST_F(StreamCli, RefusalsAreOneLine) {
   const std::string bad = write("bad.csv", "t,gx\n0,1\n0.1,2\n0.2,zz\n0.3,4\n");
-  for (const std::string& args :
-       {std::string("dev ") + bad + " --stream",                      // a bad field
-        "dev " + bad + " --stream --stat mdev",                       // not streamed
-        "dev " + bad + " --stream --taus all",                        // not streamed
-        "dev " + bad + " --stream --gaps split",                      // not cut
-        "dev " + bad + " --stream --memory 12Q"}) {                   // not a size
+  for (const std::string& args : {std::string("dev ") + bad + " --stream",     // a bad field
+                                  "dev " + bad + " --stream --stat mdev",      // not streamed
+                                  "dev " + bad + " --stream --taus all",       // not streamed
+                                  "dev " + bad + " --stream --gaps split",     // not cut
+                                  "dev " + bad + " --stream --memory 12Q"}) {  // not a size
     const CliRun r = run_cubecal(args);
     EXPECT_TRUE(one_error_line(r)) << args << ": " << r.code << " " << r.err;
   }
@@ -155,9 +158,11 @@ namespace {
 // power of two from 16 is refused in one line.
 TEST_F(StreamCli, WindowSetsTheExactBound) {
   const std::string raw = path("w.raw");
-  ASSERT_EQ(run_cubecal("simulate --preset sport-gyro --rate 100 --duration 1h --seed 9 --format raw --out " + raw).code, 0);
+  ASSERT_EQ(
+      run_cubecal("simulate --preset sport-gyro --rate 100 --duration 1h --seed 9 --format raw --out " + raw).code, 0);
   const CliRun mem = run_cubecal("dev " + raw + " " + kFrames + " --columns 1 --taus octave --format json");
-  const CliRun st = run_cubecal("dev " + raw + " " + kFrames + " --columns 1 --taus octave --format json --stream --window 64");
+  const CliRun st =
+      run_cubecal("dev " + raw + " " + kFrames + " --columns 1 --taus octave --format json --stream --window 64");
   ASSERT_EQ(mem.code, 0) << mem.err;
   ASSERT_EQ(st.code, 0) << st.err;
   const json a = json::parse(mem.out)["columns"][0], b = json::parse(st.out);

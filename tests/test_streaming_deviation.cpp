@@ -20,8 +20,7 @@ namespace {
 constexpr double kTau0 = 0.01;
 
 const std::vector<double>& record() {
-  static const std::vector<double> y =
-      test::white_plus_walk(std::size_t{1} << 22, kTau0, 0.02, 0.05, 20261123, 1.5);
+  static const std::vector<double> y = test::white_plus_walk(std::size_t{1} << 22, kTau0, 0.02, 0.05, 20261123, 1.5);
   return y;
 }
 
@@ -38,8 +37,8 @@ double exact_dev(Stat stat, std::size_t m, std::size_t step) {
   long double sum = 0.0L;
   std::size_t n = 0;
   for (std::size_t i = 0; i + order * m <= y.size(); i += step) {
-    const long double d = order == 2 ? P[i + 2 * m] - 2 * P[i + m] + P[i]
-                                     : P[i + 3 * m] - 3 * P[i + 2 * m] + 3 * P[i + m] - P[i];
+    const long double d =
+        order == 2 ? P[i + 2 * m] - 2 * P[i + m] + P[i] : P[i + 3 * m] - 3 * P[i + 2 * m] + 3 * P[i + m] - P[i];
     sum += d * d;
     ++n;
   }

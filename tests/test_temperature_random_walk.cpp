@@ -144,18 +144,28 @@ TEST(TemperatureRandomWalk, ExactPolynomialFromNoiseFreeData) {
 
 TEST(TemperatureRandomWalk, BadInputIsACalibrationError) {
   const Record rec = small_record(100, 0.25, 1e-4, 3);
-  EXPECT_EQ(test::reason_of([&] { fit_temperature_gls(rec.y, rec.temp, 1, RandomWalkModel{0.0, 0.01, 0.1, 0.0}); }),
+  EXPECT_EQ(test::reason_of([&] {
+              fit_temperature_gls(rec.y, rec.temp, 1, RandomWalkModel{0.0, 0.01, 0.1, 0.0});
+            }),
             "bad_option")
       << "no white noise";
-  EXPECT_EQ(test::reason_of([&] { fit_temperature_gls(rec.y, rec.temp, 1, RandomWalkModel{1.0, NAN, 0.1, 0.0}); }),
+  EXPECT_EQ(test::reason_of([&] {
+              fit_temperature_gls(rec.y, rec.temp, 1, RandomWalkModel{1.0, NAN, 0.1, 0.0});
+            }),
             "bad_option");
-  EXPECT_EQ(test::reason_of([&] { fit_temperature_gls(rec.y, rec.temp, 1, RandomWalkModel{1.0, 0.01, 0.0, 0.0}); }),
+  EXPECT_EQ(test::reason_of([&] {
+              fit_temperature_gls(rec.y, rec.temp, 1, RandomWalkModel{1.0, 0.01, 0.0, 0.0});
+            }),
             "bad_option")
       << "no sample period";
   const std::vector<double> flat(rec.y.size(), 20.0);
-  EXPECT_EQ(test::reason_of([&] { fit_temperature_gls(rec.y, flat, 1, RandomWalkModel{1.0, 0.01, 0.1, 0.0}); }),
+  EXPECT_EQ(test::reason_of([&] {
+              fit_temperature_gls(rec.y, flat, 1, RandomWalkModel{1.0, 0.01, 0.1, 0.0});
+            }),
             "degenerate");
-  EXPECT_EQ(test::reason_of([&] { fit_temperature_gls(rec.y, rec.temp, 6, RandomWalkModel{1.0, 0.01, 0.1, 0.0}); }),
+  EXPECT_EQ(test::reason_of([&] {
+              fit_temperature_gls(rec.y, rec.temp, 6, RandomWalkModel{1.0, 0.01, 0.1, 0.0});
+            }),
             "bad_option");
 }
 
@@ -180,8 +190,7 @@ TEST(TemperatureRandomWalk, IterationStopsWhenTheCoefficientsStandStill) {
   const auto none = [](std::span<const double>) -> RandomWalkModel {
     throw CalibrationError(CalibrationReason::degenerate, "no minimum");
   };
-  EXPECT_EQ(test::reason_of([&] { fit_temperature_random_walk(rec.y, rec.temp, 1, none); }),
-            "degenerate");
+  EXPECT_EQ(test::reason_of([&] { fit_temperature_random_walk(rec.y, rec.temp, 1, none); }), "degenerate");
   // Started from the caller's OLS fit: the same iteration, bit for bit; an
   // OLS fit of another order is refused.
   const TemperatureFit ols = fit_temperature(rec.y, rec.temp, 1);
@@ -290,8 +299,9 @@ TEST(TemperatureRandomWalk, MonteCarloOfTheDemoRecord) {
               kSeeds, out.size(), taus != nullptr && *taus != '\0' ? taus : "octave", secs, threads);
   std::printf("  GLS sigma of c1 with the true noise model: %.4f %.4f %.4f mGauss/degC (x, y, z)\n", theory[0],
               theory[1], theory[2]);
-  std::printf("  joint:  RMS error / theoretical sigma %.3f; stated sigma covers the truth in %.1f %%; converged %d/%zu\n",
-              rms_ratio, 100.0 * coverage, converged, out.size());
+  std::printf(
+      "  joint:  RMS error / theoretical sigma %.3f; stated sigma covers the truth in %.1f %%; converged %d/%zu\n",
+      rms_ratio, 100.0 * coverage, converged, out.size());
   std::printf("  OLS:    RMS error / theoretical sigma %.3f; sandwich sigma covers the truth in %.1f %%\n", ols_ratio,
               100.0 * ols_coverage);
   std::printf("  sigma_mu (compensated) / truth: mean %.3f, sd %.3f, range %.3f-%.3f\n", mu_mean, mu_sd, mu_min,

@@ -143,15 +143,17 @@ TEST(Theo1Edf, SpreadOverSeedsBySimulation) {
   for (int alpha : {0, -2, 2, 1, -1}) {
     std::vector<std::vector<double>> v(std::size(ms));
     for (int r = 0; r < kRuns; ++r) {
-      const auto x = power_law_noise(alpha, kN, 9000u + 1000u * static_cast<unsigned>(alpha + 2) + static_cast<unsigned>(r));
+      const auto x =
+          power_law_noise(alpha, kN, 9000u + 1000u * static_cast<unsigned>(alpha + 2) + static_cast<unsigned>(r));
       for (std::size_t j = 0; j < std::size(ms); ++j) v[j].push_back(theo1var(x, ms[j], 1.0).var);
     }
     for (std::size_t j = 0; j < std::size(ms); ++j) {
       const Spread s = spread(v[j]);
       const double formula = edf_theo1(alpha, ms[j], kN);
       const double dev = formula / s.edf - 1.0;
-      std::printf("  Theo1 alpha %2d N %zu m %3zu: EDF of the spread %7.2f +- %4.1f %%, SP 1065 %7.2f (%+5.1f %%, %+.1f se)\n",
-                  alpha, kN, ms[j], s.edf, 100 * s.se, formula, 100 * dev, dev / s.se);
+      std::printf(
+          "  Theo1 alpha %2d N %zu m %3zu: EDF of the spread %7.2f +- %4.1f %%, SP 1065 %7.2f (%+5.1f %%, %+.1f se)\n",
+          alpha, kN, ms[j], s.edf, 100 * s.se, formula, 100 * dev, dev / s.se);
       if (alpha == 0 || alpha == -2) {
         EXPECT_LE(std::abs(dev), 3.0 * s.se) << "alpha " << alpha << " m " << ms[j];
       }

@@ -50,8 +50,8 @@ io::Series series_of(std::vector<double> y) {
 std::map<std::string, CompositeModel> true_models() {
   std::map<std::string, CompositeModel> m;
   m["WN+RW"] = {{Process{ProcessKind::wn, 1.0}, Process{ProcessKind::rw, 1e-6}}};
-  m["MA1+RW+GM"] = {{Process{ProcessKind::ma1, 1.0, 0.0, 0.3}, Process{ProcessKind::rw, 4e-6},
-                     gm_process(2.0, 0.25, kDt)}};
+  m["MA1+RW+GM"] = {
+      {Process{ProcessKind::ma1, 1.0, 0.0, 0.3}, Process{ProcessKind::rw, 4e-6}, gm_process(2.0, 0.25, kDt)}};
   m["WN+GM+SIN"] = {{Process{ProcessKind::wn, 1.0}, gm_process(20.0, 0.15, kDt), sin_process(0.8, 7.0, kDt)}};
   m["MA1+RW+GM+SIN"] = {{Process{ProcessKind::ma1, 1.0, 0.0, 0.2}, Process{ProcessKind::rw, 4e-6},
                          gm_process(1.0, 0.3, kDt), sin_process(1.0, 20.0, kDt)}};

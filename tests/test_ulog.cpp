@@ -288,12 +288,17 @@ TEST(ULogDamaged, AppendedDataAreRead) {
   const Reference ref = decode(kSmall);
   const std::size_t m = ref.second_offset.at("sensor_combined");
   // A message cut short (its header says 200 bytes, 7 follow), then the rest.
-  const std::string cut = std::string("\xc8\x00" "D" "\x01\x00\x00\x00", 7);
+  const std::string cut = std::string(
+      "\xc8\x00"
+      "D"
+      "\x01\x00\x00\x00",
+      7);
   std::string log = bytes.substr(0, m) + cut + bytes.substr(m);
   expect_byte_error(log, "plain.ulg");  // without the flag: refused, wherever it trips
-  log[19 + 8] = 0x01;  // DATA_APPENDED
+  log[19 + 8] = 0x01;                   // DATA_APPENDED
   const std::uint64_t offset = m + cut.size();
-  for (int k = 0; k < 8; ++k) log[19 + 16 + static_cast<std::size_t>(k)] = static_cast<char>((offset >> (8 * k)) & 0xff);
+  for (int k = 0; k < 8; ++k)
+    log[19 + 16 + static_cast<std::size_t>(k)] = static_cast<char>((offset >> (8 * k)) & 0xff);
   const io::ULog a = io::parse_ulog(bytes, "a.ulg");
   const io::ULog b = io::parse_ulog(log, "b.ulg");
   EXPECT_TRUE(b.appended_data);
@@ -394,7 +399,8 @@ TEST_F(ULogCli, MessageWithoutAnAccelerometerSample) {
   } catch (const InputError& x) {
     e = x.what();
   }
-  EXPECT_NE(e.find("byte " + std::to_string(at) + ": message 21 of sensor_combined: accelerometer_m_s2[0] is NaN "
+  EXPECT_NE(e.find("byte " + std::to_string(at) +
+                   ": message 21 of sensor_combined: accelerometer_m_s2[0] is NaN "
                    "(or the sample is marked invalid), in 1 of 50 messages"),
             std::string::npos)
       << e;
@@ -407,8 +413,9 @@ TEST_F(ULogCli, FormatProblemsAreRefusedAtTheirByte) {
   const std::string base = ulog_header() + msg('B', std::string(40, '\0'));
   // A nested type nobody defines, and a format that contains itself.
   const std::string unknown = base + msg('F', "sensor_combined:uint64_t timestamp;vector3 gyro;");
-  EXPECT_NE(expect_byte_error(unknown, "u.ulg").find("byte 59: field gyro of format sensor_combined is of type vector3"),
-            std::string::npos);
+  EXPECT_NE(
+      expect_byte_error(unknown, "u.ulg").find("byte 59: field gyro of format sensor_combined is of type vector3"),
+      std::string::npos);
   const std::string loop = base + msg('F', "a:uint64_t timestamp;b x;") + msg('F', "b:a y;");
   EXPECT_NE(expect_byte_error(loop, "l.ulg").find("contains itself"), std::string::npos);
   // Data for a msg_id never added.
@@ -453,8 +460,7 @@ TEST_F(ULogCli, DevOnRealLogs) {
   r = run_cubecal("dev " + kSmall + " --topic sensor_gyroscope");
   EXPECT_EQ(r.code, 2);
   EXPECT_TRUE(cubecal::test::one_error_line(r)) << r.err;
-  EXPECT_NE(r.err.find("topic sensor_gyroscope not found; topics are: actuator_armed (14 messages)"),
-            std::string::npos)
+  EXPECT_NE(r.err.find("topic sensor_gyroscope not found; topics are: actuator_armed (14 messages)"), std::string::npos)
       << r.err;
 
   r = run_cubecal("dev " + kSmall + " --lsb 2");

@@ -54,10 +54,10 @@ TEST(UnitFromName, AmbiguousOrAbsentIsNone) {
   EXPECT_EQ(unit_of("gx"), "none");
   EXPECT_EQ(unit_of("ax"), "none");
   EXPECT_EQ(unit_of("col3"), "none");
-  EXPECT_EQ(unit_of("dps"), "none");        // a suffix needs a name before it
-  EXPECT_EQ(unit_of("gxdps"), "none");      // and a separator
-  EXPECT_EQ(unit_of("acc_x_G"), "none");    // G: gauss or g?
-  EXPECT_EQ(unit_of("acc_x_mg"), "none");   // mg: milli-g or milligauss?
+  EXPECT_EQ(unit_of("dps"), "none");       // a suffix needs a name before it
+  EXPECT_EQ(unit_of("gxdps"), "none");     // and a separator
+  EXPECT_EQ(unit_of("acc_x_G"), "none");   // G: gauss or g?
+  EXPECT_EQ(unit_of("acc_x_mg"), "none");  // mg: milli-g or milligauss?
   EXPECT_EQ(unit_of("magx"), "none");
 }
 

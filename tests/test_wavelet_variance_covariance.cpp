@@ -45,8 +45,8 @@ Matrix product(const Matrix& a, const Matrix& b) {
 // Every kind of process, the Gauss-Markov terms one fast and one slow.
 CompositeModel all_kinds() {
   CompositeModel m;
-  m.processes = {{ProcessKind::wn, 1.0, 0.0},   {ProcessKind::qn, 0.3, 0.0},   {ProcessKind::rw, 0.01, 0.0},
-                 {ProcessKind::gm, 0.2, 0.2},   {ProcessKind::gm, 0.05, 0.995}, {ProcessKind::dr, 0.02, 0.0}};
+  m.processes = {{ProcessKind::wn, 1.0, 0.0}, {ProcessKind::qn, 0.3, 0.0},    {ProcessKind::rw, 0.01, 0.0},
+                 {ProcessKind::gm, 0.2, 0.2}, {ProcessKind::gm, 0.05, 0.995}, {ProcessKind::dr, 0.02, 0.0}};
   return m;
 }
 
@@ -150,7 +150,9 @@ std::vector<double> direct_entry(const CompositeModel& model, double tj, double 
 TEST(WaveletVarianceCovariance, QuadratureEqualsTheLagByLagSums) {
   const std::size_t N = 1UL << 16;
   CompositeModel poly;  // c piecewise polynomial: the Gauss rules are exact
-  poly.processes = {{ProcessKind::wn, 1.0, 0.0}, {ProcessKind::qn, 0.3, 0.0}, {ProcessKind::rw, 1e-3, 0.0},
+  poly.processes = {{ProcessKind::wn, 1.0, 0.0},
+                    {ProcessKind::qn, 0.3, 0.0},
+                    {ProcessKind::rw, 1e-3, 0.0},
                     {ProcessKind::dr, 1e-3, 0.0}};
   CompositeModel gms;  // fast, slow and very slow Gauss-Markov terms
   gms.processes = {{ProcessKind::wn, 1.0, 0.0},
@@ -159,8 +161,8 @@ TEST(WaveletVarianceCovariance, QuadratureEqualsTheLagByLagSums) {
                    {ProcessKind::gm, 1e-8, std::exp(-1e-6)},
                    {ProcessKind::rw, 1e-7, 0.0},
                    {ProcessKind::dr, 1e-4, 0.0}};
-  const std::vector<std::pair<double, double>> pairs{
-      {2, 16384}, {64, 64}, {256, 8192}, {4096, 32768}, {32768, 32768}, {2048, 4096}};
+  const std::vector<std::pair<double, double>> pairs{{2, 16384},    {64, 64},       {256, 8192},
+                                                     {4096, 32768}, {32768, 32768}, {2048, 4096}};
   for (const CompositeModel& model : {poly, gms}) {
     std::vector<double> tau;
     for (const auto& [a, b] : pairs) {
@@ -267,14 +269,13 @@ TEST(WaveletVarianceCovariance, MonteCarloVariancesAndCorrelations) {
     m.processes = p;
     return m;
   };
-  const std::vector<Case> cases{
-      {"WN", make({{ProcessKind::wn, 1.0, 0.0}})},
-      {"WN+RW", make({{ProcessKind::wn, 1.0, 0.0}, {ProcessKind::rw, 3e-3, 0.0}})},
-      {"WN+GM", make({{ProcessKind::wn, 1.0, 0.0}, {ProcessKind::gm, 7e-4, 0.99}})},
-      {"WN+QN+GM+RW", make({{ProcessKind::wn, 1.0, 0.0},
-                            {ProcessKind::qn, 0.5, 0.0},
-                            {ProcessKind::gm, 7e-4, 0.99},
-                            {ProcessKind::rw, 1e-4, 0.0}})}};
+  const std::vector<Case> cases{{"WN", make({{ProcessKind::wn, 1.0, 0.0}})},
+                                {"WN+RW", make({{ProcessKind::wn, 1.0, 0.0}, {ProcessKind::rw, 3e-3, 0.0}})},
+                                {"WN+GM", make({{ProcessKind::wn, 1.0, 0.0}, {ProcessKind::gm, 7e-4, 0.99}})},
+                                {"WN+QN+GM+RW", make({{ProcessKind::wn, 1.0, 0.0},
+                                                      {ProcessKind::qn, 0.5, 0.0},
+                                                      {ProcessKind::gm, 7e-4, 0.99},
+                                                      {ProcessKind::rw, 1e-4, 0.0}})}};
   std::uint64_t seed = 100;
   for (const Case& c : cases) {
     const MonteCarlo mc = simulate(c.model, N, records, seed);
@@ -313,14 +314,14 @@ TEST(WaveletVarianceCovariance, MonteCarloVariancesAndCorrelations) {
           EXPECT_LT(std::abs(z), std::abs(var - asymptotic) / se) << c.name;
         }
       }
-      EXPECT_LT(std::abs(z), 4.0) << c.name << " tau " << mc.tau[j] << ": MC " << var << " computed "
-                                  << cov[j * J + j] << " (se " << se << ")";
+      EXPECT_LT(std::abs(z), 4.0) << c.name << " tau " << mc.tau[j] << ": MC " << var << " computed " << cov[j * J + j]
+                                  << " (se " << se << ")";
       if (j + 1 < J) {
         const auto [r, r_se] = correlation(mc, j, j + 1);
         const double rho = cov[j * J + j + 1] / std::sqrt(cov[j * J + j] * cov[(j + 1) * J + j + 1]);
         worst_corr = std::max(worst_corr, std::abs(r - rho) / r_se);
-        EXPECT_LT(std::abs(r - rho), 4.0 * r_se) << c.name << " tau " << mc.tau[j] << " x " << mc.tau[j + 1]
-                                                 << ": MC " << r << " computed " << rho;
+        EXPECT_LT(std::abs(r - rho), 4.0 * r_se)
+            << c.name << " tau " << mc.tau[j] << " x " << mc.tau[j + 1] << ": MC " << r << " computed " << rho;
       }
     }
     std::printf("%-12s %zu records of %zu: worst |z| variance %.2f, correlation %.2f\n", c.name.c_str(), records, N,

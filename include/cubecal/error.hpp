@@ -39,8 +39,7 @@ class InputError : public std::runtime_error {
   // line and column are 1-based; 0 means "not applicable" and is omitted
   // from the formatted message (e.g. "FILE: empty file"). The message reads
   // "FILE:LINE:COL: what (hint)".
-  InputError(std::string file, std::size_t line, std::size_t column, std::string what,
-             std::string hint = {});
+  InputError(std::string file, std::size_t line, std::size_t column, std::string what, std::string hint = {});
 
   const std::string& file() const noexcept { return file_; }
   std::size_t line() const noexcept { return line_; }
@@ -77,8 +76,7 @@ std::string_view to_string(CalibrationReason r) noexcept;
 // (the data) it cannot work with.
 class CalibrationError : public std::invalid_argument {
  public:
-  CalibrationError(CalibrationReason reason, const std::string& what)
-      : std::invalid_argument(what), reason_(reason) {}
+  CalibrationError(CalibrationReason reason, const std::string& what) : std::invalid_argument(what), reason_(reason) {}
   CalibrationReason reason() const noexcept { return reason_; }
 
  private:

@@ -35,7 +35,7 @@ namespace cubecal::python {
 namespace {
 
 struct AnalyzeArgs {
-  std::vector<std::string> units;   // one for all, one per channel, or none (from the names)
+  std::vector<std::string> units;  // one for all, one per channel, or none (from the names)
   py::object taus = py::str("log:10");
   double ci = 0.683;
   std::size_t temp_order = 1;
@@ -44,8 +44,8 @@ struct AnalyzeArgs {
   std::size_t max_samples = 0;
   std::vector<double> model_lsb;
   unsigned threads = 0;
-  bool psd = false;                 // the spectral view (analyze --psd)
-  std::string composite;            // the composite model (analyze --composite MODEL); empty: the twin; "none": none
+  bool psd = false;       // the spectral view (analyze --psd)
+  std::string composite;  // the composite model (analyze --composite MODEL); empty: the twin; "none": none
   std::size_t composite_bootstrap = 0;
 };
 
@@ -120,8 +120,8 @@ AnalysisHandle analyze_file(const std::string& path, ReadArgs read, const Analyz
   return AnalysisHandle{result};
 }
 
-AnalysisHandle analyze_arrays(const std::vector<Doubles>& channels, const std::vector<std::string>& names,
-                              double rate, const AnalyzeArgs& a, const std::optional<Doubles>& temperature,
+AnalysisHandle analyze_arrays(const std::vector<Doubles>& channels, const std::vector<std::string>& names, double rate,
+                              const AnalyzeArgs& a, const std::optional<Doubles>& temperature,
                               const std::string& temp_name, const std::string& label) {
   pipeline::AnalyzeRequest req = request(a);
   io::Series s = array_series(channels, names, rate, temperature, temp_name, label);

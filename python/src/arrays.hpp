@@ -32,8 +32,8 @@ template <class T>
 py::array_t<T> to_array(std::vector<T>&& v) {
   auto* owner = new std::vector<T>(std::move(v));
   py::capsule free_when_done(owner, [](void* p) { delete static_cast<std::vector<T>*>(p); });
-  return py::array_t<T>({static_cast<py::ssize_t>(owner->size())}, {static_cast<py::ssize_t>(sizeof(T))},
-                        owner->data(), free_when_done);
+  return py::array_t<T>({static_cast<py::ssize_t>(owner->size())}, {static_cast<py::ssize_t>(sizeof(T))}, owner->data(),
+                        free_when_done);
 }
 
 }  // namespace cubecal::python

@@ -120,11 +120,11 @@ std::vector<double> checked_times(const Doubles& a, std::size_t samples, const s
   }
   if (sc.jittered > 0 && !allow_jitter) {
     const std::size_t i = sc.first_jitter;
-    throw InputError(label, i + 1, 0,
-                     fmt::format("jitter: interval {:.6g} s differs from the period {:.6g} s by {:.3g} %",
-                                 t[i] - t[i - 1], sc.period_s,
-                                 100.0 * std::fabs(t[i] - t[i - 1] - sc.period_s) / sc.period_s),
-                     "the time stamps must be uniform within 1 % of their period");
+    throw InputError(
+        label, i + 1, 0,
+        fmt::format("jitter: interval {:.6g} s differs from the period {:.6g} s by {:.3g} %", t[i] - t[i - 1],
+                    sc.period_s, 100.0 * std::fabs(t[i] - t[i - 1] - sc.period_s) / sc.period_s),
+        "the time stamps must be uniform within 1 % of their period");
   }
   return t;
 }
@@ -138,15 +138,15 @@ std::string with_invocation(nlohmann::json j, const std::string& command) {
 // calibrate rate-table
 
 struct RateTableArgs {
-  std::vector<std::string> reference;   // a file's 3 reference rate columns
-  std::string schedule_file;            // rows t_begin,t_end,wx,wy,wz
-  std::optional<Doubles> schedule;      // the same rows as an (rows, 5) array
+  std::vector<std::string> reference;  // a file's 3 reference rate columns
+  std::string schedule_file;           // rows t_begin,t_end,wx,wy,wz
+  std::optional<Doubles> schedule;     // the same rows as an (rows, 5) array
   bool from_signal = false;
   double margin = 10.0;
   double min_plateau = 30.0;
   double ref_tolerance = 1e-6;
   double window = 10.0;
-  std::vector<double> earth_axis;       // empty, or the Earth's axis X,Y,Z in the sensor frame
+  std::vector<double> earth_axis;  // empty, or the Earth's axis X,Y,Z in the sensor frame
   std::string unit = "deg/s";
 };
 
@@ -158,8 +158,7 @@ std::vector<ScheduleRow> schedule_rows(const Doubles& a) {
   std::vector<ScheduleRow> rows(n);
   for (std::size_t i = 0; i < n; ++i) rows[i] = {p[5 * i], p[5 * i + 1], {p[5 * i + 2], p[5 * i + 3], p[5 * i + 4]}};
   if (rows.empty()) throw UsageError("schedule", "the schedule has no rows");
-  if (const auto problem = check_schedule(rows))
-    throw UsageError("schedule", problem->what);
+  if (const auto problem = check_schedule(rows)) throw UsageError("schedule", problem->what);
   return rows;
 }
 
@@ -176,8 +175,9 @@ pipeline::RateTableRequest rate_table_request(const RateTableArgs& a, bool use_r
     throw UsageError("from_signal", "from_signal labels the plateaus from a schedule: give schedule");
   const auto seconds = [](double x, bool positive, const char* option) {
     if (!(positive ? x > 0.0 : x >= 0.0) || !std::isfinite(x))
-      throw UsageError(option, std::string(option) + ": margin, min_plateau and ref_tolerance must be >= 0 and "
-                                                     "window > 0 seconds");
+      throw UsageError(option, std::string(option) +
+                                   ": margin, min_plateau and ref_tolerance must be >= 0 and "
+                                   "window > 0 seconds");
   };
   seconds(a.margin, false, "margin");
   seconds(a.min_plateau, false, "min_plateau");
@@ -185,7 +185,7 @@ pipeline::RateTableRequest rate_table_request(const RateTableArgs& a, bool use_r
   seconds(a.window, true, "window");
   if (a.unit != "deg/s" && a.unit != "rad/s") throw UsageError("unit", "unit must be \"deg/s\" or \"rad/s\"");
   pipeline::RateTableRequest req;
-  req.source = use_ref          ? pipeline::PlateauSource::reference
+  req.source = use_ref         ? pipeline::PlateauSource::reference
                : a.from_signal ? pipeline::PlateauSource::signal_schedule
                                : pipeline::PlateauSource::schedule;
   req.unit = a.unit;
@@ -229,8 +229,8 @@ std::string rate_table_arrays(const std::vector<Doubles>& channels, const std::v
     throw UsageError("reference", "reference: the 3 reference rates x, y, z, one value per sample each");
   if (reference_names.size() != reference.size()) throw std::invalid_argument("reference_names: one per reference");
   if (channels.size() != 3)
-    throw UsageError("data", "a rate table needs exactly the 3 gyro channels, " + std::to_string(channels.size()) +
-                                 " given");
+    throw UsageError("data",
+                     "a rate table needs exactly the 3 gyro channels, " + std::to_string(channels.size()) + " given");
   pipeline::RateTableRequest req = rate_table_request(a, !reference.empty());
   std::vector<double> t;
   if (time) {
@@ -251,8 +251,8 @@ std::string rate_table_arrays(const std::vector<Doubles>& channels, const std::v
     s.extra.push_back(finite_values(reference[k], reference_names[k], label, channels.size() + k + 1));
     if (s.extra.back().size() != s.samples())
       throw UsageError("reference", "the reference rates must have one value per sample (" +
-                                        std::to_string(s.extra.back().size()) + " for " +
-                                        std::to_string(s.samples()) + " samples)");
+                                        std::to_string(s.extra.back().size()) + " for " + std::to_string(s.samples()) +
+                                        " samples)");
   }
   nlohmann::json j;
   {
@@ -376,8 +376,9 @@ struct TemperatureArgs {
 pipeline::TemperatureRequest temperature_request(const TemperatureArgs& a) {
   if (a.order < 1 || a.order > 5) throw UsageError("order", "order: the polynomial order is 1 to 5");
   if (a.unit.find(',') != std::string::npos)
-    throw UsageError("unit", "one unit here, the unit of the coefficients of every channel: calibrate the channels "
-                             "of each unit in their own call (columns=)");
+    throw UsageError("unit",
+                     "one unit here, the unit of the coefficients of every channel: calibrate the channels "
+                     "of each unit in their own call (columns=)");
   pipeline::TemperatureRequest req;
   req.order = a.order;
   req.unit = a.unit;
@@ -402,9 +403,9 @@ std::string temperature_file(const std::string& path, const ReadArgs& read, cons
   return j.dump();
 }
 
-std::string temperature_arrays(const std::vector<Doubles>& channels, const std::vector<std::string>& names,
-                               double rate, const Doubles& temperature, const std::string& temp_name,
-                               const TemperatureArgs& a, const std::string& label) {
+std::string temperature_arrays(const std::vector<Doubles>& channels, const std::vector<std::string>& names, double rate,
+                               const Doubles& temperature, const std::string& temp_name, const TemperatureArgs& a,
+                               const std::string& label) {
   const pipeline::TemperatureRequest req = temperature_request(a);
   const io::Series s = array_series(channels, names, rate, temperature, temp_name, label);
   nlohmann::json j;
@@ -436,8 +437,8 @@ pipeline::MultipositionRequest multiposition_request(const MultipositionArgs& a,
   if (!finite_positive(a.init_static))
     throw UsageError("init_static", "init_static: the initial static period must be a positive number of seconds");
   if (a.window < mp::kMinWindow)
-    throw UsageError("window", "window: the variance window must be at least " + std::to_string(mp::kMinWindow) +
-                                   " samples");
+    throw UsageError("window",
+                     "window: the variance window must be at least " + std::to_string(mp::kMinWindow) + " samples");
   if (a.interval_samples < 1 || a.interval_samples > 1000000)
     throw UsageError("interval_samples", "interval_samples must be 1 to 1000000");
   if (a.min_intervals < 4 || a.min_intervals > 100000)
@@ -535,9 +536,9 @@ std::string run_multiposition(const pipeline::TriadSamples& acc, const std::opti
 
 std::string multiposition_file(const std::string& acc_path, const std::string& gyro_path,
                                const std::vector<std::string>& acc_columns,
-                               const std::vector<std::string>& gyro_columns,
-                               const std::string& time_col, double rate, std::size_t skip_rows, unsigned threads,
-                               const MultipositionArgs& a, const std::string& command) {
+                               const std::vector<std::string>& gyro_columns, const std::string& time_col, double rate,
+                               std::size_t skip_rows, unsigned threads, const MultipositionArgs& a,
+                               const std::string& command) {
   check_sampling_choice(!time_col.empty(), rate);
   if (!acc_columns.empty() && acc_columns.size() != 3)
     throw UsageError("acc_columns", "acc_columns takes three columns");
@@ -573,8 +574,7 @@ pipeline::TriadSamples triad_of(const std::vector<Doubles>& xyz, const std::opti
   std::array<std::vector<double>, 3> axes;
   for (std::size_t c = 0; c < 3; ++c) {
     axes[c] = finite_values(xyz[c], what + " axis " + std::string(1, "xyz"[c]), label, c + 1);
-    if (axes[c].size() != axes[0].size())
-      throw UsageError(what, what + ": the 3 axes must have the same length");
+    if (axes[c].size() != axes[0].size()) throw UsageError(what, what + ": the 3 axes must have the same length");
   }
   pipeline::TriadSamples tr;
   tr.file = label;

@@ -28,8 +28,8 @@ namespace cubecal::python {
 // calibrations on a path), in the words of the CLI's input options.
 struct ReadArgs {
   std::vector<std::string> columns;
-  std::string time;                 // time column; empty: detected by name
-  double rate = 0.0;                // 0: from the time column
+  std::string time;   // time column; empty: detected by name
+  double rate = 0.0;  // 0: from the time column
   std::size_t skip_rows = 0;
   std::vector<double> lsb;          // counts per unit: one for all or one per column
   std::string gaps = "error";       // "error", "split" or "skip" (missing samples: see series_options)
@@ -37,7 +37,7 @@ struct ReadArgs {
   std::string dataset;              // HDF5
   std::string binary;               // raw frames: "float64le,int16le,..."
   std::size_t header_bytes = 0;
-  std::vector<std::string> extra;   // further columns read as they are (a temperature)
+  std::vector<std::string> extra;  // further columns read as they are (a temperature)
   unsigned threads = 0;
 };
 

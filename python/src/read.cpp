@@ -32,20 +32,24 @@ io::SeriesOptions series_options(const ReadArgs& a, bool missing_samples) {
   if (a.rate < 0.0 || !std::isfinite(a.rate)) throw UsageError("rate", "rate must be a positive number of Hz");
   s.rate_hz = a.rate;
   for (const double x : a.lsb)
-    if (!(x > 0.0) || !std::isfinite(x)) throw UsageError("lsb", "lsb: every value must be a positive number of counts per unit");
+    if (!(x > 0.0) || !std::isfinite(x))
+      throw UsageError("lsb", "lsb: every value must be a positive number of counts per unit");
   s.lsb = a.lsb.empty() ? std::vector<double>{1.0} : a.lsb;
   if (a.gaps != "error" && a.gaps != "split" && a.gaps != "skip")
     throw UsageError("gaps", "gaps must be \"error\", \"split\" or \"skip\"");
   if (a.gaps == "skip" && !missing_samples)
-    throw UsageError("gaps", "gaps=\"skip\": this call needs every sample (missing samples are skipped by dev and "
-                             "davar, for OADEV); use gaps=\"split\" to analyze the contiguous pieces");
+    throw UsageError("gaps",
+                     "gaps=\"skip\": this call needs every sample (missing samples are skipped by dev and "
+                     "davar, for OADEV); use gaps=\"split\" to analyze the contiguous pieces");
   s.gaps = a.gaps == "split" ? io::GapPolicy::split : a.gaps == "skip" ? io::GapPolicy::skip : io::GapPolicy::error;
   s.topics = a.topics;
   s.dataset = a.dataset;
   if (a.binary.empty()) {
-    if (a.header_bytes != 0) throw UsageError("header_bytes", "header_bytes applies to raw binary input: give binary=TYPES");
+    if (a.header_bytes != 0)
+      throw UsageError("header_bytes", "header_bytes applies to raw binary input: give binary=TYPES");
   } else {
-    if (a.skip_rows != 0) throw UsageError("skip_rows", "skip_rows counts text lines; for raw binary give header_bytes");
+    if (a.skip_rows != 0)
+      throw UsageError("skip_rows", "skip_rows counts text lines; for raw binary give header_bytes");
     s.binary = io::parse_raw_layout(a.binary, a.header_bytes);
   }
   return s;
@@ -55,9 +59,9 @@ py::tuple series_to_python(io::Series&& s) {
   // Missing samples (NaN) of each channel, before the channels move: gaps="skip" only.
   py::list missing;
   for (const auto& c : s.channels)
-    missing.append(s.gaps == io::GapPolicy::skip
-                       ? static_cast<std::size_t>(std::count_if(c.begin(), c.end(), [](double v) { return std::isnan(v); }))
-                       : std::size_t{0});
+    missing.append(s.gaps == io::GapPolicy::skip ? static_cast<std::size_t>(std::count_if(
+                                                       c.begin(), c.end(), [](double v) { return std::isnan(v); }))
+                                                 : std::size_t{0});
   py::dict columns;
   if (!s.time.empty()) columns[py::str(s.time_name.empty() ? "t" : s.time_name)] = to_array(std::move(s.time));
   for (std::size_t c = 0; c < s.channels.size(); ++c) columns[py::str(s.names[c])] = to_array(std::move(s.channels[c]));

@@ -34,19 +34,19 @@ namespace {
 struct SimulateArgs {
   std::vector<std::string> presets;
   std::optional<AnalysisHandle> analysis;
-  std::string model_file;            // analysis.json, or a `cubecal model` result's JSON
+  std::string model_file;  // analysis.json, or a `cubecal model` result's JSON
   // The noise model taken from an analysis: "random-walk" (empty: the
   // default), "gauss-markov" or "composite"; a model result's is composite.
   std::string bias;
-  double rate = 0.0;                 // 0: the analysis's rate, else 10 Hz
-  double duration = 3600.0;          // seconds
+  double rate = 0.0;         // 0: the analysis's rate, else 10 Hz
+  double duration = 3600.0;  // seconds
   std::uint64_t seed = 1;
   // const:T, sine:MEAN,AMPLITUDE[,PERIOD_S] as the CLI's --temp, or values.
   std::string temperature = "sine:25,5";
   std::optional<Doubles> temperature_values;
-  std::optional<Doubles> true_t;     // true-input profile: times and three rates
+  std::optional<Doubles> true_t;  // true-input profile: times and three rates
   std::vector<Doubles> true_w;
-  std::vector<double> flicker;       // bias instability as flicker FM: one for all triads or one per triad
+  std::vector<double> flicker;  // bias instability as flicker FM: one for all triads or one per triad
 };
 
 std::vector<double> numbers(const std::string& list, const std::string& what) {
@@ -97,8 +97,9 @@ TemperatureProfile temperature(const SimulateArgs& a) {
     }
     return p;
   }
-  throw UsageError("temperature",
-                   "temperature must be \"const:T\", \"sine:MEAN,AMPLITUDE[,PERIOD_S]\" or an array, not '" + spec + "'");
+  throw UsageError(
+      "temperature",
+      "temperature must be \"const:T\", \"sine:MEAN,AMPLITUDE[,PERIOD_S]\" or an array, not '" + spec + "'");
 }
 
 // An analysis.json, or the JSON of `cubecal model` (its "command" is "model").
@@ -144,19 +145,19 @@ py::tuple simulate(const SimulateArgs& a) {
   if (model != nullptr) {
     const std::string label = a.analysis ? std::string("the analysis") : a.model_file;
     // The twin by default, where every channel has one; else the paper's model.
-    const bool has_twin = !model->channels.empty() &&
-                          std::all_of(model->channels.begin(), model->channels.end(),
-                                      [](const auto& ch) { return ch.model.composite.has_value(); });
+    const bool has_twin =
+        !model->channels.empty() && std::all_of(model->channels.begin(), model->channels.end(),
+                                                [](const auto& ch) { return ch.model.composite.has_value(); });
     const bool twin = a.bias == "composite" || a.bias == "twin" || (a.bias.empty() && has_twin);
-    for (auto& t : twin
-                       ? pipeline::models_from_composite(*model, label, req.rate_hz)
-                       : pipeline::models_from_analysis(*model, label, a.bias == "gauss-markov", req.rate_hz))
+    for (auto& t : twin ? pipeline::models_from_composite(*model, label, req.rate_hz)
+                        : pipeline::models_from_analysis(*model, label, a.bias == "gauss-markov", req.rate_hz))
       req.triads.push_back(std::move(t));
   }
   if (composite_file) {
     if (!a.bias.empty() && a.bias != "composite" && a.bias != "twin")
-      throw UsageError("bias", a.model_file + " is a cubecal model result, which holds composite models only "
-                                              "(bias=\"composite\", or leave bias out)");
+      throw UsageError("bias", a.model_file +
+                                   " is a cubecal model result, which holds composite models only "
+                                   "(bias=\"composite\", or leave bias out)");
     for (auto& t : pipeline::models_from_composite(*composite_file, a.model_file, req.rate_hz))
       req.triads.push_back(std::move(t));
   }

@@ -43,10 +43,11 @@ struct PsdArgs {
 };
 
 py::tuple psd(const std::optional<std::string>& path, const ReadArgs& read, const std::vector<Doubles>& channels,
-                const std::vector<std::string>& names, double rate, const PsdArgs& a) {
+              const std::vector<std::string>& names, double rate, const PsdArgs& a) {
   pipeline::PsdRequest req;
   const auto window = parse_window(a.window);
-  if (!window) throw UsageError("window", "window must be hann, hamming, blackman or rectangular, not '" + a.window + "'");
+  if (!window)
+    throw UsageError("window", "window must be hann, hamming, blackman or rectangular, not '" + a.window + "'");
   const auto detrend = parse_detrend(a.detrend);
   if (!detrend) throw UsageError("detrend", "detrend must be none, constant or linear, not '" + a.detrend + "'");
   req.welch.window = *window;

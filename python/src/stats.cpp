@@ -55,7 +55,8 @@ TauGrid taus_arg(const py::object& taus) {
   g.kind = TauGrid::Kind::list;
   const Doubles list = Doubles::ensure(taus);
   if (!list || list.ndim() != 1 || list.size() == 0)
-    throw UsageError("taus", "taus must be \"octave\", \"decade\", \"all\", \"log:K\" or a 1-D sequence of taus in seconds");
+    throw UsageError("taus",
+                     "taus must be \"octave\", \"decade\", \"all\", \"log:K\" or a 1-D sequence of taus in seconds");
   g.taus.assign(list.data(), list.data() + list.size());
   for (const double t : g.taus)
     if (!(t > 0.0) || !std::isfinite(t)) throw UsageError("taus", "every tau must be a positive number of seconds");
@@ -234,8 +235,8 @@ void bind_stats(py::module_& m) {
         py::arg("factors"), py::arg("ci"), py::arg("alpha"),
         "OADEV with missing samples (NaN) left out: (dev, n, lo, hi) at each averaging factor.");
   m.def("_dev", &dev, py::arg("channels"), py::arg("names"), py::arg("rate"), py::arg("stat"), py::arg("data_type"),
-        py::arg("taus"), py::arg("ci"), py::arg("alpha"), py::arg("edf"), py::arg("conservative"),
-        py::arg("intervals"), py::arg("threads"), py::arg("gaps") = "error",
+        py::arg("taus"), py::arg("ci"), py::arg("alpha"), py::arg("edf"), py::arg("conservative"), py::arg("intervals"),
+        py::arg("threads"), py::arg("gaps") = "error",
         "`cubecal dev` on arrays: (JSON of the result without its columns, list of column dicts); gaps=\"skip\": "
         "NaN is a missing sample, as `dev --gaps skip`.");
 }

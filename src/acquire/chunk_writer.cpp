@@ -147,8 +147,7 @@ RecoveredChunk recover_chunk(const std::string& dir, const io::RecordingChunk& a
   r.chunk = as_manifest;
   r.chunk.samples = samples;
   r.chunk.bytes = cut;
-  r.chunk.crc32 = static_cast<std::uint32_t>(
-      ::crc32_z(0L, reinterpret_cast<const Bytef*>(text.data()), cut));
+  r.chunk.crc32 = static_cast<std::uint32_t>(::crc32_z(0L, reinterpret_cast<const Bytef*>(text.data()), cut));
   r.chunk.first_host_utc_s = samples > 0 ? host_utc_of(first) : 0.0;
   r.chunk.last_host_utc_s = samples > 0 ? host_utc_of(last) : 0.0;
   r.chunk.open = false;

@@ -57,7 +57,10 @@ void FrameDecoder::decode(const char* frame, SampleHandler& h) {
     if (i > 0) fields_ += ',';
     double v = 0;
     switch (f.type) {
-      case FieldType::u8: case FieldType::u16: case FieldType::u32: case FieldType::u64:
+      case FieldType::u8:
+      case FieldType::u16:
+      case FieldType::u32:
+      case FieldType::u64:
         put(fields_, raw);
         v = static_cast<double>(raw);
         break;
@@ -142,12 +145,15 @@ void FrameDecoder::feed(std::string_view bytes, SampleHandler& h) {
     bool ok = true;
     if (csum > 0) {
       const std::string_view covered(frame + sync.size(), spec_.payload_size());
-      const std::uint32_t want = static_cast<std::uint32_t>(load(frame + sync.size() + spec_.payload_size(), csum, spec_.big_endian));
+      const std::uint32_t want =
+          static_cast<std::uint32_t>(load(frame + sync.size() + spec_.payload_size(), csum, spec_.big_endian));
       ok = checksum_of(spec_.checksum, covered) == want;
     }
     flush_skipped(h);
-    if (ok) decode(frame, h);
-    else h.on_reject("bad checksum", std::string_view(frame, size_), true);
+    if (ok)
+      decode(frame, h);
+    else
+      h.on_reject("bad checksum", std::string_view(frame, size_), true);
     pos_ += size_;
   }
   // Compact: drop what was consumed once it is most of the buffer.

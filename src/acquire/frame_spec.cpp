@@ -50,10 +50,16 @@ FieldType field_type(std::string_view t) {
 
 std::size_t size_of(FieldType t) noexcept {
   switch (t) {
-    case FieldType::u8: case FieldType::i8: return 1;
-    case FieldType::u16: case FieldType::i16: return 2;
-    case FieldType::u32: case FieldType::i32: case FieldType::f32: return 4;
-    case FieldType::u64: case FieldType::i64: case FieldType::f64: return 8;
+    case FieldType::u8:
+    case FieldType::i8: return 1;
+    case FieldType::u16:
+    case FieldType::i16: return 2;
+    case FieldType::u32:
+    case FieldType::i32:
+    case FieldType::f32: return 4;
+    case FieldType::u64:
+    case FieldType::i64:
+    case FieldType::f64: return 8;
   }
   return 1;
 }
@@ -61,7 +67,8 @@ std::size_t size_of(FieldType t) noexcept {
 std::size_t size_of(Checksum c) noexcept {
   switch (c) {
     case Checksum::none: return 0;
-    case Checksum::xor8: case Checksum::sum8: return 1;
+    case Checksum::xor8:
+    case Checksum::sum8: return 1;
     case Checksum::crc16: return 2;
     case Checksum::crc32: return 4;
   }
@@ -110,16 +117,25 @@ FrameSpec parse_frame_spec(std::string_view spec) {
         s.fields.push_back(std::move(field));
       }
     } else if (key == "checksum") {
-      if (value == "none") s.checksum = Checksum::none;
-      else if (value == "xor8") s.checksum = Checksum::xor8;
-      else if (value == "sum8") s.checksum = Checksum::sum8;
-      else if (value == "crc16") s.checksum = Checksum::crc16;
-      else if (value == "crc32") s.checksum = Checksum::crc32;
-      else bad("--frame: unknown checksum '" + std::string(value) + "'");
+      if (value == "none")
+        s.checksum = Checksum::none;
+      else if (value == "xor8")
+        s.checksum = Checksum::xor8;
+      else if (value == "sum8")
+        s.checksum = Checksum::sum8;
+      else if (value == "crc16")
+        s.checksum = Checksum::crc16;
+      else if (value == "crc32")
+        s.checksum = Checksum::crc32;
+      else
+        bad("--frame: unknown checksum '" + std::string(value) + "'");
     } else if (key == "endian") {
-      if (value == "le") s.big_endian = false;
-      else if (value == "be") s.big_endian = true;
-      else bad("--frame: endian is le or be, got '" + std::string(value) + "'");
+      if (value == "le")
+        s.big_endian = false;
+      else if (value == "be")
+        s.big_endian = true;
+      else
+        bad("--frame: endian is le or be, got '" + std::string(value) + "'");
     } else {
       bad("--frame: unknown key '" + std::string(key) + "' (sync, fields, checksum, endian)");
     }
@@ -158,8 +174,7 @@ std::uint32_t checksum_of(Checksum c, std::string_view bytes) noexcept {
       }
       return crc;
     }
-    case Checksum::crc32:
-      return static_cast<std::uint32_t>(::crc32(0L, p, static_cast<uInt>(n)));
+    case Checksum::crc32: return static_cast<std::uint32_t>(::crc32(0L, p, static_cast<uInt>(n)));
   }
   return 0;
 }

@@ -216,8 +216,10 @@ void LineFramer::first_line(std::string_view text, SampleHandler& h) {
   for (const auto field : f) {
     double v = 0;
     if (field.empty()) continue;
-    if (parse_field(field, v)) any_number = true;
-    else any_name = true;
+    if (parse_field(field, v))
+      any_number = true;
+    else
+      any_name = true;
   }
   const bool header = any_name && !any_number;
   if (header) {
@@ -226,7 +228,8 @@ void LineFramer::first_line(std::string_view text, SampleHandler& h) {
                                       " columns but the source's header line has " + std::to_string(f.size()) +
                                       " fields: '" + printable_text(text.substr(0, 200)) + "'");
     std::vector<std::string> names;
-    if (!opt_.columns.empty()) names = opt_.columns;
+    if (!opt_.columns.empty())
+      names = opt_.columns;
     else
       for (const auto field : f) names.push_back(header_name(field));
     header_text_.assign(text);
@@ -250,8 +253,8 @@ void LineFramer::data_line(std::string_view text, SampleHandler& h) {
       h.on_reject("header line repeated", text, false);
       return;
     }
-    h.on_reject(std::to_string(fields_.size()) + " fields where the layout has " + std::to_string(names_.size()),
-                text, false);
+    h.on_reject(std::to_string(fields_.size()) + " fields where the layout has " + std::to_string(names_.size()), text,
+                false);
     return;
   }
   values_.resize(fields_.size());

@@ -95,7 +95,8 @@ std::size_t count_rejects(const std::string& dir, std::size_t& partial) {
     partial += text.size() - keep;
     if (::truncate(path.c_str(), static_cast<off_t>(keep)) != 0) throw WriteFailure(path, errno);
   }
-  const auto lines = static_cast<std::size_t>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(keep), '\n'));
+  const auto lines =
+      static_cast<std::size_t>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(keep), '\n'));
   return lines > 0 ? lines - 1 : 0;  // less the header line
 }
 
@@ -162,11 +163,11 @@ std::vector<std::string> recover_recording(const std::string& dir, io::Recording
         rejects.add(r.last_stamps, "partial line at end of recording", r.tail, false);
         partial += r.tail.size();
       }
-      notices.push_back(sdir + "/" + c.file + ": recovered after a crash: " + std::to_string(r.chunk.samples) +
-                        " samples kept" +
-                        (r.tail.empty() ? std::string()
-                                        : ", a partial last line of " + std::to_string(r.tail.size()) +
-                                              " bytes moved to rejects.csv"));
+      notices.push_back(
+          sdir + "/" + c.file + ": recovered after a crash: " + std::to_string(r.chunk.samples) + " samples kept" +
+          (r.tail.empty()
+               ? std::string()
+               : ", a partial last line of " + std::to_string(r.tail.size()) + " bytes moved to rejects.csv"));
       kept.push_back(r.chunk);
     }
     rejects.close();
@@ -206,8 +207,9 @@ class Recorder::Impl final : public SampleHandler {
     } else if (is_dir(dir)) {
       for (const auto& e : dir_entries(dir))
         if (e != std::string(io::kManifestName) + ".tmp")
-          throw UsageError("out", dir + " is not empty and holds no cubecal recording (no manifest.json); "
-                                        "record into a new or empty directory");
+          throw UsageError("out", dir +
+                                      " is not empty and holds no cubecal recording (no manifest.json); "
+                                      "record into a new or empty directory");
     } else {
       make_dirs(dir);
     }
@@ -221,8 +223,8 @@ class Recorder::Impl final : public SampleHandler {
     } else {
       text_.emplace(opt_.text);
       if (!opt_.text.columns.empty() && existing_ && !m_.columns.empty() && m_.columns != opt_.text.columns)
-        throw UsageError("out", opt_.out_dir + " was recorded with the columns " + join(m_.columns) +
-                                    ", not " + join(opt_.text.columns) + "; record into a new directory");
+        throw UsageError("out", opt_.out_dir + " was recorded with the columns " + join(m_.columns) + ", not " +
+                                    join(opt_.text.columns) + "; record into a new directory");
     }
     last_.reserve(64);
   }
@@ -242,8 +244,7 @@ class Recorder::Impl final : public SampleHandler {
         if (end != nullptr && *end == '\0' && k >= 1 && static_cast<std::size_t>(k) <= names.size())
           time_idx_ = static_cast<int>(k - 1);
       }
-      if (time_idx_ < 0)
-        throw UsageError("time_col", "no column '" + opt_.time_col + "' among " + join(names));
+      if (time_idx_ < 0) throw UsageError("time_col", "no column '" + opt_.time_col + "' among " + join(names));
     } else {
       for (std::size_t i = 0; i < names.size() && time_idx_ < 0; ++i)
         if (io::looks_like_time_column(names[i])) time_idx_ = static_cast<int>(i);
@@ -251,8 +252,8 @@ class Recorder::Impl final : public SampleHandler {
     if (!existing_ || m_.columns.empty()) {
       m_.format = std::string(io::kRecordingFormat);
       m_.columns = names;
-      m_.time_column = time_idx_ >= 0 ? std::optional<std::string>(names[static_cast<std::size_t>(time_idx_)])
-                                      : std::nullopt;
+      m_.time_column =
+          time_idx_ >= 0 ? std::optional<std::string>(names[static_cast<std::size_t>(time_idx_)]) : std::nullopt;
       m_.rate_hz = opt_.rate_hz;
       m_.unit = opt_.unit;
       if (opt_.frame) {
@@ -503,20 +504,22 @@ RecorderSummary Recorder::Impl::run() {
       prefix_ = stamp_prefix(batch_);
       if (chunk_ && now - chunk_start_mono_ >= opt_.chunk_seconds && chunk_->samples() > 0) rotate();
       const std::string_view bytes(buf.data(), r.bytes);
-      if (bin_) bin_->feed(bytes, *this);
-      else text_->feed(bytes, *this);
+      if (bin_)
+        bin_->feed(bytes, *this);
+      else
+        text_->feed(bytes, *this);
     } else {
       batch_ = host_now();
       now = batch_.mono_s();
       batch_utc_ = batch_.utc_s();
       prefix_ = stamp_prefix(batch_);
       switch (r.status) {
-        case ReadResult::Status::end:
-          ended = true;
-          break;
+        case ReadResult::Status::end: ended = true; break;
         case ReadResult::Status::lost:
-          if (bin_) bin_->drop_partial("partial frame before the connection was lost", *this);
-          else text_->drop_partial("partial line before the connection was lost", *this);
+          if (bin_)
+            bin_->drop_partial("partial frame before the connection was lost", *this);
+          else
+            text_->drop_partial("partial line before the connection was lost", *this);
           notice(src_.describe() + ": connection lost; reconnecting");
           break;
         case ReadResult::Status::reconnected: {
@@ -530,8 +533,7 @@ RecorderSummary Recorder::Impl::run() {
           notice(src_.describe() + ": reconnected");
           break;
         }
-        default:
-          break;
+        default: break;
       }
     }
     if (ended) break;
@@ -546,7 +548,8 @@ RecorderSummary Recorder::Impl::run() {
     if (now >= next_status) {
       if (opt_.on_status) {
         RecorderStatus st = status(now);
-        st.samples_per_s = now > status_time ? static_cast<double>(samples_ - status_samples) / (now - status_time) : 0.0;
+        st.samples_per_s =
+            now > status_time ? static_cast<double>(samples_ - status_samples) / (now - status_time) : 0.0;
         opt_.on_status(st);
       }
       status_samples = samples_;
@@ -556,11 +559,15 @@ RecorderSummary Recorder::Impl::run() {
   }
   // The end: what is held is a reject, the chunk closed, the segment clean.
   if (end == RecordEnd::source_ended) {
-    if (bin_) bin_->drop_partial("partial frame at end of stream", *this);
-    else text_->finish(*this);
+    if (bin_)
+      bin_->drop_partial("partial frame at end of stream", *this);
+    else
+      text_->finish(*this);
   } else {
-    if (bin_) bin_->drop_partial("partial frame at end of recording", *this);
-    else text_->drop_partial("partial line at end of recording", *this);
+    if (bin_)
+      bin_->drop_partial("partial frame at end of recording", *this);
+    else
+      text_->drop_partial("partial line at end of recording", *this);
   }
   RecorderSummary sum;
   sum.end = end;

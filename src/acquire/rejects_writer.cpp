@@ -41,8 +41,10 @@ void RejectsWriter::add(std::string_view prefix, std::string_view reason, std::s
   b.append(prefix);
   append_csv_quoted(b, reason);
   b.push_back(',');
-  if (binary) append_hex(b, data);
-  else append_csv_quoted(b, data);
+  if (binary)
+    append_hex(b, data);
+  else
+    append_csv_quoted(b, data);
   b.push_back('\n');
   ++count_;
   file_->maybe_flush();

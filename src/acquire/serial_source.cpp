@@ -38,9 +38,9 @@ std::string last_error() {
 // The termios speed of a baud rate; B0 for one termios has no constant for.
 speed_t termios_speed(int baud) {
   static constexpr std::pair<int, speed_t> kSpeeds[] = {
-      {1200, B1200},       {2400, B2400},       {4800, B4800},       {9600, B9600},       {19200, B19200},
-      {38400, B38400},     {57600, B57600},     {115200, B115200},   {230400, B230400},   {460800, B460800},
-      {500000, B500000},   {921600, B921600},   {1000000, B1000000}, {1500000, B1500000}, {2000000, B2000000},
+      {1200, B1200},       {2400, B2400},      {4800, B4800},       {9600, B9600},       {19200, B19200},
+      {38400, B38400},     {57600, B57600},    {115200, B115200},   {230400, B230400},   {460800, B460800},
+      {500000, B500000},   {921600, B921600},  {1000000, B1000000}, {1500000, B1500000}, {2000000, B2000000},
       {3000000, B3000000}, {4000000, B4000000}};
   for (const auto& [b, s] : kSpeeds)
     if (b == baud) return s;
@@ -128,7 +128,8 @@ class SerialSource final : public Source {
       return {ReadResult::Status::reconnected, 0};
     }
     if (fd_ >= 0) return read_terminal(buffer, capacity, timeout_ms);
-    const sp_return n = sp_blocking_read_next(port_, buffer, capacity, static_cast<unsigned>(timeout_ms > 0 ? timeout_ms : 1));
+    const sp_return n =
+        sp_blocking_read_next(port_, buffer, capacity, static_cast<unsigned>(timeout_ms > 0 ? timeout_ms : 1));
     if (n > 0) return {ReadResult::Status::data, static_cast<std::size_t>(n)};
     if (n == 0) return {ReadResult::Status::timeout, 0};
     close();  // the device went away (unplugged, hung up)
@@ -153,7 +154,8 @@ class SerialSource final : public Source {
   }
 
   ReadResult read_terminal(char* buffer, std::size_t capacity, int timeout_ms) {
-    if (!detail::wait_readable(fd_, timeout_ms > 0 ? timeout_ms : 1, describe())) return {ReadResult::Status::timeout, 0};
+    if (!detail::wait_readable(fd_, timeout_ms > 0 ? timeout_ms : 1, describe()))
+      return {ReadResult::Status::timeout, 0};
     const ssize_t n = ::read(fd_, buffer, capacity);
     if (n > 0) return {ReadResult::Status::data, static_cast<std::size_t>(n)};
     if (n < 0 && (errno == EAGAIN || errno == EINTR)) return {ReadResult::Status::timeout, 0};

@@ -18,6 +18,8 @@ std::string describe_write_error(int err) {
 }
 
 WriteFailure::WriteFailure(std::string file, int err)
-    : std::runtime_error(file + ": write failed (" + describe_write_error(err) + ")"), file_(std::move(file)), err_(err) {}
+    : std::runtime_error(file + ": write failed (" + describe_write_error(err) + ")"),
+      file_(std::move(file)),
+      err_(err) {}
 
 }  // namespace cubecal::acquire

@@ -24,7 +24,6 @@ using V10 = Eigen::Matrix<double, 10, 1>;
 using calib::detail::to_array;
 using calib::detail::to_eigen;
 
-
 [[noreturn]] void degenerate(const std::string& why) {
   throw CalibrationError(CalibrationReason::degenerate, "degenerate ellipsoid fit: " + why);
 }
@@ -108,8 +107,8 @@ EllipsoidFit fit_ellipsoid(std::span<const Vec3> h, double field_norm) {
   V10 row;
   for (const Vec3& p : h) {
     const V3 x = (V3(p[0], p[1], p[2]) - m) / sc;
-    row << x(0) * x(0), x(1) * x(1), x(2) * x(2), 2.0 * x(1) * x(2), 2.0 * x(0) * x(2), 2.0 * x(0) * x(1),
-        2.0 * x(0), 2.0 * x(1), 2.0 * x(2), 1.0;
+    row << x(0) * x(0), x(1) * x(1), x(2) * x(2), 2.0 * x(1) * x(2), 2.0 * x(0) * x(2), 2.0 * x(0) * x(1), 2.0 * x(0),
+        2.0 * x(1), 2.0 * x(2), 1.0;
     S.selfadjointView<Eigen::Lower>().rankUpdate(row);
   }
   S = S.selfadjointView<Eigen::Lower>();

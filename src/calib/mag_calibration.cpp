@@ -24,7 +24,6 @@ using V3 = Eigen::Vector3d;
 using calib::detail::to_array;
 using calib::detail::to_eigen;
 
-
 std::string fmt_g(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.4g", v);
@@ -86,8 +85,7 @@ NormError norm_stats(std::size_t n, Residual res) {
 double norm3(const Vec3& v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
 }  // namespace
 
-NormError norm_error(std::span<const Vec3> h, const Vec3& bias, const Mat3& correction,
-                     std::span<const double> F) {
+NormError norm_error(std::span<const Vec3> h, const Vec3& bias, const Mat3& correction, std::span<const double> F) {
   return norm_stats(h.size(), [&](std::size_t k) { return norm3(apply(h[k], bias, correction)) - field_at(F, k); });
 }
 
@@ -187,8 +185,8 @@ void check_coverage(const Coverage& c, Method m, double F) {
   }
   if (!c.centre_from_sphere_fit) no_coverage("the points are coplanar");
   if (!(c.spread[2] >= kMinSpreadFull * F))
-    no_coverage("the points cover too small a part of the field sphere: smallest spread " + fmt_g(c.spread[2]) +
-                " < " + fmt_g(kMinSpreadFull) + " x field norm " + fmt_g(F));
+    no_coverage("the points cover too small a part of the field sphere: smallest spread " + fmt_g(c.spread[2]) + " < " +
+                fmt_g(kMinSpreadFull) + " x field norm " + fmt_g(F));
   if (!(c.lambda_min >= kMinLambdaFull))
     no_coverage("the directions stay near one great circle: smallest eigenvalue of their scatter " +
                 fmt_g(c.lambda_min) + " < " + fmt_g(kMinLambdaFull) + ", 1/3 for the whole sphere");
@@ -284,8 +282,9 @@ Result calibrate(std::span<const Vec3> h_in, const Options& opt) {
   if (opt.check_coverage) check_coverage(r.coverage, opt.method, r.field_norm);
   if (opt.method == Method::twostep &&
       (r.coverage.lambda_min < kMinLambdaFull || r.coverage.resultant > kMaxResultantFull))
-    r.notes.push_back("partial sphere coverage: the bias is less certain along the poorly covered direction (see "
-                      "bias_sigma)");
+    r.notes.push_back(
+        "partial sphere coverage: the bias is less certain along the poorly covered direction (see "
+        "bias_sigma)");
 
   const std::size_t n = h.size();
   if (opt.method == Method::ellipsoid) {
@@ -358,11 +357,12 @@ Result calibrate(std::span<const Vec3> h_in, const Options& opt) {
     r.converged = t.converged;
     r.eta = t.eta;
     if (to.full && t.centred_degenerate)
-      r.notes.push_back("TWOSTEP step 1 is degenerate (one field norm for all points): the common gain comes from "
-                        "step 2 alone");
+      r.notes.push_back(
+          "TWOSTEP step 1 is degenerate (one field norm for all points): the common gain comes from "
+          "step 2 alone");
     if (!t.converged)
-      r.notes.push_back("TWOSTEP stopped after " + std::to_string(t.iterations) + " iterations with eta = " +
-                        fmt_g(t.eta) + " (not below " + fmt_g(opt.eta_tol) + ")");
+      r.notes.push_back("TWOSTEP stopped after " + std::to_string(t.iterations) +
+                        " iterations with eta = " + fmt_g(t.eta) + " (not below " + fmt_g(opt.eta_tol) + ")");
   }
   r.noise_estimated = opt.noise == 0.0;
   if (r.noise_estimated)
@@ -381,7 +381,8 @@ Result calibrate(std::span<const Vec3> h_in, const Options& opt) {
   for (std::size_t i = 0; i < 3; ++i) r.bias_sigma[i] = std::sqrt(std::max(r.covariance[i][i], 0.0));
   if (r.covariance.size() == 9)
     for (int e = 0; e < 6; ++e) {
-      const double sd = std::sqrt(std::max(r.covariance[static_cast<std::size_t>(3 + e)][static_cast<std::size_t>(3 + e)], 0.0));
+      const double sd =
+          std::sqrt(std::max(r.covariance[static_cast<std::size_t>(3 + e)][static_cast<std::size_t>(3 + e)], 0.0));
       r.soft_iron_sigma[static_cast<std::size_t>(kSymI[e])][static_cast<std::size_t>(kSymJ[e])] = sd;
       r.soft_iron_sigma[static_cast<std::size_t>(kSymJ[e])][static_cast<std::size_t>(kSymI[e])] = sd;
     }

@@ -22,11 +22,11 @@ namespace cubecal::multipos {
 
 namespace {
 
-using cubecal::detail::levenberg_marquardt;
-using cubecal::detail::LmOutcome;
 using calib::detail::Quat;
 using calib::detail::rk4_step;
 using calib::detail::rotate_inverse;
+using cubecal::detail::levenberg_marquardt;
+using cubecal::detail::LmOutcome;
 using cubecal::detail::with_numeric_jacobian;
 using detail::acc_model;
 using detail::acc_params;

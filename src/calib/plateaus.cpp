@@ -43,9 +43,9 @@ void check_record(const TriadRecord& rec) {
 }
 
 void check_options(const PlateauOptions& opt) {
-  if (!(opt.margin_s >= 0.0) || !(opt.min_plateau_s >= 0.0) || !(opt.ref_tolerance >= 0.0) ||
-      !(opt.window_s > 0.0) || !(opt.steady_factor > 0.0) || !(opt.jump_sigma > 0.0) ||
-      !std::isfinite(opt.margin_s) || !std::isfinite(opt.min_plateau_s) || !std::isfinite(opt.window_s))
+  if (!(opt.margin_s >= 0.0) || !(opt.min_plateau_s >= 0.0) || !(opt.ref_tolerance >= 0.0) || !(opt.window_s > 0.0) ||
+      !(opt.steady_factor > 0.0) || !(opt.jump_sigma > 0.0) || !std::isfinite(opt.margin_s) ||
+      !std::isfinite(opt.min_plateau_s) || !std::isfinite(opt.window_s))
     throw CalibrationError(CalibrationReason::bad_option,
                            "plateaus: margin, minimum length and tolerance must be >= 0, window and thresholds > 0");
 }
@@ -250,7 +250,8 @@ std::optional<ScheduleProblem> check_schedule(std::span<const ScheduleRow> rows)
   }
   std::vector<std::size_t> order(rows.size());
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return rows[a].t_begin < rows[b].t_begin; });
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t a, std::size_t b) { return rows[a].t_begin < rows[b].t_begin; });
   for (std::size_t i = 1; i < order.size(); ++i) {
     const ScheduleRow& prev = rows[order[i - 1]];
     const ScheduleRow& cur = rows[order[i]];
@@ -424,7 +425,8 @@ PlateauDetection plateaus_from_schedule(const TriadRecord& rec, std::span<const 
     }
     if (!any) ++out.dropped_short;
   }
-  std::sort(out.plateaus.begin(), out.plateaus.end(), [](const Plateau& a, const Plateau& b) { return a.begin < b.begin; });
+  std::sort(out.plateaus.begin(), out.plateaus.end(),
+            [](const Plateau& a, const Plateau& b) { return a.begin < b.begin; });
   if (out.plateaus.empty()) throw_none_found("no schedule interval inside the record", opt);
   return out;
 }

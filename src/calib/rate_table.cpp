@@ -45,8 +45,8 @@ std::string degenerate_message(std::size_t plateaus, Index rank) {
   static const char* const kShape[] = {"all at the same rate", "on one line (e.g. all about one axis)",
                                        "in one plane (e.g. about two axes only)"};
   const Index dim = std::max<Index>(rank - 1, 0);
-  return "the " + std::to_string(plateaus) + " plateau rates are degenerate: they lie " + kShape[std::min<Index>(dim, 2)] +
-         ", the rank of [w 1] is " + std::to_string(rank) + "; " + kNeed;
+  return "the " + std::to_string(plateaus) + " plateau rates are degenerate: they lie " +
+         kShape[std::min<Index>(dim, 2)] + ", the rank of [w 1] is " + std::to_string(rank) + "; " + kNeed;
 }
 
 ResidualStats stats(const Mat& E) {

@@ -31,7 +31,8 @@ using calib::detail::to_array;
 using calib::detail::to_eigen;
 
 std::vector<std::vector<double>> to_rows(const MatrixXd& m) {
-  std::vector<std::vector<double>> r(static_cast<std::size_t>(m.rows()), std::vector<double>(static_cast<std::size_t>(m.cols())));
+  std::vector<std::vector<double>> r(static_cast<std::size_t>(m.rows()),
+                                     std::vector<double>(static_cast<std::size_t>(m.cols())));
   for (Index i = 0; i < m.rows(); ++i)
     for (Index j = 0; j < m.cols(); ++j) r[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)] = m(i, j);
   return r;
@@ -117,7 +118,7 @@ MatrixXd checked_inverse(const MatrixXd& F) {
 
 struct Problem {
   const Model& model;
-  const std::vector<V3>& B;      // scaled
+  const std::vector<V3>& B;       // scaled
   const std::vector<double>& H2;  // scaled |H_k|^2
   std::vector<double> z;          // |B_k|^2 - |H_k|^2
 };
@@ -190,7 +191,8 @@ Solution solve(const Problem& pr, double s2, bool mean_correction, const Twostep
     for (Index j = 0; j < p; ++j)
       if (ev(j) > 1e-12 * lmax) inv(j) = 1.0 / ev(j);
     const VectorXd ys = dg.asDiagonal().inverse() * yt;
-    s.centred = dg.asDiagonal().inverse() * (es.eigenvectors() * (inv.asDiagonal() * (es.eigenvectors().transpose() * ys)));
+    s.centred =
+        dg.asDiagonal().inverse() * (es.eigenvectors() * (inv.asDiagonal() * (es.eigenvectors().transpose() * ys)));
   }
 
   // Step 2: Fisher scoring on the whole cost.
@@ -285,7 +287,7 @@ TwostepResult twostep(std::span<const Vec3> Bin, std::span<const double> Hin, co
     // Noise from the residuals: solve chi2(s) = dof, i.e. the fixed point
     // s^2 = sum r_k^2 / (4|H_k|^2 + 6 s^2) / dof, re-estimating theta with
     // the weights and mean of each s.
-    constexpr double kFloor = 1e-30;  // noise-free data: s = 1e-15 |H|
+    constexpr double kFloor = 1e-30;   // noise-free data: s = 1e-15 |H|
     sol = solve(pr, 1.0, false, opt);  // weights ~ 1/|H_k|^2 (s^2 cancels)
     for (int round = 0; round < 4; ++round) {
       double acc = 0.0;

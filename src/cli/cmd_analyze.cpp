@@ -59,10 +59,10 @@ struct AnalyzeOptions {
   std::vector<std::string> estimators;  // --for
   double inflate = 1.0;
   bool psd = false;
-  std::string composite;               // --composite [MODEL]; given bare: "auto"
+  std::string composite;  // --composite [MODEL]; given bare: "auto"
   bool composite_given = false;
   std::size_t composite_bootstrap = 0;
-  std::size_t twin_check = 0;          // --twin-check K
+  std::size_t twin_check = 0;  // --twin-check K
   MemoryOptions memory;
   Timings timings;
 };
@@ -103,8 +103,8 @@ void print_accelerometer_terms(std::ostream& out, const pipeline::NoiseAnalysis&
   };
   fmt::print(out, "  {:<10} VRW {}   B {}   AccRW {}\n", "reported", both(t.N.estimate, Term::N, t.N.bound()),
              both(t.B.estimate, Term::B, t.B.bound()), both(t.K.estimate, Term::K, t.K.bound()));
-  fmt::print(out, "  {:<10} white {}   B {}   AccRW {}\n", "5-term fit", both(n.fit.N, Term::N),
-             both(n.fit.B, Term::B), both(n.fit.K, Term::K));
+  fmt::print(out, "  {:<10} white {}   B {}   AccRW {}\n", "5-term fit", both(n.fit.N, Term::N), both(n.fit.B, Term::B),
+             both(n.fit.K, Term::K));
 }
 
 // The reported K: the estimate when significant, else why not and the bound.
@@ -140,22 +140,27 @@ void print_temperature(std::ostream& out, const pipeline::TemperatureAnalysis& t
                        f.coeff_sigma.size() > 1 ? f.coeff_sigma[1] : 0.0);
   };
   if (t.joint)
-    fmt::print(out, "  temperature  {} {}/degC jointly with the random-walk bias (least squares {}); R^2 {:.3f}, T_ref {:.2f} degC\n",
+    fmt::print(out,
+               "  temperature  {} {}/degC jointly with the random-walk bias (least squares {}); R^2 {:.3f}, T_ref "
+               "{:.2f} degC\n",
                c1(t.fit), u.name, c1(t.ols), t.fit.r2, t.fit.t_ref);
   else
     fmt::print(out, "  temperature  {} {}/degC by least squares; R^2 {:.3f}, T_ref {:.2f} degC\n               ({})\n",
                c1(t.fit), u.name, t.fit.r2, t.fit.t_ref, t.joint_error);
-  fmt::print(out, "  compensated  N {}   B {}   K {}\n", pm(display(t.compensated.readoffs.N, Term::N, u), t.compensated.readoffs.N.valid),
+  fmt::print(out, "  compensated  N {}   B {}   K {}\n",
+             pm(display(t.compensated.readoffs.N, Term::N, u), t.compensated.readoffs.N.valid),
              pm(display(t.compensated.readoffs.B, Term::B, u), t.compensated.readoffs.B.valid),
              pm(display(t.compensated.readoffs.K, Term::K, u), t.compensated.readoffs.K.valid));
   const pipeline::ModelAnalysis& m = t.compensated_model;
   if (m.ok)
     fmt::print(out, "               model sigma_n {:.4g} {}  sigma_mu {:.4g} {}/s  ({} samples; AV residual {:.3f})\n",
-               m.random_walk.sigma_n, u.name, m.random_walk.sigma_mu, u.name, m.samples, m.random_walk_residual.rms_log);
+               m.random_walk.sigma_n, u.name, m.random_walk.sigma_mu, u.name, m.samples,
+               m.random_walk_residual.rms_log);
   else
     fmt::print(out, "               model not fitted: {}\n", m.error);
   if (m.gm_ok)
-    fmt::print(out, "               Gauss-Markov sigma_b {:.4g} {}  T_c {:.4g} s  sigma_n {:.4g} {}  (AV residual {:.3f})\n",
+    fmt::print(out,
+               "               Gauss-Markov sigma_b {:.4g} {}  T_c {:.4g} s  sigma_n {:.4g} {}  (AV residual {:.3f})\n",
                m.gauss_markov.sigma_b, u.name, m.gauss_markov.tau_c, m.gauss_markov.sigma_n, u.name,
                m.gauss_markov_residual.rms_log);
   else
@@ -194,31 +199,30 @@ void print_composite(std::ostream& out, const pipeline::ModelAnalysis& m, const 
   for (const pipeline::ModelTerm& t : c.terms)
     for (const pipeline::ModelQuantity& q : t.quantities)
       // The bootstrap's sigma when made, else the sandwich one (a for asymptotic).
-      terms += fmt::format("{}{} {}", terms.empty() ? "" : "   ", q.name,
-                           sd ? fmt::format("{:.4g} ± {:.2g} {}", q.display.value, q.display.sigma, q.display.unit)
-                           : std::isfinite(q.display_asymptotic_sd)
-                               ? fmt::format("{:.4g} ± {:.2g}a {}", q.display.value, q.display_asymptotic_sd,
-                                             q.display.unit)
-                               : fmt::format("{:.4g} {}", q.display.value, q.display.unit));
+      terms +=
+          fmt::format("{}{} {}", terms.empty() ? "" : "   ", q.name,
+                      sd ? fmt::format("{:.4g} ± {:.2g} {}", q.display.value, q.display.sigma, q.display.unit)
+                      : std::isfinite(q.display_asymptotic_sd)
+                          ? fmt::format("{:.4g} ± {:.2g}a {}", q.display.value, q.display_asymptotic_sd, q.display.unit)
+                          : fmt::format("{:.4g} {}", q.display.value, q.display.unit));
   std::string chosen = "as asked";
   if (c.fidelity) {
     // The twin: its search, and how close its curve lies to the measured one.
-    chosen = fmt::format("twin: {} models searched{}; twin error {:.1f} % to 10 s, {:.1f} % to 100 s, {:.1f} % at "
-                         "{:.4g} s, {} of {} taus inside the intervals{}",
-                         c.candidates.size(),
-                         c.lines.empty() ? std::string() : fmt::format(", {} spectral line(s)", c.lines.size()),
-                         100.0 * m.twin_error.max_error_10s, 100.0 * m.twin_error.max_error_100s,
-                         100.0 * m.twin_error.max_error, m.twin_error.max_error_tau_s, m.twin_error.inside,
-                         m.twin_error.taus, c.faithful ? "" : "; not inside the wavelet variance's at nearly every scale");
+    chosen = fmt::format(
+        "twin: {} models searched{}; twin error {:.1f} % to 10 s, {:.1f} % to 100 s, {:.1f} % at "
+        "{:.4g} s, {} of {} taus inside the intervals{}",
+        c.candidates.size(), c.lines.empty() ? std::string() : fmt::format(", {} spectral line(s)", c.lines.size()),
+        100.0 * m.twin_error.max_error_10s, 100.0 * m.twin_error.max_error_100s, 100.0 * m.twin_error.max_error,
+        m.twin_error.max_error_tau_s, m.twin_error.inside, m.twin_error.taus,
+        c.faithful ? "" : "; not inside the wavelet variance's at nearly every scale");
   } else if (c.candidates.size() > 1) {
     // The selected one is the fewest parameters near the lowest WIC (noise/wic.hpp).
     const auto lowest = std::min_element(c.candidates.begin(), c.candidates.end(),
                                          [](const auto& a, const auto& b) { return a.score.wic < b.score.wic; });
-    chosen = fmt::format("selected by the WIC among {} candidates: WIC {:.4g}{}", c.candidates.size(),
-                         c.candidates.front().score.wic,
-                         lowest == c.candidates.begin()
-                             ? std::string(", the lowest")
-                             : fmt::format(", the lowest {:.4g} ({})", lowest->score.wic, lowest->model));
+    chosen = fmt::format(
+        "selected by the WIC among {} candidates: WIC {:.4g}{}", c.candidates.size(), c.candidates.front().score.wic,
+        lowest == c.candidates.begin() ? std::string(", the lowest")
+                                       : fmt::format(", the lowest {:.4g} ({})", lowest->score.wic, lowest->model));
   }
   fmt::print(out, "  composite {} ({}; GMWM on {} samples; AV residual {:.3f}{})\n            {}{}\n", c.model, chosen,
              m.samples, m.composite_residual.rms_log,
@@ -256,12 +260,14 @@ void print_summary(std::ostream& out, const pipeline::AnalysisResult& r) {
           !ro.N.valid ? std::string(" (no -1/2 slope in the curve)")
           : ro.N.tau_lo <= 1.0 && 1.0 <= ro.N.tau_hi
               ? fmt::format(" (-1/2 line at tau = 1 s, read over {:.3g}–{:.3g} s)", ro.N.tau_lo, ro.N.tau_hi)
-              : fmt::format(" (-1/2 line of the white arm at {:.3g}–{:.3g} s, extended to tau = 1 s: the curve is "
-                            "not white at 1 s)",
-                            ro.N.tau_lo, ro.N.tau_hi);
+              : fmt::format(
+                    " (-1/2 line of the white arm at {:.3g}–{:.3g} s, extended to tau = 1 s: the curve is "
+                    "not white at 1 s)",
+                    ro.N.tau_lo, ro.N.tau_hi);
       fmt::print(out, "  N         {}{}\n", reported(rt.N, Term::N, u), range);
       if (rt.no_minimum)
-        fmt::print(out, "  B         no minimum within the record (the curve is lowest at its {} tau, {:.3g} s): B {}\n",
+        fmt::print(out,
+                   "  B         no minimum within the record (the curve is lowest at its {} tau, {:.3g} s): B {}\n",
                    ro.tau_min == c.noise.adev.back().tau ? "last" : "first", ro.tau_min, reported(rt.B, Term::B, u));
       else
         fmt::print(out, "  B         {}   T {:.3g} s ({:.3g}–{:.3g})\n", reported(rt.B, Term::B, u), ro.tau_min,
@@ -277,16 +283,17 @@ void print_summary(std::ostream& out, const pipeline::AnalysisResult& r) {
     print_accelerometer_terms(out, c.noise, rt, u);
     print_bias_verdict(out, c.noise, u);
     if (c.model.ok)
-      fmt::print(out, "  model     sigma_n {:.4g} {}  sigma_mu {:.4g} {}/s  (paper eq. 1-3; {} samples; AV residual {:.3f})\n",
-                 c.model.random_walk.sigma_n, u.name, c.model.random_walk.sigma_mu, u.name, c.model.samples,
-                 c.model.random_walk_residual.rms_log);
+      fmt::print(
+          out, "  model     sigma_n {:.4g} {}  sigma_mu {:.4g} {}/s  (paper eq. 1-3; {} samples; AV residual {:.3f})\n",
+          c.model.random_walk.sigma_n, u.name, c.model.random_walk.sigma_mu, u.name, c.model.samples,
+          c.model.random_walk_residual.rms_log);
     else
       fmt::print(out, "  model     not fitted: {}\n", c.model.error);
     if (!c.model.gm_ok) fmt::print(out, "  Gauss-Markov not fitted: {}\n", c.model.gm_error);
     if (c.model.gm_ok)
       fmt::print(out, "  Gauss-Markov sigma_b {:.4g} {}  T_c {:.4g} s  sigma_n {:.4g} {}  (AV residual {:.3f}{})\n",
-                 c.model.gauss_markov.sigma_b, u.name, c.model.gauss_markov.tau_c, c.model.gauss_markov.sigma_n,
-                 u.name, c.model.gauss_markov_residual.rms_log,
+                 c.model.gauss_markov.sigma_b, u.name, c.model.gauss_markov.tau_c, c.model.gauss_markov.sigma_n, u.name,
+                 c.model.gauss_markov_residual.rms_log,
                  c.model.ok && c.model.gauss_markov_residual.rms_log < c.model.random_walk_residual.rms_log
                      ? ", fits better"
                      : "");
@@ -400,8 +407,7 @@ int run_analyze_command(AnalyzeOptions& o) {
     // record (`cubecal model --wic-replicates` has the bootstrap).
     m.selection_replicates = 0;
     if (!pipeline::is_twin(m.model)) (void)parse_candidate_models(m.model);  // a typo fails before the reading
-    if (o.composite_bootstrap == 1)
-      throw UsageError("--composite-bootstrap: give 0 (none) or at least 2 replicates");
+    if (o.composite_bootstrap == 1) throw UsageError("--composite-bootstrap: give 0 (none) or at least 2 replicates");
     m.bootstrap = o.composite_bootstrap;
     req.composite = std::move(m);
   }
@@ -446,9 +452,10 @@ int run_analyze_command(AnalyzeOptions& o) {
       std::cerr << recording_warning;
     } else if (need > budget) {
       stream = true;
-      std::cerr << fmt::format("cubecal: note: reading {} whole would take about {:.0f} MB, more than the "
-                               "memory budget ({:.0f} MB, --memory): streaming it\n",
-                               o.input.file, static_cast<double>(need) / 1e6, static_cast<double>(budget) / 1e6);
+      std::cerr << fmt::format(
+          "cubecal: note: reading {} whole would take about {:.0f} MB, more than the "
+          "memory budget ({:.0f} MB, --memory): streaming it\n",
+          o.input.file, static_cast<double>(need) / 1e6, static_cast<double>(budget) / 1e6);
     }
   }
   const pipeline::AnalysisResult r = stream ? analyze_streamed(o, so, req, budget) : analyze_in_memory(o, so, req);
@@ -484,9 +491,10 @@ int run_analyze_command(AnalyzeOptions& o) {
 
 CLI::App* add_analyze_command(CLI::App& app, Command& run) {
   auto opt = std::make_shared<AnalyzeOptions>();
-  CLI::App* cmd = app.add_subcommand(
-      "analyze", "Static characterization: noise terms (N, B, T, K, Q, R) with uncertainties, the paper's "
-                 "sensor model and a Gauss-Markov alternative, bias drift, covariance, temperature");
+  CLI::App* cmd =
+      app.add_subcommand("analyze",
+                         "Static characterization: noise terms (N, B, T, K, Q, R) with uncertainties, the paper's "
+                         "sensor model and a Gauss-Markov alternative, bias drift, covariance, temperature");
   add_input_options(*cmd, opt->input);
   cmd->add_option("--unit", opt->unit, unit_option_help());
   cmd->add_option("--temp-col", opt->temp_col, "Temperature column (degC): regress each channel on it");

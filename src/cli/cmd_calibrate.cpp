@@ -4,8 +4,9 @@
 namespace cubecal::cli {
 
 CLI::App* add_calibrate_command(CLI::App& app, Command& run) {
-  CLI::App* cmd = app.add_subcommand("calibrate", "Calibration from lab logs: rate-table (gyro scale factor, "
-                                                  "misalignment, bias), mag (TWOSTEP, ellipsoid), temperature");
+  CLI::App* cmd = app.add_subcommand("calibrate",
+                                     "Calibration from lab logs: rate-table (gyro scale factor, "
+                                     "misalignment, bias), mag (TWOSTEP, ellipsoid), temperature");
   cmd->require_subcommand(1);
   add_calibrate_rate_table_command(*cmd, run);
   add_calibrate_mag_command(*cmd, run);

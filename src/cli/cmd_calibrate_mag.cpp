@@ -64,9 +64,10 @@ void print_table(std::ostream& out, const pipeline::MagResult& m) {
   if (r.points_rejected > 0) fmt::print(out, " ({} rejected at {:g} sigma)", r.points_rejected, r.reject_sigma);
   fmt::print(out, "\nmethod     {}\n", method_text(r.method));
   fmt::print(out, "field norm {:.6g} {} ({})\n", r.field_norm, u,
-             m.field_source == pipeline::FieldNormSource::given    ? "given"
-             : m.field_source == pipeline::FieldNormSource::column ? "mean of the field-norm column"
-                                            : "mean raw |h|, Magneto's default: give --field-norm for an absolute scale");
+             m.field_source == pipeline::FieldNormSource::given ? "given"
+             : m.field_source == pipeline::FieldNormSource::column
+                 ? "mean of the field-norm column"
+                 : "mean raw |h|, Magneto's default: give --field-norm for an absolute scale");
   const bool bias_only = r.method == mag::Method::twostep;
   fmt::print(out, "\ncalibration  h_cal = A^-1 (h - b), 1-sigma{}\n", bias_only ? "; A^-1 = I (bias only)" : "");
   const char* axes = "xyz";
@@ -81,10 +82,11 @@ void print_table(std::ostream& out, const pipeline::MagResult& m) {
   }
   fmt::print(out, "  semi-axes of the raw ellipsoid {:.6g} {:.6g} {:.6g} {}, axis ratio {:.5f}\n", r.semi_axes[0],
              r.semi_axes[1], r.semi_axes[2], u, r.axis_ratio);
-  fmt::print(out, "\n|h| - F{}:  before mean {:.4g} rms {:.4g} max {:.4g};  after mean {:.4g} rms {:.4g} max {:.4g} "
+  fmt::print(out,
+             "\n|h| - F{}:  before mean {:.4g} rms {:.4g} max {:.4g};  after mean {:.4g} rms {:.4g} max {:.4g} "
              "({:.3g} % of F)\n",
-             u.empty() ? std::string() : " [" + u + "]", r.before.mean, r.before.rms, r.before.max, r.after.mean, r.after.rms, r.after.max,
-             100.0 * r.after.rms / r.field_norm);
+             u.empty() ? std::string() : " [" + u + "]", r.before.mean, r.before.rms, r.before.max, r.after.mean,
+             r.after.rms, r.after.max, 100.0 * r.after.rms / r.field_norm);
   if (r.noise_estimated)
     fmt::print(out, "noise      s = {:.4g} {} per axis, estimated from the residuals (chi2 = dof = {})\n", r.noise, u,
                r.dof);
@@ -92,7 +94,8 @@ void print_table(std::ostream& out, const pipeline::MagResult& m) {
     fmt::print(out, "noise      s = {:.4g} {} per axis given; chi2 {:.1f} for {} dof, p = {:.3g}\n", r.noise, u, r.chi2,
                r.dof, r.p_value.value_or(0.0));
   if (r.method != mag::Method::ellipsoid)
-    fmt::print(out, "TWOSTEP    {} iterations of step 2, {}\n", r.iterations, r.converged ? "converged" : "NOT converged");
+    fmt::print(out, "TWOSTEP    {} iterations of step 2, {}\n", r.iterations,
+               r.converged ? "converged" : "NOT converged");
   fmt::print(out,
              "coverage   mean resultant {:.3f} (0 whole sphere, 0.5 hemisphere), smallest scatter eigenvalue {:.3f} "
              "(1/3 whole sphere), {} of 8 octants\n",
@@ -103,16 +106,14 @@ void print_table(std::ostream& out, const pipeline::MagResult& m) {
 int run_calibrate_mag(const MagCliOptions& o) {
   const auto method = mag::parse_method(o.method);
   if (!method) throw UsageError("--method must be twostep, twostep-full or ellipsoid");
-  if (!(o.lsb > 0.0) || !std::isfinite(o.lsb))
-    throw UsageError("--lsb must be a positive number of counts per unit");
+  if (!(o.lsb > 0.0) || !std::isfinite(o.lsb)) throw UsageError("--lsb must be a positive number of counts per unit");
   if (o.field_norm_given && (!(o.field_norm > 0.0) || !std::isfinite(o.field_norm)))
     throw UsageError("--field-norm must be a positive field magnitude (in the units of the values after --lsb)");
   if (o.noise_given && (!(o.noise > 0.0) || !std::isfinite(o.noise)))
     throw UsageError("--noise must be a positive standard deviation per axis (leave it out to estimate it)");
   if (!(o.reject >= 0.0) || !std::isfinite(o.reject))
     throw UsageError("--reject must be a positive number of standard deviations (0: no rejection)");
-  if (o.field_norm_given && !o.field_col.empty())
-    throw UsageError("give either --field-norm or --field-col, not both");
+  if (o.field_norm_given && !o.field_col.empty()) throw UsageError("give either --field-norm or --field-col, not both");
   if (!o.field_col.empty() && *method == mag::Method::ellipsoid)
     throw UsageError("--field-col (a field norm per point) needs --method twostep or twostep-full");
   const std::vector<std::string> cols = split_list(o.columns);
@@ -178,14 +179,16 @@ CLI::App* add_calibrate_mag_command(CLI::App& calibrate, Command& run) {
                   "The 3 magnetometer columns, by header name or 1-based index (mx,my,mz or 2,3,4); default: "
                   "every column, which must then be 3");
   cmd->add_option("--skip-rows", opt->skip_rows, "Lines to skip before the header/data (preamble)");
-  cmd->add_option("--lsb", opt->lsb, "Counts per unit: values are divided by this (one value: the three axes "
-                                     "share the scale the fit solves for)")
+  cmd->add_option("--lsb", opt->lsb,
+                  "Counts per unit: values are divided by this (one value: the three axes "
+                  "share the scale the fit solves for)")
       ->check(CLI::Validator(
           [](std::string& s) -> std::string {
             return s.find(',') == std::string::npos
                        ? std::string()
-                       : "'" + s + "': one value here, for all three axes (the fit's scale factors absorb "
-                                   "any difference between them)";
+                       : "'" + s +
+                             "': one value here, for all three axes (the fit's scale factors absorb "
+                             "any difference between them)";
           },
           ""));
   auto* fn = cmd->add_option("--field-norm", opt->field_norm,

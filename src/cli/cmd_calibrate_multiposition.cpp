@@ -58,7 +58,7 @@ struct MultiposCliOptions {
 // Reads one file: the given columns (3 or 6), split into triads, and the time
 // column when asked. Time stamps must increase (FILE:LINE:COL otherwise).
 std::vector<pipeline::TriadSamples> read_triads(const std::string& path, const std::vector<std::string>& columns,
-                                const MultiposCliOptions& o, const char* what_columns) {
+                                                const MultiposCliOptions& o, const char* what_columns) {
   io::TableOptions to;
   to.columns = columns;
   if (!o.time_col.empty()) to.extra_columns = {o.time_col};
@@ -68,7 +68,7 @@ std::vector<pipeline::TriadSamples> read_triads(const std::string& path, const s
   const std::size_t want = columns.empty() ? 3 : columns.size();
   if (tab.data.size() != want || want % 3 != 0)
     throw UsageError(fmt::format("{}: {} data columns{}: choose three with {}", path, tab.data.size(),
-                                     o.time_col.empty() ? "" : " besides the time column", what_columns));
+                                 o.time_col.empty() ? "" : " besides the time column", what_columns));
   if (!o.time_col.empty()) {
     const auto& t = tab.extra[0];
     const auto at = [&](std::size_t i) { return io::locate(tab, i, tab.extra_indices[0]); };
@@ -169,8 +169,7 @@ int run_calibrate_multiposition(const MultiposCliOptions& o) {
   if (!o.time_col.empty() && o.rate_hz > 0.0) throw UsageError("give --time-col or --rate, not both");
   if (o.time_col.empty() && !(o.rate_hz > 0.0))
     throw UsageError("give the time column (--time-col) or the sampling rate (--rate)");
-  if (o.acc_bias.size() != 1 && o.acc_bias.size() != 3)
-    throw UsageError("--acc-bias takes one value or three (x,y,z)");
+  if (o.acc_bias.size() != 1 && o.acc_bias.size() != 3) throw UsageError("--acc-bias takes one value or three (x,y,z)");
   const std::vector<std::string> acc_cols = split_list(o.acc_columns);
   const std::vector<std::string> gyro_cols = split_list(o.gyro_columns);
   if (!acc_cols.empty() && acc_cols.size() != 3) throw UsageError("--acc-columns takes three columns");
@@ -215,8 +214,7 @@ int run_calibrate_multiposition(const MultiposCliOptions& o) {
   if (gyro) {
     HintContext gyro_hints = hints;
     gyro_hints.gyroscope = true;
-    with_calibration_hints(gyro->file, gyro_hints,
-                           [&] { pipeline::add_multiposition_gyroscope(r, acc, *gyro, req); });
+    with_calibration_hints(gyro->file, gyro_hints, [&] { pipeline::add_multiposition_gyroscope(r, acc, *gyro, req); });
   }
 
   write_result(result, o.format == "json", r, invocation(),

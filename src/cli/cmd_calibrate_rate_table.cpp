@@ -83,31 +83,34 @@ void print_table(std::ostream& out, const pipeline::RateTableResult& r) {
 
   fmt::print(out, "\nforward model  w_g = S w + b_g; bias in {}\n", u);
   for (int i = 0; i < 3; ++i)
-    fmt::print(out, "  {}  scale-factor error {:>9.1f} ± {:<6.2g} ppm ({:>8.4f} %)   bias {:>10.6f} ± {:.2g}\n", kAxes[i],
-               1e6 * c.scale_factor_error[i], 1e6 * c.scale_factor_error_sigma[i], 100.0 * c.scale_factor_error[i],
-               c.bias[i], c.bias_sigma[i]);
-  fmt::print(out, "  misalignment, mrad (row i leans toward column j by atan(S_ij / S_ii)):\n     {:>20}{:>20}{:>20}\n", "x",
-             "y", "z");
+    fmt::print(out, "  {}  scale-factor error {:>9.1f} ± {:<6.2g} ppm ({:>8.4f} %)   bias {:>10.6f} ± {:.2g}\n",
+               kAxes[i], 1e6 * c.scale_factor_error[i], 1e6 * c.scale_factor_error_sigma[i],
+               100.0 * c.scale_factor_error[i], c.bias[i], c.bias_sigma[i]);
+  fmt::print(out, "  misalignment, mrad (row i leans toward column j by atan(S_ij / S_ii)):\n     {:>20}{:>20}{:>20}\n",
+             "x", "y", "z");
   for (int i = 0; i < 3; ++i) {
     fmt::print(out, "  {}  ", kAxes[i]);
     for (int k = 0; k < 3; ++k)
-      fmt::print(out, "{:>20}", i == k ? std::string("-")
-                                       : fmt::format("{:.3f} ± {:.2g}", 1e3 * c.misalignment[i][k],
-                                                     1e3 * c.misalignment_sigma[i][k]));
+      fmt::print(out, "{:>20}",
+                 i == k ? std::string("-")
+                        : fmt::format("{:.3f} ± {:.2g}", 1e3 * c.misalignment[i][k], 1e3 * c.misalignment_sigma[i][k]));
     out << '\n';
   }
 
-  fmt::print(out, "\nplateau residuals, {}:  before calibration max {:.4g} rms {:.4g};  after max {:.4g} rms {:.4g}\n", u,
-             c.residual_before.max_abs, c.residual_before.rms, c.residual_after.max_abs, c.residual_after.rms);
+  fmt::print(out, "\nplateau residuals, {}:  before calibration max {:.4g} rms {:.4g};  after max {:.4g} rms {:.4g}\n",
+             u, c.residual_before.max_abs, c.residual_before.rms, c.residual_after.max_abs, c.residual_after.rms);
   fmt::print(out, "error covariance of the calibrated samples (eq. 12), ({})^2:\n", u);
-  for (const auto& row : c.error_covariance) fmt::print(out, "  {:>12.4e} {:>12.4e} {:>12.4e}\n", row[0], row[1], row[2]);
+  for (const auto& row : c.error_covariance)
+    fmt::print(out, "  {:>12.4e} {:>12.4e} {:>12.4e}\n", row[0], row[1], row[2]);
 
   fmt::print(out, "\n  {:>3} {:>9} {:>9} {:>6}  {:>26}  {:>32}  {:>29}\n", "#", "t_begin s", "t_end s", "n",
              "reference " + u, "gyro mean " + u, "residual after " + u);
   for (std::size_t k = 0; k < r.found.plateaus.size(); ++k) {
     const Plateau& p = r.found.plateaus[k];
     const auto& e = c.residuals_after[k];
-    fmt::print(out, "  {:>3} {:>9.1f} {:>9.1f} {:>6}  {:>8.4g} {:>8.4g} {:>8.4g}  {:>10.5f} {:>10.5f} {:>10.5f}  {:>9.2e} {:>9.2e} {:>9.2e}\n",
+    fmt::print(out,
+               "  {:>3} {:>9.1f} {:>9.1f} {:>6}  {:>8.4g} {:>8.4g} {:>8.4g}  {:>10.5f} {:>10.5f} {:>10.5f}  {:>9.2e} "
+               "{:>9.2e} {:>9.2e}\n",
                k + 1, p.t_begin, p.t_end, p.n, p.ref[0], p.ref[1], p.ref[2], p.mean[0], p.mean[1], p.mean[2], e[0],
                e[1], e[2]);
   }
@@ -117,8 +120,8 @@ int run_rate_table_command(const RateTableCliOptions& o) {
   const bool use_ref = !o.ref_columns.empty(), use_schedule = !o.schedule.empty();
   if (use_ref == use_schedule)
     throw UsageError(use_ref ? "give either --ref-columns or --schedule, not both"
-                                 : "the true rates are needed: give --ref-columns rx,ry,rz (reference rate columns "
-                                   "of the log) or --schedule FILE (rows t_begin,t_end,wx,wy,wz)");
+                             : "the true rates are needed: give --ref-columns rx,ry,rz (reference rate columns "
+                               "of the log) or --schedule FILE (rows t_begin,t_end,wx,wy,wz)");
   if (o.from_signal && !use_schedule)
     throw UsageError("--from-signal labels the plateaus from a schedule: give --schedule FILE");
   const std::vector<std::string> ref_names = split_list(o.ref_columns);
@@ -127,7 +130,7 @@ int run_rate_table_command(const RateTableCliOptions& o) {
   if (!(o.margin >= 0.0) || !(o.min_plateau >= 0.0) || !(o.ref_tolerance >= 0.0) || !(o.window > 0.0))
     throw UsageError("--margin, --min-plateau and --ref-tolerance must be >= 0 and --window > 0 seconds");
   pipeline::RateTableRequest req;
-  req.source = use_ref ? pipeline::PlateauSource::reference
+  req.source = use_ref         ? pipeline::PlateauSource::reference
                : o.from_signal ? pipeline::PlateauSource::signal_schedule
                                : pipeline::PlateauSource::schedule;
   req.unit = o.unit;

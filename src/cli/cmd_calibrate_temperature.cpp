@@ -34,8 +34,8 @@ struct TemperatureOptions {
 };
 
 std::string table_text(const pipeline::TemperatureResult& r) {
-  std::string table = fmt::format("{}: bias(T) of order {} on '{}', {} samples\n", r.file, r.order,
-                                  r.temperature_column, r.samples);
+  std::string table =
+      fmt::format("{}: bias(T) of order {} on '{}', {} samples\n", r.file, r.order, r.temperature_column, r.samples);
   for (const auto& c : r.channels) {
     const TemperatureFit& f = c.fit;
     table += fmt::format("\n{}  (T_ref {:.3f} degC, R^2 {:.4f}, residual RMS {:.4g} {})\n", c.name, f.t_ref, f.r2,
@@ -49,8 +49,9 @@ std::string table_text(const pipeline::TemperatureResult& r) {
 
 int run_calibrate_temperature(const TemperatureOptions& o) {
   if (split_list(o.unit).size() > 1)
-    throw UsageError("unit", "one unit here, the unit of the coefficients of every channel: calibrate the channels "
-                             "of each unit in their own run (--columns)");
+    throw UsageError("unit",
+                     "one unit here, the unit of the coefficients of every channel: calibrate the channels "
+                     "of each unit in their own run (--columns)");
   ResultOutput result(o.out, o.force);  // refuses an existing file before the work
   check_report_option(o.report, o.force);
   io::SeriesOptions so = to_series_options(o.input);
@@ -59,8 +60,8 @@ int run_calibrate_temperature(const TemperatureOptions& o) {
   pipeline::TemperatureRequest req;
   req.order = o.order;
   req.unit = o.unit;
-  const pipeline::TemperatureResult r = with_calibration_hints(
-      o.input.file, {CalibrationCommand::temperature}, [&] { return pipeline::calibrate_temperature(s, req); });
+  const pipeline::TemperatureResult r = with_calibration_hints(o.input.file, {CalibrationCommand::temperature},
+                                                               [&] { return pipeline::calibrate_temperature(s, req); });
   result.stream() << (o.format == "json" ? pipeline::to_json(r).dump(1) + "\n" : table_text(r));
   result.finish();
   if (!o.report.dir.empty()) write_report_option(report::temperature_report(r, invocation()), o.report);
@@ -71,13 +72,15 @@ int run_calibrate_temperature(const TemperatureOptions& o) {
 
 CLI::App* add_calibrate_temperature_command(CLI::App& calibrate, Command& run) {
   auto opt = std::make_shared<TemperatureOptions>();
-  CLI::App* cmd = calibrate.add_subcommand(
-      "temperature", "Polynomial bias(T) per channel with the covariance of the coefficients");
+  CLI::App* cmd =
+      calibrate.add_subcommand("temperature", "Polynomial bias(T) per channel with the covariance of the coefficients");
   add_input_options(*cmd, opt->input);
   cmd->add_option("--temp-col", opt->temp_col, "Temperature column (degC)")->required();
   cmd->add_option("--order", opt->order, "Polynomial order")->check(CLI::Range(1, 5))->capture_default_str();
   cmd->add_option("--unit", opt->unit, "Unit of the channels (for the coefficient units)")->capture_default_str();
-  cmd->add_option("--format", opt->format, "table or json")->check(CLI::IsMember({"table", "json"}))->capture_default_str();
+  cmd->add_option("--format", opt->format, "table or json")
+      ->check(CLI::IsMember({"table", "json"}))
+      ->capture_default_str();
   cmd->add_option("--out", opt->out, "Write the result to this file");
   cmd->add_flag("--force", opt->force, "Replace --out and the --report files if they exist");
   add_report_option(*cmd, opt->report);

@@ -49,11 +49,10 @@ void write_table(std::ostream& out, const pipeline::DavarResult& r) {
     const DavarMatrix& mx = ch.matrix;
     const std::size_t K = mx.windows();
     missing = missing || mx.missing > 0;
-    fmt::print(out,
-               "# {}: {} — dynamic OADEV, {} windows of {} samples ({:.6g} s) every {} samples ({:.6g} s), {} Hz{}\n",
-               r.file, ch.name, K, r.window, static_cast<double>(r.window) * tau0, r.step,
-               static_cast<double>(r.step) * tau0, rate_text(r.rate_hz),
-               mx.missing > 0 ? fmt::format(", {} missing sample(s)", mx.missing) : std::string());
+    fmt::print(
+        out, "# {}: {} — dynamic OADEV, {} windows of {} samples ({:.6g} s) every {} samples ({:.6g} s), {} Hz{}\n",
+        r.file, ch.name, K, r.window, static_cast<double>(r.window) * tau0, r.step, static_cast<double>(r.step) * tau0,
+        rate_text(r.rate_hz), mx.missing > 0 ? fmt::format(", {} missing sample(s)", mx.missing) : std::string());
     fmt::print(out, "{:>12} {:>9} {:>13} {:>12} {:>13} {:>13} {:>12} {:>9}\n", "tau [s]", "n", "min", "at t [s]",
                "median", "max", "at t [s]", "max/min");
     std::vector<std::size_t> with_value;  // windows whose cell has a value
@@ -76,8 +75,8 @@ void write_table(std::ostream& out, const pipeline::DavarResult& r) {
       const std::size_t half = sorted.size() / 2;
       std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(half), sorted.end());
       const double lo = mx.dev_at(j, klo), hi = mx.dev_at(j, khi);
-      fmt::print(out, "{:>12.6g} {:>9} {:>13.5e} {:>12.6g} {:>13.5e} {:>13.5e} {:>12.6g} {:>9.4g}\n", mx.tau[j],
-                 fewest, lo, mx.centre[klo], sorted[half], hi, mx.centre[khi], lo > 0 ? hi / lo : 0.0);
+      fmt::print(out, "{:>12.6g} {:>9} {:>13.5e} {:>12.6g} {:>13.5e} {:>13.5e} {:>12.6g} {:>9.4g}\n", mx.tau[j], fewest,
+                 lo, mx.centre[klo], sorted[half], hi, mx.centre[khi], lo > 0 ? hi / lo : 0.0);
     }
     out << '\n';
   }
@@ -134,11 +133,11 @@ int run_davar_command(const DavarCliOptions& o) {
       missing += ch.matrix.missing;
       for (const double d : ch.matrix.dev) empty += std::isnan(d) ? 1 : 0;
     }
-    std::cerr << fmt::format("cubecal: note: {}: {} missing sample(s) in {} channel(s) of {} samples: each window's "
-                             "OADEV leaves out the terms that need one (--gaps skip){}\n",
-                             series.file, missing, series.channels.size(), series.samples(),
-                             empty > 0 ? fmt::format("; {} cell(s) have no whole term and no value", empty)
-                                       : std::string());
+    std::cerr << fmt::format(
+        "cubecal: note: {}: {} missing sample(s) in {} channel(s) of {} samples: each window's "
+        "OADEV leaves out the terms that need one (--gaps skip){}\n",
+        series.file, missing, series.channels.size(), series.samples(),
+        empty > 0 ? fmt::format("; {} cell(s) have no whole term and no value", empty) : std::string());
   }
   for (const std::string& line : {excluded_taus_warning(res.tau_list), merged_taus_note(res.tau_list)})
     if (!line.empty()) std::cerr << line << '\n';
@@ -163,8 +162,9 @@ int run_davar_command(const DavarCliOptions& o) {
 CLI::App* add_davar_command(CLI::App& app, Command& run) {
   auto opt = std::make_shared<DavarCliOptions>();
   CLI::App* cmd = app.add_subcommand(
-      "davar", "Dynamic Allan deviation: OADEV over a window sliding along the record, a tau x time matrix per "
-               "channel that shows how the noise changes during a run");
+      "davar",
+      "Dynamic Allan deviation: OADEV over a window sliding along the record, a tau x time matrix per "
+      "channel that shows how the noise changes during a run");
   add_input_options(*cmd, opt->input);
   opt->input.missing_samples = true;  // --gaps skip
   cmd->get_option("--gaps")->description(

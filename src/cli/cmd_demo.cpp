@@ -44,9 +44,9 @@ struct DemoOptions {
 
 // The paper's numbers (docs/paper.md §3.1): adjusted gyro model row and its model
 // parameters; magnetometer measured row and model.
-constexpr std::array<double, 3> kGyroN{0.2683, 0.2723, 0.2469};    // deg/sqrt(h)
-constexpr std::array<double, 3> kGyroB{12.649, 6.853, 5.3007};     // deg/h
-constexpr std::array<double, 3> kGyroT{7.4, 34.9, 39.2};           // s
+constexpr std::array<double, 3> kGyroN{0.2683, 0.2723, 0.2469};  // deg/sqrt(h)
+constexpr std::array<double, 3> kGyroB{12.649, 6.853, 5.3007};   // deg/h
+constexpr std::array<double, 3> kGyroT{7.4, 34.9, 39.2};         // s
 constexpr std::array<double, 3> kGyroSn{13.9e-3, 14.5e-3, 13.0e-3};
 constexpr std::array<double, 3> kGyroSmu{3.50e-3, 0.87e-3, 0.66e-3};
 constexpr std::array<double, 3> kMagN{0.01568, 0.02587, 0.01588};  // mGauss*sqrt(h)
@@ -78,9 +78,10 @@ int run_demo(const DemoOptions& o) {
   sim.temperature.kind = TemperatureProfile::Kind::sinusoid;
   sim.temperature.mean = 25.0;
   sim.temperature.amplitude = 5.0;
-  std::cout << fmt::format("cubecal demo: the paper's static experiment, simulated: SPORT gyro + magnetometer, "
-                           "{:g} h at 10 Hz, 25 +- 5 degC daily, seed {}\n",
-                           o.hours, o.seed);
+  std::cout << fmt::format(
+      "cubecal demo: the paper's static experiment, simulated: SPORT gyro + magnetometer, "
+      "{:g} h at 10 Hz, 25 +- 5 degC daily, seed {}\n",
+      o.hours, o.seed);
   pipeline::SimulatedRecord rec = pipeline::simulate(sim);
   {
     io::CsvWriter w(record, true);
@@ -137,7 +138,8 @@ int run_demo(const DemoOptions& o) {
     const auto N = term(c.noise.readoffs.N, Term::N, c.unit);
     const auto B = term(c.noise.readoffs.B, Term::B, c.unit);
     std::cout << fmt::format(
-        "{:<4} {:>9.4f} {:>9.4f} ± {:<5.4f} {:>9.3f} {:>8.3f} ± {:<5.2f} {:>7.1f} {:>5.1f} s ({:.0f}–{:.0f}) {:>9.4f} {:>10.4f} {:>9.5f} "
+        "{:<4} {:>9.4f} {:>9.4f} ± {:<5.4f} {:>9.3f} {:>8.3f} ± {:<5.2f} {:>7.1f} {:>5.1f} s ({:.0f}–{:.0f}) {:>9.4f} "
+        "{:>10.4f} {:>9.5f} "
         "{:>10.5f}\n",
         c.name, kGyroN[a], N.value, N.sigma, kGyroB[a], B.value, B.sigma, kGyroT[a], c.noise.readoffs.tau_min,
         c.noise.readoffs.tau_min_lo, c.noise.readoffs.tau_min_hi, kGyroSn[a],
@@ -145,19 +147,19 @@ int run_demo(const DemoOptions& o) {
   }
   std::cout << "\nMagnetometer (mGauss): the paper's measured row vs this record, before and after the\n"
                "temperature compensation (the simulated field drifts 0.7 mGauss/degC)\n";
-  std::cout << fmt::format("{:<4} {:>9} {:>19} {:>9} {:>17} {:>17} {:>17} {:>8} {:>9}\n", "axis", "N paper",
-                           "N here", "B paper", "B here", "B compensated", "coeff [mG/degC]", "sn paper", "sn fit");
+  std::cout << fmt::format("{:<4} {:>9} {:>19} {:>9} {:>17} {:>17} {:>17} {:>8} {:>9}\n", "axis", "N paper", "N here",
+                           "B paper", "B here", "B compensated", "coeff [mG/degC]", "sn paper", "sn fit");
   for (std::size_t a = 3; a < 6; ++a) {
     const auto& c = r.channels[a];
     const auto N = term(c.noise.readoffs.N, Term::N, c.unit);
     const auto B = term(c.noise.readoffs.B, Term::B, c.unit);
     const auto& t = *c.temperature;
     const auto Bc = term(t.compensated.readoffs.B, Term::B, c.unit);
-    std::cout << fmt::format("{:<4} {:>9.5f} {:>9.5f} ± {:<7.5f} {:>9.5f} {:>8.5f} ± {:<6.4f} {:>8.5f} ± {:<6.4f} "
-                             "{:>7.4f} ± {:<6.4f} {:>8.2f} {:>9.3f}\n",
-                             c.name, kMagN[a - 3], N.value, N.sigma, kMagB[a - 3], B.value, B.sigma, Bc.value,
-                             Bc.sigma, t.fit.coeff[1], t.fit.coeff_sigma[1], kMagSn[a - 3],
-                             c.model.ok ? c.model.random_walk.sigma_n : NAN);
+    std::cout << fmt::format(
+        "{:<4} {:>9.5f} {:>9.5f} ± {:<7.5f} {:>9.5f} {:>8.5f} ± {:<6.4f} {:>8.5f} ± {:<6.4f} "
+        "{:>7.4f} ± {:<6.4f} {:>8.2f} {:>9.3f}\n",
+        c.name, kMagN[a - 3], N.value, N.sigma, kMagB[a - 3], B.value, B.sigma, Bc.value, Bc.sigma, t.fit.coeff[1],
+        t.fit.coeff_sigma[1], kMagSn[a - 3], c.model.ok ? c.model.random_walk.sigma_n : NAN);
   }
   (void)kMagSmu;
   report::ReportOptions ro;
@@ -183,9 +185,10 @@ int run_demo(const DemoOptions& o) {
 
 CLI::App* add_demo_command(CLI::App& app, Command& run) {
   auto opt = std::make_shared<DemoOptions>();
-  CLI::App* cmd = app.add_subcommand(
-      "demo", "The paper's 72 h static experiment, simulated and analyzed: prints the paper's numbers "
-              "beside the recovered ones");
+  CLI::App* cmd =
+      app.add_subcommand("demo",
+                         "The paper's 72 h static experiment, simulated and analyzed: prints the paper's numbers "
+                         "beside the recovered ones");
   cmd->add_option("--out", opt->out, "Output directory")->capture_default_str();
   cmd->add_option("--hours", opt->hours, "Record length in hours")
       ->check(number_between(0.5, 1000.0))

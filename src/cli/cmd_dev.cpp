@@ -63,7 +63,8 @@ int run_dev_stream_command(const DevOptions& o, pipeline::DevRequest req, const 
                            std::size_t budget, ResultOutput& result) {
   pipeline::check_streamable(req);  // before the input is opened
   const auto input = io::SampleStream::open(o.input.file, series_opt);
-  const std::size_t bound = stream_window(o.memory, budget, input->names().size(), estimated_samples(o.input.file, series_opt));
+  const std::size_t bound =
+      stream_window(o.memory, budget, input->names().size(), estimated_samples(o.input.file, series_opt));
   // On a terminal: the share of a file read with the time left, or the
   // samples of a pipe so far.
   Progress progress(true);
@@ -96,9 +97,10 @@ int run_dev_command(DevOptions& o) {
   req.threads = o.input.threads;
 
   if (o.input.gaps == "skip" && req.stat != Stat::oadev)
-    throw UsageError("--gaps skip: missing samples are skipped for OADEV only (as AllanTools' gradev): give "
-                     "--stat oadev, or --gaps split to analyze the contiguous pieces with " +
-                     std::string(to_string(req.stat)));
+    throw UsageError(
+        "--gaps skip: missing samples are skipped for OADEV only (as AllanTools' gradev): give "
+        "--stat oadev, or --gaps split to analyze the contiguous pieces with " +
+        std::string(to_string(req.stat)));
   ResultOutput result(o.out, o.force);  // refuses an unusable --out before the work
   const std::size_t budget = memory_budget(o.memory);
   const io::SeriesOptions series_opt = to_series_options(o.input);
@@ -114,9 +116,10 @@ int run_dev_command(DevOptions& o) {
       try {
         pipeline::check_streamable(req);
         stream = true;
-        std::cerr << fmt::format("cubecal: note: reading {} whole would take about {:.0f} MB, more than the "
-                                 "memory budget ({:.0f} MB, --memory): streaming it in one pass\n",
-                                 o.input.file, static_cast<double>(need) / 1e6, static_cast<double>(budget) / 1e6);
+        std::cerr << fmt::format(
+            "cubecal: note: reading {} whole would take about {:.0f} MB, more than the "
+            "memory budget ({:.0f} MB, --memory): streaming it in one pass\n",
+            o.input.file, static_cast<double>(need) / 1e6, static_cast<double>(budget) / 1e6);
       } catch (const UsageError& e) {
         std::cerr << "cubecal: warning: " << o.input.file << " may not fit the memory budget (--memory), and it "
                   << "cannot be streamed: " << e.what() << '\n';
@@ -143,9 +146,10 @@ int run_dev_command(DevOptions& o) {
     const auto missing = pipeline::missing_per_channel(series);
     std::size_t total = 0;
     for (const std::size_t m : missing) total += m;
-    std::cerr << fmt::format("cubecal: note: {}: {} missing sample(s) in {} channel(s) of {} samples: the OADEV "
-                             "terms that need one are left out (--gaps skip)\n",
-                             series.file, total, series.channels.size(), samples_of(series));
+    std::cerr << fmt::format(
+        "cubecal: note: {}: {} missing sample(s) in {} channel(s) of {} samples: the OADEV "
+        "terms that need one are left out (--gaps skip)\n",
+        series.file, total, series.channels.size(), samples_of(series));
   }
 
   // Announce long work before it starts, with what a sparser grid costs.
@@ -162,8 +166,7 @@ int run_dev_command(DevOptions& o) {
         format_duration(work.seconds), work.threads, quick.taus, format_duration(quick.seconds));
   }
   Progress progress(work.seconds > 2.0, long_work);
-  progress.stage(fmt::format("{} at {} taus on {} channel(s)", to_string(req.stat), work.taus,
-                             series.channels.size()));
+  progress.stage(fmt::format("{} at {} taus on {} channel(s)", to_string(req.stat), work.taus, series.channels.size()));
   req.progress = [&](double f) { progress.fraction(f); };
   req.times = o.timings.sink();
   const pipeline::DevResult res = pipeline::run_dev(series, req);
@@ -176,9 +179,10 @@ int run_dev_command(DevOptions& o) {
   DevContext ctx{o.input.file, o.ci, o.edf, !o.no_ci};
   std::ostream& out = result.stream();
   if (res.segments > 1)
-    std::cerr << fmt::format("cubecal: note: {} gaps/jitter found; statistics computed per "
-                             "contiguous segment ({} segments) and combined\n",
-                             series.irregular_intervals, res.segments);
+    std::cerr << fmt::format(
+        "cubecal: note: {} gaps/jitter found; statistics computed per "
+        "contiguous segment ({} segments) and combined\n",
+        series.irregular_intervals, res.segments);
   if (o.format == "json")
     out << nlohmann::json(res).dump(1) << '\n';  // run_dev recorded the file and the interval options
   else if (o.format == "csv")
@@ -196,11 +200,12 @@ int run_dev_command(DevOptions& o) {
 CLI::App* add_dev_command(CLI::App& app, Command& run) {
   auto opt = std::make_shared<DevOptions>();
   CLI::App* cmd = app.add_subcommand(
-      "dev", "Stability statistics with Stable32-compatible confidence intervals: the Allan family (adev, "
-             "oadev, mdev, tdev, hdev, ohdev, totdev), the total variances (mtotdev, ttotdev, htotdev), "
-             "Theo1 and the bias-removed TheoBR (theo1, theobr: even averaging factors, tau = 0.75 m tau0), "
-             "TheoH (theoh: OADEV below 20 % of the record, TheoBR beyond), "
-             "and the time-interval errors (tierms, mtie: no intervals)");
+      "dev",
+      "Stability statistics with Stable32-compatible confidence intervals: the Allan family (adev, "
+      "oadev, mdev, tdev, hdev, ohdev, totdev), the total variances (mtotdev, ttotdev, htotdev), "
+      "Theo1 and the bias-removed TheoBR (theo1, theobr: even averaging factors, tau = 0.75 m tau0), "
+      "TheoH (theoh: OADEV below 20 % of the record, TheoBR beyond), "
+      "and the time-interval errors (tierms, mtie: no intervals)");
   add_input_options(*cmd, opt->input);
   opt->input.missing_samples = true;  // --gaps skip
   cmd->add_option("--stat", opt->stat, "Statistic")

@@ -120,8 +120,9 @@ int run_model_command(const ModelOptions& o) {
       unit_note = units.note;
       req.units = std::move(units.units);
     } catch (const UsageError&) {
-      unit_note = "cubecal: note: " + series.file + ": no unit for the channels: terms in u, the unit of the values "
-                                                    "(--unit names it)";
+      unit_note = "cubecal: note: " + series.file +
+                  ": no unit for the channels: terms in u, the unit of the values "
+                  "(--unit names it)";
     }
   }
   const pipeline::ModelResult res = pipeline::run_model(series, req);
@@ -141,8 +142,9 @@ int run_model_command(const ModelOptions& o) {
 CLI::App* add_model_command(CLI::App& app, Command& run) {
   auto opt = std::make_shared<ModelOptions>();
   CLI::App* cmd = app.add_subcommand(
-      "model", "Fit a composite noise model (white noise, quantization, random walk, drift, Gauss-Markov terms) to "
-               "each channel's Haar wavelet variance by the Generalized Method of Wavelet Moments (GMWM)");
+      "model",
+      "Fit a composite noise model (white noise, quantization, random walk, drift, Gauss-Markov terms) to "
+      "each channel's Haar wavelet variance by the Generalized Method of Wavelet Moments (GMWM)");
   add_input_options(*cmd, opt->input);
   cmd->add_option("--model", opt->model,
                   "The model's terms joined by +: WN, QN, RW, DR, GM (or AR1), MA1, SIN (a periodic line), k*GM or "

@@ -56,21 +56,22 @@ std::string term_title(Term t) {
 std::string num(double v) { return fmt::format("{:.6g}", v); }
 
 void write_table(std::ostream& out, const pipeline::PsdResult& r) {
-  fmt::print(out, "psd of {}: {} channel(s), {} samples at {} Hz", r.file.empty() ? "-" : r.file,
-             r.channels.size(), r.samples, rate_text(r.rate_hz));
-  if (r.pieces > 1) fmt::print(out, ", {} pieces split at gaps ({} long enough for a segment)", r.pieces, r.pieces_used);
+  fmt::print(out, "psd of {}: {} channel(s), {} samples at {} Hz", r.file.empty() ? "-" : r.file, r.channels.size(),
+             r.samples, rate_text(r.rate_hz));
+  if (r.pieces > 1)
+    fmt::print(out, ", {} pieces split at gaps ({} long enough for a segment)", r.pieces, r.pieces_used);
   out << '\n';
   if (r.channels.empty()) return;
   const Psd& s = r.channels.front().spectrum;
   fmt::print(out,
              "Welch: {} window, segments of {} samples ({} s) overlapping by {} samples, {} detrend: {} segments "
              "averaged; resolution {} Hz, ENBW {} Hz\n",
-             to_string(s.window), s.segment_length, num(static_cast<double>(s.segment_length) / r.rate_hz),
-             s.overlap, to_string(s.detrend), s.segments, num(s.resolution_hz()), num(s.enbw_hz));
+             to_string(s.window), s.segment_length, num(static_cast<double>(s.segment_length) / r.rate_hz), s.overlap,
+             to_string(s.detrend), s.segments, num(s.resolution_hz()), num(s.enbw_hz));
   fmt::print(out, "One-sided densities: their integral over 0..{} Hz is the variance.{}\n", num(0.5 * r.rate_hz),
-             r.bins_per_decade > 0 ? fmt::format(" Averaged over {} log bands per decade (bins: raw bins in each).",
-                                                 r.bins_per_decade)
-                                   : std::string());
+             r.bins_per_decade > 0
+                 ? fmt::format(" Averaged over {} log bands per decade (bins: raw bins in each).", r.bins_per_decade)
+                 : std::string());
   for (const auto& c : r.channels) {
     const DensityUnit du = density_unit(c.unit);
     const auto rate_unit = rate_density_unit(c.unit);
@@ -160,9 +161,10 @@ int run_psd_command(const PsdOptions& o) {
   note_default_columns(series);
   if (!unit_note.empty()) std::cerr << unit_note << '\n';
   if (series.segments.size() > 1)
-    std::cerr << fmt::format("cubecal: note: {} gaps/jitter found; the segments of each of the {} contiguous "
-                             "pieces are averaged together\n",
-                             series.irregular_intervals, series.segments.size());
+    std::cerr << fmt::format(
+        "cubecal: note: {} gaps/jitter found; the segments of each of the {} contiguous "
+        "pieces are averaged together\n",
+        series.irregular_intervals, series.segments.size());
 
   std::ostream& out = result.stream();
   if (o.format == "json")
@@ -181,8 +183,9 @@ int run_psd_command(const PsdOptions& o) {
 CLI::App* add_psd_command(CLI::App& app, Command& run) {
   auto opt = std::make_shared<PsdOptions>();
   CLI::App* cmd = app.add_subcommand(
-      "psd", "Power spectral density (Welch's method, one-sided, unit^2/Hz) of each channel, its power-law fit "
-             "S(f) = sum h_a f^a and the IEEE 952 terms (N, B, K, Q) the fit stands for");
+      "psd",
+      "Power spectral density (Welch's method, one-sided, unit^2/Hz) of each channel, its power-law fit "
+      "S(f) = sum h_a f^a and the IEEE 952 terms (N, B, K, Q) the fit stands for");
   add_input_options(*cmd, opt->input);
   cmd->add_option("--unit", opt->unit,
                   "Unit of the values (after --lsb): " + known_units() +
@@ -203,8 +206,9 @@ CLI::App* add_psd_command(CLI::App& app, Command& run) {
   cmd->add_option("--overlap", opt->overlap, "Fraction of a segment shared with the next, 0 <= overlap < 1")
       ->check(number_between(0.0, 1.0))
       ->capture_default_str();
-  cmd->add_option("--detrend", opt->detrend, "Removed from each segment before windowing: none, constant (its mean) "
-                                             "or linear (its least-squares line)")
+  cmd->add_option("--detrend", opt->detrend,
+                  "Removed from each segment before windowing: none, constant (its mean) "
+                  "or linear (its least-squares line)")
       ->check(CLI::IsMember({"none", "constant", "linear"}))
       ->capture_default_str();
   cmd->add_option("--bins-per-decade", opt->bins_per_decade,

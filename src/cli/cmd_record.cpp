@@ -138,11 +138,16 @@ int run_record_command(const RecordCliOptions& o) {
   ro.text.columns = o.columns;
   if (!o.delimiter.empty()) {
     const std::string& d = o.delimiter;
-    if (d == "," || d == "comma") ro.text.delimiter = ',';
-    else if (d == ";" || d == "semicolon") ro.text.delimiter = ';';
-    else if (d == "\t" || d == "\\t" || d == "tab") ro.text.delimiter = '\t';
-    else if (d == " " || d == "space" || d == "whitespace") ro.text.delimiter = ' ';
-    else throw UsageError("--delimiter is one of , ; tab space");
+    if (d == "," || d == "comma")
+      ro.text.delimiter = ',';
+    else if (d == ";" || d == "semicolon")
+      ro.text.delimiter = ';';
+    else if (d == "\t" || d == "\\t" || d == "tab")
+      ro.text.delimiter = '\t';
+    else if (d == " " || d == "space" || d == "whitespace")
+      ro.text.delimiter = ' ';
+    else
+      throw UsageError("--delimiter is one of , ; tab space");
   }
   ro.time_col = o.time_col;
   ro.rate_hz = o.rate;
@@ -157,9 +162,7 @@ int run_record_command(const RecordCliOptions& o) {
   const bool tty = ::isatty(STDERR_FILENO) != 0 && !o.quiet;
   install_signal_handlers();
   ro.stop = &g_stop;
-  ro.on_notice = [](const std::string& s) {
-    std::fprintf(stderr, "cubecal: %s\n", printable_text(s).c_str());
-  };
+  ro.on_notice = [](const std::string& s) { std::fprintf(stderr, "cubecal: %s\n", printable_text(s).c_str()); };
 
   acquire::SourceOptions so;
   so.baud = o.baud;
@@ -183,10 +186,10 @@ int run_record_command(const RecordCliOptions& o) {
   }
   if (tty) {
     ro.on_status = [&](const acquire::RecorderStatus& st) {
-      std::string line = fmt::format("{}{}  {:.0f} samples/s  {} samples  rejected {}  gaps {}  resets {}",
-                                     clock_text(st.elapsed_s),
-                                     requested > 0 ? " / " + clock_text(requested) : std::string(),
-                                     st.samples_per_s, st.samples, st.rejects, st.gaps, st.resets);
+      std::string line =
+          fmt::format("{}{}  {:.0f} samples/s  {} samples  rejected {}  gaps {}  resets {}", clock_text(st.elapsed_s),
+                      requested > 0 ? " / " + clock_text(requested) : std::string(), st.samples_per_s, st.samples,
+                      st.rejects, st.gaps, st.resets);
       if (st.reconnects > 0) line += fmt::format("  reconnects {}", st.reconnects);
       if (!st.last.empty()) {
         line += "  last";
@@ -197,7 +200,8 @@ int run_record_command(const RecordCliOptions& o) {
       if (fb >= 0) line += "  free " + bytes_text(fb);
       if (live && st.elapsed_s - last_live >= 5.0) {
         const double rate = recorder_ptr->manifest().rate_hz.value_or(
-            st.device_rate_hz > 0 ? st.device_rate_hz : (st.elapsed_s > 0 ? static_cast<double>(st.samples) / st.elapsed_s : 0.0));
+            st.device_rate_hz > 0 ? st.device_rate_hz
+                                  : (st.elapsed_s > 0 ? static_cast<double>(st.samples) / st.elapsed_s : 0.0));
         live_lines = live->lines(rate);
         last_live = st.elapsed_s;
       }
@@ -226,9 +230,9 @@ int run_record_command(const RecordCliOptions& o) {
     return 2;
   }
   if (tty) std::fputs("\n", stderr);
-  const char* why = sum.end == acquire::RecordEnd::duration ? "duration reached"
+  const char* why = sum.end == acquire::RecordEnd::duration  ? "duration reached"
                     : sum.end == acquire::RecordEnd::stopped ? "stopped"
-                                                              : "source ended";
+                                                             : "source ended";
   if (sum.segment_dir.empty() && sum.unrecorded_rejects > 0) {
     std::string first = sum.first_unrecorded_data.substr(0, 80);
     std::fprintf(stderr,
@@ -280,7 +284,8 @@ CLI::App* add_record_command(CLI::App& app, Command& run) {
   cmd->add_option("--frame", opt->frame,
                   "Binary frames: 'sync=A55A;fields=t:u32,gx:i16,gy:i16,gz:i16;checksum=xor8;endian=le' "
                   "(types u8..i64 f32 f64; checksums none xor8 sum8 crc16 crc32)");
-  cmd->add_option("--duration", opt->duration, "Stop after this long: 72h, 90m, 10s (default: until the source ends or Ctrl-C)");
+  cmd->add_option("--duration", opt->duration,
+                  "Stop after this long: 72h, 90m, 10s (default: until the source ends or Ctrl-C)");
   cmd->add_option("--chunk-seconds", opt->chunk_seconds, "Start a new chunk file after this many seconds")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();

@@ -43,8 +43,9 @@ int run_report(const ReportCmdOptions& o) {
 CLI::App* add_report_command(CLI::App& app, Command& run) {
   auto opt = std::make_shared<ReportCmdOptions>();
   CLI::App* cmd = app.add_subcommand(
-      "report", "One self-contained HTML page (DIR/report.html) of the results `analyze --out DIR` wrote, with "
-                "gnuplot plots (data, script, SVG, PNG) in DIR/plots/");
+      "report",
+      "One self-contained HTML page (DIR/report.html) of the results `analyze --out DIR` wrote, with "
+      "gnuplot plots (data, script, SVG, PNG) in DIR/plots/");
   cmd->add_option("DIR", opt->dir, "Directory holding analysis.json (and drift.csv for the drift plots)")->required();
   cmd->add_flag("--force", opt->force, "Replace an existing report.html and plots/");
   cmd->add_flag("--keep-scripts", opt->keep_scripts,

@@ -41,19 +41,19 @@ struct SimulateOptions {
   std::string presets;
   std::string model_file;
   std::string bias = "twin";
-  bool bias_given = false;   // --bias on the command line (a model.json takes composite without it)
+  bool bias_given = false;  // --bias on the command line (a model.json takes composite without it)
   double rate_hz = 10.0;
-  bool rate_given = false;   // --rate on the command line (else: the model's rate, or 10 Hz)
+  bool rate_given = false;  // --rate on the command line (else: the model's rate, or 10 Hz)
   std::string duration = "1h";
   std::uint64_t seed = 1;
   std::string temp = "sine:25,5";
   std::string true_input;
-  std::string flicker;       // --flicker B[,B...]: bias instability as flicker FM, per triad
+  std::string flicker;  // --flicker B[,B...]: bias instability as flicker FM, per triad
   std::string out;
   std::string format = "csv";
   bool force = false;
-  bool realtime = false;     // --realtime: paced at the rate, to the standard output
-  std::string frame;         // --frame SPEC: binary frames (with --realtime)
+  bool realtime = false;  // --realtime: paced at the rate, to the standard output
+  std::string frame;      // --frame SPEC: binary frames (with --realtime)
 };
 
 std::vector<double> numbers(const std::string& list, const std::string& what) {
@@ -89,7 +89,7 @@ TemperatureProfile parse_temperature(const std::string& spec) {
     }
   } else {
     io::SeriesOptions so;
-    so.rate_hz = 1.0;  // one value per sample; the time stamps, if any, are not used
+    so.rate_hz = 1.0;             // one value per sample; the time stamps, if any, are not used
     so.skip_temperature = false;  // the file is read for its temperature column
     so.check_rate_against_time = false;
     so.min_samples = 1;
@@ -105,8 +105,9 @@ pipeline::RateProfile read_rate_profile(const std::string& path) {
   so.min_samples = 1;
   const auto s = io::read_series(path, so);
   if (s.time.empty() || s.channels.size() != 3)
-    throw UsageError(path + ": a true-input profile needs a time column and three rate columns "
-                                "(e.g. t,wx,wy,wz in the gyro's unit)");
+    throw UsageError(path +
+                     ": a true-input profile needs a time column and three rate columns "
+                     "(e.g. t,wx,wy,wz in the gyro's unit)");
   pipeline::RateProfile p;
   p.t = s.time;
   for (int a = 0; a < 3; ++a) p.w[a] = s.channels[a];
@@ -180,10 +181,11 @@ int write_raw(const pipeline::SimulateRequest& req_in, const SimulateOptions& o,
   progress.done();
   std::string types;
   for (std::size_t c = 0; c < columns; ++c) types += c ? ",float64le" : "float64le";
-  std::cerr << fmt::format("cubecal: wrote {} ({} samples at {:g} Hz, {} float64le columns {}, seed {}; read "
-                           "it with --binary {} --rate {:g})\n",
-                           to_stdout ? "the standard output" : o.out, n, req.rate_hz, columns,
-                           fmt::join(pipeline::channel_names(req), ","), o.seed, types, req.rate_hz);
+  std::cerr << fmt::format(
+      "cubecal: wrote {} ({} samples at {:g} Hz, {} float64le columns {}, seed {}; read "
+      "it with --binary {} --rate {:g})\n",
+      to_stdout ? "the standard output" : o.out, n, req.rate_hz, columns, fmt::join(pipeline::channel_names(req), ","),
+      o.seed, types, req.rate_hz);
   return 0;
 }
 
@@ -228,7 +230,8 @@ int write_realtime(const pipeline::SimulateRequest& req, const SimulateOptions& 
             line.append(reinterpret_cast<const char*>(&bits), sizeof bits);
           }
         } else {
-          auto r = std::to_chars(tmp, tmp + sizeof tmp, static_cast<double>(k0 + j) * dt, std::chars_format::general, 9);
+          auto r =
+              std::to_chars(tmp, tmp + sizeof tmp, static_cast<double>(k0 + j) * dt, std::chars_format::general, 9);
           line.append(tmp, r.ptr);
           for (std::size_t c = 0; c < columns; ++c) {
             r = std::to_chars(tmp, tmp + sizeof tmp, row[c], std::chars_format::general, 9);
@@ -246,13 +249,15 @@ int write_realtime(const pipeline::SimulateRequest& req, const SimulateOptions& 
   }
   if (!out.reader_gone()) out.finish();
   if (out.reader_gone()) {
-    std::cerr << fmt::format("cubecal: the reader of the standard output went away after {} of {} samples: "
-                             "stopped\n", out.written(), n);
+    std::cerr << fmt::format(
+        "cubecal: the reader of the standard output went away after {} of {} samples: "
+        "stopped\n",
+        out.written(), n);
     return 0;
   }
-  std::cerr << fmt::format("cubecal: streamed {} samples at {:g} Hz in real time ({} {}, seed {})\n", n,
-                           req.rate_hz, frames_of ? (std::string("frames ") += o.frame) += " of t and"
-                                        : std::string(raw ? "float64le frames of" : "CSV lines of t and"),
+  std::cerr << fmt::format("cubecal: streamed {} samples at {:g} Hz in real time ({} {}, seed {})\n", n, req.rate_hz,
+                           frames_of ? (std::string("frames ") += o.frame) += " of t and"
+                                     : std::string(raw ? "float64le frames of" : "CSV lines of t and"),
                            fmt::join(pipeline::channel_names(req), ","), o.seed);
   return 0;
 }
@@ -284,7 +289,8 @@ int run_simulate(const SimulateOptions& o) {
     if (j.is_object() && j.contains("command") && j["command"] == "model") {
       // `cubecal model --format json`: composite models only.
       if (o.bias_given && o.bias != "composite" && o.bias != "twin")
-        throw UsageError("--bias: " + o.model_file + " is a `cubecal model` result, which holds composite models "
+        throw UsageError("--bias: " + o.model_file +
+                         " is a `cubecal model` result, which holds composite models "
                          "only (--bias composite, or leave --bias out)");
       const pipeline::ModelResult m = pipeline::model_result_from_json(j, o.model_file);
       if (!o.rate_given && req.triads.empty()) req.rate_hz = m.rate_hz;
@@ -294,9 +300,9 @@ int run_simulate(const SimulateOptions& o) {
       if (!o.rate_given && req.triads.empty()) req.rate_hz = doc.result.rate_hz;
       // The twin by default; an analysis without one (written before it, or
       // of a record that could not carry it) gives the paper's model, said so.
-      const bool has_twin = !doc.result.channels.empty() &&
-                            std::all_of(doc.result.channels.begin(), doc.result.channels.end(),
-                                        [](const auto& ch) { return ch.model.composite.has_value(); });
+      const bool has_twin =
+          !doc.result.channels.empty() && std::all_of(doc.result.channels.begin(), doc.result.channels.end(),
+                                                      [](const auto& ch) { return ch.model.composite.has_value(); });
       std::string bias = o.bias;
       if (bias == "twin" && !o.bias_given && !has_twin) {
         bias = "random-walk";
@@ -345,8 +351,8 @@ int run_simulate(const SimulateOptions& o) {
   // sample_count, which an absurd duration would overflow).
   const bool raw = o.format == "raw";
   const std::size_t columns = pipeline::channel_names(req).size();
-  const double bytes = raw ? req.duration_s * req.rate_hz * 8.0 * static_cast<double>(columns)
-                           : pipeline::estimated_text_bytes(req);
+  const double bytes =
+      raw ? req.duration_s * req.rate_hz * 8.0 * static_cast<double>(columns) : pipeline::estimated_text_bytes(req);
   if (bytes > max_output_bytes() && !o.force)
     throw UsageError(fmt::format(
         "the record would be about {} of {} ({:.3g} samples x {} columns): add --force to write "
@@ -365,7 +371,8 @@ int run_simulate(const SimulateOptions& o) {
   write_simulation(req, w);
   w.commit();
   progress.done();
-  std::cerr << fmt::format("cubecal: wrote {} ({} samples at {:g} Hz, {} columns, seed {})\n", to_stdout ? "the standard output" : o.out, n, req.rate_hz,
+  std::cerr << fmt::format("cubecal: wrote {} ({} samples at {:g} Hz, {} columns, seed {})\n",
+                           to_stdout ? "the standard output" : o.out, n, req.rate_hz,
                            pipeline::channel_names(req).size() + 1, o.seed);
   return 0;
 }
@@ -376,11 +383,12 @@ CLI::App* add_simulate_command(CLI::App& app, Command& run) {
   auto opt = std::make_shared<SimulateOptions>();
   std::string presets;
   for (const auto& n : preset_names()) presets += (presets.empty() ? "" : ", ") + n;
-  CLI::App* cmd = app.add_subcommand(
-      "simulate", "Simulate sensor records from presets (the paper's gyro and magnetometer) or from an "
-                  "analyze result: white noise, bias random walk or Gauss-Markov, turn-on bias, "
-                  "temperature, scale factor, quantization; or a composite noise model (analyze --composite, "
-                  "cubecal model)");
+  CLI::App* cmd =
+      app.add_subcommand("simulate",
+                         "Simulate sensor records from presets (the paper's gyro and magnetometer) or from an "
+                         "analyze result: white noise, bias random walk or Gauss-Markov, turn-on bias, "
+                         "temperature, scale factor, quantization; or a composite noise model (analyze --composite, "
+                         "cubecal model)");
   cmd->add_option("--preset", opt->presets, "Comma-separated presets: " + presets);
   cmd->add_option("--model", opt->model_file,
                   "analysis.json from cubecal analyze: simulate the measured sensor; or the JSON of cubecal model "

@@ -50,7 +50,8 @@ std::vector<FileSpec> file_specs(const RunsOptions& o, bool per_file_unit, const
   for (const auto& f : o.input.files) {
     specs.push_back(parse_file_spec(f, o.input, o.unit));
     if (specs.back().own_unit && !per_file_unit)
-      throw UsageError(f + ": " + command + " averages the runs' biases, so every run is in the same unit: give "
+      throw UsageError(f + ": " + command +
+                       " averages the runs' biases, so every run is in the same unit: give "
                        "--unit (or scale a run with lsb=), not unit= per file");
   }
   return specs;
@@ -117,8 +118,7 @@ std::string turnon_text(const RunsOptions& o, const pipeline::TurnOnResult& t) {
   s += '\n';
   for (const auto& r : t.runs) {
     s += fmt::format("{:<28}", r.file.size() > 28 ? "…" + r.file.substr(r.file.size() - 27) : r.file);
-    for (const auto& c : r.channels)
-      s += fmt::format(" {:>16.6g} {:>18}", c.mean, term(c.readoffs.B, Term::B, c.unit));
+    for (const auto& c : r.channels) s += fmt::format(" {:>16.6g} {:>18}", c.mean, term(c.readoffs.B, Term::B, c.unit));
     s += '\n';
   }
   s += fmt::format("\n{:<10} {:>14} {:>14} {:>26}\n", "channel", "mean bias", "turn-on (std)", "interval");
@@ -184,7 +184,9 @@ void add_runs_options(CLI::App& cmd, RunsOptions& o) {
   add_input_options(cmd, o.input, true);
   cmd.get_option("files")->description(
       "Input files (one record each): delimited text, optionally gzip. FILE:key=value,... reads one file with its "
-      "own options in place of the command's (keys " + file_option_keys() + "; a list value such as "
+      "own options in place of the command's (keys " +
+      file_option_keys() +
+      "; a list value such as "
       "columns=gx,gy,lsb=131,131 runs on to the next key=), for runs of different layouts, rates or scales. Only the "
       "text after the last ':' is taken as options, and only when it starts with key=; a FILE that exists as "
       "named is always a file");
@@ -202,9 +204,10 @@ void add_runs_options(CLI::App& cmd, RunsOptions& o) {
 CLI::App* add_turnon_command(CLI::App& app, Command& run) {
   auto opt = std::make_shared<RunsOptions>();
   CLI::App* cmd = app.add_subcommand(
-      "turnon", "Turn-on bias: per-run bias, mean over runs, standard deviation of the run biases with its "
-                "interval, and each run's bias instability; a recording directory of cubecal record given alone: "
-                "its segments (one per power cycle) are the runs");
+      "turnon",
+      "Turn-on bias: per-run bias, mean over runs, standard deviation of the run biases with its "
+      "interval, and each run's bias instability; a recording directory of cubecal record given alone: "
+      "its segments (one per power cycle) are the runs");
   add_runs_options(*cmd, *opt);
   cmd->callback([opt, &run] { run = [opt] { return run_turnon_command(*opt); }; });
   return cmd;

@@ -91,15 +91,19 @@ void note_default_columns(const io::Series& s) {
 
 void add_input_options(CLI::App& app, InputOptions& opt, bool several) {
   if (several)
-    app.add_option("files", opt.files, "Input files (one record each): delimited text, optionally gzip, "
-                                       "NumPy .npy, HDF5, raw binary (--binary), ROS bags (ROS 1 .bag, MCAP, .db3 or a ROS 2 bag directory), PX4 ULog "
-                                       "or a recording directory of cubecal record")
+    app.add_option("files", opt.files,
+                   "Input files (one record each): delimited text, optionally gzip, "
+                   "NumPy .npy, HDF5, raw binary (--binary), ROS bags (ROS 1 .bag, MCAP, .db3 or a ROS 2 bag "
+                   "directory), PX4 ULog "
+                   "or a recording directory of cubecal record")
         ->required();
   else
-    app.add_option("file", opt.file, "Input file: delimited text (comma, tab, semicolon or "
-                                     "whitespace), optionally gzip-compressed, NumPy .npy (1-D or 2-D), HDF5 "
-                                     "(--dataset), raw binary (--binary), a ROS bag (ROS 1 .bag, MCAP, .db3 or a ROS 2 "
-                                     "bag directory), a PX4 ULog (.ulg) or a recording directory of cubecal record; - reads standard input")
+    app.add_option(
+           "file", opt.file,
+           "Input file: delimited text (comma, tab, semicolon or "
+           "whitespace), optionally gzip-compressed, NumPy .npy (1-D or 2-D), HDF5 "
+           "(--dataset), raw binary (--binary), a ROS bag (ROS 1 .bag, MCAP, .db3 or a ROS 2 "
+           "bag directory), a PX4 ULog (.ulg) or a recording directory of cubecal record; - reads standard input")
         ->required();
   app.add_option("--columns", opt.columns,
                  "Columns to analyse, by header name or 1-based index (gx,gy,gz or 2,3,4); "
@@ -109,19 +113,22 @@ void add_input_options(CLI::App& app, InputOptions& opt, bool several) {
                  "Time column (seconds), by name or index; default: a column named t, time, "
                  "t_s, timestamp...; for a ROS bag: stamp (header.stamp, default) or record (the log time: when "
                  "the bag recorded each message)");
-  app.add_option("--rate", opt.rate_hz, "Sampling rate in Hz (inferred from the time column "
-                                        "when not given)")
+  app.add_option("--rate", opt.rate_hz,
+                 "Sampling rate in Hz (inferred from the time column "
+                 "when not given)")
       ->check(positive_number());
   app.add_option("--skip-rows", opt.skip_rows, "Lines to skip before the header/data (preamble)")
       ->check(whole_number(0, 1e9));
-  app.add_option("--lsb", opt.lsb, "Counts per unit: values are divided by this (raw counts "
-                                   "to physical units); one for every column or one per column in their "
-                                   "order, e.g. 131,131,131,16384,16384,16384");
-  app.add_option("--gaps", opt.gaps, "What to do with time gaps or jitter beyond 1 % of the "
-                                     "period: error (default) or split (analyse contiguous "
-                                     "segments and combine); dev and davar also take skip (empty fields, NaN "
-                                     "and gaps of whole periods are missing samples, left out of the OADEV "
-                                     "terms that need them, as AllanTools' gradev)")
+  app.add_option("--lsb", opt.lsb,
+                 "Counts per unit: values are divided by this (raw counts "
+                 "to physical units); one for every column or one per column in their "
+                 "order, e.g. 131,131,131,16384,16384,16384");
+  app.add_option("--gaps", opt.gaps,
+                 "What to do with time gaps or jitter beyond 1 % of the "
+                 "period: error (default) or split (analyse contiguous "
+                 "segments and combine); dev and davar also take skip (empty fields, NaN "
+                 "and gaps of whole periods are missing samples, left out of the OADEV "
+                 "terms that need them, as AllanTools' gradev)")
       ->check(CLI::IsMember({"error", "split", "skip"}));
   app.add_option("--threads", opt.threads, "Worker threads (default: all cores)")->check(whole_number(0, 4096));
   app.add_option("--topic", opt.topics,
@@ -167,15 +174,16 @@ ChannelUnits units_for(const std::string& unit_option, const io::Series& s) {
     std::string said;
     for (std::size_t i = 0; i < s.units.size(); ++i) {
       const auto u = parse_unit(s.units[i]);
-      if (!u) throw UsageError(s.file + ": channel " + s.names[i] + " is in " + s.units[i] + ", which is not a unit of noise terms: give --unit (" +
-                                 known_units() + ")");
+      if (!u)
+        throw UsageError(s.file + ": channel " + s.names[i] + " is in " + s.units[i] +
+                         ", which is not a unit of noise terms: give --unit (" + known_units() + ")");
       r.units.push_back(*u);
       const bool run = i > 0 && s.units[i] == s.units[i - 1];
       said += (run ? "," : said.empty() ? "" : "; ") + s.names[i];
       if (i + 1 == s.units.size() || s.units[i + 1] != s.units[i]) said += " " + s.units[i];
     }
-    r.note = "cubecal: note: " + s.file + ": units from " + (s.units_from.empty() ? "the message types" : s.units_from) +
-             ": " + said + " (--unit overrides)";
+    r.note = "cubecal: note: " + s.file + ": units from " +
+             (s.units_from.empty() ? "the message types" : s.units_from) + ": " + said + " (--unit overrides)";
     return r;
   }
   const InferredUnits inferred = infer_units(s.names);
@@ -198,7 +206,8 @@ ChannelUnits units_for(const std::string& unit_option, const io::Series& s) {
     said += (said.empty() ? "" : "; ") + cols + " " + inferred.units[i].name;
     i = j;
   }
-  return {inferred.units, "cubecal: note: " + s.file + ": units from the column names: " + said + " (--unit overrides)"};
+  return {inferred.units,
+          "cubecal: note: " + s.file + ": units from the column names: " + said + " (--unit overrides)"};
 }
 
 TauGrid parse_taus(const std::string& spec) {
@@ -214,7 +223,8 @@ std::vector<double> parse_lsb_list(const std::string& list) {
   for (const auto& v : split_list(list)) {
     const auto x = finite_number(v);
     if (!x || !(*x > 0.0))
-      throw UsageError("--lsb: '" + v + "' is not a positive number of counts per unit (give one for every "
+      throw UsageError("--lsb: '" + v +
+                       "' is not a positive number of counts per unit (give one for every "
                        "column, or one per column: 131,131,131,16384,16384,16384)");
     lsb.push_back(*x);
   }
@@ -228,21 +238,20 @@ io::SeriesOptions to_series_options(const InputOptions& opt) {
   s.table.skip_rows = opt.skip_rows;
   s.table.threads = opt.threads;
   s.time_col = opt.time_col;
-  if (opt.rate_hz < 0.0 || !std::isfinite(opt.rate_hz))
-    throw UsageError("--rate must be a positive number of Hz");
+  if (opt.rate_hz < 0.0 || !std::isfinite(opt.rate_hz)) throw UsageError("--rate must be a positive number of Hz");
   s.rate_hz = opt.rate_hz;
   s.lsb = parse_lsb_list(opt.lsb);
   s.gaps = opt.gaps == "split" ? io::GapPolicy::split : opt.gaps == "skip" ? io::GapPolicy::skip : io::GapPolicy::error;
   if (s.gaps == io::GapPolicy::skip && !opt.missing_samples)
-    throw UsageError("--gaps skip: this command needs every sample (missing samples are skipped by dev and "
-                     "davar, for OADEV); use --gaps split to analyze the contiguous pieces");
+    throw UsageError(
+        "--gaps skip: this command needs every sample (missing samples are skipped by dev and "
+        "davar, for OADEV); use --gaps split to analyze the contiguous pieces");
   s.topics = opt.topics;
   s.dataset = opt.dataset;
   if (opt.binary.empty()) {
     if (opt.header_bytes != 0) throw UsageError("--header-bytes: applies to raw binary input: give --binary TYPES");
   } else {
-    if (opt.skip_rows != 0)
-      throw UsageError("--skip-rows: counts text lines; for raw binary give --header-bytes N");
+    if (opt.skip_rows != 0) throw UsageError("--skip-rows: counts text lines; for raw binary give --header-bytes N");
     s.binary = io::parse_raw_layout(opt.binary, opt.header_bytes);
   }
   return s;

@@ -13,18 +13,18 @@ namespace cubecal::cli {
 struct InputOptions {
   std::string file;
   std::vector<std::string> files;  // commands that take several records (turnon, compare)
-  std::string columns;      // "gx,gy,gz" or "2,3,4"
+  std::string columns;             // "gx,gy,gz" or "2,3,4"
   std::string time_col;
   double rate_hz = 0.0;
   std::size_t skip_rows = 0;
-  std::string lsb;          // "131" or "131,131,131,16384,16384,16384"; empty: 1
+  std::string lsb;  // "131" or "131,131,131,16384,16384,16384"; empty: 1
   std::string gaps = "error";
-  bool missing_samples = false;   // the command takes --gaps skip (dev, davar)
+  bool missing_samples = false;  // the command takes --gaps skip (dev, davar)
   unsigned threads = 0;
   std::vector<std::string> topics;  // ROS bags: --topic (repeatable)
-  std::string dataset;            // HDF5: --dataset PATH
-  std::string binary;             // raw binary frame: "int16le,int16le,float32le"
-  std::size_t header_bytes = 0;   // skipped before the first frame (--binary only)
+  std::string dataset;              // HDF5: --dataset PATH
+  std::string binary;               // raw binary frame: "int16le,int16le,float32le"
+  std::size_t header_bytes = 0;     // skipped before the first frame (--binary only)
 };
 
 // Registers FILE (or FILE... when `several`) and the reader options.

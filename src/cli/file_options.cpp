@@ -13,7 +13,8 @@ namespace cubecal::cli {
 
 namespace {
 
-constexpr std::array<std::string_view, 8> kKeys{"rate", "skip-rows", "skip", "columns", "time-col", "lsb", "unit", "gaps"};
+constexpr std::array<std::string_view, 8> kKeys{"rate",     "skip-rows", "skip", "columns",
+                                                "time-col", "lsb",       "unit", "gaps"};
 
 bool known_key(std::string_view k) { return std::find(kKeys.begin(), kKeys.end(), k) != kKeys.end(); }
 
@@ -95,7 +96,8 @@ FileSpec parse_file_spec(const std::string& arg, const InputOptions& defaults, c
       if (!(f.input.rate_hz > 0.0)) throw UsageError(bad(arg, "rate=" + value + " is not a positive number of Hz"));
     } else if (canonical == "skip-rows") {
       const double n = number(arg, key, value);
-      if (n != std::floor(n) || n > 1e9) throw UsageError(bad(arg, key + "=" + value + " is not a whole number of lines"));
+      if (n != std::floor(n) || n > 1e9)
+        throw UsageError(bad(arg, key + "=" + value + " is not a whole number of lines"));
       f.input.skip_rows = static_cast<std::size_t>(n);
     } else if (canonical == "columns") {
       f.input.columns = value;

@@ -12,8 +12,8 @@ namespace cubecal::cli {
 // One record argument with the options it is read with.
 struct FileSpec {
   std::string path;
-  InputOptions input;  // the command's reader options, overridden by the file's own
-  std::string unit;    // the command's --unit, or the file's unit=
+  InputOptions input;     // the command's reader options, overridden by the file's own
+  std::string unit;       // the command's --unit, or the file's unit=
   bool own_unit = false;  // unit= given for this file
 };
 

@@ -65,8 +65,8 @@ void FrameEncoder::encode(std::span<const double> values, std::string& out) cons
       store(out, std::bit_cast<std::uint32_t>(static_cast<float>(v)), n, spec_.big_endian);
       continue;
     }
-    const bool is_signed = f.type == FieldType::i8 || f.type == FieldType::i16 || f.type == FieldType::i32 ||
-                           f.type == FieldType::i64;
+    const bool is_signed =
+        f.type == FieldType::i8 || f.type == FieldType::i16 || f.type == FieldType::i32 || f.type == FieldType::i64;
     const double r = std::round(v);
     const double bits = static_cast<double>(8 * n);
     const double lo = is_signed ? -std::ldexp(1.0, static_cast<int>(bits) - 1) : 0.0;
@@ -74,8 +74,8 @@ void FrameEncoder::encode(std::span<const double> values, std::string& out) cons
     if (!(r >= lo && r < hi))
       throw UsageError("frame", "value " + std::to_string(v) + " of field '" + f.name + "' does not fit " +
                                     type_name(f.type) + ": use a wider type, or f32/f64 for values in physical units");
-    const std::uint64_t raw = is_signed ? static_cast<std::uint64_t>(static_cast<std::int64_t>(r))
-                                        : static_cast<std::uint64_t>(r);
+    const std::uint64_t raw =
+        is_signed ? static_cast<std::uint64_t>(static_cast<std::int64_t>(r)) : static_cast<std::uint64_t>(r);
     store(out, raw, n, spec_.big_endian);
   }
   if (spec_.checksum != acquire::Checksum::none) {

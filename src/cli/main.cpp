@@ -20,8 +20,12 @@ constexpr int kExitInternal = 1;
 // The flag of each request field a library UsageError may name.
 std::string usage_message(const cubecal::UsageError& e) {
   static constexpr std::pair<const char*, const char*> kFlags[] = {
-      {"units", "--unit"},          {"lsb", "--model-lsb"}, {"temp_index", "--temp-col"},
-      {"temp_order", "--temp-order"}, {"bias", "--bias"},     {"columns", "--columns"},
+      {"units", "--unit"},
+      {"lsb", "--model-lsb"},
+      {"temp_index", "--temp-col"},
+      {"temp_order", "--temp-order"},
+      {"bias", "--bias"},
+      {"columns", "--columns"},
       {"unit", "--unit"},
       {"reference_columns", "--ref-columns"},
       {"schedule", "--schedule"},
@@ -97,8 +101,9 @@ int main(int argc, char** argv) {
   // a time by different threads are kept in per-thread arenas and the peak
   // memory holds several of them instead of one.
   mallopt(M_MMAP_THRESHOLD, 1 << 20);
-  CLI::App app{"cubecal: stability statistics, noise models and calibration for gyroscopes, "
-               "magnetometers, accelerometers and clocks"};
+  CLI::App app{
+      "cubecal: stability statistics, noise models and calibration for gyroscopes, "
+      "magnetometers, accelerometers and clocks"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "cubecal " CUBECAL_VERSION);
   // Repeatable runs: options from a TOML/INI file, one section per command
@@ -137,8 +142,9 @@ int main(int argc, char** argv) {
     return fail(config_message(e, config->count() ? config->as<std::string>() : std::string("--config")),
                 kExitBadInput);
   } catch (const CLI::ParseError& e) {
-    std::string where = app.get_subcommands().empty() ? std::string("cubecal --help")
-                                                      : "cubecal " + app.get_subcommands().front()->get_name() + " --help";
+    std::string where = app.get_subcommands().empty()
+                            ? std::string("cubecal --help")
+                            : "cubecal " + app.get_subcommands().front()->get_name() + " --help";
     return fail(std::string(e.what()) + " (see " + where + ")", kExitBadInput);
   }
 

@@ -42,15 +42,16 @@ std::size_t stream_window(const MemoryOptions& opt, std::size_t budget, std::siz
     return std::min(bound, std::max<std::size_t>(std::bit_ceil(samples_hint), 4096));
   }
   if (opt.window < 16 || (opt.window & (opt.window - 1)) != 0 || opt.window > (std::size_t{1} << 30))
-    throw UsageError("window", std::to_string(opt.window) +
-                                   " is not a power of two from 16 to 2^30 (e.g. 64, 4096 or 1048576)");
+    throw UsageError("window",
+                     std::to_string(opt.window) + " is not a power of two from 16 to 2^30 (e.g. 64, 4096 or 1048576)");
   return opt.window;
 }
 
 std::size_t parse_memory_size(const std::string& text) {
   const auto bad = [&] {
-    return UsageError("memory", "'" + text + "' is not a size: give a number of bytes with an optional k, M, G or T "
-                                "(powers of 1024), e.g. 2G or 512M");
+    return UsageError("memory", "'" + text +
+                                    "' is not a size: give a number of bytes with an optional k, M, G or T "
+                                    "(powers of 1024), e.g. 2G or 512M");
   };
   if (text.empty()) throw bad();
   std::size_t pos = 0;
@@ -127,10 +128,11 @@ std::size_t in_memory_bytes(const std::string& file, const io::SeriesOptions& op
 
 std::string recording_beyond_budget(const std::string& file, std::size_t need, std::size_t budget) {
   if (need <= budget || !io::looks_like_recording(file)) return {};
-  return fmt::format("cubecal: warning: reading {} whole would take about {:.0f} MB, more than the memory budget "
-                     "({:.0f} MB, --memory), and a recording directory is read whole unless --stream is given "
-                     "(which streams one closed segment)\n",
-                     file, static_cast<double>(need) / 1e6, static_cast<double>(budget) / 1e6);
+  return fmt::format(
+      "cubecal: warning: reading {} whole would take about {:.0f} MB, more than the memory budget "
+      "({:.0f} MB, --memory), and a recording directory is read whole unless --stream is given "
+      "(which streams one closed segment)\n",
+      file, static_cast<double>(need) / 1e6, static_cast<double>(budget) / 1e6);
 }
 
 }  // namespace cubecal::cli

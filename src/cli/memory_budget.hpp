@@ -12,7 +12,7 @@ namespace cubecal::cli {
 
 struct MemoryOptions {
   bool stream = false;
-  std::string memory;  // "2G", "512M", "300000k", bytes; empty: half the physical memory
+  std::string memory;      // "2G", "512M", "300000k", bytes; empty: half the physical memory
   std::size_t window = 0;  // the stream's window bound (a power of two >= 16); 0: from the budget
 };
 

@@ -30,11 +30,11 @@ std::string excluded_taus_warning(const TauListOutcome& t, const std::vector<Exc
   };
   std::string line = "cubecal: warning: --taus:";
   if (!t.excluded.empty())
-    line += fmt::format(" {} listed tau{} not evaluated: {}", t.excluded.size(),
-                        t.excluded.size() == 1 ? "" : "s", list(t.excluded));
+    line += fmt::format(" {} listed tau{} not evaluated: {}", t.excluded.size(), t.excluded.size() == 1 ? "" : "s",
+                        list(t.excluded));
   if (!model.empty())
-    line += fmt::format("{} {} listed tau{} left out of the model fit: {}", t.excluded.empty() ? "" : ";",
-                        model.size(), model.size() == 1 ? "" : "s", list(model));
+    line += fmt::format("{} {} listed tau{} left out of the model fit: {}", t.excluded.empty() ? "" : ";", model.size(),
+                        model.size() == 1 ? "" : "s", list(model));
   return line + " (record longer data or list smaller taus)";
 }
 
@@ -50,26 +50,25 @@ void write_dev_table(std::ostream& out, const pipeline::DevResult& r, const DevC
   for (std::size_t c = 0; c < r.channels.size(); ++c) {
     const auto& ch = r.channels[c];
     if (c > 0) out << '\n';
-    fmt::print(out, "{} — {} ({} data), {} samples at {} Hz", ch.name, to_string(r.stat),
-               to_string(r.type), r.samples, rate_text(r.rate_hz));
-    if (r.segments > 1)
-      fmt::print(out, ", {} segments split at gaps ({} long enough)", r.segments, r.segments_used);
+    fmt::print(out, "{} — {} ({} data), {} samples at {} Hz", ch.name, to_string(r.stat), to_string(r.type), r.samples,
+               rate_text(r.rate_hz));
+    if (r.segments > 1) fmt::print(out, ", {} segments split at gaps ({} long enough)", r.segments, r.segments_used);
     if (ctx.intervals)
-      fmt::print(out, "\n{:>8} {:>13} {:>9} {:>6} {:>9} {:>13} {:>13} {:>13}\n", "AF", "tau [s]",
-                 "n", "alpha", "edf", "min", to_string(r.stat), "max");
+      fmt::print(out, "\n{:>8} {:>13} {:>9} {:>6} {:>9} {:>13} {:>13} {:>13}\n", "AF", "tau [s]", "n", "alpha", "edf",
+                 "min", to_string(r.stat), "max");
     else
       fmt::print(out, "\n{:>8} {:>13} {:>9} {:>13}\n", "AF", "tau [s]", "n", to_string(r.stat));
     for (const auto& p : ch.points) {
       if (ctx.intervals)
-        fmt::print(out, "{:>8} {:>13.6g} {:>9} {:>6} {:>9.4g} {:>13.5e} {:>13.5e} {:>13.5e}\n", p.m,
-                   p.tau, p.n, p.alpha, p.edf, p.lo, p.dev, p.hi);
+        fmt::print(out, "{:>8} {:>13.6g} {:>9} {:>6} {:>9.4g} {:>13.5e} {:>13.5e} {:>13.5e}\n", p.m, p.tau, p.n,
+                   p.alpha, p.edf, p.lo, p.dev, p.hi);
       else
         fmt::print(out, "{:>8} {:>13.6g} {:>9} {:>13.5e}\n", p.m, p.tau, p.n, p.dev);
     }
   }
   if (ctx.intervals)
-    fmt::print(out, "\nmin/max: {:.1f} % confidence interval, {} EDF, noise type alpha per tau\n",
-               100.0 * ctx.ci, ctx.edf_method);
+    fmt::print(out, "\nmin/max: {:.1f} % confidence interval, {} EDF, noise type alpha per tau\n", 100.0 * ctx.ci,
+               ctx.edf_method);
   if (r.window_bound > 0 && !r.channels.empty()) {
     // Which factors were summed at which stride (the same for every channel).
     const auto& ch = r.channels[0];
@@ -79,8 +78,8 @@ void write_dev_table(std::ostream& out, const pipeline::DevResult& r, const DevC
       fmt::print(out,
                  "streamed in one pass (window bound {} samples): AF up to {} fully overlapping, from {} on "
                  "at a stride of 2^L samples ({} at AF {}), AF rounded to a multiple of the stride\n",
-                 r.window_bound, first_strided > 0 ? ch.points[first_strided - 1].m : 0,
-                 ch.points[first_strided].m, ch.strides.back(), ch.points.back().m);
+                 r.window_bound, first_strided > 0 ? ch.points[first_strided - 1].m : 0, ch.points[first_strided].m,
+                 ch.strides.back(), ch.points.back().m);
     else
       fmt::print(out, "streamed in one pass (window bound {} samples): every AF {}\n", r.window_bound,
                  r.stat == Stat::oadev || r.stat == Stat::ohdev ? "fully overlapping" : "non-overlapping");

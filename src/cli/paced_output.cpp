@@ -34,9 +34,7 @@ constexpr std::int64_t kMinWakeNs = 1'000'000;
 
 }  // namespace
 
-PacedOutput::PacedOutput(int fd, double rate_hz) : fd_(fd), rate_hz_(rate_hz) {
-  std::signal(SIGPIPE, SIG_IGN);
-}
+PacedOutput::PacedOutput(int fd, double rate_hz) : fd_(fd), rate_hz_(rate_hz) { std::signal(SIGPIPE, SIG_IGN); }
 
 std::int64_t PacedOutput::due_ns(std::size_t k) const {
   // k / rate from t0 every time (no accumulated sum): exact to a few

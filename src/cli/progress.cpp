@@ -16,9 +16,7 @@
 namespace cubecal::cli {
 
 Progress::Progress(bool worth_it, bool long_work)
-    : terminal_(::isatty(STDERR_FILENO) == 1),
-      start_(std::chrono::steady_clock::now()),
-      stage_start_(start_) {
+    : terminal_(::isatty(STDERR_FILENO) == 1), start_(std::chrono::steady_clock::now()), stage_start_(start_) {
   active_ = (worth_it && terminal_) || long_work;
 }
 
@@ -46,8 +44,7 @@ void Progress::fraction(double f) {
   // A log gets a line per tenth; a terminal every percent.
   if (pct == last_percent_ || (!terminal_ && pct / 10 == last_percent_ / 10)) return;
   last_percent_ = pct;
-  const double elapsed =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - stage_start_).count();
+  const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - stage_start_).count();
   std::string eta;
   if (f >= 0.01 && f < 1.0) eta = ", " + format_duration(elapsed * (1.0 - f) / f) + " left";
   if (terminal_)
@@ -64,7 +61,9 @@ void Progress::count(double done, const char* unit) {
   last_count_ = now;
   const double elapsed = std::chrono::duration<double>(now - stage_start_).count();
   const auto si = [](double v) {
-    return v >= 1e9 ? fmt::format("{:.2f} G", v / 1e9) : v >= 1e6 ? fmt::format("{:.1f} M", v / 1e6) : fmt::format("{:.0f}", v);
+    return v >= 1e9   ? fmt::format("{:.2f} G", v / 1e9)
+           : v >= 1e6 ? fmt::format("{:.1f} M", v / 1e6)
+                      : fmt::format("{:.0f}", v);
   };
   std::string rate;
   if (elapsed > 0.5) rate = fmt::format(", {} {}/s", si(done / elapsed), unit);

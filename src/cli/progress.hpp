@@ -18,8 +18,8 @@ class Progress {
   Progress(const Progress&) = delete;
   Progress& operator=(const Progress&) = delete;
 
-  void stage(const std::string& what);    // "reading log.csv (200 MB)"
-  void fraction(double f);                // 0..1 of the current stage: percent and ETA
+  void stage(const std::string& what);  // "reading log.csv (200 MB)"
+  void fraction(double f);              // 0..1 of the current stage: percent and ETA
   // Work of unknown total (a pipe): on a terminal, the count so far and its
   // rate, "12.3 M samples, 45.6 M samples/s", at most four times a second.
   void count(double done, const char* unit);

@@ -82,8 +82,10 @@ char separator(Delimiter d) {
 // Padding allowed around a field ("1, 2"): blanks that are not the separator.
 template <Delimiter D>
 bool is_pad(char c) {
-  if constexpr (D == Delimiter::tab) return c == ' ';
-  else return c == ' ' || c == '\t';
+  if constexpr (D == Delimiter::tab)
+    return c == ' ';
+  else
+    return c == ' ' || c == '\t';
 }
 
 bool is_pad(Delimiter d, char c) { return c == ' ' || (c == '\t' && d != Delimiter::tab); }
@@ -211,8 +213,8 @@ Layout detect_layout(std::string_view text, const std::string& file, std::size_t
   std::size_t line_no = 0;
   for (; line_no < skip_rows; ++line_no) {
     if (p == end) {
-      throw_no_rows(file, "the file has " + std::to_string(line_no) + " lines and " +
-                              std::to_string(skip_rows) + " are skipped");
+      throw_no_rows(
+          file, "the file has " + std::to_string(line_no) + " lines and " + std::to_string(skip_rows) + " are skipped");
     }
     p = next_line(p, end).next;
   }
@@ -233,9 +235,8 @@ Layout detect_layout(std::string_view text, const std::string& file, std::size_t
   // A header holds names only: a line mixing numbers and words is a data
   // row with a bad field (reported there), not a header that would silently
   // swallow the first sample.
-  const bool any_number = std::any_of(fields.begin(), fields.end(), [](const FieldSpan& f) {
-    return f.begin != f.end && !is_name(f);
-  });
+  const bool any_number =
+      std::any_of(fields.begin(), fields.end(), [](const FieldSpan& f) { return f.begin != f.end && !is_name(f); });
   lay.has_header = !any_number && std::any_of(fields.begin(), fields.end(), is_name);
   if (!lay.has_header) {
     lay.first_data_line = line_no;
@@ -290,7 +291,8 @@ std::size_t resolve_column(const std::string& spec, const Layout& lay, const std
   // An error about a column points at the header, or at the first data
   // row (where the field count comes from) when there is none.
   const std::size_t line = lay.has_header ? lay.header_line : lay.first_data_line;
-  const bool numeric = !spec.empty() && std::all_of(spec.begin(), spec.end(), [](char c) { return c >= '0' && c <= '9'; });
+  const bool numeric =
+      !spec.empty() && std::all_of(spec.begin(), spec.end(), [](char c) { return c >= '0' && c <= '9'; });
   if (numeric) {
     std::size_t k = 0;
     const auto [ptr, ec] = std::from_chars(spec.data(), spec.data() + spec.size(), k);
@@ -359,8 +361,8 @@ inline const char* fast_row(const char* p, const char* end, std::size_t total_co
 // Parses the rows in [p, end) into dst[field][row] (dst[field] is null for
 // fields not selected). Stops at the first fault.
 template <Delimiter D>
-void parse_chunk(const char* p, const char* end, std::size_t total_columns, double* const* dst,
-                 ChunkResult& r, bool missing_as_nan) {
+void parse_chunk(const char* p, const char* end, std::size_t total_columns, double* const* dst, ChunkResult& r,
+                 bool missing_as_nan) {
   constexpr bool ws = D == Delimiter::whitespace;
   constexpr char sep = D == Delimiter::comma ? ',' : D == Delimiter::tab ? '\t' : ';';
   const auto fail = [&r](Fault f, const char* where, std::size_t field) {
@@ -501,9 +503,7 @@ constexpr std::size_t kWindowBytes = std::size_t{4} << 20;
 constexpr std::size_t kCopyBytes = std::size_t{256} << 10;
 constexpr std::uintptr_t kHugePage = std::uintptr_t{2} << 20;
 
-const char* huge_floor(const char* p) {
-  return p - reinterpret_cast<std::uintptr_t>(p) % kHugePage;
-}
+const char* huge_floor(const char* p) { return p - reinterpret_cast<std::uintptr_t>(p) % kHugePage; }
 
 template <class Work>
 void windowed(const char* b, const char* const e, const FileBuffer* pages, const Work& work) {
@@ -586,8 +586,8 @@ std::optional<std::size_t> table_start(std::string_view text) {
   struct Row {
     std::size_t line;  // 0-based physical line
     std::size_t fields;
-    bool names;        // every field a name (a header)
-    bool numbers;      // every field a number
+    bool names;    // every field a name (a header)
+    bool numbers;  // every field a number
   };
   std::vector<Row> rows;
   const char* p = text.data();
@@ -624,8 +624,7 @@ std::string preamble_hint(std::string_view text, const Layout& lay) {
          std::to_string(*start);
 }
 
-[[noreturn]] void throw_fault(std::string_view text, const std::string& file, const Layout& lay,
-                              const ChunkResult& r) {
+[[noreturn]] void throw_fault(std::string_view text, const std::string& file, const Layout& lay, const ChunkResult& r) {
   const Position pos = position_of(text, r.where);
   const char* const text_end = text.data() + text.size();
   const Line line = next_line(pos.line_begin, text_end);
@@ -639,12 +638,11 @@ std::string preamble_hint(std::string_view text, const Layout& lay) {
     const std::size_t found = split_fields(line, lay.delimiter).size();
     const std::string expected = std::to_string(lay.total_columns);
     const std::string preamble = preamble_hint(text, lay);
-    throw InputError(file, pos.line, pos.column,
-                     "row has " + std::to_string(found) + " fields, expected " + expected,
+    throw InputError(file, pos.line, pos.column, "row has " + std::to_string(found) + " fields, expected " + expected,
                      !preamble.empty() ? preamble
-                     : lay.has_header  ? "header has " + expected
-                                       : "the first data row, line " + std::to_string(lay.first_data_line) +
-                                            ", has " + expected);
+                     : lay.has_header
+                         ? "header has " + expected
+                         : "the first data row, line " + std::to_string(lay.first_data_line) + ", has " + expected);
   }
 
   const std::vector<FieldSpan> fields = split_fields(line, lay.delimiter);
@@ -779,8 +777,7 @@ std::vector<std::vector<double>> parse_rows(std::string_view text, const std::st
   return columns;
 }
 
-Table table_from_layout(const Layout& lay, const std::string& file, const TableOptions& opt,
-                        std::size_t bytes) {
+Table table_from_layout(const Layout& lay, const std::string& file, const TableOptions& opt, std::size_t bytes) {
   Table t;
   t.file = file;
   t.delimiter = lay.delimiter;

@@ -166,8 +166,7 @@ void inflate_gzip(const std::string& path, std::string_view in, HeapBlock& out, 
     }
     if (rc == Z_BUF_ERROR) continue;  // output full: grown at the top of the loop
     if (rc == Z_MEM_ERROR) throw std::bad_alloc();
-    throw InputError(path, 0, 0,
-                     "corrupt gzip data " + at() + ": " + (zs.msg != nullptr ? zs.msg : "inflate failed"),
+    throw InputError(path, 0, 0, "corrupt gzip data " + at() + ": " + (zs.msg != nullptr ? zs.msg : "inflate failed"),
                      "the file is damaged; copy or download it again");
   }
 }
@@ -224,8 +223,8 @@ void read_all(const std::string& path, int fd, HeapBlock& out, Content content) 
 
 bool is_known_binary_format(std::string_view head) noexcept {
   return (head.size() >= 6 && head.substr(0, 6) == std::string_view("\x93NUMPY", 6)) ||
-         head.starts_with(kRos1BagMagic) || looks_like_mcap(head) || looks_like_sqlite(head) ||
-         looks_like_ulog(head) || looks_like_hdf5(head);
+         head.starts_with(kRos1BagMagic) || looks_like_mcap(head) || looks_like_sqlite(head) || looks_like_ulog(head) ||
+         looks_like_hdf5(head);
 }
 
 struct FileBuffer::Impl {
@@ -308,9 +307,7 @@ FileBuffer::FileBuffer(FileBuffer&&) noexcept = default;
 FileBuffer& FileBuffer::operator=(FileBuffer&&) noexcept = default;
 FileBuffer::~FileBuffer() = default;
 
-std::string_view FileBuffer::view() const noexcept {
-  return impl_ ? impl_->text : std::string_view{};
-}
+std::string_view FileBuffer::view() const noexcept { return impl_ ? impl_->text : std::string_view{}; }
 
 namespace {
 

@@ -34,7 +34,8 @@ namespace cubecal::io {
 
 namespace {
 
-constexpr const char* kWrite = "write a numeric 1-D or 2-D dataset (or a 1-D compound of numbers) with h5py or the HDF5 library";
+constexpr const char* kWrite =
+    "write a numeric 1-D or 2-D dataset (or a 1-D compound of numbers) with h5py or the HDF5 library";
 
 // The serial library is not thread-safe: one reader at a time.
 std::mutex& library_mutex() {
@@ -101,10 +102,8 @@ bool numeric_class(hid_t type) {
 std::string type_text(hid_t type) {
   const std::size_t size = H5Tget_size(type);
   switch (H5Tget_class(type)) {
-    case H5T_INTEGER:
-      return (H5Tget_sign(type) == H5T_SGN_NONE ? "uint" : "int") + std::to_string(8 * size);
-    case H5T_FLOAT:
-      return "float" + std::to_string(8 * size);
+    case H5T_INTEGER: return (H5Tget_sign(type) == H5T_SGN_NONE ? "uint" : "int") + std::to_string(8 * size);
+    case H5T_FLOAT: return "float" + std::to_string(8 * size);
     case H5T_COMPOUND: {
       std::string s = "compound {";
       const int n = H5Tget_nmembers(type);
@@ -117,14 +116,10 @@ std::string type_text(hid_t type) {
       }
       return s + "}";
     }
-    case H5T_STRING:
-      return "string";
-    case H5T_ENUM:
-      return "enum";
-    case H5T_ARRAY:
-      return "array";
-    default:
-      return "other";
+    case H5T_STRING: return "string";
+    case H5T_ENUM: return "enum";
+    case H5T_ARRAY: return "array";
+    default: return "other";
   }
 }
 
@@ -256,8 +251,7 @@ void name_columns(Table& t, std::vector<std::string> names) {
   }
 }
 
-Table read_dataset(hid_t ds, const Dataset& d, const std::string& file, std::size_t file_bytes,
-                   bool missing_as_nan) {
+Table read_dataset(hid_t ds, const Dataset& d, const std::string& file, std::size_t file_bytes, bool missing_as_nan) {
   if (!d.candidate)
     fail(file, "dataset " + d.described() + " is not a numeric 1-D or 2-D dataset or a 1-D compound of numbers");
   Table t = new_table(file, file_bytes);
@@ -328,12 +322,13 @@ Table read_group(hid_t group, const std::string& path, const std::string& file, 
       fail(file, path + " is a group whose member " + d.described() + " is not a numeric 1-D dataset",
            "give a dataset with --dataset PATH, or a group of numeric 1-D datasets of one length");
     if (length && *length != d.dims[0])
-      fail(file, "group " + path + ": " + d.described() + " differs in length from the members before it (" +
-                     std::to_string(*length) + ")",
+      fail(file,
+           "group " + path + ": " + d.described() + " differs in length from the members before it (" +
+               std::to_string(*length) + ")",
            "give one of its datasets with --dataset PATH");
     length = d.dims[0];
-    t.data.push_back(read_doubles(ds.get(), H5T_NATIVE_DOUBLE, static_cast<std::size_t>(d.dims[0]), file_bytes, file,
-                                  member_path));
+    t.data.push_back(
+        read_doubles(ds.get(), H5T_NATIVE_DOUBLE, static_cast<std::size_t>(d.dims[0]), file_bytes, file, member_path));
     names.push_back(m);
   }
   if (names.empty()) fail(file, "group " + path + " holds no datasets", "give a dataset with --dataset PATH");
@@ -367,8 +362,7 @@ Table read_locked(std::string_view bytes, const std::string& file, const std::st
     if (candidates.size() != 1) {
       std::vector<Dataset> shown;
       for (const Dataset* d : candidates) shown.push_back(*d);
-      if (candidates.empty())
-        fail(file, "no numeric 1-D or 2-D dataset; datasets are: " + listed(all), kWrite);
+      if (candidates.empty()) fail(file, "no numeric 1-D or 2-D dataset; datasets are: " + listed(all), kWrite);
       fail(file, std::to_string(candidates.size()) + " numeric datasets: " + listed(shown),
            "choose one with --dataset PATH");
     }
@@ -383,8 +377,7 @@ Table read_locked(std::string_view bytes, const std::string& file, const std::st
     fail(file, "dataset " + dataset + " not found; datasets are: " + listed(datasets_of(f.get())),
          "choose one of them with --dataset PATH");
   }
-  if (H5Iget_type(obj.get()) == H5I_GROUP)
-    return read_group(obj.get(), dataset, file, bytes.size(), missing_as_nan);
+  if (H5Iget_type(obj.get()) == H5I_GROUP) return read_group(obj.get(), dataset, file, bytes.size(), missing_as_nan);
   if (H5Iget_type(obj.get()) != H5I_DATASET)
     fail(file, dataset + " is neither a dataset nor a group", "choose a dataset with --dataset PATH");
   const std::string path = dataset.starts_with('/') ? dataset : "/" + dataset;

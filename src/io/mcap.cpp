@@ -23,8 +23,8 @@ namespace cubecal::io {
 
 namespace {
 
-using detail::BagPlace;
 using detail::bag_error;
+using detail::BagPlace;
 
 constexpr const char* kRepair =
     "the MCAP file is truncated or corrupt: copy it again, or repair it with `mcap recover`";
@@ -80,8 +80,8 @@ class Fields {
   std::string_view take(std::uint64_t n, const char* what) {
     if (n > b_.size() - p_)
       bag_error(at_, pos_ + p_,
-                std::string(kind_) + " record's " + what + " of " + std::to_string(n) + " bytes runs past the record (" +
-                    std::to_string(b_.size() - p_) + " bytes left)");
+                std::string(kind_) + " record's " + what + " of " + std::to_string(n) +
+                    " bytes runs past the record (" + std::to_string(b_.size() - p_) + " bytes left)");
     const std::string_view r = b_.substr(p_, static_cast<std::size_t>(n));
     p_ += static_cast<std::size_t>(n);
     return r;
@@ -100,7 +100,7 @@ class Fields {
 
 struct Record {
   unsigned char op = 0;
-  std::size_t offset = 0;          // of the op code, in the bytes read
+  std::size_t offset = 0;  // of the op code, in the bytes read
   std::string_view content;
   std::size_t content_offset = 0;
 };
@@ -202,7 +202,8 @@ class McapReader {
     const auto it = schemas_.find(id);
     if (it != schemas_.end()) {
       if (it->second.name != name || it->second.encoding != encoding)
-        bag_error(at, r.offset, "schema " + std::to_string(id) + " declared again as another type (" + std::string(name) + ")");
+        bag_error(at, r.offset,
+                  "schema " + std::to_string(id) + " declared again as another type (" + std::string(name) + ")");
       return;
     }
     schemas_[id] = {std::string(name), std::string(encoding)};
@@ -218,16 +219,17 @@ class McapReader {
     const auto known = channels_.find(id);
     if (known != channels_.end()) {
       if (known->second.name != topic || known->second.schema != schema_id || known->second.encoding != encoding)
-        bag_error(at, r.offset, "channel " + std::to_string(id) + " declared again with another topic or schema (" +
-                                    topic + ")");
+        bag_error(at, r.offset,
+                  "channel " + std::to_string(id) + " declared again with another topic or schema (" + topic + ")");
       return;
     }
     std::string type;
     if (schema_id != 0) {
       const auto s = schemas_.find(schema_id);
       if (s == schemas_.end())
-        bag_error(at, r.offset, "channel " + std::to_string(id) + " (" + topic + ") of schema " +
-                                    std::to_string(schema_id) + ", which no record declared before");
+        bag_error(at, r.offset,
+                  "channel " + std::to_string(id) + " (" + topic + ") of schema " + std::to_string(schema_id) +
+                      ", which no record declared before");
       type = s->second.name;
     }
     Channel c;
@@ -237,9 +239,10 @@ class McapReader {
     try {
       c.topic = log_.topic(topic, type, encoding);
     } catch (const InputError&) {
-      bag_error(at, r.offset, "channel " + std::to_string(id) + " declares topic " + topic + " as " + type + " (" +
-                                  encoding + "), another channel as " + log_.topics[find_topic(topic)].type + " (" +
-                                  log_.topics[find_topic(topic)].encoding + ")");
+      bag_error(at, r.offset,
+                "channel " + std::to_string(id) + " declares topic " + topic + " as " + type + " (" + encoding +
+                    "), another channel as " + log_.topics[find_topic(topic)].type + " (" +
+                    log_.topics[find_topic(topic)].encoding + ")");
     }
     channels_[id] = c;
   }
@@ -283,14 +286,15 @@ class McapReader {
     const std::size_t records_at = f.position() + 8;
     const std::string_view records = f.bytes64("records");
     if (size > SIZE_MAX / 2) bag_error(top, r.offset, "chunk of " + std::to_string(size) + " uncompressed bytes");
-    const std::string plain = detail::decompress_mcap_chunk(compression, records, static_cast<std::size_t>(size), top,
-                                                            r.offset);
+    const std::string plain =
+        detail::decompress_mcap_chunk(compression, records, static_cast<std::size_t>(size), top, r.offset);
     if (crc != 0 && crc != crc32_of(plain))
       bag_error(top, r.offset, "the chunk's CRC does not match its " + std::to_string(plain.size()) + " bytes");
     const bool compressed = !compression.empty();
     const BagPlace inner{&log_.file, compressed ? 0 : records_at,
-                         compressed ? " of the " + std::string(compression) + " chunk at byte " + std::to_string(r.offset)
-                                    : std::string(),
+                         compressed
+                             ? " of the " + std::string(compression) + " chunk at byte " + std::to_string(r.offset)
+                             : std::string(),
                          kRepair};
     std::size_t pos = 0;
     while (pos < plain.size()) {
@@ -320,8 +324,9 @@ class McapReader {
     const std::size_t map_at = f.position() + 4;
     const std::string_view counts = f.bytes32("channel_message_counts");
     if (counts.size() % 10 != 0)
-      bag_error(at, map_at, "channel_message_counts of " + std::to_string(counts.size()) +
-                                " bytes, not a whole number of (uint16, uint64) entries");
+      bag_error(at, map_at,
+                "channel_message_counts of " + std::to_string(counts.size()) +
+                    " bytes, not a whole number of (uint16, uint64) entries");
     Fields e(counts, at, map_at, "statistics");
     while (e.position() < map_at + counts.size()) {
       const std::uint16_t id = e.u16("channel id");

@@ -22,8 +22,7 @@ constexpr const char* kWrite = "write a 1-D or 2-D array of numbers with numpy.s
 // stopped understanding.
 class HeaderParser {
  public:
-  HeaderParser(std::string_view text, std::size_t base, const std::string& file)
-      : s_(text), base_(base), file_(file) {}
+  HeaderParser(std::string_view text, std::size_t base, const std::string& file) : s_(text), base_(base), file_(file) {}
 
   struct Header {
     std::string descr;
@@ -116,8 +115,10 @@ class HeaderParser {
       i_ = static_cast<std::size_t>(p - s_.data());
       v.push_back(n);
       skip_space();
-      if (peek() == ',') ++i_;
-      else if (peek() != ')') fail(i_, "',' or ')' expected in the shape");
+      if (peek() == ',')
+        ++i_;
+      else if (peek() != ')')
+        fail(i_, "',' or ')' expected in the shape");
     }
   }
 
@@ -151,8 +152,7 @@ std::optional<SampleType> npy_type(const std::string& descr) {
       t.kind = SampleKind::unsigned_int;
       if (bytes != 1 && bytes != 2 && bytes != 4 && bytes != 8) return std::nullopt;
       break;
-    default:
-      return std::nullopt;
+    default: return std::nullopt;
   }
   if (bytes > 1 && order == '|') return std::nullopt;
   return t;
@@ -189,8 +189,8 @@ Table read_npy(std::string_view bytes, const std::string& file, bool missing_as_
     header_at = 12;
   }
   if (header_len > bytes.size() - header_at) {
-    fail(bytes.size(), "the file ends inside the header (" + std::to_string(header_len) + " bytes declared at byte offset " +
-                           std::to_string(header_at) + ")");
+    fail(bytes.size(), "the file ends inside the header (" + std::to_string(header_len) +
+                           " bytes declared at byte offset " + std::to_string(header_at) + ")");
   }
   HeaderParser parser(bytes.substr(header_at, header_len), header_at, file);
   const HeaderParser::Header h = parser.parse();
@@ -211,7 +211,8 @@ Table read_npy(std::string_view bytes, const std::string& file, bool missing_as_
   const std::size_t cols = shape.size() == 2 ? shape[1] : 1;
   if (cols == 0) parser.fail(0, "shape " + shape_text(shape) + " has no columns");
   constexpr std::size_t kMax = std::numeric_limits<std::size_t>::max();
-  if (rows > kMax / cols || rows * cols > kMax / type->bytes) parser.fail(0, "shape " + shape_text(shape) + " is too large");
+  if (rows > kMax / cols || rows * cols > kMax / type->bytes)
+    parser.fail(0, "shape " + shape_text(shape) + " is too large");
   const std::size_t need = rows * cols * type->bytes;
   const std::size_t have = bytes.size() - data_at;
   if (have < need) {

@@ -47,15 +47,16 @@ void check_output_file(const std::string& path, bool force, const std::string& o
   const fs::path p(path);
   if (path.empty()) throw UsageError(option, "the output file name is empty");
   const fs::file_status st = fs::status(p, ec);
-  if (fs::is_directory(st))
-    throw UsageError(option, path + " is a directory: give a file name for the result");
-  if (fs::exists(st) && !force) throw UsageError(option, path + " already exists (choose another name or add --force to replace it)");
+  if (fs::is_directory(st)) throw UsageError(option, path + " is a directory: give a file name for the result");
+  if (fs::exists(st) && !force)
+    throw UsageError(option, path + " already exists (choose another name or add --force to replace it)");
   const fs::path parent = p.parent_path();
   if (!parent.empty()) {
     const fs::file_status ps = fs::status(parent, ec);
     if (!fs::exists(ps))
       throw UsageError(option, "the directory " + parent.string() + " of " + path + " does not exist: create it first");
-    if (!fs::is_directory(ps)) throw UsageError(option, parent.string() + " is not a directory, so " + path + " cannot be written");
+    if (!fs::is_directory(ps))
+      throw UsageError(option, parent.string() + " is not a directory, so " + path + " cannot be written");
   }
   probe_writable(parent.empty() ? fs::path(".") : parent, option, parent_text(parent));
 }
@@ -82,7 +83,8 @@ void prepare_output_dir(const std::string& dir, bool force, const std::vector<st
   if (!force)
     for (const std::string& f : files)
       if (fs::exists(d / f, ec))
-        throw UsageError(option, (d / f).string() + " already exists (choose another directory or add --force to replace it)");
+        throw UsageError(option,
+                         (d / f).string() + " already exists (choose another directory or add --force to replace it)");
   probe_writable(d, option, dir);
 }
 

@@ -32,11 +32,10 @@ RawLayout parse_raw_layout(const std::string& types, std::size_t header_bytes) {
   return layout;
 }
 
-Table read_raw_binary(std::string_view bytes, const std::string& file, const RawLayout& layout,
-                      bool missing_as_nan) {
+Table read_raw_binary(std::string_view bytes, const std::string& file, const RawLayout& layout, bool missing_as_nan) {
   const std::size_t frame = layout.frame_bytes();
-  const std::string types_hint = "the frame of " + std::to_string(layout.channels.size()) + " channels is " +
-                                 std::to_string(frame) + " bytes";
+  const std::string types_hint =
+      "the frame of " + std::to_string(layout.channels.size()) + " channels is " + std::to_string(frame) + " bytes";
   if (layout.header_bytes > bytes.size()) {
     throw InputError(file, 0, 0,
                      "the file has " + std::to_string(bytes.size()) + " bytes, fewer than the " +

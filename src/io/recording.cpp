@@ -77,7 +77,8 @@ UtcTime parse_utc(const std::string& text, const std::string& manifest, int segm
   std::size_t p = static_cast<std::size_t>(used);
   if (p < text.size() && text[p] == '.') {
     double scale = 0.1;
-    for (++p; p < text.size() && text[p] >= '0' && text[p] <= '9'; ++p, scale /= 10) t.fraction += (text[p] - '0') * scale;
+    for (++p; p < text.size() && text[p] >= '0' && text[p] <= '9'; ++p, scale /= 10)
+      t.fraction += (text[p] - '0') * scale;
   }
   if (p + 1 != text.size() || text[p] != 'Z') throw bad();
   return t;
@@ -106,15 +107,15 @@ enum class Timing {
 };
 
 struct Plan {
-  std::string manifest;              // DIR/manifest.json, for errors
-  std::vector<std::string> header;   // host_mono_s, host_utc_s, the data columns
+  std::string manifest;             // DIR/manifest.json, for errors
+  std::vector<std::string> header;  // host_mono_s, host_utc_s, the data columns
   std::vector<std::string> channels;
-  std::vector<std::string> extras;   // SeriesOptions::table.extra_columns, resolved
+  std::vector<std::string> extras;  // SeriesOptions::table.extra_columns, resolved
   bool default_columns = false;
   std::vector<std::string> left_out;
   Timing timing = Timing::host_mono;
-  std::string time;                  // the column read as time (Timing::column, host_mono)
-  double rate_hz = 0.0;              // Timing::rate
+  std::string time;      // the column read as time (Timing::column, host_mono)
+  double rate_hz = 0.0;  // Timing::rate
 };
 
 Plan plan_of(const RecordingManifest& m, const std::string& dir, const SeriesOptions& opt) {
@@ -143,8 +144,9 @@ Plan plan_of(const RecordingManifest& m, const std::string& dir, const SeriesOpt
     p.timing = Timing::rate;
     p.rate_hz = opt.rate_hz > 0.0 ? opt.rate_hz : *m.rate_hz;
     if (!(p.rate_hz >= kMinRateHz && p.rate_hz <= kMaxRateHz))
-      throw InputError(p.manifest, 0, 0, "rate_hz " + number(p.rate_hz) + " is outside the range " +
-                                             number(kMinRateHz) + " to " + number(kMaxRateHz) + " Hz",
+      throw InputError(p.manifest, 0, 0,
+                       "rate_hz " + number(p.rate_hz) + " is outside the range " + number(kMinRateHz) + " to " +
+                           number(kMaxRateHz) + " Hz",
                        "give --rate HZ");
   } else {
     p.time = std::string(kHostMonoColumn);
@@ -180,8 +182,8 @@ struct ChunkPlace {
 struct SegmentData {
   std::vector<std::vector<double>> channels;
   std::vector<std::vector<double>> extra;
-  std::vector<double> time;     // the time column's stamps (Timing::column, host_mono), as read
-  double host_first = 0.0;      // host_mono_s of the first and last sample
+  std::vector<double> time;  // the time column's stamps (Timing::column, host_mono), as read
+  double host_first = 0.0;   // host_mono_s of the first and last sample
   double host_last = 0.0;
   // Device clock resets (Timing::column): a stamp not after the one before
   // (the sensor restarted while the recorder ran on), with the receive
@@ -203,8 +205,10 @@ struct SegmentData {
 };
 
 void append(std::vector<double>& to, std::vector<double>& from) {
-  if (to.empty()) to = std::move(from);
-  else to.insert(to.end(), from.begin(), from.end());
+  if (to.empty())
+    to = std::move(from);
+  else
+    to.insert(to.end(), from.begin(), from.end());
 }
 
 // The bytes of a chunk that hold samples: a closed chunk whole, once its
@@ -216,8 +220,9 @@ std::string_view checked_bytes(const FileBuffer& buf, const RecordingChunk& c, c
     const std::size_t end = bytes.rfind('\n');
     return end == std::string_view::npos ? std::string_view() : bytes.substr(0, end + 1);
   }
-  const std::string hint = "the chunk changed since it was recorded: restore it from a copy, or read the chunks "
-                           "before it on their own";
+  const std::string hint =
+      "the chunk changed since it was recorded: restore it from a copy, or read the chunks "
+      "before it on their own";
   if (bytes.size() != c.bytes)
     throw InputError(path, 0, 0,
                      std::to_string(bytes.size()) + " bytes where the manifest recorded " + std::to_string(c.bytes),
@@ -245,7 +250,7 @@ SegmentData read_segment(const std::string& dir, const RecordingSegment& seg, co
   d.channels.resize(p.channels.size());
   d.extra.resize(p.extras.size());
   bool first = true;
-  double last_host_of_previous = 0.0;  // the previous chunk's last receive stamp
+  double last_host_of_previous = 0.0;   // the previous chunk's last receive stamp
   std::vector<std::size_t> reconnects;  // Timing::rate: the rows the source came back at
   if (p.timing == Timing::rate)
     for (const auto& e : seg.events)
@@ -260,8 +265,7 @@ SegmentData read_segment(const std::string& dir, const RecordingSegment& seg, co
     if (header_end == std::string_view::npos || header_end + 1 == text.size()) continue;  // no sample yet
     const Table layout = parse_layout(text, path);
     if (layout.header != p.header)
-      throw InputError(path, 1, 0,
-                       "columns " + joined(layout.header) + " where the manifest has " + joined(p.header),
+      throw InputError(path, 1, 0, "columns " + joined(layout.header) + " where the manifest has " + joined(p.header),
                        "the chunk does not belong to this recording");
     Table t = parse_table(text, path, topt);
     bytes_read += t.bytes;
@@ -327,10 +331,10 @@ struct Reader {
     std::vector<double> time;
     std::size_t bytes = 0;
     bool any = false;
-    double offset = 0.0;         // Timing::column: added to the previous segment's stamps
-    double last_stamp = 0.0;     // the previous segment's last stamp, as read
-    double last_host = 0.0;      // its last receive stamp, on the first segment's monotonic clock
-    double first_host = 0.0;     // the first receive stamp of the record, on that clock
+    double offset = 0.0;      // Timing::column: added to the previous segment's stamps
+    double last_stamp = 0.0;  // the previous segment's last stamp, as read
+    double last_host = 0.0;   // its last receive stamp, on the first segment's monotonic clock
+    double first_host = 0.0;  // the first receive stamp of the record, on that clock
     for (std::size_t k = from; k < to; ++k) {
       const RecordingSegment& seg = m.segments[k];
       SegmentData d = read_segment(dir, seg, p, opt, places, s.samples(), bytes);
@@ -338,8 +342,8 @@ struct Reader {
       if (n == 0) continue;
       // This segment's monotonic clock on the first segment's: the two
       // clocks differ by the difference of their UTC starts.
-      const double to_origin = utc_difference(parse_utc(seg.start_utc, p.manifest, seg.index), origin) -
-                               (seg.start_mono_s - origin_mono);
+      const double to_origin =
+          utc_difference(parse_utc(seg.start_utc, p.manifest, seg.index), origin) - (seg.start_mono_s - origin_mono);
       const double host_first = d.host_first + to_origin;
       const double host_last = d.host_last + to_origin;
       if (!any) first_host = host_first;
@@ -392,7 +396,8 @@ struct Reader {
     check_values(s);
     for (std::size_t row = 0; row < time.size(); ++row)
       if (std::isnan(time[row]))
-        throw at(row, "missing time stamp", "a sample cannot be placed without its time: fill in the stamp or remove the row");
+        throw at(row, "missing time stamp",
+                 "a sample cannot be placed without its time: fill in the stamp or remove the row");
     if (p.timing == Timing::host_mono)
       for (std::size_t row = 1; row < time.size(); ++row)
         if (!(time[row] > time[row - 1]))
@@ -401,7 +406,8 @@ struct Reader {
                    "give --rate HZ");
     SeriesOptions so = opt;
     if (p.timing == Timing::rate) so.rate_hz = p.rate_hz;
-    const std::string time_name = p.timing == Timing::rate ? std::string("(rate ") + number(p.rate_hz) + " Hz)" : p.time;
+    const std::string time_name =
+        p.timing == Timing::rate ? std::string("(rate ") + number(p.rate_hz) + " Hz)" : p.time;
     detail::finish_series(s, std::move(time), time_name, true, so,
                           [this](std::size_t row, std::string problem, std::string hint) {
                             return at(row, std::move(problem), std::move(hint));
@@ -426,10 +432,11 @@ struct Reader {
       if (!huge && !(top != 0.0 && top < kMinMagnitude)) continue;
       std::size_t row = 0;
       while (row + 1 < v.size() && std::fabs(v[row]) != top) ++row;
-      throw at(row, "column " + s.names[c] + ": value " + number(v[row]) +
-                        (huge ? " exceeds the magnitude " + number(kMaxMagnitude)
-                              : " is the largest of its column, below the magnitude " + number(kMinMagnitude)) +
-                        " whose square a variance can hold",
+      throw at(row,
+               "column " + s.names[c] + ": value " + number(v[row]) +
+                   (huge ? " exceeds the magnitude " + number(kMaxMagnitude)
+                         : " is the largest of its column, below the magnitude " + number(kMinMagnitude)) +
+                   " whose square a variance can hold",
                "rescale the column, e.g. to other units");
     }
   }

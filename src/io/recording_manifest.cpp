@@ -65,9 +65,7 @@ json event_to_json(const RecordingEvent& e) {
       j["device_time"] = e.device_time;
       j["previous"] = e.previous;
       break;
-    case RecordingEvent::Kind::reconnect:
-      j["host_utc_s"] = e.host_utc_s;
-      break;
+    case RecordingEvent::Kind::reconnect: j["host_utc_s"] = e.host_utc_s; break;
   }
   return j;
 }
@@ -211,10 +209,14 @@ class Reader {
     s.start_mono_s = num(j, "start_mono_s", where);
     s.end_utc = opt_str(j, "end_utc", where).value_or("");
     const std::string end = str(j, "end", where);
-    if (end == "open") s.end = SegmentEnd::open;
-    else if (end == "clean") s.end = SegmentEnd::clean;
-    else if (end == "recovered") s.end = SegmentEnd::recovered;
-    else fail(where + ": \"end\" is \"" + end + "\" (open, clean or recovered)");
+    if (end == "open")
+      s.end = SegmentEnd::open;
+    else if (end == "clean")
+      s.end = SegmentEnd::clean;
+    else if (end == "recovered")
+      s.end = SegmentEnd::recovered;
+    else
+      fail(where + ": \"end\" is \"" + end + "\" (open, clean or recovered)");
     s.samples = count(j, "samples", where);
     s.rejects = count(j, "rejects", where);
     s.partial_bytes = count(j, "partial_bytes", where);
@@ -370,8 +372,8 @@ std::string utc_iso8601(std::int64_t seconds, long nanoseconds) {
   std::tm tm{};
   ::gmtime_r(&t, &tm);
   char buf[64];
-  std::snprintf(buf, sizeof buf, "%04d-%02d-%02dT%02d:%02d:%02d.%09ldZ", tm.tm_year + 1900, tm.tm_mon + 1,
-                tm.tm_mday, tm.tm_hour, tm.tm_min, tm.tm_sec, nanoseconds);
+  std::snprintf(buf, sizeof buf, "%04d-%02d-%02dT%02d:%02d:%02d.%09ldZ", tm.tm_year + 1900, tm.tm_mon + 1, tm.tm_mday,
+                tm.tm_hour, tm.tm_min, tm.tm_sec, nanoseconds);
   return buf;
 }
 

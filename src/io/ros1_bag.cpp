@@ -16,9 +16,9 @@ namespace cubecal::io {
 
 namespace {
 
+using detail::bag_error;
 using detail::BagPlace;
 using detail::BagRecord;
-using detail::bag_error;
 using detail::le32;
 
 enum Op : unsigned char {
@@ -75,9 +75,9 @@ class BagReader {
     const std::string plain = detail::decompress_chunk(compression, r.data, size, top, r.offset);
     const bool compressed = compression != "none";
     const BagPlace inner{&bag_.file, compressed ? 0 : r.data_offset,
-                         compressed ? " of the " + std::string(compression) + " chunk at byte " +
-                                          std::to_string(r.offset)
-                                    : std::string()};
+                         compressed
+                             ? " of the " + std::string(compression) + " chunk at byte " + std::to_string(r.offset)
+                             : std::string()};
     std::size_t pos = 0;
     while (pos < plain.size()) {
       const BagRecord m = detail::read_record(plain, pos, inner);

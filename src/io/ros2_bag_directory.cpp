@@ -79,7 +79,8 @@ MessageLog read_storage_file(const std::string& path) {
   if (is_sqlite_file(path)) return read_db3(path);
   const FileBuffer buf = FileBuffer::open(path, Content::series);
   if (looks_like_mcap(buf.view())) return parse_mcap(buf.view(), path);
-  throw InputError(path, 0, 0, "neither an SQLite (.db3) nor an MCAP file", "a bag directory holds .db3 or .mcap files");
+  throw InputError(path, 0, 0, "neither an SQLite (.db3) nor an MCAP file",
+                   "a bag directory holds .db3 or .mcap files");
 }
 
 }  // namespace

@@ -42,8 +42,7 @@ class ByteSource {
     label = stdin_input ? std::string(kStdinLabel) : path;
     fd_ = stdin_input ? STDIN_FILENO : ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
     own_ = !stdin_input;
-    if (fd_ < 0)
-      throw InputError(label, 0, 0, std::string("cannot open: ") + std::strerror(errno), "check the path");
+    if (fd_ < 0) throw InputError(label, 0, 0, std::string("cannot open: ") + std::strerror(errno), "check the path");
     struct stat st {};
     if (::fstat(fd_, &st) == 0 && S_ISREG(st.st_mode)) total = static_cast<std::size_t>(st.st_size);
 #ifdef F_SETPIPE_SZ
@@ -106,8 +105,8 @@ class ByteSource {
   // left out of the text, counted back in); false for one file.
   bool place(std::size_t line, std::string& file, std::size_t& local) const {
     if (chunks_.empty() || first_line_.empty() || line == 0) return false;
-    const auto k = static_cast<std::size_t>(
-        std::upper_bound(first_line_.begin(), first_line_.end(), line) - first_line_.begin());
+    const auto k =
+        static_cast<std::size_t>(std::upper_bound(first_line_.begin(), first_line_.end(), line) - first_line_.begin());
     if (k == 0) return false;
     file = chunks_[k - 1].path;
     local = line - first_line_[k - 1] + 1 + (k > 1 ? 1 : 0);
@@ -135,8 +134,9 @@ class ByteSource {
     ++next_;
     if (seen_ != c.bytes || crc_ != c.crc)
       throw InputError(c.path, 0, 0,
-                       seen_ != c.bytes ? std::to_string(seen_) + " bytes where the manifest has " + std::to_string(c.bytes)
-                                        : "CRC-32 " + crc32_hex(crc_) + " where the manifest has " + crc32_hex(c.crc),
+                       seen_ != c.bytes
+                           ? std::to_string(seen_) + " bytes where the manifest has " + std::to_string(c.bytes)
+                           : "CRC-32 " + crc32_hex(crc_) + " where the manifest has " + crc32_hex(c.crc),
                        "the chunk changed since it was recorded: restore it, or remove the recording's damaged part");
   }
   std::size_t read_fd(char* dst, std::size_t n) {
@@ -160,23 +160,25 @@ class ByteSource {
   std::size_t next_ = 0;       // the chunk being read
   bool skip_header_ = false;
   std::uint32_t crc_ = 0;
-  std::size_t seen_ = 0;       // bytes of the chunk read so far
-  std::size_t lines_ = 0;      // line ends passed on so far
+  std::size_t seen_ = 0;                 // bytes of the chunk read so far
+  std::size_t lines_ = 0;                // line ends passed on so far
   std::vector<std::size_t> first_line_;  // the line of the text each chunk opened at
 };
 
 void check_common(const SeriesOptions& opt) {
   if (opt.gaps == GapPolicy::split)
-    throw UsageError("gaps", "a streamed record is not split at gaps: leave out --gaps split (a gap is then an "
-                             "error naming its place), or read the record into memory without --stream");
+    throw UsageError("gaps",
+                     "a streamed record is not split at gaps: leave out --gaps split (a gap is then an "
+                     "error naming its place), or read the record into memory without --stream");
   if (opt.gaps == GapPolicy::skip)
-    throw UsageError("gaps", "missing samples are skipped in a record read into memory: leave out --stream, or "
-                             "--gaps skip (a gap is then an error naming its place)");
-  if (!opt.topics.empty())
-    throw UsageError("topics", "ROS bags are read into memory: leave out --stream");
+    throw UsageError("gaps",
+                     "missing samples are skipped in a record read into memory: leave out --stream, or "
+                     "--gaps skip (a gap is then an error naming its place)");
+  if (!opt.topics.empty()) throw UsageError("topics", "ROS bags are read into memory: leave out --stream");
   for (const double lsb : opt.lsb)
     if (!(lsb > 0.0) || !std::isfinite(lsb))
-      throw UsageError("counts_per_unit", "the LSB (counts per unit) must be a positive finite number, got " + stamp(lsb));
+      throw UsageError("counts_per_unit",
+                       "the LSB (counts per unit) must be a positive finite number, got " + stamp(lsb));
   if (opt.rate_hz != 0.0 && !(opt.rate_hz >= kMinRateHz && opt.rate_hz <= kMaxRateHz))
     throw UsageError("rate", "the sampling rate " + stamp(opt.rate_hz) + " Hz is outside the range " +
                                  stamp(kMinRateHz) + " to " + stamp(kMaxRateHz) + " Hz");
@@ -203,8 +205,7 @@ class BinaryStream final : public SampleStream {
  public:
   BinaryStream(const std::string& path, const SeriesOptions& opt, std::size_t chunk_bytes)
       : src_(path, file_, total_bytes_), layout_(opt.binary) {
-    if (opt.rate_hz == 0.0)
-      throw UsageError("rate", "raw binary has no time column: give the sampling rate");
+    if (opt.rate_hz == 0.0) throw UsageError("rate", "raw binary has no time column: give the sampling rate");
     rate_hz_ = opt.rate_hz;
     // Resolve the columns as read_series does, on a table without rows.
     Table all;
@@ -249,8 +250,8 @@ class BinaryStream final : public SampleStream {
     if (got % frame_ != 0) {
       throw InputError(file_, 0, 0,
                        "trailing partial frame: " + std::to_string(got % frame_) + " bytes at byte offset " +
-                           std::to_string(bytes_read_ + rows * frame_) + " after " +
-                           std::to_string(rows_read_ + rows) + " whole frames",
+                           std::to_string(bytes_read_ + rows * frame_) + " after " + std::to_string(rows_read_ + rows) +
+                           " whole frames",
                        "the frame of " + std::to_string(layout_.channels.size()) + " channels is " +
                            std::to_string(frame_) + " bytes; check --binary and --header-bytes");
     }
@@ -288,8 +289,8 @@ class BinaryStream final : public SampleStream {
       throw InputError(file_, 0, 0,
                        (finite ? "value " + stamp(v[r]) + " exceeds the magnitude " + stamp(kMaxMagnitude)
                                : std::string(std::isnan(v[r]) ? "NaN" : "infinite value")) +
-                           " at byte offset " + std::to_string(offset) + " (row " +
-                           std::to_string(rows_read_ + r + 1) + ", column " + std::to_string(col + 1) + ")",
+                           " at byte offset " + std::to_string(offset) + " (row " + std::to_string(rows_read_ + r + 1) +
+                           ", column " + std::to_string(col + 1) + ")",
                        finite ? "rescale the column, e.g. to other units"
                               : "a missing or invalid sample: cut the record there, or fill the gap");
     }
@@ -324,7 +325,8 @@ class TextStream final : public SampleStream {
   // A recording's chunks as one text.
   TextStream(std::vector<ByteSource::Chunk> chunks, const std::string& dir, const SeriesOptions& opt,
              std::size_t chunk_bytes)
-      : src_(std::move(chunks), dir, file_, total_bytes_), opt_(opt),
+      : src_(std::move(chunks), dir, file_, total_bytes_),
+        opt_(opt),
         chunk_bytes_(std::max<std::size_t>(chunk_bytes, 4096)) {
     try {
       start(opt);
@@ -352,8 +354,9 @@ class TextStream final : public SampleStream {
       const auto it = std::find_if(layout.header.begin(), layout.header.end(), looks_like_time_column);
       if (it == layout.header.end()) {
         if (opt.rate_hz == 0.0)
-          throw UsageError(file_ + ": no sampling rate: no column is named as a time column (t, time, t_s, "
-                                   "timestamp...): give --rate HZ or --time-col NAME");
+          throw UsageError(file_ +
+                           ": no sampling rate: no column is named as a time column (t, time, t_s, "
+                           "timestamp...): give --rate HZ or --time-col NAME");
       } else {
         time_spec = *it;
         timing_ = opt.rate_hz == 0.0;
@@ -394,7 +397,6 @@ class TextStream final : public SampleStream {
   }
 
  public:
-
   bool next(SampleChunk& out) override {
     try {
       return next_piece(out);
@@ -521,9 +523,10 @@ class TextStream final : public SampleStream {
       if (opt_.check_rate_against_time && !dt.empty()) {
         const double period = median(dt);
         if (period > 0.0 && std::isfinite(period) && std::fabs(opt_.rate_hz * period - 1.0) > opt_.tolerance)
-          throw UsageError("rate", file_ + ": the rate " + stamp(opt_.rate_hz) + " Hz contradicts the time column '" +
-                                       time_name_ + "' (" + stamp(1.0 / period) +
-                                       " Hz): leave the rate out to take it from the time stamps, or fix the time column");
+          throw UsageError(
+              "rate", file_ + ": the rate " + stamp(opt_.rate_hz) + " Hz contradicts the time column '" + time_name_ +
+                          "' (" + stamp(1.0 / period) +
+                          " Hz): leave the rate out to take it from the time stamps, or fix the time column");
       }
       return;
     }
@@ -532,8 +535,9 @@ class TextStream final : public SampleStream {
       throw InputError(file_, 0, 0, "cannot infer the sampling rate from a single time stamp", "give --rate HZ");
     const double raw = 1.0 / median(dt);
     if (!(raw >= kMinRateHz && raw <= kMaxRateHz))
-      fail_at(1, "time stamps " + stamp(1.0 / raw) + " s apart give a rate of " + stamp(raw) +
-                     " Hz, outside the range " + stamp(kMinRateHz) + " to " + stamp(kMaxRateHz) + " Hz",
+      fail_at(1,
+              "time stamps " + stamp(1.0 / raw) + " s apart give a rate of " + stamp(raw) + " Hz, outside the range " +
+                  stamp(kMinRateHz) + " to " + stamp(kMaxRateHz) + " Hz",
               "the time column must be in seconds");
     const double scale = std::pow(10.0, 8.0 - std::floor(std::log10(raw)));
     rate_hz_ = std::round(raw * scale) / scale;
@@ -550,8 +554,9 @@ class TextStream final : public SampleStream {
       if (!ok) {
         std::size_t r = 0;
         while (std::abs(v[r]) <= top) ++r;
-        fail_at(r, "value " + stamp(v[r]) + " exceeds the magnitude " + stamp(kMaxMagnitude) +
-                       " whose square a variance can hold",
+        fail_at(r,
+                "value " + stamp(v[r]) + " exceeds the magnitude " + stamp(kMaxMagnitude) +
+                    " whose square a variance can hold",
                 "rescale the column, e.g. to other units");
       }
     }
@@ -569,8 +574,9 @@ class TextStream final : public SampleStream {
                                : "sort the file or fix the logger clock");
         if (std::fabs(dt - period) > opt_.tolerance * period) {
           if (dt >= kGapPeriods * period)
-            fail_at(i, "gap of " + stamp(dt) + " s (" + std::to_string(std::llround(dt / period)) + " periods of " +
-                           stamp(period) + " s) after t = " + stamp(last_) + " s",
+            fail_at(i,
+                    "gap of " + stamp(dt) + " s (" + std::to_string(std::llround(dt / period)) + " periods of " +
+                        stamp(period) + " s) after t = " + stamp(last_) + " s",
                     "a streamed record is not split: cut it at the gap, or read it into memory with --gaps split");
           fail_at(i, "jitter: interval " + stamp(dt) + " s differs from the period " + stamp(period) + " s",
                   "cut the record at irregular intervals" + ignore);
@@ -615,8 +621,9 @@ std::unique_ptr<SampleStream> open_recording_stream(const std::string& dir, cons
       ++with_samples;
     }
   const auto whole = [&](const std::string& why) {
-    return UsageError(dir + ": " + why + ": a recording is streamed only as one closed segment without breaks; leave out "
-                                         "--stream (it is read into memory and its pieces placed on one clock)");
+    return UsageError(dir + ": " + why +
+                      ": a recording is streamed only as one closed segment without breaks; leave out "
+                      "--stream (it is read into memory and its pieces placed on one clock)");
   };
   if (seg == nullptr) throw InputError(dir, 0, 0, "the recording holds no sample", "record into it first");
   if (with_samples > 1) throw whole("it has " + std::to_string(with_samples) + " segments with samples");
@@ -635,9 +642,12 @@ std::unique_ptr<SampleStream> open_recording_stream(const std::string& dir, cons
     for (const auto& name : m.columns)
       if (!m.time_column || name != *m.time_column) o.table.columns.push_back(name);
   if (o.time_col.empty() && o.rate_hz == 0.0) {
-    if (m.time_column) o.time_col = *m.time_column;
-    else if (m.rate_hz) o.rate_hz = *m.rate_hz;
-    else throw UsageError(dir + ": the recording has no device time column and no rate: give --rate HZ");
+    if (m.time_column)
+      o.time_col = *m.time_column;
+    else if (m.rate_hz)
+      o.rate_hz = *m.rate_hz;
+    else
+      throw UsageError(dir + ": the recording has no device time column and no rate: give --rate HZ");
   }
   return std::make_unique<TextStream>(std::move(chunks), dir, o, chunk_bytes);
 }

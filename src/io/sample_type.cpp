@@ -13,11 +13,11 @@ std::optional<SampleType> parse_sample_type(std::string_view name) {
     std::size_t bytes;
   };
   static constexpr Base kBases[] = {
-      {"int8", SampleKind::signed_int, 1},    {"uint8", SampleKind::unsigned_int, 1},
-      {"int16", SampleKind::signed_int, 2},   {"uint16", SampleKind::unsigned_int, 2},
-      {"int32", SampleKind::signed_int, 4},   {"uint32", SampleKind::unsigned_int, 4},
-      {"int64", SampleKind::signed_int, 8},   {"uint64", SampleKind::unsigned_int, 8},
-      {"float32", SampleKind::floating, 4},   {"float64", SampleKind::floating, 8},
+      {"int8", SampleKind::signed_int, 1},  {"uint8", SampleKind::unsigned_int, 1},
+      {"int16", SampleKind::signed_int, 2}, {"uint16", SampleKind::unsigned_int, 2},
+      {"int32", SampleKind::signed_int, 4}, {"uint32", SampleKind::unsigned_int, 4},
+      {"int64", SampleKind::signed_int, 8}, {"uint64", SampleKind::unsigned_int, 8},
+      {"float32", SampleKind::floating, 4}, {"float64", SampleKind::floating, 8},
   };
   for (const Base& b : kBases) {
     if (name.substr(0, b.name.size()) != b.name) continue;
@@ -46,8 +46,7 @@ double decode_sample(const SampleType& t, const char* p) noexcept {
   }
   const unsigned shift = static_cast<unsigned>(64 - 8 * t.bytes);
   switch (t.kind) {
-    case SampleKind::unsigned_int:
-      return static_cast<double>(u);
+    case SampleKind::unsigned_int: return static_cast<double>(u);
     case SampleKind::signed_int:
       // Sign-extend by shifting the value to the top and back.
       return static_cast<double>(static_cast<std::int64_t>(u << shift) >> shift);

@@ -90,13 +90,15 @@ void default_columns(const Table& layout, const std::string& time_spec, const Se
     throw InputError(s.file, 0, 0, "no data columns besides the time and temperature columns (" + left + ")",
                      "name the columns to analyze");
   }
-  if (topt.columns.empty()) throw InputError(s.file, 0, 0, "no data columns besides the time column", "name the columns to analyze");
+  if (topt.columns.empty())
+    throw InputError(s.file, 0, 0, "no data columns besides the time column", "name the columns to analyze");
 }
 
 void check_options(const SeriesOptions& opt) {
   for (const double lsb : opt.lsb)
     if (!(lsb > 0.0) || !std::isfinite(lsb))
-      throw UsageError("counts_per_unit", "the LSB (counts per unit) must be a positive finite number, got " + stamp(lsb));
+      throw UsageError("counts_per_unit",
+                       "the LSB (counts per unit) must be a positive finite number, got " + stamp(lsb));
   if (!(opt.rate_hz >= 0.0) || !std::isfinite(opt.rate_hz)) {
     throw UsageError("the sampling rate must be a positive finite number of Hz, got " + stamp(opt.rate_hz));
   }
@@ -115,21 +117,21 @@ void check_lsb_count(const SeriesOptions& opt, const std::string& file, const st
   std::string list;
   for (const auto& n : names) list += (list.empty() ? "" : ",") + n;
   throw UsageError("counts_per_unit", file + ": " + std::to_string(opt.lsb.size()) + " LSB values for " +
-                                          std::to_string(names.size()) + (names.size() == 1 ? " column (" : " columns (") +
-                                          list + "): give one value for every column, or one per column");
+                                          std::to_string(names.size()) +
+                                          (names.size() == 1 ? " column (" : " columns (") + list +
+                                          "): give one value for every column, or one per column");
 }
 
 [[noreturn]] void throw_too_short(const std::string& file, std::size_t n, std::size_t min, std::string hint) {
   throw InputError(file, 0, 0,
-                   "series too short: " + std::to_string(n) + " samples, at least " + std::to_string(min) +
-                       " needed",
+                   "series too short: " + std::to_string(n) + " samples, at least " + std::to_string(min) + " needed",
                    std::move(hint));
 }
 
 // Which column holds the time, and whether its stamps define the timing.
 struct TimeChoice {
-  std::string spec;      // column to read; empty for none
-  bool timing = false;   // false: only kept out of the channels
+  std::string spec;     // column to read; empty for none
+  bool timing = false;  // false: only kept out of the channels
 };
 
 TimeChoice choose_time_column(const SeriesOptions& opt, const Table& layout) {
@@ -137,8 +139,9 @@ TimeChoice choose_time_column(const SeriesOptions& opt, const Table& layout) {
   const auto it = std::find_if(layout.header.begin(), layout.header.end(), looks_like_time_column);
   if (it == layout.header.end()) {
     if (opt.rate_hz == 0.0)
-      throw UsageError(layout.file + ": no sampling rate: no column is named as a time column (t, time, "
-                                                 "t_s, timestamp...): give --rate HZ or --time-col NAME");
+      throw UsageError(layout.file +
+                       ": no sampling rate: no column is named as a time column (t, time, "
+                       "t_s, timestamp...): give --rate HZ or --time-col NAME");
     return {};
   }
   // A given rate overrides time stamps that were found by name only (e.g.
@@ -153,10 +156,10 @@ void check_magnitudes(const Series& s, const Table& t, const SeriesOptions& opt)
   const auto fail = [&](const std::vector<double>& v, std::size_t i, std::size_t field, double scale,
                         const std::string& what) {
     const Location loc = locate(t, i, field);
-    throw InputError(s.file, loc.line, loc.column,
-                     "value " + stamp(v[i]) + (scale != 1.0 ? " (" + stamp(v[i] / scale) + " after the LSB)" : "") +
-                         what,
-                     "rescale the column, e.g. to other units");
+    throw InputError(
+        s.file, loc.line, loc.column,
+        "value " + stamp(v[i]) + (scale != 1.0 ? " (" + stamp(v[i] / scale) + " after the LSB)" : "") + what,
+        "rescale the column, e.g. to other units");
   };
   const auto check = [&](const std::vector<double>& v, std::size_t field, double scale) {
     // One vectorised pass for the largest magnitude (no division: this runs
@@ -193,7 +196,8 @@ void check_rate_agrees(const std::string& file, const std::string& time_name, co
   if (std::fabs(opt.rate_hz * period - 1.0) <= opt.tolerance) return;
   throw UsageError("rate", file + ": the rate " + period_text(opt.rate_hz) + " Hz contradicts the time column '" +
                                time_name + "' (" + period_text(from_time) + " Hz, median interval " +
-                               period_text(period) + " s): leave the rate out to take it from the time stamps, "
+                               period_text(period) +
+                               " s): leave the rate out to take it from the time stamps, "
                                "or fix the time column");
 }
 
@@ -208,7 +212,8 @@ void fill_missing(Series& s, const std::vector<std::pair<std::size_t, std::size_
     out.reserve(v.size() + added);
     std::size_t from = 0;
     for (const auto& [row, count] : fills) {
-      out.insert(out.end(), v.begin() + static_cast<std::ptrdiff_t>(from), v.begin() + static_cast<std::ptrdiff_t>(row));
+      out.insert(out.end(), v.begin() + static_cast<std::ptrdiff_t>(from),
+                 v.begin() + static_cast<std::ptrdiff_t>(row));
       for (std::size_t k = 1; k <= count; ++k)
         out.push_back(stamps ? v[row - 1] + static_cast<double>(k) * s.tau0 : std::numeric_limits<double>::quiet_NaN());
       from = row;
@@ -250,8 +255,9 @@ void check_timing(Series& s, const detail::PlaceError& at, const SeriesOptions& 
     // significant digits of the rate, far below the 1 % interval tolerance.
     const double raw = 1.0 / median_interval(time);
     if (!(raw >= kMinRateHz && raw <= kMaxRateHz)) {
-      fail_at(1, "time stamps " + stamp(1.0 / raw) + " s apart give a rate of " + stamp(raw) +
-                     " Hz, outside the range " + stamp(kMinRateHz) + " to " + stamp(kMaxRateHz) + " Hz",
+      fail_at(1,
+              "time stamps " + stamp(1.0 / raw) + " s apart give a rate of " + stamp(raw) + " Hz, outside the range " +
+                  stamp(kMinRateHz) + " to " + stamp(kMaxRateHz) + " Hz",
               "the time column must be in seconds");
     }
     const double scale = std::pow(10.0, 8.0 - std::floor(std::log10(raw)));
@@ -295,9 +301,8 @@ void check_timing(Series& s, const detail::PlaceError& at, const SeriesOptions& 
               "use --gaps split to analyze the contiguous pieces");
     } else {
       fail_at(i,
-              "jitter: interval " + duration(dt) + " s differs from the period " + period_text(period) +
-                  " s by " + to_text(100.0 * std::fabs(dt - period) / period, std::chars_format::general, 3) +
-                  " %",
+              "jitter: interval " + duration(dt) + " s differs from the period " + period_text(period) + " s by " +
+                  to_text(100.0 * std::fabs(dt - period) / period, std::chars_format::general, 3) + " %",
               "use --gaps split to cut the record at irregular intervals" + ignore_stamps);
     }
   }
@@ -348,8 +353,9 @@ Series read_series(const std::string& path_arg, const SeriesOptions& opt) {
   if (opt.binary.channels.empty() && looks_like_mcap(buf.view()))
     return detail::read_bag_series(parse_mcap(buf.view(), path), buf.was_gzip(), opt);
   if (opt.binary.channels.empty() && looks_like_sqlite(buf.view()))
-    throw InputError(path, 0, 0, "an SQLite database (a ROS 2 .db3 bag) is read from its file, not "s +
-                                     (buf.was_gzip() ? "gzip-compressed" : "from standard input"),
+    throw InputError(path, 0, 0,
+                     "an SQLite database (a ROS 2 .db3 bag) is read from its file, not "s +
+                         (buf.was_gzip() ? "gzip-compressed" : "from standard input"),
                      "give the .db3 file or its bag directory");
   if (opt.binary.channels.empty() && looks_like_ulog(buf.view()))
     return detail::read_ulog_series(parse_ulog(buf.view(), path), buf.view(), buf.was_gzip(), opt);
@@ -436,9 +442,9 @@ void finish_series(Series& s, std::vector<double> time, const std::string& time_
   const auto longest = std::max_element(s.segments.begin(), s.segments.end(),
                                         [](const Segment& a, const Segment& b) { return a.size() < b.size(); });
   if (longest->size() < opt.min_samples) {
-    throw_too_short(s.file, longest->size(), opt.min_samples,
-                    "longest of " + std::to_string(s.segments.size()) +
-                        " contiguous pieces; the record has too many gaps");
+    throw_too_short(
+        s.file, longest->size(), opt.min_samples,
+        "longest of " + std::to_string(s.segments.size()) + " contiguous pieces; the record has too many gaps");
   }
   if (!opt.keep_time && s.segments.size() == 1) std::vector<double>().swap(s.time);
 }

@@ -130,8 +130,8 @@ class Parser {
       if (off == 0) continue;
       if (off <= pos + 3 + body.size() || off > b_.size() || (!ends.empty() && off <= ends.back()))
         fail(log_.file, pos + 3 + 16 + 8 * k,
-             "appended data offset " + std::to_string(off) + " lies outside the file's " +
-                 std::to_string(b_.size()) + " bytes or before the data",
+             "appended data offset " + std::to_string(off) + " lies outside the file's " + std::to_string(b_.size()) +
+                 " bytes or before the data",
              "the log is corrupt or cut short: appended data the flags announce are not there");
       ends.push_back(static_cast<std::size_t>(off));
     }
@@ -151,8 +151,7 @@ class Parser {
 
   void message(std::size_t pos, char type, std::string_view body) {
     switch (type) {
-      case 'B':
-        break;
+      case 'B': break;
       case 'F': {
         std::string error;
         ULogFormat f = detail::parse_ulog_format(body, error);
@@ -180,7 +179,8 @@ class Parser {
         ++log_.parameter_messages;
         break;
       case 'A': {
-        if (body.size() < 4) fail(log_.file, pos, "add-logged-message ('A') of " + std::to_string(body.size()) + " bytes");
+        if (body.size() < 4)
+          fail(log_.file, pos, "add-logged-message ('A') of " + std::to_string(body.size()) + " bytes");
         const auto multi_id = static_cast<std::uint8_t>(body[0]);
         const std::uint16_t msg_id = le16(body.data() + 1);
         std::string_view name = body.substr(3);
@@ -253,8 +253,9 @@ class Parser {
         if (m.size >= f->logged_size && m.size <= f->size) continue;
         fail(log_.file, m.offset,
              "data message of " + t.label() + " holds " + std::to_string(m.size) + " bytes; its format " + f->name +
-                 " has " + (f->logged_size == f->size ? std::to_string(f->size)
-                                                       : std::to_string(f->logged_size) + " to " + std::to_string(f->size)));
+                 " has " +
+                 (f->logged_size == f->size ? std::to_string(f->size)
+                                            : std::to_string(f->logged_size) + " to " + std::to_string(f->size)));
       }
     }
   }

@@ -59,8 +59,8 @@ BiasVerdict judge_bias_instability(const SlopeReadOffs& ro, const NoiseFit& fit)
     v.trust = BiasTrust::fit;
     v.reason = "white noise and random walk make " + num("%.0f", 100.0 * v.other_terms_share) +
                " % of the variance at the minimum (" + num("%.3g", ro.tau_min) +
-               " s), which biases the read-off sigma_min/0.664 high; the fit models all terms together (" +
-               residual + ")";
+               " s), which biases the read-off sigma_min/0.664 high; the fit models all terms together (" + residual +
+               ")";
   }
   return v;
 }

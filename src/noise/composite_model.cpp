@@ -42,9 +42,10 @@ std::string upper_trimmed(std::string_view s) {
 }
 
 [[noreturn]] void bad_model(const std::string& text, const std::string& why) {
-  throw UsageError("model", "model '" + text + "': " + why +
-                                " (terms: WN, QN, RW, DR, GM or AR1, MA1, SIN, k*GM or k*SIN for k of them, joined by +; "
-                                "e.g. WN+RW+2*GM, MA1+RW+2*GM+SIN)");
+  throw UsageError("model",
+                   "model '" + text + "': " + why +
+                       " (terms: WN, QN, RW, DR, GM or AR1, MA1, SIN, k*GM or k*SIN for k of them, joined by +; "
+                       "e.g. WN+RW+2*GM, MA1+RW+2*GM+SIN)");
 }
 
 }  // namespace
@@ -123,16 +124,14 @@ std::string model_name(const CompositeModel& model) {
 double haar_wavelet_variance(const Process& p, double tau) noexcept {
   if (!(tau >= 2.0)) return kNaN;
   switch (p.kind) {
-    case ProcessKind::wn:
-      return p.value >= 0.0 ? p.value / tau : kNaN;
+    case ProcessKind::wn: return p.value >= 0.0 ? p.value / tau : kNaN;
     case ProcessKind::qn:
       // AVAR of X_t = U_{t+1} - U_t: 3 Q2 / m^2; halved at m = tau / 2.
       return p.value >= 0.0 ? 6.0 * p.value / (tau * tau) : kNaN;
     case ProcessKind::rw:
       // AVAR gamma2 (2 m^2 + 1) / (6 m); halved at m = tau / 2.
       return p.value >= 0.0 ? p.value * (tau * tau + 2.0) / (12.0 * tau) : kNaN;
-    case ProcessKind::dr:
-      return p.value * p.value * tau * tau / 16.0;
+    case ProcessKind::dr: return p.value * p.value * tau * tau / 16.0;
     case ProcessKind::gm: {
       if (!(p.value >= 0.0) || !(p.phi > 0.0 && p.phi < 1.0)) return kNaN;
       return gauss_markov_wavelet_variance(-std::log(p.phi), p.value, tau);
@@ -208,17 +207,16 @@ SineTerm sine_term(const Process& sin, double dt) {
 }
 
 Process sin_process(double amplitude, double frequency_hz, double dt) {
-  if (!(dt > 0.0) || !std::isfinite(dt))
-    throw UsageError("model", "a SIN term needs a positive, finite sample period");
+  if (!(dt > 0.0) || !std::isfinite(dt)) throw UsageError("model", "a SIN term needs a positive, finite sample period");
   if (!(amplitude >= 0.0) || !std::isfinite(amplitude))
     throw UsageError("model", "a SIN term needs a finite amplitude >= 0");
   const double nyquist = 0.5 / dt;
-  if (!(frequency_hz > 0.0 && frequency_hz < nyquist))
-  {
+  if (!(frequency_hz > 0.0 && frequency_hz < nyquist)) {
     char b[96];
     std::snprintf(b, sizeof b, "a SIN line at %.6g Hz lies outside (0, %.6g) Hz", frequency_hz, nyquist);
-    throw UsageError("model", std::string(b) + ", the band a record at this rate can hold (the Nyquist frequency is "
-                                                 "half the rate)");
+    throw UsageError("model", std::string(b) +
+                                  ", the band a record at this rate can hold (the Nyquist frequency is "
+                                  "half the rate)");
   }
   Process p{ProcessKind::sin, amplitude * amplitude, 0.0, 0.0, 2.0 * kPi * frequency_hz * dt};
   return p;

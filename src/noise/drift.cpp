@@ -2,8 +2,8 @@
 
 namespace cubecal {
 
-DriftSeries bias_drift(std::span<const double> y, double dt, std::size_t window,
-                       std::size_t stride, std::optional<double> fixed_bias) {
+DriftSeries bias_drift(std::span<const double> y, double dt, std::size_t window, std::size_t stride,
+                       std::optional<double> fixed_bias) {
   DriftSeries d;
   d.window = window;
   if (y.empty()) return d;
@@ -23,7 +23,7 @@ DriftSeries bias_drift(std::span<const double> y, double dt, std::size_t window,
   for (std::size_t i = 0; i < window; ++i) s += y[i] - mean;
   const double inv = 1.0 / static_cast<double>(window);
   const double half = 0.5 * static_cast<double>(window - 1) * dt;
-  for (std::size_t start = 0;; ) {
+  for (std::size_t start = 0;;) {
     d.t.push_back(static_cast<double>(start) * dt + half);
     d.drift.push_back(s * inv);
     const std::size_t next = start + stride;

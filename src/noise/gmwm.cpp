@@ -109,10 +109,10 @@ VectorXd theta_of(const CompositeModel& structure, const CompositeModel& m) {
     // A term a fit drove to zero (its log-parameter underflowed) starts at
     // the smallest one: a bootstrap replicate from such a fit is a fit too.
     const bool ok = p.kind == ProcessKind::dr ? std::isfinite(p.value)
-                                               : p.value >= 0.0 && std::isfinite(p.value) &&
-                                                     (p.kind != ProcessKind::gm || (p.phi > 0.0 && p.phi < 1.0)) &&
-                                                     (p.kind != ProcessKind::ma1 || std::abs(p.theta) < 1.0) &&
-                                                     (p.kind != ProcessKind::sin || (p.omega > 0.0 && p.omega < kPi));
+                                              : p.value >= 0.0 && std::isfinite(p.value) &&
+                                                    (p.kind != ProcessKind::gm || (p.phi > 0.0 && p.phi < 1.0)) &&
+                                                    (p.kind != ProcessKind::ma1 || std::abs(p.theta) < 1.0) &&
+                                                    (p.kind != ProcessKind::sin || (p.omega > 0.0 && p.omega < kPi));
     if (!ok) throw UsageError("model", "the start " + model_name(m) + " has a parameter beyond its range");
     constexpr double kSmallest = 1e-300;
     theta(k++) = std::log(std::max(p.kind == ProcessKind::dr ? p.value * p.value : p.value, kSmallest));
@@ -190,8 +190,8 @@ struct Run {
   bool converged = false;
 };
 
-Run minimise(const CompositeModel& structure, const WaveletVariance& wv, const std::vector<double>& sd,
-             VectorXd theta, std::size_t max_iterations) {
+Run minimise(const CompositeModel& structure, const WaveletVariance& wv, const std::vector<double>& sd, VectorXd theta,
+             std::size_t max_iterations) {
   // Residuals from each process's curve, and the Jacobian by central
   // differences of step 1e-6 max(|theta_k|, 1) (as with_numeric_jacobian),
   // each column from the one process its parameter moves: the others'
@@ -275,30 +275,29 @@ GmwmFit fit_gmwm(const WaveletVariance& wv, const CompositeModel& structure, con
                                     std::to_string(static_cast<long long>(wv.tau[j])) +
                                     ": a constant or damaged record");
 
-  const std::size_t ng = static_cast<std::size_t>(
-      std::count_if(structure.processes.begin(), structure.processes.end(),
-                    [](const Process& p) { return p.kind == ProcessKind::gm; }));
+  const std::size_t ng =
+      static_cast<std::size_t>(std::count_if(structure.processes.begin(), structure.processes.end(),
+                                             [](const Process& p) { return p.kind == ProcessKind::gm; }));
   const std::size_t terms = structure.processes.size();
   const bool has_ma = std::any_of(structure.processes.begin(), structure.processes.end(),
                                   [](const Process& p) { return p.kind == ProcessKind::ma1; });
-  const std::size_t nl = static_cast<std::size_t>(
-      std::count_if(structure.processes.begin(), structure.processes.end(),
-                    [](const Process& p) { return p.kind == ProcessKind::sin; }));
+  const std::size_t nl =
+      static_cast<std::size_t>(std::count_if(structure.processes.begin(), structure.processes.end(),
+                                             [](const Process& p) { return p.kind == ProcessKind::sin; }));
   std::mt19937_64 engine(options.seed);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
 
   // Every start is judged with the same weights (from the curve itself,
   // or the fixed ones asked for).
   const bool fixed = !options.fixed_sd.empty();
-  if (fixed && (options.fixed_sd.size() != wv.size() ||
-                !std::all_of(options.fixed_sd.begin(), options.fixed_sd.end(),
-                             [](double s) { return s > 0.0 && std::isfinite(s); })))
+  if (fixed &&
+      (options.fixed_sd.size() != wv.size() || !std::all_of(options.fixed_sd.begin(), options.fixed_sd.end(),
+                                                            [](double s) { return s > 0.0 && std::isfinite(s); })))
     throw std::invalid_argument("fit_gmwm: fixed_sd needs one positive, finite value per scale");
   const std::vector<double> sd0 = fixed ? options.fixed_sd : weights_at(wv, wv.nu2);
   Run best;
   const std::size_t starts = options.start ? 0 : std::max<std::size_t>(options.starts, 1);
-  if (options.start)
-    best = minimise(structure, wv, sd0, theta_of(structure, *options.start), options.max_iterations);
+  if (options.start) best = minimise(structure, wv, sd0, theta_of(structure, *options.start), options.max_iterations);
   for (const CompositeModel& warm : options.warm_starts) {
     Run run = minimise(structure, wv, sd0, theta_of(structure, warm), options.max_iterations);
     if (run.cost < best.cost) best = std::move(run);
@@ -313,7 +312,7 @@ GmwmFit fit_gmwm(const WaveletVariance& wv, const CompositeModel& structure, con
       std::sort(place.begin(), place.end());
       for (double& p : line) p = unit(engine);
       for (double& f : share) f = std::pow(10.0, -2.0 * unit(engine));  // 0.01 .. 1
-      if (has_ma) ma = 1.6 * unit(engine) - 0.8;                         // -0.8 .. 0.8
+      if (has_ma) ma = 1.6 * unit(engine) - 0.8;                        // -0.8 .. 0.8
     }
     Run run = minimise(structure, wv, sd0, start_from(structure, wv, place, share, ma, line), options.max_iterations);
     if (run.cost < best.cost) best = std::move(run);

@@ -37,8 +37,8 @@ std::vector<double> row_major(const MatrixXd& m) {
 
 }  // namespace
 
-GmwmAsymptotics gmwm_asymptotics(const GmwmFit& fit, const WaveletVariance& wv, std::size_t samples,
-                                 double inflation, bool pseudo_inverse) {
+GmwmAsymptotics gmwm_asymptotics(const GmwmFit& fit, const WaveletVariance& wv, std::size_t samples, double inflation,
+                                 bool pseudo_inverse) {
   const std::size_t J = wv.size();
   if (!(inflation >= 1.0) || !std::isfinite(inflation))
     throw UsageError("model", "the wavelet variance's variance can only be inflated (a factor >= 1), not " +
@@ -69,7 +69,8 @@ GmwmAsymptotics gmwm_asymptotics(const GmwmFit& fit, const WaveletVariance& wv, 
         const double tau = wv.tau[j], w = pr.omega;
         const double s = std::sin(w * tau / 4.0), c = std::cos(w * tau / 4.0);
         const double S = std::sin(w / 2.0), C = std::cos(w / 2.0);
-        const double d = 2.0 * pr.value * (tau * s * s * s * c / (S * S) - s * s * s * s * C / (S * S * S)) / (tau * tau);
+        const double d =
+            2.0 * pr.value * (tau * s * s * s * c / (S * S) - s * s * s * s * C / (S * S * S)) / (tau * tau);
         A(row, k++) = d * w * (1.0 - w / std::numbers::pi);
       }
     }

@@ -59,11 +59,11 @@ double geometric_mean(const std::vector<double>& v, double power) {
 // Each term is value = sqrt(C_k / g) for its IEEE 952 shape factor g, so by
 // the delta method sigma_value = sigma_C / (2 g value).
 constexpr std::array<double, kPowers> kShape = {
-    3.0,                            // Q: 3 Q^2 / tau^2
-    1.0,                            // N: N^2 / tau
-    kFlickerFloor * kFlickerFloor,  // B: (0.664 B)^2
-    1.0 / 3.0,                      // K: K^2 tau / 3
-    0.5,                            // R: R^2 tau^2 / 2
+    3.0,                           // Q: 3 Q^2 / tau^2
+    1.0,                           // N: N^2 / tau
+    kFlickerFloor* kFlickerFloor,  // B: (0.664 B)^2
+    1.0 / 3.0,                     // K: K^2 tau / 3
+    0.5,                           // R: R^2 tau^2 / 2
 };
 
 // Reweighting stops when no point of the model moves by more than this
@@ -141,8 +141,7 @@ NoiseFit fit_noise_terms(const AllanCurve& curve) {
 
   // C_k in data units: model / v_ref = sum (tau / tau_ref)^k d_k / scale_k.
   std::array<double, kPowers> to_c{};
-  for (int k = 0; k < kPowers; ++k)
-    to_c[static_cast<std::size_t>(k)] = v_ref / (scale(k) * std::pow(tau_ref, k - 2));
+  for (int k = 0; k < kPowers; ++k) to_c[static_cast<std::size_t>(k)] = v_ref / (scale(k) * std::pow(tau_ref, k - 2));
   for (std::size_t k = 0; k < kPowers; ++k)
     fit.c[k] = free_set[k] ? std::max(0.0, d(static_cast<Index>(k))) * to_c[k] : 0.0;
 
@@ -167,16 +166,13 @@ NoiseFit fit_noise_terms(const AllanCurve& curve) {
     for (Index j = 0; j < pp; ++j) ap.col(j) = a.col(cols[static_cast<std::size_t>(j)]);
     const Eigen::HouseholderQR<Eigen::MatrixXd> qr(ap);
     const Eigen::MatrixXd q = qr.householderQ() * Eigen::MatrixXd::Identity(rows, pp);
-    const Eigen::MatrixXd rinv = qr.matrixQR()
-                                     .topLeftCorner(pp, pp)
-                                     .triangularView<Eigen::Upper>()
-                                     .solve(Eigen::MatrixXd::Identity(pp, pp));
+    const Eigen::MatrixXd rinv =
+        qr.matrixQR().topLeftCorner(pp, pp).triangularView<Eigen::Upper>().solve(Eigen::MatrixXd::Identity(pp, pp));
     // Only the shape of the spectrum matters: in units of v_ref, S^2 stays
     // representable for any data unit.
     std::array<double, kPowers> c_rel{};
     for (std::size_t k = 0; k < kPowers; ++k) c_rel[k] = fit.c[k] / v_ref;
-    const Eigen::MatrixXd rho_q =
-        projected_correlation(curve.tau, q, psd_of(c_rel, 0.5 / curve.tau.front()));
+    const Eigen::MatrixXd rho_q = projected_correlation(curve.tau, q, psd_of(c_rel, 0.5 / curve.tau.front()));
     const Eigen::MatrixXd cov = rinv * rho_q * rinv.transpose();
     const double expected_chi2 = static_cast<double>(n) - rho_q.trace();
     double factor = 1.0;
@@ -208,7 +204,10 @@ NoiseFit fit_noise_terms(const AllanCurve& curve) {
       const auto ii = static_cast<Index>(i);
       if (!(model(ii) > 0.0)) continue;
       const double share = powers(ii, kk) * d(kk) / scale(kk) / model(ii);
-      if (share > best_share) { best_share = share; best = i; }
+      if (share > best_share) {
+        best_share = share;
+        best = i;
+      }
       if (share >= kDominantShare) {
         if (!any) e.tau_lo = curve.tau[i];
         e.tau_hi = curve.tau[i];

@@ -59,9 +59,12 @@ ReportedTerms reported_terms(const SlopeReadOffs& ro, const NoiseFit& fit, const
 
   r.K_candidate_source = fit.K.valid ? TermSource::fit : TermSource::read_off;
   r.K_candidate = fit.K.valid ? fit.K : ro.K;
-  if (significant(fit.K)) r.K = estimate(fit.K, TermSource::fit);
-  else if (significant(ro.K)) r.K = estimate(ro.K, TermSource::read_off);
-  else r.K = bound(bound_over_curve(curve, [](double tau) { return std::sqrt(3.0 / tau); }));
+  if (significant(fit.K))
+    r.K = estimate(fit.K, TermSource::fit);
+  else if (significant(ro.K))
+    r.K = estimate(ro.K, TermSource::read_off);
+  else
+    r.K = bound(bound_over_curve(curve, [](double tau) { return std::sqrt(3.0 / tau); }));
 
   r.no_minimum = !ro.B.valid;
   if (!r.no_minimum) {

@@ -28,9 +28,7 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // Variance of the quantization error of int(w * lsb) / lsb, taken as white
 // noise uniform over one LSB (valid when the noise spans a few LSBs).
-double quantization_variance(double lsb) noexcept {
-  return lsb > 0.0 ? 1.0 / (12.0 * lsb * lsb) : 0.0;
-}
+double quantization_variance(double lsb) noexcept { return lsb > 0.0 ? 1.0 / (12.0 * lsb * lsb) : 0.0; }
 
 // (2 m^2 + 1) / (6 m): the exact discrete AVAR of a random walk with unit
 // increment variance, written so that it cannot overflow for large m.
@@ -46,7 +44,7 @@ double rw_factor(double m) noexcept { return m / 3.0 + 1.0 / (6.0 * m); }
 // term is a^3 m (2 m^2 + 1) / 3 (the random-walk limit).
 double ar1_avar_unit(double a, double m) noexcept {
   if (!(a >= 0.0) || !(m >= 1.0)) return kNaN;
-  if (a == 0.0) return 0.0;                        // T_c infinite: the bias is a constant
+  if (a == 0.0) return 0.0;  // T_c infinite: the bias is a constant
   const double one_minus_phi = -std::expm1(-a);
   const double denom = m * m * one_minus_phi * one_minus_phi;
   if (m * a < 0.25) {
@@ -147,8 +145,8 @@ std::size_t v_bottom(const AllanCurve& c) {
   const std::size_t n = c.size();
   bool use_interval = c.lo.size() == n && c.hi.size() == n;
   for (std::size_t i = 0; use_interval && i < n; ++i)
-    use_interval = std::isfinite(c.lo[i]) && std::isfinite(c.hi[i]) && c.lo[i] > 0.0 &&
-                   c.lo[i] <= c.dev[i] && c.dev[i] <= c.hi[i];
+    use_interval =
+        std::isfinite(c.lo[i]) && std::isfinite(c.hi[i]) && c.lo[i] > 0.0 && c.lo[i] <= c.dev[i] && c.dev[i] <= c.hi[i];
   std::size_t r = 0;
   for (std::size_t i = 1; i < n; ++i) {
     if (c.dev[i] < c.dev[r]) {
@@ -201,8 +199,7 @@ double avar(const GaussMarkovModel& model, std::size_t m) noexcept {
   double gm = 0.0;
   if (model.sigma_b != 0.0) {
     // tau_c = 0: phi = 0, the "bias" is white with variance sigma_b^2.
-    const double a = model.tau_c > 0.0 ? model.dt / model.tau_c
-                                       : std::numeric_limits<double>::infinity();
+    const double a = model.tau_c > 0.0 ? model.dt / model.tau_c : std::numeric_limits<double>::infinity();
     gm = std::isinf(a) ? 1.0 / md : ar1_avar_unit(a, md);
     gm *= model.sigma_b * model.sigma_b;
   }
@@ -292,10 +289,10 @@ namespace {
 //   dev_i^2 - q^2/m_i  ~  x1 / m_i + x2 g_i(T_c),   x1 = sigma_n^2 >= 0, x2 = sigma_b^2 >= 0,
 // weights edf_i / (2 dev_i^4) (the variance of an AVAR estimate is 2 avar^2 / edf).
 struct GmProblem {
-  std::vector<double> m;     // averaging factors
-  std::vector<double> sw;    // sqrt(weight)
-  std::vector<double> y;     // sqrt(weight) * target
-  std::vector<double> a;     // sqrt(weight) / m
+  std::vector<double> m;   // averaging factors
+  std::vector<double> sw;  // sqrt(weight)
+  std::vector<double> y;   // sqrt(weight) * target
+  std::vector<double> a;   // sqrt(weight) / m
   double dt = 0.0;
   mutable std::vector<double> c;  // sqrt(weight) * g(T_c), scratch
 

@@ -54,17 +54,18 @@ struct Run {
 
 // Maximal runs of consecutive points whose slope is within tolerance of s0
 // and that are wide enough to count as a region.
-std::vector<Run> regions_of_slope(const AllanCurve& c, const std::vector<double>& slope,
-                                  double s0) {
+std::vector<Run> regions_of_slope(const AllanCurve& c, const std::vector<double>& slope, double s0) {
   std::vector<Run> runs;
   const std::size_t n = c.size();
   std::size_t i = 0;
   while (i < n) {
-    if (!(std::abs(slope[i] - s0) <= kSlopeTolerance)) { ++i; continue; }
+    if (!(std::abs(slope[i] - s0) <= kSlopeTolerance)) {
+      ++i;
+      continue;
+    }
     std::size_t j = i;
     while (j + 1 < n && std::abs(slope[j + 1] - s0) <= kSlopeTolerance) ++j;
-    if (j > i && std::log10(c.tau[j] / c.tau[i]) >= kMinRegionDecades - 1e-12)
-      runs.push_back({i, j});
+    if (j > i && std::log10(c.tau[j] / c.tau[i]) >= kMinRegionDecades - 1e-12) runs.push_back({i, j});
     i = j + 1;
   }
   return runs;
@@ -79,8 +80,10 @@ std::vector<double> relative_sigmas(const AllanCurve& c) {
   double running = 0.0;
   for (std::size_t i = 0; i < c.size(); ++i) {
     double r = 0.0;
-    if (c.hi[i] > c.lo[i] && c.lo[i] > 0.0) r = (c.hi[i] - c.lo[i]) / (2.0 * c.dev[i]);
-    else if (c.edf[i] > 0.0) r = 1.0 / std::sqrt(2.0 * c.edf[i]);
+    if (c.hi[i] > c.lo[i] && c.lo[i] > 0.0)
+      r = (c.hi[i] - c.lo[i]) / (2.0 * c.dev[i]);
+    else if (c.edf[i] > 0.0)
+      r = 1.0 / std::sqrt(2.0 * c.edf[i]);
     running = std::max(running, r);
     rel[i] = running;
   }
@@ -99,14 +102,16 @@ struct LineTerm {
 // through point i has ordinate dev_i (tau_read / tau_i)^slope, smallest at
 // the point where the curve's own slope equals the line's. Taking the
 // minimum over the region is the paper's "line tangent to the curve".
-TermEstimate tangent_in(const AllanCurve& c, const Run& r, const std::vector<double>& rel_sigma,
-                        LineTerm term) {
+TermEstimate tangent_in(const AllanCurve& c, const Run& r, const std::vector<double>& rel_sigma, LineTerm term) {
   TermEstimate e;
   std::size_t best = r.first;
   double best_value = std::numeric_limits<double>::infinity();
   for (const std::size_t i : well_measured(c, r.first, r.last)) {
     const double v = c.dev[i] * std::pow(term.tau_read / c.tau[i], term.slope);
-    if (v < best_value) { best_value = v; best = i; }
+    if (v < best_value) {
+      best_value = v;
+      best = i;
+    }
   }
   e.valid = true;
   e.value = best_value;
@@ -116,8 +121,8 @@ TermEstimate tangent_in(const AllanCurve& c, const Run& r, const std::vector<dou
   return e;
 }
 
-TermEstimate read_line(const AllanCurve& c, const std::vector<double>& slope,
-                       const std::vector<double>& rel_sigma, LineTerm term) {
+TermEstimate read_line(const AllanCurve& c, const std::vector<double>& slope, const std::vector<double>& rel_sigma,
+                       LineTerm term) {
   const auto runs = regions_of_slope(c, slope, term.slope);
   if (runs.empty()) return {};
   return tangent_in(c, term.at_short_taus ? runs.front() : runs.back(), rel_sigma, term);
@@ -146,8 +151,7 @@ constexpr double kWhiteReadTau = 1.0;
 // 1 s. The tangent over the whole region is not used when 1 s lies inside
 // it: a sensor's anti-alias or averaging filter lowers the curve at the
 // shortest taus (the ADIS16405's by ~7 %), where the tangent would touch.
-TermEstimate read_white(const AllanCurve& c, const std::vector<double>& slope,
-                        const std::vector<double>& rel_sigma) {
+TermEstimate read_white(const AllanCurve& c, const std::vector<double>& slope, const std::vector<double>& rel_sigma) {
   const auto runs = regions_of_slope(c, slope, -0.5);
   if (runs.empty()) return {};
   const double at = kWhiteReadTau;

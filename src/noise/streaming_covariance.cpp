@@ -35,8 +35,8 @@ void StreamingCovariance::add(std::span<const std::span<const double>> pieces) {
   const double n1 = static_cast<double>(n_), n2 = static_cast<double>(m), n = n1 + n2;
   for (std::size_t a = 0; a < k_; ++a)
     for (std::size_t b = 0; b < k_; ++b)
-      comoment_[a * k_ + b] += piece_comoment_[a * k_ + b] +
-                               (piece_mean_[a] - mean_[a]) * (piece_mean_[b] - mean_[b]) * n1 * n2 / n;
+      comoment_[a * k_ + b] +=
+          piece_comoment_[a * k_ + b] + (piece_mean_[a] - mean_[a]) * (piece_mean_[b] - mean_[b]) * n1 * n2 / n;
   for (std::size_t a = 0; a < k_; ++a) mean_[a] += (piece_mean_[a] - mean_[a]) * n2 / n;
   n_ += m;
 }

@@ -30,7 +30,7 @@ TemperatureFit fit_temperature_p(std::span<const double> y, std::span<const doub
   for (double v : y) ymean += v;
   ymean /= static_cast<double>(n);
   std::array<double, P> aty{};
-  std::array<double, P * (P + 1) / 2> ata{};
+  std::array<double, P*(P + 1) / 2> ata{};
   for (std::size_t i = 0; i < n; ++i) {
     const double u = reg(temp[i]);
     std::array<double, P> row;
@@ -87,8 +87,7 @@ TemperatureFit fit_temperature_p(std::span<const double> y, std::span<const doub
 
 }  // namespace
 
-TemperatureFit fit_temperature(std::span<const double> y, std::span<const double> temp,
-                               std::size_t order) {
+TemperatureFit fit_temperature(std::span<const double> y, std::span<const double> temp, std::size_t order) {
   const noise::detail::TemperatureRegressor reg = noise::detail::temperature_regressor(y, temp, order);
   switch (order + 1) {  // temperature_regressor took orders 1 to 5
     case 2: return fit_temperature_p<2>(y, temp, reg, order);

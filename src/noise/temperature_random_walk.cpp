@@ -73,7 +73,7 @@ Sums filter_sums(std::span<const double> y, std::span<const double> temp,
                  std::span<const BiasGap> gaps) {
   const std::size_t n = y.size();
   std::array<double, P + 1> a{}, z{}, e{};
-  std::array<double, P * (P + 1) / 2> xx{};
+  std::array<double, P*(P + 1) / 2> xx{};
   std::array<double, P> xy{}, um{};
   const double inv_span = 1.0 / reg.half_span;
   double pk = 0.0;
@@ -137,8 +137,8 @@ struct ResidualSums {
 };
 template <std::size_t P>
 ResidualSums residual_sums(std::span<const double> y, std::span<const double> temp,
-                           const noise::detail::TemperatureRegressor& reg,
-                           const std::array<double, kMaxOrder + 1>& cu, double ymean) {
+                           const noise::detail::TemperatureRegressor& reg, const std::array<double, kMaxOrder + 1>& cu,
+                           double ymean) {
   ResidualSums s;
   for (std::size_t k = 0; k < y.size(); ++k) {
     const double u = reg(temp[k]);

@@ -8,8 +8,7 @@
 
 namespace cubecal {
 
-TwinError twin_error(const CompositeModel& model, std::span<const StabilityPoint> curve,
-                     double max_tau_s) {
+TwinError twin_error(const CompositeModel& model, std::span<const StabilityPoint> curve, double max_tau_s) {
   TwinError e;
   for (const StabilityPoint& p : curve) {
     if (!(p.tau <= max_tau_s * (1.0 + 1e-12)) || !(p.dev > 0.0) || !std::isfinite(p.dev) || p.m == 0) continue;

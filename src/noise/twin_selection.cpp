@@ -84,7 +84,8 @@ class Search {
       if (scattered == 0 && warm.empty()) o.starts = 1;
       c.fit = fit_gmwm(wv_, structure, o);
       c.score = wic_score_asymptotic(wv_, sd, c.fit, samples_, 1.0, true);
-      if (!std::isfinite(c.score.wic)) throw CalibrationError(CalibrationReason::degenerate, "a WIC that is not finite");
+      if (!std::isfinite(c.score.wic))
+        throw CalibrationError(CalibrationReason::degenerate, "a WIC that is not finite");
     } catch (const std::exception& e) {
       failed_.push_back(model_name(structure) + ": " + e.what());
       return std::nullopt;
@@ -190,7 +191,8 @@ class Search {
       Process& pm = swap.start.processes[i];
       if (k == ProcessKind::ma1) {
         ps = Process{ProcessKind::wn};
-        pm = Process{ProcessKind::wn, m.processes[i].value * (1.0 + m.processes[i].theta) * (1.0 + m.processes[i].theta)};
+        pm = Process{ProcessKind::wn,
+                     m.processes[i].value * (1.0 + m.processes[i].theta) * (1.0 + m.processes[i].theta)};
       } else if (k == ProcessKind::dr) {
         ps = Process{ProcessKind::rw};
         pm = Process{ProcessKind::rw, haar_wavelet_variance(m.processes[i], tJ) * 12.0 * tJ / (tJ * tJ + 2.0)};
@@ -271,7 +273,8 @@ TwinSelection select_twin(const WaveletVariance& wv, std::size_t samples, double
   std::optional<TwinCandidate> at =
       search.fit(parse_composite_model("WN"), {}, search.sd_, std::max<std::size_t>(options.starts, 1), 0);
   if (!at)
-    throw CalibrationError(CalibrationReason::degenerate, "no white noise fits the curve (" + search.failed_.front() + ")");
+    throw CalibrationError(CalibrationReason::degenerate,
+                           "no white noise fits the curve (" + search.failed_.front() + ")");
   std::size_t lines_used = 0;
   // Each step lowers the WIC; the cap only bounds a pathological curve.
   constexpr std::size_t kMaxSteps = 40;

@@ -1,6 +1,5 @@
 #include "cubecal/noise/unit_from_name.hpp"
 
-
 namespace cubecal {
 
 namespace {
@@ -12,21 +11,24 @@ struct Suffix {
 };
 
 constexpr Suffix kSuffixes[] = {
-    {"dps", "deg/s", false},      {"degps", "deg/s", false},   {"deg_s", "deg/s", false},
-    {"degs", "deg/s", false},     {"deg_per_s", "deg/s", false},
-    {"rads", "rad/s", false},     {"rad_s", "rad/s", false},   {"radps", "rad/s", false},
-    {"rad_per_s", "rad/s", false},
-    {"dph", "deg/h", false},      {"degph", "deg/h", false},   {"deg_h", "deg/h", false},
-    {"deg_per_h", "deg/h", false},
-    {"g", "g", true},
-    {"mps2", "m/s^2", false},     {"ms2", "m/s^2", false},     {"m_s2", "m/s^2", false},
-    {"mpss", "m/s^2", false},     {"m_s_2", "m/s^2", false},
-    {"ut", "uT", false},          {"utesla", "uT", false},     {"microtesla", "uT", false},
-    {"mG", "mGauss", true},       {"mgauss", "mGauss", false}, {"milligauss", "mGauss", false},
-    {"nt", "nT", false},          {"ntesla", "nT", false},     {"nanotesla", "nT", false},
-    {"counts", "counts", false},  {"cnt", "counts", false},    {"lsb", "counts", false},
-    {"count", "counts", false},   {"raw_counts", "counts", false},
-    {"degpersec", "deg/s", false}, {"radpersec", "rad/s", false},
+    {"dps", "deg/s", false},         {"degps", "deg/s", false},
+    {"deg_s", "deg/s", false},       {"degs", "deg/s", false},
+    {"deg_per_s", "deg/s", false},   {"rads", "rad/s", false},
+    {"rad_s", "rad/s", false},       {"radps", "rad/s", false},
+    {"rad_per_s", "rad/s", false},   {"dph", "deg/h", false},
+    {"degph", "deg/h", false},       {"deg_h", "deg/h", false},
+    {"deg_per_h", "deg/h", false},   {"g", "g", true},
+    {"mps2", "m/s^2", false},        {"ms2", "m/s^2", false},
+    {"m_s2", "m/s^2", false},        {"mpss", "m/s^2", false},
+    {"m_s_2", "m/s^2", false},       {"ut", "uT", false},
+    {"utesla", "uT", false},         {"microtesla", "uT", false},
+    {"mG", "mGauss", true},          {"mgauss", "mGauss", false},
+    {"milligauss", "mGauss", false}, {"nt", "nT", false},
+    {"ntesla", "nT", false},         {"nanotesla", "nT", false},
+    {"counts", "counts", false},     {"cnt", "counts", false},
+    {"lsb", "counts", false},        {"count", "counts", false},
+    {"raw_counts", "counts", false}, {"degpersec", "deg/s", false},
+    {"radpersec", "rad/s", false},
 };
 
 char lower(char c) { return (c >= 'A' && c <= 'Z') ? static_cast<char>(c - 'A' + 'a') : c; }

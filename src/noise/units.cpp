@@ -40,10 +40,7 @@ std::optional<Unit> parse_unit(std::string_view s) {
   for (const auto& r : kUnits)
     if (r.name == s) {
       // Aliases report the canonical spelling.
-      std::string name(r.name == "dps"   ? "deg/s"
-                       : r.name == "dph" ? "deg/h"
-                       : r.name == "mG"  ? "mGauss"
-                                         : r.name);
+      std::string name(r.name == "dps" ? "deg/s" : r.name == "dph" ? "deg/h" : r.name == "mG" ? "mGauss" : r.name);
       return Unit{name, r.kind, r.to_si, std::string(r.si)};
     }
   return std::nullopt;
@@ -79,11 +76,26 @@ Quantity display(const TermEstimate& t, Term term, const Unit& unit) {
     const double to_deg = unit.to_si / kDeg;
     double f = 1.0;
     switch (term) {
-      case Term::Q: f = 1.0; q.unit = "deg"; break;                    // deg/s * s
-      case Term::N: f = 60.0; q.unit = "deg/sqrt(h)"; break;           // deg/s*sqrt(s) -> deg/sqrt(h)
-      case Term::B: f = 3600.0; q.unit = "deg/h"; break;
-      case Term::K: f = 3600.0 * 60.0; q.unit = "deg/h/sqrt(h)"; break;  // deg/s/sqrt(s)
-      case Term::R: f = 3600.0 * 3600.0; q.unit = "deg/h^2"; break;    // deg/s^2
+      case Term::Q:
+        f = 1.0;
+        q.unit = "deg";
+        break;  // deg/s * s
+      case Term::N:
+        f = 60.0;
+        q.unit = "deg/sqrt(h)";
+        break;  // deg/s*sqrt(s) -> deg/sqrt(h)
+      case Term::B:
+        f = 3600.0;
+        q.unit = "deg/h";
+        break;
+      case Term::K:
+        f = 3600.0 * 60.0;
+        q.unit = "deg/h/sqrt(h)";
+        break;  // deg/s/sqrt(s)
+      case Term::R:
+        f = 3600.0 * 3600.0;
+        q.unit = "deg/h^2";
+        break;  // deg/s^2
     }
     q.value = t.value * f * to_deg;
     q.sigma = t.sigma * f * to_deg;
@@ -92,11 +104,26 @@ Quantity display(const TermEstimate& t, Term term, const Unit& unit) {
   const std::string& u = unit.name;
   double f = 1.0;
   switch (term) {
-    case Term::Q: f = 1.0; q.unit = u + "*s"; break;
-    case Term::N: f = 1.0 / 60.0; q.unit = u + "*sqrt(h)"; break;  // u*sqrt(s) -> u*sqrt(h)
-    case Term::B: f = 1.0; q.unit = u; break;
-    case Term::K: f = 60.0; q.unit = u + "/sqrt(h)"; break;        // u/sqrt(s) -> u/sqrt(h)
-    case Term::R: f = 3600.0; q.unit = u + "/h"; break;            // u/s -> u/h
+    case Term::Q:
+      f = 1.0;
+      q.unit = u + "*s";
+      break;
+    case Term::N:
+      f = 1.0 / 60.0;
+      q.unit = u + "*sqrt(h)";
+      break;  // u*sqrt(s) -> u*sqrt(h)
+    case Term::B:
+      f = 1.0;
+      q.unit = u;
+      break;
+    case Term::K:
+      f = 60.0;
+      q.unit = u + "/sqrt(h)";
+      break;  // u/sqrt(s) -> u/sqrt(h)
+    case Term::R:
+      f = 3600.0;
+      q.unit = u + "/h";
+      break;  // u/s -> u/h
   }
   q.value = t.value * f;
   q.sigma = t.sigma * f;
@@ -115,7 +142,7 @@ Quantity random_walk_density(const TermEstimate& K, const Unit& unit, bool si) {
 
 std::vector<Quantity> accelerometer_display(const TermEstimate& t, Term term, const Unit& unit) {
   if (unit.kind != SensorKind::acceleration) return {};
-  const double si = unit.to_si;                    // m/s^2 per data unit
+  const double si = unit.to_si;                        // m/s^2 per data unit
   const double micro_g = si / kStandardGravity * 1e6;  // ug per data unit
   const auto q = [&](double f, const char* name) { return Quantity{t.value * f, t.sigma * f, name}; };
   switch (term) {

@@ -96,9 +96,9 @@ double geometric1(double b, double D) {
 }
 
 struct GmTerm {
-  double a = 0.0;     // -ln phi
-  double cg = 0.0;    // gamma0 / (4 sinh^2(a / 2)), gamma0 = sigma2 / (1 - phi^2)
-  double sam = 0.0;   // sinh a - a
+  double a = 0.0;    // -ln phi
+  double cg = 0.0;   // gamma0 / (4 sinh^2(a / 2)), gamma0 = sigma2 / (1 - phi^2)
+  double sam = 0.0;  // sinh a - a
 };
 
 // The model's random part, per kind (a model may repeat a kind; its values add).
@@ -384,8 +384,8 @@ class LagSums {
 
 double half_scale(double tau) {
   if (!(tau >= 2.0) || !std::isfinite(tau) || std::fmod(tau, 2.0) != 0.0 || tau > 9.0e15)
-    throw UsageError("scales", "a wavelet-variance scale must be an even number of samples >= 2, not " +
-                                   std::to_string(tau));
+    throw UsageError("scales",
+                     "a wavelet-variance scale must be an even number of samples >= 2, not " + std::to_string(tau));
   return tau / 2.0;
 }
 

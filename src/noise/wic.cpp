@@ -53,9 +53,8 @@ std::vector<CompositeModel> parse_candidate_models(const std::string& text) {
   return out;
 }
 
-WicReplicate wic_replicate(const CompositeModel& structure, const GmwmFit& fit, std::size_t samples,
-                           std::size_t scales, std::uint64_t seed, const GmwmOptions& options,
-                           double robust_efficiency) {
+WicReplicate wic_replicate(const CompositeModel& structure, const GmwmFit& fit, std::size_t samples, std::size_t scales,
+                           std::uint64_t seed, const GmwmOptions& options, double robust_efficiency) {
   WicReplicate r;
   try {
     const std::vector<double> y = simulate_composite(fit.model, samples, seed);

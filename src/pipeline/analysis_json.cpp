@@ -129,13 +129,14 @@ json noise_json(const NoiseAnalysis& n, const Unit& u) {
       for (const Quantity& q : accelerometer_display(t, which, u)) a.push_back(quantity(q, t.valid));
       return a;
     };
-    j["accelerometer"] = {
-        {"read_off", {{"velocity_random_walk", accel(r.N, Term::N)},
-                      {"bias_instability", accel(r.B, Term::B)},
-                      {"acceleration_random_walk", accel(r.K, Term::K)}}},
-        {"fit", {{"velocity_random_walk", accel(f.N, Term::N)},
-                 {"bias_instability", accel(f.B, Term::B)},
-                 {"acceleration_random_walk", accel(f.K, Term::K)}}}};
+    j["accelerometer"] = {{"read_off",
+                           {{"velocity_random_walk", accel(r.N, Term::N)},
+                            {"bias_instability", accel(r.B, Term::B)},
+                            {"acceleration_random_walk", accel(r.K, Term::K)}}},
+                          {"fit",
+                           {{"velocity_random_walk", accel(f.N, Term::N)},
+                            {"bias_instability", accel(f.B, Term::B)},
+                            {"acceleration_random_walk", accel(f.K, Term::K)}}}};
   }
   const BiasVerdict v = judge_bias_instability(r, f);
   j["bias_instability_choice"] = {{"trust", to_string(v.trust)},
@@ -174,8 +175,7 @@ json model_json(const ModelAnalysis& m, const Unit& u, std::size_t record_sample
     j["gauss_markov_error"] = m.gm_error;
   }
   if (m.ok && m.gm_ok)
-    j["better_fit"] =
-        m.gauss_markov_residual.rms_log < m.random_walk_residual.rms_log ? "gauss_markov" : "random_walk";
+    j["better_fit"] = m.gauss_markov_residual.rms_log < m.random_walk_residual.rms_log ? "gauss_markov" : "random_walk";
   // The curve the models were fitted to, when it is not the record's.
   if (m.samples != record_samples) j["adev"] = curve_json(m.adev);
   return j;
@@ -213,12 +213,8 @@ json temperature_json(const TemperatureAnalysis& t, const Unit& u, const std::st
     tj["method_text"] =
         "generalized least squares with white noise and a random-walk bias (Kalman filter), noise model fitted "
         "to the compensated record";
-    tj["noise_model"] = {{"sigma_n", t.noise.sigma_n},
-                         {"sigma_mu", t.noise.sigma_mu},
-                         {"sigma_mu_unit", u.name + "/s"},
-                         {"lsb", t.noise.lsb},
-                         {"iterations", t.iterations},
-                         {"converged", t.converged}};
+    tj["noise_model"] = {{"sigma_n", t.noise.sigma_n}, {"sigma_mu", t.noise.sigma_mu}, {"sigma_mu_unit", u.name + "/s"},
+                         {"lsb", t.noise.lsb},         {"iterations", t.iterations},   {"converged", t.converged}};
   } else {
     tj["method"] = "ols";
     tj["method_text"] = "ordinary least squares, batch-means sandwich covariance";
@@ -297,7 +293,10 @@ json whole(double v) {  // an integer where a double holds it exactly
 json excluded_json(const std::vector<ExcludedTau>& ex) {
   json a = json::array();
   for (const auto& e : ex)
-    a.push_back({{"tau_s", e.tau}, {"af", whole(e.m)}, {"needs_samples", whole(e.needs)}, {"samples", e.has},
+    a.push_back({{"tau_s", e.tau},
+                 {"af", whole(e.m)},
+                 {"needs_samples", whole(e.needs)},
+                 {"samples", e.has},
                  {"reason", e.reason}});
   return a;
 }
@@ -305,8 +304,7 @@ json excluded_json(const std::vector<ExcludedTau>& ex) {
 void write_tau_list(json& j, const TauListOutcome& t) {
   j["excluded_taus"] = excluded_json(t.excluded);
   json merged = json::array();
-  for (const auto& m : t.merged)
-    merged.push_back({{"tau_s", m.tau}, {"merged_with_tau_s", m.kept_tau}, {"af", m.m}});
+  for (const auto& m : t.merged) merged.push_back({{"tau_s", m.tau}, {"merged_with_tau_s", m.kept_tau}, {"af", m.m}});
   j["merged_taus"] = std::move(merged);
 }
 
@@ -317,8 +315,7 @@ std::vector<ExcludedTau> read_excluded(const Node& root, const char* key) {
   const Node a = root.at(key);
   for (std::size_t i = 0; i < a.size(); ++i) {
     const Node e = a.at(i);
-    out.push_back({e.num("tau_s"), e.num("af"), e.num("needs_samples"), e.at("samples").count(),
-                   e.at("reason").str()});
+    out.push_back({e.num("tau_s"), e.num("af"), e.num("needs_samples"), e.at("samples").count(), e.at("reason").str()});
   }
   return out;
 }
@@ -473,8 +470,7 @@ TemperatureFit read_temperature_fit(const Node& t, std::size_t order) {
   return f;
 }
 
-TemperatureAnalysis read_temperature(const Node& t, const ChannelAnalysis& ch, std::size_t record_samples,
-                                     double dt) {
+TemperatureAnalysis read_temperature(const Node& t, const ChannelAnalysis& ch, std::size_t record_samples, double dt) {
   TemperatureAnalysis a;
   const std::size_t order = t.has("order") ? t.at("order").count() : 0;
   a.fit = read_temperature_fit(t, order);
@@ -501,8 +497,8 @@ TemperatureAnalysis read_temperature(const Node& t, const ChannelAnalysis& ch, s
     a.compensated_model = read_model(t.at("compensated_model"), on, dt);
     if (t.at("compensated_model").has("composite")) {
       const Node m = t.at("compensated_model").at("composite");
-      a.compensated_model.composite = model_channel_from_json(m.raw(), "analysis.json",
-                                                              "channels[].temperature.compensated_model.composite");
+      a.compensated_model.composite =
+          model_channel_from_json(m.raw(), "analysis.json", "channels[].temperature.compensated_model.composite");
       a.compensated_model.composite_residual.rms_log = m.num("residual_rms_log");
       a.compensated_model.composite_residual.chi2 = m.num("residual_chi2");
     }
@@ -605,8 +601,7 @@ void reread_white_noise(NoiseAnalysis& n) {
 
 AnalysisResult read_result(const json& doc, const std::string& label) {
   const Node root(doc, "", label);
-  if (!doc.is_object() || !doc.contains("input") || !doc.contains("channels"))
-    root.fail("no 'input' and 'channels'");
+  if (!doc.is_object() || !doc.contains("input") || !doc.contains("channels")) root.fail("no 'input' and 'channels'");
   AnalysisResult r;
   const Node in = root.at("input");
   r.file = in.at("file").str();
@@ -649,8 +644,8 @@ AnalysisResult read_result(const json& doc, const std::string& label) {
       ch.model.composite_residual.chi2 = m.num("residual_chi2");
       if (m.has("twin_error")) {
         const Node e = m.at("twin_error");
-        ch.model.twin_error = {e.at("taus").count(), e.at("inside").count(), e.num("share_inside"),
-                               e.num("max_error"), e.num("max_error_tau_s"), e.num("max_error_10s"),
+        ch.model.twin_error = {e.at("taus").count(),   e.at("inside").count(),   e.num("share_inside"),
+                               e.num("max_error"),     e.num("max_error_tau_s"), e.num("max_error_10s"),
                                e.num("max_error_100s")};
       }
     }
@@ -666,8 +661,7 @@ AnalysisResult read_result(const json& doc, const std::string& label) {
       if (r.temp_name.empty()) r.temp_name = t.str_or("sensor", "");
     }
     // Written by analyze --psd only (and not before it existed).
-    if (cj.has("spectral"))
-      ch.spectral = read_spectral(cj.at("spectral"), ch.unit, r.rate_hz);
+    if (cj.has("spectral")) ch.spectral = read_spectral(cj.at("spectral"), ch.unit, r.rate_hz);
     r.channels.push_back(std::move(ch));
   }
   const Node cov = root.at("covariance");
@@ -727,7 +721,9 @@ void to_json(json& j, const AnalysisResult& r) {
                 {"rate_hz", r.rate_hz},
                 {"duration_s", r.duration_s},
                 {"segments", r.segments},
-                {"gaps", r.gaps == io::GapPolicy::split ? "split" : r.gaps == io::GapPolicy::skip ? "skip" : "error"}};
+                {"gaps", r.gaps == io::GapPolicy::split  ? "split"
+                         : r.gaps == io::GapPolicy::skip ? "skip"
+                                                         : "error"}};
   j["ci"] = r.ci;
   json chans = json::array();
   for (const auto& c : r.channels) {
@@ -770,13 +766,15 @@ void to_json(json& j, const AnalysisResult& r) {
   j["channels"] = std::move(chans);
   std::string cov_unit;
   if (!r.channels.empty()) cov_unit = "(" + r.channels[0].unit.name + ")^2";
-  j["covariance"] = {{"channels", r.cov_names}, {"matrix", r.covariance}, {"samples", r.cov_samples},
-                     {"unit", cov_unit}};
+  j["covariance"] = {
+      {"channels", r.cov_names}, {"matrix", r.covariance}, {"samples", r.cov_samples}, {"unit", cov_unit}};
   write_tau_list(j, r.tau_list);
   j["model_excluded_taus"] = excluded_json(r.model_excluded_taus);
   // A streamed run: overlapping terms exact up to the window bound, at the
   // stride of adev_stride above it.
-  if (r.window_bound > 0) j["stream"] = {{"window_bound", r.window_bound}};  // analyze --composite: how each channel's model.composite was fitted.
+  if (r.window_bound > 0)
+    j["stream"] = {
+        {"window_bound", r.window_bound}};  // analyze --composite: how each channel's model.composite was fitted.
   if (r.composite)
     j["composite"] = {{"method",
                        "GMWM fit of a composite noise model to the Haar wavelet variance of the samples the sensor "
@@ -793,15 +791,15 @@ void to_json(json& j, const AnalysisResult& r) {
     json checked = json::array();
     for (const TwinCheckChannel& c : r.twin_check->channels)
       checked.push_back({{"name", c.name},
-                       {"tau", c.tau},
-                       {"measured", c.measured},
-                       {"twins", c.twins},
-                       {"twins_lo", c.twins_lo},
-                       {"twins_hi", c.twins_hi},
-                       {"max_error_10s", c.max_error_10s},
-                       {"max_error_100s", c.max_error_100s},
-                       {"max_error", c.max_error},
-                       {"max_error_tau_s", c.max_error_tau_s}});
+                         {"tau", c.tau},
+                         {"measured", c.measured},
+                         {"twins", c.twins},
+                         {"twins_lo", c.twins_lo},
+                         {"twins_hi", c.twins_hi},
+                         {"max_error_10s", c.max_error_10s},
+                         {"max_error_100s", c.max_error_100s},
+                         {"max_error", c.max_error},
+                         {"max_error_tau_s", c.max_error_tau_s}});
     j["twin_check"] = {{"twins", r.twin_check->twins},
                        {"seed", r.twin_check->seed},
                        {"samples", r.twin_check->samples},
@@ -823,8 +821,7 @@ json to_json(const AnalysisDocument& d) {
 
 AnalysisDocument parse_analysis_json(const std::string& text, const std::string& label) {
   const json j = json::parse(text, nullptr, false);
-  if (j.is_discarded())
-    throw UsageError(label + ": not an analysis.json written by cubecal analyze (not valid JSON)");
+  if (j.is_discarded()) throw UsageError(label + ": not an analysis.json written by cubecal analyze (not valid JSON)");
   AnalysisDocument d;
   d.result = read_result(j, label);
   if (j.contains("command") && j["command"].is_string()) d.command = j["command"].get<std::string>();

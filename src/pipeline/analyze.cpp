@@ -35,7 +35,8 @@ std::vector<BiasGap> bias_gaps(const io::Series& s) {
     BiasGap gap;
     gap.index = s.segments[g].begin;
     if (!s.time.empty() && s.segments[g - 1].end > 0)
-      gap.steps = std::max(0.0, std::round((s.time[s.segments[g].begin] - s.time[s.segments[g - 1].end - 1]) / s.tau0) - 1.0);
+      gap.steps =
+          std::max(0.0, std::round((s.time[s.segments[g].begin] - s.time[s.segments[g - 1].end - 1]) / s.tau0) - 1.0);
     gaps.push_back(gap);
   }
   return gaps;
@@ -49,8 +50,8 @@ std::vector<BiasGap> bias_gaps(const io::Series& s) {
 // with the reason. Then the compensated series: its noise terms, and the
 // sensor models on it as on the record.
 TemperatureAnalysis analyze_temperature_of(std::size_t c, const io::Series& s, const AnalyzeRequest& req,
-                                           const std::string& temp_name, const std::vector<BiasGap>& gaps,
-                                           double lsb, const std::optional<ModelChannel>& twin) {
+                                           const std::string& temp_name, const std::vector<BiasGap>& gaps, double lsb,
+                                           const std::optional<ModelChannel>& twin) {
   const auto& temp = s.extra.at(*req.temp_index);
   const double dt = s.tau0;
   const std::size_t first = s.segments.front().size();
@@ -79,12 +80,12 @@ TemperatureAnalysis analyze_temperature_of(std::size_t c, const io::Series& s, c
                     "): the least-squares fit is reported";
   }
   std::vector<double> comp = compensate_temperature(s.channels[c], temp, t.fit);
-  const DevResult cdev = run_dev({s.names[c]}, {std::span<const double>(comp)}, s.rate_hz, s.segments,
-                                 oadev_request(req));
+  const DevResult cdev =
+      run_dev({s.names[c]}, {std::span<const double>(comp)}, s.rate_hz, s.segments, oadev_request(req));
   t.compensated = noise_of(cdev.channels[0]);
   if (head) {
-    const DevResult hd = run_dev({s.names[c]}, {std::span<const double>(comp.data(), req.max_samples)}, s.rate_hz,
-                                 {}, oadev_request(req));
+    const DevResult hd = run_dev({s.names[c]}, {std::span<const double>(comp.data(), req.max_samples)}, s.rate_hz, {},
+                                 oadev_request(req));
     t.compensated_model.adev = hd.channels[0].points;
   } else {
     t.compensated_model.adev = cdev.channels[0].points;
@@ -164,8 +165,8 @@ void check_composite(const io::Series& s, const AnalyzeRequest& req) {
   if (s.segments.size() > 1 && !head)
     throw UsageError("composite", s.file + ": the record is cut into " + std::to_string(s.segments.size()) +
                                       " pieces at gaps, and the composite model's wavelet variance needs one "
-                                      "contiguous piece: fit it on the first " + std::to_string(first) +
-                                      " samples (--max-samples), or repair the gaps");
+                                      "contiguous piece: fit it on the first " +
+                                      std::to_string(first) + " samples (--max-samples), or repair the gaps");
 }
 
 // The composite model of every channel: run_model of the samples the sensor
@@ -283,10 +284,11 @@ AnalysisResult run_analyze(const io::Series& s, const AnalyzeRequest& req) {
   const std::size_t first = s.segments.front().size();
   if (req.max_samples > 0 && req.max_samples < first) {
     std::vector<std::vector<double>> head;
-    for (const auto& ch : s.channels) head.emplace_back(ch.begin(), ch.begin() + static_cast<std::ptrdiff_t>(req.max_samples));
+    for (const auto& ch : s.channels)
+      head.emplace_back(ch.begin(), ch.begin() + static_cast<std::ptrdiff_t>(req.max_samples));
     const DevResult hd = run_dev(s.names, head, s.rate_hz, oadev_request(req));
-    const TauListOutcome head_list = tau_list_outcome(req.grid, Stat::oadev, DataType::freq, req.max_samples,
-                                                      dt, "the part the model is fitted on");
+    const TauListOutcome head_list =
+        tau_list_outcome(req.grid, Stat::oadev, DataType::freq, req.max_samples, dt, "the part the model is fitted on");
     for (const ExcludedTau& e : head_list.excluded) {
       const bool on_curve = std::none_of(r.tau_list.excluded.begin(), r.tau_list.excluded.end(),
                                          [&](const ExcludedTau& f) { return f.tau == e.tau; });
@@ -303,7 +305,7 @@ AnalysisResult run_analyze(const io::Series& s, const AnalyzeRequest& req) {
     }
   }
 
-#pragma omp parallel for schedule(dynamic, 1) num_threads(req.threads > 0 ? static_cast<int>(req.threads) : 0)
+#pragma omp parallel for schedule(dynamic, 1) num_threads(req.threads > 0 ? static_cast <int>(req.threads) : 0)
   for (std::size_t c = 0; c < nch; ++c) {
     auto& ch = r.channels[c];
     const auto& y = s.channels[c];
@@ -348,8 +350,7 @@ AnalysisResult run_analyze(const io::Series& s, const AnalyzeRequest& req) {
     for (const auto& ch : r.channels) preq.units.push_back(ch.unit);
     preq.threads = req.threads;
     PsdResult p = run_psd(s, preq);
-    for (std::size_t c = 0; c < nch; ++c)
-      r.channels[c].spectral = spectral_of(p, c);
+    for (std::size_t c = 0; c < nch; ++c) r.channels[c].spectral = spectral_of(p, c);
   }
 
   // Covariance of the selected channels (eq. 12).

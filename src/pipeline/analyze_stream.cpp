@@ -34,8 +34,7 @@ struct CurveStreams {
   }
   void push(std::span<const double> y) {
     record.push(y);
-    if (head && head->samples() < head_samples)
-      head->push(y.first(std::min(y.size(), head_samples - head->samples())));
+    if (head && head->samples() < head_samples) head->push(y.first(std::min(y.size(), head_samples - head->samples())));
   }
 };
 
@@ -83,8 +82,9 @@ AnalysisResult run_analyze_stream(io::SampleStream& in, const AnalyzeRequest& re
 
   AnalysisResult r;
   if (req.composite)
-    r.composite_skipped = "the wavelet variance reaches scales of half the record, which a streamed analysis does "
-                          "not hold (analyze the record in memory, or fit the model with cubecal model)";
+    r.composite_skipped =
+        "the wavelet variance reaches scales of half the record, which a streamed analysis does "
+        "not hold (analyze the record in memory, or fit the model with cubecal model)";
   r.file = in.file();
   r.rate_hz = in.rate_hz();
   r.segments = 1;
@@ -137,8 +137,8 @@ AnalysisResult run_analyze_stream(io::SampleStream& in, const AnalyzeRequest& re
   r.tau_list = tau_list_outcome(req.grid, Stat::oadev, DataType::freq, n, dt, "the record");
   const bool head = req.max_samples > 0 && req.max_samples < n;
   if (head) {
-    const TauListOutcome head_list = tau_list_outcome(req.grid, Stat::oadev, DataType::freq, req.max_samples, dt,
-                                                      "the part the model is fitted on");
+    const TauListOutcome head_list =
+        tau_list_outcome(req.grid, Stat::oadev, DataType::freq, req.max_samples, dt, "the part the model is fitted on");
     for (const ExcludedTau& e : head_list.excluded) {
       const bool on_curve = std::none_of(r.tau_list.excluded.begin(), r.tau_list.excluded.end(),
                                          [&](const ExcludedTau& f) { return f.tau == e.tau; });

@@ -29,7 +29,8 @@ void check_request(const io::Table& t, const MagRequest& req) {
   if (t.data.size() != 3)
     throw UsageError("mag_columns", t.file + " has " + std::to_string(t.data.size()) +
                                         " data columns: the 3 magnetometer columns are needed");
-  if (!positive(req.counts_per_unit)) throw UsageError("counts_per_unit", "must be a positive number of counts per unit");
+  if (!positive(req.counts_per_unit))
+    throw UsageError("counts_per_unit", "must be a positive number of counts per unit");
   if (req.field_norm && !positive(*req.field_norm))
     throw UsageError("field_norm", "must be a positive field magnitude (in the units of the values after the scaling)");
   if (req.noise && !positive(*req.noise))
@@ -40,8 +41,7 @@ void check_request(const io::Table& t, const MagRequest& req) {
     throw UsageError("field_column", "a field norm per point and one field norm for all cannot both be used");
   if (req.field_column && req.method == mag::Method::ellipsoid)
     throw UsageError("field_column", "a field norm per point needs the TWOSTEP methods");
-  if (req.field_column && t.extra.size() != 1)
-    throw UsageError("field_column", "the field column was not read");
+  if (req.field_column && t.extra.size() != 1) throw UsageError("field_column", "the field column was not read");
 }
 
 }  // namespace

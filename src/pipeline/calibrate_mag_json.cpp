@@ -52,12 +52,9 @@ nlohmann::json to_json(const MagResult& m) {
   j["eta"] = r.eta;
   j["semi_axes"] = r.semi_axes;
   j["axis_ratio"] = r.axis_ratio;
-  j["coverage"] = {{"centre", r.coverage.centre},
-                   {"centre_from_sphere_fit", r.coverage.centre_from_sphere_fit},
-                   {"resultant", r.coverage.resultant},
-                   {"lambda_min", r.coverage.lambda_min},
-                   {"spread", r.coverage.spread},
-                   {"octants", r.coverage.octants}};
+  j["coverage"] = {{"centre", r.coverage.centre},       {"centre_from_sphere_fit", r.coverage.centre_from_sphere_fit},
+                   {"resultant", r.coverage.resultant}, {"lambda_min", r.coverage.lambda_min},
+                   {"spread", r.coverage.spread},       {"octants", r.coverage.octants}};
   j["covariance"] = {{"names", r.covariance_names}, {"matrix", r.covariance}};
   j["notes"] = r.notes;
   return j;

@@ -45,8 +45,8 @@ MultipositionResult calibrate_multiposition_accelerometer(const TriadSamples& ac
 void add_multiposition_gyroscope(MultipositionResult& r, const TriadSamples& acc, const TriadSamples& gyro,
                                  const MultipositionRequest& req) {
   r.gyro_file = gyro.file;
-  r.gyroscope = mp::calibrate_gyroscope(series_of(acc, req.rate_hz), r.accelerometer, series_of(gyro, req.rate_hz),
-                                        req.options);
+  r.gyroscope =
+      mp::calibrate_gyroscope(series_of(acc, req.rate_hz), r.accelerometer, series_of(gyro, req.rate_hz), req.options);
 }
 
 MultipositionResult calibrate_multiposition(const TriadSamples& acc, const std::optional<TriadSamples>& gyro,

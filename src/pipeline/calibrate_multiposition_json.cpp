@@ -25,7 +25,8 @@ nlohmann::json params_json(const std::vector<std::string>& names, const std::vec
   return a;
 }
 
-void params_of(const nlohmann::json& a, std::vector<std::string>& names, std::vector<double>& v, std::vector<double>& s) {
+void params_of(const nlohmann::json& a, std::vector<std::string>& names, std::vector<double>& v,
+               std::vector<double>& s) {
   for (const auto& p : a) {
     names.push_back(p.at("name").get<std::string>());
     v.push_back(p.at("value").get<double>());
@@ -34,12 +35,13 @@ void params_of(const nlohmann::json& a, std::vector<std::string>& names, std::ve
 }
 
 nlohmann::json model_json(const mp::TriadCalibration& m) {
-  return {{"T", m.misalignment()},
-          {"K", m.scale},
-          {"B", m.bias},
-          {"TK", m.matrix()},
-          {"misalignment",
-           {{"yz", m.mis_yz}, {"zy", m.mis_zy}, {"zx", m.mis_zx}, {"xz", m.mis_xz}, {"xy", m.mis_xy}, {"yx", m.mis_yx}}}};
+  return {
+      {"T", m.misalignment()},
+      {"K", m.scale},
+      {"B", m.bias},
+      {"TK", m.matrix()},
+      {"misalignment",
+       {{"yz", m.mis_yz}, {"zy", m.mis_zy}, {"zx", m.mis_zx}, {"xz", m.mis_xz}, {"xy", m.mis_xy}, {"yx", m.mis_yx}}}};
 }
 
 mp::TriadCalibration model_of(const nlohmann::json& j) {
@@ -184,8 +186,9 @@ void from_json(const nlohmann::json& j, MultipositionResult& r) {
     r.interval_times.emplace_back(i.at("t_begin").get<double>(), i.at("t_end").get<double>());
   }
   for (const auto& t : j.at("trials"))
-    a.trials.push_back({t.at("th_mult").get<int>(), t.at("threshold").get<double>(), t.at("intervals").get<std::size_t>(),
-                        t.at("fitted").get<bool>(), t.at("cost").is_null() ? 0.0 : t["cost"].get<double>()});
+    a.trials.push_back({t.at("th_mult").get<int>(), t.at("threshold").get<double>(),
+                        t.at("intervals").get<std::size_t>(), t.at("fitted").get<bool>(),
+                        t.at("cost").is_null() ? 0.0 : t["cost"].get<double>()});
   const auto& ja = j.at("accelerometer");
   params_of(ja.at("parameters"), a.names, a.values, a.sigma);
   a.covariance = ja.at("covariance").at("matrix").get<std::vector<std::vector<double>>>();

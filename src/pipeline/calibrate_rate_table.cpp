@@ -11,9 +11,9 @@ namespace cubecal::pipeline {
 std::vector<ScheduleRow> read_schedule(const std::string& path) {
   const io::Table t = io::read_table(path);
   if (t.data.size() != 5)
-    throw InputError(path, t.first_data_line, 0,
-                     "a schedule has 5 columns (t_begin,t_end,wx,wy,wz), this file has " +
-                         std::to_string(t.data.size()));
+    throw InputError(
+        path, t.first_data_line, 0,
+        "a schedule has 5 columns (t_begin,t_end,wx,wy,wz), this file has " + std::to_string(t.data.size()));
   std::vector<ScheduleRow> rows(t.rows());
   for (std::size_t i = 0; i < rows.size(); ++i)
     rows[i] = {t.data[0][i], t.data[1][i], {t.data[2][i], t.data[3][i], t.data[4][i]}};
@@ -55,8 +55,8 @@ void check_request(const io::Series& series, const RateTableRequest& req) {
     throw UsageError("columns", "a rate table needs exactly 3 gyro columns, " + std::to_string(series.channels.size()) +
                                     " selected");
   if (req.source == PlateauSource::reference && series.extra.size() != 3)
-    throw UsageError("reference_columns", "the 3 reference rate columns are needed, " +
-                                              std::to_string(series.extra.size()) + " given");
+    throw UsageError("reference_columns",
+                     "the 3 reference rate columns are needed, " + std::to_string(series.extra.size()) + " given");
   if (req.source != PlateauSource::reference && req.schedule.empty())
     throw UsageError("schedule", "the plateau schedule is empty");
   const PlateauOptions& p = req.plateaus;

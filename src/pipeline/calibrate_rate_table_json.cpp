@@ -22,8 +22,9 @@ nlohmann::json angles_json(const Mat3& m, double scale) {
 std::array<double, 3> scaled(const std::array<double, 3>& v, double s) { return {v[0] * s, v[1] * s, v[2] * s}; }
 
 nlohmann::json plateau_json(const Plateau& p) {
-  return {{"begin", p.begin}, {"end", p.end},   {"t_begin", p.t_begin}, {"t_end", p.t_end}, {"n", p.n},
-          {"gyro", p.mean},   {"gyro_std", p.stddev}, {"gyro_cov", p.cov}, {"ref", p.ref}, {"has_ref", p.has_ref}};
+  return {{"begin", p.begin}, {"end", p.end},        {"t_begin", p.t_begin}, {"t_end", p.t_end},
+          {"n", p.n},         {"gyro", p.mean},      {"gyro_std", p.stddev}, {"gyro_cov", p.cov},
+          {"ref", p.ref},     {"has_ref", p.has_ref}};
 }
 
 Plateau plateau_of(const nlohmann::json& j) {
@@ -59,24 +60,23 @@ nlohmann::json to_json(const RateTableResult& r) {
   j["residual_after"] = {{"max", c.residual_after.max_abs}, {"rms", c.residual_after.rms}, {"unit", u}};
   j["error_covariance"] = c.error_covariance;
   j["error_covariance_unit"] = "(" + u + ")^2";
-  j["forward"] = {
-      {"S", c.S},
-      {"S_sigma", c.S_sigma},
-      {"bias", c.bias},
-      {"bias_sigma", c.bias_sigma},
-      {"cov", c.forward_cov},
-      {"scale_factor_error", c.scale_factor_error},
-      {"scale_factor_error_sigma", c.scale_factor_error_sigma},
-      {"scale_factor_ppm", scaled(c.scale_factor_error, 1e6)},
-      {"scale_factor_ppm_sigma", scaled(c.scale_factor_error_sigma, 1e6)},
-      {"scale_factor_percent", scaled(c.scale_factor_error, 100.0)},
-      {"misalignment", c.misalignment},
-      {"misalignment_sigma", c.misalignment_sigma},
-      {"misalignment_mrad", angles_json(c.misalignment, 1e3)},
-      {"misalignment_mrad_sigma", angles_json(c.misalignment_sigma, 1e3)},
-      {"misalignment_deg", angles_json(c.misalignment, kRadToDeg)},
-      {"misalignment_convention",
-       "key ij: angle by which gyro axis i leans toward reference axis j, atan(S_ij / S_ii)"}};
+  j["forward"] = {{"S", c.S},
+                  {"S_sigma", c.S_sigma},
+                  {"bias", c.bias},
+                  {"bias_sigma", c.bias_sigma},
+                  {"cov", c.forward_cov},
+                  {"scale_factor_error", c.scale_factor_error},
+                  {"scale_factor_error_sigma", c.scale_factor_error_sigma},
+                  {"scale_factor_ppm", scaled(c.scale_factor_error, 1e6)},
+                  {"scale_factor_ppm_sigma", scaled(c.scale_factor_error_sigma, 1e6)},
+                  {"scale_factor_percent", scaled(c.scale_factor_error, 100.0)},
+                  {"misalignment", c.misalignment},
+                  {"misalignment_sigma", c.misalignment_sigma},
+                  {"misalignment_mrad", angles_json(c.misalignment, 1e3)},
+                  {"misalignment_mrad_sigma", angles_json(c.misalignment_sigma, 1e3)},
+                  {"misalignment_deg", angles_json(c.misalignment, kRadToDeg)},
+                  {"misalignment_convention",
+                   "key ij: angle by which gyro axis i leans toward reference axis j, atan(S_ij / S_ii)"}};
   j["fit"] = {{"plateaus", c.plateaus},
               {"dof", c.dof},
               {"noise_from_residuals", c.noise_from_residuals},
@@ -107,7 +107,8 @@ void from_json(const nlohmann::json& j, RateTableResult& r) {
   c.beta = j.at("beta").get<std::array<double, 3>>();
   c.beta_sigma = j.at("beta_sigma").get<std::array<double, 3>>();
   c.inverse_cov = j.at("inverse_cov").get<Covariance12>();
-  c.residual_before = {j.at("residual_before").at("max").get<double>(), j.at("residual_before").at("rms").get<double>()};
+  c.residual_before = {j.at("residual_before").at("max").get<double>(),
+                       j.at("residual_before").at("rms").get<double>()};
   c.residual_after = {j.at("residual_after").at("max").get<double>(), j.at("residual_after").at("rms").get<double>()};
   c.error_covariance = j.at("error_covariance").get<Mat3>();
   const auto& f = j.at("forward");

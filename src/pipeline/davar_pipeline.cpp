@@ -86,7 +86,8 @@ DavarResult run_davar(const io::Series& series, const DavarRequest& request) {
     r.window_text = request.window->text;
   } else {
     r.window = N / 10 >= min_window(request.type) ? N / 10 : N;
-    r.window_text = (r.window == N ? "the whole record: " : "a tenth of the record: ") + samples_text(r.window, r.rate_hz);
+    r.window_text =
+        (r.window == N ? "the whole record: " : "a tenth of the record: ") + samples_text(r.window, r.rate_hz);
   }
   if (request.step) {
     r.step = span_samples(*request.step, series.rate_hz, "step");
@@ -95,8 +96,8 @@ DavarResult run_davar(const io::Series& series, const DavarRequest& request) {
     r.step = std::max<std::size_t>(1, r.window / 10);
     r.step_text = "a tenth of the window: " + samples_text(r.step, r.rate_hz);
   }
-  r.tau_list = tau_list_outcome(request.grid, Stat::oadev, request.type, std::min(r.window, N), series.tau0,
-                                "a window");
+  r.tau_list =
+      tau_list_outcome(request.grid, Stat::oadev, request.type, std::min(r.window, N), series.tau0, "a window");
 
   DavarOptions opt;
   opt.window = r.window;

@@ -19,9 +19,10 @@ std::vector<std::size_t> missing_per_channel(const io::Series& series) {
 
 DevResult run_dev_skipping_missing(const io::Series& series, const DevRequest& request) {
   if (request.stat != Stat::oadev)
-    throw UsageError("stat", "missing samples are skipped for OADEV only (as AllanTools' gradev): give --stat "
-                             "oadev, or --gaps split to analyze the contiguous pieces with " +
-                                 std::string(to_string(request.stat)));
+    throw UsageError("stat",
+                     "missing samples are skipped for OADEV only (as AllanTools' gradev): give --stat "
+                     "oadev, or --gaps split to analyze the contiguous pieces with " +
+                         std::string(to_string(request.stat)));
   DevResult r;
   r.stat = request.stat;
   r.type = request.type;
@@ -60,9 +61,11 @@ DevResult run_dev_skipping_missing(const io::Series& series, const DevRequest& r
     if (f) std::rethrow_exception(f);
   for (std::size_t k = 0; k < r.channels.size(); ++k)
     if (r.channels[k].points.empty())
-      throw UsageError("column " + r.channels[k].name + ": no OADEV term without a missing sample at any tau of "
-                       "the grid (" + std::to_string(missing_samples(series.channels[k])) + " of " +
-                       std::to_string(r.samples) + " samples missing)");
+      throw UsageError("column " + r.channels[k].name +
+                       ": no OADEV term without a missing sample at any tau of "
+                       "the grid (" +
+                       std::to_string(missing_samples(series.channels[k])) + " of " + std::to_string(r.samples) +
+                       " samples missing)");
   return r;
 }
 

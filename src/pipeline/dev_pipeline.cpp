@@ -35,7 +35,9 @@ double terms_at(Stat stat, std::size_t m, std::size_t n, bool intervals) {
     case Stat::ohdev: t = N - 3.0 * md; break;
     case Stat::totdev: t = N; break;
     case Stat::tierms: t = N - md; break;
-    case Stat::mtie: t = 4.0 * N; break;  // running max and min, forward and back
+    case Stat::mtie:
+      t = 4.0 * N;
+      break;  // running max and min, forward and back
     // A subsequence of 3m points costs about 12m operations; TheoBR's ratio
     // is paid once per record, not per factor.
     case Stat::mtotdev:
@@ -77,8 +79,8 @@ std::size_t phase_points(const io::Segment& seg, DataType type) {
 // several segments pools their squared differences (weights n_k), which is
 // the statistic of the whole record with every difference that would span a
 // gap left out. Segments are independent, so their EDFs add.
-StabilityPoint combine(const std::vector<StabilityPoint>& parts, std::size_t m, double tau0,
-                       Stat stat, const StabilityOptions& opt) {
+StabilityPoint combine(const std::vector<StabilityPoint>& parts, std::size_t m, double tau0, Stat stat,
+                       const StabilityOptions& opt) {
   StabilityPoint out;
   out.m = m;
   out.tau = static_cast<double>(m) * tau0;
@@ -118,9 +120,8 @@ StabilityPoint combine(const std::vector<StabilityPoint>& parts, std::size_t m, 
   return out;
 }
 
-DevResult run(const std::vector<std::string>& names,
-              const std::vector<std::span<const double>>& channels, double rate_hz,
-              const std::vector<io::Segment>& segments, const DevRequest& req) {
+DevResult run(const std::vector<std::string>& names, const std::vector<std::span<const double>>& channels,
+              double rate_hz, const std::vector<io::Segment>& segments, const DevRequest& req) {
   DevResult res;
   res.stat = req.stat;
   res.type = req.type;
@@ -145,27 +146,30 @@ DevResult run(const std::vector<std::string>& names,
   for (const auto& s : segments) longest = std::max(longest, s.size());
   // TheoH's switch and its factors of listed taus follow the record length.
   if (req.stat == Stat::theoh && res.segments_used > 1)
-    throw UsageError("stat", "theoh switches from OADEV to TheoBR at 20 % of the record's length: it takes one "
-                             "contiguous record, and this one has " + std::to_string(res.segments_used) +
-                             " segments (fill or cut the gaps, or use oadev and theobr)");
+    throw UsageError("stat",
+                     "theoh switches from OADEV to TheoBR at 20 % of the record's length: it takes one "
+                     "contiguous record, and this one has " +
+                         std::to_string(res.segments_used) +
+                         " segments (fill or cut the gaps, or use oadev and theobr)");
   const TauGrid grid = req.stat == Stat::theoh
                            ? theoh_factor_grid(req.grid, phase_points(io::Segment{0, longest}, req.type), res.tau0)
                            : req.grid;
   const std::vector<std::size_t> ms = averaging_factors(grid, max_m, res.tau0 * tau_per_factor(req.stat));
   if ((req.stat == Stat::theobr || req.stat == Stat::theoh) &&
       phase_points(io::Segment{0, longest}, req.type) > StabilityRecord::kTheobrMaxPoints)
-    throw UsageError("stat", "theobr's bias ratio takes Theo1 at every fourth averaging factor up to 2N/3 (about "
-                             "N^3/65 terms): " + std::to_string(longest) + " samples is beyond the " +
-                             std::to_string(StabilityRecord::kTheobrMaxPoints) +
-                             " phase points it is computed for; average the data first, or use theo1");
+    throw UsageError("stat",
+                     "theobr's bias ratio takes Theo1 at every fourth averaging factor up to 2N/3 (about "
+                     "N^3/65 terms): " +
+                         std::to_string(longest) + " samples is beyond the " +
+                         std::to_string(StabilityRecord::kTheobrMaxPoints) +
+                         " phase points it is computed for; average the data first, or use theo1");
   res.tau_list = tau_list_outcome(req.grid, req.stat, req.type, longest, res.tau0,
                                   nseg > 1 ? "the longest segment" : "the record");
   if (ms.empty())
-    throw UsageError("series too short for " + std::string(to_string(req.stat)) + ": " +
-                         std::to_string(longest) +
-                         " samples in the longest segment, and no averaging factor of the tau "
-                         "grid fits (record longer data or choose smaller taus)" +
-                         (res.tau_list.excluded.empty() ? "" : ": " + res.tau_list.excluded.front().reason));
+    throw UsageError("series too short for " + std::string(to_string(req.stat)) + ": " + std::to_string(longest) +
+                     " samples in the longest segment, and no averaging factor of the tau "
+                     "grid fits (record longer data or choose smaller taus)" +
+                     (res.tau_list.excluded.empty() ? "" : ": " + res.tau_list.excluded.front().reason));
 
   // Ranges of the grid per task; a kernel group is never cut, so a point is
   // the same bits for any thread count and as the front door's.
@@ -196,10 +200,9 @@ DevResult run(const std::vector<std::string>& names,
   // threads busy, one channel per thread) rather than a second copy of the
   // whole record.
   const std::size_t tasks_per_channel = nseg * ranges.size();
-  const std::size_t batch =
-      tasks_per_channel >= 4 * static_cast<std::size_t>(threads)
-          ? 1
-          : std::min<std::size_t>(channels.size(), static_cast<std::size_t>(threads));
+  const std::size_t batch = tasks_per_channel >= 4 * static_cast<std::size_t>(threads)
+                                ? 1
+                                : std::min<std::size_t>(channels.size(), static_cast<std::size_t>(threads));
   std::vector<StabilityPoint> evals(channels.size() * nseg * nm);
   double done = 0.0;
   double reported = 0.0;  // thread 0's last report: rounding must not make the next one smaller
@@ -308,8 +311,7 @@ DevResult run(const std::vector<std::string>& names,
 }
 
 // The grid as run() builds it, from the segments' sizes alone.
-std::vector<std::size_t> grid_for(const std::vector<io::Segment>& segments, double tau0,
-                                  const DevRequest& req) {
+std::vector<std::size_t> grid_for(const std::vector<io::Segment>& segments, double tau0, const DevRequest& req) {
   std::size_t max_m = 0, longest = 0;
   for (const auto& seg : segments) {
     max_m = std::max(max_m, max_averaging_factor(req.stat, phase_points(seg, req.type)));
@@ -345,23 +347,23 @@ DevWorkEstimate estimate_dev(const io::Series& series, const DevRequest& req) {
   // The trial: a block of the grid's middle factors on (a prefix of) the
   // longest segment of the first channel, timed for a few milliseconds (a prefix of 2^18 samples: 2 MB, in the
   // same cache level as the records the estimate matters for).
-  const auto longest = *std::max_element(
-      series.segments.begin(), series.segments.end(),
-      [](const io::Segment& a, const io::Segment& b) { return a.size() < b.size(); });
+  const auto longest =
+      *std::max_element(series.segments.begin(), series.segments.end(),
+                        [](const io::Segment& a, const io::Segment& b) { return a.size() < b.size(); });
   constexpr std::size_t kTrialSamples = std::size_t{1} << 18;
   const std::size_t len = std::min(longest.size(), kTrialSamples);
   std::span<const double> data(series.channels[0].data() + longest.begin, len);
   double trial_terms = 0.0, seconds = 0.0;
   try {
     const StabilityRecord rec(data, req.type, tau0, req.stat);
-    const std::vector<std::size_t> trial_grid = averaging_factors(req.grid, rec.max_m(), tau0 * tau_per_factor(req.stat));
+    const std::vector<std::size_t> trial_grid =
+        averaging_factors(req.grid, rec.max_m(), tau0 * tau_per_factor(req.stat));
     if (!trial_grid.empty()) {
       const std::size_t count = std::min<std::size_t>(8, trial_grid.size());
       const std::size_t first = (trial_grid.size() - count) / 2;
       const std::span<const std::size_t> block(trial_grid.data() + first, count);
       double per_pass = 0.0;
-      for (std::size_t m : block)
-        per_pass += terms_at(req.stat, m, rec.phase_points(), req.options.intervals);
+      for (std::size_t m : block) per_pass += terms_at(req.stat, m, rec.phase_points(), req.options.intervals);
       const auto start = std::chrono::steady_clock::now();
       do {
         (void)rec.evaluate(block, req.options);
@@ -386,15 +388,14 @@ DevWorkEstimate estimate_dev(const io::Series& series, const DevRequest& req) {
 DevResult run_dev(const io::Series& series, const DevRequest& request) {
   // Read with --gaps skip: missing samples in the channels (dev_missing.hpp).
   if (series.gaps == io::GapPolicy::skip) return run_dev_skipping_missing(series, request);
-  DevResult r = run(series.names, {series.channels.begin(), series.channels.end()}, series.rate_hz,
-                    series.segments, request);
+  DevResult r =
+      run(series.names, {series.channels.begin(), series.channels.end()}, series.rate_hz, series.segments, request);
   r.file = series.file;
   return r;
 }
 
-DevResult run_dev(const std::vector<std::string>& names,
-                  const std::vector<std::vector<double>>& channels, double rate_hz,
-                  const DevRequest& request) {
+DevResult run_dev(const std::vector<std::string>& names, const std::vector<std::vector<double>>& channels,
+                  double rate_hz, const DevRequest& request) {
   const std::size_t n = channels.empty() ? 0 : channels[0].size();
   return run(names, {channels.begin(), channels.end()}, rate_hz, {io::Segment{0, n}}, request);
 }
@@ -405,8 +406,7 @@ DevResult run_dev(const std::vector<std::string>& names, const std::vector<std::
     throw std::invalid_argument("run_dev: " + std::to_string(names.size()) + " names for " +
                                 std::to_string(channels.size()) + " channels");
   for (const auto& c : channels)
-    if (c.size() != channels.front().size())
-      throw std::invalid_argument("run_dev: channels of different lengths");
+    if (c.size() != channels.front().size()) throw std::invalid_argument("run_dev: channels of different lengths");
   if (segments.empty()) {
     const std::size_t n = channels.empty() ? 0 : channels[0].size();
     return run(names, channels, rate_hz, {io::Segment{0, n}}, request);

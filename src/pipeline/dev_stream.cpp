@@ -25,8 +25,9 @@ void check_streamable(const DevRequest& req) {
   if (req.type != DataType::freq)
     throw UsageError("type", "a stream takes frequency (rate) data: leave out --type phase, or --stream");
   if (req.grid.kind == TauGrid::Kind::all)
-    throw UsageError("taus", "--taus all is not streamed (every factor would be a pass over each sample): use "
-                             "octave, decade or log:K with --stream");
+    throw UsageError("taus",
+                     "--taus all is not streamed (every factor would be a pass over each sample): use "
+                     "octave, decade or log:K with --stream");
 }
 
 DevResult run_dev_stream(io::SampleStream& in, const DevRequest& req, std::size_t window_bound) {
@@ -69,8 +70,7 @@ DevResult run_dev_stream(io::SampleStream& in, const DevRequest& req, std::size_
     res.channels.push_back(std::move(ch));
   }
   if (res.channels.empty() || res.channels[0].points.empty())
-    throw UsageError("series too short for " + std::string(to_string(req.stat)) + ": " +
-                     std::to_string(res.samples) +
+    throw UsageError("series too short for " + std::string(to_string(req.stat)) + ": " + std::to_string(res.samples) +
                      " samples, and no averaging factor of the tau grid fits (record longer data or choose "
                      "smaller taus)");
   if (req.progress) req.progress(1.0);

@@ -18,12 +18,18 @@ namespace {
 
 constexpr std::array<std::string_view, 9> kNames{"kalibr", "openvins", "vins",   "kf-gins", "gazebo",
                                                  "rotors", "navego",   "matlab", "basilisk"};
-constexpr std::array<std::string_view, 9> kFiles{
-    "imu.yaml",          "kalibr_imu_chain.yaml", "vins_imu.yaml", "kf-gins_imunoise.yaml", "gazebo_imu_noise.sdf",
-    "rotors_imu_plugin.sdf", "navego_imu.m",      "matlab_imu.m",  "basilisk_imu.py"};
+constexpr std::array<std::string_view, 9> kFiles{"imu.yaml",
+                                                 "kalibr_imu_chain.yaml",
+                                                 "vins_imu.yaml",
+                                                 "kf-gins_imunoise.yaml",
+                                                 "gazebo_imu_noise.sdf",
+                                                 "rotors_imu_plugin.sdf",
+                                                 "navego_imu.m",
+                                                 "matlab_imu.m",
+                                                 "basilisk_imu.py"};
 constexpr double kStandardGravity = 9.80665;  // m/s^2
 constexpr double kRadToDeg = 180.0 / std::numbers::pi;
-constexpr double kMilliGal = 1e-5;            // m/s^2
+constexpr double kMilliGal = 1e-5;  // m/s^2
 
 using detail::config_number;
 using detail::config_plain;
@@ -32,12 +38,12 @@ std::string plain(double v) { return config_plain(v); }
 
 AxisNoise axis_noise(const ChannelAnalysis& c, const std::string& file) {
   const auto& curve = c.noise.adev;
-  const bool constant =
-      std::none_of(curve.begin(), curve.end(), [](const StabilityPoint& p) { return p.dev > 0.0; });
+  const bool constant = std::none_of(curve.begin(), curve.end(), [](const StabilityPoint& p) { return p.dev > 0.0; });
   if (constant)
     throw InputError(file, 0, 0,
-                     "channel " + c.name + ": the Allan deviation is zero at every tau (a constant record), so "
-                     "there is no noise to write into an estimator file",
+                     "channel " + c.name +
+                         ": the Allan deviation is zero at every tau (a constant record), so "
+                         "there is no noise to write into an estimator file",
                      "check --columns, or leave out --for");
   const ReportedTerms t = reported_terms(c.noise.readoffs, c.noise.fit, to_allan_curve(curve));
   const double si = c.unit.to_si;
@@ -83,10 +89,12 @@ Pick largest(const std::vector<AxisNoise>& axes, Value value, Source source) {
 }
 
 Pick largest_white(const std::vector<AxisNoise>& axes) {
-  return largest(axes, [](const AxisNoise& a) { return a.white; }, [](const AxisNoise& a) { return a.white_source; });
+  return largest(
+      axes, [](const AxisNoise& a) { return a.white; }, [](const AxisNoise& a) { return a.white_source; });
 }
 Pick largest_walk(const std::vector<AxisNoise>& axes) {
-  return largest(axes, [](const AxisNoise& a) { return a.walk; }, [](const AxisNoise& a) { return a.walk_source; });
+  return largest(
+      axes, [](const AxisNoise& a) { return a.walk; }, [](const AxisNoise& a) { return a.walk_source; });
 }
 
 std::string source_note(const Pick& p, const std::string& unit, bool walk) {
@@ -180,8 +188,8 @@ std::string kalibr_keys(const Sensors& s, const EstimatorContext& ctx, const std
     y += indent + key + ": " + num(p.value * k) + note(p, unit, walk, k) + "\n";
   };
   // A sensor's two densities, or their keys commented out with the reason.
-  auto sensor = [&](bool present, const std::string& name, const auto& terms, const char* kinds,
-                    const char* white_unit, const char* walk_unit) {
+  auto sensor = [&](bool present, const std::string& name, const auto& terms, const char* kinds, const char* white_unit,
+                    const char* walk_unit) {
     const std::string white = name + "_noise_density", walk = name + "_random_walk";
     if (present) {
       line(white.c_str(), largest_white(terms), white_unit, false);
@@ -251,20 +259,25 @@ std::string vins(const AnalysisResult& r, const Sensors& s, const EstimatorConte
     y += absent("accelerometer", "acceleration (g, m/s^2)", "VINS");
     y += "#acc_n:  # [m/s^2/sqrt(Hz)]\n";
   }
-  if (s.gyro) line("gyr_n", largest_white(s.noise.gyroscope), "rad/s/sqrt(Hz)", false);
+  if (s.gyro)
+    line("gyr_n", largest_white(s.noise.gyroscope), "rad/s/sqrt(Hz)", false);
   else {
     y += absent("gyroscope", "rate (deg/s, rad/s)", "VINS");
     y += "#gyr_n:  # [rad/s/sqrt(Hz)]\n";
   }
-  if (s.accel) line("acc_w", largest_walk(s.noise.accelerometer), "m/s^3/sqrt(Hz)", true);
-  else y += "#acc_w:  # [m/s^3/sqrt(Hz)]\n";
-  if (s.gyro) line("gyr_w", largest_walk(s.noise.gyroscope), "rad/s^2/sqrt(Hz)", true);
-  else y += "#gyr_w:  # [rad/s^2/sqrt(Hz)]\n";
+  if (s.accel)
+    line("acc_w", largest_walk(s.noise.accelerometer), "m/s^3/sqrt(Hz)", true);
+  else
+    y += "#acc_w:  # [m/s^3/sqrt(Hz)]\n";
+  if (s.gyro)
+    line("gyr_w", largest_walk(s.noise.gyroscope), "rad/s^2/sqrt(Hz)", true);
+  else
+    y += "#gyr_w:  # [rad/s^2/sqrt(Hz)]\n";
   const auto& acc = s.noise.accelerometer;
   if (acc.size() == 3) {
     const double g = std::sqrt(acc[0].mean * acc[0].mean + acc[1].mean * acc[1].mean + acc[2].mean * acc[2].mean);
-    y += "g_norm: " + plain(g) + "  # [m/s^2] norm of the mean of " + acc[0].channel + ", " + acc[1].channel +
-         ", " + acc[2].channel + " (static record; includes the accelerometer biases)\n";
+    y += "g_norm: " + plain(g) + "  # [m/s^2] norm of the mean of " + acc[0].channel + ", " + acc[1].channel + ", " +
+         acc[2].channel + " (static record; includes the accelerometer biases)\n";
   } else {
     y += "g_norm: " + plain(kStandardGravity) +
          "  # [m/s^2] standard gravity: the record has no three-axis accelerometer; use your local value\n";
@@ -379,9 +392,8 @@ std::string estimator_names() {
 std::string_view estimator_file(Estimator e) { return kFiles[static_cast<std::size_t>(e)]; }
 
 void require_imu_units(const std::vector<Unit>& units) {
-  if (std::none_of(units.begin(), units.end(), [](const Unit& u) {
-        return u.kind == SensorKind::rate || u.kind == SensorKind::acceleration;
-      }))
+  if (std::none_of(units.begin(), units.end(),
+                   [](const Unit& u) { return u.kind == SensorKind::rate || u.kind == SensorKind::acceleration; }))
     throw UsageError("estimators",
                      "the record has no gyroscope (deg/s, rad/s) or accelerometer (g, m/s^2) channel: "
                      "give --unit of the IMU columns");
@@ -391,8 +403,10 @@ ImuNoise imu_noise(const AnalysisResult& r) {
   ImuNoise n;
   n.rate_hz = r.rate_hz;
   for (const auto& c : r.channels) {
-    if (c.unit.kind == SensorKind::rate) n.gyroscope.push_back(axis_noise(c, r.file));
-    else if (c.unit.kind == SensorKind::acceleration) n.accelerometer.push_back(axis_noise(c, r.file));
+    if (c.unit.kind == SensorKind::rate)
+      n.gyroscope.push_back(axis_noise(c, r.file));
+    else if (c.unit.kind == SensorKind::acceleration)
+      n.accelerometer.push_back(axis_noise(c, r.file));
   }
   return n;
 }

@@ -215,13 +215,12 @@ ModelResult run_model(const io::Series& series, const ModelRequest& req) {
                      "give 0 (the WIC's asymptotic optimism) or at least 2 bootstrap replicates, not 1");
   if (!(req.ci > 0.0 && req.ci < 1.0)) throw UsageError("ci", "the confidence must lie between 0 and 1");
   if (req.bootstrap == 1 || req.bootstrap > 100000)
-    throw UsageError("bootstrap", "give 0 (none) or 2 to 100000 bootstrap replicates, not " +
-                                      std::to_string(req.bootstrap));
+    throw UsageError("bootstrap",
+                     "give 0 (none) or 2 to 100000 bootstrap replicates, not " + std::to_string(req.bootstrap));
   const std::size_t nch = series.channels.size();
   if (req.units.size() > 1 && req.units.size() != nch)
-    throw UsageError("units", "give one unit for all channels or one per channel (" +
-                                  std::to_string(req.units.size()) + " units for " + std::to_string(nch) +
-                                  " channels)");
+    throw UsageError("units", "give one unit for all channels or one per channel (" + std::to_string(req.units.size()) +
+                                  " units for " + std::to_string(nch) + " channels)");
   if (series.segments.size() > 1)
     throw UsageError("segments", series.file + ": the record is cut into " + std::to_string(series.segments.size()) +
                                      " pieces at gaps; the wavelet variance needs one contiguous record (fit a "
@@ -313,7 +312,8 @@ ModelResult run_model(const io::Series& series, const ModelRequest& req) {
         // At the channel's scales (a twin's: the octaves and the half-octaves between).
         std::vector<std::size_t> ms;
         for (double t : ch.wv.tau) ms.push_back(static_cast<std::size_t>(t / 2.0));
-        const WaveletVariance wv = twin && !req.robust ? wavelet_variance_at(y, ms, req.ci) : wavelet_variance_of(y, ch.wv.size());
+        const WaveletVariance wv =
+            twin && !req.robust ? wavelet_variance_at(y, ms, req.ci) : wavelet_variance_of(y, ch.wv.size());
         GmwmOptions opt = req.gmwm;
         opt.start = ch.fit.model;
         const GmwmFit f = fit_gmwm(wv, structure[c], opt);
@@ -338,8 +338,7 @@ ModelResult run_model(const io::Series& series, const ModelRequest& req) {
       if (per_quantity.empty()) per_quantity.resize(d.size());
       for (std::size_t i = 0; i < d.size(); ++i) per_quantity[i].push_back(d[i]);
     }
-    const std::vector<double> asym =
-        asymptotic_sds(ch, r.samples, dt, req.robust ? 1.0 / req.robust_efficiency : 1.0);
+    const std::vector<double> asym = asymptotic_sds(ch, r.samples, dt, req.robust ? 1.0 / req.robust_efficiency : 1.0);
     std::size_t qi = 0;
     for (const Process& p : ch.fit.model.processes) {
       ModelTerm t;

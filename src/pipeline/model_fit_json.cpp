@@ -36,8 +36,8 @@ nlohmann::json to_json(const ModelChannel& c, double rate_hz, bool bootstrapped)
   }
   std::vector<double> tau_s;
   for (double t : c.wv.tau) tau_s.push_back(t / rate_hz);
-  nlohmann::json wv = {{"tau_samples", c.wv.tau}, {"tau_s", tau_s},   {"nu2", c.wv.nu2},        {"lo", c.wv.lo},
-                       {"hi", c.wv.hi},           {"edf", c.wv.edf},  {"n", c.wv.n},            {"model", c.fit.nu2_model}};
+  nlohmann::json wv = {{"tau_samples", c.wv.tau}, {"tau_s", tau_s},  {"nu2", c.wv.nu2}, {"lo", c.wv.lo},
+                       {"hi", c.wv.hi},           {"edf", c.wv.edf}, {"n", c.wv.n},     {"model", c.fit.nu2_model}};
   nlohmann::json candidates = nlohmann::json::array();
   for (const ModelCandidate& m : c.candidates)
     candidates.push_back({{"model", m.model},
@@ -48,15 +48,15 @@ nlohmann::json to_json(const ModelChannel& c, double rate_hz, bool bootstrapped)
                           {"replicates", m.score.replicates},
                           {"objective", m.objective}});
   nlohmann::json out = {{"name", c.name},
-          {"unit", c.unit.name.empty() ? nlohmann::json(nullptr) : nlohmann::json(c.unit.name)},
-          {"model", c.model},
-          {"candidates", candidates},
-          {"failed", c.failed},
-          {"objective", c.fit.objective},
-          {"converged", c.fit.converged},
-          {"replicates", c.replicates},
-          {"terms", terms},
-          {"wavelet_variance", wv}};
+                        {"unit", c.unit.name.empty() ? nlohmann::json(nullptr) : nlohmann::json(c.unit.name)},
+                        {"model", c.model},
+                        {"candidates", candidates},
+                        {"failed", c.failed},
+                        {"objective", c.fit.objective},
+                        {"converged", c.fit.converged},
+                        {"replicates", c.replicates},
+                        {"terms", terms},
+                        {"wavelet_variance", wv}};
   // The twin's search (ModelRequest "twin"): the spectrum's lines and the fidelity.
   if (c.fidelity) {
     nlohmann::json lines = nlohmann::json::array();
@@ -82,8 +82,14 @@ nlohmann::json to_json(const ModelChannel& c, double rate_hz, bool bootstrapped)
 nlohmann::json to_json(const ModelResult& r) {
   nlohmann::json channels = nlohmann::json::array();
   for (const ModelChannel& c : r.channels) channels.push_back(to_json(c, r.rate_hz, r.bootstrap > 0));
-  return {{"command", "model"}, {"file", r.file},   {"rate_hz", r.rate_hz},     {"samples", r.samples},
-          {"model", r.model},   {"ci", r.ci},       {"bootstrap", r.bootstrap}, {"seed", r.seed},
+  return {{"command", "model"},
+          {"file", r.file},
+          {"rate_hz", r.rate_hz},
+          {"samples", r.samples},
+          {"model", r.model},
+          {"ci", r.ci},
+          {"bootstrap", r.bootstrap},
+          {"seed", r.seed},
           {"selection_replicates", r.selection_replicates},
           {"robust", r.robust},
           {"robust_efficiency", r.robust ? nlohmann::json(r.robust_efficiency) : nlohmann::json(nullptr)},

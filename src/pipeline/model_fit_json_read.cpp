@@ -30,9 +30,8 @@ std::vector<std::size_t> counts(const Node& a) {
 
 ProcessKind kind_of(const Node& t) {
   const std::string name = t.str();
-  for (const ProcessKind k :
-       {ProcessKind::wn, ProcessKind::qn, ProcessKind::rw, ProcessKind::dr, ProcessKind::gm, ProcessKind::ma1,
-        ProcessKind::sin})
+  for (const ProcessKind k : {ProcessKind::wn, ProcessKind::qn, ProcessKind::rw, ProcessKind::dr, ProcessKind::gm,
+                              ProcessKind::ma1, ProcessKind::sin})
     if (to_string(k) == name) return k;
   t.fail("unknown term '" + name + "' (known: WN, QN, RW, DR, GM, MA1, SIN)");
 }
@@ -142,7 +141,8 @@ ModelChannel read_channel(const Node& c) {
     t.max_error = f.num("max_error");
     // Seconds back to samples by the scales' own ratio (tau_samples / tau_s: the rate).
     const std::vector<double> tau_s = wv.at("tau_s").nums();
-    t.max_error_tau = f.num("max_error_tau_s") * (k > 0 && tau_s.front() > 0.0 ? ch.wv.tau.front() / tau_s.front() : 1.0);
+    t.max_error_tau =
+        f.num("max_error_tau_s") * (k > 0 && tau_s.front() > 0.0 ? ch.wv.tau.front() / tau_s.front() : 1.0);
     ch.fidelity = t;
     ch.faithful = f.at("faithful").boolean();
     if (c.has("lines")) {

@@ -59,8 +59,9 @@ ModelSelection select_composite_model(const WaveletVariance& wv, std::size_t sam
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
   for (std::size_t k = 0; k < nc * reps; ++k) {
     const std::size_t c = k / reps, b = k % reps;
-    if (fits[c]) draws[k] = wic_replicate(candidates[c], *fits[c], samples, wv.size(), options.seed + b, fixed,
-                                        options.robust_efficiency);
+    if (fits[c])
+      draws[k] = wic_replicate(candidates[c], *fits[c], samples, wv.size(), options.seed + b, fixed,
+                               options.robust_efficiency);
   }
 
   ModelSelection sel;
@@ -73,9 +74,10 @@ ModelSelection select_composite_model(const WaveletVariance& wv, std::size_t sam
                                          draws.begin() + static_cast<std::ptrdiff_t>((c + 1) * reps));
     try {
       CandidateFit cf{candidates[c], std::move(*fits[c]), {}};
-      cf.score = reps > 0 ? wic_score(wv, sd, cf.fit, mine) : wic_score_asymptotic(wv, sd, cf.fit, samples,
-                                                      options.robust_efficiency > 0.0 ? 1.0 / options.robust_efficiency
-                                                                                      : 1.0);
+      cf.score = reps > 0
+                     ? wic_score(wv, sd, cf.fit, mine)
+                     : wic_score_asymptotic(wv, sd, cf.fit, samples,
+                                            options.robust_efficiency > 0.0 ? 1.0 / options.robust_efficiency : 1.0);
       sel.ranked.push_back(std::move(cf));
     } catch (const std::exception& e) {  // too few replicates; a parameter the curve does not determine
       sel.failed.push_back(model_name(candidates[c]) + ": " + e.what());

@@ -43,13 +43,14 @@ nlohmann::json channel_json(const PsdChannel& c, bool fitted) {
     const std::string u = c.unit.name.empty() ? "u" : c.unit.name;
     nlohmann::json terms = nlohmann::json::array();
     for (const auto& a : c.allan_terms)
-      terms.push_back({{"term", std::string(to_string(a.term))},
-                       {"alpha", a.alpha},
-                       {"valid", a.estimate.valid},
-                       {"value", a.estimate.value},
-                       {"sigma", a.estimate.sigma},
-                       {"unit", raw_term_unit(a.term, u)},
-                       {"display", {{"value", a.display.value}, {"sigma", a.display.sigma}, {"unit", a.display.unit}}}});
+      terms.push_back(
+          {{"term", std::string(to_string(a.term))},
+           {"alpha", a.alpha},
+           {"valid", a.estimate.valid},
+           {"value", a.estimate.value},
+           {"sigma", a.estimate.sigma},
+           {"unit", raw_term_unit(a.term, u)},
+           {"display", {{"value", a.display.value}, {"sigma", a.display.sigma}, {"unit", a.display.unit}}}});
     j["allan_terms"] = terms;
   }
   return j;
@@ -93,8 +94,8 @@ nlohmann::json power_law_fit_json(const PowerLawFit& f, const Unit& unit) {
     for (std::size_t j = 0; j < p && i * p + j < f.covariance.size(); ++j) row.push_back(f.covariance[i * p + j]);
     cov.push_back(std::move(row));
   }
-  return {{"f_lo_hz", f.f_lo}, {"f_hi_hz", f.f_hi}, {"bands", f.bands},   {"chi2", f.chi2},
-          {"dof", f.dof},      {"scale", f.scale},  {"terms", terms},     {"covariance", cov}};
+  return {{"f_lo_hz", f.f_lo}, {"f_hi_hz", f.f_hi}, {"bands", f.bands}, {"chi2", f.chi2},
+          {"dof", f.dof},      {"scale", f.scale},  {"terms", terms},   {"covariance", cov}};
 }
 
 nlohmann::json welch_json(const Psd& s, double overlap) {

@@ -112,7 +112,8 @@ SimulatedRecord simulate(const SimulateRequest& r) {
       for (std::size_t a = 0; a < axes_of(r.triads[k]); ++a, ++c)
         for (std::size_t j = 0; j < len; ++j) rec.channels[c][k0 + j] = g.out[k * len * 3 + j * 3 + a];
     if (r.temperature_column)
-      std::copy(g.temp.begin(), g.temp.begin() + static_cast<std::ptrdiff_t>(len), rec.channels[c].begin() + static_cast<std::ptrdiff_t>(k0));
+      std::copy(g.temp.begin(), g.temp.begin() + static_cast<std::ptrdiff_t>(len),
+                rec.channels[c].begin() + static_cast<std::ptrdiff_t>(k0));
   }
   return rec;
 }
@@ -209,10 +210,10 @@ std::vector<TriadModel> models_from_analysis(const AnalysisResult& r, const std:
       ax.tau_c = model.gauss_markov.tau_c;
     } else {
       if (!model.ok)
-        throw UsageError("bias", label + ": channel " + m.axis_names[a] + " has no fitted random-walk model (" +
-                                     (model.error.empty() ? std::string("no minimum in its Allan curve")
-                                                          : model.error) +
-                                     "; the Gauss-Markov model may have one)");
+        throw UsageError("bias",
+                         label + ": channel " + m.axis_names[a] + " has no fitted random-walk model (" +
+                             (model.error.empty() ? std::string("no minimum in its Allan curve") : model.error) +
+                             "; the Gauss-Markov model may have one)");
       ax.white_sigma = model.random_walk.sigma_n;
       ax.bias = BiasProcess::random_walk;
       ax.bias_sigma = model.random_walk.sigma_mu;
@@ -254,9 +255,9 @@ struct CompositeChannel {
   std::string unit;
   double fixed_bias = 0.0;
   CompositeModel model;
-  double lsb = 0.0;        // the triad's quantizer (counts per unit), from its first channel
-  double temp_coeff = 0.0; // u per degC
-  double temp_ref = 25.0;  // degC
+  double lsb = 0.0;         // the triad's quantizer (counts per unit), from its first channel
+  double temp_coeff = 0.0;  // u per degC
+  double temp_ref = 25.0;   // degC
 };
 
 std::vector<TriadModel> composite_triads(const std::vector<CompositeChannel>& channels, const std::string& label,
@@ -295,8 +296,7 @@ std::vector<TriadModel> models_from_composite(const AnalysisResult& r, const std
   for (const ChannelAnalysis& ch : r.channels) {
     if (!ch.model.composite)
       throw UsageError("bias", label + ": channel " + ch.name + " has no twin (composite model)" +
-                                   (r.composite_skipped.empty() ? std::string()
-                                                                : " (" + r.composite_skipped + ")") +
+                                   (r.composite_skipped.empty() ? std::string() : " (" + r.composite_skipped + ")") +
                                    ": re-run analyze, or simulate the random-walk or Gauss-Markov model");
     CompositeChannel cc{ch.name, ch.unit.name, ch.mean, ch.model.composite->fit.model};
     cc.lsb = ch.model.random_walk.lsb;
@@ -338,10 +338,22 @@ double parse_duration(const std::string& s) {
   double mult = 1.0;
   std::string num = s;
   switch (s.back()) {
-    case 's': mult = 1.0; num.pop_back(); break;
-    case 'm': mult = 60.0; num.pop_back(); break;
-    case 'h': mult = 3600.0; num.pop_back(); break;
-    case 'd': mult = 86400.0; num.pop_back(); break;
+    case 's':
+      mult = 1.0;
+      num.pop_back();
+      break;
+    case 'm':
+      mult = 60.0;
+      num.pop_back();
+      break;
+    case 'h':
+      mult = 3600.0;
+      num.pop_back();
+      break;
+    case 'd':
+      mult = 86400.0;
+      num.pop_back();
+      break;
     default: break;
   }
   double v = 0.0;

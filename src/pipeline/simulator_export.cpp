@@ -32,11 +32,11 @@ namespace {
 struct Axis {
   const ChannelAnalysis* channel = nullptr;
   const CompositeModel* twin = nullptr;
-  CompositeModel expressible;      // WN (with the MA1's white level), RW, GM terms of the twin
+  CompositeModel expressible;  // WN (with the MA1's white level), RW, GM terms of the twin
   double dt = 0.0;
-  WaveletVariance curve;           // nu2 = the expressible part's; tau, n, edf = the measured curve's
-  std::vector<double> nu2_twin;    // the whole twin's
-  std::vector<double> sd;          // nu2_twin sqrt(2 / edf)
+  WaveletVariance curve;         // nu2 = the expressible part's; tau, n, edf = the measured curve's
+  std::vector<double> nu2_twin;  // the whole twin's
+  std::vector<double> sd;        // nu2_twin sqrt(2 / edf)
 };
 
 CompositeModel expressible_part(const CompositeModel& twin) {
@@ -316,8 +316,8 @@ struct Linear3 {
 Linear3 nnls3(const Axis& a, double phi) {
   const std::size_t J = a.curve.size();
   std::array<std::vector<double>, 3> col;
-  const std::array<Process, 3> unit_terms{
-      Process{ProcessKind::wn, 1.0}, Process{ProcessKind::rw, 1.0}, Process{ProcessKind::gm, 1.0, phi}};
+  const std::array<Process, 3> unit_terms{Process{ProcessKind::wn, 1.0}, Process{ProcessKind::rw, 1.0},
+                                          Process{ProcessKind::gm, 1.0, phi}};
   std::array<double, 3> scale{};
   for (std::size_t k = 0; k < 3; ++k) {
     double ss = 0.0;

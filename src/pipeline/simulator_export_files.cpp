@@ -41,10 +41,10 @@ std::string g3(double v) {
 struct Si {
   double wn = 0.0, rw = 0.0, gm = 0.0, phi = 0.0;
   bool has_wn = false, has_rw = false, has_gm = false;
-  double a = 0.0;          // -ln(phi), per sample
+  double a = 0.0;  // -ln(phi), per sample
   double one_minus_phi = 0.0;
-  double tc = 0.0;         // s
-  double stationary = 0.0; // the Gauss-Markov term's standard deviation
+  double tc = 0.0;          // s
+  double stationary = 0.0;  // the Gauss-Markov term's standard deviation
 };
 
 Si si_of(const CompositeModel& m, double to_si, double inflate, double dt) {
@@ -107,8 +107,9 @@ std::string axes_note(const Sensor& s, const std::string& sensor) {
   std::string names;
   for (const auto* c : xyz(s)) names += (names.empty() ? "" : ", ") + c->analysis->name;
   std::string n = sensor + " axes x, y, z: " + names;
-  if (s.axes.size() < 3) n += " (the record has " + std::to_string(s.axes.size()) + " " + sensor + " channel" +
-                              (s.axes.size() == 1 ? "" : "s") + ": the last repeated)";
+  if (s.axes.size() < 3)
+    n += " (the record has " + std::to_string(s.axes.size()) + " " + sensor + " channel" +
+         (s.axes.size() == 1 ? "" : "s") + ": the last repeated)";
   if (s.axes.size() > 3) {
     n += " (the record has " + std::to_string(s.axes.size()) + ": the first three; left out:";
     for (std::size_t i = 3; i < s.axes.size(); ++i) n += " " + s.axes[i].analysis->name;
@@ -205,8 +206,8 @@ std::vector<std::string> header(const std::string& title, const Context& x, cons
   char b[200];
   std::snprintf(b, sizeof b, "record: %zu samples at %.9g Hz (%.3g h), dt = %.9g s", r.samples, r.rate_hz,
                 r.duration_s / 3600.0, x.dt);
-  std::vector<std::string> h{title + " written by cubecal analyze", "command: " + x.ctx->command, "file: " + r.file,
-                             b, ""};
+  std::vector<std::string> h{title + " written by cubecal analyze", "command: " + x.ctx->command, "file: " + r.file, b,
+                             ""};
   const auto& any = !x.gyro.axes.empty() ? x.gyro.axes.front() : x.accel.axes.front();
   const std::size_t J = any.projection->tau.size();
   h.push_back("Each IMU channel's twin (its composite noise model, analysis.json model.composite) projected onto");
@@ -241,10 +242,10 @@ std::vector<std::string> channels_block(const Context& x, bool fallback = false)
   }
   if (!x.missing.empty()) {
     l.push_back("");
-    l.push_back(x.missing + " terms absent: the record has no " +
-                (x.missing == "gyroscope" ? std::string("rate (deg/s, rad/s)")
-                                          : std::string("acceleration (g, m/s^2)")) +
-                " channel; add them from a record of the " + x.missing + " before use.");
+    l.push_back(
+        x.missing + " terms absent: the record has no " +
+        (x.missing == "gyroscope" ? std::string("rate (deg/s, rad/s)") : std::string("acceleration (g, m/s^2)")) +
+        " channel; add them from a record of the " + x.missing + " before use.");
   }
   return l;
 }
@@ -303,8 +304,7 @@ std::string gazebo(const Context& x) {
       s += "          <bias_stddev>0.0</bias_stddev>\n";
       s += "          <dynamic_bias_stddev>" + num(v.stationary * std::sqrt(2.0 / v.tc)) +
            "</dynamic_bias_stddev>  <!-- [" + u + "/sqrt(s)] stationary " + num(v.stationary) + " " + u + " -->\n";
-      s += "          <dynamic_bias_correlation_time>" + num(v.tc) +
-           "</dynamic_bias_correlation_time>  <!-- [s] -->\n";
+      s += "          <dynamic_bias_correlation_time>" + num(v.tc) + "</dynamic_bias_correlation_time>  <!-- [s] -->\n";
       s += "          <precision>0.0</precision>\n";
       s += "        </noise>\n";
       s += "      </" + std::string(names[i]) + ">\n";
@@ -370,7 +370,8 @@ std::string rotors(const Context& x) {
         s += "  <" + k + ">" + v2.substr(0, bar) + "</" + k + ">  <!-- [" + v2.substr(bar + 1) + "] -->\n";
       }
     } else {
-      s += "  <!-- " + n + ": the record has no such channel. Without these elements the plugin uses its\n"
+      s += "  <!-- " + n +
+           ": the record has no such channel. Without these elements the plugin uses its\n"
            "       built-in defaults (RotorS: ADIS16448, PX4: IIM42653), not this sensor's noise:\n";
       for (const char* k : {"NoiseDensity", "RandomWalk", "BiasCorrelationTime", "TurnOnBiasSigma"})
         s += "  <" + n + k + "></" + n + k + ">\n";
@@ -557,9 +558,9 @@ std::string matlab(const Context& x) {
 // ---------------------------------------------------------------- basilisk
 
 std::string basilisk(const Context& x) {
-  std::vector<std::string> h = header("Basilisk imuSensor noise (a Python snippet)", x,
-                                      "one first-order process per axis (WN, RW or GM, the closest)",
-                                      "Basilisk's imuSensor");
+  std::vector<std::string> h =
+      header("Basilisk imuSensor noise (a Python snippet)", x,
+             "one first-order process per axis (WN, RW or GM, the closest)", "Basilisk's imuSensor");
   const std::vector<std::string> eq{
       "",
       "Basilisk's imuSensor (src/simulation/sensors/imuSensor/imuSensor.cpp: computeSensorErrors,",

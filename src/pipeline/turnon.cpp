@@ -16,8 +16,8 @@ RunSummary summarize(const io::Series& s, const AnalyzeRequest& req) {
   rs.samples = r.samples;
   rs.rate_hz = r.rate_hz;
   for (auto& c : r.channels)
-    rs.channels.push_back({std::move(c.name), std::move(c.unit), c.mean, c.stddev, std::move(c.noise.adev),
-                           c.noise.readoffs});
+    rs.channels.push_back(
+        {std::move(c.name), std::move(c.unit), c.mean, c.stddev, std::move(c.noise.adev), c.noise.readoffs});
   return rs;
 }
 
@@ -38,12 +38,12 @@ std::vector<RunSummary> run_compare(const std::vector<io::Series>& runs, const s
 }
 
 TurnOnResult run_turnon(const std::vector<io::Series>& runs, const AnalyzeRequest& req) {
-  if (runs.size() < 2) throw UsageError("turn-on bias needs at least 2 runs (power cycles), got " +
-                                            std::to_string(runs.size()));
+  if (runs.size() < 2)
+    throw UsageError("turn-on bias needs at least 2 runs (power cycles), got " + std::to_string(runs.size()));
   for (const auto& s : runs)
     if (s.names != runs.front().names)
-      throw UsageError("columns", s.file + ": columns differ from " + runs.front().file +
-                                        " (choose the same columns in every run)");
+      throw UsageError(
+          "columns", s.file + ": columns differ from " + runs.front().file + " (choose the same columns in every run)");
   TurnOnResult t;
   t.ci = req.ci;
   t.runs = run_compare(runs, req);

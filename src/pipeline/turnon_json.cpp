@@ -24,8 +24,8 @@ TermEstimate term_of(const nlohmann::json& j) {
 }
 
 nlohmann::json readoffs_json(const SlopeReadOffs& r) {
-  return {{"Q", term_json(r.Q)},         {"N", term_json(r.N)},           {"B", term_json(r.B)},
-          {"K", term_json(r.K)},         {"R", term_json(r.R)},           {"tau_min", r.tau_min},
+  return {{"Q", term_json(r.Q)},        {"N", term_json(r.N)},        {"B", term_json(r.B)},
+          {"K", term_json(r.K)},        {"R", term_json(r.R)},        {"tau_min", r.tau_min},
           {"tau_min_lo", r.tau_min_lo}, {"tau_min_hi", r.tau_min_hi}, {"sigma_min", r.sigma_min}};
 }
 
@@ -58,7 +58,6 @@ Unit unit_of(const std::string& name, const nlohmann::json& si) {
   return u;
 }
 
-
 std::vector<StabilityPoint> adev_of(const nlohmann::json& j) {
   const auto tau = j.at("tau").get<std::vector<double>>(), dev = j.at("dev").get<std::vector<double>>(),
              lo = j.at("lo").get<std::vector<double>>(), hi = j.at("hi").get<std::vector<double>>(),
@@ -66,7 +65,8 @@ std::vector<StabilityPoint> adev_of(const nlohmann::json& j) {
   const auto m = j.at("m").get<std::vector<std::size_t>>(), n = j.at("n").get<std::vector<std::size_t>>();
   const auto alpha = j.at("alpha").get<std::vector<int>>();
   std::vector<StabilityPoint> v(tau.size());
-  for (std::size_t i = 0; i < v.size(); ++i) v[i] = {m.at(i), tau[i], dev.at(i), n.at(i), lo.at(i), hi.at(i), edf.at(i), alpha.at(i)};
+  for (std::size_t i = 0; i < v.size(); ++i)
+    v[i] = {m.at(i), tau[i], dev.at(i), n.at(i), lo.at(i), hi.at(i), edf.at(i), alpha.at(i)};
   return v;
 }
 

@@ -20,9 +20,9 @@ TwinCheck twin_check(const AnalysisResult& r, std::size_t twins, std::uint64_t s
   for (std::size_t c = 0; c < r.channels.size(); ++c)
     if (r.channels[c].model.composite && !r.channels[c].model.adev.empty()) with.push_back(c);
   if (with.empty())
-    throw UsageError("twin_check", "no channel has a twin to simulate" +
-                                       (r.composite_skipped.empty() ? std::string(" (--composite none)")
-                                                                    : " (" + r.composite_skipped + ")"));
+    throw UsageError("twin_check", "no channel has a twin to simulate" + (r.composite_skipped.empty()
+                                                                              ? std::string(" (--composite none)")
+                                                                              : " (" + r.composite_skipped + ")"));
   TwinCheck out;
   out.twins = twins;
   out.seed = seed;

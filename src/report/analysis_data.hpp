@@ -16,7 +16,7 @@ namespace cubecal::report::detail {
 // comes in several units).
 struct SensorGroup {
   std::string key;
-  std::string title;                     // "Rate sensors (deg/s)"
+  std::string title;  // "Rate sensors (deg/s)"
   std::string unit;
   std::vector<std::size_t> channels;
 };

@@ -168,15 +168,17 @@ ReportFigure allan_figure(const AnalysisResult& d, const SensorGroup& g) {
   if (any_model) p.series.push_back(legend_entry("random-walk model (paper eq. 1–3)", kInk, Dash::dashed));
   if (any_gm) p.series.push_back(legend_entry("Gauss–Markov model", kInk, Dash::dotted));
   if (any_composite)
-    p.series.push_back(legend_entry(twin ? "twin (composite model, GMWM)" : "composite model (GMWM)", kInk, Dash::dash_dot));
+    p.series.push_back(
+        legend_entry(twin ? "twin (composite model, GMWM)" : "composite model (GMWM)", kInk, Dash::dash_dot));
   if (any_twins)
     p.series.push_back(legend_entry("mean of " + std::to_string(d.twin_check->twins) + " simulated twins", kInk,
                                     Dash::solid, Mark::line, 0.35));
   if (any_terms)
     p.series.push_back(legend_entry("noise terms: N (−½), B floor, K (+½)", kInk, Dash::solid, Mark::line, 0.35));
   p.notes.push_back("OADEV of each channel with its " + ci + " confidence interval (analysis.json adev),");
-  p.notes.push_back("model curves from the fitted parameters (analysis.json model), noise-term lines from the "
-                    "weighted fit (noise.fit.coefficients).");
+  p.notes.push_back(
+      "model curves from the fitted parameters (analysis.json model), noise-term lines from the "
+      "weighted fit (noise.fit.coefficients).");
 
   std::string cap = "Overlapping Allan deviation of the " + html_escape(lower_first(g.title)) + " (solid, " +
                     html_escape(ci) + " confidence intervals)";
@@ -189,8 +191,9 @@ ReportFigure allan_figure(const AnalysisResult& d, const SensorGroup& g) {
     cap += ", the mean Allan deviation of " + std::to_string(d.twin_check->twins) +
            " twins simulated at the record's length (broad, light)";
   if (any_terms)
-    cap += " and, light, the noise-term lines of the weighted fit: white noise N (slope −½), rate random walk K "
-           "(+½) and the bias-instability floor 0.664 B";
+    cap +=
+        " and, light, the noise-term lines of the weighted fit: white noise N (slope −½), rate random walk K "
+        "(+½) and the bias-instability floor 0.664 B";
   cap += ". As the paper's Figs. 1, 2 and 4.";
   f.caption_html = cap;
   return f;
@@ -272,15 +275,17 @@ ReportFigure composite_figure(const AnalysisResult& d, const ChannelAnalysis& ch
   total.width = 2.2;
   p.series.push_back(std::move(total));
   p.notes.push_back("measured: analysis.json channels[].adev (or model.adev, the curve the models were fitted on)");
-  p.notes.push_back("each term and the model: AVAR(m) = 2 nu2(2m), the exact Haar wavelet variance of the fitted "
-                    "per-sample parameters (analysis.json channels[].model.composite)");
-  f.caption_html = "The composite noise model of <code>" + html_escape(ch.name) + "</code> (<code>" +
-                   html_escape(mc.model) +
-                   "</code>), fitted by the Generalized Method of Wavelet Moments: the measured Allan deviation "
-                   "with its " + html_escape(ci) +
-                   " intervals (grey), the Haar wavelet variances the fit matched (points, as √(2ν²) at τ = 2<sup>j−1</sup> "
-                   "samples), each term's contribution (dashed) and the model, their sum (bold). Each term's Allan "
-                   "variance is twice its Haar wavelet variance at the scale 2m, exact for the sampled process.";
+  p.notes.push_back(
+      "each term and the model: AVAR(m) = 2 nu2(2m), the exact Haar wavelet variance of the fitted "
+      "per-sample parameters (analysis.json channels[].model.composite)");
+  f.caption_html =
+      "The composite noise model of <code>" + html_escape(ch.name) + "</code> (<code>" + html_escape(mc.model) +
+      "</code>), fitted by the Generalized Method of Wavelet Moments: the measured Allan deviation "
+      "with its " +
+      html_escape(ci) +
+      " intervals (grey), the Haar wavelet variances the fit matched (points, as √(2ν²) at τ = 2<sup>j−1</sup> "
+      "samples), each term's contribution (dashed) and the model, their sum (bold). Each term's Allan "
+      "variance is twice its Haar wavelet variance at the scale 2m, exact for the sampled process.";
   return f;
 }
 
@@ -384,7 +389,8 @@ std::optional<ReportFigure> drift_figure(const AnalysisResult& d, const SensorGr
   Plot& p = f.plot;
   p.name = "drift_" + g.key;
   p.title = "Bias drift, " + lower_first(g.title) + ": data and fitted model";
-  p.x = {"time since the start of the record [h]", false, 0.0, d.duration_s > 0 ? std::optional(d.duration_s / 3600.0) : std::nullopt};
+  p.x = {"time since the start of the record [h]", false, 0.0,
+         d.duration_s > 0 ? std::optional(d.duration_s / 3600.0) : std::nullopt};
   p.y = {"bias drift [" + g.unit + "]", false, std::nullopt, std::nullopt};
   p.key = "outside bottom center horizontal Left reverse maxrows 2";
   const auto sim = simulate_model_drift(d, g, o.seed);
@@ -419,8 +425,10 @@ std::optional<ReportFigure> drift_figure(const AnalysisResult& d, const SensorGr
       m.opacity = 0.85;
       p.series.push_back(std::move(m));
       any_model = true;
-      if (process.empty()) process = sim[k].process;
-      else if (process != sim[k].process) process = "fitted";
+      if (process.empty())
+        process = sim[k].process;
+      else if (process != sim[k].process)
+        process = "fitted";
     }
   }
   std::string win;
@@ -522,9 +530,10 @@ std::vector<ReportFigure> temperature_figures(const AnalysisResult& d, const Sen
     s.color = color(k);
     s.width = 1.8;
     const std::string unit = ch.unit.name + "/degC";
-    s.label = ch.name + ": " + format_pm(c.empty() ? std::nullopt : std::optional(c[0]),
-                                         cs.empty() ? std::nullopt : std::optional(cs[0])) +
-              " " + unit + (c.size() > 1 ? " (+ higher orders)" : "");
+    s.label =
+        ch.name + ": " +
+        format_pm(c.empty() ? std::nullopt : std::optional(c[0]), cs.empty() ? std::nullopt : std::optional(cs[0])) +
+        " " + unit + (c.size() > 1 ? " (+ higher orders)" : "");
     p.series.push_back(std::move(s));
     if (!up.x.empty()) {
       for (PlotSeries* b : {&up, &dn}) {

@@ -147,8 +147,8 @@ class Table {
     for (auto c : g_.channels) {
       const auto [html, title] = cell(r_.channels[c]);
       if (html != "—") any = true;
-      r += "<td class=\"num\"" + (title.empty() ? std::string() : " title=\"" + html_escape(title) + "\"") + ">" + html +
-           "</td>";
+      r += "<td class=\"num\"" + (title.empty() ? std::string() : " title=\"" + html_escape(title) + "\"") + ">" +
+           html + "</td>";
     }
     r += "</tr>\n";
     if (any || keep_empty) s_ += r;
@@ -166,22 +166,25 @@ class Table {
           const Quantity q = display(*t, which, ch.unit);
           std::string html = html_escape(format_pm(finite(q.value), finite(q.sigma)));
           if (q.unit != unit && html != "—") html += " " + html_escape(q.unit);
-          const std::string title = "read over tau " + format_num(t->tau_lo, 4) + " to " + format_num(t->tau_hi, 4) + " s";
+          const std::string title =
+              "read over tau " + format_num(t->tau_lo, 4) + " to " + format_num(t->tau_hi, 4) + " s";
           return Cell{html, title};
         },
         true);
   }
   void value(const std::string& label_html, const std::string& unit,
              const std::function<std::optional<double>(const ChannelAnalysis&)>& get, int digits = 5) {
-    row(label_html, unit, [&](const ChannelAnalysis& ch) { return Cell{html_escape(format_num(get(ch), digits)), ""}; });
+    row(label_html, unit, [&](const ChannelAnalysis& ch) {
+      return Cell{html_escape(format_num(get(ch), digits)), ""};
+    });
   }
   // Why something was not fitted: a note under the table, not a cell.
   void reason(const std::string& what_html, const std::function<std::string(const ChannelAnalysis&)>& get) {
     for (auto c : g_.channels) {
       const std::string v = get(r_.channels[c]);
       if (!v.empty())
-        notes_ += "<li><b>" + html_escape(r_.channels[c].name) + "</b>: " + what_html + " not fitted: " + html_escape(v) +
-                  "</li>\n";
+        notes_ += "<li><b>" + html_escape(r_.channels[c].name) + "</b>: " + what_html +
+                  " not fitted: " + html_escape(v) + "</li>\n";
     }
   }
   std::string str() const {
@@ -205,55 +208,62 @@ std::string unit_of(const AnalysisResult& r, const SensorGroup& g, Term which) {
 std::string noise_table(const AnalysisResult& r, const SensorGroup& g) {
   Table t(r, g);
   t.section("Record");
-  t.value("fixed bias β (record mean)", g.unit, [](const ChannelAnalysis& c) { return finite(c.mean); }, 7);
+  t.value(
+      "fixed bias β (record mean)", g.unit, [](const ChannelAnalysis& c) { return finite(c.mean); }, 7);
   t.value("standard deviation", g.unit, [](const ChannelAnalysis& c) { return finite(c.stddev); });
-  t.section("Slope read-offs (IEEE 952, as the paper): N on the −1/2 line at τ = 1 s, B = σ<sub>min</sub> / 0.664, "
-            "K at τ = 3 s");
+  t.section(
+      "Slope read-offs (IEEE 952, as the paper): N on the −1/2 line at τ = 1 s, B = σ<sub>min</sub> / 0.664, "
+      "K at τ = 3 s");
   t.term("N, white noise (angle random walk): the reported N", Term::N,
          [](const ChannelAnalysis& c) { return &c.noise.readoffs.N; });
   t.row("N read over τ", "s", [](const ChannelAnalysis& c) {
     const auto& n = c.noise.readoffs.N;
     if (!n.valid) return Cell{"—", "no −1/2 slope in the curve"};
     const bool at_1s = n.tau_lo <= 1.0 && 1.0 <= n.tau_hi;
-    return Cell{html_escape(format_num(n.tau_lo, 3) + "–" + format_num(n.tau_hi, 3) + (at_1s ? "" : " (extended to 1 s)")),
-                at_1s ? "the −1/2 line through the curve around τ = 1 s"
-                      : "the curve is not white at 1 s: the line of its white arm extended to 1 s"};
+    return Cell{
+        html_escape(format_num(n.tau_lo, 3) + "–" + format_num(n.tau_hi, 3) + (at_1s ? "" : " (extended to 1 s)")),
+        at_1s ? "the −1/2 line through the curve around τ = 1 s"
+              : "the curve is not white at 1 s: the line of its white arm extended to 1 s"};
   });
-  t.row("B, bias instability", unit_of(r, g, Term::B), [](const ChannelAnalysis& c) {
-    const auto& ro = c.noise.readoffs;
-    const ReportedTerms rt = reported_terms(ro, c.noise.fit, to_allan_curve(c.noise.adev));
-    if (rt.constant) return Cell{"—", ""};
-    const Quantity q = display(rt.B.estimate, Term::B, c.unit);
-    if (rt.no_minimum)
-      return Cell{"no minimum within the record (&lt; " + html_escape(format_num(q.value, 4)) + ")",
-                  "the curve is lowest at an end of the record: sigma_min / 0.664 only bounds B from above"};
-    return Cell{html_escape(format_pm(finite(q.value), finite(q.sigma))),
-                "read over tau " + format_num(ro.B.tau_lo, 4) + " to " + format_num(ro.B.tau_hi, 4) + " s"};
-  }, true);
+  t.row(
+      "B, bias instability", unit_of(r, g, Term::B),
+      [](const ChannelAnalysis& c) {
+        const auto& ro = c.noise.readoffs;
+        const ReportedTerms rt = reported_terms(ro, c.noise.fit, to_allan_curve(c.noise.adev));
+        if (rt.constant) return Cell{"—", ""};
+        const Quantity q = display(rt.B.estimate, Term::B, c.unit);
+        if (rt.no_minimum)
+          return Cell{"no minimum within the record (&lt; " + html_escape(format_num(q.value, 4)) + ")",
+                      "the curve is lowest at an end of the record: sigma_min / 0.664 only bounds B from above"};
+        return Cell{html_escape(format_pm(finite(q.value), finite(q.sigma))),
+                    "read over tau " + format_num(ro.B.tau_lo, 4) + " to " + format_num(ro.B.tau_hi, 4) + " s"};
+      },
+      true);
   t.row("T, time constant (τ at the minimum)", "s", [](const ChannelAnalysis& c) {
     const auto& ro = c.noise.readoffs;
     if (!ro.B.valid) return Cell{"—", "no minimum inside the record"};
-    const std::string h = format_num(ro.tau_min, 4) + " (" + format_num(ro.tau_min_lo, 3) + "–" +
-                          format_num(ro.tau_min_hi, 3) + ")";
+    const std::string h =
+        format_num(ro.tau_min, 4) + " (" + format_num(ro.tau_min_lo, 3) + "–" + format_num(ro.tau_min_hi, 3) + ")";
     return Cell{html_escape(h), "range: taus whose intervals reach sigma_min"};
   });
   t.value("σ<sub>min</sub>, minimum of the curve", g.unit,
           [](const ChannelAnalysis& c) { return finite(c.noise.readoffs.sigma_min); });
   t.term("K, rate random walk (read-off)", Term::K, [](const ChannelAnalysis& c) { return &c.noise.readoffs.K; });
-  t.row("K reported (estimator files): significant when > 2σ", unit_of(r, g, Term::K),
-        [](const ChannelAnalysis& c) {
-          const ReportedTerms rt = reported_terms(c.noise.readoffs, c.noise.fit, to_allan_curve(c.noise.adev));
-          if (!rt.K.estimate.valid) return Cell{"—", ""};
-          const Quantity q = display(rt.K.estimate, Term::K, c.unit);
-          if (!rt.K.bound())
-            return Cell{html_escape(format_pm(finite(q.value), finite(q.sigma))) + " (" +
-                            html_escape(std::string(to_string(rt.K.source))) + ")",
-                        "significant: value > 2 sigma"};
-          return Cell{"&lt; " + html_escape(format_num(q.value, 4)) + " (upper bound)",
-                      rt.K_candidate.valid ? "K estimated but not significant (value <= 2 sigma)"
-                                           : "no K in the record: min over tau of sigma sqrt(3/tau)"};
-        },
-        true);
+  t.row(
+      "K reported (estimator files): significant when > 2σ", unit_of(r, g, Term::K),
+      [](const ChannelAnalysis& c) {
+        const ReportedTerms rt = reported_terms(c.noise.readoffs, c.noise.fit, to_allan_curve(c.noise.adev));
+        if (!rt.K.estimate.valid) return Cell{"—", ""};
+        const Quantity q = display(rt.K.estimate, Term::K, c.unit);
+        if (!rt.K.bound())
+          return Cell{html_escape(format_pm(finite(q.value), finite(q.sigma))) + " (" +
+                          html_escape(std::string(to_string(rt.K.source))) + ")",
+                      "significant: value > 2 sigma"};
+        return Cell{"&lt; " + html_escape(format_num(q.value, 4)) + " (upper bound)",
+                    rt.K_candidate.valid ? "K estimated but not significant (value <= 2 sigma)"
+                                         : "no K in the record: min over tau of sigma sqrt(3/tau)"};
+      },
+      true);
   t.term("Q, quantization", Term::Q, [](const ChannelAnalysis& c) { return &c.noise.readoffs.Q; });
   t.term("R, rate ramp", Term::R, [](const ChannelAnalysis& c) { return &c.noise.readoffs.R; });
   t.section("Weighted least-squares fit of σ²(τ) = Σ C<sub>k</sub> τ<sup>k</sup>, k = −2…2");
@@ -302,36 +312,37 @@ std::string noise_table(const AnalysisResult& r, const SensorGroup& g) {
 std::string model_table(const AnalysisResult& r, const SensorGroup& g) {
   Table t(r, g);
   t.section("Random-walk model (paper eq. 1–3): tangent to the white-noise arm, same minimum");
-  t.value("σ<sub>n</sub>, white noise per sample", g.unit, [](const ChannelAnalysis& c) {
-    return c.model.ok ? finite(c.model.random_walk.sigma_n) : std::nullopt;
-  });
-  t.value("σ<sub>μ</sub>, bias random-walk rate", g.unit + "/s", [](const ChannelAnalysis& c) {
-    return c.model.ok ? finite(c.model.random_walk.sigma_mu) : std::nullopt;
-  });
+  t.value("σ<sub>n</sub>, white noise per sample", g.unit,
+          [](const ChannelAnalysis& c) { return c.model.ok ? finite(c.model.random_walk.sigma_n) : std::nullopt; });
+  t.value("σ<sub>μ</sub>, bias random-walk rate", g.unit + "/s",
+          [](const ChannelAnalysis& c) { return c.model.ok ? finite(c.model.random_walk.sigma_mu) : std::nullopt; });
   t.row("quantizer (m<sub>lsb</sub>)", "counts/" + g.unit, [](const ChannelAnalysis& c) {
     if (!c.model.ok) return Cell{"—", ""};
     const double v = c.model.random_walk.lsb;
     return Cell{v > 0 ? html_escape(format_num(v, 6)) : std::string("none"), ""};
   });
-  t.value("samples fitted", "", [](const ChannelAnalysis& c) { return count(c.model.samples); }, 10);
-  t.value("Allan-curve residual, RMS of ln(model / data)", "", [](const ChannelAnalysis& c) {
-    return c.model.ok ? finite(c.model.random_walk_residual.rms_log) : std::nullopt;
-  }, 3);
+  t.value(
+      "samples fitted", "", [](const ChannelAnalysis& c) { return count(c.model.samples); }, 10);
+  t.value(
+      "Allan-curve residual, RMS of ln(model / data)", "",
+      [](const ChannelAnalysis& c) { return c.model.ok ? finite(c.model.random_walk_residual.rms_log) : std::nullopt; },
+      3);
   t.reason("random-walk model", [](const ChannelAnalysis& c) { return c.model.ok ? std::string() : c.model.error; });
   t.section("Gauss–Markov alternative: white noise + first-order Gauss–Markov bias");
-  t.value("σ<sub>b</sub>, stationary bias", g.unit, [](const ChannelAnalysis& c) {
-    return c.model.gm_ok ? finite(c.model.gauss_markov.sigma_b) : std::nullopt;
-  });
-  t.value("T<sub>c</sub>, correlation time", "s", [](const ChannelAnalysis& c) {
-    return c.model.gm_ok ? finite(c.model.gauss_markov.tau_c) : std::nullopt;
-  });
-  t.value("σ<sub>n</sub>, white noise per sample", g.unit, [](const ChannelAnalysis& c) {
-    return c.model.gm_ok ? finite(c.model.gauss_markov.sigma_n) : std::nullopt;
-  });
-  t.value("Allan-curve residual, RMS of ln(model / data)", "", [](const ChannelAnalysis& c) {
-    return c.model.gm_ok ? finite(c.model.gauss_markov_residual.rms_log) : std::nullopt;
-  }, 3);
-  t.reason("Gauss–Markov model", [](const ChannelAnalysis& c) { return c.model.gm_ok ? std::string() : c.model.gm_error; });
+  t.value("σ<sub>b</sub>, stationary bias", g.unit,
+          [](const ChannelAnalysis& c) { return c.model.gm_ok ? finite(c.model.gauss_markov.sigma_b) : std::nullopt; });
+  t.value("T<sub>c</sub>, correlation time", "s",
+          [](const ChannelAnalysis& c) { return c.model.gm_ok ? finite(c.model.gauss_markov.tau_c) : std::nullopt; });
+  t.value("σ<sub>n</sub>, white noise per sample", g.unit,
+          [](const ChannelAnalysis& c) { return c.model.gm_ok ? finite(c.model.gauss_markov.sigma_n) : std::nullopt; });
+  t.value(
+      "Allan-curve residual, RMS of ln(model / data)", "",
+      [](const ChannelAnalysis& c) {
+        return c.model.gm_ok ? finite(c.model.gauss_markov_residual.rms_log) : std::nullopt;
+      },
+      3);
+  t.reason("Gauss–Markov model",
+           [](const ChannelAnalysis& c) { return c.model.gm_ok ? std::string() : c.model.gm_error; });
   t.row("the better fit", "", [](const ChannelAnalysis& c) {
     if (!c.model.ok || !c.model.gm_ok) return Cell{"—", ""};
     const bool gm = c.model.gauss_markov_residual.rms_log < c.model.random_walk_residual.rms_log;
@@ -349,20 +360,29 @@ std::string model_table(const AnalysisResult& r, const SensorGroup& g) {
       if (m.fidelity)
         return Cell{html_escape(m.model), "the twin's search passed " + std::to_string(m.candidates.size()) +
                                               " models; " + std::to_string(m.lines.size()) + " spectral line(s) found"};
-      return Cell{html_escape(m.model), m.candidates.size() > 1 ? "selected by the WIC among " +
-                                                                       std::to_string(m.candidates.size()) +
-                                                                       " candidates"
-                                                                 : std::string("as asked")};
+      return Cell{html_escape(m.model),
+                  m.candidates.size() > 1
+                      ? "selected by the WIC among " + std::to_string(m.candidates.size()) + " candidates"
+                      : std::string("as asked")};
     });
-    t.value("twin error: largest |σ_model / σ − 1| on the Allan curve", "%", [](const ChannelAnalysis& c) {
-      return c.model.composite ? finite(100.0 * c.model.twin_error.max_error) : std::nullopt;
-    }, 3);
-    t.value("taus whose model deviation lies inside the curve's interval", "%", [](const ChannelAnalysis& c) {
-      return c.model.composite ? finite(100.0 * c.model.twin_error.share_inside) : std::nullopt;
-    }, 3);
-    t.value("Allan-curve residual, RMS of ln(model / data)", "", [](const ChannelAnalysis& c) {
-      return c.model.composite ? finite(c.model.composite_residual.rms_log) : std::nullopt;
-    }, 3);
+    t.value(
+        "twin error: largest |σ_model / σ − 1| on the Allan curve", "%",
+        [](const ChannelAnalysis& c) {
+          return c.model.composite ? finite(100.0 * c.model.twin_error.max_error) : std::nullopt;
+        },
+        3);
+    t.value(
+        "taus whose model deviation lies inside the curve's interval", "%",
+        [](const ChannelAnalysis& c) {
+          return c.model.composite ? finite(100.0 * c.model.twin_error.share_inside) : std::nullopt;
+        },
+        3);
+    t.value(
+        "Allan-curve residual, RMS of ln(model / data)", "",
+        [](const ChannelAnalysis& c) {
+          return c.model.composite ? finite(c.model.composite_residual.rms_log) : std::nullopt;
+        },
+        3);
     t.row("the best fit of the three", "", [](const ChannelAnalysis& c) {
       if (!c.model.composite) return Cell{"—", ""};
       const pipeline::ModelAnalysis& m = c.model;
@@ -377,10 +397,10 @@ std::string model_table(const AnalysisResult& r, const SensorGroup& g) {
     });
   }
   t.section("Bias drift");
-  t.value("moving-average window", "s", [&](const ChannelAnalysis& c) {
-    return finite(static_cast<double>(c.drift.window) / r.rate_hz);
-  });
-  t.value("drift points (drift.csv)", "", [](const ChannelAnalysis& c) { return count(c.drift.t.size()); }, 10);
+  t.value("moving-average window", "s",
+          [&](const ChannelAnalysis& c) { return finite(static_cast<double>(c.drift.window) / r.rate_hz); });
+  t.value(
+      "drift points (drift.csv)", "", [](const ChannelAnalysis& c) { return count(c.drift.t.size()); }, 10);
   return t.str();
 }
 
@@ -396,17 +416,19 @@ std::string temperature_table(const AnalysisResult& r, const SensorGroup& g) {
     return c.temperature ? &*c.temperature : nullptr;
   };
   Table t(r, g);
-  t.section("Polynomial fit of the channel on temperature, y = Σ c<sub>p</sub> (T − T<sub>ref</sub>)<sup>p</sup> + "
-            "random-walk bias + white noise");
+  t.section(
+      "Polynomial fit of the channel on temperature, y = Σ c<sub>p</sub> (T − T<sub>ref</sub>)<sup>p</sup> + "
+      "random-walk bias + white noise");
   t.row("temperature column", "", [&](const ChannelAnalysis& c) {
     return c.temperature ? Cell{html_escape(r.temp_name), ""} : Cell{"—", ""};
   });
   t.row("estimator", "", [&](const ChannelAnalysis& c) {
     const auto* a = tan_of(c);
     if (!a) return Cell{"—", ""};
-    return a->joint ? Cell{"jointly with the random-walk bias (GLS, Kalman filter)",
-                           "noise model fitted to the compensated record; docs/formulas/drift-covariance-temperature.md §4"}
-                    : Cell{"least squares", html_escape(a->joint_error)};
+    return a->joint
+               ? Cell{"jointly with the random-walk bias (GLS, Kalman filter)",
+                      "noise model fitted to the compensated record; docs/formulas/drift-covariance-temperature.md §4"}
+               : Cell{"least squares", html_escape(a->joint_error)};
   });
   t.value("T<sub>ref</sub> (mean temperature)", "°C", [&](const ChannelAnalysis& c) {
     const auto* f = fit_of(c);
@@ -414,8 +436,8 @@ std::string temperature_table(const AnalysisResult& r, const SensorGroup& g) {
   });
   for (std::size_t p = 1; p <= order; ++p) {
     const std::string unit = g.unit + (p == 1 ? "/degC" : "/degC^" + std::to_string(p));
-    const std::string label = p == 1 ? std::string("c<sub>1</sub>, temperature coefficient")
-                                     : "c<sub>" + std::to_string(p) + "</sub>";
+    const std::string label =
+        p == 1 ? std::string("c<sub>1</sub>, temperature coefficient") : "c<sub>" + std::to_string(p) + "</sub>";
     t.row(label, unit, [&](const ChannelAnalysis& c) {
       const auto* f = fit_of(c);
       if (!f || f->coeff.size() <= p) return Cell{"—", ""};
@@ -435,27 +457,37 @@ std::string temperature_table(const AnalysisResult& r, const SensorGroup& g) {
     const auto* a = tan_of(c);
     return a && a->joint ? finite(a->noise.sigma_mu) : std::nullopt;
   });
-  t.value("c<sub>0</sub>, bias at T<sub>ref</sub>", g.unit, [&](const ChannelAnalysis& c) {
-    const auto* f = fit_of(c);
-    return f && !f->coeff.empty() ? finite(f->coeff[0]) : std::nullopt;
-  }, 7);
-  t.value("R²", "", [&](const ChannelAnalysis& c) {
-    const auto* f = fit_of(c);
-    return f ? finite(f->r2) : std::nullopt;
-  }, 4);
-  t.value("residual RMS", g.unit, [&](const ChannelAnalysis& c) {
-    const auto* f = fit_of(c);
-    return f ? finite(f->residual_rms) : std::nullopt;
-  }, 4);
+  t.value(
+      "c<sub>0</sub>, bias at T<sub>ref</sub>", g.unit,
+      [&](const ChannelAnalysis& c) {
+        const auto* f = fit_of(c);
+        return f && !f->coeff.empty() ? finite(f->coeff[0]) : std::nullopt;
+      },
+      7);
+  t.value(
+      "R²", "",
+      [&](const ChannelAnalysis& c) {
+        const auto* f = fit_of(c);
+        return f ? finite(f->r2) : std::nullopt;
+      },
+      4);
+  t.value(
+      "residual RMS", g.unit,
+      [&](const ChannelAnalysis& c) {
+        const auto* f = fit_of(c);
+        return f ? finite(f->residual_rms) : std::nullopt;
+      },
+      4);
   t.section("Noise terms after compensation (slope read-offs)");
   auto comp = [](const ChannelAnalysis& c) -> const SlopeReadOffs* {
     return c.temperature ? &c.temperature->compensated.readoffs : nullptr;
   };
   t.term("N, white noise", Term::N, [&](const ChannelAnalysis& c) { return comp(c) ? &comp(c)->N : nullptr; });
   t.term("B, bias instability", Term::B, [&](const ChannelAnalysis& c) { return comp(c) ? &comp(c)->B : nullptr; });
-  t.value("T, time constant", "s", [&](const ChannelAnalysis& c) {
-    return comp(c) && comp(c)->B.valid ? finite(comp(c)->tau_min) : std::nullopt;
-  }, 4);
+  t.value(
+      "T, time constant", "s",
+      [&](const ChannelAnalysis& c) { return comp(c) && comp(c)->B.valid ? finite(comp(c)->tau_min) : std::nullopt; },
+      4);
   t.term("K, rate random walk", Term::K, [&](const ChannelAnalysis& c) { return comp(c) ? &comp(c)->K : nullptr; });
   // The sensor models of the compensated series beside the record's (Models
   // table): a temperature cycle raises the record's σ_μ.
@@ -472,21 +504,18 @@ std::string temperature_table(const AnalysisResult& r, const SensorGroup& g) {
   t.value("σ<sub>μ</sub> of the record, not compensated", g.unit + "/s", [&](const ChannelAnalysis& c) {
     return cm(c) && c.model.ok ? finite(c.model.random_walk.sigma_mu) : std::nullopt;
   });
-  t.value("samples fitted", "", [&](const ChannelAnalysis& c) {
-    return cm(c) ? count(cm(c)->samples) : std::nullopt;
-  }, 10);
-  t.reason("random-walk model of the compensated series", [&](const ChannelAnalysis& c) {
-    return cm(c) && !cm(c)->ok ? cm(c)->error : std::string();
-  });
+  t.value(
+      "samples fitted", "", [&](const ChannelAnalysis& c) { return cm(c) ? count(cm(c)->samples) : std::nullopt; }, 10);
+  t.reason("random-walk model of the compensated series",
+           [&](const ChannelAnalysis& c) { return cm(c) && !cm(c)->ok ? cm(c)->error : std::string(); });
   t.value("Gauss–Markov σ<sub>b</sub>", g.unit, [&](const ChannelAnalysis& c) {
     return cm(c) && cm(c)->gm_ok ? finite(cm(c)->gauss_markov.sigma_b) : std::nullopt;
   });
   t.value("Gauss–Markov T<sub>c</sub>", "s", [&](const ChannelAnalysis& c) {
     return cm(c) && cm(c)->gm_ok ? finite(cm(c)->gauss_markov.tau_c) : std::nullopt;
   });
-  t.reason("Gauss–Markov model of the compensated series", [&](const ChannelAnalysis& c) {
-    return cm(c) && !cm(c)->gm_ok ? cm(c)->gm_error : std::string();
-  });
+  t.reason("Gauss–Markov model of the compensated series",
+           [&](const ChannelAnalysis& c) { return cm(c) && !cm(c)->gm_ok ? cm(c)->gm_error : std::string(); });
   return t.str();
 }
 
@@ -507,10 +536,11 @@ std::string covariance_html(const AnalysisResult& r) {
         break;
       }
   std::string s;
-  s += "<p>Sample covariance of the channels over " +
-       (r.cov_samples > 0 ? html_escape(format_num(count(r.cov_samples), 12)) + " samples" : std::string("the record")) +
-       " (the sensor noise covariance of a Kalman filter); entry (a, b) in unit<sub>a</sub>·unit<sub>b</sub>. "
-       "Beside it the correlation coefficients.</p>\n";
+  s +=
+      "<p>Sample covariance of the channels over " +
+      (r.cov_samples > 0 ? html_escape(format_num(count(r.cov_samples), 12)) + " samples" : std::string("the record")) +
+      " (the sensor noise covariance of a Kalman filter); entry (a, b) in unit<sub>a</sub>·unit<sub>b</sub>. "
+      "Beside it the correlation coefficients.</p>\n";
   auto head = [&](std::size_t a, bool corr) {
     return html_escape(names[a]) +
            (corr || units[a].empty() ? "" : " <span class=\"muted\">[" + html_escape(units[a]) + "]</span>");
@@ -553,7 +583,8 @@ std::vector<ReportHtmlField> input_fields(const AnalysisResult& r) {
                      "segment analysed and the results combined");
   else
     html("gaps", std::string("none: one contiguous segment") +
-                     (split ? " (<code>--gaps split</code>)" : " (policy <code>--gaps error</code>: a gap stops the analysis)"));
+                     (split ? " (<code>--gaps split</code>)"
+                            : " (policy <code>--gaps error</code>: a gap stops the analysis)"));
   std::string chans;
   for (const auto& ch : r.channels) {
     if (!chans.empty()) chans += ", ";
@@ -598,11 +629,13 @@ ReportTable views_table(const ChannelAnalysis& c) {
                       v.difference_sigmas ? fmt("%+.2f", *v.difference_sigmas) : std::string("—")});
   }
   const PowerLawFit& f = c.spectral->fit;
-  t.note = "Each term from the Allan curve (the weighted fit of σ²(τ) = Σ C_k τ^k, k = −2…2) and from the "
-           "one-sided spectrum (the fit of S(f) = Σ h_α f^α over " + format_num(f.f_lo, 3) + "–" +
-           format_num(f.f_hi, 3) + " Hz, each h_α converted to its term: docs/formulas/spectral.md §6). "
-           "Difference: (spectrum − Allan curve) / √(σ_spectrum² + σ_Allan²); both views are of the same samples, "
-           "so a difference beyond about 3 says they disagree. “not seen”: the term is at its bound 0 in that fit.";
+  t.note =
+      "Each term from the Allan curve (the weighted fit of σ²(τ) = Σ C_k τ^k, k = −2…2) and from the "
+      "one-sided spectrum (the fit of S(f) = Σ h_α f^α over " +
+      format_num(f.f_lo, 3) + "–" + format_num(f.f_hi, 3) +
+      " Hz, each h_α converted to its term: docs/formulas/spectral.md §6). "
+      "Difference: (spectrum − Allan curve) / √(σ_spectrum² + σ_Allan²); both views are of the same samples, "
+      "so a difference beyond about 3 says they disagree. “not seen”: the term is at its bound 0 in that fit.";
   return t;
 }
 
@@ -625,8 +658,9 @@ ReportTable composite_table(const AnalysisResult& r, const ChannelAnalysis& c) {
   const bool sd = cs.bootstrap > 0 && m.replicates >= 2;
   ReportTable t;
   t.title = c.name + ": " + m.model;
-  t.header = {"term", "quantity", "value", "σ (asymptotic)", "σ (bootstrap)",
-              detail::ci_text(r.ci) + " interval (bootstrap)", "unit"};
+  t.header = {
+      "term", "quantity", "value", "σ (asymptotic)", "σ (bootstrap)", detail::ci_text(r.ci) + " interval (bootstrap)",
+      "unit"};
   t.numeric = {false, false, true, true, true, true, false};
   for (const pipeline::ModelTerm& term : m.terms)
     for (std::size_t i = 0; i < term.quantities.size(); ++i) {
@@ -649,8 +683,9 @@ ReportTable composite_table(const AnalysisResult& r, const ChannelAnalysis& c) {
       note += (k > 1 ? ", " : "") + m.candidates[k].model + " " + format_num(finite(m.candidates[k].score.wic), 4);
     note += ". ";
   }
-  note += "σ (asymptotic): the GMWM's sandwich standard deviation by the delta method (docs/formulas/noise-terms.md "
-          "§8d; — where the wavelet variance does not determine it). ";
+  note +=
+      "σ (asymptotic): the GMWM's sandwich standard deviation by the delta method (docs/formulas/noise-terms.md "
+      "§8d; — where the wavelet variance does not determine it). ";
   note += sd ? "Bootstrap: " + std::to_string(m.replicates) + " parametric replicates fitted (seed " +
                    std::to_string(cs.seed) + ")."
              : std::string("No bootstrap: --composite-bootstrap B adds its standard deviation and interval.");
@@ -696,9 +731,10 @@ CommandReport analysis_report(const AnalysisResult& r, const AnalysisReportConte
   else
     rep += "<p class=\"muted\">analysis.json does not record its command.</p>\n";
   rep += "<p>This page and its plots:</p>\n<pre><code>cubecal report " + html_escape(dir) + " --force</code></pre>\n";
-  rep += "<p>Each plot is a gnuplot script beside its data in <code>plots/</code>: edit the script (line styles "
-         "come first), run <code>gnuplot NAME.gp</code> in that directory for new SVG and PNG files, and "
-         "<code>cubecal report DIR --force --keep-scripts</code> to put the restyled plots into this page.</p>\n";
+  rep +=
+      "<p>Each plot is a gnuplot script beside its data in <code>plots/</code>: edit the script (line styles "
+      "come first), run <code>gnuplot NAME.gp</code> in that directory for new SVG and PNG files, and "
+      "<code>cubecal report DIR --force --keep-scripts</code> to put the restyled plots into this page.</p>\n";
   page.reproduce_html = rep;
 
   ReportSection allan{"allan", "Allan deviation and noise terms", {}};
@@ -735,8 +771,9 @@ CommandReport analysis_report(const AnalysisResult& r, const AnalysisReportConte
       if (!sa.fit.terms.empty())
         b.table = views_table(ch);
       else
-        b.html = "<h3>" + html_escape(ch.name) + "</h3>\n<p>No power-law fit: " +
-                 html_escape(sa.fit_error.empty() ? "not made" : sa.fit_error) + "</p>\n";
+        b.html = "<h3>" + html_escape(ch.name) +
+                 "</h3>\n<p>No power-law fit: " + html_escape(sa.fit_error.empty() ? "not made" : sa.fit_error) +
+                 "</p>\n";
       if (sa.spectrum.size() > 0)
         b.figures.push_back(detail::spectrum_figure(detail::unique_name("psd_", ch.name, taken), ch.name, ch.unit,
                                                     sa.spectrum, sa.fit, sa.fit_error));
@@ -808,8 +845,9 @@ CommandReport analysis_report(const AnalysisResult& r, const AnalysisReportConte
       "figure its data (<code>.dat</code>), gnuplot script (<code>.gp</code>), <code>.svg</code> and "
       "<code>.png</code>. The model curves were computed from the fitted parameters (the values of analysis.json, "
       "as adev.csv lists them).</p>\n";
-  page.footer_html = "Written by cubecal from the analysis of " + html_escape(base.empty() ? std::string("a record") : base) +
-                     " (every number in " + html_escape(dir) +
+  page.footer_html = "Written by cubecal from the analysis of " +
+                     html_escape(base.empty() ? std::string("a record") : base) + " (every number in " +
+                     html_escape(dir) +
                      "/analysis.json). This page is self-contained: no network access, plots embedded as SVG.";
   return page;
 }

@@ -20,8 +20,7 @@ namespace {
 std::string anchor(const std::string& id) {
   std::string a;
   for (char c : id)
-    a += ((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '-' || c == '_') ? c
-                                                                                                                : '-';
+    a += ((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '-' || c == '_') ? c : '-';
   return a.empty() ? std::string("section") : a;
 }
 
@@ -82,11 +81,11 @@ std::string command_report_html(const CommandReport& r, const std::vector<Render
   int figno = 0;
   auto figure = [&](const ReportFigure& f) {
     const std::string cap = "<b>Figure " + std::to_string(++figno) + ".</b> " + f.caption_html;
-    const auto it = std::find_if(rendered.begin(), rendered.end(),
-                                 [&](const RenderedPlot& p) { return p.name == f.plot.name; });
+    const auto it =
+        std::find_if(rendered.begin(), rendered.end(), [&](const RenderedPlot& p) { return p.name == f.plot.name; });
     if (it != rendered.end()) return html_figure(*it, cap);
-    return "<figure id=\"fig-" + html_escape(f.plot.name) + "\"><p class=\"muted\">[plot " +
-           html_escape(f.plot.name) + " not rendered]</p><figcaption>" + cap + "</figcaption></figure>\n";
+    return "<figure id=\"fig-" + html_escape(f.plot.name) + "\"><p class=\"muted\">[plot " + html_escape(f.plot.name) +
+           " not rendered]</p><figcaption>" + cap + "</figcaption></figure>\n";
   };
 
   std::string b;
@@ -166,15 +165,14 @@ void check_report_target(const std::string& dir, bool force, const std::string& 
   io::prepare_output_dir(dir, force, {"report.html", "plots"}, "report");
 }
 
-ReportResult write_command_report(const CommandReport& report, const std::string& dir,
-                                  const ReportOptions& options) {
+ReportResult write_command_report(const CommandReport& report, const std::string& dir, const ReportOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
   const fs::path d(dir);
   if (!options.force) {
     const auto existing = existing_report_outputs(dir);
     if (!existing.empty())
       throw UsageError(existing.front() + " already exists (add --force to replace the report" +
-                           std::string(fs::exists(d / "plots") ? " and its plots" : "") + ")");
+                       std::string(fs::exists(d / "plots") ? " and its plots" : "") + ")");
   }
   std::error_code ec;
   fs::create_directories(d, ec);

@@ -29,7 +29,7 @@ namespace {
 constexpr const char* kLevelColors[] = {"#440154", "#482173", "#433e85", "#38598c", "#2d708e", "#25858e",
                                         "#1e9b8a", "#2ab07f", "#52c569", "#86d549", "#c2df23", "#fde725"};
 constexpr std::size_t kLevels = std::size(kLevelColors);
-constexpr std::size_t kMaxColumns = 360;   // drawn columns of the map at most
+constexpr std::size_t kMaxColumns = 360;      // drawn columns of the map at most
 constexpr std::size_t kMaxLinePoints = 1200;  // per series of the over-time plot
 
 // Seconds as the x axis shows them.
@@ -55,7 +55,8 @@ std::pair<double, double> tau_edges(const std::vector<double>& tau, std::size_t 
   return {std::sqrt(below * tau[j]), std::sqrt(tau[j] * above)};
 }
 
-ReportFigure heat_map(const std::string& channel, const DavarMatrix& mx, double step_s, std::vector<std::string>& taken) {
+ReportFigure heat_map(const std::string& channel, const DavarMatrix& mx, double step_s,
+                      std::vector<std::string>& taken) {
   ReportFigure f;
   Plot& p = f.plot;
   const std::size_t K = mx.windows(), J = mx.taus();
@@ -144,8 +145,11 @@ ReportFigure heat_map(const std::string& channel, const DavarMatrix& mx, double 
   }
   p.x = {"window centre [" + std::string(ta.unit) + "]", false, x_left.front(), x_right.back()};
   p.y = {"averaging time τ [s]", true, tau_edges(mx.tau, 0).first, tau_edges(mx.tau, J - 1).second};
-  p.notes.push_back("dynamic overlapping Allan deviation of channel " + channel + ": one block per tau row and colour "
-                    "level (log10 of the deviation in " + std::to_string(kLevels) + " equal steps); rows x, lo, hi "
+  p.notes.push_back("dynamic overlapping Allan deviation of channel " + channel +
+                    ": one block per tau row and colour "
+                    "level (log10 of the deviation in " +
+                    std::to_string(kLevels) +
+                    " equal steps); rows x, lo, hi "
                     "fill the row's tau cell (lo..hi) over the runs of columns at that level, lo = hi between them");
   const bool grouped = C < K;
   f.caption_html =
@@ -160,7 +164,8 @@ ReportFigure heat_map(const std::string& channel, const DavarMatrix& mx, double 
   return f;
 }
 
-ReportFigure over_time(const std::string& channel, const DavarMatrix& mx, double step_s, std::vector<std::string>& taken) {
+ReportFigure over_time(const std::string& channel, const DavarMatrix& mx, double step_s,
+                       std::vector<std::string>& taken) {
   ReportFigure f;
   Plot& p = f.plot;
   const std::size_t K = mx.windows(), J = mx.taus();
@@ -203,12 +208,14 @@ ReportFigure over_time(const std::string& channel, const DavarMatrix& mx, double
     }
     p.series.push_back(std::move(s));
   }
-  p.notes.push_back("the rows of the dynamic Allan deviation of channel " + channel + " at a few taus over the windows" +
+  p.notes.push_back("the rows of the dynamic Allan deviation of channel " + channel +
+                    " at a few taus over the windows" +
                     (stride > 1 ? ", every " + std::to_string(stride) + "th window" : std::string()));
-  f.caption_html = "The deviation of <code>" + html_escape(channel) + "</code> over the run at " +
-                   std::to_string(rows.size()) + " of the " + std::to_string(J) + " taus" +
-                   (mx.intervals ? " with each window's " + html_escape(ci_text(mx.ci)) + " interval (band)" : std::string()) +
-                   (stride > 1 ? "; every " + std::to_string(stride) + "th window is drawn" : std::string()) + ".";
+  f.caption_html =
+      "The deviation of <code>" + html_escape(channel) + "</code> over the run at " + std::to_string(rows.size()) +
+      " of the " + std::to_string(J) + " taus" +
+      (mx.intervals ? " with each window's " + html_escape(ci_text(mx.ci)) + " interval (band)" : std::string()) +
+      (stride > 1 ? "; every " + std::to_string(stride) + "th window is drawn" : std::string()) + ".";
   return f;
 }
 
@@ -253,24 +260,25 @@ ReportTable spread_table(const std::string& channel, const DavarMatrix& mx) {
     const std::size_t mid = sorted.size() / 2;
     std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(mid), sorted.end());
     const double dlo = mx.dev_at(j, lo), dhi = mx.dev_at(j, hi);
-    std::vector<std::string> row = {format_num(mx.tau[j], 5),
-                                    fewest == most ? std::to_string(most)
-                                                   : std::to_string(fewest) + "–" + std::to_string(most),
-                                    format_num(dlo, 4),
-                                    format_num(mx.centre[lo], 6),
-                                    format_num(sorted[mid], 4),
-                                    format_num(dhi, 4),
-                                    format_num(mx.centre[hi], 6),
-                                    dlo > 0 ? format_num(dhi / dlo, 4) : std::string("—")};
+    std::vector<std::string> row = {
+        format_num(mx.tau[j], 5),
+        fewest == most ? std::to_string(most) : std::to_string(fewest) + "–" + std::to_string(most),
+        format_num(dlo, 4),
+        format_num(mx.centre[lo], 6),
+        format_num(sorted[mid], 4),
+        format_num(dhi, 4),
+        format_num(mx.centre[hi], 6),
+        dlo > 0 ? format_num(dhi / dlo, 4) : std::string("—")};
     if (gapped) row.push_back(empty_cells);
     t.rows.push_back(std::move(row));
   }
   t.note = "Per τ, the deviation over the " + std::to_string(K) +
            " windows: the smallest and the largest with the centre of their window, the median, and their ratio.";
   if (gapped)
-    t.note += " With missing samples (--gaps skip) the terms of a window are its whole terms (their range over the "
-              "windows); a window without a whole term at τ has no value there: it is left out of the smallest, "
-              "median and largest and counted in the last column.";
+    t.note +=
+        " With missing samples (--gaps skip) the terms of a window are its whole terms (their range over the "
+        "windows); a window without a whole term at τ has no value there: it is left out of the smallest, "
+        "median and largest and counted in the last column.";
   return t;
 }
 
@@ -291,47 +299,53 @@ std::vector<ReportFigure> davar_figures(const pipeline::DavarResult& r) {
 CommandReport davar_report(const pipeline::DavarResult& r, const std::string& command) {
   CommandReport rep;
   rep.title = "Dynamic Allan deviation: " + base_name(r.file);
-  rep.lead_html = "The overlapping Allan deviation of a window sliding along the record, by <code>cubecal davar</code> "
-                  "(the dynamic Allan variance of Galleani &amp; Tavella, in the fast form of Wang et al. 2016): how "
-                  "the noise of the sensor changes during the run. Definition and method: "
-                  "<code>docs/formulas/davar.md</code>.";
+  rep.lead_html =
+      "The overlapping Allan deviation of a window sliding along the record, by <code>cubecal davar</code> "
+      "(the dynamic Allan variance of Galleani &amp; Tavella, in the fast form of Wang et al. 2016): how "
+      "the noise of the sensor changes during the run. Definition and method: "
+      "<code>docs/formulas/davar.md</code>.";
   rep.command = command;
   rep.plot_prefixes = {"davar_map_", "davar_time_"};
   const double tau0 = 1.0 / r.rate_hz;
   const DavarMatrix* first = r.channels.empty() ? nullptr : &r.channels.front().matrix;
   std::string chans;
   for (const auto& c : r.channels) chans += (chans.empty() ? "" : ", ") + c.name;
-  rep.input = {{"file", r.file, true},
-               {"channels", chans, true},
-               {"samples", std::to_string(r.samples) + " at " + format_num(r.rate_hz, 6) + " Hz (" +
-                               duration_text(static_cast<double>(r.samples) * tau0) + "), " +
-                               std::string(to_string(r.type)) + " data",
-                false},
-               {"window", std::to_string(r.window) + " samples (" + duration_text(static_cast<double>(r.window) * tau0) +
-                              "; asked: " + r.window_text + ")",
-                false},
-               {"step", std::to_string(r.step) + " samples (" + duration_text(static_cast<double>(r.step) * tau0) +
-                            "; asked: " + r.step_text + ")",
-                false}};
+  rep.input = {
+      {"file", r.file, true},
+      {"channels", chans, true},
+      {"samples",
+       std::to_string(r.samples) + " at " + format_num(r.rate_hz, 6) + " Hz (" +
+           duration_text(static_cast<double>(r.samples) * tau0) + "), " + std::string(to_string(r.type)) + " data",
+       false},
+      {"window",
+       std::to_string(r.window) + " samples (" + duration_text(static_cast<double>(r.window) * tau0) +
+           "; asked: " + r.window_text + ")",
+       false},
+      {"step",
+       std::to_string(r.step) + " samples (" + duration_text(static_cast<double>(r.step) * tau0) +
+           "; asked: " + r.step_text + ")",
+       false}};
   std::size_t missing = 0;
   for (const auto& c : r.channels) missing += c.matrix.missing;
   if (missing > 0)
-    rep.input.push_back({"missing samples",
-                         std::to_string(missing) + " (--gaps skip: left out of each window's OADEV terms)", false});
+    rep.input.push_back(
+        {"missing samples", std::to_string(missing) + " (--gaps skip: left out of each window's OADEV terms)", false});
   if (first) {
     rep.input.push_back({"windows", std::to_string(first->windows()), false});
     if (first->taus() > 0)
-      rep.input.push_back({"taus", std::to_string(first->taus()) + " from " + format_num(first->tau.front(), 4) +
-                                       " s to " + format_num(first->tau.back(), 4) + " s",
+      rep.input.push_back({"taus",
+                           std::to_string(first->taus()) + " from " + format_num(first->tau.front(), 4) + " s to " +
+                               format_num(first->tau.back(), 4) + " s",
                            false});
     rep.input.push_back(
         {"intervals",
-         first->intervals ? ci_text(first->ci) + ", EDF " +
-                                (first->edf_method == EdfMethod::simple ? std::string("simple") : std::string("Greenhall")) +
-                                ", noise type " +
-                                (first->fixed_alpha ? "fixed at α = " + std::to_string(*first->fixed_alpha)
-                                                    : std::string("identified in each cell"))
-                          : std::string("none"),
+         first->intervals
+             ? ci_text(first->ci) + ", EDF " +
+                   (first->edf_method == EdfMethod::simple ? std::string("simple") : std::string("Greenhall")) +
+                   ", noise type " +
+                   (first->fixed_alpha ? "fixed at α = " + std::to_string(*first->fixed_alpha)
+                                       : std::string("identified in each cell"))
+             : std::string("none"),
          false});
   }
   const auto figs = davar_figures(r);

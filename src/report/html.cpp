@@ -82,8 +82,9 @@ std::string html_figure(const RenderedPlot& plot, std::string_view caption_html,
   const std::string n = html_escape(plot.name);
   const std::string pre = html_escape(files_prefix);
   std::string s = "<figure id=\"fig-" + n + "\">\n";
-  s += "<img class=\"plot\" width=\"" + std::to_string(plot.width) + "\" height=\"" + std::to_string(plot.height) + "\" alt=\"" + html_escape(plot.title.empty() ? plot.name : plot.title) +
-       "\" src=\"data:image/svg+xml;base64," + base64(plot.svg_text) + "\">\n";
+  s += "<img class=\"plot\" width=\"" + std::to_string(plot.width) + "\" height=\"" + std::to_string(plot.height) +
+       "\" alt=\"" + html_escape(plot.title.empty() ? plot.name : plot.title) + "\" src=\"data:image/svg+xml;base64," +
+       base64(plot.svg_text) + "\">\n";
   s += "<figcaption>";
   s += caption_html;
   s += " <span class=\"files\">Files: ";

@@ -36,7 +36,7 @@ double norm3(const Vec3& v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] 
 // The points as the figures show them: which were rejected, every k-th of the others.
 struct PointSets {
   std::vector<bool> rejected;
-  std::vector<std::size_t> shown;     // used points drawn (indices into h)
+  std::vector<std::size_t> shown;  // used points drawn (indices into h)
   std::vector<std::size_t> rejected_list;
   std::size_t stride = 1;
 };
@@ -137,8 +137,8 @@ std::vector<ReportFigure> mag_projection_figures(std::span<const Vec3> h, const 
     circle.color = "#000000";
     circle.dash = Dash::dashed;
     circle.width = 1.6;
-    circle.label = std::string(ctx.field_norms.empty() ? "|h| = F = " : "|h| = mean F = ") + format_num(fmean, 5) +
-                   " " + u;
+    circle.label =
+        std::string(ctx.field_norms.empty() ? "|h| = F = " : "|h| = mean F = ") + format_num(fmean, 5) + " " + u;
     circle.id = "circle of radius F about the origin";
     p.series.push_back(std::move(circle));
     PlotSeries centre = point_series("hard-iron offset b", "#000000", 1.4);
@@ -250,9 +250,10 @@ CommandReport mag_report(std::span<const Vec3> h, const mag::Result& r, const Ma
   const std::string u = unit_of(ctx);
   CommandReport rep;
   rep.title = "Magnetometer calibration: " + base_name(ctx.file);
-  rep.lead_html = "Hard- and soft-iron calibration by <code>cubecal calibrate mag</code> from points measured over "
-                  "many orientations: h<sub>cal</sub> = A<sup>−1</sup>(h − b) with |h<sub>cal</sub>| = F, b the "
-                  "hard-iron offset, A<sup>−1</sup> the symmetric soft-iron correction.";
+  rep.lead_html =
+      "Hard- and soft-iron calibration by <code>cubecal calibrate mag</code> from points measured over "
+      "many orientations: h<sub>cal</sub> = A<sup>−1</sup>(h − b) with |h<sub>cal</sub>| = F, b the "
+      "hard-iron offset, A<sup>−1</sup> the symmetric soft-iron correction.";
   rep.command = ctx.command;
   rep.plot_prefixes = {"mag_"};
   const std::string fsrc = ctx.field_source == "given"    ? "given (--field-norm)"
@@ -260,10 +261,11 @@ CommandReport mag_report(std::span<const Vec3> h, const mag::Result& r, const Ma
                                                           : "the mean raw |h| (Magneto's default; give --field-norm "
                                                             "for an absolute scale)";
   rep.input = {{"file", ctx.file, true},
-               {"points", std::to_string(r.points_used) + " used of " + std::to_string(h.size()) +
-                              (r.points_rejected > 0 ? " (" + std::to_string(r.points_rejected) + " rejected at " +
-                                                           format_num(r.reject_sigma, 3) + " σ)"
-                                                     : std::string()),
+               {"points",
+                std::to_string(r.points_used) + " used of " + std::to_string(h.size()) +
+                    (r.points_rejected > 0 ? " (" + std::to_string(r.points_rejected) + " rejected at " +
+                                                 format_num(r.reject_sigma, 3) + " σ)"
+                                           : std::string()),
                 false},
                {"unit", u, false},
                {"method", method_text(r.method), false},
@@ -293,20 +295,22 @@ CommandReport mag_report(std::span<const Vec3> h, const mag::Result& r, const Ma
   ReportTable fit;
   fit.title = "Fit";
   fit.header = {"", "value"};
-  fit.rows.push_back({"semi-axes of the raw ellipsoid [" + u + "]", format_num(r.semi_axes[0], 6) + ", " +
-                                                                        format_num(r.semi_axes[1], 6) + ", " +
-                                                                        format_num(r.semi_axes[2], 6)});
+  fit.rows.push_back(
+      {"semi-axes of the raw ellipsoid [" + u + "]",
+       format_num(r.semi_axes[0], 6) + ", " + format_num(r.semi_axes[1], 6) + ", " + format_num(r.semi_axes[2], 6)});
   fit.rows.push_back({"axis ratio (longest / shortest)", format_num(r.axis_ratio, 6)});
   fit.rows.push_back({"noise s per axis [" + u + "]",
                       format_num(r.noise, 4) + (r.noise_estimated ? " (estimated from the residuals)" : " (given)")});
-  fit.rows.push_back({"χ² / degrees of freedom", format_num(r.chi2, 5) + " / " + std::to_string(r.dof) +
-                                                     (r.p_value ? ", p = " + format_num(*r.p_value, 3) : std::string())});
+  fit.rows.push_back(
+      {"χ² / degrees of freedom", format_num(r.chi2, 5) + " / " + std::to_string(r.dof) +
+                                      (r.p_value ? ", p = " + format_num(*r.p_value, 3) : std::string())});
   if (r.method != mag::Method::ellipsoid)
-    fit.rows.push_back({"TWOSTEP iterations", std::to_string(r.iterations) +
-                                                  (r.converged ? " (converged)" : " (NOT converged)")});
-  fit.rows.push_back({"coverage: mean resultant", format_num(r.coverage.resultant, 3) + " (0 whole sphere, 0.5 hemisphere)"});
-  fit.rows.push_back({"coverage: smallest scatter eigenvalue",
-                      format_num(r.coverage.lambda_min, 3) + " (1/3 whole sphere)"});
+    fit.rows.push_back(
+        {"TWOSTEP iterations", std::to_string(r.iterations) + (r.converged ? " (converged)" : " (NOT converged)")});
+  fit.rows.push_back(
+      {"coverage: mean resultant", format_num(r.coverage.resultant, 3) + " (0 whole sphere, 0.5 hemisphere)"});
+  fit.rows.push_back(
+      {"coverage: smallest scatter eigenvalue", format_num(r.coverage.lambda_min, 3) + " (1/3 whole sphere)"});
   fit.rows.push_back({"coverage: octants", std::to_string(r.coverage.octants) + " of 8"});
 
   ReportSection s1{"calibration", "Calibration", {}};
@@ -321,9 +325,10 @@ CommandReport mag_report(std::span<const Vec3> h, const mag::Result& r, const Ma
   rep.sections.push_back(std::move(s1));
 
   ReportSection s2{"points", "Points before and after calibration", {}};
-  s2.blocks.push_back({"<p>Three projections of the same points; equal scales on both axes, so a sphere shows as "
-                       "a circle.</p>",
-                       std::nullopt, mag_projection_figures(h, r, ctx)});
+  s2.blocks.push_back(
+      {"<p>Three projections of the same points; equal scales on both axes, so a sphere shows as "
+       "a circle.</p>",
+       std::nullopt, mag_projection_figures(h, r, ctx)});
   rep.sections.push_back(std::move(s2));
 
   ReportTable ne;
@@ -346,9 +351,9 @@ namespace cubecal::report {
 
 CommandReport mag_report(const pipeline::MagResult& r, const std::string& command) {
   const std::string unit = r.unit == "input units" ? std::string() : r.unit;
-  return mag_report(r.points, r.calibration,
-                    {command, r.file, unit, std::string(pipeline::to_string(r.field_source)), r.field_norms,
-                     r.first_data_line});
+  return mag_report(
+      r.points, r.calibration,
+      {command, r.file, unit, std::string(pipeline::to_string(r.field_source)), r.field_norms, r.first_data_line});
 }
 
 }  // namespace cubecal::report

@@ -46,12 +46,11 @@ CommandReport multiposition_report(const pipeline::MultipositionResult& r, const
   if (r.gyro_file) rep.input.push_back({"gyroscope", *r.gyro_file == r.acc_file ? "(same file)" : *r.gyro_file, true});
   rep.input.push_back({"samples", std::to_string(r.samples) + " at " + format_num(r.rate_hz, 6) + " Hz", false});
   rep.input.push_back({"gravity g", format_num(o.g, 6), false});
-  rep.input.push_back({"initial static period", format_num(o.init_static_s, 6) + " s (" +
-                                                    std::to_string(a.init_samples) + " samples)",
-                       false});
-  rep.input.push_back({"static intervals", std::to_string(a.intervals.size()) + " (th_mult " +
-                                               std::to_string(a.th_mult) + ", threshold " +
-                                               format_num(a.threshold, 4) + ")",
+  rep.input.push_back({"initial static period",
+                       format_num(o.init_static_s, 6) + " s (" + std::to_string(a.init_samples) + " samples)", false});
+  rep.input.push_back({"static intervals",
+                       std::to_string(a.intervals.size()) + " (th_mult " + std::to_string(a.th_mult) + ", threshold " +
+                           format_num(a.threshold, 4) + ")",
                        false});
   if (!a.converged) rep.notes.push_back("The accelerometer fit did not converge.");
   if (r.gyroscope && !r.gyroscope->converged) rep.notes.push_back("The gyroscope fit did not converge.");
@@ -63,8 +62,8 @@ CommandReport multiposition_report(const pipeline::MultipositionResult& r, const
   for (const mp::Trial& t : a.trials)
     trials.rows.push_back({std::to_string(t.th_mult), format_num(t.threshold, 4), std::to_string(t.intervals),
                            t.fitted ? format_num(t.cost, 4) : std::string("—")});
-  trials.note = "The calibration uses the threshold multiple with the lowest cost (th_mult " + std::to_string(a.th_mult) +
-                ").";
+  trials.note =
+      "The calibration uses the threshold multiple with the lowest cost (th_mult " + std::to_string(a.th_mult) + ").";
   poses.blocks.push_back({{}, std::move(trials), {}});
   ReportTable iv;
   iv.title = "Intervals used";

@@ -200,8 +200,8 @@ std::string gnuplot_script(const Plot& plot) {
     const auto& ser = plot.series[k];
     char w[64];
     std::snprintf(w, sizeof w, " lw %.3g pt 7 ps %.3g", ser.width, ser.point_size);
-    s += "set style line " + std::to_string(k + 1) + " lc rgb " + rgb(ser) + w + " dt " + dash_type(ser.dash) +
-         "   " + comment(describe(ser));
+    s += "set style line " + std::to_string(k + 1) + " lc rgb " + rgb(ser) + w + " dt " + dash_type(ser.dash) + "   " +
+         comment(describe(ser));
   }
   s += "\n# ---- frame\n";
   s += "set title " + gp_quote(plot.title) + " noenhanced\n";
@@ -224,13 +224,16 @@ std::string gnuplot_script(const Plot& plot) {
     cmd += first ? " \\\n  " : ", \\\n  ";
     first = false;
     const std::string style = " ls " + std::to_string(k + 1);
-    const std::string title = ser.label.empty() ? std::string(" notitle") : " title " + gp_quote(ser.label) + " noenhanced";
+    const std::string title =
+        ser.label.empty() ? std::string(" notitle") : " title " + gp_quote(ser.label) + " noenhanced";
     // A band is filled in its line colour (whose alpha carries the opacity), without an outline.
     const std::string fill = ser.mark == Mark::band ? " fs solid 1.0 noborder" : "";
     if (!has_data(ser)) {
       cmd += std::string("keyentry with ") +
-             (ser.mark == Mark::points ? "points" : ser.mark == Mark::band ? "filledcurves" : "lines") + style +
-             fill + title;
+             (ser.mark == Mark::points ? "points"
+              : ser.mark == Mark::band ? "filledcurves"
+                                       : "lines") +
+             style + fill + title;
       continue;
     }
     const char* columns = ser.mark == Mark::band ? "1:3:4" : has_bars(ser) ? "1:2:3:4" : "1:2";

@@ -18,9 +18,7 @@ using namespace detail;
 
 namespace {
 
-std::string unit_of(const pipeline::PsdChannel& ch) {
-  return ch.unit.name.empty() ? std::string("u") : ch.unit.name;
-}
+std::string unit_of(const pipeline::PsdChannel& ch) { return ch.unit.name.empty() ? std::string("u") : ch.unit.name; }
 
 ReportFigure spectrum_figure(const pipeline::PsdChannel& ch, std::vector<std::string>& taken) {
   return detail::spectrum_figure(unique_name("psd_", ch.name, taken), ch.name, ch.unit, ch.spectrum, ch.fit,
@@ -49,8 +47,9 @@ ReportTable terms_table(const pipeline::PsdChannel& ch) {
     }
     t.rows.push_back(std::move(row));
   }
-  t.note = "h: the coefficient of h f^α in " + u + "²/Hz·Hz^-α, from the fit over " + format_num(ch.fit.f_lo, 3) +
-           "–" + format_num(ch.fit.f_hi, 3) + " Hz (uncertainties widened by χ²/dof when above 1); the Allan term "
+  t.note = "h: the coefficient of h f^α in " + u + "²/Hz·Hz^-α, from the fit over " + format_num(ch.fit.f_lo, 3) + "–" +
+           format_num(ch.fit.f_hi, 3) +
+           " Hz (uncertainties widened by χ²/dof when above 1); the Allan term "
            "it stands for in the unit people quote (docs/formulas/spectral.md).";
   return t;
 }
@@ -68,26 +67,28 @@ std::vector<ReportFigure> psd_figures(const pipeline::PsdResult& r) {
 CommandReport psd_report(const pipeline::PsdResult& r, const std::string& command) {
   CommandReport rep;
   rep.title = "Power spectral density: " + base_name(r.file);
-  rep.lead_html = "The one-sided power spectral density of each channel by Welch's method, by <code>cubecal "
-                  "psd</code>, with the power-law terms fitted to it and the Allan terms they stand for, to read "
-                  "beside the Allan deviation of <code>cubecal analyze</code>. Definitions: "
-                  "<code>docs/formulas/spectral.md</code>.";
+  rep.lead_html =
+      "The one-sided power spectral density of each channel by Welch's method, by <code>cubecal "
+      "psd</code>, with the power-law terms fitted to it and the Allan terms they stand for, to read "
+      "beside the Allan deviation of <code>cubecal analyze</code>. Definitions: "
+      "<code>docs/formulas/spectral.md</code>.";
   rep.command = command;
   rep.plot_prefixes = {"psd_"};
   std::string chans;
   for (const auto& c : r.channels) chans += (chans.empty() ? "" : ", ") + c.name;
   rep.input = {{"file", r.file, true},
                {"channels", chans, true},
-               {"samples", std::to_string(r.samples) + " at " + format_num(r.rate_hz, 6) + " Hz (" +
-                               duration_text(static_cast<double>(r.samples) / r.rate_hz) + ")",
+               {"samples",
+                std::to_string(r.samples) + " at " + format_num(r.rate_hz, 6) + " Hz (" +
+                    duration_text(static_cast<double>(r.samples) / r.rate_hz) + ")",
                 false}};
   if (!r.channels.empty()) {
     const Psd& s = r.channels.front().spectrum;
-    rep.input.push_back({"segments", std::to_string(s.segments) + " of " + std::to_string(s.segment_length) +
-                                         " samples (" + format_num(s.resolution_hz(), 4) + " Hz resolution), " +
-                                         std::string(to_string(s.window)) + " window, " +
-                                         format_num(100.0 * r.overlap, 3) + " % overlap, " +
-                                         std::string(to_string(s.detrend)) + " detrend",
+    rep.input.push_back({"segments",
+                         std::to_string(s.segments) + " of " + std::to_string(s.segment_length) + " samples (" +
+                             format_num(s.resolution_hz(), 4) + " Hz resolution), " + std::string(to_string(s.window)) +
+                             " window, " + format_num(100.0 * r.overlap, 3) + " % overlap, " +
+                             std::string(to_string(s.detrend)) + " detrend",
                          false});
   }
   const auto figs = psd_figures(r);

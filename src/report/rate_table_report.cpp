@@ -27,13 +27,14 @@ std::vector<std::array<double, 3>> residuals_before(const PlateauDetection& foun
   return v;
 }
 
-ReportFigure residual_figure(const PlateauDetection& found, const std::vector<std::array<double, 3>>& res,
-                             bool after, const RateTableReportContext& ctx, const RateTableCalibration& cal) {
+ReportFigure residual_figure(const PlateauDetection& found, const std::vector<std::array<double, 3>>& res, bool after,
+                             const RateTableReportContext& ctx, const RateTableCalibration& cal) {
   ReportFigure f;
   Plot& p = f.plot;
   const std::size_t n = std::min(found.plateaus.size(), res.size());
   p.name = after ? "rate_residual_after" : "rate_residual_before";
-  p.title = after ? "Plateau residuals after calibration, A w_g + β − w" : "Plateau residuals before calibration, w_g − w";
+  p.title =
+      after ? "Plateau residuals after calibration, A w_g + β − w" : "Plateau residuals before calibration, w_g − w";
   p.x = {"plateau", false, 0.5, static_cast<double>(n) + 0.5};
   if (n <= 30) p.x_tics = 1.0;
   p.y = {"residual [" + ctx.unit + "]", false, std::nullopt, std::nullopt};
@@ -78,18 +79,22 @@ ReportFigure residual_figure(const PlateauDetection& found, const std::vector<st
                           : "residual w_g - w of each plateau mean, per axis, identity calibration without bias "
                             "(x offset by -0.15, 0, +0.15)");
   p.notes.push_back("error bars: standard error of the plateau mean, std / sqrt(n)");
-  const std::string stats = "RMS " + format_num(st.rms, 4) + " " + ctx.unit + ", largest " +
-                            format_num(st.max_abs, 4) + " " + ctx.unit;
+  const std::string stats =
+      "RMS " + format_num(st.rms, 4) + " " + ctx.unit + ", largest " + format_num(st.max_abs, 4) + " " + ctx.unit;
   if (after)
     f.caption_html = "Residual A w<sub>g</sub> + β − w of every plateau mean after calibration, per axis (" +
-                     html_escape(stats) + "), bars ± the standard error of the mean (std / √n). What is left is "
+                     html_escape(stats) +
+                     "), bars ± the standard error of the mean (std / √n). What is left is "
                      "noise, bias drift between plateaus and table-rate errors; the fit used these same plateaus, "
                      "so this is how well the model fits, not an independent check.";
   else
-    f.caption_html = "Residual w<sub>g</sub> − w of every plateau mean before calibration — the identity, no bias "
-                     "(" + html_escape(stats) + "). The bias shows as a constant offset per axis, scale-factor "
-                     "errors as residuals growing with the rate about that axis, misalignments as residuals on the "
-                     "other axes.";
+    f.caption_html =
+        "Residual w<sub>g</sub> − w of every plateau mean before calibration — the identity, no bias "
+        "(" +
+        html_escape(stats) +
+        "). The bias shows as a constant offset per axis, scale-factor "
+        "errors as residuals growing with the rate about that axis, misalignments as residuals on the "
+        "other axes.";
   return f;
 }
 
@@ -108,10 +113,11 @@ CommandReport rate_table_report(const PlateauDetection& found, const RateTableCa
   const std::string& u = ctx.unit;
   CommandReport r;
   r.title = "Rate-table calibration: " + base_name(ctx.file);
-  r.lead_html = "Gyro scale factors, misalignment and bias by <code>cubecal calibrate rate-table</code> from the "
-                "gyro means of constant-rate plateaus (the paper's fourth gyro test, eq. 6–13): the forward model "
-                "w<sub>g</sub> = S w + b<sub>g</sub> fitted by least squares and inverted to the paper's "
-                "w = A w<sub>g</sub> + β, with 1σ uncertainties.";
+  r.lead_html =
+      "Gyro scale factors, misalignment and bias by <code>cubecal calibrate rate-table</code> from the "
+      "gyro means of constant-rate plateaus (the paper's fourth gyro test, eq. 6–13): the forward model "
+      "w<sub>g</sub> = S w + b<sub>g</sub> fitted by least squares and inverted to the paper's "
+      "w = A w<sub>g</sub> + β, with 1σ uncertainties.";
   r.command = ctx.command;
   r.plot_prefixes = {"rate_residual_"};
   r.input = {{"file", ctx.file, true},
@@ -122,11 +128,11 @@ CommandReport rate_table_report(const PlateauDetection& found, const RateTableCa
     r.input.push_back({"dropped", std::to_string(found.dropped_short) + " too short after the margins", false});
   if (found.unmatched > 0)
     r.input.push_back({"unmatched", std::to_string(found.unmatched) + " outside the schedule (dropped)", false});
-  r.input.push_back({"residual degrees of freedom",
-                     std::to_string(cal.dof) + (cal.noise_from_residuals
-                                                    ? " (plateau noise estimated from the fit residuals)"
-                                                    : " (none: sigmas from the within-plateau noise)"),
-                     false});
+  r.input.push_back(
+      {"residual degrees of freedom",
+       std::to_string(cal.dof) + (cal.noise_from_residuals ? " (plateau noise estimated from the fit residuals)"
+                                                           : " (none: sigmas from the within-plateau noise)"),
+       false});
   const bool earth = ctx.earth_rate[0] != 0.0 || ctx.earth_rate[1] != 0.0 || ctx.earth_rate[2] != 0.0;
   r.input.push_back({"Earth rate",
                      earth ? "added to every reference rate: (" + format_num(ctx.earth_rate[0], 5) + ", " +
@@ -143,17 +149,24 @@ CommandReport rate_table_report(const PlateauDetection& found, const RateTableCa
                         pm_cell(cal.A[i][2], cal.A_sigma[i][2]), pm_cell(cal.beta[i], cal.beta_sigma[i])});
   ReportTable fwd;
   fwd.title = "Forward model w_g = S w + b_g: what datasheets quote";
-  fwd.header = {"axis", "scale-factor error [ppm]", "bias b_g [" + u + "]", "misalignment toward x [mrad]",
-                "toward y [mrad]", "toward z [mrad]"};
+  fwd.header = {"axis",
+                "scale-factor error [ppm]",
+                "bias b_g [" + u + "]",
+                "misalignment toward x [mrad]",
+                "toward y [mrad]",
+                "toward z [mrad]"};
   for (int i = 0; i < 3; ++i) {
-    std::vector<std::string> row{kAxisNames[i], pm_cell(1e6 * cal.scale_factor_error[i], 1e6 * cal.scale_factor_error_sigma[i]),
+    std::vector<std::string> row{kAxisNames[i],
+                                 pm_cell(1e6 * cal.scale_factor_error[i], 1e6 * cal.scale_factor_error_sigma[i]),
                                  pm_cell(cal.bias[i], cal.bias_sigma[i])};
     for (int k = 0; k < 3; ++k)
-      row.push_back(i == k ? std::string("—") : pm_cell(1e3 * cal.misalignment[i][k], 1e3 * cal.misalignment_sigma[i][k]));
+      row.push_back(i == k ? std::string("—")
+                           : pm_cell(1e3 * cal.misalignment[i][k], 1e3 * cal.misalignment_sigma[i][k]));
     fwd.rows.push_back(std::move(row));
   }
-  fwd.note = "Misalignment of row i toward column j: the angle by which gyro axis i leans toward reference axis j, "
-             "atan(S_ij / S_ii).";
+  fwd.note =
+      "Misalignment of row i toward column j: the angle by which gyro axis i leans toward reference axis j, "
+      "atan(S_ij / S_ii).";
   ReportSection cal_sec{"calibration", "Calibration", {}};
   cal_sec.blocks.push_back({{}, std::move(inv), {}});
   cal_sec.blocks.push_back({{}, std::move(fwd), {}});
@@ -165,16 +178,17 @@ CommandReport rate_table_report(const PlateauDetection& found, const RateTableCa
   sum.header = {"", "largest |residual| [" + u + "]", "RMS [" + u + "]"};
   sum.rows.push_back({"before calibration (identity, no bias)", format_num(cal.residual_before.max_abs, 4),
                       format_num(cal.residual_before.rms, 4)});
-  sum.rows.push_back({"after calibration", format_num(cal.residual_after.max_abs, 4),
-                      format_num(cal.residual_after.rms, 4)});
+  sum.rows.push_back(
+      {"after calibration", format_num(cal.residual_after.max_abs, 4), format_num(cal.residual_after.rms, 4)});
   ReportSection res_sec{"residuals", "Plateau residuals before and after", {}};
   res_sec.blocks.push_back({{}, std::move(sum), {}});
-  for (auto& f : rate_table_residual_figures(found, cal, ctx)) res_sec.blocks.push_back({{}, std::nullopt, {std::move(f)}});
+  for (auto& f : rate_table_residual_figures(found, cal, ctx))
+    res_sec.blocks.push_back({{}, std::nullopt, {std::move(f)}});
 
   ReportTable pl;
   pl.title = "Plateaus";
-  pl.header = {"#",        "t begin [s]", "t end [s]", "n",        "reference x", "y",     "z",
-               "before x", "y",           "z",         "after x",  "y",           "z"};
+  pl.header = {"#",        "t begin [s]", "t end [s]", "n",       "reference x", "y", "z",
+               "before x", "y",           "z",         "after x", "y",           "z"};
   const auto before = residuals_before(found, ctx);
   for (std::size_t k = 0; k < found.plateaus.size(); ++k) {
     const Plateau& p = found.plateaus[k];
@@ -196,9 +210,11 @@ CommandReport rate_table_report(const PlateauDetection& found, const RateTableCa
   cov.header = {"", "x", "y", "z"};
   for (int i = 0; i < 3; ++i)
     cov.rows.push_back({kAxisNames[i], printf_text("%.4e", cal.error_covariance[i][0]),
-                        printf_text("%.4e", cal.error_covariance[i][1]), printf_text("%.4e", cal.error_covariance[i][2])});
-  cov.note = "Covariance of A w_g + β − w over every sample of every plateau (within-plateau scatter mapped by A "
-             "plus the spread of the plateau residuals): the measurement noise of the calibrated gyro.";
+                        printf_text("%.4e", cal.error_covariance[i][1]),
+                        printf_text("%.4e", cal.error_covariance[i][2])});
+  cov.note =
+      "Covariance of A w_g + β − w over every sample of every plateau (within-plateau scatter mapped by A "
+      "plus the spread of the plateau residuals): the measurement noise of the calibrated gyro.";
   ReportSection cov_sec{"covariance", "Error covariance", {}};
   cov_sec.blocks.push_back({{}, std::move(cov), {}});
   r.sections.push_back(std::move(cov_sec));

@@ -45,8 +45,8 @@ ReportResult write_report(const std::string& dir, const ReportOptions& options) 
   const fs::path d(dir);
   const fs::path p = d / "analysis.json";
   if (!fs::exists(p))
-    throw UsageError(p.string() + " not found: " + dir +
-                     " holds no analysis (run `cubecal analyze FILE ... --out " + dir + "` first)");
+    throw UsageError(p.string() + " not found: " + dir + " holds no analysis (run `cubecal analyze FILE ... --out " +
+                     dir + "` first)");
   const std::string text = read_file(p);
   pipeline::AnalysisDocument doc = pipeline::parse_analysis_json(text, p.string());
   AnalysisReportContext ctx;

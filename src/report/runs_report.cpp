@@ -66,8 +66,7 @@ std::vector<ChannelKey> channel_keys(const std::vector<pipeline::RunSummary>& ru
   return keys;
 }
 
-std::vector<ReportField> runs_input(const std::vector<pipeline::RunSummary>& runs, double ci,
-                                    const std::string& taus) {
+std::vector<ReportField> runs_input(const std::vector<pipeline::RunSummary>& runs, double ci, const std::string& taus) {
   std::vector<ReportField> in;
   in.push_back({"runs", std::to_string(runs.size()), false});
   for (std::size_t k = 0; k < runs.size(); ++k) {
@@ -90,8 +89,8 @@ std::vector<ReportField> runs_input(const std::vector<pipeline::RunSummary>& run
 ReportTable runs_table(const std::vector<pipeline::RunSummary>& runs) {
   ReportTable t;
   t.title = "Every run";
-  t.header = {"run", "file", "rate [Hz]", "samples", "channel", "bias (mean)", "N, white noise", "B, bias instability",
-              "T [s]"};
+  t.header = {"run",         "file",           "rate [Hz]",           "samples", "channel",
+              "bias (mean)", "N, white noise", "B, bias instability", "T [s]"};
   t.numeric = {false, false, true, true, false, true, true, true, true};
   for (std::size_t k = 0; k < runs.size(); ++k)
     for (const auto& c : runs[k].channels) {
@@ -101,9 +100,10 @@ ReportTable runs_table(const std::vector<pipeline::RunSummary>& runs) {
                         term_text(ro.N, Term::N, c.unit), term_text(ro.B, Term::B, c.unit),
                         ro.B.valid ? format_num(ro.tau_min, 3) : std::string("—")});
     }
-  t.note = "Bias: the mean of the run. N read at τ = 1 s on the white-noise arm, B = σ_min / 0.664, T the τ of the "
-           "minimum (IEEE 952 slope read-offs, 1σ from the confidence intervals); — where the curve has no such "
-           "region.";
+  t.note =
+      "Bias: the mean of the run. N read at τ = 1 s on the white-noise arm, B = σ_min / 0.664, T the τ of the "
+      "minimum (IEEE 952 slope read-offs, 1σ from the confidence intervals); — where the curve has no such "
+      "region.";
   return t;
 }
 
@@ -225,10 +225,10 @@ std::vector<ReportFigure> turnon_bias_figures(const pipeline::TurnOnResult& t) {
     p.notes.push_back("x: run number (the order of the files on the command line), y: the run's mean");
     p.notes.push_back("band: mean over the runs ± their sample standard deviation (the turn-on bias)");
     f.caption_html = "Bias of <code>" + html_escape(t.names[c]) + "</code> in each run (its mean), the mean over the " +
-                     std::to_string(k) + " runs (dashed) and ± the turn-on bias σ = " +
-                     html_escape(format_num(sd, 4) + " " + unit) + " (band; " + html_escape(ci_text(t.ci)) +
-                     " interval of σ: " + html_escape(format_num(t.turn_on_lo[c], 3) + " – " +
-                                                      format_num(t.turn_on_hi[c], 3) + " " + unit) +
+                     std::to_string(k) +
+                     " runs (dashed) and ± the turn-on bias σ = " + html_escape(format_num(sd, 4) + " " + unit) +
+                     " (band; " + html_escape(ci_text(t.ci)) + " interval of σ: " +
+                     html_escape(format_num(t.turn_on_lo[c], 3) + " – " + format_num(t.turn_on_hi[c], 3) + " " + unit) +
                      ", " + std::to_string(k - 1) + " degrees of freedom).";
     figs.push_back(std::move(f));
   }
@@ -238,11 +238,12 @@ std::vector<ReportFigure> turnon_bias_figures(const pipeline::TurnOnResult& t) {
 CommandReport turnon_report(const pipeline::TurnOnResult& t, const RunsReportContext& ctx) {
   CommandReport r;
   r.title = "Turn-on bias: " + std::to_string(t.runs.size()) + " runs";
-  r.lead_html = "Run-to-run bias by <code>cubecal turnon</code>: each power-cycled run's bias (its mean), the mean "
-                "over the runs and the standard deviation of the run biases — the turn-on bias — with its "
-                "chi-squared interval; each run's noise terms, and the Allan curves of the runs overlaid per "
-                "channel (the paper's five 3 h runs)." +
-                runs_lead_note(t.runs);
+  r.lead_html =
+      "Run-to-run bias by <code>cubecal turnon</code>: each power-cycled run's bias (its mean), the mean "
+      "over the runs and the standard deviation of the run biases — the turn-on bias — with its "
+      "chi-squared interval; each run's noise terms, and the Allan curves of the runs overlaid per "
+      "channel (the paper's five 3 h runs)." +
+      runs_lead_note(t.runs);
   r.input = runs_input(t.runs, t.ci, ctx.taus);
   r.command = ctx.command;
   r.plot_prefixes = {"runs_allan_", "turnon_bias_"};
@@ -279,9 +280,10 @@ CommandReport turnon_report(const pipeline::TurnOnResult& t, const RunsReportCon
 CommandReport compare_report(const std::vector<pipeline::RunSummary>& runs, const RunsReportContext& ctx) {
   CommandReport r;
   r.title = "Runs compared: " + std::to_string(runs.size()) + " records";
-  r.lead_html = "Allan curves and N, B, T of several records side by side by <code>cubecal compare</code> (other "
-                "sampling rates, lengths, units or sensors), overlaid per channel." +
-                runs_lead_note(runs);
+  r.lead_html =
+      "Allan curves and N, B, T of several records side by side by <code>cubecal compare</code> (other "
+      "sampling rates, lengths, units or sensors), overlaid per channel." +
+      runs_lead_note(runs);
   r.input = runs_input(runs, ctx.ci, ctx.taus);
   r.command = ctx.command;
   r.plot_prefixes = {"runs_allan_"};

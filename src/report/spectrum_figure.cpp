@@ -93,20 +93,21 @@ ReportFigure spectrum_figure(const std::string& plot_name, const std::string& ch
   const std::string u = unit.name.empty() ? std::string("u") : unit.name;
   p.x = {"frequency [Hz]", true, std::nullopt, std::nullopt};
   p.y = {"one-sided PSD [" + u + "²/Hz]", true, std::nullopt, std::nullopt};
-  p.notes.push_back("one-sided Welch PSD of channel " + channel + ", the fitted power-law terms h f^alpha over the "
+  p.notes.push_back("one-sided Welch PSD of channel " + channel +
+                    ", the fitted power-law terms h f^alpha over the "
                     "fitted band and their sum");
-  f.caption_html = "One-sided power spectral density of <code>" + html_escape(channel) + "</code> (" +
-                   std::string(to_string(spectrum.window)) + " window, " + std::to_string(spectrum.segments) +
-                   " segments of " + std::to_string(spectrum.segment_length) + " samples" +
-                   (spectrum.bins_per_decade > 0 || drawn.bins_per_decade == 0
-                        ? std::string()
-                        : ", drawn averaged over " + std::to_string(kDrawnBinsPerDecade) + " bands per decade") +
-                   ")." +
-                   (fit.terms.empty() ? (fit_error.empty() ? std::string(" No fit asked for.")
-                                                           : " Not fitted: " + html_escape(fit_error) + ".")
-                                      : " Dashed: each fitted term over the band " +
-                                            html_escape(format_num(fit.f_lo, 3)) + "–" +
-                                            html_escape(format_num(fit.f_hi, 3)) + " Hz; black: their sum.");
+  f.caption_html =
+      "One-sided power spectral density of <code>" + html_escape(channel) + "</code> (" +
+      std::string(to_string(spectrum.window)) + " window, " + std::to_string(spectrum.segments) + " segments of " +
+      std::to_string(spectrum.segment_length) + " samples" +
+      (spectrum.bins_per_decade > 0 || drawn.bins_per_decade == 0
+           ? std::string()
+           : ", drawn averaged over " + std::to_string(kDrawnBinsPerDecade) + " bands per decade") +
+      ")." +
+      (fit.terms.empty()
+           ? (fit_error.empty() ? std::string(" No fit asked for.") : " Not fitted: " + html_escape(fit_error) + ".")
+           : " Dashed: each fitted term over the band " + html_escape(format_num(fit.f_lo, 3)) + "–" +
+                 html_escape(format_num(fit.f_hi, 3)) + " Hz; black: their sum.");
   return f;
 }
 

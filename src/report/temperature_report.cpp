@@ -12,8 +12,9 @@ using namespace detail;
 CommandReport temperature_report(const pipeline::TemperatureResult& t, const std::string& command) {
   CommandReport rep;
   rep.title = "Temperature calibration: " + base_name(t.file);
-  rep.lead_html = "Polynomial bias(T) per channel by <code>cubecal calibrate temperature</code>, in the form a flight "
-                  "computer applies: corrected = raw − Σ<sub>p≥1</sub> c<sub>p</sub> (T − T<sub>ref</sub>)<sup>p</sup>.";
+  rep.lead_html =
+      "Polynomial bias(T) per channel by <code>cubecal calibrate temperature</code>, in the form a flight "
+      "computer applies: corrected = raw − Σ<sub>p≥1</sub> c<sub>p</sub> (T − T<sub>ref</sub>)<sup>p</sup>.";
   rep.command = command;
   rep.input = {{"file", t.file, true},
                {"temperature column", t.temperature_column, true},
@@ -25,7 +26,8 @@ CommandReport temperature_report(const pipeline::TemperatureResult& t, const std
   fit.title = "Fit per channel";
   fit.header = {"channel", "T_ref [degC]", "R²", "residual RMS [" + t.unit + "]"};
   for (const auto& c : t.channels)
-    fit.rows.push_back({c.name, format_num(c.fit.t_ref, 5), format_num(c.fit.r2, 4), format_num(c.fit.residual_rms, 4)});
+    fit.rows.push_back(
+        {c.name, format_num(c.fit.t_ref, 5), format_num(c.fit.r2, 4), format_num(c.fit.residual_rms, 4)});
   ReportSection fit_sec{"fit", "Fit", {}};
   fit_sec.blocks.push_back({{}, std::move(fit), {}});
   rep.sections.push_back(std::move(fit_sec));

@@ -33,10 +33,10 @@ std::uint64_t process_seed(std::uint64_t seed, std::size_t i) noexcept {
 
 void check(const Process& p, const CompositeModel& model) {
   const bool ok = p.kind == ProcessKind::dr ? std::isfinite(p.value)
-                                             : (p.value >= 0.0 && std::isfinite(p.value) &&
-                                                (p.kind != ProcessKind::gm || (p.phi >= 0.0 && p.phi < 1.0)) &&
-                                                (p.kind != ProcessKind::ma1 || std::abs(p.theta) < 1.0) &&
-                                                (p.kind != ProcessKind::sin || (p.omega > 0.0 && p.omega < kPi)));
+                                            : (p.value >= 0.0 && std::isfinite(p.value) &&
+                                               (p.kind != ProcessKind::gm || (p.phi >= 0.0 && p.phi < 1.0)) &&
+                                               (p.kind != ProcessKind::ma1 || std::abs(p.theta) < 1.0) &&
+                                               (p.kind != ProcessKind::sin || (p.omega > 0.0 && p.omega < kPi)));
   if (!ok)
     throw std::invalid_argument("composite model " + model_name(model) +
                                 ": every variance must be finite and >= 0, every Gauss-Markov phi in [0, 1), every "
@@ -113,10 +113,10 @@ CompositeModel composite_at_period(const CompositeModel& model, double from_dt, 
   CompositeModel out = model;
   for (Process& p : out.processes) {
     switch (p.kind) {
-      case ProcessKind::wn: p.value /= r; break;             // N^2 = sigma2 dt
-      case ProcessKind::qn: p.value /= r * r; break;         // Q = sqrt(Q2) dt
-      case ProcessKind::rw: p.value *= r; break;             // K^2 = gamma2 / dt
-      case ProcessKind::dr: p.value *= r; break;             // R = omega / dt
+      case ProcessKind::wn: p.value /= r; break;      // N^2 = sigma2 dt
+      case ProcessKind::qn: p.value /= r * r; break;  // Q = sqrt(Q2) dt
+      case ProcessKind::rw: p.value *= r; break;      // K^2 = gamma2 / dt
+      case ProcessKind::dr: p.value *= r; break;      // R = omega / dt
       case ProcessKind::gm: {
         if (!(p.phi > 0.0 && p.phi < 1.0) || !(p.value >= 0.0))
           throw std::invalid_argument("composite_at_period: a Gauss-Markov term needs 0 < phi < 1 and a variance >= 0");

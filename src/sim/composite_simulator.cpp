@@ -17,10 +17,10 @@ constexpr double kPi = std::numbers::pi;
 std::vector<double> simulate_composite(const CompositeModel& model, std::size_t samples, std::uint64_t seed) {
   for (const Process& p : model.processes) {
     const bool ok = p.kind == ProcessKind::dr ? std::isfinite(p.value)
-                                               : (p.value >= 0.0 && std::isfinite(p.value) &&
-                                                  (p.kind != ProcessKind::gm || (p.phi > 0.0 && p.phi < 1.0)) &&
-                                                  (p.kind != ProcessKind::ma1 || std::abs(p.theta) < 1.0) &&
-                                                  (p.kind != ProcessKind::sin || (p.omega > 0.0 && p.omega < kPi)));
+                                              : (p.value >= 0.0 && std::isfinite(p.value) &&
+                                                 (p.kind != ProcessKind::gm || (p.phi > 0.0 && p.phi < 1.0)) &&
+                                                 (p.kind != ProcessKind::ma1 || std::abs(p.theta) < 1.0) &&
+                                                 (p.kind != ProcessKind::sin || (p.omega > 0.0 && p.omega < kPi)));
     if (!ok)
       throw UsageError("model", "model " + model_name(model) +
                                     ": every variance must be finite and >= 0, every Gauss-Markov phi in (0, 1), "

@@ -72,8 +72,8 @@ struct Kernel {
   std::array<double, 3> white{};   // sigma_n
   std::array<double, 3> phi{};     // bias-process recursion
   std::array<double, 3> gain{};
-  std::array<double, 3> tc{};      // temperature coefficients
-  std::array<double, 3> b{};       // bias state b_k
+  std::array<double, 3> tc{};  // temperature coefficients
+  std::array<double, 3> b{};   // bias state b_k
   double lsb = 0.0;
   double saturation = 0.0;
   double temp_ref = 0.0;
@@ -92,8 +92,7 @@ struct Kernel {
   // input) otherwise. For a zero input both paths give the same bytes:
   // M * 0 is +-0 and adding a signed zero to the offset leaves it unchanged.
   template <QuantMode Q, bool kInput, bool kExtra = false>
-  void sample(Engine& eng, const double* in, double temperature, double* out,
-              const double* extra = nullptr) noexcept {
+  void sample(Engine& eng, const double* in, double temperature, double* out, const double* extra = nullptr) noexcept {
     boost::random::normal_distribution<double> normal;  // N(0, 1), stateless
     const double dtemp = temperature - temp_ref;
     for (std::size_t i = 0; i < 3; ++i) {
@@ -113,8 +112,7 @@ struct Kernel {
            const double* extra) noexcept {
     for (std::size_t k = 0; k < n; ++k) {
       const double t = kTemp ? temp[k] : temp_ref;
-      sample<Q, kInput, kExtra>(eng, kInput ? in + 3 * k : nullptr, t, out + 3 * k,
-                                kExtra ? extra + 3 * k : nullptr);
+      sample<Q, kInput, kExtra>(eng, kInput ? in + 3 * k : nullptr, t, out + 3 * k, kExtra ? extra + 3 * k : nullptr);
     }
   }
 };
@@ -123,19 +121,25 @@ template <QuantMode Q, bool kExtra>
 void dispatch_run(Kernel& kern, Engine& eng, std::size_t n, const double* in, const double* temp, double* out,
                   const double* extra) noexcept {
   if (in != nullptr) {
-    if (temp != nullptr) kern.run<Q, true, true, kExtra>(eng, n, in, temp, out, extra);
-    else kern.run<Q, true, false, kExtra>(eng, n, in, temp, out, extra);
+    if (temp != nullptr)
+      kern.run<Q, true, true, kExtra>(eng, n, in, temp, out, extra);
+    else
+      kern.run<Q, true, false, kExtra>(eng, n, in, temp, out, extra);
   } else {
-    if (temp != nullptr) kern.run<Q, false, true, kExtra>(eng, n, in, temp, out, extra);
-    else kern.run<Q, false, false, kExtra>(eng, n, in, temp, out, extra);
+    if (temp != nullptr)
+      kern.run<Q, false, true, kExtra>(eng, n, in, temp, out, extra);
+    else
+      kern.run<Q, false, false, kExtra>(eng, n, in, temp, out, extra);
   }
 }
 
 template <QuantMode Q>
 void dispatch_run(Kernel& kern, Engine& eng, std::size_t n, const double* in, const double* temp, double* out,
                   const double* extra) noexcept {
-  if (extra != nullptr) dispatch_run<Q, true>(kern, eng, n, in, temp, out, extra);
-  else dispatch_run<Q, false>(kern, eng, n, in, temp, out, nullptr);
+  if (extra != nullptr)
+    dispatch_run<Q, true>(kern, eng, n, in, temp, out, extra);
+  else
+    dispatch_run<Q, false>(kern, eng, n, in, temp, out, nullptr);
 }
 
 // The seed of power-law term `term` of axis `axis`: splitmix64 of the
@@ -165,8 +169,7 @@ void validate(const TriadModel& model, double dt) {
     const AxisModel& a = model.axes[i];
     const std::string ax = "axis " + std::to_string(i) + ": ";
     require(finite(a.fixed_bias), ax + "fixed_bias must be finite");
-    require(finite(a.turn_on_sigma) && a.turn_on_sigma >= 0.0,
-            ax + "turn_on_sigma must be finite and >= 0");
+    require(finite(a.turn_on_sigma) && a.turn_on_sigma >= 0.0, ax + "turn_on_sigma must be finite and >= 0");
     require(finite(a.white_sigma) && a.white_sigma >= 0.0, ax + "white_sigma must be finite and >= 0");
     require(finite(a.bias_sigma) && a.bias_sigma >= 0.0, ax + "bias_sigma must be finite and >= 0");
     require(finite(a.temp_coeff), ax + "temp_coeff must be finite");
@@ -177,15 +180,13 @@ void validate(const TriadModel& model, double dt) {
       require(finite(a.tau_c) && a.tau_c > 0.0,
               ax + "a Gauss-Markov bias needs a positive, finite correlation time tau_c");
     for (const Process& p : a.composite.processes)
-      require(p.kind == ProcessKind::dr ? finite(p.value)
-                                        : finite(p.value) && p.value >= 0.0 &&
-                                              (p.kind != ProcessKind::gm || (p.phi >= 0.0 && p.phi < 1.0)),
+      require(p.kind == ProcessKind::dr
+                  ? finite(p.value)
+                  : finite(p.value) && p.value >= 0.0 && (p.kind != ProcessKind::gm || (p.phi >= 0.0 && p.phi < 1.0)),
               ax + "a composite model needs finite variances >= 0, Gauss-Markov phi in [0, 1) and a finite drift");
   }
-  for (double v : model.scale_misalignment)
-    require(finite(v), "scale_misalignment entries must be finite");
-  require(finite(model.lsb) && model.lsb >= 0.0,
-          "lsb (counts per unit) must be finite and >= 0 (0: no quantization)");
+  for (double v : model.scale_misalignment) require(finite(v), "scale_misalignment entries must be finite");
+  require(finite(model.lsb) && model.lsb >= 0.0, "lsb (counts per unit) must be finite and >= 0 (0: no quantization)");
   require(model.saturation > 0.0, "saturation must be > 0 (infinity: none)");
   require(finite(model.temp_ref), "temp_ref must be finite");
 }
@@ -194,8 +195,7 @@ void validate(const TriadModel& model, double dt) {
 
 double TemperatureProfile::at(std::size_t k, double dt) const noexcept {
   switch (kind) {
-    case Kind::constant:
-      return mean;
+    case Kind::constant: return mean;
     case Kind::sinusoid: {
       if (!(period_s > 0.0)) return mean;
       // fmod keeps the phase accurate for long records (k dt >> period).
@@ -216,10 +216,10 @@ struct TriadSimulator::Impl {
   QuantMode quant = QuantMode::none;
   std::array<double, 3> turn_on{};
   Kernel kern;
-  std::array<std::vector<PowerLawGenerator>, 3> power_law;  // per axis
+  std::array<std::vector<PowerLawGenerator>, 3> power_law;        // per axis
   std::vector<std::pair<std::size_t, CompositeNoise>> composite;  // (axis, its model's samples)
-  bool has_extra = false;                                     // any power-law or composite term
-  std::vector<double> extra, term;                            // run()'s scratch
+  bool has_extra = false;                                         // any power-law or composite term
+  std::vector<double> extra, term;                                // run()'s scratch
 
   // The power-law and composite noise of the next n samples, n x 3
   // row-major, into extra.
@@ -245,8 +245,7 @@ TriadSimulator::TriadSimulator(const TriadModel& model, double dt, std::uint64_t
   p->model = model;
   p->dt = dt;
   p->eng.seed(seed);
-  p->quant = model.lsb > 0.0 ? (model.quantizer == Quantizer::round ? QuantMode::round
-                                                                     : QuantMode::truncate)
+  p->quant = model.lsb > 0.0 ? (model.quantizer == Quantizer::round ? QuantMode::round : QuantMode::truncate)
                              : QuantMode::none;
   Kernel& k = p->kern;
   k.m = model.scale_misalignment;
@@ -302,8 +301,7 @@ TriadSimulator::~TriadSimulator() = default;
 TriadSimulator::TriadSimulator(TriadSimulator&&) noexcept = default;
 TriadSimulator& TriadSimulator::operator=(TriadSimulator&&) noexcept = default;
 
-std::array<double, 3> TriadSimulator::step(const std::array<double, 3>& true_input,
-                                           double temperature) noexcept {
+std::array<double, 3> TriadSimulator::step(const std::array<double, 3>& true_input, double temperature) noexcept {
   std::array<double, 3> out{};
   Impl& s = *impl_;
   if (s.has_extra) {
@@ -336,17 +334,16 @@ std::array<double, 3> TriadSimulator::step(const std::array<double, 3>& true_inp
   return out;
 }
 
-void TriadSimulator::run(std::size_t n, std::span<const double> true_input,
-                         std::span<const double> temperature, std::span<double> out) {
-  require(n <= out.size() / 3 && out.size() == 3 * n,
-          "out has " + std::to_string(out.size()) + " values; " + std::to_string(n) +
-              " samples need " + std::to_string(3 * n) + " (n x 3)");
+void TriadSimulator::run(std::size_t n, std::span<const double> true_input, std::span<const double> temperature,
+                         std::span<double> out) {
+  require(n <= out.size() / 3 && out.size() == 3 * n, "out has " + std::to_string(out.size()) + " values; " +
+                                                          std::to_string(n) + " samples need " + std::to_string(3 * n) +
+                                                          " (n x 3)");
   require(true_input.empty() || true_input.size() == 3 * n,
           "true_input has " + std::to_string(true_input.size()) +
               " values; it must be empty or n x 3 = " + std::to_string(3 * n));
-  require(temperature.empty() || temperature.size() == n,
-          "temperature has " + std::to_string(temperature.size()) +
-              " values; it must be empty or n = " + std::to_string(n));
+  require(temperature.empty() || temperature.size() == n, "temperature has " + std::to_string(temperature.size()) +
+                                                              " values; it must be empty or n = " + std::to_string(n));
   if (n == 0) return;
   Impl& s = *impl_;
   Kernel kern = s.kern;  // local copy: registers, no aliasing with out
@@ -358,15 +355,9 @@ void TriadSimulator::run(std::size_t n, std::span<const double> true_input,
     extra = s.extra.data();
   }
   switch (s.quant) {
-    case QuantMode::none:
-      dispatch_run<QuantMode::none>(kern, s.eng, n, in, temp, out.data(), extra);
-      break;
-    case QuantMode::truncate:
-      dispatch_run<QuantMode::truncate>(kern, s.eng, n, in, temp, out.data(), extra);
-      break;
-    case QuantMode::round:
-      dispatch_run<QuantMode::round>(kern, s.eng, n, in, temp, out.data(), extra);
-      break;
+    case QuantMode::none: dispatch_run<QuantMode::none>(kern, s.eng, n, in, temp, out.data(), extra); break;
+    case QuantMode::truncate: dispatch_run<QuantMode::truncate>(kern, s.eng, n, in, temp, out.data(), extra); break;
+    case QuantMode::round: dispatch_run<QuantMode::round>(kern, s.eng, n, in, temp, out.data(), extra); break;
   }
   s.kern.b = kern.b;
 }

@@ -100,7 +100,8 @@ void check_exponents(const std::vector<int>& exps) {
   if (exps.empty()) throw UsageError("exponents", "give at least one power-law exponent");
   std::set<int> seen;
   for (const int a : exps) {
-    if (a < -4 || a > 4) throw UsageError("exponents", "power-law exponents lie within -4..4 (" + std::to_string(a) + ")");
+    if (a < -4 || a > 4)
+      throw UsageError("exponents", "power-law exponents lie within -4..4 (" + std::to_string(a) + ")");
     if (!seen.insert(a).second) throw UsageError("exponents", "the exponent " + std::to_string(a) + " is given twice");
   }
 }
@@ -147,9 +148,8 @@ PowerLawFit fit_power_law(const Psd& raw, const PowerLawFitOptions& options) {
   const auto g = static_cast<Index>(b.runs.size());
   if (g < p + 1)
     throw UsageError("fit_range", "the band " + hz(lo) + ".." + hz(hi) + " Hz holds " + std::to_string(g) +
-                                      " log bands, fewer than the " + std::to_string(p + 1) +
-                                      " a fit of " + std::to_string(p) +
-                                      " terms needs (widen the band or use longer segments)");
+                                      " log bands, fewer than the " + std::to_string(p + 1) + " a fit of " +
+                                      std::to_string(p) + " terms needs (widen the band or use longer segments)");
 
   PowerLawFit fit;
   fit.f_lo = b.f_lo;
@@ -250,9 +250,9 @@ PowerLawFit fit_power_law(const Psd& raw, const PowerLawFitOptions& options) {
   for (auto& t : fit.terms) {
     if (!t.valid) continue;
     for (std::size_t i = 0; i < points; ++i) {
-      const double f = points == 1 ? fit.f_lo
-                                   : fit.f_lo * std::pow(10.0, decades * static_cast<double>(i) /
-                                                                   static_cast<double>(points - 1));
+      const double f =
+          points == 1 ? fit.f_lo
+                      : fit.f_lo * std::pow(10.0, decades * static_cast<double>(i) / static_cast<double>(points - 1));
       if (t.h * std::pow(f, t.alpha) >= 0.5 * fit.density(f)) {
         if (t.f_lo == 0.0) t.f_lo = f;
         t.f_hi = f;
@@ -280,7 +280,8 @@ SlopeFit fit_slope(const Psd& raw, double f_lo, double f_hi, std::size_t bins_pe
   MatrixXd v = b.corr;
   for (Index i = 0; i < g; ++i) {
     if (!(b.density(i) > 0.0))
-      throw UsageError("fit_range", "the spectrum is zero near " + hz(raw.frequency[b.runs[static_cast<std::size_t>(i)].first]) + " Hz");
+      throw UsageError("fit_range", "the spectrum is zero near " +
+                                        hz(raw.frequency[b.runs[static_cast<std::size_t>(i)].first]) + " Hz");
     const double half_nu = 1.0 / b.corr(i, i);  // nu / 2 = 1 / C_GG
     y(i) = std::log(b.density(i)) - (boost::math::digamma(half_nu) - std::log(half_nu));
     v(i, i) = boost::math::trigamma(half_nu);

@@ -54,8 +54,8 @@ std::vector<SpectralLine> find_spectral_lines(const Psd& psd, const LineSearchOp
     at[g] = background(d, grid[g], std::max<std::size_t>(16, grid[g] / 2), kGuard, scratch);
   for (std::size_t g = 0; g + 1 < grid.size(); ++g)
     for (std::size_t k = grid[g]; k <= grid[g + 1]; ++k) {
-      const double w = grid[g + 1] > grid[g] ? static_cast<double>(k - grid[g]) / static_cast<double>(grid[g + 1] - grid[g])
-                                             : 0.0;
+      const double w =
+          grid[g + 1] > grid[g] ? static_cast<double>(k - grid[g]) / static_cast<double>(grid[g + 1] - grid[g]) : 0.0;
       bg[k] = at[g] + w * (at[g + 1] - at[g]);
     }
   for (std::size_t k = options.min_bin; k + 1 < n; ++k) ratio[k] = bg[k] > 0.0 ? d[k] / bg[k] : 0.0;

@@ -12,9 +12,9 @@ namespace cubecal {
 
 namespace {
 
-constexpr std::size_t kMinSegment = 4;      // an explicit segment length
+constexpr std::size_t kMinSegment = 4;  // an explicit segment length
 constexpr std::size_t kMinDefaultSegment = 16;
-constexpr std::size_t kDefaultSegments = 8; // the default L is at most n / 8
+constexpr std::size_t kDefaultSegments = 8;  // the default L is at most n / 8
 
 std::string count_text(std::size_t n) { return std::to_string(n); }
 
@@ -62,9 +62,8 @@ WelchPlan plan_welch(const WelchOptions& o, std::size_t longest, double rate_hz)
     const double need = std::ceil(std::log2(rate_hz / o.min_frequency_hz) - 1e-12);
     const double length = std::exp2(std::max(need, 2.0));
     if (length > static_cast<double>(longest))
-      throw UsageError("min_frequency", "resolving " + hz_text(o.min_frequency_hz) + " Hz at " +
-                                            hz_text(rate_hz) + " Hz takes segments of " +
-                                            std::to_string(static_cast<long long>(length)) +
+      throw UsageError("min_frequency", "resolving " + hz_text(o.min_frequency_hz) + " Hz at " + hz_text(rate_hz) +
+                                            " Hz takes segments of " + std::to_string(static_cast<long long>(length)) +
                                             " samples, longer than the record (" + count_text(longest) +
                                             " samples contiguous)");
     p.segment_length = static_cast<std::size_t>(length);
@@ -77,8 +76,7 @@ WelchPlan plan_welch(const WelchOptions& o, std::size_t longest, double rate_hz)
     p.segment_length = l;
   }
   p.overlap = static_cast<std::size_t>(std::floor(o.overlap * static_cast<double>(p.segment_length)));
-  if (p.overlap >= p.segment_length)
-    throw UsageError("overlap", "the overlap leaves no step between segments");
+  if (p.overlap >= p.segment_length) throw UsageError("overlap", "the overlap leaves no step between segments");
   p.step = p.segment_length - p.overlap;
   return p;
 }

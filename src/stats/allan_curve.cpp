@@ -42,8 +42,7 @@ double relative_uncertainty(const AllanCurve& c, std::size_t i) noexcept {
   return 0.0;
 }
 
-std::vector<std::size_t> well_measured(const AllanCurve& c, std::size_t first, std::size_t last,
-                                       double factor) {
+std::vector<std::size_t> well_measured(const AllanCurve& c, std::size_t first, std::size_t last, double factor) {
   std::vector<std::size_t> out;
   if (first > last || last >= c.size()) return out;
   double best = std::numeric_limits<double>::infinity();

@@ -73,8 +73,8 @@ void sum_blocks(const double* p, std::size_t S, std::size_t K, FactorBlocks& f, 
     const bool has_head = r > 0 && b >= q;
     if (has_head) f.head[b - q] = second_difference_energy(x, r, m);
     if (q > 0 && b < nb)
-      f.whole[b] = has_head ? f.head[b - q] + second_difference_energy(x + r, S - r, m)
-                            : second_difference_energy(x, S, m);
+      f.whole[b] =
+          has_head ? f.head[b - q] + second_difference_energy(x + r, S - r, m) : second_difference_energy(x, S, m);
   }
 }
 
@@ -249,7 +249,8 @@ constexpr int kHighestAlpha = 2;
 }  // namespace
 
 DavarMatrix davar(std::span<const double> data, DataType type, double tau0, const DavarOptions& options) {
-  if (!(tau0 > 0.0) || !std::isfinite(tau0)) throw std::invalid_argument("davar: tau0 must be a positive finite number");
+  if (!(tau0 > 0.0) || !std::isfinite(tau0))
+    throw std::invalid_argument("davar: tau0 must be a positive finite number");
   const std::size_t N = data.size();
   const std::size_t W = options.window, S = options.step;
   const std::size_t min_window = type == DataType::freq ? 4 : 5;
@@ -265,8 +266,10 @@ DavarMatrix davar(std::span<const double> data, DataType type, double tau0, cons
   if (iv.enabled && !(iv.ci > 0.0 && iv.ci < 1.0))
     throw UsageError("ci", "the confidence must be between 0 and 1 (e.g. 0.683 or 0.95)");
   if (iv.enabled && iv.alpha && (*iv.alpha < kLowestAlpha || *iv.alpha > kHighestAlpha))
-    throw UsageError("alpha", "the noise type of an Allan deviation is one of +2 (WPM), +1 (FPM), 0 (WFM), "
-                              "-1 (FFM), -2 (RWFM); got " + std::to_string(*iv.alpha));
+    throw UsageError("alpha",
+                     "the noise type of an Allan deviation is one of +2 (WPM), +1 (FPM), 0 (WFM), "
+                     "-1 (FFM), -2 (RWFM); got " +
+                         std::to_string(*iv.alpha));
 
   const std::size_t P = davar_window_points(W, type);
   const std::size_t top = max_averaging_factor(Stat::oadev, P);
@@ -281,7 +284,7 @@ DavarMatrix davar(std::span<const double> data, DataType type, double tau0, cons
   std::optional<GappedRecord> gapped;
   if (missing > 0) gapped.emplace(gapped_record(data, type, tau0));
   const double scale = gapped ? gapped->scale : power_of_two_scale(data);
-  const std::vector<double> x = gapped                    ? std::vector<double>()
+  const std::vector<double> x = gapped                   ? std::vector<double>()
                                 : type == DataType::freq ? freq_to_phase(data, tau0, scale)
                                                          : normalize_phase(data, scale);
   const std::span<const double> xs = gapped ? std::span<const double>(gapped->x) : std::span<const double>(x);

@@ -48,17 +48,14 @@ double sx(double t, double F, int alpha) {
 // Eq. (9): the d-th difference, coefficients (-1)^j C(2d, d+j).
 double sz(double t, double F, int alpha, int d) {
   switch (d) {
-    case 1:
-      return 2.0 * sx(t, F, alpha) - sx(t - 1.0, F, alpha) - sx(t + 1.0, F, alpha);
+    case 1: return 2.0 * sx(t, F, alpha) - sx(t - 1.0, F, alpha) - sx(t + 1.0, F, alpha);
     case 2:
-      return 6.0 * sx(t, F, alpha) - 4.0 * (sx(t - 1.0, F, alpha) + sx(t + 1.0, F, alpha)) +
-             sx(t - 2.0, F, alpha) + sx(t + 2.0, F, alpha);
+      return 6.0 * sx(t, F, alpha) - 4.0 * (sx(t - 1.0, F, alpha) + sx(t + 1.0, F, alpha)) + sx(t - 2.0, F, alpha) +
+             sx(t + 2.0, F, alpha);
     case 3:
       return 20.0 * sx(t, F, alpha) - 15.0 * (sx(t - 1.0, F, alpha) + sx(t + 1.0, F, alpha)) +
-             6.0 * (sx(t - 2.0, F, alpha) + sx(t + 2.0, F, alpha)) -
-             (sx(t - 3.0, F, alpha) + sx(t + 3.0, F, alpha));
-    default:
-      return 0.0;
+             6.0 * (sx(t - 2.0, F, alpha) + sx(t + 2.0, F, alpha)) - (sx(t - 3.0, F, alpha) + sx(t + 3.0, F, alpha));
+    default: return 0.0;
   }
 }
 
@@ -120,13 +117,11 @@ double binomial(int n, int k) {
 
 }  // namespace
 
-double edf_greenhall(int alpha, int d, std::size_t m, std::size_t n_phase, bool overlapping,
-                     bool modified) {
+double edf_greenhall(int alpha, int d, std::size_t m, std::size_t n_phase, bool overlapping, bool modified) {
   return edf_greenhall_stride(alpha, d, m, n_phase, overlapping ? 1 : m, modified);
 }
 
-double edf_greenhall_stride(int alpha, int d, std::size_t m_, std::size_t n_phase,
-                            std::size_t stride, bool modified) {
+double edf_greenhall_stride(int alpha, int d, std::size_t m_, std::size_t n_phase, std::size_t stride, bool modified) {
   if (d < 1 || d > 3 || alpha > 2 || alpha < -4 || alpha + 2 * d <= 1 || m_ == 0) return 0.0;
   if (stride == 0 || stride > m_ || m_ % stride != 0) return 0.0;
   const double m = static_cast<double>(m_);
@@ -188,23 +183,16 @@ double edf_simple(int alpha, std::size_t m_, std::size_t n_phase) {
   const double N = static_cast<double>(n_phase);
   const double m = static_cast<double>(m_);
   switch (alpha) {
-    case 2:
-      return (N + 1.0) * (N - 2.0 * m) / (2.0 * (N - m));
-    case 1:
-      return std::exp(std::sqrt(std::log((N - 1.0) / (2.0 * m)) *
-                                std::log((2.0 * m + 1.0) * (N - 1.0) / 4.0)));
-    case 0:
-      return (3.0 * (N - 1.0) / (2.0 * m) - 2.0 * (N - 2.0) / N) * 4.0 * m * m /
-             (4.0 * m * m + 5.0);
+    case 2: return (N + 1.0) * (N - 2.0 * m) / (2.0 * (N - m));
+    case 1: return std::exp(std::sqrt(std::log((N - 1.0) / (2.0 * m)) * std::log((2.0 * m + 1.0) * (N - 1.0) / 4.0)));
+    case 0: return (3.0 * (N - 1.0) / (2.0 * m) - 2.0 * (N - 2.0) / N) * 4.0 * m * m / (4.0 * m * m + 5.0);
     case -1:
       // SP 1065 Table 5 has (N-2)^2 for m = 1.
       if (m_ == 1) return 2.0 * (N - 2.0) * (N - 2.0) / (2.3 * N - 4.9);
       return 5.0 * N * N / (4.0 * m * (N + 3.0 * m));
     case -2:
-      return (N - 2.0) / m * ((N - 1.0) * (N - 1.0) - 3.0 * m * (N - 1.0) + 4.0 * m * m) /
-             ((N - 3.0) * (N - 3.0));
-    default:
-      return N - 1.0;
+      return (N - 2.0) / m * ((N - 1.0) * (N - 1.0) - 3.0 * m * (N - 1.0) + 4.0 * m * m) / ((N - 3.0) * (N - 3.0));
+    default: return N - 1.0;
   }
 }
 
@@ -331,8 +319,7 @@ double edf_for(Stat stat, int alpha, std::size_t m, std::size_t n_phase, EdfMeth
   }
 }
 
-double edf_for_stride(Stat stat, int alpha, std::size_t m, std::size_t n_phase, std::size_t stride,
-                      EdfMethod method) {
+double edf_for_stride(Stat stat, int alpha, std::size_t m, std::size_t n_phase, std::size_t stride, EdfMethod method) {
   if (method == EdfMethod::simple) return edf_for(stat, alpha, m, n_phase, method);
   switch (stat) {
     case Stat::adev: return edf_greenhall_stride(alpha, 2, m, n_phase, m, false);

@@ -86,8 +86,7 @@ std::vector<GapNoiseType> noise_types_skipping_missing(std::span<const double> d
   // The noise type: fixed, or identified on the longest whole stretch.
   const auto [begin, end] = longest_whole_stretch(data);
   std::optional<StabilityRecord> stretch;
-  if (!options.alpha && end - begin >= 3)
-    stretch.emplace(data.subspan(begin, end - begin), type, tau0, Stat::oadev);
+  if (!options.alpha && end - begin >= 3) stretch.emplace(data.subspan(begin, end - begin), type, tau0, Stat::oadev);
   // The stretch's types over the factors it holds, as a grid evaluation
   // gives them (with Stable32's run rule, carry_types); beyond, the last.
   std::vector<StabilityPoint> typed;
@@ -120,8 +119,7 @@ std::vector<GapNoiseType> noise_types_skipping_missing(std::span<const double> d
 }
 
 std::vector<StabilityPoint> oadev_skipping_missing(std::span<const double> data, DataType type, double tau0,
-                                                   std::span<const std::size_t> ms,
-                                                   const StabilityOptions& options) {
+                                                   std::span<const std::size_t> ms, const StabilityOptions& options) {
   const GappedPhase p = gapped_phase(data, type, tau0);
   const std::size_t n_phase = p.x.size();
   std::vector<StabilityPoint> out;

@@ -252,7 +252,7 @@ using Lanes = double __attribute__((vector_size(4 * sizeof(double))));
 // Unaligned load of four doubles (a macro: a function returning a vector
 // type would have a different ABI in the baseline and the AVX2 clone).
 #define CUBECAL_LOAD_LANES(v, p) \
-  Lanes v;                        \
+  Lanes v;                       \
   std::memcpy(&v, (p), sizeof v)
 
 // out[k] = sum_{i<count} (c[i-m_k] - 2 c[i] + c[i+m_k])^2: centred second
@@ -284,8 +284,7 @@ void centred_second_difference_energies(const double* c, std::size_t count, cons
 
 // out[k] = sum_{i<count} (x[i+3m_k] - 3x[i+2m_k] + 3x[i+m_k] - x[i])^2.
 CUBECAL_VECTOR_CLONES
-void third_difference_energies(const double* x, std::size_t count, const std::size_t* m,
-                               double* out) noexcept {
+void third_difference_energies(const double* x, std::size_t count, const std::size_t* m, double* out) noexcept {
   Lanes s[kGroup] = {};
   std::size_t i = 0;
   for (; i + 4 <= count; i += 4) {
@@ -396,8 +395,7 @@ auto each(Single single) {
 
 }  // namespace
 
-void oavar(std::span<const double> x, std::span<const std::size_t> ms, double tau0,
-           std::span<VarianceTerm> out) {
+void oavar(std::span<const double> x, std::span<const std::size_t> ms, double tau0, std::span<VarianceTerm> out) {
   const std::size_t N = x.size();
   by_groups(
       ms,
@@ -451,8 +449,7 @@ void oavar(std::span<const double> x, std::span<const std::size_t> ms, double ta
       });
 }
 
-void ohvar(std::span<const double> x, std::span<const std::size_t> ms, double tau0,
-           std::span<VarianceTerm> out) {
+void ohvar(std::span<const double> x, std::span<const std::size_t> ms, double tau0, std::span<VarianceTerm> out) {
   const std::size_t N = x.size();
   by_groups(
       ms,
@@ -476,8 +473,7 @@ void ohvar(std::span<const double> x, std::span<const std::size_t> ms, double ta
       each([&](std::size_t j) { out[j] = ohvar(x, ms[j], tau0); }));
 }
 
-void totvar(const TotvarExtension& e, std::span<const std::size_t> ms, double tau0,
-            std::span<VarianceTerm> out) {
+void totvar(const TotvarExtension& e, std::span<const std::size_t> ms, double tau0, std::span<VarianceTerm> out) {
   const std::size_t N = e.n;
   by_groups(
       ms,

@@ -16,8 +16,10 @@ double LagSums::r1() const noexcept {
 CUBECAL_VECTOR_CLONES
 void LagSums::add(const double* w, std::size_t len) noexcept {
   if (len == 0) return;
-  if (n > 0) p += last * w[0];
-  else first = w[0];
+  if (n > 0)
+    p += last * w[0];
+  else
+    first = w[0];
   // 16 lanes = four AVX2 registers per sum: enough independent chains to
   // hide the add latency.
   constexpr std::size_t L = 16;

@@ -32,8 +32,8 @@ struct Moments {
 Moments gaussian_moments(double c) {
   static constexpr double kNode[5] = {0.0, 0.5384693101056831, -0.5384693101056831, 0.9061798459386640,
                                       -0.9061798459386640};
-  static constexpr double kWeight[5] = {0.5688888888888889, 0.4786286704993665, 0.4786286704993665,
-                                        0.2369268850561891, 0.2369268850561891};
+  static constexpr double kWeight[5] = {0.5688888888888889, 0.4786286704993665, 0.4786286704993665, 0.2369268850561891,
+                                        0.2369268850561891};
   const double top = std::min(c, 12.0);
   const auto panels = static_cast<int>(std::ceil(top / 0.1));
   const double h = top / panels;
@@ -181,8 +181,9 @@ BiweightTuning biweight_moments(double c) {
 
 BiweightTuning biweight_tuning(double efficiency) {
   if (!(efficiency > 0.0 && efficiency < 1.0))
-    throw UsageError("efficiency", "the efficiency of the robust wavelet variance must lie between 0 and 1 (0.6 is "
-                                   "usual; 1 is the classical estimator)");
+    throw UsageError("efficiency",
+                     "the efficiency of the robust wavelet variance must lie between 0 and 1 (0.6 is "
+                     "usual; 1 is the classical estimator)");
   static const double lo0 = branch_point();
   static const double top = biweight_moments(kMaxC).efficiency;
   if (efficiency > top)

@@ -14,12 +14,11 @@
 
 namespace cubecal {
 
-StabilityRecord::StabilityRecord(std::span<const double> data, DataType type, double tau0,
-                                 Stat stat)
+StabilityRecord::StabilityRecord(std::span<const double> data, DataType type, double tau0, Stat stat)
     : scale_(power_of_two_scale(data)),
       x_(type == DataType::phase ? normalize_phase(data, scale_)
-         : has_intervals(stat) ? freq_to_phase(data, tau0, scale_)
-                               : integrate_frequency(data, tau0, scale_)),
+         : has_intervals(stat)   ? freq_to_phase(data, tau0, scale_)
+                                 : integrate_frequency(data, tau0, scale_)),
       type_(type),
       tau0_(tau0),
       stat_(stat) {
@@ -31,10 +30,11 @@ StabilityRecord::StabilityRecord(std::span<const double> data, DataType type, do
   if (stat_ == Stat::theobr || stat_ == Stat::theoh) {
     // The ratio takes Theo1 at N/6 factors up to 2N/3: about N^3/65 terms.
     if (x_.size() > kTheobrMaxPoints)
-      throw std::invalid_argument("theobr's bias ratio takes Theo1 at every fourth averaging factor up to 2N/3 "
-                                  "(about N^3/65 terms): " + std::to_string(x_.size()) +
-                                  " phase points is beyond the " + std::to_string(kTheobrMaxPoints) +
-                                  " it is computed for; average the data first, or use theo1");
+      throw std::invalid_argument(
+          "theobr's bias ratio takes Theo1 at every fourth averaging factor up to 2N/3 "
+          "(about N^3/65 terms): " +
+          std::to_string(x_.size()) + " phase points is beyond the " + std::to_string(kTheobrMaxPoints) +
+          " it is computed for; average the data first, or use theo1");
     theobr_ratio_ = theobr_ratio(x_);
   }
 }
@@ -75,9 +75,7 @@ bool biased_at(Stat s, std::size_t m) { return has_bias(s) && !(s == Stat::htotd
 
 }  // namespace
 
-std::size_t StabilityRecord::max_m() const noexcept {
-  return max_averaging_factor(stat_, x_.size());
-}
+std::size_t StabilityRecord::max_m() const noexcept { return max_averaging_factor(stat_, x_.size()); }
 
 VarianceTerm StabilityRecord::variance(std::size_t m) const {
   switch (stat_) {
@@ -177,7 +175,8 @@ StabilityPoint StabilityRecord::point(std::size_t m, VarianceTerm v) const {
 
 void StabilityRecord::identify(StabilityPoint& p, const StabilityOptions& opt) const {
   // TheoH: as the part it takes at m (OADEV or TheoBR).
-  p.alpha = opt.alpha ? *opt.alpha : identify_noise(x_, p.m, theoh_stat_at(stat_, p.m, x_.size()).value_or(stat_)).alpha;
+  p.alpha =
+      opt.alpha ? *opt.alpha : identify_noise(x_, p.m, theoh_stat_at(stat_, p.m, x_.size()).value_or(stat_)).alpha;
 }
 
 void StabilityRecord::set_interval(StabilityPoint& p, const StabilityOptions& opt) const {
@@ -213,9 +212,8 @@ void StabilityRecord::carry_types(std::span<StabilityPoint> run, const Stability
   }
 }
 
-std::vector<StabilityPoint> stability(std::span<const double> data, DataType type, double tau0,
-                                      Stat stat, std::span<const std::size_t> ms,
-                                      const StabilityOptions& opt) {
+std::vector<StabilityPoint> stability(std::span<const double> data, DataType type, double tau0, Stat stat,
+                                      std::span<const std::size_t> ms, const StabilityOptions& opt) {
   const StabilityRecord rec(data, type, tau0, stat);
   return rec.evaluate(ms, opt);
 }

@@ -70,13 +70,10 @@ int difference_order(Stat s) noexcept {
   switch (s) {
     case Stat::hdev:
     case Stat::ohdev:
-    case Stat::htotdev:
-      return 3;
+    case Stat::htotdev: return 3;
     case Stat::tierms:
-    case Stat::mtie:
-      return 1;
-    default:
-      return 2;
+    case Stat::mtie: return 1;
+    default: return 2;
   }
 }
 
@@ -104,25 +101,20 @@ double tau_per_factor(Stat s, std::size_t m, std::size_t n_phase) noexcept {
 std::size_t points_per_factor(Stat s) noexcept {
   switch (s) {
     case Stat::adev:
-    case Stat::hdev:
-      return 5;
+    case Stat::hdev: return 5;
     case Stat::oadev:
     case Stat::mdev:
     case Stat::tdev:
     case Stat::ohdev:
-    case Stat::tierms:
-      return 4;
+    case Stat::tierms: return 4;
     case Stat::mtotdev:
     case Stat::ttotdev:
-    case Stat::htotdev:
-      return 3;
-    case Stat::totdev:
-      return 2;
+    case Stat::htotdev: return 3;
+    case Stat::totdev: return 2;
     case Stat::mtie:
     case Stat::theo1:
     case Stat::theobr:
-    case Stat::theoh:
-      return 1;
+    case Stat::theoh: return 1;
   }
   return 5;
 }

@@ -20,9 +20,9 @@ namespace cubecal {
 namespace {
 
 constexpr std::size_t kMinAcfAverages = 30;  // as identify_noise
-constexpr std::size_t kMinBlock = 4096;       // values a level takes per pass at least
-constexpr std::size_t kTile = 1024;           // starts of overlapping terms per tile
-constexpr std::size_t kZBlock = 2048;         // non-overlapping window sums per block
+constexpr std::size_t kMinBlock = 4096;      // values a level takes per pass at least
+constexpr std::size_t kTile = 1024;          // starts of overlapping terms per tile
+constexpr std::size_t kZBlock = 2048;        // non-overlapping window sums per block
 
 bool overlapping(Stat s) noexcept { return s == Stat::oadev || s == Stat::ohdev; }
 
@@ -149,8 +149,7 @@ bool streams(Stat stat) noexcept {
   return stat == Stat::adev || stat == Stat::oadev || stat == Stat::hdev || stat == Stat::ohdev;
 }
 
-std::vector<StreamedFactor> streamed_factors(Stat stat, std::span<const std::size_t> ms,
-                                             std::size_t window_bound) {
+std::vector<StreamedFactor> streamed_factors(Stat stat, std::span<const std::size_t> ms, std::size_t window_bound) {
   const std::size_t order = static_cast<std::size_t>(difference_order(stat));
   // The values a factor's terms span on its level: order windows for the
   // overlapping statistics, one window (the averages) for the others.
@@ -182,8 +181,7 @@ std::size_t streaming_bytes(std::size_t window_bound) noexcept {
   return (full_levels * 3 + 4) * window_bound * sizeof(double);
 }
 
-void StreamingDeviation::Factor::push_averages(double* z, std::size_t count, int dmax,
-                                               double* scratch) noexcept {
+void StreamingDeviation::Factor::push_averages(double* z, std::size_t count, int dmax, double* scratch) noexcept {
   averages += count;
   for (int d = 0; d <= dmax && count > 0; ++d) {
     Lag& l = lag[d];
@@ -200,11 +198,9 @@ void StreamingDeviation::Factor::push_averages(double* z, std::size_t count, int
   }
 }
 
-StreamingDeviation::StreamingDeviation(Stat stat, std::span<const std::size_t> ms,
-                                       std::size_t window_bound)
+StreamingDeviation::StreamingDeviation(Stat stat, std::span<const std::size_t> ms, std::size_t window_bound)
     : stat_(stat), order_(difference_order(stat)), overlapping_(overlapping(stat)) {
-  if (!streams(stat))
-    throw std::invalid_argument(std::string(to_string(stat)) + " is not computed in a stream");
+  if (!streams(stat)) throw std::invalid_argument(std::string(to_string(stat)) + " is not computed in a stream");
   if (window_bound < 16 || (window_bound & (window_bound - 1)) != 0)
     throw std::invalid_argument("the window bound must be a power of two of at least 16");
   factors_ = streamed_factors(stat, ms, window_bound);
@@ -251,8 +247,7 @@ void StreamingDeviation::push(std::span<const double> y) {
     if (!shift(y.data() + done, take, offset_, lv.buf.data() + at)) {
       for (std::size_t i = 0; i < take; ++i)
         if (!std::isfinite(y[done + i]))
-          throw std::invalid_argument("sample " + std::to_string(samples_ + done + i) +
-                                      " is not a finite number");
+          throw std::invalid_argument("sample " + std::to_string(samples_ + done + i) + " is not a finite number");
     }
     done += take;
     lv.total += take;
@@ -341,7 +336,7 @@ void StreamingDeviation::process(std::size_t level) {
     // Non-overlapping window sums ending in the new part (boundaries at
     // multiples of k on the level).
     const std::size_t lo = lv.base + lv.kept;  // boundaries > lo
-    const std::size_t b1 = (lo / k + 1) * k;  // the first boundary
+    const std::size_t b1 = (lo / k + 1) * k;   // the first boundary
     if (b1 <= lv.base + len) {
       // In blocks that stay in the cache; the lag sums take them in turn.
       std::size_t count = (lv.base + len - b1) / k + 1;

@@ -16,8 +16,8 @@ std::string number(double v) {
 
 }  // namespace
 
-TauListOutcome tau_list_outcome(const TauGrid& grid, Stat stat, DataType type, std::size_t samples,
-                                double tau0, const std::string& record) {
+TauListOutcome tau_list_outcome(const TauGrid& grid, Stat stat, DataType type, std::size_t samples, double tau0,
+                                const std::string& record) {
   TauListOutcome out;
   if (grid.kind != TauGrid::Kind::list || !(tau0 > 0.0)) return out;
   const std::size_t n_phase = type == DataType::freq ? samples + 1 : samples;
@@ -38,9 +38,9 @@ TauListOutcome tau_list_outcome(const TauGrid& grid, Stat stat, DataType type, s
       e.m = m;
       e.needs = per * m + (freq ? 0.0 : 1.0);
       e.has = samples;
-      e.reason = std::string(to_string(stat)) + " needs at least " + number(per) + "m" +
-                 (freq ? "" : "+1") + " = " + number(e.needs) + (freq ? " samples" : " phase samples") +
-                 " for m = " + number(m) + ", " + record + " has " + std::to_string(samples);
+      e.reason = std::string(to_string(stat)) + " needs at least " + number(per) + "m" + (freq ? "" : "+1") + " = " +
+                 number(e.needs) + (freq ? " samples" : " phase samples") + " for m = " + number(m) + ", " + record +
+                 " has " + std::to_string(samples);
       out.excluded.push_back(std::move(e));
       continue;
     }

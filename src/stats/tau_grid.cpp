@@ -32,19 +32,26 @@ std::string_view trim(std::string_view s) {
 TauGrid parse_tau_grid(std::string_view spec) {
   spec = trim(spec);
   TauGrid g;
-  if (spec == "octave") { g.kind = TauGrid::Kind::octave; return g; }
-  if (spec == "decade") { g.kind = TauGrid::Kind::decade; return g; }
-  if (spec == "all") { g.kind = TauGrid::Kind::all; return g; }
+  if (spec == "octave") {
+    g.kind = TauGrid::Kind::octave;
+    return g;
+  }
+  if (spec == "decade") {
+    g.kind = TauGrid::Kind::decade;
+    return g;
+  }
+  if (spec == "all") {
+    g.kind = TauGrid::Kind::all;
+    return g;
+  }
   if (spec.starts_with("log:")) {
     const double k = parse_positive(spec.substr(4), "points per decade");
-    if (k != std::floor(k) || k > 1000)
-      throw std::invalid_argument("log:K needs an integer K between 1 and 1000");
+    if (k != std::floor(k) || k > 1000) throw std::invalid_argument("log:K needs an integer K between 1 and 1000");
     g.kind = TauGrid::Kind::log;
     g.per_decade = static_cast<unsigned>(k);
     return g;
   }
-  if (spec.empty())
-    throw std::invalid_argument("empty tau grid (use octave, decade, all, log:K or a list of taus)");
+  if (spec.empty()) throw std::invalid_argument("empty tau grid (use octave, decade, all, log:K or a list of taus)");
   g.kind = TauGrid::Kind::list;
   while (!spec.empty()) {
     const auto comma = spec.find(',');
@@ -56,9 +63,7 @@ TauGrid parse_tau_grid(std::string_view spec) {
   return g;
 }
 
-double listed_factor(double tau, double tau0) noexcept {
-  return std::max(1.0, std::round(tau / tau0));
-}
+double listed_factor(double tau, double tau0) noexcept { return std::max(1.0, std::round(tau / tau0)); }
 
 std::vector<std::size_t> averaging_factors(const TauGrid& grid, std::size_t max_m, double tau0) {
   std::vector<std::size_t> ms;

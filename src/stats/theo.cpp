@@ -24,8 +24,7 @@ namespace {
 
 // sum_{i<count} (x[i] + x[i+m] - x[i+a] - x[i+b])^2
 CUBECAL_VECTOR_CLONES
-double four_point_energy(const double* x, std::size_t count, std::size_t m, std::size_t a,
-                         std::size_t b) noexcept {
+double four_point_energy(const double* x, std::size_t count, std::size_t m, std::size_t a, std::size_t b) noexcept {
   double s[8] = {0, 0, 0, 0, 0, 0, 0, 0};
   std::size_t i = 0;
   for (; i + 8 <= count; i += 8)

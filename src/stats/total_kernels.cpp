@@ -54,24 +54,24 @@ void third_differences(const double* D, std::size_t m, double* a) {
 // Sums of (A_j(Y) - s B_j)^2 over a range of j, one function per range
 // (the four terms of Y run forward or backward from j differently in each).
 // Y: prefix sums of the subsequence (Y[0 .. 3m]), B: A_j of the ramp.
-#define CUBECAL_RANGE_ENERGY(name, expr)                                                     \
-  CUBECAL_VECTOR_CLONES                                                                      \
+#define CUBECAL_RANGE_ENERGY(name, expr)                                                           \
+  CUBECAL_VECTOR_CLONES                                                                            \
   double name(const double* Y, const double* B, double s, double c, std::size_t m, std::size_t lo, \
-              std::size_t hi) noexcept {                                                     \
-    double acc[4] = {0, 0, 0, 0};                                                            \
-    std::size_t u = lo;                                                                      \
-    for (; u + 4 <= hi + 1; u += 4)                                                          \
-      for (std::size_t k = 0; k < 4; ++k) {                                                  \
-        const std::size_t j = u + k;                                                         \
-        const double a = (c + (expr)) - s * B[j];                                            \
-        acc[k] += a * a;                                                                     \
-      }                                                                                      \
-    double tail = 0.0;                                                                       \
-    for (std::size_t j = u; j <= hi; ++j) {                                                  \
-      const double a = (c + (expr)) - s * B[j];                                              \
-      tail += a * a;                                                                         \
-    }                                                                                        \
-    return (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail;                                     \
+              std::size_t hi) noexcept {                                                           \
+    double acc[4] = {0, 0, 0, 0};                                                                  \
+    std::size_t u = lo;                                                                            \
+    for (; u + 4 <= hi + 1; u += 4)                                                                \
+      for (std::size_t k = 0; k < 4; ++k) {                                                        \
+        const std::size_t j = u + k;                                                               \
+        const double a = (c + (expr)) - s * B[j];                                                  \
+        acc[k] += a * a;                                                                           \
+      }                                                                                            \
+    double tail = 0.0;                                                                             \
+    for (std::size_t j = u; j <= hi; ++j) {                                                        \
+      const double a = (c + (expr)) - s * B[j];                                                    \
+      tail += a * a;                                                                               \
+    }                                                                                              \
+    return (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail;                                           \
   }
 
 // j in [0, m]:   D(j) + 3D(m-j) - 3D(2m-j) + D(3m-j)
@@ -111,8 +111,8 @@ double total_energy(const double* data, std::size_t len, std::size_t m) {
   const std::size_t h1 = L / 2, h2 = (L + 1) / 2;
   const std::size_t h = (L - 1) / 2;
   // Distance between the centres of the halves [0, h1) and [h2, L).
-  const double dist = (static_cast<double>(h2) + static_cast<double>(L - h2 - 1) / 2.0) -
-                      static_cast<double>(h1 - 1) / 2.0;
+  const double dist =
+      (static_cast<double>(h2) + static_cast<double>(L - h2 - 1) / 2.0) - static_cast<double>(h1 - 1) / 2.0;
   std::vector<double> ramp(L + 1);  // sum_{k<q} k
   for (std::size_t q = 0; q <= L; ++q) ramp[q] = 0.5 * static_cast<double>(q) * (static_cast<double>(q) - 1.0);
   std::vector<double> B(2 * L);

@@ -28,8 +28,8 @@ WaveletVariance wavelet_variance_at(std::span<const double> y, std::span<const s
   if (!(ci > 0.0 && ci < 1.0)) throw UsageError("ci", "the confidence must lie between 0 and 1");
   for (std::size_t j = 0; j < factors.size(); ++j)
     if (factors[j] < 1 || 4 * factors[j] > N || (j > 0 && factors[j] <= factors[j - 1]))
-      throw UsageError("scales", "the wavelet variance's averaging factors must ascend from 1 to N / 4 = " +
-                                     std::to_string(N / 4));
+      throw UsageError(
+          "scales", "the wavelet variance's averaging factors must ascend from 1 to N / 4 = " + std::to_string(N / 4));
   // The phase (running sum) of the scaled samples, as the deviations take it:
   // its second differences at m are the differences of adjacent m-sums.
   const double scale = power_of_two_scale(y);

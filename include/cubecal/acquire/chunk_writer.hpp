@@ -39,7 +39,7 @@ class ChunkWriter {
 
   // The chunk as of the last sync() ("open": true): what is surely on disk.
   const io::RecordingChunk& synced() const noexcept { return synced_; }
-  std::size_t bytes() const noexcept;    // including what is buffered
+  std::size_t bytes() const noexcept;  // including what is buffered
   std::size_t samples() const noexcept { return samples_; }
   const std::string& path() const noexcept;
 

@@ -36,9 +36,9 @@ class FrameDecoder {
   FrameSpec spec_;
   std::size_t size_;
   bool announced_ = false;
-  std::string buf_;         // bytes not yet consumed start at pos_
+  std::string buf_;  // bytes not yet consumed start at pos_
   std::size_t pos_ = 0;
-  std::string skipped_;     // the current run of bytes skipped while hunting
+  std::string skipped_;  // the current run of bytes skipped while hunting
   std::vector<double> values_;
   std::string fields_;
 };

@@ -27,8 +27,8 @@ struct FrameField {
 };
 
 struct FrameSpec {
-  std::string text;        // as given
-  std::string sync;        // the sync bytes
+  std::string text;  // as given
+  std::string sync;  // the sync bytes
   std::vector<FrameField> fields;
   Checksum checksum = Checksum::none;
   bool big_endian = false;

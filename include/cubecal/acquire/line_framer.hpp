@@ -62,13 +62,13 @@ class LineFramer {
   bool have_layout_ = false;
   char delim_ = ',';
   std::vector<std::string> names_;
-  std::string header_text_;          // the header line as received, to tell a repeat
-  std::string held_;                 // the first data line, until the second confirms its field count
+  std::string header_text_;  // the header line as received, to tell a repeat
+  std::string held_;         // the first data line, until the second confirms its field count
   bool holding_ = false;
-  std::string carry_;                // an incomplete line
+  std::string carry_;  // an incomplete line
   std::vector<std::string_view> fields_;
   std::vector<double> values_;
-  std::string joined_;               // fields re-joined by commas (delimiters other than ',')
+  std::string joined_;  // fields re-joined by commas (delimiters other than ',')
   std::size_t blank_lines_ = 0;
 };
 

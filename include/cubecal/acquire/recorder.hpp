@@ -30,16 +30,16 @@ namespace cubecal::acquire {
 
 struct RecorderStatus {
   double elapsed_s = 0.0;
-  std::size_t samples = 0;          // this segment
+  std::size_t samples = 0;  // this segment
   std::size_t rejects = 0;
   std::size_t gaps = 0, resets = 0, reconnects = 0;
-  double samples_per_s = 0.0;       // over the last status interval
-  double device_rate_hz = 0.0;      // from the device time (0: none or not yet)
-  std::vector<std::string> names;   // data columns (empty until the layout is known)
-  std::vector<double> last;         // the last sample's values
-  std::size_t bytes = 0;            // chunk bytes of this segment
+  double samples_per_s = 0.0;      // over the last status interval
+  double device_rate_hz = 0.0;     // from the device time (0: none or not yet)
+  std::vector<std::string> names;  // data columns (empty until the layout is known)
+  std::vector<double> last;        // the last sample's values
+  std::size_t bytes = 0;           // chunk bytes of this segment
   int segment = 0;
-  std::size_t chunk = 0;            // 1-based chunk of the segment being written
+  std::size_t chunk = 0;  // 1-based chunk of the segment being written
 };
 
 enum class RecordEnd { source_ended, duration, stopped };
@@ -47,7 +47,7 @@ enum class RecordEnd { source_ended, duration, stopped };
 struct RecorderSummary {
   RecorderStatus status;
   RecordEnd end = RecordEnd::source_ended;
-  std::string segment_dir;          // DIR/seg-NNN (empty: nothing was received)
+  std::string segment_dir;  // DIR/seg-NNN (empty: nothing was received)
   std::size_t chunks = 0;
   std::size_t partial_bytes = 0;
   std::size_t blank_lines = 0;
@@ -60,16 +60,16 @@ struct RecorderSummary {
 
 struct RecorderOptions {
   std::string out_dir;
-  LineFramerOptions text;            // text framing (when no frame)
-  std::optional<FrameSpec> frame;    // binary frames
-  std::string time_col;              // name or 1-based index; empty: detected by name
+  LineFramerOptions text;          // text framing (when no frame)
+  std::optional<FrameSpec> frame;  // binary frames
+  std::string time_col;            // name or 1-based index; empty: detected by name
   std::optional<double> rate_hz;
   std::optional<std::string> unit;
-  double duration_s = 0.0;           // 0: until the source ends or a stop
+  double duration_s = 0.0;  // 0: until the source ends or a stop
   double chunk_seconds = 600.0;
   std::size_t chunk_bytes = std::size_t{64} << 20;
-  double flush_interval_s = 0.1;     // buffers to the kernel (what survives kill -9)
-  double sync_interval_s = 0.5;      // fsync + manifest (what survives a power loss); at most 1 s
+  double flush_interval_s = 0.1;  // buffers to the kernel (what survives kill -9)
+  double sync_interval_s = 0.5;   // fsync + manifest (what survives a power loss); at most 1 s
   double status_interval_s = 0.5;
   std::size_t read_buffer = 256 << 10;
   // Set from a signal handler to end the run cleanly.

@@ -27,8 +27,8 @@ class RejectsWriter {
   void sync();
   void close();
 
-  std::size_t count() const noexcept { return count_; }          // entries added by this writer
-  std::size_t synced_count() const noexcept { return synced_; }  // of those, fsync'd
+  std::size_t count() const noexcept { return count_; }             // entries added by this writer
+  std::size_t synced_count() const noexcept { return synced_; }     // of those, fsync'd
   void set_count(std::size_t n) noexcept { count_ = synced_ = n; }  // entries already in the file
 
  private:

@@ -35,9 +35,9 @@ class Source {
 };
 
 struct SourceOptions {
-  int baud = 115200;                 // serial devices
-  double reconnect_first_s = 0.25;   // first wait before reconnecting; doubles each failure
-  double reconnect_max_s = 8.0;      // longest wait between attempts
+  int baud = 115200;                // serial devices
+  double reconnect_first_s = 0.25;  // first wait before reconnecting; doubles each failure
+  double reconnect_max_s = 8.0;     // longest wait between attempts
 };
 
 // SOURCE as the command line gives it: "-" (the standard input),

@@ -20,13 +20,13 @@ struct EllipsoidFit {
   // a b c f g h p q r d in the units of the input, scaled so that
   // 4J - I^2 = 1 and a > 0.
   std::array<double, 10> coeff{};
-  Mat3 M{};        // [[a,h,g],[h,b,f],[g,f,c]]
-  Vec3 n{};        // (p, q, r)
+  Mat3 M{};  // [[a,h,g],[h,b,f],[g,f,c]]
+  Vec3 n{};  // (p, q, r)
   double d = 0.0;
-  Vec3 centre{};   // hard-iron offset b = -M^-1 n
+  Vec3 centre{};      // hard-iron offset b = -M^-1 n
   Mat3 correction{};  // A^-1 for the field norm given
   double field_norm = 0.0;
-  Vec3 semi_axes{};   // descending, input units
+  Vec3 semi_axes{};         // descending, input units
   double axis_ratio = 1.0;  // longest / shortest
   // Eigenvalues of M (ascending), after the normalisation above.
   Vec3 m_eigenvalues{};

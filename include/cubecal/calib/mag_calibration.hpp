@@ -58,10 +58,10 @@ struct Coverage {
 };
 
 // Coverage thresholds (see check_coverage).
-inline constexpr double kMinLambdaFull = 0.05;     // directions at most a +-22 deg band
-inline constexpr double kMaxResultantFull = 0.55;  // about a hemisphere (0.5) at least
-inline constexpr double kMinSpreadFull = 0.1;      // smallest spread / F
-inline constexpr double kMinSpreadBiasOnly = 0.05; // smallest spread / F
+inline constexpr double kMinLambdaFull = 0.05;      // directions at most a +-22 deg band
+inline constexpr double kMaxResultantFull = 0.55;   // about a hemisphere (0.5) at least
+inline constexpr double kMinSpreadFull = 0.1;       // smallest spread / F
+inline constexpr double kMinSpreadBiasOnly = 0.05;  // smallest spread / F
 
 Coverage sphere_coverage(std::span<const Vec3> h);
 
@@ -121,18 +121,18 @@ struct Options {
 
 struct Result {
   Method method = Method::ellipsoid;
-  Vec3 bias{};        // hard-iron offset b (input units)
-  Vec3 bias_sigma{};  // 1 sigma
+  Vec3 bias{};                  // hard-iron offset b (input units)
+  Vec3 bias_sigma{};            // 1 sigma
   Mat3 soft_iron = kIdentity3;  // correction A^-1 (symmetric)
   Mat3 soft_iron_sigma{};       // 1 sigma of each entry (0 for bias-only)
   // Covariance of (b1, b2, b3) for bias-only, of (b1, b2, b3, W11, W22, W33,
   // W12, W13, W23) with W = A^-1 otherwise; names in covariance_names.
   std::vector<std::vector<double>> covariance;
   std::vector<std::string> covariance_names;
-  double field_norm = 0.0;        // F (the mean of |H_k| when given per point)
+  double field_norm = 0.0;          // F (the mean of |H_k| when given per point)
   bool field_norm_default = false;  // F was the mean raw |h|
   bool field_norm_per_point = false;
-  Vec3 semi_axes{};     // of the raw-data ellipsoid, descending (F for bias-only)
+  Vec3 semi_axes{};         // of the raw-data ellipsoid, descending (F for bias-only)
   double axis_ratio = 1.0;  // longest / shortest semi-axis
   NormError before, after;
   double chi2 = 0.0;
@@ -142,7 +142,7 @@ struct Result {
   bool noise_estimated = false;
   std::size_t iterations = 0;  // TWOSTEP second-step iterations
   bool converged = true;
-  double eta = 0.0;            // last TWOSTEP step size (Fisher-weighted)
+  double eta = 0.0;  // last TWOSTEP step size (Fisher-weighted)
   std::size_t points_used = 0;
   std::size_t points_rejected = 0;
   std::vector<std::size_t> rejected;  // input indices

@@ -120,8 +120,8 @@ struct AccResult {
   double threshold = 0.0;
   std::vector<Trial> trials;
   std::vector<IndexRange> intervals;  // used ones, for the chosen th_mult (accelerometer indices)
-  Residuals before, after;          // r = g - |a'| over the fitted samples
-  double sigma0 = 0.0;              // sqrt(cost / (residuals - 9))
+  Residuals before, after;            // r = g - |a'| over the fitted samples
+  double sigma0 = 0.0;                // sqrt(cost / (residuals - 9))
   std::size_t iterations = 0;
   bool converged = false;
 };

@@ -34,27 +34,27 @@ struct TriadRecord {
 };
 
 struct Plateau {
-  std::size_t begin = 0;         // first sample
-  std::size_t end = 0;           // one past the last sample
-  double t_begin = 0.0;          // s, time of the first sample
-  double t_end = 0.0;            // s, time of the last sample
+  std::size_t begin = 0;  // first sample
+  std::size_t end = 0;    // one past the last sample
+  double t_begin = 0.0;   // s, time of the first sample
+  double t_end = 0.0;     // s, time of the last sample
   // Samples averaged: end - begin, or fewer when signal detection merged two
   // pieces of one plateau around a short disturbance (the disturbance is not
   // averaged).
   std::size_t n = 0;
-  std::array<double, 3> mean{};  // gyro mean per axis
+  std::array<double, 3> mean{};    // gyro mean per axis
   std::array<double, 3> stddev{};  // gyro sample standard deviation per axis (n - 1)
   // Sample covariance of the gyro axes (n - 1), for the covariance of the
   // calibrated errors over all plateau samples (the paper's eq. 12,
   // docs/formulas/rate-table.md §4.2).
   std::array<std::array<double, 3>, 3> cov{};
-  std::array<double, 3> ref{};   // true rate (reference or schedule), data unit
+  std::array<double, 3> ref{};  // true rate (reference or schedule), data unit
   bool has_ref = false;
 };
 
 struct PlateauOptions {
-  double margin_s = 10.0;        // dropped at both ends of every plateau
-  double min_plateau_s = 30.0;   // shorter plateaus (after the margins) are dropped
+  double margin_s = 10.0;       // dropped at both ends of every plateau
+  double min_plateau_s = 30.0;  // shorter plateaus (after the margins) are dropped
   // (a) A run of the reference holds every sample whose reference differs
   // from the run's first sample by at most this much on each axis (data
   // unit). Commanded rates are exactly constant; encoder rates need more.
@@ -102,8 +102,7 @@ std::optional<ScheduleProblem> check_schedule(std::span<const ScheduleRow> rows)
 // also a record shorter than one detection window, an empty schedule).
 
 // (a) Plateaus where ref[0..2] (data unit, one per sample) is constant.
-PlateauDetection plateaus_from_reference(const TriadRecord& rec,
-                                         const std::array<std::span<const double>, 3>& ref,
+PlateauDetection plateaus_from_reference(const TriadRecord& rec, const std::array<std::span<const double>, 3>& ref,
                                          const PlateauOptions& opt = {});
 
 // (b) Plateaus from the gyro signal alone; has_ref is false.

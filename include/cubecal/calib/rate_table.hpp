@@ -61,23 +61,23 @@ using Covariance12 = std::array<std::array<double, 12>, 12>;
 
 struct RateTableCalibration {
   std::size_t plateaus = 0;
-  std::size_t dof = 0;                      // plateaus - 4
-  bool noise_from_residuals = true;         // false: R from the within-plateau variances (dof 0)
-  Mat3 noise_cov{};                      // R: covariance of a plateau mean's error, data unit^2
+  std::size_t dof = 0;               // plateaus - 4
+  bool noise_from_residuals = true;  // false: R from the within-plateau variances (dof 0)
+  Mat3 noise_cov{};                  // R: covariance of a plateau mean's error, data unit^2
 
   // Forward model w_g = S w + b_g.
   Mat3 S{};
-  std::array<double, 3> bias{};             // b_g, data unit
+  std::array<double, 3> bias{};  // b_g, data unit
   Mat3 S_sigma{};
   std::array<double, 3> bias_sigma{};
-  Covariance12 forward_cov{};               // of (S, b_g), ordering above
+  Covariance12 forward_cov{};  // of (S, b_g), ordering above
 
   // Inverse (the paper's) form w = A w_g + beta.
   Mat3 A{};
-  std::array<double, 3> beta{};             // data unit
+  std::array<double, 3> beta{};  // data unit
   Mat3 A_sigma{};
   std::array<double, 3> beta_sigma{};
-  Covariance12 inverse_cov{};               // of (A, beta), ordering above
+  Covariance12 inverse_cov{};  // of (A, beta), ordering above
 
   // What datasheets quote, from the forward S:
   // scale-factor error of axis i: S_ii - 1 (x1e6 for ppm, x100 for %);

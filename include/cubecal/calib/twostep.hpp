@@ -20,9 +20,9 @@
 namespace cubecal::mag {
 
 struct TwostepOptions {
-  bool full = false;           // false: bias only (3 parameters); true: b and D (9)
-  double noise = 0.0;          // s, per axis (input units); 0: estimate from the residuals
-  bool mean_correction = true; // mu_k = -3 s^2; false: mu_k = 0 (for noise-free tests)
+  bool full = false;            // false: bias only (3 parameters); true: b and D (9)
+  double noise = 0.0;           // s, per axis (input units); 0: estimate from the residuals
+  bool mean_correction = true;  // mu_k = -3 s^2; false: mu_k = 0 (for noise-free tests)
   // Stop when eta = dx^T F dx < eta_tol (dx the last step, F the Fisher
   // information: the step in units of its own standard error, squared).
   double eta_tol = 1e-12;
@@ -31,9 +31,9 @@ struct TwostepOptions {
 
 struct TwostepResult {
   bool full = false;
-  Vec3 b{};              // TWOSTEP bias b (in the frame corrected by I + D)
-  Mat3 D{};              // symmetric D (zero for bias only)
-  Vec3 centred_b{};      // step-1 estimates
+  Vec3 b{};          // TWOSTEP bias b (in the frame corrected by I + D)
+  Mat3 D{};          // symmetric D (zero for bias only)
+  Vec3 centred_b{};  // step-1 estimates
   Mat3 centred_D{};
   // theta = b (bias only) or [c; E11 E22 E33 E12 E13 E23], c = (I+D) b,
   // E = 2D + D^2 (full).
@@ -51,13 +51,13 @@ struct TwostepResult {
   // 1e-17 for the full model when |H_k| is constant (step 1 degenerate).
   double centred_condition = 0.0;
   bool centred_degenerate = false;
-  double noise = 0.0;          // s used
+  double noise = 0.0;  // s used
   bool noise_estimated = false;
-  double chi2 = 0.0;           // sum (z_k - model_k - mu_k)^2 / sigma_k^2
-  std::size_t dof = 0;         // N - parameters
+  double chi2 = 0.0;              // sum (z_k - model_k - mu_k)^2 / sigma_k^2
+  std::size_t dof = 0;            // N - parameters
   std::optional<double> p_value;  // only when the noise was given
-  std::size_t iterations = 0;  // step-2 iterations
-  double eta = 0.0;            // last eta
+  std::size_t iterations = 0;     // step-2 iterations
+  double eta = 0.0;               // last eta
   bool converged = false;
 };
 
@@ -68,7 +68,6 @@ struct TwostepResult {
 // eta_tol or max_iterations not positive); bad_data (non-finite points);
 // degenerate (all points equal, a singular information matrix, I + E
 // singular or, full, not positive definite).
-TwostepResult twostep(std::span<const Vec3> B, std::span<const double> H_norm,
-                      const TwostepOptions& opt = {});
+TwostepResult twostep(std::span<const Vec3> B, std::span<const double> H_norm, const TwostepOptions& opt = {});
 
 }  // namespace cubecal::mag

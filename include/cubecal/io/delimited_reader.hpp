@@ -12,7 +12,7 @@ namespace cubecal::io {
 enum class Delimiter { comma, tab, semicolon, whitespace };
 
 struct TableOptions {
-  std::size_t skip_rows = 0;   // physical lines dropped before anything else
+  std::size_t skip_rows = 0;  // physical lines dropped before anything else
   // Columns wanted, by header name or 1-based index ("gx", "3"). Empty: all
   // columns except the extra ones. Resolved against the header when there is
   // one (exact name, else index, else name ignoring case); an unknown name
@@ -21,7 +21,7 @@ struct TableOptions {
   // Extra column (e.g. time or temperature) to read besides `columns`; empty
   // for none. Same name/index rules.
   std::vector<std::string> extra_columns;
-  unsigned threads = 0;        // 0: hardware concurrency
+  unsigned threads = 0;  // 0: hardware concurrency
   // An empty field, or NaN spelled out, is a missing sample, read as a quiet
   // NaN (SeriesOptions: GapPolicy::skip); else it is an error at its place.
   bool missing_as_nan = false;
@@ -31,18 +31,18 @@ struct Table {
   std::string file;
   Delimiter delimiter = Delimiter::comma;
   bool has_header = false;
-  std::vector<std::string> header;         // all header names (empty if none)
-  std::size_t total_columns = 0;           // fields per row in the file
-  std::vector<std::string> names;          // names of the selected columns
-  std::vector<std::size_t> indices;        // 0-based indices of selected columns
-  std::vector<std::vector<double>> data;   // data[c][row], selected columns
+  std::vector<std::string> header;        // all header names (empty if none)
+  std::size_t total_columns = 0;          // fields per row in the file
+  std::vector<std::string> names;         // names of the selected columns
+  std::vector<std::size_t> indices;       // 0-based indices of selected columns
+  std::vector<std::vector<double>> data;  // data[c][row], selected columns
   std::vector<std::string> extra_names;
   std::vector<std::size_t> extra_indices;  // 0-based indices of the extra columns
   std::vector<std::vector<double>> extra;  // extra[c][row]
   std::size_t first_data_line = 0;         // 1-based line number of row 0
   TableOptions options;                    // what was asked (for locate())
   std::size_t rows() const noexcept { return data.empty() ? (extra.empty() ? 0 : extra[0].size()) : data[0].size(); }
-  std::size_t bytes = 0;                   // decompressed bytes parsed
+  std::size_t bytes = 0;  // decompressed bytes parsed
   // Read from a binary format (no lines: locate() gives the 1-based row and
   // column; the columns are named col1..colN and chosen by 1-based index).
   bool binary = false;

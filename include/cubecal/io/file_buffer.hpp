@@ -13,7 +13,8 @@ namespace cubecal::io {
 // (before a large file is mapped or a pipe read to its end).
 enum class Content {
   text,    // delimited text
-  series,  // text, or a binary format a record reader recognises by its magic bytes (NumPy .npy, HDF5, ROS 1 bag, PX4 ULog)
+  series,  // text, or a binary format a record reader recognises by its magic bytes (NumPy .npy, HDF5, ROS 1 bag, PX4
+           // ULog)
   raw,     // any bytes (raw binary described by the caller)
 };
 

@@ -15,12 +15,12 @@ namespace cubecal::io {
 struct Ros1Bag;
 
 struct LogTopic {
-  std::string name;               // "/imu/data_raw"
-  std::string type;               // as the log names it: "sensor_msgs/Imu" (ROS 1), "sensor_msgs/msg/Imu" (ROS 2)
-  std::string encoding;           // serialization: "ros1", "cdr", or what the log says
-  std::size_t messages = 0;       // messages read
+  std::string name;                    // "/imu/data_raw"
+  std::string type;                    // as the log names it: "sensor_msgs/Imu" (ROS 1), "sensor_msgs/msg/Imu" (ROS 2)
+  std::string encoding;                // serialization: "ros1", "cdr", or what the log says
+  std::size_t messages = 0;            // messages read
   std::optional<std::size_t> counted;  // what the log's own index or statistics count, when it has them
-  std::string described() const;  // "/imu/data_raw (sensor_msgs/Imu, 13964 messages)"
+  std::string described() const;       // "/imu/data_raw (sensor_msgs/Imu, 13964 messages)"
 };
 
 // Where a message sits, for errors.
@@ -31,22 +31,22 @@ enum class MessagePlace : std::uint8_t {
 };
 
 struct LogMessage {
-  std::uint32_t topic = 0;        // index into MessageLog::topics
-  std::uint32_t part = 0;         // index into MessageLog::parts (a bag directory's files)
+  std::uint32_t topic = 0;  // index into MessageLog::topics
+  std::uint32_t part = 0;   // index into MessageLog::parts (a bag directory's files)
   MessagePlace place = MessagePlace::byte;
   std::uint64_t offset = 0;
-  std::int64_t sec = 0;           // log time: when the log recorded the message
+  std::int64_t sec = 0;  // log time: when the log recorded the message
   std::uint32_t nsec = 0;
-  std::size_t begin = 0;          // the serialized message: MessageLog::payload[begin, begin + size)
+  std::size_t begin = 0;  // the serialized message: MessageLog::payload[begin, begin + size)
   std::size_t size = 0;
 };
 
 struct MessageLog {
-  std::string file;                 // the path given (a file, or a bag directory)
-  std::vector<std::string> parts;   // a directory's files, in the order read; empty for a single file
-  std::vector<LogTopic> topics;     // in the order first declared
-  std::vector<LogMessage> messages; // in the order read
-  std::string payload;              // every message's bytes, concatenated
+  std::string file;                  // the path given (a file, or a bag directory)
+  std::vector<std::string> parts;    // a directory's files, in the order read; empty for a single file
+  std::vector<LogTopic> topics;      // in the order first declared
+  std::vector<LogMessage> messages;  // in the order read
+  std::string payload;               // every message's bytes, concatenated
 
   std::string_view data(const LogMessage& m) const noexcept {
     return std::string_view(payload).substr(m.begin, m.size);

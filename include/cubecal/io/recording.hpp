@@ -29,7 +29,7 @@
 namespace cubecal::io {
 
 // The whole recording as one record (Series::file is `dir`). Errors name
-// the chunk and line (InputError), e.g. "DIR/seg-001/chunk-000002.csv: 
+// the chunk and line (InputError), e.g. "DIR/seg-001/chunk-000002.csv:
 // CRC-32 ... the chunk changed since it was recorded".
 Series read_recording(const std::string& dir, const SeriesOptions& opt);
 

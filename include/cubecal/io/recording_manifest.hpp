@@ -27,13 +27,13 @@ inline constexpr std::string_view kHostMonoColumn = "host_mono_s";
 inline constexpr std::string_view kHostUtcColumn = "host_utc_s";
 
 struct RecordingChunk {
-  std::string file;                  // "chunk-000001.csv", in the segment's directory
-  std::size_t samples = 0;           // data lines (the header line not counted)
-  std::size_t bytes = 0;             // file size, header included
+  std::string file;                    // "chunk-000001.csv", in the segment's directory
+  std::size_t samples = 0;             // data lines (the header line not counted)
+  std::size_t bytes = 0;               // file size, header included
   std::optional<std::uint32_t> crc32;  // zlib crc32 of the whole file; none while open
-  double first_host_utc_s = 0.0;     // host UTC stamp of the first sample (0 when none yet)
+  double first_host_utc_s = 0.0;       // host UTC stamp of the first sample (0 when none yet)
   double last_host_utc_s = 0.0;
-  bool open = false;                 // still being written (counts of its last flush)
+  bool open = false;  // still being written (counts of its last flush)
 };
 
 // Something the recorder noticed in the stream. `sample` counts from the
@@ -52,15 +52,15 @@ struct RecordingEvent {
 enum class SegmentEnd { open, clean, recovered };
 
 struct RecordingSegment {
-  int index = 1;                     // 1-based
-  std::string dir;                   // "seg-001"
-  std::string start_utc;             // ISO 8601 UTC with nanoseconds, "2026-11-27T13:00:00.123456789Z"
-  double start_mono_s = 0.0;         // CLOCK_MONOTONIC at the start
-  std::string end_utc;               // empty while open
+  int index = 1;              // 1-based
+  std::string dir;            // "seg-001"
+  std::string start_utc;      // ISO 8601 UTC with nanoseconds, "2026-11-27T13:00:00.123456789Z"
+  double start_mono_s = 0.0;  // CLOCK_MONOTONIC at the start
+  std::string end_utc;        // empty while open
   SegmentEnd end = SegmentEnd::open;
   std::size_t samples = 0;
-  std::size_t rejects = 0;           // entries of the segment's rejects.csv
-  std::size_t partial_bytes = 0;     // bytes of a partial last line (counted, not kept as a sample)
+  std::size_t rejects = 0;        // entries of the segment's rejects.csv
+  std::size_t partial_bytes = 0;  // bytes of a partial last line (counted, not kept as a sample)
   std::vector<RecordingChunk> chunks;
   std::vector<RecordingEvent> events;
 };
@@ -68,8 +68,8 @@ struct RecordingSegment {
 struct RecordingFraming {
   enum class Kind { text, binary };
   Kind kind = Kind::text;
-  std::string delimiter = ",";       // text: the delimiter of the source's lines ("," "\t" ";" " ")
-  std::string frame;                 // binary: the --frame spec as given
+  std::string delimiter = ",";  // text: the delimiter of the source's lines ("," "\t" ";" " ")
+  std::string frame;            // binary: the --frame spec as given
 };
 
 struct RecordingManifest {
@@ -79,7 +79,7 @@ struct RecordingManifest {
   std::optional<double> rate_hz;
   std::optional<std::string> unit;
   RecordingFraming framing;
-  std::string source;                // "/dev/ttyUSB0 at 115200 baud", "tcp:host:port", "stdin"
+  std::string source;  // "/dev/ttyUSB0 at 115200 baud", "tcp:host:port", "stdin"
   std::vector<RecordingSegment> segments;
 };
 

@@ -22,19 +22,19 @@ bool looks_like_ros_bag(std::string_view head) noexcept;
 struct Ros1Connection {
   std::uint32_t id = 0;
   std::string topic;
-  std::string type;               // "sensor_msgs/Imu"
+  std::string type;  // "sensor_msgs/Imu"
   std::string md5sum;
-  std::size_t messages = 0;       // message records read
-  std::size_t indexed = 0;        // messages the bag's index records count
+  std::size_t messages = 0;  // message records read
+  std::size_t indexed = 0;   // messages the bag's index records count
 };
 
 struct Ros1Message {
-  std::uint32_t connection = 0;   // Ros1Connection::id
-  std::uint32_t sec = 0;          // record time: when the bag recorded it
+  std::uint32_t connection = 0;  // Ros1Connection::id
+  std::uint32_t sec = 0;         // record time: when the bag recorded it
   std::uint32_t nsec = 0;
-  std::size_t offset = 0;         // byte offset of its record in the file, or of its chunk when compressed
-  bool compressed = false;        // read from a compressed chunk (offset is the chunk's)
-  std::size_t begin = 0;          // the serialized message: Ros1Bag::payload[begin, begin + size)
+  std::size_t offset = 0;   // byte offset of its record in the file, or of its chunk when compressed
+  bool compressed = false;  // read from a compressed chunk (offset is the chunk's)
+  std::size_t begin = 0;    // the serialized message: Ros1Bag::payload[begin, begin + size)
   std::size_t size = 0;
 };
 

@@ -33,9 +33,9 @@ inline constexpr double kMaxMagnitude = 1e100;
 inline constexpr double kMinMagnitude = 1e-100;
 
 struct SeriesOptions {
-  TableOptions table;          // columns, skip_rows, threads
-  std::string time_col;        // name or 1-based index; empty: auto-detect by name
-  double rate_hz = 0.0;        // 0: infer from the time column
+  TableOptions table;    // columns, skip_rows, threads
+  std::string time_col;  // name or 1-based index; empty: auto-detect by name
+  double rate_hz = 0.0;  // 0: infer from the time column
   // Counts per unit of the selected columns (value / lsb): one value for
   // every column, or one per column in their order (table.columns, or the
   // default columns); empty is 1. Any other count is a
@@ -44,8 +44,8 @@ struct SeriesOptions {
   // The LSB of channel c (lsb.size() is 0, 1 or the number of channels).
   double lsb_of(std::size_t c) const { return lsb.empty() ? 1.0 : lsb.size() == 1 ? lsb[0] : lsb.at(c); }
   GapPolicy gaps = GapPolicy::error;
-  std::size_t min_samples = 3; // fewer samples (after splitting, the longest segment) is an error
-  double tolerance = 0.01;     // allowed |dt - period| / period
+  std::size_t min_samples = 3;  // fewer samples (after splitting, the longest segment) is an error
+  double tolerance = 0.01;      // allowed |dt - period| / period
   // With no columns named (table.columns empty): leave out, besides the time
   // column and the extra columns, the columns whose header name looks like a
   // temperature (looks_like_temperature_column). False for a file that is
@@ -104,16 +104,16 @@ struct Series {
   // IMU topic was taken.
   std::vector<std::string> topics;
   bool default_topic = false;
-  std::vector<double> time;        // seconds, empty when no time column
+  std::vector<double> time;  // seconds, empty when no time column
   // Auxiliary columns asked for in SeriesOptions::table.extra_columns (e.g. a
   // temperature), as read: not scaled by lsb.
   std::vector<std::string> extra_names;
   std::vector<std::vector<double>> extra;
-  std::vector<Segment> segments;   // contiguous pieces; one when there are no gaps
-  GapPolicy gaps = GapPolicy::error;   // the policy the record was read with
+  std::vector<Segment> segments;        // contiguous pieces; one when there are no gaps
+  GapPolicy gaps = GapPolicy::error;    // the policy the record was read with
   std::size_t irregular_intervals = 0;  // gaps/jitter split on (policy split)
   bool gzip = false;
-  std::size_t bytes = 0;           // bytes parsed (after decompression)
+  std::size_t bytes = 0;  // bytes parsed (after decompression)
   std::size_t samples() const noexcept { return channels.empty() ? 0 : channels[0].size(); }
 };
 

@@ -26,12 +26,12 @@ bool looks_like_ulog(std::string_view head) noexcept;
 // basic type (int8_t ... uint64_t, float, double, bool, char) or the name of
 // another format (a nested type).
 struct ULogField {
-  std::string type;               // without the array suffix: "float"
-  std::string name;               // "gyro_rad"
-  std::size_t count = 1;          // elements (1 for a scalar)
-  bool array = false;             // declared as type[count]
-  std::size_t offset = 0;         // bytes from the start of the message data (after msg_id)
-  std::size_t element_size = 0;   // bytes of one element
+  std::string type;              // without the array suffix: "float"
+  std::string name;              // "gyro_rad"
+  std::size_t count = 1;         // elements (1 for a scalar)
+  bool array = false;            // declared as type[count]
+  std::size_t offset = 0;        // bytes from the start of the message data (after msg_id)
+  std::size_t element_size = 0;  // bytes of one element
 };
 
 struct ULogFormat {
@@ -53,9 +53,9 @@ struct ULogMessage {
 // A logged topic: a format name and an instance (multi_id), with its data
 // messages. A topic removed ('R') and added again keeps one entry.
 struct ULogTopic {
-  std::string name;               // the format name: "sensor_gyro"
-  std::uint8_t multi_id = 0;      // instance
-  std::size_t format = 0;         // index in ULog::formats
+  std::string name;           // the format name: "sensor_gyro"
+  std::uint8_t multi_id = 0;  // instance
+  std::size_t format = 0;     // index in ULog::formats
   std::vector<ULogMessage> messages;
   // "sensor_gyro" for instance 0, "sensor_gyro:1" for instance 1...
   std::string label() const;
@@ -69,7 +69,7 @@ struct ULogDropout {
 struct ULog {
   std::string file;
   int version = 0;
-  std::uint64_t start_us = 0;     // the logger's start time (microseconds)
+  std::uint64_t start_us = 0;  // the logger's start time (microseconds)
   std::vector<ULogFormat> formats;
   std::vector<ULogTopic> topics;  // in the order first added
   std::vector<ULogDropout> dropouts;

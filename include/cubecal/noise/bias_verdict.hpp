@@ -26,11 +26,11 @@ enum class BiasTrust { agree, read_off, fit, neither };
 
 struct BiasVerdict {
   BiasTrust trust = BiasTrust::neither;  // agree: within kBiasDisagreement of each other
-  bool compared = false;        // both valid
-  double ratio = 0.0;           // fit B / read-off B (both valid)
-  bool beyond_sigma = false;    // |difference| > their combined 1-sigma uncertainty
-  double other_terms_share = 0.0;  // share of the fitted variance at tau_min from terms other than B
-  std::string reason;           // one sentence; empty when they agree
+  bool compared = false;                 // both valid
+  double ratio = 0.0;                    // fit B / read-off B (both valid)
+  bool beyond_sigma = false;             // |difference| > their combined 1-sigma uncertainty
+  double other_terms_share = 0.0;        // share of the fitted variance at tau_min from terms other than B
+  std::string reason;                    // one sentence; empty when they agree
 };
 
 BiasVerdict judge_bias_instability(const SlopeReadOffs& read_off, const NoiseFit& fit);

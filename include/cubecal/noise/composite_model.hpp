@@ -95,7 +95,7 @@ GaussMarkovTerm gauss_markov_term(const Process& gm, double dt);
 Process gm_process(double tau_c, double sigma_b, double dt);
 
 struct MovingAverageTerm {
-  double n = 0.0;      // u sqrt(s)
+  double n = 0.0;  // u sqrt(s)
   double theta = 0.0;
 };
 MovingAverageTerm moving_average_term(const Process& ma1, double dt);

@@ -20,7 +20,7 @@ struct DriftSeries {
 // (stride 0: window/10, at least 1), minus the fixed bias: the mean of y, or
 // `fixed_bias` when given (a segment of a longer record uses the record's
 // mean). Empty when the record is shorter than the window.
-DriftSeries bias_drift(std::span<const double> y, double dt, std::size_t window,
-                       std::size_t stride = 0, std::optional<double> fixed_bias = std::nullopt);
+DriftSeries bias_drift(std::span<const double> y, double dt, std::size_t window, std::size_t stride = 0,
+                       std::optional<double> fixed_bias = std::nullopt);
 
 }  // namespace cubecal

@@ -32,10 +32,10 @@
 namespace cubecal {
 
 struct GmwmOptions {
-  std::size_t starts = 32;          // starting points (the first read off the curve, the rest scattered around it)
-  std::size_t max_iterations = 300; // Levenberg-Marquardt steps per start
-  std::size_t reweightings = 6;     // passes of the weights taken from the model
-  std::uint64_t seed = 1;           // of the scattered starts
+  std::size_t starts = 32;           // starting points (the first read off the curve, the rest scattered around it)
+  std::size_t max_iterations = 300;  // Levenberg-Marquardt steps per start
+  std::size_t reweightings = 6;      // passes of the weights taken from the model
+  std::uint64_t seed = 1;            // of the scattered starts
   // A model of the same structure to start from instead (e.g. the fit a
   // parametric bootstrap replicates): the only start tried.
   std::optional<CompositeModel> start;
@@ -49,11 +49,11 @@ struct GmwmOptions {
 };
 
 struct GmwmFit {
-  CompositeModel model;             // the structure asked for, with the fitted parameters
-  std::vector<double> nu2_model;    // the model's wavelet variance at each scale of the input
-  std::vector<double> sd;           // the weights' standard deviations at each scale
-  double objective = 0.0;           // sum ((nu2 - nu2_model) / sd)^2
-  bool converged = false;           // the last Levenberg-Marquardt run met a convergence test
+  CompositeModel model;           // the structure asked for, with the fitted parameters
+  std::vector<double> nu2_model;  // the model's wavelet variance at each scale of the input
+  std::vector<double> sd;         // the weights' standard deviations at each scale
+  double objective = 0.0;         // sum ((nu2 - nu2_model) / sd)^2
+  bool converged = false;         // the last Levenberg-Marquardt run met a convergence test
 };
 
 // Throws UsageError("model") for a model with no process or more parameters

@@ -19,22 +19,22 @@ namespace cubecal {
 inline constexpr double kFlickerFloor = 0.6642824702007757;
 
 struct TermEstimate {
-  bool valid = false;     // false: the curve has no region of this slope
+  bool valid = false;  // false: the curve has no region of this slope
   double value = 0.0;
-  double sigma = 0.0;     // 1-sigma uncertainty from the confidence intervals
-  double tau_lo = 0.0;    // tau range the estimate was read from (s)
+  double sigma = 0.0;   // 1-sigma uncertainty from the confidence intervals
+  double tau_lo = 0.0;  // tau range the estimate was read from (s)
   double tau_hi = 0.0;
 };
 
 // Slope read-offs as IEEE 952 and the paper make them.
 struct SlopeReadOffs {
-  TermEstimate Q;  // -1 slope region, line read at tau = sqrt(3)
-  TermEstimate N;  // -1/2 slope region (line tangent to the white-noise arm), read at tau = 1 s
-  TermEstimate B;  // sigma_min / 0.664
-  TermEstimate K;  // +1/2 slope region, read at tau = 3 s
-  TermEstimate R;  // +1 slope region, read at tau = sqrt(2)
-  double tau_min = 0.0;       // T: tau at the minimum of the curve (s)
-  double tau_min_lo = 0.0;    // taus around the minimum whose intervals reach sigma_min
+  TermEstimate Q;           // -1 slope region, line read at tau = sqrt(3)
+  TermEstimate N;           // -1/2 slope region (line tangent to the white-noise arm), read at tau = 1 s
+  TermEstimate B;           // sigma_min / 0.664
+  TermEstimate K;           // +1/2 slope region, read at tau = 3 s
+  TermEstimate R;           // +1 slope region, read at tau = sqrt(2)
+  double tau_min = 0.0;     // T: tau at the minimum of the curve (s)
+  double tau_min_lo = 0.0;  // taus around the minimum whose intervals reach sigma_min
   double tau_min_hi = 0.0;
   double sigma_min = 0.0;
 };
@@ -45,12 +45,12 @@ SlopeReadOffs read_off_noise_terms(const AllanCurve& curve);
 // (weights edf / (2 sigma^4): the variance of an AVAR estimate), giving the
 // five terms with uncertainties from the covariance of C.
 struct NoiseFit {
-  TermEstimate Q, N, B, K, R;         // value 0 / valid false when C_k is at its bound
-  std::array<double, 5> c{};          // C_-2 .. C_2
+  TermEstimate Q, N, B, K, R;  // value 0 / valid false when C_k is at its bound
+  std::array<double, 5> c{};   // C_-2 .. C_2
   std::array<double, 5> c_sigma{};
-  double chi2 = 0.0;                  // weighted residual sum of squares
-  std::size_t dof = 0;                // points - free coefficients
-  double rms_rel_residual = 0.0;      // RMS of (fit - measured) / measured, in deviation
+  double chi2 = 0.0;              // weighted residual sum of squares
+  std::size_t dof = 0;            // points - free coefficients
+  double rms_rel_residual = 0.0;  // RMS of (fit - measured) / measured, in deviation
 };
 
 NoiseFit fit_noise_terms(const AllanCurve& curve);

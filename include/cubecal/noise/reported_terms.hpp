@@ -38,8 +38,8 @@ bool significant(const TermEstimate& t) noexcept;
 
 struct ReportedTerm {
   TermSource source = TermSource::upper_bound;
-  TermEstimate estimate;     // the estimate (source fit or read_off); for an upper bound, the bound with
-                             // sigma 0 and valid true, tau_lo..tau_hi where the curve sets it
+  TermEstimate estimate;  // the estimate (source fit or read_off); for an upper bound, the bound with
+                          // sigma 0 and valid true, tau_lo..tau_hi where the curve sets it
   double value() const noexcept { return estimate.value; }
   bool bound() const noexcept { return source == TermSource::upper_bound; }
 };
@@ -53,9 +53,9 @@ struct ReportedTerms {
   TermEstimate K_candidate;
   TermSource K_candidate_source = TermSource::fit;
   ReportedTerm B;
-  bool no_minimum = false;   // the curve has no minimum within the record (still falling at its last
-                             // tau, or rising from its first): B is an upper bound
-  bool constant = false;     // every deviation is zero: nothing to report
+  bool no_minimum = false;  // the curve has no minimum within the record (still falling at its last
+                            // tau, or rising from its first): B is an upper bound
+  bool constant = false;    // every deviation is zero: nothing to report
 };
 
 // Empty or all-zero curves give constant = true and every term invalid.

@@ -28,9 +28,9 @@ struct RandomWalkModel {
 };
 
 struct GaussMarkovModel {
-  double sigma_n = 0.0;   // white noise per sample, u
-  double sigma_b = 0.0;   // stationary bias standard deviation, u
-  double tau_c = 0.0;     // correlation time T_c, s
+  double sigma_n = 0.0;  // white noise per sample, u
+  double sigma_b = 0.0;  // stationary bias standard deviation, u
+  double tau_c = 0.0;    // correlation time T_c, s
   double dt = 0.0;
   double lsb = 0.0;
 };

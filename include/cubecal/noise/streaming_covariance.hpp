@@ -30,7 +30,7 @@ class StreamingCovariance {
   std::size_t limit_ = 0;
   std::size_t n_ = 0;
   std::vector<double> mean_;
-  std::vector<double> comoment_;  // k x k, row-major: sum (x_a - mean_a)(x_b - mean_b)
+  std::vector<double> comoment_;                     // k x k, row-major: sum (x_a - mean_a)(x_b - mean_b)
   std::vector<double> piece_mean_, piece_comoment_;  // scratch
 };
 

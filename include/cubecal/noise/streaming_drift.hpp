@@ -33,11 +33,11 @@ class StreamingDrift {
   std::size_t window_ = 0, stride_ = 1;
   std::size_t whole_ = 0, rem_ = 0;  // window = whole_ * stride_ + rem_
   bool have_offset_ = false;
-  double offset_ = 0.0;             // the first sample: keeps the sums at the size of the drift
+  double offset_ = 0.0;  // the first sample: keeps the sums at the size of the drift
   Block current_;
-  std::size_t in_block_ = 0;        // samples in current_
-  std::deque<Block> done_;          // the last whole_ completed blocks
-  std::vector<double> sums_;        // window sums, less window x offset, in order
+  std::size_t in_block_ = 0;  // samples in current_
+  std::deque<Block> done_;    // the last whole_ completed blocks
+  std::vector<double> sums_;  // window sums, less window x offset, in order
 };
 
 }  // namespace cubecal

@@ -33,9 +33,9 @@ class StreamingTemperatureFit {
  private:
   struct Sums {
     std::size_t n = 0;
-    double m[11] = {};   // sum (T - t0)^j, j = 0 .. 2 order
-    double yv[6] = {};   // sum (T - t0)^k (y - y0), k = 0 .. order
-    double yy = 0.0;     // sum (y - y0)^2
+    double m[11] = {};  // sum (T - t0)^j, j = 0 .. 2 order
+    double yv[6] = {};  // sum (T - t0)^k (y - y0), k = 0 .. order
+    double yy = 0.0;    // sum (y - y0)^2
     void merge(const Sums& o) noexcept;
   };
   void close_block();

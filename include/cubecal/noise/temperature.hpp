@@ -9,15 +9,15 @@
 namespace cubecal {
 
 struct TemperatureFit {
-  double t_ref = 0.0;                    // reference temperature (mean of T)
-  std::vector<double> coeff;             // c0, c1, ... : y = sum c_p (T - t_ref)^p
-  std::vector<double> coeff_sigma;       // 1-sigma, from the covariance below
+  double t_ref = 0.0;               // reference temperature (mean of T)
+  std::vector<double> coeff;        // c0, c1, ... : y = sum c_p (T - t_ref)^p
+  std::vector<double> coeff_sigma;  // 1-sigma, from the covariance below
   // Coefficient covariance: sandwich estimate with batch means of the scores
   // (20 contiguous batches), robust to the correlated residuals a drifting
   // bias leaves; never below the white-residual sigma^2 (V^T V)^-1.
   std::vector<std::vector<double>> cov;
-  double residual_rms = 0.0;             // data unit
-  double r2 = 0.0;                       // coefficient of determination
+  double residual_rms = 0.0;  // data unit
+  double r2 = 0.0;            // coefficient of determination
   std::size_t order = 1;
 };
 
@@ -25,8 +25,7 @@ struct TemperatureFit {
 // bad_data (y and temp of different lengths); too_few_points (no more
 // samples than order + 1); degenerate (the temperature is constant, or takes
 // too few distinct values for the order).
-TemperatureFit fit_temperature(std::span<const double> y, std::span<const double> temp,
-                               std::size_t order = 1);
+TemperatureFit fit_temperature(std::span<const double> y, std::span<const double> temp, std::size_t order = 1);
 
 // y minus the temperature-dependent part (orders >= 1): the bias at t_ref stays.
 std::vector<double> compensate_temperature(std::span<const double> y, std::span<const double> temp,

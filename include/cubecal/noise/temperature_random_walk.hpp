@@ -43,9 +43,9 @@ TemperatureFit fit_temperature_gls(std::span<const double> y, std::span<const do
 using CompensatedNoiseModel = std::function<RandomWalkModel(std::span<const double> compensated)>;
 
 struct TemperatureRandomWalkFit {
-  TemperatureFit fit;     // the joint (GLS) estimate
-  TemperatureFit ols;     // the ordinary least-squares start (batch-means sandwich covariance)
-  RandomWalkModel noise;  // the noise model fit was weighted with
+  TemperatureFit fit;          // the joint (GLS) estimate
+  TemperatureFit ols;          // the ordinary least-squares start (batch-means sandwich covariance)
+  RandomWalkModel noise;       // the noise model fit was weighted with
   std::size_t iterations = 0;  // noise-model fits (one per GLS)
   bool converged = false;      // the last GLS moved no coefficient by more than 0.05 sigma
 };

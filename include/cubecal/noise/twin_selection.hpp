@@ -27,26 +27,26 @@
 namespace cubecal {
 
 struct TwinOptions {
-  std::size_t max_gm = 4;        // Gauss-Markov terms
-  std::size_t max_lines = 4;     // SIN terms, from the strongest line down
-  std::size_t starts = 2;        // per candidate fit: the warm start from the model it grows, and scattered ones
+  std::size_t max_gm = 4;            // Gauss-Markov terms
+  std::size_t max_lines = 4;         // SIN terms, from the strongest line down
+  std::size_t starts = 2;            // per candidate fit: the warm start from the model it grows, and scattered ones
   std::size_t max_iterations = 100;  // Levenberg-Marquardt steps per start of the search's fits
-  double band = 2.0;             // a step must lower the WIC by more than this
+  double band = 2.0;                 // a step must lower the WIC by more than this
   // The ranking picks the fewest parameters among the models within this
   // of the lowest WIC (rank_by_wic's 2, widened: the search passes many
   // near-equivalent shapes, a Gauss-Markov term beyond the record and a
   // drift among them, and the fidelity rule guards against too few).
   double rank_band = 6.0;
-  std::uint64_t seed = 1;        // of the scattered starts
+  std::uint64_t seed = 1;  // of the scattered starts
 };
 
 // How close a model's curve is to the measured one.
 struct TwinFidelity {
-  std::size_t scales = 0;        // compared
-  std::size_t inside = 0;        // whose model value lies in the 95 % chi-square interval of the scale
-  double share_inside = 0.0;     // inside / scales
-  double max_error = 0.0;        // largest |sqrt(nu2_model / nu2) - 1|: the deviation's relative error
-  double max_error_tau = 0.0;    // the scale (samples) where it is largest
+  std::size_t scales = 0;      // compared
+  std::size_t inside = 0;      // whose model value lies in the 95 % chi-square interval of the scale
+  double share_inside = 0.0;   // inside / scales
+  double max_error = 0.0;      // largest |sqrt(nu2_model / nu2) - 1|: the deviation's relative error
+  double max_error_tau = 0.0;  // the scale (samples) where it is largest
 };
 TwinFidelity twin_fidelity(const WaveletVariance& wv, const std::vector<double>& nu2_model);
 // Inside at nearly every scale: at most as many outside as the true model
@@ -54,11 +54,11 @@ TwinFidelity twin_fidelity(const WaveletVariance& wv, const std::vector<double>&
 bool twin_faithful(const TwinFidelity& fidelity);
 
 struct TwinCandidate {
-  CompositeModel structure;      // with the SIN terms' starting frequencies and amplitudes
-  GmwmFit fit;                   // with the common weights
+  CompositeModel structure;  // with the SIN terms' starting frequencies and amplitudes
+  GmwmFit fit;               // with the common weights
   WicScore score;
   TwinFidelity fidelity;
-  std::size_t step = 0;          // of the search that reached it (0: the start)
+  std::size_t step = 0;  // of the search that reached it (0: the start)
 };
 
 struct TwinSelection {

@@ -22,8 +22,8 @@ namespace cubecal {
 std::optional<Unit> unit_from_column_name(std::string_view name);
 
 struct InferredUnits {
-  std::vector<Unit> units;            // one per name when `missing` is empty
-  std::vector<std::string> missing;   // names that announce no unit
+  std::vector<Unit> units;           // one per name when `missing` is empty
+  std::vector<std::string> missing;  // names that announce no unit
 };
 
 // unit_from_column_name() over every name.

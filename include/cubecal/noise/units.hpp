@@ -13,10 +13,10 @@ namespace cubecal {
 enum class SensorKind { rate, field, acceleration, generic };
 
 struct Unit {
-  std::string name;          // as given: "deg/s", "mGauss", ...
+  std::string name;  // as given: "deg/s", "mGauss", ...
   SensorKind kind = SensorKind::generic;
-  double to_si = 1.0;        // multiply a value in this unit to get SI (rad/s, T, m/s^2)
-  std::string si_name;       // "rad/s", "T", "m/s^2", or the unit itself
+  double to_si = 1.0;   // multiply a value in this unit to get SI (rad/s, T, m/s^2)
+  std::string si_name;  // "rad/s", "T", "m/s^2", or the unit itself
 };
 
 // deg/s (also dps), rad/s, deg/h (also dph), mGauss (also mG), uT, nT, g,

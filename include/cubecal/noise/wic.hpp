@@ -29,14 +29,14 @@
 namespace cubecal {
 
 struct WicScore {
-  double loss = 0.0;            // L with the common Omega
-  double optimism = 0.0;        // 2 tr(Omega cov(nu2_hat, nu2(theta_hat)))
-  double wic = 0.0;             // loss + optimism
-  std::size_t replicates = 0;   // bootstrap replicates that gave a fit
+  double loss = 0.0;           // L with the common Omega
+  double optimism = 0.0;       // 2 tr(Omega cov(nu2_hat, nu2(theta_hat)))
+  double wic = 0.0;            // loss + optimism
+  std::size_t replicates = 0;  // bootstrap replicates that gave a fit
 };
 
 struct CandidateFit {
-  CompositeModel structure;     // as asked (parameters zero)
+  CompositeModel structure;  // as asked (parameters zero)
   GmwmFit fit;
   WicScore score;
 };
@@ -56,14 +56,13 @@ std::vector<CompositeModel> parse_candidate_models(const std::string& text);
 // `scales`, refitted from the fit. Empty vectors when the replicate gives no
 // fit (it is left out and counted).
 struct WicReplicate {
-  std::vector<double> nu2;      // the replicate's empirical wavelet variance
-  std::vector<double> model;    // the model's, refitted to it
+  std::vector<double> nu2;    // the replicate's empirical wavelet variance
+  std::vector<double> model;  // the model's, refitted to it
 };
 // robust_efficiency > 0: the replicate's wavelet variance is the robust one
 // at that efficiency (stats/robust_wavelet_variance.hpp), as the record's.
-WicReplicate wic_replicate(const CompositeModel& structure, const GmwmFit& fit, std::size_t samples,
-                           std::size_t scales, std::uint64_t seed, const GmwmOptions& options = {},
-                           double robust_efficiency = 0.0);
+WicReplicate wic_replicate(const CompositeModel& structure, const GmwmFit& fit, std::size_t samples, std::size_t scales,
+                           std::uint64_t seed, const GmwmOptions& options = {}, double robust_efficiency = 0.0);
 
 // The common weights: the chi-square standard deviation of each scale at a
 // reference curve (the fit of the largest candidate), s_j = ref_j

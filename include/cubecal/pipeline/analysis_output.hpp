@@ -13,10 +13,10 @@
 namespace cubecal::pipeline {
 
 struct OutputContext {
-  std::string command;   // the command line that reproduces the result
+  std::string command;  // the command line that reproduces the result
   std::string rostopic = "/imu0";
   std::vector<Estimator> estimators{};  // estimator files asked for (analyze --for)
-  double inflate = 1.0;               // factor on their noise terms (analyze --inflate)
+  double inflate = 1.0;                 // factor on their noise terms (analyze --inflate)
 };
 
 // analysis.json: to_json(AnalysisResult) of analysis_json.hpp, the command

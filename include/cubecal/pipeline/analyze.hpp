@@ -31,16 +31,16 @@
 namespace cubecal::pipeline {
 
 struct AnalyzeRequest {
-  std::vector<Unit> units;          // one per channel, or one for all
-  TauGrid grid;                     // default log:10 (set by the CLI)
+  std::vector<Unit> units;  // one per channel, or one for all
+  TauGrid grid;             // default log:10 (set by the CLI)
   double ci = 0.683;
   std::optional<std::size_t> temp_index;  // index into Series::extra of the temperature
   std::size_t temp_order = 1;
-  double drift_window_s = 0.0;      // 0: 300 s for rate sensors, 1000 s otherwise (the paper)
-  std::size_t cov_samples = 0;      // 0: whole record
-  std::size_t max_samples = 0;      // samples used for the model fit (0: all; paper: 42000)
-  std::vector<double> lsb;          // quantizer of the model, counts per unit: one for all or
-                                    // one per channel (empty or 0: no quantization)
+  double drift_window_s = 0.0;  // 0: 300 s for rate sensors, 1000 s otherwise (the paper)
+  std::size_t cov_samples = 0;  // 0: whole record
+  std::size_t max_samples = 0;  // samples used for the model fit (0: all; paper: 42000)
+  std::vector<double> lsb;      // quantizer of the model, counts per unit: one for all or
+                                // one per channel (empty or 0: no quantization)
   unsigned threads = 0;
   // The spectral view (`analyze --psd`): run_psd of every channel with the
   // defaults of `cubecal psd` (Welch, the power-law fit and its IEEE 952
@@ -87,13 +87,13 @@ struct NoiseAnalysis {
 
 struct ModelAnalysis {
   bool ok = false;
-  std::string error;                // why the random-walk model could not be fitted
-  std::size_t samples = 0;          // samples the model was fitted on
-  std::vector<StabilityPoint> adev; // the curve it was fitted to
+  std::string error;                 // why the random-walk model could not be fitted
+  std::size_t samples = 0;           // samples the model was fitted on
+  std::vector<StabilityPoint> adev;  // the curve it was fitted to
   RandomWalkModel random_walk;
   ModelResidual random_walk_residual;
   bool gm_ok = false;
-  std::string gm_error;             // why no Gauss-Markov model is reported
+  std::string gm_error;  // why no Gauss-Markov model is reported
   GaussMarkovModel gauss_markov;
   ModelResidual gauss_markov_residual;
   // AnalyzeRequest::composite: the composite model fitted to the same
@@ -101,8 +101,8 @@ struct ModelAnalysis {
   // bootstrap, their uncertainties); none without (and for the compensated
   // series).
   std::optional<ModelChannel> composite;
-  ModelResidual composite_residual;   // its Allan variance on adev, as the two models'
-  TwinError twin_error;               // of the composite model on adev (noise/twin_error.hpp)
+  ModelResidual composite_residual;  // its Allan variance on adev, as the two models'
+  TwinError twin_error;              // of the composite model on adev (noise/twin_error.hpp)
 };
 
 // How the composite models were fitted (AnalyzeRequest::composite), as
@@ -112,7 +112,7 @@ struct CompositeSettings {
   std::size_t selection_replicates = 0;  // of each candidate's WIC (0: one model)
   std::size_t bootstrap = 0;             // replicates of the terms' uncertainties (0: none)
   std::uint64_t seed = 1;
-  bool robust = false;                   // the robust wavelet variance, at robust_efficiency
+  bool robust = false;  // the robust wavelet variance, at robust_efficiency
   double robust_efficiency = 0.6;
 };
 
@@ -123,13 +123,13 @@ struct TemperatureAnalysis {
   // the OLS fit below.
   TemperatureFit fit;
   bool joint = false;
-  std::string joint_error;          // why the OLS fit is reported (no random-walk model fits)
-  TemperatureFit ols;               // ordinary least squares, batch-means sandwich covariance
-  RandomWalkModel noise;            // joint: the noise model the coefficients are weighted with
-                                    // (fitted on the whole compensated record)
-  std::size_t iterations = 0;       // joint: noise-model fits
+  std::string joint_error;     // why the OLS fit is reported (no random-walk model fits)
+  TemperatureFit ols;          // ordinary least squares, batch-means sandwich covariance
+  RandomWalkModel noise;       // joint: the noise model the coefficients are weighted with
+                               // (fitted on the whole compensated record)
+  std::size_t iterations = 0;  // joint: noise-model fits
   bool converged = false;
-  NoiseAnalysis compensated;        // noise terms of the compensated series
+  NoiseAnalysis compensated;  // noise terms of the compensated series
   // The sensor models fitted to the compensated series, as `model` is to the
   // record (on its first max_samples samples when asked). From an
   // analysis.json written before it was reported: not ok, with that said in
@@ -144,7 +144,7 @@ struct ChannelAnalysis {
   double stddev = 0.0;
   NoiseAnalysis noise;
   ModelAnalysis model;
-  DriftSeries drift;                // concatenated over segments; t from the record start
+  DriftSeries drift;  // concatenated over segments; t from the record start
   std::optional<TemperatureAnalysis> temperature;
   // AnalyzeRequest::psd: the spectral view of the record (spectral_analysis.hpp);
   // none without it.
@@ -161,7 +161,7 @@ struct AnalysisResult {
   double duration_s = 0.0;
   std::size_t segments = 1;
   io::GapPolicy gaps = io::GapPolicy::error;  // how the record was read: split at gaps, or refused with one
-  double ci = 0.683;                // confidence of every interval (AnalyzeRequest::ci)
+  double ci = 0.683;                          // confidence of every interval (AnalyzeRequest::ci)
   std::string temp_name;
   std::vector<ChannelAnalysis> channels;
   std::vector<std::string> cov_names;

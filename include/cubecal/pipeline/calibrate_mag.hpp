@@ -33,12 +33,12 @@ struct MagRequest {
 
 struct MagResult {
   std::string file;
-  std::string unit = "input units";      // the request's, or "input units"
+  std::string unit = "input units";  // the request's, or "input units"
   FieldNormSource field_source = FieldNormSource::mean_raw_norm;
-  std::size_t first_data_line = 0;       // line of the first point in the file
-  std::vector<Vec3> points;              // every input point, divided by counts_per_unit (not in the JSON)
-  std::vector<double> field_norms;       // F of each point (field column); empty otherwise
-  mag::Result calibration;               // rejected: indices into `points`
+  std::size_t first_data_line = 0;  // line of the first point in the file
+  std::vector<Vec3> points;         // every input point, divided by counts_per_unit (not in the JSON)
+  std::vector<double> field_norms;  // F of each point (field column); empty otherwise
+  mag::Result calibration;          // rejected: indices into `points`
 };
 
 // `table`: the 3 magnetometer columns as data, and with request.field_column

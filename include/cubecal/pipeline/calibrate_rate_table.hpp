@@ -27,16 +27,16 @@ std::string_view describe(PlateauSource s) noexcept;
 
 struct RateTableRequest {
   PlateauSource source = PlateauSource::reference;
-  std::vector<ScheduleRow> schedule;   // schedule and signal_schedule: checked rows (check_schedule)
-  PlateauOptions plateaus;             // margins, shortest plateau, tolerances, window
-  std::string unit = "deg/s";          // of the gyro and the reference rates: "deg/s" or "rad/s"
+  std::vector<ScheduleRow> schedule;  // schedule and signal_schedule: checked rows (check_schedule)
+  PlateauOptions plateaus;            // margins, shortest plateau, tolerances, window
+  std::string unit = "deg/s";         // of the gyro and the reference rates: "deg/s" or "rad/s"
   // The Earth's axis in the sensor frame: the Earth rate along it is added to
   // every reference rate. Unset: ignored (a table that compensates it).
   std::optional<std::array<double, 3>> earth_axis;
 };
 
 struct RateTableResult {
-  std::string file;                    // the record's file (Series::file)
+  std::string file;  // the record's file (Series::file)
   std::string unit = "deg/s";
   PlateauSource source = PlateauSource::reference;
   std::array<double, 3> earth_rate{};  // added to every reference rate, in `unit`

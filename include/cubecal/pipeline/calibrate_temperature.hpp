@@ -14,9 +14,9 @@
 namespace cubecal::pipeline {
 
 struct TemperatureRequest {
-  std::size_t order = 1;         // of the polynomial, 1 to 5
-  std::string unit = "counts";   // of the channels, for the coefficient units
-  std::size_t temp_index = 0;    // index into Series::extra of the temperature (degC)
+  std::size_t order = 1;        // of the polynomial, 1 to 5
+  std::string unit = "counts";  // of the channels, for the coefficient units
+  std::size_t temp_index = 0;   // index into Series::extra of the temperature (degC)
 };
 
 struct TemperatureChannel {

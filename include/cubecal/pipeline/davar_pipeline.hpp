@@ -43,7 +43,7 @@ struct DavarRequest {
   }();
   DavarIntervals intervals;
   DavarMethod method = DavarMethod::fast;
-  unsigned threads = 0;             // channels at once; 0: all cores
+  unsigned threads = 0;  // channels at once; 0: all cores
 };
 
 struct DavarChannel {
@@ -52,12 +52,12 @@ struct DavarChannel {
 };
 
 struct DavarResult {
-  std::string file;                 // the record's file (empty for arrays)
+  std::string file;  // the record's file (empty for arrays)
   double rate_hz = 0.0;
   std::size_t samples = 0;
   DataType type = DataType::freq;
-  std::size_t window = 0;           // samples
-  std::size_t step = 0;             // samples
+  std::size_t window = 0;              // samples
+  std::size_t step = 0;                // samples
   std::string window_text, step_text;  // as asked ("1h"), or how the default was chosen
   TauGrid grid;
   // Listed taus a window cannot evaluate, and listed taus merged on one

@@ -19,9 +19,9 @@ namespace cubecal::pipeline {
 struct DevRequest {
   Stat stat = Stat::oadev;
   DataType type = DataType::freq;
-  TauGrid grid;                  // default octave
-  StabilityOptions options;      // ci, edf method, fixed alpha, intervals on/off
-  unsigned threads = 0;          // 0: all cores
+  TauGrid grid;              // default octave
+  StabilityOptions options;  // ci, edf method, fixed alpha, intervals on/off
+  unsigned threads = 0;      // 0: all cores
   // Called now and then with the fraction of the work done (0..1), always
   // from the calling thread (optional; must not throw).
   std::function<void(double)> progress;
@@ -34,11 +34,11 @@ struct DevRequest {
 // identification and intervals included), and the seconds that takes at the
 // rate measured on this machine by a short trial on the record itself.
 struct DevWorkEstimate {
-  std::size_t taus = 0;          // averaging factors of the grid that fit
-  double terms = 0.0;            // over every channel and segment
-  double terms_per_second = 0.0; // measured, one thread
-  unsigned threads = 1;          // the run's threads
-  double seconds = 0.0;          // terms / (terms_per_second * threads)
+  std::size_t taus = 0;           // averaging factors of the grid that fit
+  double terms = 0.0;             // over every channel and segment
+  double terms_per_second = 0.0;  // measured, one thread
+  unsigned threads = 1;           // the run's threads
+  double seconds = 0.0;           // terms / (terms_per_second * threads)
 };
 DevWorkEstimate estimate_dev(const io::Series& series, const DevRequest& request);
 
@@ -56,10 +56,10 @@ struct DevResult {
   double rate_hz = 0.0;
   double tau0 = 0.0;
   std::size_t samples = 0;
-  std::size_t segments = 1;      // > 1 when the record was split at gaps
-  std::size_t segments_used = 1; // segments long enough for at least m = 1
-  std::string file;              // the record's file (empty for in-memory arrays)
-  StabilityOptions options;      // ci, EDF method and intervals of the points
+  std::size_t segments = 1;       // > 1 when the record was split at gaps
+  std::size_t segments_used = 1;  // segments long enough for at least m = 1
+  std::string file;               // the record's file (empty for in-memory arrays)
+  StabilityOptions options;       // ci, EDF method and intervals of the points
   // Taus of an explicit list that the statistic cannot evaluate on the
   // longest segment (with the reason), and listed taus merged with an
   // earlier one on the same averaging factor. Empty for generated grids.
@@ -77,9 +77,8 @@ DevResult run_dev(const io::Series& series, const DevRequest& request);
 
 // The same on raw arrays (one contiguous segment each), for callers that
 // have their data in memory already.
-DevResult run_dev(const std::vector<std::string>& names,
-                  const std::vector<std::vector<double>>& channels, double rate_hz,
-                  const DevRequest& request);
+DevResult run_dev(const std::vector<std::string>& names, const std::vector<std::vector<double>>& channels,
+                  double rate_hz, const DevRequest& request);
 
 // The same on views of the caller's arrays (all of one length), cut into
 // `segments` as a Series is (empty: one contiguous segment); nothing is

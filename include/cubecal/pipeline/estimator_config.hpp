@@ -23,8 +23,8 @@ enum class Estimator { kalibr, openvins, vins, kf_gins, gazebo, rotors, navego, 
 // "kalibr", "openvins", "vins", "kf-gins", "gazebo", "rotors", "navego",
 // "matlab", "basilisk"; nullopt for anything else.
 std::optional<Estimator> parse_estimator(std::string_view name);
-std::string_view estimator_name(Estimator e);   // as parse_estimator takes it
-std::string estimator_names();                  // "kalibr|openvins|vins|kf-gins|gazebo|..."
+std::string_view estimator_name(Estimator e);  // as parse_estimator takes it
+std::string estimator_names();                 // "kalibr|openvins|vins|kf-gins|gazebo|..."
 // The file written for each: imu.yaml, kalibr_imu_chain.yaml, vins_imu.yaml,
 // kf-gins_imunoise.yaml, gazebo_imu_noise.sdf, rotors_imu_plugin.sdf,
 // navego_imu.m, matlab_imu.m, basilisk_imu.py.
@@ -36,19 +36,19 @@ using TermSource = cubecal::TermSource;
 // One channel's terms in SI units (rad/s or m/s^2 based), not inflated.
 struct AxisNoise {
   std::string channel;
-  double white = 0.0;         // noise density sigma_w = N, u/sqrt(Hz)
+  double white = 0.0;  // noise density sigma_w = N, u/sqrt(Hz)
   TermSource white_source = TermSource::read_off;
   double white_tau_lo = 0.0;  // the tau range N was read over (read-off), s
   double white_tau_hi = 0.0;
-  double walk = 0.0;          // bias random walk sigma_bw = K, u/s/sqrt(Hz)
+  double walk = 0.0;  // bias random walk sigma_bw = K, u/s/sqrt(Hz)
   TermSource walk_source = TermSource::fit;
-  double walk_estimate = 0.0;       // walk an upper bound because K was not significant: the estimate
-  double walk_estimate_sigma = 0.0; // and its 1-sigma uncertainty (0 when K was not estimated at all)
+  double walk_estimate = 0.0;        // walk an upper bound because K was not significant: the estimate
+  double walk_estimate_sigma = 0.0;  // and its 1-sigma uncertainty (0 when K was not estimated at all)
   TermSource walk_estimate_source = TermSource::fit;
-  double bias_std = 0.0;      // bias as a first-order Gauss-Markov process: std (bias instability B), u
-  double bias_tc = 0.0;       // and correlation time (T, the tau of the curve's minimum), s
+  double bias_std = 0.0;  // bias as a first-order Gauss-Markov process: std (bias instability B), u
+  double bias_tc = 0.0;   // and correlation time (T, the tau of the curve's minimum), s
   TermSource bias_source = TermSource::read_off;
-  double mean = 0.0;          // mean of the record, u
+  double mean = 0.0;  // mean of the record, u
 };
 
 // Channels with a rate unit (gyroscope) and an acceleration unit
@@ -77,9 +77,9 @@ ImuNoise imu_noise(const AnalysisResult& r);
 void require_imu_units(const std::vector<Unit>& units);
 
 struct EstimatorContext {
-  std::string command;          // the command line, written in the header
+  std::string command;  // the command line, written in the header
   std::string rostopic = "/imu0";
-  double inflate = 1.0;         // >= 1: multiplies every density, random walk and bias std
+  double inflate = 1.0;  // >= 1: multiplies every density, random walk and bias std
 };
 
 // One estimator file. `missing` names the sensor whose terms the file lacks

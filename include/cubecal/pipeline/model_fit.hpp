@@ -30,30 +30,31 @@ struct ModelRequest {
   // the forward search of noise/twin_selection.hpp among WN/MA1, QN, RW, DR,
   // Gauss-Markov terms and the lines of its Welch spectrum.
   std::string model;
-  TwinOptions twin;              // of the "twin" search
-  std::size_t selection_replicates = 50;  // bootstrap replicates of each candidate's WIC optimism (0: its asymptotic form)
-  std::vector<Unit> units;       // one per channel, one for all, or none
-  double ci = 0.95;              // of the wavelet variance's intervals and the bootstrap's
-  std::size_t bootstrap = 0;     // replicates (0: none)
-  std::uint64_t seed = 1;        // of the bootstrap
+  TwinOptions twin;  // of the "twin" search
+  std::size_t selection_replicates =
+      50;                     // bootstrap replicates of each candidate's WIC optimism (0: its asymptotic form)
+  std::vector<Unit> units;    // one per channel, one for all, or none
+  double ci = 0.95;           // of the wavelet variance's intervals and the bootstrap's
+  std::size_t bootstrap = 0;  // replicates (0: none)
+  std::uint64_t seed = 1;     // of the bootstrap
   // The robust wavelet variance (stats/robust_wavelet_variance.hpp) for the
   // channel's and every bootstrap replicate's, at this Gaussian efficiency.
   bool robust = false;
   double robust_efficiency = 0.6;
   GmwmOptions gmwm;
-  unsigned threads = 0;          // 0: all cores
+  unsigned threads = 0;  // 0: all cores
 };
 
 // One quantity of a fitted term: in the data unit and seconds (value) and
 // as people quote it (display: noise/units.hpp); with a bootstrap, its
 // standard deviation and percentile interval over the replicates.
 struct ModelQuantity {
-  std::string name;              // "N", "Q", "K", "R", "sigma_b", "T_c", "theta"
+  std::string name;  // "N", "Q", "K", "R", "sigma_b", "T_c", "theta"
   double value = 0.0;
-  std::string unit;              // of value: u*sqrt(s), u*s, u/sqrt(s), u/s, u, s, Hz; "" for theta
-  Quantity display;              // display.sigma: the bootstrap's standard deviation (0 without)
-  double sd = 0.0;               // bootstrap standard deviation of value (0 without)
-  double lo = 0.0, hi = 0.0;     // bootstrap percentile interval of value at ci (0 without)
+  std::string unit;                           // of value: u*sqrt(s), u*s, u/sqrt(s), u/s, u, s, Hz; "" for theta
+  Quantity display;                           // display.sigma: the bootstrap's standard deviation (0 without)
+  double sd = 0.0;                            // bootstrap standard deviation of value (0 without)
+  double lo = 0.0, hi = 0.0;                  // bootstrap percentile interval of value at ci (0 without)
   double display_lo = 0.0, display_hi = 0.0;  // the interval in display.unit
   // The GMWM's asymptotic (sandwich) standard deviation of value by the
   // delta method (noise/gmwm_asymptotics.hpp; docs/formulas/noise-terms.md
@@ -65,28 +66,28 @@ struct ModelQuantity {
 
 struct ModelTerm {
   ProcessKind kind = ProcessKind::wn;
-  Process process;               // per-sample parameters as fitted
+  Process process;                        // per-sample parameters as fitted
   std::vector<ModelQuantity> quantities;  // WN: N; QN: Q; RW: K; DR: R; GM: sigma_b, T_c; MA1: N, theta; SIN: A, f
 };
 
 // One row of a channel's model selection: a candidate and its WIC.
 struct ModelCandidate {
-  std::string model;             // "WN+RW"
+  std::string model;  // "WN+RW"
   std::size_t parameters = 0;
   WicScore score;
-  double objective = 0.0;        // of its fit with the common weights (GmwmFit::objective)
+  double objective = 0.0;  // of its fit with the common weights (GmwmFit::objective)
 };
 
 struct ModelChannel {
   std::string name;
   Unit unit;
-  std::string model;             // the fitted model's name (the selected one with several candidates)
-  WaveletVariance wv;            // tau in samples; tau_s = tau / rate
+  std::string model;   // the fitted model's name (the selected one with several candidates)
+  WaveletVariance wv;  // tau in samples; tau_s = tau / rate
   GmwmFit fit;
   std::vector<ModelCandidate> candidates;  // with several candidates: ranked by WIC, the selected first
   std::vector<std::string> failed;         // candidates with no fit or no score, and why
   std::vector<ModelTerm> terms;
-  std::size_t replicates = 0;    // bootstrap replicates that gave a fit
+  std::size_t replicates = 0;  // bootstrap replicates that gave a fit
   // "twin": the lines of the channel's Welch spectrum (the SIN terms'
   // starts), why none could be looked for (a record too short for a
   // spectrum), and how close the fitted model's curve lies to the measured
@@ -102,12 +103,12 @@ struct ModelResult {
   std::string file;
   double rate_hz = 0.0;
   std::size_t samples = 0;
-  std::string model;             // as asked, canonical: "WN+RW+2*GM", or the candidates "WN+RW,WN+GM"
+  std::string model;                     // as asked, canonical: "WN+RW+2*GM", or the candidates "WN+RW,WN+GM"
   std::size_t selection_replicates = 0;  // of each candidate's WIC (0: one model, or the asymptotic optimism)
   double ci = 0.95;
   std::size_t bootstrap = 0;
   std::uint64_t seed = 1;
-  bool robust = false;           // the robust wavelet variance, at robust_efficiency
+  bool robust = false;  // the robust wavelet variance, at robust_efficiency
   double robust_efficiency = 0.6;
   std::vector<ModelChannel> channels;
 };

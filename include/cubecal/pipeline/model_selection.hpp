@@ -28,8 +28,8 @@ struct WicOptions {
 };
 
 struct ModelSelection {
-  std::vector<CandidateFit> ranked;   // by WIC, the selected model first
-  std::vector<std::string> failed;    // candidates with no fit or no score, "WN+3*GM: why"
+  std::vector<CandidateFit> ranked;  // by WIC, the selected model first
+  std::vector<std::string> failed;   // candidates with no fit or no score, "WN+3*GM: why"
 };
 
 // `samples` is the record's length (the bootstrap's). Candidates with more

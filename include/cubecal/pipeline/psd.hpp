@@ -23,10 +23,10 @@ struct PsdRequest {
   // 0: every bin of the transform in the result; K > 0: averaged over K
   // logarithmic bands per decade (the fit always uses the raw bins).
   std::size_t bins_per_decade = 0;
-  bool fit = true;                   // the power-law fit and its IEEE 952 terms
+  bool fit = true;  // the power-law fit and its IEEE 952 terms
   PowerLawFitOptions fit_options;
-  std::vector<Unit> units;           // one per channel, one for all, or none (an unnamed unit)
-  unsigned threads = 0;              // 0: all cores
+  std::vector<Unit> units;  // one per channel, one for all, or none (an unnamed unit)
+  unsigned threads = 0;     // 0: all cores
 };
 
 // An IEEE 952 term from a fitted coefficient (Q from h_2 with f_h = rate/2,
@@ -41,9 +41,9 @@ struct PsdAllanTerm {
 
 struct PsdChannel {
   std::string name;
-  Unit unit;                  // name empty: none given
-  Psd spectrum;               // raw, or averaged over log bands (bins_per_decade > 0)
-  PowerLawFit fit;            // terms empty when not asked for or not made
+  Unit unit;        // name empty: none given
+  Psd spectrum;     // raw, or averaged over log bands (bins_per_decade > 0)
+  PowerLawFit fit;  // terms empty when not asked for or not made
   std::vector<PsdAllanTerm> allan_terms;
   // Why the fit was not made: the default band holds too few log bands
   // (a short record); empty when fitted or not asked for. A band the
@@ -52,12 +52,12 @@ struct PsdChannel {
 };
 
 struct PsdResult {
-  std::string file;              // empty for arrays
+  std::string file;  // empty for arrays
   double rate_hz = 0.0;
   std::size_t samples = 0;
-  std::size_t pieces = 1;        // contiguous pieces of the record (> 1 when cut at gaps)
-  std::size_t pieces_used = 1;   // pieces holding at least one segment
-  double overlap = 0.5;          // the fraction asked for (the samples are in each spectrum)
+  std::size_t pieces = 1;       // contiguous pieces of the record (> 1 when cut at gaps)
+  std::size_t pieces_used = 1;  // pieces holding at least one segment
+  double overlap = 0.5;         // the fraction asked for (the samples are in each spectrum)
   std::size_t bins_per_decade = 0;
   bool fitted = false;
   std::vector<PsdChannel> channels;

@@ -17,8 +17,8 @@
 namespace cubecal::pipeline {
 
 struct RateProfile {
-  std::vector<double> t;                  // s, ascending
-  std::array<std::vector<double>, 3> w;   // true input per axis at t (zero-order hold)
+  std::vector<double> t;                 // s, ascending
+  std::array<std::vector<double>, 3> w;  // true input per axis at t (zero-order hold)
   bool empty() const noexcept { return t.empty(); }
 };
 
@@ -29,14 +29,14 @@ struct SimulateRequest {
   std::uint64_t seed = 1;
   TemperatureProfile temperature;
   bool temperature_column = true;
-  RateProfile true_input;                 // applied to the first rate (deg/s or rad/s) triad
-  std::function<void(double)> progress;   // called with the fraction done, per block (optional)
+  RateProfile true_input;                // applied to the first rate (deg/s or rad/s) triad
+  std::function<void(double)> progress;  // called with the fraction done, per block (optional)
 };
 
 struct SimulatedRecord {
   double rate_hz = 0.0;
-  std::vector<std::string> names;              // t excluded; temp last when present
-  std::vector<std::vector<double>> channels;   // one per name
+  std::vector<std::string> names;             // t excluded; temp last when present
+  std::vector<std::vector<double>> channels;  // one per name
 };
 
 // round(duration x rate); UsageError("duration") past kMaxSimulatedSamples.
@@ -94,8 +94,7 @@ std::vector<TriadModel> models_from_analysis(const AnalysisResult& analysis, con
 // measured. Throws UsageError("bias") for an analysis without composite
 // models, UsageError("rate") for a rate that is not positive, and
 // UsageError for a result without channels.
-std::vector<TriadModel> models_from_composite(const AnalysisResult& analysis, const std::string& label,
-                                              double rate_hz);
+std::vector<TriadModel> models_from_composite(const AnalysisResult& analysis, const std::string& label, double rate_hz);
 std::vector<TriadModel> models_from_composite(const ModelResult& model, const std::string& label, double rate_hz);
 
 // A model whose per-sample parameters hold at `from_hz`, for sampling at

@@ -38,15 +38,15 @@ struct ExportProjection {
   // whose bias instability filter is fixed: white noise and random walk
   // only), "basilisk".
   std::string target;
-  std::string structure;           // the target's shape fitted: "WN+GM", "WN+RW+GM", "WN+RW", "WN", "RW", "GM"
+  std::string structure;  // the target's shape fitted: "WN+GM", "WN+RW+GM", "WN+RW", "WN", "RW", "GM"
   // The projection: per-sample parameters at dt = 1 / rate_hz, in the
   // channel's unit (as the twin), the processes of `structure`.
   CompositeModel model;
-  std::vector<double> tau;         // the channel's scales, samples
-  std::vector<double> nu2_twin;    // the twin's theoretical Haar wavelet variance at them, unit^2
-  std::vector<double> nu2;         // the projection's
-  double twin_error = 0.0;         // max over tau of |sqrt(nu2 / nu2_twin) - 1|
-  double twin_error_tau = 0.0;     // the scale where it is largest, samples
+  std::vector<double> tau;       // the channel's scales, samples
+  std::vector<double> nu2_twin;  // the twin's theoretical Haar wavelet variance at them, unit^2
+  std::vector<double> nu2;       // the projection's
+  double twin_error = 0.0;       // max over tau of |sqrt(nu2 / nu2_twin) - 1|
+  double twin_error_tau = 0.0;   // the scale where it is largest, samples
   // The same over the scales up to 10 s and up to 100 s (tau dt): the last
   // scales rest on one or two degrees of freedom.
   double twin_error_10s = 0.0;

@@ -13,10 +13,10 @@ namespace cubecal::pipeline {
 struct RunChannel {
   std::string name;
   Unit unit;
-  double mean = 0.0;                  // the run's bias
+  double mean = 0.0;  // the run's bias
   double stddev = 0.0;
-  std::vector<StabilityPoint> adev;   // OADEV with its interval
-  SlopeReadOffs readoffs;             // N, B (and T = tau_min) of the curve
+  std::vector<StabilityPoint> adev;  // OADEV with its interval
+  SlopeReadOffs readoffs;            // N, B (and T = tau_min) of the curve
 };
 
 struct RunSummary {
@@ -30,9 +30,9 @@ struct TurnOnResult {
   std::vector<std::string> names;
   std::vector<Unit> units;
   std::vector<RunSummary> runs;
-  std::vector<double> mean_bias;     // mean over runs of the run biases
-  std::vector<double> turn_on;       // sample standard deviation of the run biases
-  std::vector<double> turn_on_lo;    // its confidence interval (chi-squared, runs - 1 dof)
+  std::vector<double> mean_bias;   // mean over runs of the run biases
+  std::vector<double> turn_on;     // sample standard deviation of the run biases
+  std::vector<double> turn_on_lo;  // its confidence interval (chi-squared, runs - 1 dof)
   std::vector<double> turn_on_hi;
   double ci = 0.683;
 };

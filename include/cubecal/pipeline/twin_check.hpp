@@ -17,21 +17,21 @@ struct AnalysisResult;
 
 struct TwinCheckChannel {
   std::string name;
-  std::vector<double> tau;          // s, the points of the channel's model.adev
-  std::vector<double> measured;     // the record's OADEV there
-  std::vector<double> twins;        // sqrt of the mean over the twins of their Allan variance
-  std::vector<double> twins_lo;     // the smallest and largest twin's deviation
+  std::vector<double> tau;       // s, the points of the channel's model.adev
+  std::vector<double> measured;  // the record's OADEV there
+  std::vector<double> twins;     // sqrt of the mean over the twins of their Allan variance
+  std::vector<double> twins_lo;  // the smallest and largest twin's deviation
   std::vector<double> twins_hi;
-  double max_error_10s = 0.0;       // largest |twins / measured - 1| for tau <= 10 s
-  double max_error_100s = 0.0;      // for tau <= 100 s
-  double max_error = 0.0;           // over every tau
-  double max_error_tau_s = 0.0;     // where that is
+  double max_error_10s = 0.0;    // largest |twins / measured - 1| for tau <= 10 s
+  double max_error_100s = 0.0;   // for tau <= 100 s
+  double max_error = 0.0;        // over every tau
+  double max_error_tau_s = 0.0;  // where that is
 };
 
 struct TwinCheck {
   std::size_t twins = 0;
   std::uint64_t seed = 1;
-  std::size_t samples = 0;          // of each twin: the samples the model was fitted on
+  std::size_t samples = 0;                 // of each twin: the samples the model was fitted on
   std::vector<TwinCheckChannel> channels;  // those with a composite model, in column order
 };
 

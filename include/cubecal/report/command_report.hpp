@@ -26,7 +26,7 @@ struct ReportField {
 
 // A row of the input summary whose value is HTML (escaped by the builder).
 struct ReportHtmlField {
-  std::string label;                           // plain text
+  std::string label;  // plain text
   std::string value_html;
 };
 
@@ -34,11 +34,11 @@ struct ReportHtmlField {
 // row is its label; the other columns are numbers (right-aligned) unless
 // `numeric` says otherwise (one flag per column, the label column included).
 struct ReportTable {
-  std::string title;                           // <h3> above it; empty: none
+  std::string title;  // <h3> above it; empty: none
   std::vector<std::string> header;
   std::vector<std::vector<std::string>> rows;
-  std::vector<bool> numeric;                   // empty: all but the first column
-  std::string note;                            // small text under it; empty: none
+  std::vector<bool> numeric;  // empty: all but the first column
+  std::string note;           // small text under it; empty: none
 };
 
 // A figure: the plot and its caption (HTML: escape strings from the data).
@@ -56,18 +56,18 @@ struct ReportBlock {
 };
 
 struct ReportSection {
-  std::string id;                              // anchor: letters, digits, '-'
-  std::string title;                           // plain text
+  std::string id;     // anchor: letters, digits, '-'
+  std::string title;  // plain text
   std::vector<ReportBlock> blocks;
 };
 
 struct CommandReport {
-  std::string title;                           // plain text: <title> and <h1>
-  std::string lead_html;                       // the paragraph under the title
+  std::string title;      // plain text: <title> and <h1>
+  std::string lead_html;  // the paragraph under the title
   std::vector<ReportField> input;
-  std::vector<ReportHtmlField> input_html;     // rows after `input`
-  std::string command;                         // the command line as typed
-  std::vector<std::string> notes;              // plain text, highlighted under the title
+  std::vector<ReportHtmlField> input_html;  // rows after `input`
+  std::string command;                      // the command line as typed
+  std::vector<std::string> notes;           // plain text, highlighted under the title
   std::vector<ReportSection> sections;
   // Stems of this kind of report's plots ("runs_allan_", "mag_"): with
   // ReportOptions::force, plot files with these prefixes that the new report

@@ -42,9 +42,9 @@ namespace cubecal::report {
 // turnon, compare
 
 struct RunsReportContext {
-  std::string command;          // the command line as typed
-  double ci = 0.683;            // confidence of the Allan intervals
-  std::string taus;             // the tau grid (--taus), for the input summary
+  std::string command;  // the command line as typed
+  double ci = 0.683;    // confidence of the Allan intervals
+  std::string taus;     // the tau grid (--taus), for the input summary
 };
 
 // One plot per channel (channels matched by name and unit across the runs, in
@@ -64,9 +64,9 @@ CommandReport compare_report(const std::vector<pipeline::RunSummary>& runs, cons
 struct RateTableReportContext {
   std::string command;
   std::string file;
-  std::string unit = "deg/s";              // of the gyro and the reference rates
-  std::string source_text;                 // where the plateaus came from ("the reference columns")
-  std::array<double, 3> earth_rate{};      // added to every reference rate (RateTableOptions::earth_rate)
+  std::string unit = "deg/s";          // of the gyro and the reference rates
+  std::string source_text;             // where the plateaus came from ("the reference columns")
+  std::array<double, 3> earth_rate{};  // added to every reference rate (RateTableOptions::earth_rate)
 };
 
 // Residual of every plateau's mean per axis: before, w_g − (w + earth rate)
@@ -86,11 +86,11 @@ CommandReport rate_table_report(const pipeline::RateTableResult& r, const std::s
 struct MagReportContext {
   std::string command;
   std::string file;
-  std::string unit;                        // of the values after --lsb; empty: "input units"
-  std::string field_source;                // "given", "mean_raw_norm" or "column"
-  std::vector<double> field_norms;         // F per input point (--field-col); empty: Result::field_norm
-  std::size_t first_data_line = 0;         // line of the first point in the file (rejected points' lines)
-  std::size_t max_points = 1000;           // per series of a plot; beyond, every k-th point
+  std::string unit;                 // of the values after --lsb; empty: "input units"
+  std::string field_source;         // "given", "mean_raw_norm" or "column"
+  std::vector<double> field_norms;  // F per input point (--field-col); empty: Result::field_norm
+  std::size_t first_data_line = 0;  // line of the first point in the file (rejected points' lines)
+  std::size_t max_points = 1000;    // per series of a plot; beyond, every k-th point
 };
 
 // mag_xy, mag_xz, mag_yz: `h` (every input point, as calibrate() got them)

@@ -29,34 +29,34 @@ struct PlotSeries {
   // Legend text (plain text: never interpreted as gnuplot markup); empty:
   // not in the legend. A series without data is a legend entry only.
   std::string label;
-  std::string id;                // names the series in the .gp and .dat comments (default: label)
+  std::string id;  // names the series in the .gp and .dat comments (default: label)
   std::vector<double> x, y;
-  std::vector<double> lo, hi;    // error bar bounds (errorlines, errorbars), or the band's edges
+  std::vector<double> lo, hi;  // error bar bounds (errorlines, errorbars), or the band's edges
   Mark mark = Mark::line;
   Dash dash = Dash::solid;
-  std::string color = "#1f77b4"; // #RRGGBB
-  double opacity = 1.0;          // 0..1
-  double width = 1.5;            // line width, gnuplot units
+  std::string color = "#1f77b4";  // #RRGGBB
+  double opacity = 1.0;           // 0..1
+  double width = 1.5;             // line width, gnuplot units
   double point_size = 0.4;
-  bool scale = true;             // counts for the automatic range of a log axis
+  bool scale = true;  // counts for the automatic range of a log axis
 };
 
 struct PlotAxis {
-  std::string label;             // plain text (UTF-8)
+  std::string label;  // plain text (UTF-8)
   bool log = false;
   std::optional<double> min, max;  // fixed range; autoscaled otherwise
 };
 
 struct Plot {
-  std::string name;              // file stem: letters, digits, '_', '-'
-  std::string title;             // plain text
+  std::string name;   // file stem: letters, digits, '_', '-'
+  std::string title;  // plain text
   PlotAxis x, y;
   std::vector<PlotSeries> series;
   std::string key = "outside right top";  // gnuplot `set key` arguments
-  std::vector<std::string> notes;  // comment lines at the top of the .gp and .dat
-  int width = 900, height = 600;   // pixels
-  bool equal_axes = false;         // one unit as long on x as on y (`set size ratio -1`)
-  std::optional<double> x_tics;    // spacing of the major x tics (linear x axis); automatic otherwise
+  std::vector<std::string> notes;         // comment lines at the top of the .gp and .dat
+  int width = 900, height = 600;          // pixels
+  bool equal_axes = false;                // one unit as long on x as on y (`set size ratio -1`)
+  std::optional<double> x_tics;           // spacing of the major x tics (linear x axis); automatic otherwise
 };
 
 // The text of NAME.dat and NAME.gp for `plot` (deterministic).
@@ -64,9 +64,9 @@ std::string plot_data(const Plot& plot);
 std::string gnuplot_script(const Plot& plot);
 
 struct RenderOptions {
-  std::string gnuplot;           // executable; empty: `gnuplot` on PATH
-  bool keep_scripts = false;     // an existing NAME.gp is run as it is (a user's restyled script)
-  unsigned jobs = 0;             // gnuplot processes at once (0: hardware threads)
+  std::string gnuplot;        // executable; empty: `gnuplot` on PATH
+  bool keep_scripts = false;  // an existing NAME.gp is run as it is (a user's restyled script)
+  unsigned jobs = 0;          // gnuplot processes at once (0: hardware threads)
 };
 
 struct RenderedPlot {
@@ -74,7 +74,7 @@ struct RenderedPlot {
   std::string title;
   std::filesystem::path dat, gp, svg, png;
   int width = 900, height = 600;
-  std::string svg_text;          // the SVG document gnuplot wrote
+  std::string svg_text;  // the SVG document gnuplot wrote
 };
 
 // The gnuplot executable: `explicit_path` when it names an executable file,
@@ -82,8 +82,7 @@ struct RenderedPlot {
 std::optional<std::string> find_gnuplot(const std::string& explicit_path = {});
 
 // The one-line message for a missing gnuplot.
-inline constexpr const char* kGnuplotMissing =
-    "gnuplot not found: install gnuplot-nox (scripts/install-deps.sh)";
+inline constexpr const char* kGnuplotMissing = "gnuplot not found: install gnuplot-nox (scripts/install-deps.sh)";
 
 // The message when find_gnuplot(explicit_path) finds none: kGnuplotMissing
 // when no path was given, else one naming the path.

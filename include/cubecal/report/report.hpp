@@ -24,13 +24,13 @@
 namespace cubecal::report {
 
 struct ReportOptions {
-  bool force = false;            // replace an existing report.html and plots/ files
-  bool keep_scripts = false;     // re-render from existing (user-edited) plots/*.gp
-  bool require_plots = true;     // false: without gnuplot, write the page without plots (and say so)
-  std::string gnuplot;           // gnuplot executable; empty: on PATH
-  std::size_t max_points = 2000; // per drift series in a plot
-  std::uint64_t seed = 1;        // of the simulated model drift
-  unsigned jobs = 0;             // gnuplot processes at once (0: hardware threads)
+  bool force = false;             // replace an existing report.html and plots/ files
+  bool keep_scripts = false;      // re-render from existing (user-edited) plots/*.gp
+  bool require_plots = true;      // false: without gnuplot, write the page without plots (and say so)
+  std::string gnuplot;            // gnuplot executable; empty: on PATH
+  std::size_t max_points = 2000;  // per drift series in a plot
+  std::uint64_t seed = 1;         // of the simulated model drift
+  unsigned jobs = 0;              // gnuplot processes at once (0: hardware threads)
 };
 
 struct ReportResult {

@@ -52,7 +52,7 @@ class PowerLawGenerator {
  private:
   void block();
 
-  std::size_t len_;                           // L: taps and block length
+  std::size_t len_;  // L: taps and block length
   double sigma_w_;
   std::mt19937_64 engine_;
   std::vector<std::complex<double>> filter_;  // FFT of the taps, zero-padded to 2L

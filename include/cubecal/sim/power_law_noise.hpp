@@ -21,7 +21,6 @@ namespace cubecal {
 
 // n samples of unit innovation (w ~ N(0, 1)), as phase or frequency data.
 // alpha need not be an integer (any real exponent is a valid filter).
-std::vector<double> power_law_noise(double alpha, std::size_t n, std::uint64_t seed,
-                                    DataType type = DataType::phase);
+std::vector<double> power_law_noise(double alpha, std::size_t n, std::uint64_t seed, DataType type = DataType::phase);
 
 }  // namespace cubecal

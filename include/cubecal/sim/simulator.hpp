@@ -36,13 +36,13 @@ enum class BiasProcess { none, random_walk, gauss_markov };
 enum class Quantizer { truncate, round };
 
 struct AxisModel {
-  double fixed_bias = 0.0;      // u
-  double turn_on_sigma = 0.0;   // u, drawn once per run
-  double white_sigma = 0.0;     // u per sample (sigma_n)
+  double fixed_bias = 0.0;     // u
+  double turn_on_sigma = 0.0;  // u, drawn once per run
+  double white_sigma = 0.0;    // u per sample (sigma_n)
   BiasProcess bias = BiasProcess::none;
-  double bias_sigma = 0.0;      // random walk: sigma_mu (u/s); Gauss-Markov: sigma_b (u)
-  double tau_c = 0.0;           // Gauss-Markov correlation time, s
-  double temp_coeff = 0.0;      // u per degC
+  double bias_sigma = 0.0;  // random walk: sigma_mu (u/s); Gauss-Markov: sigma_b (u)
+  double tau_c = 0.0;       // Gauss-Markov correlation time, s
+  double temp_coeff = 0.0;  // u per degC
   // Further power-law noise of the output, S_y(f) = h f^alpha each (e.g.
   // flicker_term(B): the flicker floor of bias instability B), from
   // Kasdin & Walter's generator (power_law_generator.hpp), on streams of
@@ -58,24 +58,24 @@ struct AxisModel {
 };
 
 struct TriadModel {
-  std::string name;                          // e.g. "sport-gyro"
-  std::string unit;                          // e.g. "deg/s"
+  std::string name;  // e.g. "sport-gyro"
+  std::string unit;  // e.g. "deg/s"
   std::array<std::string, 3> axis_names{"x", "y", "z"};
   std::array<AxisModel, 3> axes;
   // Row-major 3x3: u = M * true. Identity: no scale-factor or misalignment error.
   std::array<double, 9> scale_misalignment{1, 0, 0, 0, 1, 0, 0, 0, 1};
-  double lsb = 0.0;                          // counts per unit; 0: no quantization
+  double lsb = 0.0;  // counts per unit; 0: no quantization
   Quantizer quantizer = Quantizer::truncate;
   double saturation = std::numeric_limits<double>::infinity();  // |out| limit, u
-  double temp_ref = 25.0;                    // degC at which the temperature term is zero
+  double temp_ref = 25.0;                                       // degC at which the temperature term is zero
 };
 
 // Temperature profile: constant, daily sinusoid, or a given series.
 struct TemperatureProfile {
   enum class Kind { constant, sinusoid, series } kind = Kind::constant;
-  double mean = 25.0;          // degC
-  double amplitude = 0.0;      // degC (sinusoid)
-  double period_s = 86400.0;   // sinusoid
+  double mean = 25.0;         // degC
+  double amplitude = 0.0;     // degC (sinusoid)
+  double period_s = 86400.0;  // sinusoid
   double phase_rad = 0.0;
   std::vector<double> values;  // series, one per sample (held at the last value beyond)
   double at(std::size_t k, double dt) const noexcept;

@@ -29,8 +29,8 @@ class BinCovariance {
   // sum of g(|e|) over the integers e in [lo, hi).
   double abs_sum(long long lo, long long hi) const;
 
-  std::size_t length_ = 0;        // L
-  std::vector<double> prefix_;    // prefix_[i] = sum of g(d), d < i
+  std::size_t length_ = 0;      // L
+  std::vector<double> prefix_;  // prefix_[i] = sum of g(d), d < i
 };
 
 }  // namespace cubecal

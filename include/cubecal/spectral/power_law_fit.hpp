@@ -33,9 +33,9 @@ struct PowerLawFitOptions {
 
 struct PowerLawTerm {
   int alpha = 0;
-  double h = 0.0;       // unit^2 / Hz^(1 + alpha)
-  double sigma = 0.0;   // 1-sigma uncertainty of h
-  bool valid = false;   // false: h at its bound 0 (no such noise seen)
+  double h = 0.0;      // unit^2 / Hz^(1 + alpha)
+  double sigma = 0.0;  // 1-sigma uncertainty of h
+  bool valid = false;  // false: h at its bound 0 (no such noise seen)
   // Where h f^alpha is at least half of the model, within the fitted band;
   // both 0 when it is nowhere.
   double f_lo = 0.0;
@@ -47,9 +47,9 @@ struct PowerLawFit {
   std::vector<double> covariance;   // of the h, row-major, terms.size()^2 (zero rows for terms at the bound)
   double f_lo = 0.0;                // the fitted band: first and last raw frequency used
   double f_hi = 0.0;
-  std::size_t bands = 0;            // log bands fitted
-  double chi2 = 0.0;                // generalized residual sum of squares at the solution
-  std::size_t dof = 0;              // bands - free coefficients
+  std::size_t bands = 0;  // log bands fitted
+  double chi2 = 0.0;      // generalized residual sum of squares at the solution
+  std::size_t dof = 0;    // bands - free coefficients
   // max(1, chi2 / dof): the covariance is scaled by it (a model that misses
   // the data widens its own uncertainties).
   double scale = 1.0;
@@ -71,8 +71,8 @@ PowerLawFit fit_power_law(const Psd& raw, const PowerLawFitOptions& options = {}
 struct SlopeFit {
   double slope = 0.0;
   double slope_sigma = 0.0;
-  double f_ref = 0.0;         // Hz: the geometric mean of the bands' frequencies
-  double level = 0.0;         // A = S(f_ref), unit^2/Hz
+  double f_ref = 0.0;  // Hz: the geometric mean of the bands' frequencies
+  double level = 0.0;  // A = S(f_ref), unit^2/Hz
   double level_sigma = 0.0;
   std::size_t bands = 0;
   double chi2 = 0.0;

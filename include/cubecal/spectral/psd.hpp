@@ -23,11 +23,11 @@ struct Psd {
 
   // One entry per raw bin k = 0..floor(L/2) (f_k = k rate / L), or per
   // logarithmic band (the geometric mean of its raw frequencies).
-  std::vector<double> frequency;        // Hz
-  std::vector<double> density;          // unit^2/Hz, one-sided (the DC and Nyquist bins hold half, as scipy)
-  std::vector<double> edf;              // equivalent degrees of freedom of each density (§3)
-  std::vector<std::size_t> first_bin;   // the raw bin k of the entry's first bin
-  std::vector<std::size_t> bins;        // raw bins averaged into the entry (1 for the raw spectrum)
+  std::vector<double> frequency;       // Hz
+  std::vector<double> density;         // unit^2/Hz, one-sided (the DC and Nyquist bins hold half, as scipy)
+  std::vector<double> edf;             // equivalent degrees of freedom of each density (§3)
+  std::vector<std::size_t> first_bin;  // the raw bin k of the entry's first bin
+  std::vector<std::size_t> bins;       // raw bins averaged into the entry (1 for the raw spectrum)
 
   // The covariance of two raw densities d bins apart over the square of
   // their expectation, for a spectrum white across both, d = 0..floor(L/2)
@@ -35,9 +35,7 @@ struct Psd {
   std::vector<double> bin_covariance;
 
   std::size_t size() const noexcept { return frequency.size(); }
-  double resolution_hz() const noexcept {
-    return segment_length ? rate_hz / static_cast<double>(segment_length) : 0.0;
-  }
+  double resolution_hz() const noexcept { return segment_length ? rate_hz / static_cast<double>(segment_length) : 0.0; }
 };
 
 }  // namespace cubecal

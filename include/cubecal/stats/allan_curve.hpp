@@ -29,7 +29,6 @@ double relative_uncertainty(const AllanCurve& c, std::size_t i) noexcept;
 // found among these only (factor 3): the minimum over long-tau points, a few degrees of
 // freedom each, is a low fluctuation, not the tangent (it biased a 70 min
 // record's white noise 4 % low).
-std::vector<std::size_t> well_measured(const AllanCurve& c, std::size_t first, std::size_t last,
-                                       double factor = 3.0);
+std::vector<std::size_t> well_measured(const AllanCurve& c, std::size_t first, std::size_t last, double factor = 3.0);
 
 }  // namespace cubecal

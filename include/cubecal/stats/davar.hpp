@@ -65,10 +65,10 @@ struct DavarOptions {
 struct DavarMatrix {
   double tau0 = 0.0;
   DataType type = DataType::freq;
-  std::size_t samples = 0;         // input samples of the record
-  std::size_t window = 0;          // W, input samples
-  std::size_t step = 0;            // S, input samples
-  std::size_t window_points = 0;   // phase points of one window (W + 1 for frequency, W for phase)
+  std::size_t samples = 0;        // input samples of the record
+  std::size_t window = 0;         // W, input samples
+  std::size_t step = 0;           // S, input samples
+  std::size_t window_points = 0;  // phase points of one window (W + 1 for frequency, W for phase)
   // Per window k: the time of its first phase point and of its centre, in
   // seconds from the record's first phase point (the start of the first
   // frequency sample).
@@ -105,9 +105,7 @@ struct DavarMatrix {
   std::size_t cell(std::size_t j, std::size_t k) const noexcept { return j * start.size() + k; }
   double dev_at(std::size_t j, std::size_t k) const noexcept { return dev[cell(j, k)]; }
   // The terms of cell (j, k): n[j], or fewer where samples are missing.
-  std::size_t terms_at(std::size_t j, std::size_t k) const noexcept {
-    return terms.empty() ? n[j] : terms[cell(j, k)];
-  }
+  std::size_t terms_at(std::size_t j, std::size_t k) const noexcept { return terms.empty() ? n[j] : terms[cell(j, k)]; }
 };
 
 // The phase points of a window of `window` input samples of `type`.

@@ -33,83 +33,68 @@ std::vector<StabilityPoint> deviation(Stat stat, std::span<const double> data, d
                                       DataType type = DataType::freq, const TauGrid& grid = {},
                                       const StabilityOptions& options = {});
 
-inline std::vector<StabilityPoint> adev(std::span<const double> data, double rate_hz,
-                                        DataType type = DataType::freq, const TauGrid& grid = {},
-                                        const StabilityOptions& options = {}) {
+inline std::vector<StabilityPoint> adev(std::span<const double> data, double rate_hz, DataType type = DataType::freq,
+                                        const TauGrid& grid = {}, const StabilityOptions& options = {}) {
   return deviation(Stat::adev, data, rate_hz, type, grid, options);
 }
-inline std::vector<StabilityPoint> oadev(std::span<const double> data, double rate_hz,
-                                         DataType type = DataType::freq, const TauGrid& grid = {},
-                                         const StabilityOptions& options = {}) {
+inline std::vector<StabilityPoint> oadev(std::span<const double> data, double rate_hz, DataType type = DataType::freq,
+                                         const TauGrid& grid = {}, const StabilityOptions& options = {}) {
   return deviation(Stat::oadev, data, rate_hz, type, grid, options);
 }
-inline std::vector<StabilityPoint> mdev(std::span<const double> data, double rate_hz,
-                                        DataType type = DataType::freq, const TauGrid& grid = {},
-                                        const StabilityOptions& options = {}) {
+inline std::vector<StabilityPoint> mdev(std::span<const double> data, double rate_hz, DataType type = DataType::freq,
+                                        const TauGrid& grid = {}, const StabilityOptions& options = {}) {
   return deviation(Stat::mdev, data, rate_hz, type, grid, options);
 }
-inline std::vector<StabilityPoint> tdev(std::span<const double> data, double rate_hz,
-                                        DataType type = DataType::freq, const TauGrid& grid = {},
-                                        const StabilityOptions& options = {}) {
+inline std::vector<StabilityPoint> tdev(std::span<const double> data, double rate_hz, DataType type = DataType::freq,
+                                        const TauGrid& grid = {}, const StabilityOptions& options = {}) {
   return deviation(Stat::tdev, data, rate_hz, type, grid, options);
 }
-inline std::vector<StabilityPoint> hdev(std::span<const double> data, double rate_hz,
-                                        DataType type = DataType::freq, const TauGrid& grid = {},
-                                        const StabilityOptions& options = {}) {
+inline std::vector<StabilityPoint> hdev(std::span<const double> data, double rate_hz, DataType type = DataType::freq,
+                                        const TauGrid& grid = {}, const StabilityOptions& options = {}) {
   return deviation(Stat::hdev, data, rate_hz, type, grid, options);
 }
-inline std::vector<StabilityPoint> ohdev(std::span<const double> data, double rate_hz,
-                                         DataType type = DataType::freq, const TauGrid& grid = {},
-                                         const StabilityOptions& options = {}) {
+inline std::vector<StabilityPoint> ohdev(std::span<const double> data, double rate_hz, DataType type = DataType::freq,
+                                         const TauGrid& grid = {}, const StabilityOptions& options = {}) {
   return deviation(Stat::ohdev, data, rate_hz, type, grid, options);
 }
-inline std::vector<StabilityPoint> totdev(std::span<const double> data, double rate_hz,
-                                          DataType type = DataType::freq, const TauGrid& grid = {},
-                                          const StabilityOptions& options = {}) {
+inline std::vector<StabilityPoint> totdev(std::span<const double> data, double rate_hz, DataType type = DataType::freq,
+                                          const TauGrid& grid = {}, const StabilityOptions& options = {}) {
   return deviation(Stat::totdev, data, rate_hz, type, grid, options);
 }
 
-inline std::vector<StabilityPoint> tierms(std::span<const double> data, double rate_hz,
-                                          DataType type = DataType::freq, const TauGrid& grid = {},
-                                          const StabilityOptions& options = {}) {
+inline std::vector<StabilityPoint> tierms(std::span<const double> data, double rate_hz, DataType type = DataType::freq,
+                                          const TauGrid& grid = {}, const StabilityOptions& options = {}) {
   return deviation(Stat::tierms, data, rate_hz, type, grid, options);
 }
-inline std::vector<StabilityPoint> mtie(std::span<const double> data, double rate_hz,
-                                        DataType type = DataType::freq, const TauGrid& grid = {},
-                                        const StabilityOptions& options = {}) {
+inline std::vector<StabilityPoint> mtie(std::span<const double> data, double rate_hz, DataType type = DataType::freq,
+                                        const TauGrid& grid = {}, const StabilityOptions& options = {}) {
   return deviation(Stat::mtie, data, rate_hz, type, grid, options);
 }
-inline std::vector<StabilityPoint> mtotdev(std::span<const double> data, double rate_hz,
-                                           DataType type = DataType::freq, const TauGrid& grid = {},
-                                           const StabilityOptions& options = {}) {
+inline std::vector<StabilityPoint> mtotdev(std::span<const double> data, double rate_hz, DataType type = DataType::freq,
+                                           const TauGrid& grid = {}, const StabilityOptions& options = {}) {
   return deviation(Stat::mtotdev, data, rate_hz, type, grid, options);
 }
-inline std::vector<StabilityPoint> ttotdev(std::span<const double> data, double rate_hz,
-                                           DataType type = DataType::freq, const TauGrid& grid = {},
-                                           const StabilityOptions& options = {}) {
+inline std::vector<StabilityPoint> ttotdev(std::span<const double> data, double rate_hz, DataType type = DataType::freq,
+                                           const TauGrid& grid = {}, const StabilityOptions& options = {}) {
   return deviation(Stat::ttotdev, data, rate_hz, type, grid, options);
 }
-inline std::vector<StabilityPoint> htotdev(std::span<const double> data, double rate_hz,
-                                           DataType type = DataType::freq, const TauGrid& grid = {},
-                                           const StabilityOptions& options = {}) {
+inline std::vector<StabilityPoint> htotdev(std::span<const double> data, double rate_hz, DataType type = DataType::freq,
+                                           const TauGrid& grid = {}, const StabilityOptions& options = {}) {
   return deviation(Stat::htotdev, data, rate_hz, type, grid, options);
 }
 // Theo1 and TheoBR: even averaging factors only, tau = 0.75 m / rate_hz.
-inline std::vector<StabilityPoint> theo1(std::span<const double> data, double rate_hz,
-                                         DataType type = DataType::freq, const TauGrid& grid = {},
-                                         const StabilityOptions& options = {}) {
+inline std::vector<StabilityPoint> theo1(std::span<const double> data, double rate_hz, DataType type = DataType::freq,
+                                         const TauGrid& grid = {}, const StabilityOptions& options = {}) {
   return deviation(Stat::theo1, data, rate_hz, type, grid, options);
 }
-inline std::vector<StabilityPoint> theobr(std::span<const double> data, double rate_hz,
-                                          DataType type = DataType::freq, const TauGrid& grid = {},
-                                          const StabilityOptions& options = {}) {
+inline std::vector<StabilityPoint> theobr(std::span<const double> data, double rate_hz, DataType type = DataType::freq,
+                                          const TauGrid& grid = {}, const StabilityOptions& options = {}) {
   return deviation(Stat::theobr, data, rate_hz, type, grid, options);
 }
 // TheoH: OADEV below 20 % of the record (tau = m / rate_hz), TheoBR beyond
 // (even m, tau = 0.75 m / rate_hz); statistic.hpp, theoh_stat_at.
-inline std::vector<StabilityPoint> theoh(std::span<const double> data, double rate_hz,
-                                         DataType type = DataType::freq, const TauGrid& grid = {},
-                                         const StabilityOptions& options = {}) {
+inline std::vector<StabilityPoint> theoh(std::span<const double> data, double rate_hz, DataType type = DataType::freq,
+                                         const TauGrid& grid = {}, const StabilityOptions& options = {}) {
   return deviation(Stat::theoh, data, rate_hz, type, grid, options);
 }
 

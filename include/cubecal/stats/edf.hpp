@@ -10,16 +10,14 @@ namespace cubecal {
 // differences. alpha: noise exponent; m: averaging factor; n_phase: phase
 // points; overlapping: stride m (else stride 1 in units of tau); modified:
 // MVAR/TVAR filter. Returns 0 when the algorithm has no answer (alpha+2d<=1).
-double edf_greenhall(int alpha, int d, std::size_t m, std::size_t n_phase, bool overlapping,
-                     bool modified);
+double edf_greenhall(int alpha, int d, std::size_t m, std::size_t n_phase, bool overlapping, bool modified);
 
 // The same for terms taken every `stride` phase points (a divisor of m):
 // Greenhall & Riley's stride factor S = m / stride, so stride 1 is the
 // overlapping estimator above and stride m the non-overlapping one. The
 // streamed deviations (stats/streaming_deviation.hpp) use strides between.
 // Returns 0 for a stride that does not divide m.
-double edf_greenhall_stride(int alpha, int d, std::size_t m, std::size_t n_phase,
-                            std::size_t stride, bool modified);
+double edf_greenhall_stride(int alpha, int d, std::size_t m, std::size_t n_phase, std::size_t stride, bool modified);
 
 // NIST SP 1065 Table 5 simple approximations (overlapping AVAR).
 double edf_simple(int alpha, std::size_t m, std::size_t n_phase);
@@ -49,8 +47,7 @@ enum class EdfMethod { greenhall, simple };
 // EDF of a statistic as Stable32 computes it (MTOT, TTOT, HTOT and the
 // Theo family by the functions above whatever the method, TheoH by its
 // part at m; TIE rms and MTIE: 0, no interval).
-double edf_for(Stat stat, int alpha, std::size_t m, std::size_t n_phase,
-               EdfMethod method = EdfMethod::greenhall);
+double edf_for(Stat stat, int alpha, std::size_t m, std::size_t n_phase, EdfMethod method = EdfMethod::greenhall);
 
 // edf_for with the overlapping statistics' terms taken every `stride`
 // points (adev and hdev are non-overlapping whatever the stride; the simple

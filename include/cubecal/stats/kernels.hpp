@@ -27,9 +27,9 @@ VarianceTerm ohvar(std::span<const double> x, std::size_t m, double tau0);
 // Total variance works on the phase record extended by reflection at both
 // ends (SP 1065 eq. 25): build the extension once, then evaluate many m.
 struct TotvarExtension {
-  std::vector<double> xs;   // x*[-(N-2) .. 2N-3]
-  std::size_t offset = 0;   // index of x[0] in xs
-  std::size_t n = 0;        // N
+  std::vector<double> xs;  // x*[-(N-2) .. 2N-3]
+  std::size_t offset = 0;  // index of x[0] in xs
+  std::size_t n = 0;       // N
 };
 TotvarExtension totvar_extend(std::span<const double> x);
 VarianceTerm totvar(const TotvarExtension& ext, std::size_t m, double tau0);
@@ -43,12 +43,9 @@ VarianceTerm totvar(const TotvarExtension& ext, std::size_t m, double tau0);
 inline constexpr std::size_t kKernelGroup = 8;
 // True when ms[j .. j+8) is one group: the factors 8q+1 .. 8q+8 in order.
 bool kernel_group_at(std::span<const std::size_t> ms, std::size_t j) noexcept;
-void oavar(std::span<const double> x, std::span<const std::size_t> ms, double tau0,
-           std::span<VarianceTerm> out);
-void ohvar(std::span<const double> x, std::span<const std::size_t> ms, double tau0,
-           std::span<VarianceTerm> out);
-void totvar(const TotvarExtension& ext, std::span<const std::size_t> ms, double tau0,
-            std::span<VarianceTerm> out);
+void oavar(std::span<const double> x, std::span<const std::size_t> ms, double tau0, std::span<VarianceTerm> out);
+void ohvar(std::span<const double> x, std::span<const std::size_t> ms, double tau0, std::span<VarianceTerm> out);
+void totvar(const TotvarExtension& ext, std::span<const std::size_t> ms, double tau0, std::span<VarianceTerm> out);
 
 // Sum over i of (x[i+2m] - 2x[i+m] + x[i])^2 for i in [0, count): the
 // overlapping Allan kernel, exposed for benchmarks.

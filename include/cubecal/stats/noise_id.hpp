@@ -13,10 +13,10 @@
 namespace cubecal {
 
 struct NoiseId {
-  int alpha = 0;          // exponent of the frequency PSD: +2 WPM ... -4 RRFM
-  double alpha_est = 0;   // unrounded estimate (lag-1 ACF method only)
-  double b1 = 0;          // B1 ratio (b1 and b1_rn methods)
-  double rn = 0;          // R(n) = MVAR/AVAR (b1_rn method only)
+  int alpha = 0;         // exponent of the frequency PSD: +2 WPM ... -4 RRFM
+  double alpha_est = 0;  // unrounded estimate (lag-1 ACF method only)
+  double b1 = 0;         // B1 ratio (b1 and b1_rn methods)
+  double rn = 0;         // R(n) = MVAR/AVAR (b1_rn method only)
   // acf: lag-1 autocorrelation; b1: B1 ratio (fewer than 30 averages);
   // b1_rn: B1 said white or flicker PM, R(n) chose which.
   enum class Method { acf, b1, b1_rn } method = Method::acf;

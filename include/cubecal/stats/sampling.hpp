@@ -13,13 +13,13 @@ inline constexpr double kGapPeriods = 1.5;
 
 struct SamplingCheck {
   static constexpr std::size_t npos = std::numeric_limits<std::size_t>::max();
-  double period_s = 0.0;          // the median interval
-  std::size_t intervals = 0;      // t.size() - 1
-  std::size_t gaps = 0;           // intervals >= kGapPeriods periods
-  std::size_t first_gap = npos;   // i of the first gap: t[i] - t[i-1] >= kGapPeriods * period
-  std::size_t jittered = 0;       // other intervals off the period by more than the tolerance
+  double period_s = 0.0;         // the median interval
+  std::size_t intervals = 0;     // t.size() - 1
+  std::size_t gaps = 0;          // intervals >= kGapPeriods periods
+  std::size_t first_gap = npos;  // i of the first gap: t[i] - t[i-1] >= kGapPeriods * period
+  std::size_t jittered = 0;      // other intervals off the period by more than the tolerance
   std::size_t first_jitter = npos;
-  double max_jitter = 0.0;        // largest |dt - period| / period among the intervals that are not gaps
+  double max_jitter = 0.0;  // largest |dt - period| / period among the intervals that are not gaps
 };
 
 // t: strictly increasing, finite time stamps in seconds (std::invalid_argument

@@ -14,10 +14,10 @@
 namespace cubecal {
 
 struct StabilityOptions {
-  double ci = 0.683;                 // confidence factor, as Stable32's default
+  double ci = 0.683;  // confidence factor, as Stable32's default
   EdfMethod edf = EdfMethod::greenhall;
-  bool intervals = true;             // noise id + EDF + CI
-  std::optional<int> alpha;          // fixed noise type instead of identification
+  bool intervals = true;     // noise id + EDF + CI
+  std::optional<int> alpha;  // fixed noise type instead of identification
   // Below 30 averages the type comes from the B1 ratio, whose scatter
   // spans the neighbouring types: true takes the smallest EDF (the widest
   // interval) of the identified type and its two neighbours, so that a
@@ -107,15 +107,14 @@ class StabilityRecord {
   DataType type_;
   double tau0_;
   Stat stat_;
-  TotvarExtension ext_;  // only for TOTDEV
-  std::vector<double> d_;  // only for HTOT: x[k+1] - x[k]
+  TotvarExtension ext_;        // only for TOTDEV
+  std::vector<double> d_;      // only for HTOT: x[k+1] - x[k]
   double theobr_ratio_ = 0.0;  // only for TheoBR and TheoH
 };
 
 // Convenience: every m in `ms` (single-threaded; the pipeline layer runs
 // channels and taus in parallel).
-std::vector<StabilityPoint> stability(std::span<const double> data, DataType type, double tau0,
-                                      Stat stat, std::span<const std::size_t> ms,
-                                      const StabilityOptions& opt = {});
+std::vector<StabilityPoint> stability(std::span<const double> data, DataType type, double tau0, Stat stat,
+                                      std::span<const std::size_t> ms, const StabilityOptions& opt = {});
 
 }  // namespace cubecal

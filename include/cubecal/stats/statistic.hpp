@@ -15,7 +15,23 @@ enum class DataType { phase, freq };
 // the total variances of SP 1065 (mtotdev, ttotdev, htotdev) and the Theo
 // family (theo1, the bias-removed theobr, and theoh: OADEV at short taus,
 // TheoBR at long ones). docs/formulas/stability.md defines each.
-enum class Stat { adev, oadev, mdev, tdev, hdev, ohdev, totdev, tierms, mtie, mtotdev, ttotdev, htotdev, theo1, theobr, theoh };
+enum class Stat {
+  adev,
+  oadev,
+  mdev,
+  tdev,
+  hdev,
+  ohdev,
+  totdev,
+  tierms,
+  mtie,
+  mtotdev,
+  ttotdev,
+  htotdev,
+  theo1,
+  theobr,
+  theoh
+};
 
 std::string_view to_string(Stat s) noexcept;
 std::string_view to_string(DataType t) noexcept;

@@ -48,8 +48,7 @@ struct StreamedFactor {
 
 // The factors of `ms` (ascending) as a pyramid with this window bound
 // computes them: rounded to their level, merged when two round to the same m.
-std::vector<StreamedFactor> streamed_factors(Stat stat, std::span<const std::size_t> ms,
-                                             std::size_t window_bound);
+std::vector<StreamedFactor> streamed_factors(Stat stat, std::span<const std::size_t> ms, std::size_t window_bound);
 
 // Bytes one channel's accumulator holds at most for this window bound, on a
 // record of up to 2^40 samples.
@@ -82,12 +81,12 @@ class StreamingDeviation {
  private:
   using Lag = LagSums;  // lag-1 sums of one difference order of the averages
   struct Factor {
-    std::size_t k = 0;        // window on its level
+    std::size_t k = 0;                    // window on its level
     double energy = 0.0, energy_c = 0.0;  // overlapping sum of squares (compensated)
     std::size_t terms = 0;
-    double pass_energy = 0.0;             // this pass's share, summed over its tiles
-    std::size_t first = 0, last = 0;      // this pass's starts of overlapping terms
-    Lag lag[4];               // orders 0..3 of the non-overlapping window sums
+    double pass_energy = 0.0;         // this pass's share, summed over its tiles
+    std::size_t first = 0, last = 0;  // this pass's starts of overlapping terms
+    Lag lag[4];                       // orders 0..3 of the non-overlapping window sums
     std::size_t averages = 0;
     // The averages' window sums z[0 .. count), orders 0..dmax; z and
     // scratch (count + 1 values each) are overwritten.
@@ -99,16 +98,16 @@ class StreamingDeviation {
     // the values not yet processed.
     std::vector<double> buf;
     double mean = 0.0;
-    std::size_t fill = 0;      // values in buf
+    std::size_t fill = 0;  // values in buf
     std::size_t kept = 0;
-    std::size_t base = 0;      // index on the level of buf[0]
-    std::size_t span = 0;      // values a term spans (difference order x largest k)
+    std::size_t base = 0;  // index on the level of buf[0]
+    std::size_t span = 0;  // values a term spans (difference order x largest k)
     std::size_t capacity = 0;
     std::vector<std::size_t> factors;  // indices into factors_
-    bool odd = false;          // a value waits for its pair
+    bool odd = false;                  // a value waits for its pair
     double pending = 0.0;
-    std::size_t total = 0;     // values received
-    std::vector<double> out;   // pair sums on their way to the next level: out[0 .. out_n)
+    std::size_t total = 0;    // values received
+    std::vector<double> out;  // pair sums on their way to the next level: out[0 .. out_n)
     std::size_t out_n = 0;
   };
 
@@ -117,7 +116,7 @@ class StreamingDeviation {
   void process(std::size_t level);
 
   Stat stat_;
-  int order_;                  // difference order: 2 Allan, 3 Hadamard
+  int order_;  // difference order: 2 Allan, 3 Hadamard
   bool overlapping_;
   std::size_t samples_ = 0;
   bool have_offset_ = false;
@@ -125,8 +124,8 @@ class StreamingDeviation {
   std::vector<StreamedFactor> factors_;
   std::vector<Factor> state_;
   std::vector<Level> levels_;
-  std::vector<double> prefix_;  // scratch
-  std::vector<double> zs_, diff_; // scratch
+  std::vector<double> prefix_;     // scratch
+  std::vector<double> zs_, diff_;  // scratch
 };
 
 }  // namespace cubecal

@@ -16,20 +16,20 @@ namespace cubecal {
 
 // A listed tau beyond what the record supports.
 struct ExcludedTau {
-  double tau = 0.0;          // as listed, seconds
+  double tau = 0.0;  // as listed, seconds
   // Whole numbers, kept as doubles: a listed tau may be any size (1e300 s).
-  double m = 0.0;            // the averaging factor it maps to, round(tau / tau0)
-  double needs = 0.0;        // samples (of the user's type) the statistic needs for m
-  std::size_t has = 0;       // samples the record has (its longest contiguous run)
-  std::string reason;        // "oadev needs at least 4m = 40000 samples for m = 10000, the
-                             // record has 1000"
+  double m = 0.0;       // the averaging factor it maps to, round(tau / tau0)
+  double needs = 0.0;   // samples (of the user's type) the statistic needs for m
+  std::size_t has = 0;  // samples the record has (its longest contiguous run)
+  std::string reason;   // "oadev needs at least 4m = 40000 samples for m = 10000, the
+                        // record has 1000"
 };
 
 // A listed tau that maps to the averaging factor of an earlier listed tau:
 // the two are one point (at tau = m * tau0), evaluated once.
 struct MergedTau {
-  double tau = 0.0;          // as listed, seconds
-  double kept_tau = 0.0;     // the earlier listed tau it was merged with
+  double tau = 0.0;       // as listed, seconds
+  double kept_tau = 0.0;  // the earlier listed tau it was merged with
   std::size_t m = 0;
 };
 
@@ -44,7 +44,7 @@ struct TauListOutcome {
 // phase: N) at interval tau0, for `stat`. Empty for the generated grids.
 // `record` names what `samples` counts in the reasons ("the record", "the
 // longest segment").
-TauListOutcome tau_list_outcome(const TauGrid& grid, Stat stat, DataType type, std::size_t samples,
-                                double tau0, const std::string& record = "the record");
+TauListOutcome tau_list_outcome(const TauGrid& grid, Stat stat, DataType type, std::size_t samples, double tau0,
+                                const std::string& record = "the record");
 
 }  // namespace cubecal

@@ -9,8 +9,8 @@ namespace cubecal {
 
 struct TauGrid {
   enum class Kind { octave, decade, all, log, list } kind = Kind::octave;
-  unsigned per_decade = 10;     // for log:K
-  std::vector<double> taus;     // for an explicit list, seconds
+  unsigned per_decade = 10;  // for log:K
+  std::vector<double> taus;  // for an explicit list, seconds
 };
 
 // "octave", "decade", "all", "log:K" or a comma-separated list of taus in

@@ -16,13 +16,13 @@
 namespace cubecal {
 
 struct WaveletVariance {
-  std::vector<double> tau;       // scale, samples: 2, 4, 8, ...
-  std::vector<double> nu2;       // Haar wavelet variance, unit^2
-  std::vector<std::size_t> n;    // coefficients, N - tau + 1
+  std::vector<double> tau;     // scale, samples: 2, 4, 8, ...
+  std::vector<double> nu2;     // Haar wavelet variance, unit^2
+  std::vector<std::size_t> n;  // coefficients, N - tau + 1
   // Percival & Walden's third EDF approximation, eta3 = max(M / tau, 1):
   // no noise type needed, which a composite process does not have.
   std::vector<double> edf;
-  std::vector<double> lo, hi;    // chi-square interval of nu2 at the confidence asked for
+  std::vector<double> lo, hi;  // chi-square interval of nu2 at the confidence asked for
   std::size_t size() const noexcept { return tau.size(); }
 };
 

@@ -32,7 +32,7 @@ class AppendFile {
   void close();
 
   const std::string& path() const noexcept { return path_; }
-  std::size_t written() const noexcept { return written_; }          // bytes given to the kernel
+  std::size_t written() const noexcept { return written_; }             // bytes given to the kernel
   std::size_t size() const noexcept { return written_ + buf_.size(); }  // including the buffer
   std::uint32_t crc() const noexcept { return crc_; }
 

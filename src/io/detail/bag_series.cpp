@@ -50,10 +50,10 @@ std::string listed(const std::vector<Topic>& topics) {
 }
 
 InputError not_decodable(const MessageLog& bag, const Topic& t) {
-  return InputError(bag.file, 0, 0,
-                    "topic " + t.described() + " is serialized as '" + t.encoding +
-                        "', not as ROS 1 (ros1) or ROS 2 (cdr) messages",
-                    "choose another topic");
+  return InputError(
+      bag.file, 0, 0,
+      "topic " + t.described() + " is serialized as '" + t.encoding + "', not as ROS 1 (ros1) or ROS 2 (cdr) messages",
+      "choose another topic");
 }
 
 std::vector<const Topic*> choose_topics(const MessageLog& bag, const std::vector<Topic>& topics,
@@ -159,8 +159,7 @@ Decoded decode(const MessageLog& bag, std::uint32_t index, bool record_time) {
       throw message_error(bag, d, d.messages.size() - 1,
                           std::string(e.what()) + " (byte " + std::to_string(e.position()) + " of its " +
                               std::to_string(bytes.size()) + ")",
-                          "the bag is corrupt, or the topic's message definition is not the standard " +
-                              topic.type);
+                          "the bag is corrupt, or the topic's message definition is not the standard " + topic.type);
     }
     if (record_time) stamp = {m.sec, m.nsec};
     d.time.push_back(static_cast<double>(stamp.sec) + 1e-9 * static_cast<double>(stamp.nsec));
@@ -180,8 +179,9 @@ Series read_bag_series(const MessageLog& bag, bool gzip, const SeriesOptions& op
     record_time = true;
     time_name = "record time";
   } else if (!opt.time_col.empty() && opt.time_col != "stamp") {
-    throw UsageError("time_col", bag.file + " is a ROS bag: its time is 'stamp' (header.stamp, the default) or "
-                                            "'record' (when the bag recorded each message), not '" +
+    throw UsageError("time_col", bag.file +
+                                     " is a ROS bag: its time is 'stamp' (header.stamp, the default) or "
+                                     "'record' (when the bag recorded each message), not '" +
                                      opt.time_col + "'");
   }
 
@@ -198,7 +198,8 @@ Series read_bag_series(const MessageLog& bag, bool gzip, const SeriesOptions& op
     decoded.push_back(decode(bag, static_cast<std::uint32_t>(t - topics.data()), record_time));
   // Channels in a fixed order whatever the order of --topic: IMU, field, temperature.
   const auto rank = [](const Decoded& d) { return static_cast<int>(kind_of(*d.topic)); };
-  std::stable_sort(decoded.begin(), decoded.end(), [&](const Decoded& a, const Decoded& b) { return rank(a) < rank(b); });
+  std::stable_sort(decoded.begin(), decoded.end(),
+                   [&](const Decoded& a, const Decoded& b) { return rank(a) < rank(b); });
   const Decoded& first = decoded.front();
   for (const auto& d : decoded) {
     if (d.time.size() != first.time.size())
@@ -220,8 +221,9 @@ Series read_bag_series(const MessageLog& bag, bool gzip, const SeriesOptions& op
   const auto check = [&](std::size_t i) {
     const auto& c = all[i];
     const auto nans = std::count_if(c.values.begin(), c.values.end(), [](double x) { return std::isnan(x); });
-    if (auto f = value_fault(c, "", nans > 1 ? "the driver publishes NaN where it has no reading: leave this topic out"
-                                              : "cut the record before this message"))
+    if (auto f = value_fault(c, "",
+                             nans > 1 ? "the driver publishes NaN where it has no reading: leave this topic out"
+                                      : "cut the record before this message"))
       throw message_error(bag, *source[i], f->index, f->what, std::move(f->hint));
   };
   take_channels(s, all, opt, check, bag.file, "no channels besides the temperature in " + listed(chosen),

@@ -25,14 +25,17 @@ using namespace std::string_view_literals;
 // Formats met where a text log is expected. Only signatures that text cannot
 // start with (a byte text does not hold, or a long fixed phrase).
 constexpr Signature kSignatures[] = {
-    {"\x7f" "ELF"sv, "an ELF executable or library", nullptr},
+    {"\x7f"
+     "ELF"sv,
+     "an ELF executable or library", nullptr},
     {"\xcf\xfa\xed\xfe"sv, "a Mach-O executable", nullptr},
     {"\x1f\x8b"sv, "gzip data inside gzip (compressed twice?)", "decompress it once with gunzip"},
-    {"\xfd" "7zXZ\0"sv, "an xz-compressed file", "decompress it first (xz -d), or recompress it with gzip"},
+    {"\xfd"
+     "7zXZ\0"sv,
+     "an xz-compressed file", "decompress it first (xz -d), or recompress it with gzip"},
     {"\x28\xb5\x2f\xfd"sv, "a zstd-compressed file", "decompress it first (zstd -d), or recompress it with gzip"},
     {"BZh"sv, nullptr, nullptr},  // bzip2: checked with its block magic below
-    {"PK\x03\x04"sv, "a zip archive (or an .xlsx/.ods spreadsheet)",
-     "unpack it, or export the sheet as CSV"},
+    {"PK\x03\x04"sv, "a zip archive (or an .xlsx/.ods spreadsheet)", "unpack it, or export the sheet as CSV"},
     {"7z\xbc\xaf\x27\x1c"sv, "a 7-Zip archive", "unpack it first"},
     {"\xd0\xcf\x11\xe0\xa1\xb1\x1a\xe1"sv, "an old Office document (.xls?)", "export the sheet as CSV"},
     {"#ROSBAG V"sv, "a ROS 1 bag", "export the topic as CSV, e.g. rostopic echo -b FILE -p /imu > imu.csv"},
@@ -99,7 +102,11 @@ std::size_t invalid_utf8_bytes(std::string_view s) {
   std::size_t bad = 0;
   for (std::size_t i = 0; i < s.size();) {
     const auto c = static_cast<unsigned char>(s[i]);
-    std::size_t len = c < 0x80 ? 1 : c >= 0xc2 && c < 0xe0 ? 2 : c >= 0xe0 && c < 0xf0 ? 3 : c >= 0xf0 && c < 0xf5 ? 4 : 0;
+    std::size_t len = c < 0x80                ? 1
+                      : c >= 0xc2 && c < 0xe0 ? 2
+                      : c >= 0xe0 && c < 0xf0 ? 3
+                      : c >= 0xf0 && c < 0xf5 ? 4
+                                              : 0;
     bool ok = len != 0 && i + len <= s.size();
     for (std::size_t k = 1; ok && k < len; ++k) ok = (static_cast<unsigned char>(s[i + k]) & 0xc0) == 0x80;
     if (ok) {
@@ -124,10 +131,11 @@ void check_text_like(std::string_view head, const std::string& file, bool decomp
     what = "mostly bytes that are not text (nor UTF-8) in its first ";
   if (what == nullptr) return;
   throw InputError(file, 0, 0,
-                   "not a text or known binary format: " + std::string(what) + std::to_string(head.size()) +
-                       " bytes" + (decompressed ? " of decompressed data" : ""),
+                   "not a text or known binary format: " + std::string(what) + std::to_string(head.size()) + " bytes" +
+                       (decompressed ? " of decompressed data" : ""),
                    "a raw binary log? give its layout with --binary TYPE,TYPE,... (e.g. int16le,int16le,int16le) "
-                   "and --rate; " + std::string(kReads));
+                   "and --rate; " +
+                       std::string(kReads));
 }
 
 }  // namespace
@@ -171,13 +179,13 @@ void check_text_start(std::string_view head, const std::string& file, bool decom
     throw InputError(file, 0, 0, "not a text or known binary format: it looks like UTF-16 text",
                      "save it as UTF-8, e.g. iconv -f UTF-16LE -t UTF-8 FILE > out.csv");
   }
-  const std::size_t zeros = static_cast<std::size_t>(
-      std::find_if(head.begin(), head.end(), [](char c) { return c != '\0'; }) - head.begin());
+  const std::size_t zeros =
+      static_cast<std::size_t>(std::find_if(head.begin(), head.end(), [](char c) { return c != '\0'; }) - head.begin());
   if (zeros == head.size()) {
-    throw InputError(file, 1, 1,
-                     "not a text or known binary format: its first " + std::to_string(zeros) + " bytes are all NUL (zero) bytes",
-                     "a file that was allocated but never written, e.g. by a logger that lost power? " +
-                         std::string(kReads));
+    throw InputError(
+        file, 1, 1,
+        "not a text or known binary format: its first " + std::to_string(zeros) + " bytes are all NUL (zero) bytes",
+        "a file that was allocated but never written, e.g. by a logger that lost power? " + std::string(kReads));
   }
   std::size_t line = 1;
   const char* line_begin = head.data();

@@ -25,7 +25,7 @@ void check_text_start(std::string_view head, const std::string& file, bool decom
 const char* find_binary_byte(const char* begin, const char* end) noexcept;
 
 // The error for binary byte `*where` of `text` found at line:column.
-[[noreturn]] void throw_binary_byte(std::string_view text, const char* where, const std::string& file,
-                                    std::size_t line, std::size_t column, std::size_t offset_base);
+[[noreturn]] void throw_binary_byte(std::string_view text, const char* where, const std::string& file, std::size_t line,
+                                    std::size_t column, std::size_t offset_base);
 
 }  // namespace cubecal::io::detail

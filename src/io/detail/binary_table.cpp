@@ -7,8 +7,7 @@
 
 namespace cubecal::io::detail {
 
-Table binary_table(std::string_view bytes, const std::string& file, const BinaryLayout& layout,
-                   bool missing_as_nan) {
+Table binary_table(std::string_view bytes, const std::string& file, const BinaryLayout& layout, bool missing_as_nan) {
   Table t;
   t.file = file;
   t.binary = true;

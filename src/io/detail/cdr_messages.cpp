@@ -12,8 +12,8 @@ class CdrCursor {
  public:
   explicit CdrCursor(std::string_view b) : b_(b) {
     if (b_.size() < 4)
-      throw MessageLayoutError(0, "message of " + std::to_string(b_.size()) +
-                                      " bytes ends inside its 4-byte CDR encapsulation header");
+      throw MessageLayoutError(
+          0, "message of " + std::to_string(b_.size()) + " bytes ends inside its 4-byte CDR encapsulation header");
     const auto kind = static_cast<unsigned char>(b_[1]);
     if (b_[0] != 0 || (kind != 0 && kind != 1))
       throw MessageLayoutError(0, "CDR encapsulation " + hex(b_[0]) + " " + hex(b_[1]) +
@@ -68,8 +68,8 @@ class CdrCursor {
   void end(const char* type) const {
     const std::size_t left = b_.size() - p_;
     if (left != 0 && left != padding_)
-      throw MessageLayoutError(p_, std::to_string(left) + " bytes left over after a " + type +
-                                       " (the message is of another definition)");
+      throw MessageLayoutError(
+          p_, std::to_string(left) + " bytes left over after a " + type + " (the message is of another definition)");
   }
 
  private:
@@ -87,7 +87,8 @@ class CdrCursor {
   }
   void need(std::size_t n, const char* what) const {
     if (n > b_.size() - p_)
-      throw MessageLayoutError(p_, std::string("message ends (") + std::to_string(b_.size()) + " bytes) inside " + what);
+      throw MessageLayoutError(p_,
+                               std::string("message ends (") + std::to_string(b_.size()) + " bytes) inside " + what);
   }
   std::string_view b_;
   std::size_t p_ = 0;

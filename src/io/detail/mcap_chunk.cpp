@@ -26,10 +26,12 @@ std::string unzstd(std::string_view data, std::size_t size, const BagPlace& at, 
     ZSTD_outBuffer o{probing ? &probe : out.data() + done, probing ? 1 : out.size() - done, 0};
     const std::size_t before = in.pos;
     last = ZSTD_decompressStream(ctx.get(), &o, &in);
-    if (ZSTD_isError(last)) bag_error(at, pos, std::string("corrupt zstd chunk data (") + ZSTD_getErrorName(last) + ")");
+    if (ZSTD_isError(last))
+      bag_error(at, pos, std::string("corrupt zstd chunk data (") + ZSTD_getErrorName(last) + ")");
     if (probing && o.pos > 0)
-      bag_error(at, pos, "zstd chunk inflates to more than " + std::to_string(size) + " bytes, its header says " +
-                             std::to_string(size));
+      bag_error(at, pos,
+                "zstd chunk inflates to more than " + std::to_string(size) + " bytes, its header says " +
+                    std::to_string(size));
     if (!probing) done += o.pos;
     if (o.pos == 0 && in.pos == before) bag_error(at, pos, "corrupt zstd chunk data (no progress)");
   }
@@ -38,7 +40,8 @@ std::string unzstd(std::string_view data, std::size_t size, const BagPlace& at, 
     ZSTD_inBuffer none{nullptr, 0, 0};
     ZSTD_outBuffer o{out.data() + done, out.size() - done, 0};
     last = ZSTD_decompressStream(ctx.get(), &o, &none);
-    if (ZSTD_isError(last)) bag_error(at, pos, std::string("corrupt zstd chunk data (") + ZSTD_getErrorName(last) + ")");
+    if (ZSTD_isError(last))
+      bag_error(at, pos, std::string("corrupt zstd chunk data (") + ZSTD_getErrorName(last) + ")");
     if (o.pos == 0) break;
     done += o.pos;
     if (done == out.size() && out.size() < size)
@@ -46,8 +49,8 @@ std::string unzstd(std::string_view data, std::size_t size, const BagPlace& at, 
   }
   if (last != 0) bag_error(at, pos, "zstd chunk data end before the compressed frame does");
   if (done != size)
-    bag_error(at, pos, "zstd chunk inflates to " + std::to_string(done) + " bytes, its header says " +
-                           std::to_string(size));
+    bag_error(at, pos,
+              "zstd chunk inflates to " + std::to_string(done) + " bytes, its header says " + std::to_string(size));
   out.resize(done);
   return out;
 }

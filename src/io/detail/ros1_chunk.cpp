@@ -59,8 +59,9 @@ std::string bunzip(std::string_view data, std::size_t size, const BagPlace& at, 
     if (!probing) done += produced;
     if (rc == BZ_STREAM_END) break;
     if (produced == 0 && z.avail_in == avail_in)
-      bag_error(at, pos, in_done == data.size() ? "bz2 chunk data end before the compressed stream does"
-                                                : "corrupt bz2 chunk data (no progress)");
+      bag_error(at, pos,
+                in_done == data.size() ? "bz2 chunk data end before the compressed stream does"
+                                       : "corrupt bz2 chunk data (no progress)");
   }
   if (done != size) size_mismatch(at, pos, "bz2", done, size);
   out.resize(done);
@@ -83,15 +84,15 @@ std::string unlz4(std::string_view data, std::size_t size, const BagPlace& at, s
     std::size_t dst_size = probing ? 1 : out.size() - done;
     std::size_t src_size = data.size() - in_done;
     const std::size_t hint = LZ4F_decompress(ctx, dst, &dst_size, data.data() + in_done, &src_size, nullptr);
-    if (LZ4F_isError(hint))
-      bag_error(at, pos, std::string("corrupt LZ4 chunk data (") + LZ4F_getErrorName(hint) + ")");
+    if (LZ4F_isError(hint)) bag_error(at, pos, std::string("corrupt LZ4 chunk data (") + LZ4F_getErrorName(hint) + ")");
     in_done += src_size;
     if (probing && dst_size > 0) size_mismatch(at, pos, "lz4", size + 1, size);
     if (!probing) done += dst_size;
     if (hint == 0) break;  // the frame is complete
     if (src_size == 0 && dst_size == 0)
-      bag_error(at, pos, in_done == data.size() ? "LZ4 chunk data end before the frame does"
-                                                : "corrupt LZ4 chunk data (no progress)");
+      bag_error(
+          at, pos,
+          in_done == data.size() ? "LZ4 chunk data end before the frame does" : "corrupt LZ4 chunk data (no progress)");
   }
   if (done != size) size_mismatch(at, pos, "lz4", done, size);
   out.resize(done);
@@ -100,8 +101,8 @@ std::string unlz4(std::string_view data, std::size_t size, const BagPlace& at, s
 
 }  // namespace
 
-std::string decompress_chunk(std::string_view compression, std::string_view data, std::size_t size,
-                             const BagPlace& at, std::size_t pos) {
+std::string decompress_chunk(std::string_view compression, std::string_view data, std::size_t size, const BagPlace& at,
+                             std::size_t pos) {
   if (compression == "none") {
     if (data.size() != size)
       bag_error(at, pos,

@@ -14,7 +14,7 @@ namespace cubecal::io::detail {
 // size that differs from what the data inflate to. The output grows with
 // what is actually decompressed, so a corrupt size field cannot make it
 // reserve gigabytes up front.
-std::string decompress_chunk(std::string_view compression, std::string_view data, std::size_t size,
-                             const BagPlace& at, std::size_t pos);
+std::string decompress_chunk(std::string_view compression, std::string_view data, std::size_t size, const BagPlace& at,
+                             std::size_t pos);
 
 }  // namespace cubecal::io::detail

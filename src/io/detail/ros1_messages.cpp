@@ -56,7 +56,8 @@ class Cursor {
  private:
   void need(std::size_t n, const char* what) const {
     if (n > b_.size() - p_)
-      throw MessageLayoutError(p_, std::string("message ends (") + std::to_string(b_.size()) + " bytes) inside " + what);
+      throw MessageLayoutError(p_,
+                               std::string("message ends (") + std::to_string(b_.size()) + " bytes) inside " + what);
   }
   std::string_view b_;
   std::size_t p_ = 0;

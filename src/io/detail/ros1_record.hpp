@@ -18,17 +18,17 @@ namespace cubecal::io::detail {
 // decompressed chunk, to the chunk's offset (said in the message).
 struct BagPlace {
   const std::string* file = nullptr;
-  std::size_t base = 0;    // file offset of bytes[0] (uncompressed data)
-  std::string within;      // e.g. " in the bz2 chunk at byte 4117": positions are not file offsets
+  std::size_t base = 0;  // file offset of bytes[0] (uncompressed data)
+  std::string within;    // e.g. " in the bz2 chunk at byte 4117": positions are not file offsets
   // What to do about it; null: the ROS 1 bag's advice.
   const char* repair = nullptr;
 };
 
 [[noreturn]] inline void bag_error(const BagPlace& at, std::size_t pos, const std::string& what) {
-  throw InputError(*at.file, 0, 0,
-                   "byte " + std::to_string(at.base + pos) + at.within + ": " + what,
-                   at.repair != nullptr ? at.repair
-                                        : "the bag is truncated or corrupt: copy it again, or repair it with `rosbag reindex`");
+  throw InputError(*at.file, 0, 0, "byte " + std::to_string(at.base + pos) + at.within + ": " + what,
+                   at.repair != nullptr
+                       ? at.repair
+                       : "the bag is truncated or corrupt: copy it again, or repair it with `rosbag reindex`");
 }
 
 inline std::uint32_t le32(const char* p) noexcept {
@@ -38,10 +38,10 @@ inline std::uint32_t le32(const char* p) noexcept {
 }
 
 struct BagRecord {
-  std::size_t offset = 0;        // position of the record in the bytes read
-  std::string_view header;       // the header fields
+  std::size_t offset = 0;   // position of the record in the bytes read
+  std::string_view header;  // the header fields
   std::string_view data;
-  std::size_t data_offset = 0;   // position of data in the bytes read
+  std::size_t data_offset = 0;  // position of data in the bytes read
   // The value of header field `name`, or nullopt.
   std::optional<std::string_view> field(std::string_view name) const;
 };
@@ -85,7 +85,8 @@ inline BagRecord read_record(std::string_view bytes, std::size_t& pos, const Bag
   BagRecord r;
   r.offset = pos;
   const std::size_t left = bytes.size() - pos;
-  if (left < 4) bag_error(at, pos, "record cut short: " + std::to_string(left) + " bytes where a record header length is");
+  if (left < 4)
+    bag_error(at, pos, "record cut short: " + std::to_string(left) + " bytes where a record header length is");
   const std::uint32_t hlen = le32(bytes.data() + pos);
   if (hlen > left - 4)
     bag_error(at, pos,
@@ -107,8 +108,8 @@ inline BagRecord read_record(std::string_view bytes, std::size_t& pos, const Bag
 }
 
 // A header field that must be there and hold `size` bytes (size 0: any).
-inline std::string_view required_field(const BagRecord& r, std::string_view name, std::size_t size,
-                                       const BagPlace& at, const char* record_kind) {
+inline std::string_view required_field(const BagRecord& r, std::string_view name, std::size_t size, const BagPlace& at,
+                                       const char* record_kind) {
   const auto v = r.field(name);
   if (!v) bag_error(at, r.offset, std::string(record_kind) + " record without its '" + std::string(name) + "' field");
   if (size != 0 && v->size() != size)

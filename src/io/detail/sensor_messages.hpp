@@ -26,18 +26,18 @@ struct Stamp {
   std::uint32_t nsec = 0;
 };
 
-struct ImuMessage {            // sensor_msgs/Imu
+struct ImuMessage {  // sensor_msgs/Imu
   Stamp stamp;
   double angular_velocity[3] = {};     // rad/s
   double linear_acceleration[3] = {};  // m/s^2
 };
 struct MagneticFieldMessage {  // sensor_msgs/MagneticField
   Stamp stamp;
-  double magnetic_field[3] = {};       // T
+  double magnetic_field[3] = {};  // T
 };
-struct TemperatureMessage {    // sensor_msgs/Temperature
+struct TemperatureMessage {  // sensor_msgs/Temperature
   Stamp stamp;
-  double temperature = 0.0;            // degC
+  double temperature = 0.0;  // degC
 };
 
 // The fields of each message in their order, read through a cursor of

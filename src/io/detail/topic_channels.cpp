@@ -62,8 +62,8 @@ std::size_t resolve_channel(const std::string& file, const std::vector<TopicColu
 }
 
 void take_channels(Series& s, std::vector<TopicColumn>& all, const SeriesOptions& opt,
-                   const std::function<void(std::size_t)>& check, const std::string& file,
-                   const std::string& none_what, const std::string& none_hint) {
+                   const std::function<void(std::size_t)>& check, const std::string& file, const std::string& none_what,
+                   const std::string& none_hint) {
   std::vector<bool> taken(all.size(), false);
   for (const auto& e : opt.table.extra_columns) {
     const std::size_t i = resolve_channel(file, all, e);
@@ -77,8 +77,10 @@ void take_channels(Series& s, std::vector<TopicColumn>& all, const SeriesOptions
     s.default_columns = true;
     for (std::size_t i = 0; i < all.size(); ++i) {
       const bool out = taken[i] || (opt.skip_temperature && all[i].name == "temp");
-      if (out) s.left_out.push_back(all[i].name);
-      else wanted.push_back(i);
+      if (out)
+        s.left_out.push_back(all[i].name);
+      else
+        wanted.push_back(i);
     }
     if (wanted.empty()) throw InputError(file, 0, 0, none_what, none_hint);
   } else {

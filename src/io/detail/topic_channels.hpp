@@ -42,8 +42,8 @@ std::size_t resolve_channel(const std::string& file, const std::vector<TopicColu
 // before it is. With no columns named and nothing but the temperature left:
 // InputError(file, none_what, none_hint).
 void take_channels(Series& s, std::vector<TopicColumn>& all, const SeriesOptions& opt,
-                   const std::function<void(std::size_t)>& check, const std::string& file,
-                   const std::string& none_what, const std::string& none_hint);
+                   const std::function<void(std::size_t)>& check, const std::string& file, const std::string& none_what,
+                   const std::string& none_hint);
 
 // A number as the shortest text that reads back as it.
 std::string shortest(double v);

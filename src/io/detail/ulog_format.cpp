@@ -146,8 +146,8 @@ std::size_t lay_out_ulog_formats(std::vector<ULogFormat>& formats, std::string& 
         // size <= 65535 and count <= 65535: no overflow.
         offset[fi] += size * field.count;
         if (offset[fi] > kMaxMessageBytes) {
-          error = "format " + f.name + " is larger than a message can be (" + std::to_string(kMaxMessageBytes) +
-                  " bytes)";
+          error =
+              "format " + f.name + " is larger than a message can be (" + std::to_string(kMaxMessageBytes) + " bytes)";
           return fi;
         }
       }

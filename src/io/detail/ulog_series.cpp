@@ -166,16 +166,19 @@ const ULogField& field_of(const ULog& log, const ULogTopic& t, const std::string
 }
 
 Decoded decode(const ULog& log, std::string_view bytes, const ULogTopic& topic, const std::string& time_field) {
-  const auto kind = std::find_if(kinds().begin(), kinds().end(), [&](const TopicKind& k) { return k.topic == topic.name; });
+  const auto kind =
+      std::find_if(kinds().begin(), kinds().end(), [&](const TopicKind& k) { return k.topic == topic.name; });
   if (kind == kinds().end())
-    throw InputError(log.file, 0, 0, "topic " + described(topic) + " is not one cubecal reads (" + readable_list() + ")",
+    throw InputError(log.file, 0, 0,
+                     "topic " + described(topic) + " is not one cubecal reads (" + readable_list() + ")",
                      "choose another topic with --topic NAME");
   Decoded d;
   d.topic = &topic;
   const ULogField& time = field_of(log, topic, time_field, 0);
   if (time.type.find("int") == std::string::npos || time.array)
-    throw InputError(log.file, 0, 0, "topic " + topic.label() + ": field " + time_field + " is a " + time.type +
-                                         ", not an integer time stamp in microseconds",
+    throw InputError(log.file, 0, 0,
+                     "topic " + topic.label() + ": field " + time_field + " is a " + time.type +
+                         ", not an integer time stamp in microseconds",
                      "give --time-col timestamp (the default) or another time stamp field");
   std::vector<const ULogField*> fields;
   for (const auto& c : kind->channels) {
@@ -204,7 +207,8 @@ Decoded decode(const ULog& log, std::string_view bytes, const ULogTopic& topic, 
   // A sensor without a temperature logs NaN in every message: no channel.
   for (std::size_t c = 0; c < d.columns.size();) {
     const auto& v = d.columns[c].values;
-    if (d.columns[c].name == "temp" && !v.empty() && std::all_of(v.begin(), v.end(), [](double x) { return std::isnan(x); }))
+    if (d.columns[c].name == "temp" && !v.empty() &&
+        std::all_of(v.begin(), v.end(), [](double x) { return std::isnan(x); }))
       d.columns.erase(d.columns.begin() + static_cast<std::ptrdiff_t>(c));
     else
       ++c;
@@ -223,7 +227,8 @@ double rate_of(const std::vector<double>& t) {
 
 Series read_ulog_series(const ULog& log, std::string_view bytes, bool gzip, const SeriesOptions& opt) {
   if (std::any_of(opt.lsb.begin(), opt.lsb.end(), [](double v) { return v != 1.0; }))
-    throw UsageError("counts_per_unit", log.file + " is a ULog file: its values are in SI units already, without an LSB");
+    throw UsageError("counts_per_unit",
+                     log.file + " is a ULog file: its values are in SI units already, without an LSB");
   if (opt.table.skip_rows != 0) throw UsageError(log.file + " is a ULog file: it has no rows to skip");
   const std::string time_field = opt.time_col.empty() ? "timestamp" : opt.time_col;
 
@@ -241,7 +246,8 @@ Series read_ulog_series(const ULog& log, std::string_view bytes, bool gzip, cons
     const ULogTopic& t = find_topic(log, label);
     if (std::any_of(decoded.begin(), decoded.end(), [&](const Decoded& d) { return d.topic == &t; })) continue;
     if (t.messages.empty())
-      throw InputError(log.file, 0, 0, "topic " + t.label() + " has no data messages", "choose another topic with --topic NAME");
+      throw InputError(log.file, 0, 0, "topic " + t.label() + " has no data messages",
+                       "choose another topic with --topic NAME");
     decoded.push_back(decode(log, bytes, t, time_field));
   }
   // One channel name per topic; then the rates must agree.

@@ -38,7 +38,6 @@ PowerLawPsd psd_of(const std::array<double, 5>& c, double f_high);
 // r r^T df + diag(e), where e_i >= 0 is the part of each point's variance
 // the envelope leaves uncorrelated (all of it when the PSD is zero there).
 // tau: increasing, positive.
-Eigen::MatrixXd projected_correlation(const std::vector<double>& tau, const Eigen::MatrixXd& q,
-                                      const PowerLawPsd& psd);
+Eigen::MatrixXd projected_correlation(const std::vector<double>& tau, const Eigen::MatrixXd& q, const PowerLawPsd& psd);
 
 }  // namespace cubecal::noise::detail

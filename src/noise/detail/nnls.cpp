@@ -9,8 +9,7 @@ namespace cubecal::noise::detail {
 
 using Eigen::Index;
 
-Eigen::VectorXd nnls(const Eigen::MatrixXd& a, const Eigen::VectorXd& b,
-                     std::vector<bool>& passive) {
+Eigen::VectorXd nnls(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, std::vector<bool>& passive) {
   const Eigen::Index n = a.cols();
   passive.assign(static_cast<std::size_t>(n), false);
   Eigen::VectorXd x = Eigen::VectorXd::Zero(n);
@@ -18,8 +17,7 @@ Eigen::VectorXd nnls(const Eigen::MatrixXd& a, const Eigen::VectorXd& b,
 
   // Gradient components below this are round-off (scale-free: A's 1-norm
   // times b's size, as scipy's nnls).
-  const double tol = 10.0 * std::numeric_limits<double>::epsilon() *
-                     static_cast<double>(std::max(a.rows(), n)) *
+  const double tol = 10.0 * std::numeric_limits<double>::epsilon() * static_cast<double>(std::max(a.rows(), n)) *
                      a.cwiseAbs().colwise().sum().maxCoeff() * b.norm();
 
   const auto solve_passive = [&]() {
@@ -45,7 +43,10 @@ Eigen::VectorXd nnls(const Eigen::MatrixXd& a, const Eigen::VectorXd& b,
     double w_max = tol;
     for (Index j = 0; j < n; ++j) {
       const auto uj = static_cast<std::size_t>(j);
-      if (!passive[uj] && !blocked[uj] && w(j) > w_max) { w_max = w(j); t = j; }
+      if (!passive[uj] && !blocked[uj] && w(j) > w_max) {
+        w_max = w(j);
+        t = j;
+      }
     }
     if (t < 0) break;
     passive[static_cast<std::size_t>(t)] = true;
@@ -59,7 +60,10 @@ Eigen::VectorXd nnls(const Eigen::MatrixXd& a, const Eigen::VectorXd& b,
         if (!passive[static_cast<std::size_t>(j)] || s(j) > 0.0) continue;
         const double den = x(j) - s(j);
         const double aj = den > 0.0 ? x(j) / den : 0.0;
-        if (worst < 0 || aj < alpha) { alpha = aj; worst = j; }
+        if (worst < 0 || aj < alpha) {
+          alpha = aj;
+          worst = j;
+        }
       }
       if (worst < 0) break;
       x += alpha * (s - x);

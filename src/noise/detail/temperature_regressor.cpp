@@ -14,8 +14,7 @@ void throw_too_few_distinct(std::size_t order) {
       "temperature takes too few distinct values for a fit of order " + std::to_string(order) + " (lower the order)");
 }
 
-TemperatureRegressor temperature_regressor(std::span<const double> y, std::span<const double> temp,
-                                           std::size_t order) {
+TemperatureRegressor temperature_regressor(std::span<const double> y, std::span<const double> temp, std::size_t order) {
   if (order < 1 || order > 5) throw CalibrationError(CalibrationReason::bad_option, "temperature order must be 1 to 5");
   if (y.size() != temp.size())
     throw CalibrationError(CalibrationReason::bad_data, "temperature and data lengths differ");

@@ -20,8 +20,7 @@ struct TemperatureRegressor {
 // CalibrationError: bad_option (order not 1 to 5), bad_data (lengths
 // differ), too_few_points (no more samples than order + 1), degenerate
 // (constant temperature, or fewer distinct values than coefficients).
-TemperatureRegressor temperature_regressor(std::span<const double> y, std::span<const double> temp,
-                                           std::size_t order);
+TemperatureRegressor temperature_regressor(std::span<const double> y, std::span<const double> temp, std::size_t order);
 
 // The degenerate error of a normal matrix that came out singular.
 [[noreturn]] void throw_too_few_distinct(std::size_t order);

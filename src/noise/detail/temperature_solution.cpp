@@ -18,9 +18,8 @@ TemperatureSolution solve_temperature(const Eigen::MatrixXd& ata, const Eigen::V
   return s;
 }
 
-TemperatureFit temperature_fit_from(const TemperatureSolution& s, double ymean, const Eigen::MatrixXd& g,
-                                    double ss_res, double ss_tot, std::size_t n, const TemperatureRegressor& reg,
-                                    std::size_t order) {
+TemperatureFit temperature_fit_from(const TemperatureSolution& s, double ymean, const Eigen::MatrixXd& g, double ss_res,
+                                    double ss_tot, std::size_t n, const TemperatureRegressor& reg, std::size_t order) {
   const std::size_t p = order + 1;
   const auto batches = static_cast<std::size_t>(g.cols());
   TemperatureFit f;
@@ -47,8 +46,7 @@ TemperatureFit temperature_fit_from(const TemperatureSolution& s, double ymean, 
     cov_u = inv * scores * inv;
     Eigen::VectorXd scale = Eigen::VectorXd::Ones(cov_u.rows());
     for (Eigen::Index a = 0; a < cov_u.rows(); ++a)
-      if (cov_u(a, a) < cov_white(a, a))
-        scale(a) = cov_u(a, a) > 0.0 ? std::sqrt(cov_white(a, a) / cov_u(a, a)) : 0.0;
+      if (cov_u(a, a) < cov_white(a, a)) scale(a) = cov_u(a, a) > 0.0 ? std::sqrt(cov_white(a, a) / cov_u(a, a)) : 0.0;
     for (Eigen::Index a = 0; a < cov_u.rows(); ++a)
       if (scale(a) == 0.0) {
         cov_u = cov_white;  // degenerate batches: fall back entirely

@@ -26,8 +26,7 @@ TemperatureSolution solve_temperature(const Eigen::MatrixXd& ata, const Eigen::V
 // g: the score sums per batch (p x batches, g(k, b) = sum over batch b of
 // u^k e); ss_res, ss_tot: residual and total sums of squares; ymean: the
 // mean of y (added to cu(0)).
-TemperatureFit temperature_fit_from(const TemperatureSolution& s, double ymean, const Eigen::MatrixXd& g,
-                                    double ss_res, double ss_tot, std::size_t n, const TemperatureRegressor& reg,
-                                    std::size_t order);
+TemperatureFit temperature_fit_from(const TemperatureSolution& s, double ymean, const Eigen::MatrixXd& g, double ss_res,
+                                    double ss_tot, std::size_t n, const TemperatureRegressor& reg, std::size_t order);
 
 }  // namespace cubecal::noise::detail

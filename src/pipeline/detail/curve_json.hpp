@@ -11,7 +11,6 @@
 
 namespace cubecal::pipeline::detail {
 
-nlohmann::json curve_json(const std::vector<StabilityPoint>& pts, bool intervals = true,
-                          const char* factor_key = "af");
+nlohmann::json curve_json(const std::vector<StabilityPoint>& pts, bool intervals = true, const char* factor_key = "af");
 
 }  // namespace cubecal::pipeline::detail

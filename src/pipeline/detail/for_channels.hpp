@@ -14,7 +14,8 @@ namespace cubecal::pipeline::detail {
 template <class Body>
 void for_channels(std::size_t channels, unsigned threads, const Body& body) {
   std::vector<std::exception_ptr> errors(channels);
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads > 0 ? static_cast<int>(threads) : 0) if (channels > 1)
+#pragma omp parallel for schedule(dynamic, 1) \
+    num_threads(threads > 0 ? static_cast <int>(threads) : 0) if (channels > 1)
   for (std::size_t c = 0; c < channels; ++c) {
     try {
       body(c);

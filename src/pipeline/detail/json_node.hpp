@@ -27,8 +27,7 @@ class JsonNode {
       : j_(j), path_(std::move(path)), label_(label), what_(what) {}
 
   [[noreturn]] void fail(const std::string& what) const {
-    throw UsageError(label_ + ": " + (path_.empty() ? std::string() : path_ + ": ") + what +
-                     " (not " + what_ + ")");
+    throw UsageError(label_ + ": " + (path_.empty() ? std::string() : path_ + ": ") + what + " (not " + what_ + ")");
   }
   bool has(const char* key) const { return j_.is_object() && j_.contains(key) && !j_[key].is_null(); }
   JsonNode at(const char* key) const {
@@ -78,9 +77,7 @@ class JsonNode {
   }
   double num(const char* key) const { return at(key).num(); }
   double num_or(const char* key, double fallback) const { return has(key) ? at(key).num() : fallback; }
-  std::string str_or(const char* key, const std::string& fallback) const {
-    return has(key) ? at(key).str() : fallback;
-  }
+  std::string str_or(const char* key, const std::string& fallback) const { return has(key) ? at(key).str() : fallback; }
   const json& raw() const { return j_; }
 
  private:
