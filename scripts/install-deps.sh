@@ -19,6 +19,7 @@ PACKAGES=(
   help2man                # the man page of the .deb, generated from --help
   clang libclang-rt-14-dev libomp-dev   # fuzzers (make fuzz): libFuzzer, ASan, UBSan
   gnuplot-nox             # plots (SVG/PNG) of the report
+  clang-format universal-ctags   # the format and architecture tests (scripts/check-format.sh, check-architecture.py)
   chromium                # browser test of report.html (headless)
 )
 
