@@ -218,7 +218,7 @@ py::tuple dev(const std::vector<Doubles>& channels, const std::vector<std::strin
     py::gil_scoped_release free;
     r = pipeline::run_dev(names, views, rate, {}, req);
   }
-  nlohmann::json meta = r;
+  nlohmann::json meta = pipeline::to_json(r);
   meta.erase("columns");
   py::list columns;
   for (const pipeline::DevChannel& ch : r.channels) columns.append(curve(ch, intervals));

@@ -51,7 +51,7 @@ void write_dev(const DevOptions& o, const pipeline::DevResult& res, ResultOutput
   DevContext ctx{o.input.file, o.ci, o.edf, !o.no_ci};
   std::ostream& out = result.stream();
   if (o.format == "json")
-    out << nlohmann::json(res).dump(1) << '\n';
+    out << pipeline::to_json(res).dump(1) << '\n';
   else if (o.format == "csv")
     write_dev_csv(out, res, ctx);
   else
@@ -184,7 +184,7 @@ void write_dev_result(DevOptions& o, const pipeline::DevResult& res, const io::S
         "contiguous segment ({} segments) and combined\n",
         series.irregular_intervals, res.segments);
   if (o.format == "json")
-    out << nlohmann::json(res).dump(1) << '\n';  // run_dev recorded the file and the interval options
+    out << pipeline::to_json(res).dump(1) << '\n';  // run_dev recorded the file and the interval options
   else if (o.format == "csv")
     write_dev_csv(out, res, ctx);
   else

@@ -719,8 +719,8 @@ AnalysisResult read_result(const json& doc, const std::string& label) {
 
 }  // namespace
 
-void to_json(json& j, const AnalysisResult& r) {
-  j = json::object();
+json to_json(const AnalysisResult& r) {
+  json j = json::object();
   j["format_version"] = kAnalysisFormatVersion;
   j["input"] = {{"file", r.file},
                 {"samples", r.samples},
@@ -815,12 +815,13 @@ void to_json(json& j, const AnalysisResult& r) {
                         "twin's deviation; max_error: the largest |twins / measured - 1|"},
                        {"channels", checked}};
   }
+  return j;
 }
 
-void from_json(const json& j, AnalysisResult& r) { r = read_result(j, "analysis.json"); }
+AnalysisResult analysis_result_from_json(const json& j, const std::string& where) { return read_result(j, where); }
 
 json to_json(const AnalysisDocument& d) {
-  json j = d.result;
+  json j = to_json(d.result);
   j["command"] = d.command;
   return j;
 }
@@ -838,8 +839,8 @@ AnalysisDocument parse_analysis_json(const std::string& text, const std::string&
   return d;
 }
 
-void to_json(json& j, const DevResult& r) {
-  j = json::object();
+json to_json(const DevResult& r) {
+  json j = json::object();
   j["stat"] = to_string(r.stat);
   j["type"] = to_string(r.type);
   j["rate_hz"] = r.rate_hz;
@@ -858,12 +859,12 @@ void to_json(json& j, const DevResult& r) {
   j["columns"] = std::move(cols);
   if (r.window_bound > 0) j["stream"] = {{"window_bound", r.window_bound}};
   write_tau_list(j, r.tau_list);
+  return j;
 }
 
-void from_json(const json& j, DevResult& r) {
-  const std::string label = "dev result";
-  const Node root(j, "", label);
-  r = DevResult{};
+DevResult dev_result_from_json(const json& j, const std::string& where) {
+  const Node root(j, "", where);
+  DevResult r;
   const std::string stat = root.at("stat").str(), type = root.at("type").str();
   const auto s = parse_stat(stat);
   const auto t = parse_data_type(type);
@@ -893,6 +894,7 @@ void from_json(const json& j, DevResult& r) {
   }
   if (root.has("stream")) r.window_bound = root.at("stream").at("window_bound").count();
   r.tau_list = read_tau_list(root);
+  return r;
 }
 
 }  // namespace cubecal::pipeline
