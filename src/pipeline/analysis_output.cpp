@@ -25,7 +25,7 @@ std::string num(double v) {
 
 }  // namespace
 
-std::string analysis_json(const AnalysisResult& r, const OutputContext& ctx) {
+json to_json(const AnalysisResult& r, const OutputContext& ctx) {
   json j = to_json(r);
   j["command"] = ctx.command;
   json names = json::array();
@@ -46,8 +46,10 @@ std::string analysis_json(const AnalysisResult& r, const OutputContext& ctx) {
                          {"dropped", p.dropped}});
   }
   if (!exports.empty()) j["estimator_files"]["simulator_projections"] = std::move(exports);
-  return j.dump(1) + "\n";
+  return j;
 }
+
+std::string analysis_json(const AnalysisResult& r, const OutputContext& ctx) { return to_json(r, ctx).dump(1) + "\n"; }
 
 std::string dev_json(const DevResult& r, const DevJsonContext& ctx) {
   DevResult d = r;
