@@ -85,9 +85,9 @@ const pipeline::AnalysisResult& analysis() {
 }
 
 pipeline::AnalysisResult round_trip(const pipeline::AnalysisResult& r) {
-  const json j = r;
+  const json j = pipeline::to_json(r);
   // Through text, as analysis.json is.
-  return json::parse(j.dump(1)).get<pipeline::AnalysisResult>();
+  return pipeline::analysis_result_from_json(json::parse(j.dump(1)), "analysis.json");
 }
 
 void expect_points(const std::vector<StabilityPoint>& a, const std::vector<StabilityPoint>& b,
@@ -233,19 +233,19 @@ TEST(AnalysisJson, RoundTripKeepsEveryField) {
 }
 
 TEST(AnalysisJson, MissingKeyIsAUsageErrorNamingIt) {
-  json j = analysis();
+  json j = pipeline::to_json(analysis());
   j["channels"][1]["noise"].erase("fit");
   try {
-    (void)j.get<pipeline::AnalysisResult>();
+    (void)pipeline::analysis_result_from_json(j, "analysis.json");
     FAIL() << "no error";
   } catch (const UsageError& e) {
     const std::string m = e.what();
     EXPECT_NE(m.find("analysis.json: channels[1].noise: no key 'fit'"), std::string::npos) << m;
     EXPECT_EQ(m.find('\n'), std::string::npos) << "one line";
   }
-  json k = analysis();
+  json k = pipeline::to_json(analysis());
   k["channels"][0]["adev"]["tau"] = "many";
-  EXPECT_THROW((void)k.get<pipeline::AnalysisResult>(), UsageError);
+  EXPECT_THROW((void)pipeline::analysis_result_from_json(k, "analysis.json"), UsageError);
   try {
     (void)pipeline::parse_analysis_json("{\"input\": {}}", "dir/analysis.json");
     FAIL() << "no error";
@@ -266,10 +266,10 @@ TEST(AnalysisJson, MissingKeyIsAUsageErrorNamingIt) {
 // (undefined behaviour).
 TEST(AnalysisJson, NoiseExponentOutOfRangeIsAUsageError) {
   for (const double bad : {-1e308, 1e308, 2.5, 3.0, -5.0}) {
-    json j = analysis();
+    json j = pipeline::to_json(analysis());
     j["channels"][0]["adev"]["alpha"][0] = bad;
     try {
-      (void)j.get<pipeline::AnalysisResult>();
+      (void)pipeline::analysis_result_from_json(j, "analysis.json");
       ADD_FAILURE() << "alpha " << bad << " accepted";
     } catch (const UsageError& e) {
       EXPECT_NE(std::string(e.what()).find("channels[0].adev.alpha[0]: not a whole number from -4 to 2"),
@@ -277,16 +277,16 @@ TEST(AnalysisJson, NoiseExponentOutOfRangeIsAUsageError) {
           << e.what();
     }
   }
-  json w = analysis();
+  json w = pipeline::to_json(analysis());
   w["channels"][0]["drift"]["window_s"] = -1e300;
-  EXPECT_THROW((void)w.get<pipeline::AnalysisResult>(), UsageError);
-  json ok = analysis();
+  EXPECT_THROW((void)pipeline::analysis_result_from_json(w, "analysis.json"), UsageError);
+  json ok = pipeline::to_json(analysis());
   ok["channels"][0]["adev"]["alpha"][0] = -4;
-  EXPECT_EQ(ok.get<pipeline::AnalysisResult>().channels[0].noise.adev[0].alpha, -4);
+  EXPECT_EQ(pipeline::analysis_result_from_json(ok, "analysis.json").channels[0].noise.adev[0].alpha, -4);
 }
 
 TEST(AnalysisJson, KeysAddedLaterTakeTheirDefaults) {
-  json j = analysis();
+  json j = pipeline::to_json(analysis());
   j.erase("ci");
   j["input"].erase("gaps");
   for (auto& c : j["channels"]) {
@@ -296,7 +296,7 @@ TEST(AnalysisJson, KeysAddedLaterTakeTheirDefaults) {
     c["noise"].erase("accelerometer");
     c["model"].erase("adev");
   }
-  const auto r = j.get<pipeline::AnalysisResult>();
+  const auto r = pipeline::analysis_result_from_json(j, "analysis.json");
   EXPECT_EQ(r.ci, 0.683);
   EXPECT_EQ(r.gaps, io::GapPolicy::error);
   EXPECT_EQ(r.channels[0].noise.readoffs.tau_min, analysis().channels[0].noise.readoffs.tau_min)
@@ -306,8 +306,7 @@ TEST(AnalysisJson, KeysAddedLaterTakeTheirDefaults) {
 
 TEST(AnalysisJson, OneNKSignificanceAndNoMinimumAreWritten) {
   const auto& r = analysis();
-  json j;
-  to_json(j, r);
+  json j = pipeline::to_json(r);
   EXPECT_EQ(j.at("format_version"), 2);
   for (std::size_t c = 0; c < r.channels.size(); ++c) {
     const auto& ch = r.channels[c];
@@ -347,20 +346,18 @@ TEST(AnalysisJson, OneNKSignificanceAndNoMinimumAreWritten) {
 
 TEST(AnalysisJson, FileBeforeVersionTwoReadsNAgainFromItsCurve) {
   const auto& r = analysis();
-  json j;
-  to_json(j, r);
+  json j = pipeline::to_json(r);
   j.erase("format_version");
   // An old file's N: the tangent to the whole -1/2 region, lower than at 1 s.
   for (auto& ch : j["channels"]) ch["noise"]["arw"]["value"] = ch["noise"]["arw"]["value"].get<double>() * 0.93;
-  pipeline::AnalysisResult back;
-  from_json(j, back);
+  pipeline::AnalysisResult back = pipeline::analysis_result_from_json(j, "analysis.json");
   for (std::size_t c = 0; c < r.channels.size(); ++c)
     EXPECT_NEAR(back.channels[c].noise.readoffs.N.value, r.channels[c].noise.readoffs.N.value,
                 1e-9 * r.channels[c].noise.readoffs.N.value)
         << r.channels[c].name;
   // A version 2 file is taken as written.
   j["format_version"] = 2;
-  from_json(j, back);
+  back = pipeline::analysis_result_from_json(j, "analysis.json");
   EXPECT_NEAR(back.channels[0].noise.readoffs.N.value, 0.93 * r.channels[0].noise.readoffs.N.value,
               1e-9 * r.channels[0].noise.readoffs.N.value);
 }
@@ -381,7 +378,7 @@ TEST(AnalysisJson, TemperatureJointFitOlsAndCompensatedModels) {
   EXPECT_FALSE(white.joint);
   EXPECT_NE(white.joint_error.find("no random-walk model"), std::string::npos) << white.joint_error;
   EXPECT_EQ(white.fit.coeff, white.ols.coeff);
-  const json j = a;
+  const json j = pipeline::to_json(a);
   const json& t = j["channels"][0]["temperature"];
   EXPECT_EQ(t["method"], "random_walk_gls");
   EXPECT_EQ(t["noise_model"]["sigma_mu"], gx.noise.sigma_mu);
@@ -394,13 +391,13 @@ TEST(AnalysisJson, TemperatureJointFitOlsAndCompensatedModels) {
 TEST(AnalysisJson, TemperatureOfAnEarlierVersionLoads) {
   // analysis.json of a cubecal that fitted by least squares only and
   // reported no compensated model.
-  json j = analysis();
+  json j = pipeline::to_json(analysis());
   for (auto& c : j["channels"]) {
     if (!c.contains("temperature")) continue;
     for (const char* k : {"method", "method_text", "noise_model", "joint_error", "ols", "compensated_model"})
       c["temperature"].erase(k);
   }
-  const auto r = j.get<pipeline::AnalysisResult>();
+  const auto r = pipeline::analysis_result_from_json(j, "analysis.json");
   const auto& t = *r.channels[0].temperature;
   EXPECT_FALSE(t.joint);
   EXPECT_EQ(t.ols.coeff, t.fit.coeff);
@@ -408,9 +405,9 @@ TEST(AnalysisJson, TemperatureOfAnEarlierVersionLoads) {
   EXPECT_FALSE(t.compensated_model.ok);
   EXPECT_FALSE(t.compensated_model.gm_ok);
   EXPECT_NE(t.compensated_model.error.find("not in this analysis.json"), std::string::npos);
-  json bad = analysis();
+  json bad = pipeline::to_json(analysis());
   bad["channels"][0]["temperature"]["method"] = "kalman";
-  EXPECT_THROW((void)bad.get<pipeline::AnalysisResult>(), UsageError);
+  EXPECT_THROW((void)pipeline::analysis_result_from_json(bad, "analysis.json"), UsageError);
 }
 
 TEST(AnalysisJson, DocumentKeepsTheCommandAndDriftCounts) {
@@ -485,7 +482,7 @@ TEST(AnalysisJson, DevResultRoundTrip) {
   req.options.ci = 0.9;
   req.options.edf = EdfMethod::simple;
   const pipeline::DevResult a = pipeline::run_dev(s, req);
-  const pipeline::DevResult b = json::parse(json(a).dump()).get<pipeline::DevResult>();
+  const pipeline::DevResult b = pipeline::dev_result_from_json(json::parse(pipeline::to_json(a).dump()), "dev result");
   EXPECT_EQ(b.stat, a.stat);
   EXPECT_EQ(b.type, a.type);
   EXPECT_EQ(b.rate_hz, a.rate_hz);
@@ -502,10 +499,10 @@ TEST(AnalysisJson, DevResultRoundTrip) {
   }
   pipeline::DevResult no_ci = a;
   no_ci.options.intervals = false;
-  const json j = no_ci;
+  const json j = pipeline::to_json(no_ci);
   EXPECT_TRUE(j["ci"].is_null());
   EXPECT_FALSE(j["columns"][0].contains("lo"));
-  EXPECT_FALSE(j.get<pipeline::DevResult>().options.intervals);
+  EXPECT_FALSE(pipeline::dev_result_from_json(j, "dev result").options.intervals);
 }
 
 void expect_tau_list(const TauListOutcome& a, const TauListOutcome& b, const std::string& what) {
@@ -534,24 +531,24 @@ TEST(AnalysisJson, ExcludedAndMergedTausRoundTrip) {
   const pipeline::DevResult a = pipeline::run_dev(s, req);
   ASSERT_EQ(a.tau_list.excluded.size(), 2u);
   ASSERT_EQ(a.tau_list.merged.size(), 1u);
-  const json j = a;
+  const json j = pipeline::to_json(a);
   EXPECT_EQ(j["excluded_taus"][0]["af"], 10000000) << "a whole number";
   EXPECT_EQ(j["excluded_taus"][0]["reason"], a.tau_list.excluded[0].reason);
   EXPECT_EQ(j["merged_taus"][0]["merged_with_tau_s"], 1.0);
-  expect_tau_list(a.tau_list, json::parse(j.dump()).get<pipeline::DevResult>().tau_list, "dev");
+  expect_tau_list(a.tau_list, pipeline::dev_result_from_json(json::parse(j.dump()), "dev result").tau_list, "dev");
 
   pipeline::AnalysisResult r = analysis();
   r.tau_list = a.tau_list;
   r.model_excluded_taus = {a.tau_list.excluded[0]};
-  const json k = r;
+  const json k = pipeline::to_json(r);
   ASSERT_TRUE(k.contains("model_excluded_taus"));
   const pipeline::AnalysisResult b = round_trip(r);
   expect_tau_list(r.tau_list, b.tau_list, "analysis");
   expect_tau_list({r.model_excluded_taus, {}}, {b.model_excluded_taus, {}}, "analysis model");
 
-  json old = analysis();  // written before the keys existed
+  json old = pipeline::to_json(analysis());  // written before the keys existed
   for (const char* key : {"excluded_taus", "merged_taus", "model_excluded_taus"}) old.erase(key);
-  const auto c = old.get<pipeline::AnalysisResult>();
+  const auto c = pipeline::analysis_result_from_json(old, "analysis.json");
   EXPECT_TRUE(c.tau_list.empty());
   EXPECT_TRUE(c.model_excluded_taus.empty());
 }

@@ -219,7 +219,7 @@ TEST(FrameSpec, ErrorQuotesTheSpecPrintably) {
 // Found by fuzz_recording_manifest: a number beyond a double threw
 // nlohmann's out_of_range instead of an InputError.
 TEST(RecordingManifest, NumberBeyondADoubleIsAnInputError) {
-  EXPECT_THROW(io::manifest_from_json("{\"format\": \"cubecal-record/1\", \"rate_hz\": 1e999}", "m.json"), InputError);
+  EXPECT_THROW(io::parse_manifest("{\"format\": \"cubecal-record/1\", \"rate_hz\": 1e999}", "m.json"), InputError);
 }
 
 TEST(RecordingManifest, JsonRoundTrip) {
@@ -259,16 +259,16 @@ TEST(RecordingManifest, JsonRoundTrip) {
   r.host_utc_s = 1795780001.0;
   s.events = {g, r};
   m.segments = {s};
-  const std::string text = io::manifest_to_json(m);
+  const std::string text = io::manifest_text(m);
   EXPECT_NE(text.find("\"crc32\": \"0a1b2c3d\""), std::string::npos);
   EXPECT_NE(text.find("\"start_utc\": \"2026-11-27T11:46:40.123456789Z\""), std::string::npos);
-  const io::RecordingManifest back = io::manifest_from_json(text, "manifest.json");
-  EXPECT_EQ(io::manifest_to_json(back), text);
+  const io::RecordingManifest back = io::parse_manifest(text, "manifest.json");
+  EXPECT_EQ(io::manifest_text(back), text);
   EXPECT_EQ(back.segments[0].chunks[0].crc32, 0x0a1b2c3du);
   EXPECT_EQ(back.segments[0].events[1].kind, io::RecordingEvent::Kind::reconnect);
   EXPECT_FALSE(back.unit.has_value());
-  EXPECT_THROW(io::manifest_from_json("{\"format\": \"other\"}", "m.json"), InputError);
-  EXPECT_THROW(io::manifest_from_json("{", "m.json"), InputError);
+  EXPECT_THROW(io::parse_manifest("{\"format\": \"other\"}", "m.json"), InputError);
+  EXPECT_THROW(io::parse_manifest("{", "m.json"), InputError);
 }
 
 TEST(RecordingManifest, AtomicReplace) {

@@ -1,5 +1,4 @@
 """cubecal.analyze: `cubecal analyze` on a file or on arrays."""
-import json
 import os
 
 import numpy as np
@@ -19,7 +18,7 @@ class Analysis(Result):
     sensors it measured."""
 
     def __init__(self, handle, command):
-        super().__init__(json.loads(handle.json(command)))
+        super().__init__(handle.document(command))
         object.__setattr__(self, "_handle", handle)
         object.__setattr__(self, "_command", command)
 

@@ -6,7 +6,6 @@ Each returns a Result whose to_dict() is the JSON document the CLI writes
 for the same data (`--format json`); where the CLI adds its command line as
 "invocation", the Python call's text is there instead.
 """
-import json
 import os
 
 import numpy as np
@@ -245,9 +244,9 @@ def calibrate_rate_table(data, rate=None, reference=None, schedule=None, from_si
                                       "3 columns")
         args.reference = string_list(reference)
         ro = dict(read_options, columns=columns, time=time, rate=rate)
-        text = _cubecal._rate_table_file(path, read_args(**ro), args,
-                                         _call_text("calibrate_rate_table", repr(path), {**shown, **read_options}))
-        return RateTableCalibration(json.loads(text))
+        doc = _cubecal._rate_table_file(path, read_args(**ro), args,
+                                        _call_text("calibrate_rate_table", repr(path), {**shown, **read_options}))
+        return RateTableCalibration(doc)
     _no_read_options(read_options)
     _check_one_segment(data, "calibrate its file, read with gaps=\"split\", or give one contiguous piece")
     exclude = []
@@ -274,9 +273,9 @@ def calibrate_rate_table(data, rate=None, reference=None, schedule=None, from_si
     r = _rate_of(rate, data)
     if r is None and time_values is None:
         raise _usage("rate", "rate: give the sampling rate of the arrays in Hz (or their time stamps, time=)")
-    text = _cubecal._rate_table_arrays(arrays, chan_names, r or 0.0, time_values, ref_arrays, ref_names, args,
-                                       _label(data), _call_text("calibrate_rate_table", "<arrays>", shown))
-    return RateTableCalibration(json.loads(text))
+    doc = _cubecal._rate_table_arrays(arrays, chan_names, r or 0.0, time_values, ref_arrays, ref_names, args,
+                                      _label(data), _call_text("calibrate_rate_table", "<arrays>", shown))
+    return RateTableCalibration(doc)
 
 
 def _names_only(value):
@@ -331,9 +330,9 @@ def calibrate_mag(points, method="ellipsoid", field_norm=None, field_column=None
         path = os.fspath(points)
         if field_column is not None and not isinstance(field_column, str):
             raise _usage("field_column", "field_column: the field column of a file: its name or 1-based index")
-        text = _cubecal._mag_file(path, string_list(columns), int(skip_rows), int(threads), field_column or "", args,
-                                  _call_text("calibrate_mag", repr(path), shown))
-        return MagCalibration(json.loads(text))
+        doc = _cubecal._mag_file(path, string_list(columns), int(skip_rows), int(threads), field_column or "", args,
+                                 _call_text("calibrate_mag", repr(path), shown))
+        return MagCalibration(doc)
     if skip_rows:
         raise _usage("skip_rows", "skip_rows: an option of a file; the points are arrays here")
     field_values = None
@@ -352,9 +351,9 @@ def calibrate_mag(points, method="ellipsoid", field_norm=None, field_column=None
         if columns is not None:
             raise _usage("columns", "columns: names of the columns of a dict or DataFrame; the points are arrays here")
         names, arrays = _triad(points, "points")
-    text = _cubecal._mag_arrays(arrays, names, field_values, args, _label(points),
-                                _call_text("calibrate_mag", "<arrays>", shown))
-    return MagCalibration(json.loads(text))
+    doc = _cubecal._mag_arrays(arrays, names, field_values, args, _label(points),
+                               _call_text("calibrate_mag", "<arrays>", shown))
+    return MagCalibration(doc)
 
 
 # ---------------------------------------------------------------------------
@@ -397,7 +396,7 @@ def calibrate_temperature(data, temperature, rate=None, order=1, unit="counts", 
             raise _usage("temperature", "temperature: the temperature of a file: the name (or 1-based index) of "
                                         "its column")
         ro = dict(read_options, columns=columns, rate=rate)
-        return TemperatureCalibration(json.loads(_cubecal._temperature_file(path, read_args(**ro), temperature, args)))
+        return TemperatureCalibration(_cubecal._temperature_file(path, read_args(**ro), temperature, args))
     _no_read_options(read_options)
     if temperature is None:
         raise _usage("temperature", "temperature: give the temperature: a column name or one value per sample (degC)")
@@ -408,8 +407,8 @@ def calibrate_temperature(data, temperature, rate=None, order=1, unit="counts", 
         temp_name, temp_values, exclude = "temperature", _vector(temperature, "temperature"), ()
     chan_names, arrays = _channels(data, columns, names, exclude)
     r = _rate_of(rate, data) or 1.0
-    text = _cubecal._temperature_arrays(arrays, chan_names, r, temp_values, temp_name, args, _label(data))
-    return TemperatureCalibration(json.loads(text))
+    doc = _cubecal._temperature_arrays(arrays, chan_names, r, temp_values, temp_name, args, _label(data))
+    return TemperatureCalibration(doc)
 
 
 # ---------------------------------------------------------------------------
@@ -496,10 +495,10 @@ def calibrate_multiposition(acc, gyro=None, rate=None, time=None, gyro_time=None
         acc_path = os.fspath(acc)
         gyro_path = os.fspath(gyro) if gyro is not None else ""
         first = repr(acc_path) + (", " + repr(gyro_path) if gyro_path else "")
-        text = _cubecal._multiposition_file(acc_path, gyro_path, string_list(acc_columns), string_list(gyro_columns),
-                                            time or "", float(rate or 0.0), int(skip_rows), int(threads), args,
-                                            _call_text("calibrate_multiposition", first, shown))
-        return MultipositionCalibration(json.loads(text))
+        doc = _cubecal._multiposition_file(acc_path, gyro_path, string_list(acc_columns), string_list(gyro_columns),
+                                           time or "", float(rate or 0.0), int(skip_rows), int(threads), args,
+                                           _call_text("calibrate_multiposition", first, shown))
+        return MultipositionCalibration(doc)
     if _is_path(gyro):
         raise _usage("gyro", "gyro: with accelerometer arrays, the gyroscope is arrays too")
     if skip_rows:
@@ -536,10 +535,10 @@ def calibrate_multiposition(acc, gyro=None, rate=None, time=None, gyro_time=None
         gyro_label = _label(acc)
     _, acc_arrays = _triad_of_data(acc, acc_columns, tuple(exclude), "acc_columns")
     r = _rate_of(rate, acc) if time_values is None else (float(rate) if rate is not None else 0.0)
-    text = _cubecal._multiposition_arrays(acc_arrays, gyro_arrays, time_values, gyro_time_values, r or 0.0, args,
-                                          _label(acc), gyro_label,
-                                          _call_text("calibrate_multiposition", "<arrays>", shown))
-    return MultipositionCalibration(json.loads(text))
+    doc = _cubecal._multiposition_arrays(acc_arrays, gyro_arrays, time_values, gyro_time_values, r or 0.0, args,
+                                         _label(acc), gyro_label,
+                                         _call_text("calibrate_multiposition", "<arrays>", shown))
+    return MultipositionCalibration(doc)
 
 
 # ---------------------------------------------------------------------------
@@ -625,7 +624,7 @@ def turnon(runs, rate=None, unit=None, taus="log:10", ci=0.683, columns=None, na
     inputs = _run_inputs(runs, rate, columns, names, threads, read_options, False, "turnon")
     if len(inputs) < 2:
         raise _usage("runs", f"runs: the turn-on bias needs at least 2 runs (power cycles), got {len(inputs)}")
-    return TurnOn(json.loads(_cubecal._turnon(inputs, _runs_args(unit, taus, ci, threads))))
+    return TurnOn(_cubecal._turnon(inputs, _runs_args(unit, taus, ci, threads)))
 
 
 def compare(runs, rate=None, unit=None, taus="log:10", ci=0.683, columns=None, names=None, threads=0,
@@ -639,4 +638,4 @@ def compare(runs, rate=None, unit=None, taus="log:10", ci=0.683, columns=None, n
     Returns a Comparison (runs [{file, samples, rate_hz, channels [...]}]).
     """
     inputs = _run_inputs(runs, rate, columns, names, threads, read_options, True, "compare")
-    return Comparison(json.loads(_cubecal._compare(inputs, _runs_args(unit, taus, ci, threads))))
+    return Comparison(_cubecal._compare(inputs, _runs_args(unit, taus, ci, threads)))

@@ -1,6 +1,5 @@
 """`cubecal dev` on arrays: one statistic over Stable32's tau grids and
 limits, with noise identification, EDF and confidence intervals per tau."""
-import json
 
 import numpy as np
 
@@ -85,4 +84,4 @@ def dev(data, rate=None, stat="oadev", data_type="freq", taus="octave", ci=0.683
         rate = getattr(data, "rate_hz", None) or 1.0
     meta, columns = _cubecal._dev(arrays, names, float(rate), stat, data_type, taus, float(ci), alpha, edf,
                                   bool(conservative), bool(intervals), int(threads), gaps)
-    return DevResult(json.loads(meta), columns)
+    return DevResult(meta, columns)

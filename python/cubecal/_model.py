@@ -1,6 +1,5 @@
 """cubecal.model: `cubecal model` on a file or on arrays; the result's
 to_dict() is the command's JSON."""
-import json
 
 from . import _cubecal
 from ._data import string_list
@@ -47,4 +46,4 @@ def model(data, model, rate=None, unit=None, bootstrap=0, seed=1, ci=0.95, start
     a.wic_replicates = int(wic_replicates)
     a.robust, a.efficiency = bool(robust), float(efficiency)
     path, ra, arrays, names, rate = _source(data, rate, names, read_options)
-    return NoiseModel(json.loads(_cubecal._model(path, ra, arrays, names, rate, a)))
+    return NoiseModel(_cubecal._model(path, ra, arrays, names, rate, a))

@@ -1,6 +1,5 @@
 """cubecal.psd and cubecal.davar: `cubecal psd` and `cubecal davar` on a
 file or on arrays; each result's to_dict() is the command's JSON."""
-import json
 import os
 
 from . import _cubecal
@@ -62,10 +61,9 @@ def psd(data, rate=None, unit=None, window="hann", segment=0, fmin=0.0, overlap=
     a.units = string_list(unit)
     a.threads = int(threads)
     path, ra, arrays, names, rate = _source(data, rate, names, read_options)
-    meta, spectra = _cubecal._psd(path, ra, arrays, names, rate, a)
-    d = json.loads(meta)
+    d, spectra = _cubecal._psd(path, ra, arrays, names, rate, a)
     for channel, arrays_of in zip(d["channels"], spectra):
-        channel.update(arrays_of)  # the long arrays come as NumPy arrays, not as JSON text
+        channel.update(arrays_of)  # the long arrays come as NumPy arrays, not as lists
     return Spectrum(d)
 
 
@@ -90,4 +88,4 @@ def davar(data, rate=None, window=None, step=None, taus="log:10", data_type="fre
     a.alpha = alpha
     a.threads = int(threads)
     path, ra, arrays, names, rate = _source(data, rate, names, read_options)
-    return DynamicAllan(json.loads(_cubecal._davar(path, ra, arrays, names, rate, a)))
+    return DynamicAllan(_cubecal._davar(path, ra, arrays, names, rate, a))

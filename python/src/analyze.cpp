@@ -1,6 +1,6 @@
 // cubecal._analyze_file / _analyze_arrays: `cubecal analyze` on a file or on
 // arrays, returning the typed AnalysisResult in a handle (_Analysis) that
-// gives the JSON of analysis.json, writes the files of `analyze --out`, and
+// gives the content of analysis.json, writes the files of `analyze --out`, and
 // feeds cubecal.simulate.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -16,6 +16,7 @@
 
 #include "arrays.hpp"
 #include "common.hpp"
+#include "json_value.hpp"
 #include "cubecal/error.hpp"
 #include "cubecal/io/output_path.hpp"
 #include "cubecal/noise/unit_from_name.hpp"
@@ -135,8 +136,9 @@ AnalysisHandle analyze_arrays(const std::vector<Doubles>& channels, const std::v
   return AnalysisHandle{result};
 }
 
-std::string analysis_json(const AnalysisHandle& h, const std::string& command) {
-  return pipeline::analysis_json(*h.result, pipeline::OutputContext{command});
+// analysis.json's content as Python objects.
+py::object analysis_document(const AnalysisHandle& h, const std::string& command) {
+  return to_python(pipeline::to_json(*h.result, pipeline::OutputContext{command}));
 }
 
 // The files of `analyze --out DIR`, each written whole through NAME.partial;
@@ -171,7 +173,7 @@ std::vector<std::string> write_files(const AnalysisHandle& h, const std::string&
 
 void bind_analyze(py::module_& m) {
   py::class_<AnalysisHandle>(m, "_Analysis")
-      .def("json", &analysis_json, py::arg("command"), "analysis.json's text")
+      .def("document", &analysis_document, py::arg("command"), "analysis.json's content")
       .def("write", &write_files, py::arg("dir"), py::arg("force"), py::arg("command"),
            "Writes the files of `analyze --out DIR`; returns their paths.");
   py::class_<AnalyzeArgs>(m, "_AnalyzeArgs")

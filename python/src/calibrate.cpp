@@ -3,8 +3,8 @@
 // and the runs commands (`turnon`, `compare`) on a file read as the CLI
 // reads it, or on arrays. Each checks its arguments as the CLI checks its
 // options (UsageError naming the Python keyword), runs the pipeline without
-// the GIL and returns the JSON text of the pipeline's to_json, the same
-// document the CLI writes (the calibrations that the CLI writes with its
+// the GIL and returns the pipeline's to_json as Python objects
+// (json_value.hpp), the same document the CLI writes (the calibrations that the CLI writes with its
 // invocation get the Python call's text as "invocation").
 //
 // Data that cannot determine a calibration raise the core's
@@ -31,6 +31,7 @@
 #include "array_series.hpp"
 #include "arrays.hpp"
 #include "common.hpp"
+#include "json_value.hpp"
 #include "cubecal/calib/mag_calibration.hpp"
 #include "cubecal/calib/multiposition.hpp"
 #include "cubecal/calib/plateaus.hpp"
@@ -129,9 +130,9 @@ std::vector<double> checked_times(const Doubles& a, std::size_t samples, const s
   return t;
 }
 
-std::string with_invocation(nlohmann::json j, const std::string& command) {
+nlohmann::json with_invocation(nlohmann::json j, const std::string& command) {
   j["invocation"] = command;
-  return j.dump();
+  return j;
 }
 
 // ---------------------------------------------------------------------------
@@ -203,8 +204,8 @@ pipeline::RateTableRequest rate_table_request(const RateTableArgs& a, bool use_r
   return req;
 }
 
-std::string rate_table_file(const std::string& path, const ReadArgs& read, const RateTableArgs& a,
-                            const std::string& command) {
+nlohmann::json rate_table_file(const std::string& path, const ReadArgs& read, const RateTableArgs& a,
+                               const std::string& command) {
   if (!a.reference.empty() && a.reference.size() != 3)
     throw UsageError("reference", "reference takes the 3 reference rate columns (rx,ry,rz or 5,6,7)");
   if (!read.extra.empty()) throw UsageError("extra", "the extra columns of a rate table are its reference columns");
@@ -221,10 +222,10 @@ std::string rate_table_file(const std::string& path, const ReadArgs& read, const
   return with_invocation(std::move(j), command);
 }
 
-std::string rate_table_arrays(const std::vector<Doubles>& channels, const std::vector<std::string>& names, double rate,
-                              const std::optional<Doubles>& time, const std::vector<Doubles>& reference,
-                              const std::vector<std::string>& reference_names, const RateTableArgs& a,
-                              const std::string& label, const std::string& command) {
+nlohmann::json rate_table_arrays(const std::vector<Doubles>& channels, const std::vector<std::string>& names,
+                                 double rate, const std::optional<Doubles>& time, const std::vector<Doubles>& reference,
+                                 const std::vector<std::string>& reference_names, const RateTableArgs& a,
+                                 const std::string& label, const std::string& command) {
   if (!reference.empty() && reference.size() != 3)
     throw UsageError("reference", "reference: the 3 reference rates x, y, z, one value per sample each");
   if (reference_names.size() != reference.size()) throw std::invalid_argument("reference_names: one per reference");
@@ -306,8 +307,9 @@ pipeline::MagRequest mag_request(const MagArgs& a, bool field_column) {
   return req;
 }
 
-std::string mag_file(const std::string& path, const std::vector<std::string>& columns, std::size_t skip_rows,
-                     unsigned threads, const std::string& field_column, const MagArgs& a, const std::string& command) {
+nlohmann::json mag_file(const std::string& path, const std::vector<std::string>& columns, std::size_t skip_rows,
+                        unsigned threads, const std::string& field_column, const MagArgs& a,
+                        const std::string& command) {
   if (!columns.empty() && columns.size() != 3)
     throw UsageError("columns", "columns takes the 3 magnetometer columns (mx,my,mz or 1,2,3)");
   const pipeline::MagRequest req = mag_request(a, !field_column.empty());
@@ -330,9 +332,9 @@ std::string mag_file(const std::string& path, const std::vector<std::string>& co
 
 // Points as 3 arrays; their rows count from 1 (rejected_lines are the
 // 1-based numbers of the points rejected).
-std::string mag_arrays(const std::vector<Doubles>& xyz, const std::vector<std::string>& names,
-                       const std::optional<Doubles>& field_norms, const MagArgs& a, const std::string& label,
-                       const std::string& command) {
+nlohmann::json mag_arrays(const std::vector<Doubles>& xyz, const std::vector<std::string>& names,
+                          const std::optional<Doubles>& field_norms, const MagArgs& a, const std::string& label,
+                          const std::string& command) {
   if (xyz.size() != 3 || names.size() != 3)
     throw UsageError("points", "the points are 3 arrays x, y, z (or an array of shape (n, 3))");
   const pipeline::MagRequest req = mag_request(a, field_norms.has_value());
@@ -386,8 +388,8 @@ pipeline::TemperatureRequest temperature_request(const TemperatureArgs& a) {
   return req;
 }
 
-std::string temperature_file(const std::string& path, const ReadArgs& read, const std::string& temperature,
-                             const TemperatureArgs& a) {
+nlohmann::json temperature_file(const std::string& path, const ReadArgs& read, const std::string& temperature,
+                                const TemperatureArgs& a) {
   if (temperature.empty()) throw UsageError("temperature", "name the temperature column (degC) of the file");
   if (!read.extra.empty())
     throw UsageError("extra", "the extra column of a temperature calibration is its temperature");
@@ -400,12 +402,12 @@ std::string temperature_file(const std::string& path, const ReadArgs& read, cons
     const io::Series s = io::read_series(path, so);
     j = pipeline::to_json(on_record(path, [&] { return pipeline::calibrate_temperature(s, req); }));
   }
-  return j.dump();
+  return j;
 }
 
-std::string temperature_arrays(const std::vector<Doubles>& channels, const std::vector<std::string>& names, double rate,
-                               const Doubles& temperature, const std::string& temp_name, const TemperatureArgs& a,
-                               const std::string& label) {
+nlohmann::json temperature_arrays(const std::vector<Doubles>& channels, const std::vector<std::string>& names,
+                                  double rate, const Doubles& temperature, const std::string& temp_name,
+                                  const TemperatureArgs& a, const std::string& label) {
   const pipeline::TemperatureRequest req = temperature_request(a);
   const io::Series s = array_series(channels, names, rate, temperature, temp_name, label);
   nlohmann::json j;
@@ -413,7 +415,7 @@ std::string temperature_arrays(const std::vector<Doubles>& channels, const std::
     py::gil_scoped_release free;
     j = pipeline::to_json(on_record(label, [&] { return pipeline::calibrate_temperature(s, req); }));
   }
-  return j.dump();
+  return j;
 }
 
 // ---------------------------------------------------------------------------
@@ -521,8 +523,8 @@ std::vector<pipeline::TriadSamples> read_triads(const std::string& path, const s
   return out;
 }
 
-std::string run_multiposition(const pipeline::TriadSamples& acc, const std::optional<pipeline::TriadSamples>& gyro,
-                              const pipeline::MultipositionRequest& req, const std::string& command) {
+nlohmann::json run_multiposition(const pipeline::TriadSamples& acc, const std::optional<pipeline::TriadSamples>& gyro,
+                                 const pipeline::MultipositionRequest& req, const std::string& command) {
   nlohmann::json j;
   {
     py::gil_scoped_release free;
@@ -534,11 +536,11 @@ std::string run_multiposition(const pipeline::TriadSamples& acc, const std::opti
   return with_invocation(std::move(j), command);
 }
 
-std::string multiposition_file(const std::string& acc_path, const std::string& gyro_path,
-                               const std::vector<std::string>& acc_columns,
-                               const std::vector<std::string>& gyro_columns, const std::string& time_col, double rate,
-                               std::size_t skip_rows, unsigned threads, const MultipositionArgs& a,
-                               const std::string& command) {
+nlohmann::json multiposition_file(const std::string& acc_path, const std::string& gyro_path,
+                                  const std::vector<std::string>& acc_columns,
+                                  const std::vector<std::string>& gyro_columns, const std::string& time_col,
+                                  double rate, std::size_t skip_rows, unsigned threads, const MultipositionArgs& a,
+                                  const std::string& command) {
   check_sampling_choice(!time_col.empty(), rate);
   if (!acc_columns.empty() && acc_columns.size() != 3)
     throw UsageError("acc_columns", "acc_columns takes three columns");
@@ -586,10 +588,10 @@ pipeline::TriadSamples triad_of(const std::vector<Doubles>& xyz, const std::opti
   return tr;
 }
 
-std::string multiposition_arrays(const std::vector<Doubles>& acc, const std::optional<std::vector<Doubles>>& gyro,
-                                 const std::optional<Doubles>& time, const std::optional<Doubles>& gyro_time,
-                                 double rate, const MultipositionArgs& a, const std::string& acc_label,
-                                 const std::string& gyro_label, const std::string& command) {
+nlohmann::json multiposition_arrays(const std::vector<Doubles>& acc, const std::optional<std::vector<Doubles>>& gyro,
+                                    const std::optional<Doubles>& time, const std::optional<Doubles>& gyro_time,
+                                    double rate, const MultipositionArgs& a, const std::string& acc_label,
+                                    const std::string& gyro_label, const std::string& command) {
   check_sampling_choice(time.has_value(), rate);
   if (gyro_time && !time) throw UsageError("gyro_time", "gyro_time needs the accelerometer's time stamps (time=)");
   const pipeline::MultipositionRequest req = multiposition_request(a, rate);
@@ -701,7 +703,7 @@ std::vector<io::Series> all_runs(const std::vector<RunInput>& inputs, std::vecto
   return runs;
 }
 
-std::string turnon(const std::vector<RunInput>& inputs, const RunsArgs& a) {
+nlohmann::json turnon(const std::vector<RunInput>& inputs, const RunsArgs& a) {
   const pipeline::AnalyzeRequest base = runs_request(a);
   for (const auto& in : inputs)
     if (!in.units.empty())
@@ -716,10 +718,10 @@ std::string turnon(const std::vector<RunInput>& inputs, const RunsArgs& a) {
     const auto reqs = run_requests(base, a, inputs, runs);
     j = pipeline::to_json(pipeline::run_turnon(runs, reqs.empty() ? base : reqs.front()));
   }
-  return j.dump();
+  return j;
 }
 
-std::string compare(const std::vector<RunInput>& inputs, const RunsArgs& a) {
+nlohmann::json compare(const std::vector<RunInput>& inputs, const RunsArgs& a) {
   const pipeline::AnalyzeRequest base = runs_request(a);
   if (inputs.empty()) throw UsageError("runs", "no run to compare");
   auto arrays = array_runs(inputs);
@@ -729,7 +731,7 @@ std::string compare(const std::vector<RunInput>& inputs, const RunsArgs& a) {
     const std::vector<io::Series> runs = all_runs(inputs, std::move(arrays));
     j = pipeline::to_json(pipeline::run_compare(runs, run_requests(base, a, inputs, runs)));
   }
-  return j.dump();
+  return j;
 }
 
 }  // namespace
@@ -747,10 +749,11 @@ void bind_calibrate(py::module_& m) {
       .def_readwrite("window", &RateTableArgs::window)
       .def_readwrite("earth_axis", &RateTableArgs::earth_axis)
       .def_readwrite("unit", &RateTableArgs::unit);
-  m.def("_rate_table_file", &rate_table_file, py::arg("path"), py::arg("read"), py::arg("args"), py::arg("command"));
-  m.def("_rate_table_arrays", &rate_table_arrays, py::arg("channels"), py::arg("names"), py::arg("rate"),
-        py::arg("time"), py::arg("reference"), py::arg("reference_names"), py::arg("args"), py::arg("label"),
+  m.def("_rate_table_file", returning_python(&rate_table_file), py::arg("path"), py::arg("read"), py::arg("args"),
         py::arg("command"));
+  m.def("_rate_table_arrays", returning_python(&rate_table_arrays), py::arg("channels"), py::arg("names"),
+        py::arg("rate"), py::arg("time"), py::arg("reference"), py::arg("reference_names"), py::arg("args"),
+        py::arg("label"), py::arg("command"));
 
   py::class_<MagArgs>(m, "_MagArgs")
       .def(py::init<>())
@@ -761,19 +764,19 @@ void bind_calibrate(py::module_& m) {
       .def_readwrite("reject", &MagArgs::reject)
       .def_readwrite("allow_partial", &MagArgs::allow_partial)
       .def_readwrite("unit", &MagArgs::unit);
-  m.def("_mag_file", &mag_file, py::arg("path"), py::arg("columns"), py::arg("skip_rows"), py::arg("threads"),
-        py::arg("field_column"), py::arg("args"), py::arg("command"));
-  m.def("_mag_arrays", &mag_arrays, py::arg("xyz"), py::arg("names"), py::arg("field_norms"), py::arg("args"),
-        py::arg("label"), py::arg("command"));
+  m.def("_mag_file", returning_python(&mag_file), py::arg("path"), py::arg("columns"), py::arg("skip_rows"),
+        py::arg("threads"), py::arg("field_column"), py::arg("args"), py::arg("command"));
+  m.def("_mag_arrays", returning_python(&mag_arrays), py::arg("xyz"), py::arg("names"), py::arg("field_norms"),
+        py::arg("args"), py::arg("label"), py::arg("command"));
 
   py::class_<TemperatureArgs>(m, "_TemperatureArgs")
       .def(py::init<>())
       .def_readwrite("order", &TemperatureArgs::order)
       .def_readwrite("unit", &TemperatureArgs::unit);
-  m.def("_temperature_file", &temperature_file, py::arg("path"), py::arg("read"), py::arg("temperature"),
-        py::arg("args"));
-  m.def("_temperature_arrays", &temperature_arrays, py::arg("channels"), py::arg("names"), py::arg("rate"),
-        py::arg("temperature"), py::arg("temp_name"), py::arg("args"), py::arg("label"));
+  m.def("_temperature_file", returning_python(&temperature_file), py::arg("path"), py::arg("read"),
+        py::arg("temperature"), py::arg("args"));
+  m.def("_temperature_arrays", returning_python(&temperature_arrays), py::arg("channels"), py::arg("names"),
+        py::arg("rate"), py::arg("temperature"), py::arg("temp_name"), py::arg("args"), py::arg("label"));
 
   py::class_<MultipositionArgs>(m, "_MultipositionArgs")
       .def(py::init<>())
@@ -787,12 +790,12 @@ void bind_calibrate(py::module_& m) {
       .def_readwrite("gyro_scale", &MultipositionArgs::gyro_scale)
       .def_readwrite("refine_gyro_bias", &MultipositionArgs::refine_gyro_bias)
       .def_readwrite("use_means", &MultipositionArgs::use_means);
-  m.def("_multiposition_file", &multiposition_file, py::arg("acc_path"), py::arg("gyro_path"), py::arg("acc_columns"),
-        py::arg("gyro_columns"), py::arg("time"), py::arg("rate"), py::arg("skip_rows"), py::arg("threads"),
-        py::arg("args"), py::arg("command"));
-  m.def("_multiposition_arrays", &multiposition_arrays, py::arg("acc"), py::arg("gyro"), py::arg("time"),
-        py::arg("gyro_time"), py::arg("rate"), py::arg("args"), py::arg("acc_label"), py::arg("gyro_label"),
-        py::arg("command"));
+  m.def("_multiposition_file", returning_python(&multiposition_file), py::arg("acc_path"), py::arg("gyro_path"),
+        py::arg("acc_columns"), py::arg("gyro_columns"), py::arg("time"), py::arg("rate"), py::arg("skip_rows"),
+        py::arg("threads"), py::arg("args"), py::arg("command"));
+  m.def("_multiposition_arrays", returning_python(&multiposition_arrays), py::arg("acc"), py::arg("gyro"),
+        py::arg("time"), py::arg("gyro_time"), py::arg("rate"), py::arg("args"), py::arg("acc_label"),
+        py::arg("gyro_label"), py::arg("command"));
 
   py::class_<RunInput>(m, "_RunInput")
       .def(py::init<>())
@@ -809,8 +812,8 @@ void bind_calibrate(py::module_& m) {
       .def_readwrite("taus", &RunsArgs::taus)
       .def_readwrite("ci", &RunsArgs::ci)
       .def_readwrite("threads", &RunsArgs::threads);
-  m.def("_turnon", &turnon, py::arg("runs"), py::arg("args"));
-  m.def("_compare", &compare, py::arg("runs"), py::arg("args"));
+  m.def("_turnon", returning_python(&turnon), py::arg("runs"), py::arg("args"));
+  m.def("_compare", returning_python(&compare), py::arg("runs"), py::arg("args"));
 }
 
 }  // namespace cubecal::python

@@ -11,6 +11,7 @@
 #include "array_series.hpp"
 #include "arrays.hpp"
 #include "common.hpp"
+#include "json_value.hpp"
 #include "cubecal/error.hpp"
 #include "cubecal/noise/units.hpp"
 #include "cubecal/pipeline/model_fit.hpp"
@@ -37,8 +38,8 @@ struct ModelArgs {
   unsigned threads = 0;
 };
 
-std::string model(const std::optional<std::string>& path, const ReadArgs& read, const std::vector<Doubles>& channels,
-                  const std::vector<std::string>& names, double rate, const ModelArgs& a) {
+nlohmann::json model(const std::optional<std::string>& path, const ReadArgs& read, const std::vector<Doubles>& channels,
+                     const std::vector<std::string>& names, double rate, const ModelArgs& a) {
   pipeline::ModelRequest req;
   req.model = a.model;
   (void)parse_candidate_models(a.model);  // a typo fails before the reading
@@ -55,7 +56,7 @@ std::string model(const std::optional<std::string>& path, const ReadArgs& read, 
   py::gil_scoped_release free;
   const io::Series s = call_record(path, read, channels, names, rate);
   if (req.units.empty()) req.units = announced_units_or_none(s);  // as the CLI: else none (terms in u)
-  return pipeline::to_json(pipeline::run_model(s, req)).dump();
+  return pipeline::to_json(pipeline::run_model(s, req));
 }
 
 }  // namespace
@@ -73,8 +74,8 @@ void bind_model(py::module_& m) {
       .def_readwrite("robust", &ModelArgs::robust)
       .def_readwrite("efficiency", &ModelArgs::efficiency)
       .def_readwrite("threads", &ModelArgs::threads);
-  m.def("_model", &model, py::arg("path"), py::arg("read"), py::arg("channels"), py::arg("names"), py::arg("rate"),
-        py::arg("args"), "`cubecal model --format json` of a file or of arrays");
+  m.def("_model", returning_python(&model), py::arg("path"), py::arg("read"), py::arg("channels"), py::arg("names"),
+        py::arg("rate"), py::arg("args"), "`cubecal model --format json` of a file or of arrays");
 }
 
 }  // namespace cubecal::python

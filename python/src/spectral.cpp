@@ -14,6 +14,7 @@
 #include "array_series.hpp"
 #include "arrays.hpp"
 #include "common.hpp"
+#include "json_value.hpp"
 #include "cubecal/error.hpp"
 #include "cubecal/noise/units.hpp"
 #include "cubecal/pipeline/davar_pipeline.hpp"
@@ -66,7 +67,7 @@ py::tuple psd(const std::optional<std::string>& path, const ReadArgs& read, cons
   if (req.units.empty()) req.units = announced_units_or_none(s);  // as the CLI: else none (densities in u^2/Hz)
   nlohmann::json j = pipeline::to_json(pipeline::run_psd(s, req));
   // The spectra (every bin: 10^5 numbers and more) go to Python as arrays:
-  // as JSON text they would cost more to write and parse than the transform.
+  // as Python objects one number at a time they would cost more than the transform.
   std::vector<std::map<std::string, std::vector<double>>> spectra;
   for (nlohmann::json& ch : j["channels"]) {
     auto& arrays = spectra.emplace_back();
@@ -79,8 +80,8 @@ py::tuple psd(const std::optional<std::string>& path, const ReadArgs& read, cons
       ch.erase(it);
     }
   }
-  std::string meta = j.dump();
   py::gil_scoped_acquire held;
+  py::object meta = to_python(j);
   py::list out;
   for (auto& arrays : spectra) {
     py::dict d;
@@ -101,8 +102,8 @@ struct DavarArgs {
   unsigned threads = 0;
 };
 
-std::string davar(const std::optional<std::string>& path, const ReadArgs& read, const std::vector<Doubles>& channels,
-                  const std::vector<std::string>& names, double rate, const DavarArgs& a) {
+nlohmann::json davar(const std::optional<std::string>& path, const ReadArgs& read, const std::vector<Doubles>& channels,
+                     const std::vector<std::string>& names, double rate, const DavarArgs& a) {
   pipeline::DavarRequest req;
   req.type = data_type_arg(a.type);
   if (!a.window.empty()) req.window = pipeline::parse_davar_span(a.window, "window");
@@ -115,7 +116,7 @@ std::string davar(const std::optional<std::string>& path, const ReadArgs& read, 
   req.threads = a.threads;
   py::gil_scoped_release free;
   const io::Series s = call_record(path, read, channels, names, rate, true);  // gaps="skip" as davar --gaps skip
-  return pipeline::to_json(pipeline::run_davar(s, req)).dump();
+  return pipeline::to_json(pipeline::run_davar(s, req));
 }
 
 }  // namespace
@@ -146,8 +147,8 @@ void bind_spectral(py::module_& m) {
       .def_readwrite("threads", &DavarArgs::threads);
   m.def("_psd", &psd, py::arg("path"), py::arg("read"), py::arg("channels"), py::arg("names"), py::arg("rate"),
         py::arg("args"), "`cubecal psd --format json` of a file or of arrays");
-  m.def("_davar", &davar, py::arg("path"), py::arg("read"), py::arg("channels"), py::arg("names"), py::arg("rate"),
-        py::arg("args"), "`cubecal davar --format json` of a file or of arrays");
+  m.def("_davar", returning_python(&davar), py::arg("path"), py::arg("read"), py::arg("channels"), py::arg("names"),
+        py::arg("rate"), py::arg("args"), "`cubecal davar --format json` of a file or of arrays");
 }
 
 }  // namespace cubecal::python

@@ -17,6 +17,7 @@
 
 #include "arrays.hpp"
 #include "common.hpp"
+#include "json_value.hpp"
 #include "cubecal/error.hpp"
 #include "cubecal/pipeline/analysis_json.hpp"
 #include "cubecal/io/series.hpp"
@@ -218,11 +219,11 @@ py::tuple dev(const std::vector<Doubles>& channels, const std::vector<std::strin
     py::gil_scoped_release free;
     r = pipeline::run_dev(names, views, rate, {}, req);
   }
-  nlohmann::json meta = r;
+  nlohmann::json meta = pipeline::to_json(r);
   meta.erase("columns");
   py::list columns;
   for (const pipeline::DevChannel& ch : r.channels) columns.append(curve(ch, intervals));
-  return py::make_tuple(meta.dump(), columns);
+  return py::make_tuple(to_python(meta), columns);
 }
 
 }  // namespace

@@ -231,6 +231,22 @@ class Recorder::Impl final : public SampleHandler {
 
   RecorderSummary run();
 
+ private:
+  // When the next flush, sync and status are due, and the samples and time
+  // of the last status.
+  struct Schedule {
+    double next_flush = 0.0;
+    double next_sync = 0.0;
+    double next_status = 0.0;
+    std::size_t status_samples = 0;
+    double status_time = 0.0;
+  };
+  double stamp_batch();
+  bool take(const ReadResult& r, const std::vector<char>& buf, double& now);
+  void periodic(double now, Schedule& due);
+  RecorderSummary finish(RecordEnd end, double now);
+
+ public:
   void on_layout(const std::vector<std::string>& names) override {
     check_framing(names);
     names_ = names;
@@ -477,10 +493,7 @@ RecorderSummary Recorder::Impl::run() {
   batch_ = host_now();
   start_mono_ = batch_.mono_s();
   double now = start_mono_;
-  double next_flush = now + opt_.flush_interval_s, next_sync = now + opt_.sync_interval_s,
-         next_status = now + opt_.status_interval_s;
-  std::size_t status_samples = 0;
-  double status_time = now;
+  Schedule due{now + opt_.flush_interval_s, now + opt_.sync_interval_s, now + opt_.status_interval_s, 0, now};
   RecordEnd end = RecordEnd::source_ended;
   const double deadline = opt_.duration_s > 0 ? start_mono_ + opt_.duration_s : 0.0;
   for (;;) {
@@ -492,72 +505,94 @@ RecorderSummary Recorder::Impl::run() {
       end = RecordEnd::duration;
       break;
     }
-    double wake = std::min({next_flush, next_sync, next_status});
+    double wake = std::min({due.next_flush, due.next_sync, due.next_status});
     if (deadline > 0) wake = std::min(wake, deadline);
     const int timeout_ms = static_cast<int>(std::clamp(std::ceil((wake - now) * 1000.0), 0.0, 200.0));
     const ReadResult r = src_.read(buf.data(), buf.size(), timeout_ms);
-    bool ended = false;
-    if (r.status == ReadResult::Status::data) {
-      batch_ = host_now();
-      now = batch_.mono_s();
-      batch_utc_ = batch_.utc_s();
-      prefix_ = stamp_prefix(batch_);
-      if (chunk_ && now - chunk_start_mono_ >= opt_.chunk_seconds && chunk_->samples() > 0) rotate();
-      const std::string_view bytes(buf.data(), r.bytes);
-      if (bin_)
-        bin_->feed(bytes, *this);
-      else
-        text_->feed(bytes, *this);
-    } else {
-      batch_ = host_now();
-      now = batch_.mono_s();
-      batch_utc_ = batch_.utc_s();
-      prefix_ = stamp_prefix(batch_);
-      switch (r.status) {
-        case ReadResult::Status::end: ended = true; break;
-        case ReadResult::Status::lost:
-          if (bin_)
-            bin_->drop_partial("partial frame before the connection was lost", *this);
-          else
-            text_->drop_partial("partial line before the connection was lost", *this);
-          notice(src_.describe() + ": connection lost; reconnecting");
-          break;
-        case ReadResult::Status::reconnected: {
-          io::RecordingEvent e;
-          e.kind = io::RecordingEvent::Kind::reconnect;
-          e.sample = samples_;
-          e.host_utc_s = batch_utc_;
-          seg_events_.push_back(e);
-          ++reconnects_;
-          have_prev_ = false;  // the device time may restart
-          notice(src_.describe() + ": reconnected");
-          break;
-        }
-        default: break;
-      }
-    }
+    const bool ended = take(r, buf, now);
     if (ended) break;
-    if (now >= next_flush) {
-      flush_all();
-      next_flush = now + opt_.flush_interval_s;
-    }
-    if (now >= next_sync) {
-      sync_all();
-      next_sync = now + opt_.sync_interval_s;
-    }
-    if (now >= next_status) {
-      if (opt_.on_status) {
-        RecorderStatus st = status(now);
-        st.samples_per_s =
-            now > status_time ? static_cast<double>(samples_ - status_samples) / (now - status_time) : 0.0;
-        opt_.on_status(st);
+    periodic(now, due);
+  }
+  return finish(end, now);
+}
+
+// The host time of the bytes read now, and the stamp prefix of their lines.
+double Recorder::Impl::stamp_batch() {
+  batch_ = host_now();
+  const double now = batch_.mono_s();
+  batch_utc_ = batch_.utc_s();
+  prefix_ = stamp_prefix(batch_);
+  return now;
+}
+
+// What a read gave: bytes fed to the framer or decoder, or a source event;
+// true when the source ended.
+bool Recorder::Impl::take(const ReadResult& r, const std::vector<char>& buf, double& now) {
+  if (r.status == ReadResult::Status::data) {
+    now = stamp_batch();
+    if (chunk_ && now - chunk_start_mono_ >= opt_.chunk_seconds && chunk_->samples() > 0) rotate();
+    const std::string_view bytes(buf.data(), r.bytes);
+    if (bin_)
+      bin_->feed(bytes, *this);
+    else
+      text_->feed(bytes, *this);
+  } else {
+    now = stamp_batch();
+    switch (r.status) {
+      case ReadResult::Status::end: return true;
+      case ReadResult::Status::lost:
+        if (bin_)
+          bin_->drop_partial("partial frame before the connection was lost", *this);
+        else
+          text_->drop_partial("partial line before the connection was lost", *this);
+        notice(src_.describe() + ": connection lost; reconnecting");
+        break;
+      case ReadResult::Status::reconnected: {
+        io::RecordingEvent e;
+        e.kind = io::RecordingEvent::Kind::reconnect;
+        e.sample = samples_;
+        e.host_utc_s = batch_utc_;
+        seg_events_.push_back(e);
+        ++reconnects_;
+        have_prev_ = false;  // the device time may restart
+        notice(src_.describe() + ": reconnected");
+        break;
       }
-      status_samples = samples_;
-      status_time = now;
-      next_status = now + opt_.status_interval_s;
+      default: break;
     }
   }
-  // The end: what is held is a reject, the chunk closed, the segment clean.
+  return false;
+}
+
+// The flush, sync and status due at `now`.
+void Recorder::Impl::periodic(double now, Schedule& due) {
+  double& next_flush = due.next_flush;
+  double& next_sync = due.next_sync;
+  double& next_status = due.next_status;
+  std::size_t& status_samples = due.status_samples;
+  double& status_time = due.status_time;
+  if (now >= next_flush) {
+    flush_all();
+    next_flush = now + opt_.flush_interval_s;
+  }
+  if (now >= next_sync) {
+    sync_all();
+    next_sync = now + opt_.sync_interval_s;
+  }
+  if (now >= next_status) {
+    if (opt_.on_status) {
+      RecorderStatus st = status(now);
+      st.samples_per_s = now > status_time ? static_cast<double>(samples_ - status_samples) / (now - status_time) : 0.0;
+      opt_.on_status(st);
+    }
+    status_samples = samples_;
+    status_time = now;
+    next_status = now + opt_.status_interval_s;
+  }
+}
+
+// The end: what is held is a reject, the chunk closed, the segment clean.
+RecorderSummary Recorder::Impl::finish(RecordEnd end, double now) {
   if (end == RecordEnd::source_ended) {
     if (bin_)
       bin_->drop_partial("partial frame at end of stream", *this);

@@ -376,7 +376,8 @@ pipeline::AnalysisResult analyze_streamed(const AnalyzeOptions& o, const io::Ser
   return r;
 }
 
-int run_analyze_command(AnalyzeOptions& o) {
+// The request of the command line (the options the reading adds aside).
+pipeline::AnalyzeRequest analyze_request(const AnalyzeOptions& o) {
   pipeline::AnalyzeRequest req;
   if (!o.unit.empty()) req.units = parse_units(o.unit);  // before the reading: a typo fails at once
   req.grid = parse_taus(o.taus);
@@ -412,6 +413,54 @@ int run_analyze_command(AnalyzeOptions& o) {
     req.composite = std::move(m);
   }
 
+  return req;
+}
+
+// Whether to stream a record that was not asked to be: when reading it
+// whole would exceed the budget (a pipe's size is not known: --stream).
+bool stream_beyond_budget(const AnalyzeOptions& o, const io::SeriesOptions& so, std::size_t budget) {
+  // Streamed by itself when reading the file whole would exceed the budget
+  // (a pipe's size is not known: --stream).
+  const std::size_t need = in_memory_bytes(o.input.file, so);
+  const std::string recording_warning = recording_beyond_budget(o.input.file, need, budget);
+  if (!recording_warning.empty()) {
+    std::cerr << recording_warning;
+  } else if (need > budget) {
+    std::cerr << fmt::format(
+        "cubecal: note: reading {} whole would take about {:.0f} MB, more than the "
+        "memory budget ({:.0f} MB, --memory): streaming it\n",
+        o.input.file, static_cast<double>(need) / 1e6, static_cast<double>(budget) / 1e6);
+    return true;
+  }
+  return false;
+}
+
+// The result on the standard output, and the files and report in --out.
+void write_analysis_output(AnalyzeOptions& o, const pipeline::AnalysisResult& r, const pipeline::OutputContext& ctx) {
+  StageTimer writing(o.timings.sink(), Stage::output);
+  if (o.format == "json")
+    std::cout << pipeline::analysis_json(r, ctx);
+  else
+    print_summary(std::cout, r);
+
+  if (!o.out.empty()) {
+    std::string list;
+    for (const auto& f : write_analysis_files(o.out, r, ctx)) list += (list.empty() ? "" : ", ") + f;
+    std::cerr << "cubecal: wrote " << list << " in " << o.out << '\n';
+    if (o.report) {
+      report::ReportOptions ro;
+      ro.force = true;  // existing report files were refused above unless --force
+      ro.gnuplot = o.gnuplot;
+      const auto rep = report::write_report(r, {ctx.command, {}}, o.out, ro);
+      std::cerr << "cubecal: wrote " << rep.html_path << " (" << rep.plots.size() << " plots in "
+                << (std::filesystem::path(o.out) / "plots/").string() << ")\n";
+    }
+  }
+  writing.stop();
+}
+
+int run_analyze_command(AnalyzeOptions& o) {
+  pipeline::AnalyzeRequest req = analyze_request(o);
   io::SeriesOptions so = to_series_options(o.input);
   // The quantizer follows --lsb column by column; a column at 1 count per
   // unit (the default: values already in units) has none.
@@ -442,47 +491,13 @@ int run_analyze_command(AnalyzeOptions& o) {
   }
 
   const std::size_t budget = memory_budget(o.memory);
-  bool stream = o.memory.stream;
-  if (!stream) {
-    // Streamed by itself when reading the file whole would exceed the budget
-    // (a pipe's size is not known: --stream).
-    const std::size_t need = in_memory_bytes(o.input.file, so);
-    const std::string recording_warning = recording_beyond_budget(o.input.file, need, budget);
-    if (!recording_warning.empty()) {
-      std::cerr << recording_warning;
-    } else if (need > budget) {
-      stream = true;
-      std::cerr << fmt::format(
-          "cubecal: note: reading {} whole would take about {:.0f} MB, more than the "
-          "memory budget ({:.0f} MB, --memory): streaming it\n",
-          o.input.file, static_cast<double>(need) / 1e6, static_cast<double>(budget) / 1e6);
-    }
-  }
+  const bool stream = o.memory.stream || stream_beyond_budget(o, so, budget);
   const pipeline::AnalysisResult r = stream ? analyze_streamed(o, so, req, budget) : analyze_in_memory(o, so, req);
   for (const std::string& line :
        {excluded_taus_warning(r.tau_list, r.model_excluded_taus), merged_taus_note(r.tau_list)})
     if (!line.empty()) std::cerr << line << '\n';
 
-  StageTimer writing(o.timings.sink(), Stage::output);
-  if (o.format == "json")
-    std::cout << pipeline::analysis_json(r, ctx);
-  else
-    print_summary(std::cout, r);
-
-  if (!o.out.empty()) {
-    std::string list;
-    for (const auto& f : write_analysis_files(o.out, r, ctx)) list += (list.empty() ? "" : ", ") + f;
-    std::cerr << "cubecal: wrote " << list << " in " << o.out << '\n';
-    if (o.report) {
-      report::ReportOptions ro;
-      ro.force = true;  // existing report files were refused above unless --force
-      ro.gnuplot = o.gnuplot;
-      const auto rep = report::write_report(r, {ctx.command, {}}, o.out, ro);
-      std::cerr << "cubecal: wrote " << rep.html_path << " (" << rep.plots.size() << " plots in "
-                << (std::filesystem::path(o.out) / "plots/").string() << ")\n";
-    }
-  }
-  writing.stop();
+  write_analysis_output(o, r, ctx);
   print_timings(o.timings, req.threads);
   return 0;
 }

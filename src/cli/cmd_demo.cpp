@@ -54,22 +54,9 @@ constexpr std::array<double, 3> kMagB{0.05376, 0.07180, 0.04988};  // mGauss
 constexpr std::array<double, 3> kMagSn{3.0, 4.9, 2.96};
 constexpr std::array<double, 3> kMagSmu{0.0034, 0.0042, 0.0036};
 
-int run_demo(const DemoOptions& o) {
-  namespace fs = std::filesystem;
-  const auto t0 = std::chrono::steady_clock::now();
-  // A gnuplot named explicitly must be there; none on PATH only leaves the plots out.
-  if (!o.gnuplot.empty() && !report::find_gnuplot(o.gnuplot)) report::throw_gnuplot_missing(o.gnuplot);
-  const fs::path dir(o.out);
-  const std::string record = (dir / "sport_static.csv.gz").string();
-  // A marker tells a directory of earlier demo output (replaced freely) from
-  // one holding the user's own files of the same names (never replaced unasked).
-  const fs::path marker = dir / ".cubecal-demo";
-  std::vector<std::string> files(std::begin(pipeline::kAnalysisFiles), std::end(pipeline::kAnalysisFiles));
-  files.insert(files.end(), {"sport_static.csv.gz", "report.html", "plots"});
-  std::error_code ec;
-  io::prepare_output_dir(o.out, o.force || fs::exists(marker, ec), files);
-  std::ofstream(marker) << "written by cubecal demo; files here are replaced by the next run\n";
-
+// The paper's record simulated (SPORT gyro and magnetometer, 10 Hz, a
+// daily temperature swing) and written to `record`.
+pipeline::SimulatedRecord simulate_demo_record(const DemoOptions& o, const std::string& record) {
   pipeline::SimulateRequest sim;
   sim.triads = {preset("sport-gyro"), preset("sport-mag")};
   sim.rate_hz = 10.0;
@@ -88,7 +75,11 @@ int run_demo(const DemoOptions& o) {
     pipeline::write_record(rec, w);
     w.commit();
   }
+  return rec;
+}
 
+// The record as the reader gets it back from the file.
+io::Series demo_series(pipeline::SimulatedRecord& rec, const std::string& record) {
   // The record as the reader gets it back from the file (values to the nine
   // digits the file keeps), so the printed command reproduces these numbers.
   io::Series s;
@@ -112,6 +103,11 @@ int run_demo(const DemoOptions& o) {
     }
   }
   s.segments = {{0, n}};
+  return s;
+}
+
+// The analysis as the paper made it (model fitted on the first 42000 samples).
+pipeline::AnalyzeRequest demo_request() {
   pipeline::AnalyzeRequest req;
   for (int k = 0; k < 3; ++k) req.units.push_back(*parse_unit("deg/s"));
   for (int k = 0; k < 3; ++k) req.units.push_back(*parse_unit("mGauss"));
@@ -119,14 +115,11 @@ int run_demo(const DemoOptions& o) {
   req.temp_index = 0;
   req.max_samples = 42000;  // the paper's reduction for the model fit
   req.lsb = {145.6, 145.6, 145.6, 1.30, 1.30, 1.30};
-  const pipeline::AnalysisResult r = pipeline::run_analyze(s, req);
+  return req;
+}
 
-  const std::string cmd = "cubecal analyze " + record +
-                          " --unit deg/s,deg/s,deg/s,mGauss,mGauss,mGauss --temp-col temp --taus log:20"
-                          " --max-samples 42000 --model-lsb 145.6,145.6,145.6,1.3,1.3,1.3";
-  const pipeline::OutputContext ctx{cmd, "/imu0"};
-  write_analysis_files(o.out, r, ctx);
-
+// The gyro rows: the paper's adjusted model row vs the recovered one.
+void print_gyro_rows(const pipeline::AnalysisResult& r) {
   auto term = [](const TermEstimate& t, Term which, const Unit& u) { return display(t, which, u); };
   std::cout << "\nGyro (deg/s): the paper's adjusted model row vs the model fitted here on 42000 samples,\n"
                "and N, B, T read off the full record (OADEV, 68.3 % intervals)\n";
@@ -145,6 +138,12 @@ int run_demo(const DemoOptions& o) {
         c.noise.readoffs.tau_min_lo, c.noise.readoffs.tau_min_hi, kGyroSn[a],
         c.model.ok ? c.model.random_walk.sigma_n : NAN, kGyroSmu[a], c.model.ok ? c.model.random_walk.sigma_mu : NAN);
   }
+}
+
+// The magnetometer rows: the paper's measured row vs this record, before
+// and after the temperature compensation.
+void print_magnetometer_rows(const pipeline::AnalysisResult& r) {
+  auto term = [](const TermEstimate& t, Term which, const Unit& u) { return display(t, which, u); };
   std::cout << "\nMagnetometer (mGauss): the paper's measured row vs this record, before and after the\n"
                "temperature compensation (the simulated field drifts 0.7 mGauss/degC)\n";
   std::cout << fmt::format("{:<4} {:>9} {:>19} {:>9} {:>17} {:>17} {:>17} {:>8} {:>9}\n", "axis", "N paper", "N here",
@@ -161,6 +160,37 @@ int run_demo(const DemoOptions& o) {
         c.name, kMagN[a - 3], N.value, N.sigma, kMagB[a - 3], B.value, B.sigma, Bc.value, Bc.sigma, t.fit.coeff[1],
         t.fit.coeff_sigma[1], kMagSn[a - 3], c.model.ok ? c.model.random_walk.sigma_n : NAN);
   }
+}
+
+int run_demo(const DemoOptions& o) {
+  namespace fs = std::filesystem;
+  const auto t0 = std::chrono::steady_clock::now();
+  // A gnuplot named explicitly must be there; none on PATH only leaves the plots out.
+  if (!o.gnuplot.empty() && !report::find_gnuplot(o.gnuplot)) report::throw_gnuplot_missing(o.gnuplot);
+  const fs::path dir(o.out);
+  const std::string record = (dir / "sport_static.csv.gz").string();
+  // A marker tells a directory of earlier demo output (replaced freely) from
+  // one holding the user's own files of the same names (never replaced unasked).
+  const fs::path marker = dir / ".cubecal-demo";
+  std::vector<std::string> files(std::begin(pipeline::kAnalysisFiles), std::end(pipeline::kAnalysisFiles));
+  files.insert(files.end(), {"sport_static.csv.gz", "report.html", "plots"});
+  std::error_code ec;
+  io::prepare_output_dir(o.out, o.force || fs::exists(marker, ec), files);
+  std::ofstream(marker) << "written by cubecal demo; files here are replaced by the next run\n";
+
+  pipeline::SimulatedRecord rec = simulate_demo_record(o, record);
+  io::Series s = demo_series(rec, record);
+  const pipeline::AnalyzeRequest req = demo_request();
+  const pipeline::AnalysisResult r = pipeline::run_analyze(s, req);
+
+  const std::string cmd = "cubecal analyze " + record +
+                          " --unit deg/s,deg/s,deg/s,mGauss,mGauss,mGauss --temp-col temp --taus log:20"
+                          " --max-samples 42000 --model-lsb 145.6,145.6,145.6,1.3,1.3,1.3";
+  const pipeline::OutputContext ctx{cmd, "/imu0"};
+  write_analysis_files(o.out, r, ctx);
+
+  print_gyro_rows(r);
+  print_magnetometer_rows(r);
   (void)kMagSmu;
   report::ReportOptions ro;
   ro.force = true;           // the marker makes the directory the demo's

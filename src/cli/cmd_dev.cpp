@@ -51,7 +51,7 @@ void write_dev(const DevOptions& o, const pipeline::DevResult& res, ResultOutput
   DevContext ctx{o.input.file, o.ci, o.edf, !o.no_ci};
   std::ostream& out = result.stream();
   if (o.format == "json")
-    out << nlohmann::json(res).dump(1) << '\n';
+    out << pipeline::to_json(res).dump(1) << '\n';
   else if (o.format == "csv")
     write_dev_csv(out, res, ctx);
   else
@@ -81,7 +81,9 @@ int run_dev_stream_command(const DevOptions& o, pipeline::DevRequest req, const 
   return 0;
 }
 
-int run_dev_command(DevOptions& o) {
+// The request of the command line (TIE rms and MTIE: --no-ci set, as
+// they have no noise type or interval).
+pipeline::DevRequest dev_request(DevOptions& o) {
   pipeline::DevRequest req;
   req.stat = *parse_stat(o.stat);
   req.type = *parse_data_type(o.type);
@@ -96,41 +98,38 @@ int run_dev_command(DevOptions& o) {
   if (!has_intervals(req.stat)) o.no_ci = true;  // TIE rms and MTIE have no noise type or interval
   req.threads = o.input.threads;
 
-  if (o.input.gaps == "skip" && req.stat != Stat::oadev)
-    throw UsageError(
-        "--gaps skip: missing samples are skipped for OADEV only (as AllanTools' gradev): give "
-        "--stat oadev, or --gaps split to analyze the contiguous pieces with " +
-        std::string(to_string(req.stat)));
-  ResultOutput result(o.out, o.force);  // refuses an unusable --out before the work
-  const std::size_t budget = memory_budget(o.memory);
-  const io::SeriesOptions series_opt = to_series_options(o.input);
-  bool stream = o.memory.stream;
-  if (!stream) {
-    // Streamed by itself when reading the file whole would exceed the budget
-    // and the request can be streamed (a pipe's size is not known: --stream).
-    const std::size_t need = in_memory_bytes(o.input.file, series_opt);
-    const std::string recording_warning = recording_beyond_budget(o.input.file, need, budget);
-    if (!recording_warning.empty()) {
-      std::cerr << recording_warning;
-    } else if (need > budget) {
-      try {
-        pipeline::check_streamable(req);
-        stream = true;
-        std::cerr << fmt::format(
-            "cubecal: note: reading {} whole would take about {:.0f} MB, more than the "
-            "memory budget ({:.0f} MB, --memory): streaming it in one pass\n",
-            o.input.file, static_cast<double>(need) / 1e6, static_cast<double>(budget) / 1e6);
-      } catch (const UsageError& e) {
-        std::cerr << "cubecal: warning: " << o.input.file << " may not fit the memory budget (--memory), and it "
-                  << "cannot be streamed: " << e.what() << '\n';
-      }
+  return req;
+}
+
+// Whether to stream a record that was not asked to be: when reading it
+// whole would exceed the budget and the request can be streamed (a
+// pipe's size is not known: --stream).
+bool stream_beyond_budget(const DevOptions& o, const pipeline::DevRequest& req, const io::SeriesOptions& series_opt,
+                          std::size_t budget) {
+  // Streamed by itself when reading the file whole would exceed the budget
+  // and the request can be streamed (a pipe's size is not known: --stream).
+  const std::size_t need = in_memory_bytes(o.input.file, series_opt);
+  const std::string recording_warning = recording_beyond_budget(o.input.file, need, budget);
+  if (!recording_warning.empty()) {
+    std::cerr << recording_warning;
+  } else if (need > budget) {
+    try {
+      pipeline::check_streamable(req);
+      std::cerr << fmt::format(
+          "cubecal: note: reading {} whole would take about {:.0f} MB, more than the "
+          "memory budget ({:.0f} MB, --memory): streaming it in one pass\n",
+          o.input.file, static_cast<double>(need) / 1e6, static_cast<double>(budget) / 1e6);
+      return true;
+    } catch (const UsageError& e) {
+      std::cerr << "cubecal: warning: " << o.input.file << " may not fit the memory budget (--memory), and it "
+                << "cannot be streamed: " << e.what() << '\n';
     }
   }
-  if (stream) {
-    const int rc = run_dev_stream_command(o, req, series_opt, budget, result);
-    print_timings(o.timings, req.threads);  // a stream's stages are one pass: the wall clock only
-    return rc;
-  }
+  return false;
+}
+
+// The record read whole, with a note on its missing samples (--gaps skip).
+io::Series read_dev_series(DevOptions& o) {
   const std::size_t bytes = file_size_or_zero(o.input.file);
   StageTimer reading_time(o.timings.sink(), Stage::read);
   const io::Series series = [&] {
@@ -152,6 +151,12 @@ int run_dev_command(DevOptions& o) {
         series.file, total, series.channels.size(), samples_of(series));
   }
 
+  return series;
+}
+
+// The work estimated and, when long, announced before it starts with what
+// a sparser grid costs.
+pipeline::DevWorkEstimate announce_dev_work(const io::Series& series, const pipeline::DevRequest& req) {
   // Announce long work before it starts, with what a sparser grid costs.
   const pipeline::DevWorkEstimate work = pipeline::estimate_dev(series, req);
   const bool long_work = work.seconds > long_work_seconds();
@@ -165,6 +170,48 @@ int run_dev_command(DevOptions& o) {
         to_string(req.stat), work.taus, series.channels.size(), samples_of(series), work.terms,
         format_duration(work.seconds), work.threads, quick.taus, format_duration(quick.seconds));
   }
+  return work;
+}
+
+// The result in the format asked for.
+void write_dev_result(DevOptions& o, const pipeline::DevResult& res, const io::Series& series, ResultOutput& result) {
+  StageTimer writing(o.timings.sink(), Stage::output);
+  DevContext ctx{o.input.file, o.ci, o.edf, !o.no_ci};
+  std::ostream& out = result.stream();
+  if (res.segments > 1)
+    std::cerr << fmt::format(
+        "cubecal: note: {} gaps/jitter found; statistics computed per "
+        "contiguous segment ({} segments) and combined\n",
+        series.irregular_intervals, res.segments);
+  if (o.format == "json")
+    out << pipeline::to_json(res).dump(1) << '\n';  // run_dev recorded the file and the interval options
+  else if (o.format == "csv")
+    write_dev_csv(out, res, ctx);
+  else
+    write_dev_table(out, res, ctx);
+  result.finish();
+  writing.stop();
+}
+
+int run_dev_command(DevOptions& o) {
+  pipeline::DevRequest req = dev_request(o);
+  if (o.input.gaps == "skip" && req.stat != Stat::oadev)
+    throw UsageError(
+        "--gaps skip: missing samples are skipped for OADEV only (as AllanTools' gradev): give "
+        "--stat oadev, or --gaps split to analyze the contiguous pieces with " +
+        std::string(to_string(req.stat)));
+  ResultOutput result(o.out, o.force);  // refuses an unusable --out before the work
+  const std::size_t budget = memory_budget(o.memory);
+  const io::SeriesOptions series_opt = to_series_options(o.input);
+  const bool stream = o.memory.stream || stream_beyond_budget(o, req, series_opt, budget);
+  if (stream) {
+    const int rc = run_dev_stream_command(o, req, series_opt, budget, result);
+    print_timings(o.timings, req.threads);  // a stream's stages are one pass: the wall clock only
+    return rc;
+  }
+  const io::Series series = read_dev_series(o);
+  const pipeline::DevWorkEstimate work = announce_dev_work(series, req);
+  const bool long_work = work.seconds > long_work_seconds();
   Progress progress(work.seconds > 2.0, long_work);
   progress.stage(fmt::format("{} at {} taus on {} channel(s)", to_string(req.stat), work.taus, series.channels.size()));
   req.progress = [&](double f) { progress.fraction(f); };
@@ -175,22 +222,7 @@ int run_dev_command(DevOptions& o) {
   for (const std::string& line : {excluded_taus_warning(res.tau_list), merged_taus_note(res.tau_list)})
     if (!line.empty()) std::cerr << line << '\n';
 
-  StageTimer writing(o.timings.sink(), Stage::output);
-  DevContext ctx{o.input.file, o.ci, o.edf, !o.no_ci};
-  std::ostream& out = result.stream();
-  if (res.segments > 1)
-    std::cerr << fmt::format(
-        "cubecal: note: {} gaps/jitter found; statistics computed per "
-        "contiguous segment ({} segments) and combined\n",
-        series.irregular_intervals, res.segments);
-  if (o.format == "json")
-    out << nlohmann::json(res).dump(1) << '\n';  // run_dev recorded the file and the interval options
-  else if (o.format == "csv")
-    write_dev_csv(out, res, ctx);
-  else
-    write_dev_table(out, res, ctx);
-  result.finish();
-  writing.stop();
+  write_dev_result(o, res, series, result);
   print_timings(o.timings, req.threads);
   return 0;
 }

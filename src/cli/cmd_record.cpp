@@ -126,7 +126,8 @@ class LiveDeviation {
   std::vector<StreamingDeviation> devs_;
 };
 
-int run_record_command(const RecordCliOptions& o) {
+// The recorder's options from the command line (the callbacks aside).
+acquire::RecorderOptions recorder_options(const RecordCliOptions& o) {
   acquire::RecorderOptions ro;
   ro.out_dir = o.out;
   while (ro.out_dir.size() > 1 && ro.out_dir.back() == '/') ro.out_dir.pop_back();
@@ -159,77 +160,53 @@ int run_record_command(const RecordCliOptions& o) {
   ro.chunk_seconds = o.chunk_seconds;
   ro.chunk_bytes = o.chunk_bytes;
 
-  const bool tty = ::isatty(STDERR_FILENO) != 0 && !o.quiet;
-  install_signal_handlers();
-  ro.stop = &g_stop;
-  ro.on_notice = [](const std::string& s) { std::fprintf(stderr, "cubecal: %s\n", printable_text(s).c_str()); };
+  return ro;
+}
 
-  acquire::SourceOptions so;
-  so.baud = o.baud;
-  std::unique_ptr<acquire::Source> source = acquire::open_source(o.source, so);
-
-  std::unique_ptr<LiveDeviation> live;
+// The status block on a terminal: the status line and, with --live, the
+// OADEV lines of the samples so far, redrawn in place.
+struct StatusBlock {
+  double requested = 0.0;
+  std::string out_dir;
+  std::unique_ptr<LiveDeviation>& live;
+  acquire::Recorder*& recorder_ptr;
   std::vector<std::string> live_lines;
   double last_live = 0.0;
   std::size_t drawn_lines = 0;  // status lines drawn below the cursor's line
-  const double requested = ro.duration_s;
-  const std::string out_dir = ro.out_dir;
-  acquire::Recorder* recorder_ptr = nullptr;
-  if (o.live) {
-    ro.on_sample = [&live, &recorder_ptr](std::span<const double> v) {
-      if (!live) {
-        const auto& m = recorder_ptr->manifest();
-        live = std::make_unique<LiveDeviation>(m.columns, m.time_column);
-      }
-      live->push(v);
-    };
-  }
-  if (tty) {
-    ro.on_status = [&](const acquire::RecorderStatus& st) {
-      std::string line =
-          fmt::format("{}{}  {:.0f} samples/s  {} samples  rejected {}  gaps {}  resets {}", clock_text(st.elapsed_s),
-                      requested > 0 ? " / " + clock_text(requested) : std::string(), st.samples_per_s, st.samples,
-                      st.rejects, st.gaps, st.resets);
-      if (st.reconnects > 0) line += fmt::format("  reconnects {}", st.reconnects);
-      if (!st.last.empty()) {
-        line += "  last";
-        for (std::size_t i = 0; i < st.last.size() && i < 6; ++i) line += fmt::format(" {:.6g}", st.last[i]);
-        if (st.last.size() > 6) line += " ...";
-      }
-      const double fb = free_bytes(out_dir);
-      if (fb >= 0) line += "  free " + bytes_text(fb);
-      if (live && st.elapsed_s - last_live >= 5.0) {
-        const double rate = recorder_ptr->manifest().rate_hz.value_or(
-            st.device_rate_hz > 0 ? st.device_rate_hz
-                                  : (st.elapsed_s > 0 ? static_cast<double>(st.samples) / st.elapsed_s : 0.0));
-        live_lines = live->lines(rate);
-        last_live = st.elapsed_s;
-      }
-      // Redraw: back to the first line of the block, clear to the end.
-      std::string out;
-      if (drawn_lines > 0) out += fmt::format("\r\x1b[{}A", drawn_lines);
-      out += "\r\x1b[J" + printable_text(line);
-      for (const auto& l : live_lines) out += "\n" + printable_text(l);
-      drawn_lines = live_lines.size();
-      std::fputs(out.c_str(), stderr);
-      std::fflush(stderr);
-    };
-  }
 
-  acquire::Recorder recorder(*source, std::move(ro));
-  recorder_ptr = &recorder;
-  acquire::RecorderSummary sum;
-  try {
-    sum = recorder.run();
-  } catch (const acquire::WriteFailure& e) {
-    if (tty) std::fputs("\n", stderr);
-    std::fprintf(stderr,
-                 "cubecal: error: %s; the chunks before it are intact and the manifest describes what was "
-                 "synced; free space or raise the limit, then run again with the same --out to append a segment\n",
-                 printable_text(e.what()).c_str());
-    return 2;
+  void draw(const acquire::RecorderStatus& st) {
+    std::string line =
+        fmt::format("{}{}  {:.0f} samples/s  {} samples  rejected {}  gaps {}  resets {}", clock_text(st.elapsed_s),
+                    requested > 0 ? " / " + clock_text(requested) : std::string(), st.samples_per_s, st.samples,
+                    st.rejects, st.gaps, st.resets);
+    if (st.reconnects > 0) line += fmt::format("  reconnects {}", st.reconnects);
+    if (!st.last.empty()) {
+      line += "  last";
+      for (std::size_t i = 0; i < st.last.size() && i < 6; ++i) line += fmt::format(" {:.6g}", st.last[i]);
+      if (st.last.size() > 6) line += " ...";
+    }
+    const double fb = free_bytes(out_dir);
+    if (fb >= 0) line += "  free " + bytes_text(fb);
+    if (live && st.elapsed_s - last_live >= 5.0) {
+      const double rate = recorder_ptr->manifest().rate_hz.value_or(
+          st.device_rate_hz > 0 ? st.device_rate_hz
+                                : (st.elapsed_s > 0 ? static_cast<double>(st.samples) / st.elapsed_s : 0.0));
+      live_lines = live->lines(rate);
+      last_live = st.elapsed_s;
+    }
+    // Redraw: back to the first line of the block, clear to the end.
+    std::string out;
+    if (drawn_lines > 0) out += fmt::format("\r\x1b[{}A", drawn_lines);
+    out += "\r\x1b[J" + printable_text(line);
+    for (const auto& l : live_lines) out += "\n" + printable_text(l);
+    drawn_lines = live_lines.size();
+    std::fputs(out.c_str(), stderr);
+    std::fflush(stderr);
   }
-  if (tty) std::fputs("\n", stderr);
+};
+
+// What the recording did, on stderr; the command's exit status.
+int report_record_end(const acquire::RecorderSummary& sum, const std::string& out_dir) {
   const char* why = sum.end == acquire::RecordEnd::duration  ? "duration reached"
                     : sum.end == acquire::RecordEnd::stopped ? "stopped"
                                                              : "source ended";
@@ -256,6 +233,51 @@ int run_record_command(const RecordCliOptions& o) {
                sum.status.rejects, sum.status.gaps, sum.status.resets,
                sum.status.reconnects > 0 ? fmt::format(", {} reconnect(s)", sum.status.reconnects).c_str() : "");
   return 0;
+}
+
+int run_record_command(const RecordCliOptions& o) {
+  acquire::RecorderOptions ro = recorder_options(o);
+
+  const bool tty = ::isatty(STDERR_FILENO) != 0 && !o.quiet;
+  install_signal_handlers();
+  ro.stop = &g_stop;
+  ro.on_notice = [](const std::string& s) { std::fprintf(stderr, "cubecal: %s\n", printable_text(s).c_str()); };
+
+  acquire::SourceOptions so;
+  so.baud = o.baud;
+  std::unique_ptr<acquire::Source> source = acquire::open_source(o.source, so);
+
+  std::unique_ptr<LiveDeviation> live;
+  const double requested = ro.duration_s;
+  const std::string out_dir = ro.out_dir;
+  acquire::Recorder* recorder_ptr = nullptr;
+  if (o.live) {
+    ro.on_sample = [&live, &recorder_ptr](std::span<const double> v) {
+      if (!live) {
+        const auto& m = recorder_ptr->manifest();
+        live = std::make_unique<LiveDeviation>(m.columns, m.time_column);
+      }
+      live->push(v);
+    };
+  }
+  StatusBlock status{requested, out_dir, live, recorder_ptr, {}, 0.0, 0};
+  if (tty) ro.on_status = [&status](const acquire::RecorderStatus& st) { status.draw(st); };
+
+  acquire::Recorder recorder(*source, std::move(ro));
+  recorder_ptr = &recorder;
+  acquire::RecorderSummary sum;
+  try {
+    sum = recorder.run();
+  } catch (const acquire::WriteFailure& e) {
+    if (tty) std::fputs("\n", stderr);
+    std::fprintf(stderr,
+                 "cubecal: error: %s; the chunks before it are intact and the manifest describes what was "
+                 "synced; free space or raise the limit, then run again with the same --out to append a segment\n",
+                 printable_text(e.what()).c_str());
+    return 2;
+  }
+  if (tty) std::fputs("\n", stderr);
+  return report_record_end(sum, out_dir);
 }
 
 }  // namespace

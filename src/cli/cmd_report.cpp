@@ -1,5 +1,5 @@
 // cubecal report DIR: the results of an earlier `analyze --out DIR` (read
-// through from_json) as one self-contained HTML page (DIR/report.html) with
+// through analysis_result_from_json) as one self-contained HTML page (DIR/report.html) with
 // gnuplot plots in DIR/plots/.
 #include <fmt/format.h>
 

@@ -262,9 +262,8 @@ int write_realtime(const pipeline::SimulateRequest& req, const SimulateOptions& 
   return 0;
 }
 
-int run_simulate(const SimulateOptions& o) {
-  pipeline::SimulateRequest req;
-  if (!(o.rate_hz > 0.0) || !std::isfinite(o.rate_hz)) throw UsageError("--rate must be positive");
+// The presets' triads, each the same sensor at --rate.
+void add_preset_triads(pipeline::SimulateRequest& req, const SimulateOptions& o) {
   for (const auto& name : split_list(o.presets)) {
     try {
       // The same sensor at --rate: its N and K, not its per-sample sigmas.
@@ -275,78 +274,71 @@ int run_simulate(const SimulateOptions& o) {
       throw UsageError("unknown preset '" + name + "' (known: " + known + ")");
     }
   }
-  req.rate_hz = o.rate_hz;
-  if (!o.model_file.empty()) {
-    std::ifstream in(o.model_file);
-    if (!in) throw UsageError("cannot read " + o.model_file);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    // The model's parameters hold per sample at the rate it was measured
-    // at; without --rate (and without presets, which then keep the default
-    // 10 Hz) simulate at that rate, else convert to --rate.
-    const nlohmann::json j = nlohmann::json::parse(ss.str(), nullptr, false);
-    std::vector<TriadModel> models;
-    if (j.is_object() && j.contains("command") && j["command"] == "model") {
-      // `cubecal model --format json`: composite models only.
-      if (o.bias_given && o.bias != "composite" && o.bias != "twin")
-        throw UsageError("--bias: " + o.model_file +
-                         " is a `cubecal model` result, which holds composite models "
-                         "only (--bias composite, or leave --bias out)");
-      const pipeline::ModelResult m = pipeline::model_result_from_json(j, o.model_file);
-      if (!o.rate_given && req.triads.empty()) req.rate_hz = m.rate_hz;
-      models = pipeline::models_from_composite(m, o.model_file, req.rate_hz);
-    } else {
-      const pipeline::AnalysisDocument doc = pipeline::parse_analysis_json(ss.str(), o.model_file);
-      if (!o.rate_given && req.triads.empty()) req.rate_hz = doc.result.rate_hz;
-      // The twin by default; an analysis without one (written before it, or
-      // of a record that could not carry it) gives the paper's model, said so.
-      const bool has_twin =
-          !doc.result.channels.empty() && std::all_of(doc.result.channels.begin(), doc.result.channels.end(),
-                                                      [](const auto& ch) { return ch.model.composite.has_value(); });
-      std::string bias = o.bias;
-      if (bias == "twin" && !o.bias_given && !has_twin) {
-        bias = "random-walk";
-        fmt::print(stderr, "cubecal: note: {} holds no twin ({}); simulating the paper's random-walk model\n",
-                   o.model_file,
-                   doc.result.composite_skipped.empty() ? std::string("analyze it again to fit one")
-                                                        : doc.result.composite_skipped);
-      }
-      models = bias == "composite" || bias == "twin"
-                   ? pipeline::models_from_composite(doc.result, o.model_file, req.rate_hz)
-                   : pipeline::models_from_analysis(doc.result, o.model_file, bias == "gauss-markov", req.rate_hz);
+}
+
+// The triads of --model: a `cubecal model` result or an analysis.json; the
+// rate becomes the model's when neither --rate nor a preset sets it.
+void add_model_triads(pipeline::SimulateRequest& req, const SimulateOptions& o) {
+  std::ifstream in(o.model_file);
+  if (!in) throw UsageError("cannot read " + o.model_file);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  // The model's parameters hold per sample at the rate it was measured
+  // at; without --rate (and without presets, which then keep the default
+  // 10 Hz) simulate at that rate, else convert to --rate.
+  const nlohmann::json j = nlohmann::json::parse(ss.str(), nullptr, false);
+  std::vector<TriadModel> models;
+  if (j.is_object() && j.contains("command") && j["command"] == "model") {
+    // `cubecal model --format json`: composite models only.
+    if (o.bias_given && o.bias != "composite" && o.bias != "twin")
+      throw UsageError("--bias: " + o.model_file +
+                       " is a `cubecal model` result, which holds composite models "
+                       "only (--bias composite, or leave --bias out)");
+    const pipeline::ModelResult m = pipeline::model_result_from_json(j, o.model_file);
+    if (!o.rate_given && req.triads.empty()) req.rate_hz = m.rate_hz;
+    models = pipeline::models_from_composite(m, o.model_file, req.rate_hz);
+  } else {
+    const pipeline::AnalysisDocument doc = pipeline::parse_analysis_json(ss.str(), o.model_file);
+    if (!o.rate_given && req.triads.empty()) req.rate_hz = doc.result.rate_hz;
+    // The twin by default; an analysis without one (written before it, or
+    // of a record that could not carry it) gives the paper's model, said so.
+    const bool has_twin =
+        !doc.result.channels.empty() && std::all_of(doc.result.channels.begin(), doc.result.channels.end(),
+                                                    [](const auto& ch) { return ch.model.composite.has_value(); });
+    std::string bias = o.bias;
+    if (bias == "twin" && !o.bias_given && !has_twin) {
+      bias = "random-walk";
+      fmt::print(stderr, "cubecal: note: {} holds no twin ({}); simulating the paper's random-walk model\n",
+                 o.model_file,
+                 doc.result.composite_skipped.empty() ? std::string("analyze it again to fit one")
+                                                      : doc.result.composite_skipped);
     }
-    for (auto& m : models) req.triads.push_back(std::move(m));
+    models = bias == "composite" || bias == "twin"
+                 ? pipeline::models_from_composite(doc.result, o.model_file, req.rate_hz)
+                 : pipeline::models_from_analysis(doc.result, o.model_file, bias == "gauss-markov", req.rate_hz);
   }
-  if (req.triads.empty()) throw UsageError("nothing to simulate: give --preset and/or --model");
-  if (!o.frame.empty() && !o.realtime)
-    throw UsageError("--frame streams binary frames with --realtime: add --realtime --out -, or leave out --frame");
-  if (!o.flicker.empty()) {
-    // Bias instability as flicker FM on every axis of a triad (Kasdin &
-    // Walter's generator): one B for all triads or one per triad, in each
-    // triad's unit.
-    const auto b = numbers(o.flicker, "--flicker");
-    if (b.size() != 1 && b.size() != req.triads.size())
-      throw UsageError("--flicker: give one bias instability B for all triads or one per triad (" +
-                       std::to_string(req.triads.size()) + ")");
-    for (std::size_t k = 0; k < req.triads.size(); ++k) {
-      const double bk = b.size() == 1 ? b[0] : b[k];
-      if (!(bk >= 0.0)) throw UsageError("--flicker: B must be 0 or more");
-      for (auto& axis : req.triads[k].axes) axis.power_law.push_back(flicker_term(bk));
-    }
+  for (auto& m : models) req.triads.push_back(std::move(m));
+}
+
+// --flicker: bias instability as flicker FM on every axis of a triad.
+void add_flicker(pipeline::SimulateRequest& req, const SimulateOptions& o) {
+  // Bias instability as flicker FM on every axis of a triad (Kasdin &
+  // Walter's generator): one B for all triads or one per triad, in each
+  // triad's unit.
+  const auto b = numbers(o.flicker, "--flicker");
+  if (b.size() != 1 && b.size() != req.triads.size())
+    throw UsageError("--flicker: give one bias instability B for all triads or one per triad (" +
+                     std::to_string(req.triads.size()) + ")");
+  for (std::size_t k = 0; k < req.triads.size(); ++k) {
+    const double bk = b.size() == 1 ? b[0] : b[k];
+    if (!(bk >= 0.0)) throw UsageError("--flicker: B must be 0 or more");
+    for (auto& axis : req.triads[k].axes) axis.power_law.push_back(flicker_term(bk));
   }
-  req.duration_s = pipeline::parse_duration(o.duration);
-  req.seed = o.seed;
-  req.temperature = parse_temperature(o.temp);
-  if (!o.true_input.empty()) req.true_input = read_rate_profile(o.true_input);
-  if (o.realtime) {
-    // Nothing is stored: no size limit.
-    if (o.out != "-") throw UsageError("--realtime streams to the standard output: give --out -");
-    if (!o.frame.empty() && o.format == "raw")
-      throw UsageError("--frame: binary frames of their own; leave out --format raw");
-    const std::size_t n = pipeline::sample_count(req);
-    if (n < 1) throw UsageError("--duration shorter than one sample period");
-    return write_realtime(req, o, n);
-  }
+}
+
+// The record written to --out (a file or the standard output), as text
+// or raw frames.
+int write_record_output(pipeline::SimulateRequest& req, const SimulateOptions& o) {
   // Refuse a record no one meant to ask for before any work (and before
   // sample_count, which an absurd duration would overflow).
   const bool raw = o.format == "raw";
@@ -375,6 +367,32 @@ int run_simulate(const SimulateOptions& o) {
                            to_stdout ? "the standard output" : o.out, n, req.rate_hz,
                            pipeline::channel_names(req).size() + 1, o.seed);
   return 0;
+}
+
+int run_simulate(const SimulateOptions& o) {
+  pipeline::SimulateRequest req;
+  if (!(o.rate_hz > 0.0) || !std::isfinite(o.rate_hz)) throw UsageError("--rate must be positive");
+  add_preset_triads(req, o);
+  req.rate_hz = o.rate_hz;
+  if (!o.model_file.empty()) add_model_triads(req, o);
+  if (req.triads.empty()) throw UsageError("nothing to simulate: give --preset and/or --model");
+  if (!o.frame.empty() && !o.realtime)
+    throw UsageError("--frame streams binary frames with --realtime: add --realtime --out -, or leave out --frame");
+  if (!o.flicker.empty()) add_flicker(req, o);
+  req.duration_s = pipeline::parse_duration(o.duration);
+  req.seed = o.seed;
+  req.temperature = parse_temperature(o.temp);
+  if (!o.true_input.empty()) req.true_input = read_rate_profile(o.true_input);
+  if (o.realtime) {
+    // Nothing is stored: no size limit.
+    if (o.out != "-") throw UsageError("--realtime streams to the standard output: give --out -");
+    if (!o.frame.empty() && o.format == "raw")
+      throw UsageError("--frame: binary frames of their own; leave out --format raw");
+    const std::size_t n = pipeline::sample_count(req);
+    if (n < 1) throw UsageError("--duration shorter than one sample period");
+    return write_realtime(req, o, n);
+  }
+  return write_record_output(req, o);
 }
 
 }  // namespace

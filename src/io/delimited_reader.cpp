@@ -31,6 +31,7 @@
 #include "detail/binary_input.hpp"
 #include "detail/plain_decimal.hpp"
 #include "../detail/huge_pages.hpp"
+#include "../detail/for_channels.hpp"
 
 namespace cubecal::io {
 
@@ -719,21 +720,17 @@ std::vector<std::vector<double>> parse_rows(std::string_view text, const std::st
 
   // Zero-filling the fresh arrays is mostly page faults: share them out.
   std::vector<std::vector<double>> columns(n_columns);
-  std::vector<std::exception_ptr> alloc_failure(n_chunks);
+  cubecal::detail::ItemErrors alloc_failure(n_chunks);
   run_parallel(n_chunks, [&](std::size_t k) {
-    try {
+    alloc_failure.run(k, [&](std::size_t) {
       for (std::size_t c = k; c < columns.size(); c += n_chunks) {
         columns[c].reserve(offset[n_chunks]);
         cubecal::detail::advise_huge_pages(columns[c].data(), offset[n_chunks] * sizeof(double));
         columns[c].resize(offset[n_chunks]);
       }
-    } catch (...) {
-      alloc_failure[k] = std::current_exception();
-    }
+    });
   });
-  for (const std::exception_ptr& e : alloc_failure) {
-    if (e) std::rethrow_exception(e);
-  }
+  alloc_failure.rethrow_first();
 
   // Per chunk and field: where row 0 of the chunk goes (null: skipped).
   std::vector<std::vector<double*>> dst(n_chunks, std::vector<double*>(lay.total_columns, nullptr));

@@ -310,12 +310,8 @@ struct Reader {
     return InputError(it->path, it->first_line + (row - it->first_row), 0, std::move(problem), std::move(hint));
   }
 
-  // The segments [from, to) of the manifest as one record named `label`;
-  // none when they hold no sample and `skip_empty`.
-  std::optional<Series> read(std::size_t from, std::size_t to, const std::string& label, bool skip_empty) {
-    places.clear();
-    const UtcTime origin = parse_utc(m.segments.at(0).start_utc, p.manifest, m.segments[0].index);
-    const double origin_mono = m.segments[0].start_mono_s;
+  // An empty record named `label` with the recording's channels, extras and units.
+  Series empty_series(const std::string& label) const {
     Series s;
     s.file = label;
     s.names = p.channels;
@@ -328,13 +324,91 @@ struct Reader {
       s.units.assign(p.channels.size(), *m.unit);
       s.units_from = "the recording's manifest";
     }
-    std::vector<double> time;
-    std::size_t bytes = 0;
-    bool any = false;
+    return s;
+  }
+
+  // Where the segments' samples lie on the record's time axis: the offset
+  // of a device clock that started again, and the previous segment's last
+  // stamps.
+  struct Placement {
     double offset = 0.0;      // Timing::column: added to the previous segment's stamps
     double last_stamp = 0.0;  // the previous segment's last stamp, as read
     double last_host = 0.0;   // its last receive stamp, on the first segment's monotonic clock
     double first_host = 0.0;  // the first receive stamp of the record, on that clock
+    bool any = false;         // a segment with samples placed before
+  };
+
+  // The time stamps of segment d (n rows, its first receive stamp
+  // host_first on the first segment's clock) placed on the record's axis.
+  void place_segment(SegmentData& d, std::size_t n, double to_origin, double host_first, Placement& placed) const {
+    double& offset = placed.offset;
+    double& last_stamp = placed.last_stamp;
+    const double last_host = placed.last_host;
+    const double first_host = placed.first_host;
+    const bool any = placed.any;
+    if (p.timing == Timing::host_mono) {
+      for (double& t : d.time) t += to_origin;
+    } else if (p.timing == Timing::rate) {
+      d.time.resize(n);
+      double start = host_first;
+      std::size_t start_row = 0;
+      auto next = d.restarts.begin();
+      for (std::size_t i = 0; i < n; ++i) {
+        if (next != d.restarts.end() && next->row == i) {
+          start = next->host_at + to_origin;
+          start_row = i;
+          ++next;
+        }
+        d.time[i] = (start - first_host) + static_cast<double>(i - start_row) / p.rate_hz;
+      }
+    } else if (any && p.time != kHostUtcColumn) {
+      // A device clock that ran on across the break (its interval agrees
+      // with the host's) is kept; one that started again is placed where
+      // the host clock puts the segment.
+      const double host_gap = host_first - last_host;
+      const double device_gap = d.time.front() - last_stamp;
+      if (!(device_gap > 0.0 && std::fabs(device_gap - host_gap) <= std::max(1.0, 0.01 * host_gap)))
+        offset = (last_stamp + offset + host_gap) - d.time.front();
+    }
+    if (p.timing == Timing::column) {
+      // A reset inside the segment: the samples after it placed where the
+      // receive stamps put them, as a new segment would be.
+      std::size_t from_row = 0;
+      for (const auto& r : d.resets) {
+        for (std::size_t i = from_row; i < r.row; ++i) d.time[i] += offset;
+        const double last = d.time[r.row - 1];  // placed
+        offset = (last + (r.host_at - r.host_before)) - d.time[r.row];
+        from_row = r.row;
+      }
+      last_stamp = d.time.back();
+      for (std::size_t i = from_row; i < n; ++i) d.time[i] += offset;
+    }
+  }
+
+  // Every sample placed: a stamp, and receive stamps that increase.
+  void check_times(const std::vector<double>& time) const {
+    for (std::size_t row = 0; row < time.size(); ++row)
+      if (std::isnan(time[row]))
+        throw at(row, "missing time stamp",
+                 "a sample cannot be placed without its time: fill in the stamp or remove the row");
+    if (p.timing == Timing::host_mono)
+      for (std::size_t row = 1; row < time.size(); ++row)
+        if (!(time[row] > time[row - 1]))
+          throw at(row, "receive stamp " + number(time[row]) + " s is not after the previous one",
+                   "the recording has no device time column and no rate: several samples were received at once; "
+                   "give --rate HZ");
+  }
+
+  // The segments [from, to) of the manifest as one record named `label`;
+  // none when they hold no sample and `skip_empty`.
+  std::optional<Series> read(std::size_t from, std::size_t to, const std::string& label, bool skip_empty) {
+    places.clear();
+    const UtcTime origin = parse_utc(m.segments.at(0).start_utc, p.manifest, m.segments[0].index);
+    const double origin_mono = m.segments[0].start_mono_s;
+    Series s = empty_series(label);
+    std::vector<double> time;
+    std::size_t bytes = 0;
+    Placement placed;
     for (std::size_t k = from; k < to; ++k) {
       const RecordingSegment& seg = m.segments[k];
       SegmentData d = read_segment(dir, seg, p, opt, places, s.samples(), bytes);
@@ -346,64 +420,19 @@ struct Reader {
           utc_difference(parse_utc(seg.start_utc, p.manifest, seg.index), origin) - (seg.start_mono_s - origin_mono);
       const double host_first = d.host_first + to_origin;
       const double host_last = d.host_last + to_origin;
-      if (!any) first_host = host_first;
-      if (p.timing == Timing::host_mono) {
-        for (double& t : d.time) t += to_origin;
-      } else if (p.timing == Timing::rate) {
-        d.time.resize(n);
-        double start = host_first;
-        std::size_t start_row = 0;
-        auto next = d.restarts.begin();
-        for (std::size_t i = 0; i < n; ++i) {
-          if (next != d.restarts.end() && next->row == i) {
-            start = next->host_at + to_origin;
-            start_row = i;
-            ++next;
-          }
-          d.time[i] = (start - first_host) + static_cast<double>(i - start_row) / p.rate_hz;
-        }
-      } else if (any && p.time != kHostUtcColumn) {
-        // A device clock that ran on across the break (its interval agrees
-        // with the host's) is kept; one that started again is placed where
-        // the host clock puts the segment.
-        const double host_gap = host_first - last_host;
-        const double device_gap = d.time.front() - last_stamp;
-        if (!(device_gap > 0.0 && std::fabs(device_gap - host_gap) <= std::max(1.0, 0.01 * host_gap)))
-          offset = (last_stamp + offset + host_gap) - d.time.front();
-      }
-      if (p.timing == Timing::column) {
-        // A reset inside the segment: the samples after it placed where the
-        // receive stamps put them, as a new segment would be.
-        std::size_t from_row = 0;
-        for (const auto& r : d.resets) {
-          for (std::size_t i = from_row; i < r.row; ++i) d.time[i] += offset;
-          const double last = d.time[r.row - 1];  // placed
-          offset = (last + (r.host_at - r.host_before)) - d.time[r.row];
-          from_row = r.row;
-        }
-        last_stamp = d.time.back();
-        for (std::size_t i = from_row; i < n; ++i) d.time[i] += offset;
-      }
-      last_host = host_last;
-      any = true;
+      if (!placed.any) placed.first_host = host_first;
+      place_segment(d, n, to_origin, host_first, placed);
+      placed.last_host = host_last;
+      placed.any = true;
       for (std::size_t c = 0; c < s.channels.size(); ++c) append(s.channels[c], d.channels[c]);
       for (std::size_t c = 0; c < s.extra.size(); ++c) append(s.extra[c], d.extra[c]);
       append(time, d.time);
     }
-    if (!any && skip_empty) return std::nullopt;
+    if (!placed.any && skip_empty) return std::nullopt;
     s.gaps = opt.gaps;
     s.bytes = bytes;
     check_values(s);
-    for (std::size_t row = 0; row < time.size(); ++row)
-      if (std::isnan(time[row]))
-        throw at(row, "missing time stamp",
-                 "a sample cannot be placed without its time: fill in the stamp or remove the row");
-    if (p.timing == Timing::host_mono)
-      for (std::size_t row = 1; row < time.size(); ++row)
-        if (!(time[row] > time[row - 1]))
-          throw at(row, "receive stamp " + number(time[row]) + " s is not after the previous one",
-                   "the recording has no device time column and no rate: several samples were received at once; "
-                   "give --rate HZ");
+    check_times(time);
     SeriesOptions so = opt;
     if (p.timing == Timing::rate) so.rate_hz = p.rate_hz;
     const std::string time_name =

@@ -51,7 +51,7 @@ void write_all(int fd, std::string_view content, const std::string& path) {
 
 json optional_string(const std::optional<std::string>& s) { return s ? json(*s) : json(nullptr); }
 
-json event_to_json(const RecordingEvent& e) {
+json to_json(const RecordingEvent& e) {
   json j;
   j["kind"] = std::string(to_string(e.kind));
   j["sample"] = e.sample;
@@ -70,7 +70,7 @@ json event_to_json(const RecordingEvent& e) {
   return j;
 }
 
-json chunk_to_json(const RecordingChunk& c) {
+json to_json(const RecordingChunk& c) {
   json j;
   j["file"] = c.file;
   j["samples"] = c.samples;
@@ -82,7 +82,7 @@ json chunk_to_json(const RecordingChunk& c) {
   return j;
 }
 
-json segment_to_json(const RecordingSegment& s) {
+json to_json(const RecordingSegment& s) {
   json j;
   j["index"] = s.index;
   j["dir"] = s.dir;
@@ -94,9 +94,9 @@ json segment_to_json(const RecordingSegment& s) {
   j["rejects"] = s.rejects;
   j["partial_bytes"] = s.partial_bytes;
   j["chunks"] = json::array();
-  for (const auto& c : s.chunks) j["chunks"].push_back(chunk_to_json(c));
+  for (const auto& c : s.chunks) j["chunks"].push_back(to_json(c));
   j["events"] = json::array();
-  for (const auto& e : s.events) j["events"].push_back(event_to_json(e));
+  for (const auto& e : s.events) j["events"].push_back(to_json(e));
   return j;
 }
 
@@ -259,7 +259,9 @@ std::string crc32_hex(std::uint32_t crc) {
   return buf;
 }
 
-std::string manifest_to_json(const RecordingManifest& m) {
+namespace {
+
+json to_json(const RecordingManifest& m) {
   json j;
   j["format"] = m.format;
   j["columns"] = m.columns;
@@ -277,18 +279,13 @@ std::string manifest_to_json(const RecordingManifest& m) {
   j["framing"] = framing;
   j["source"] = m.source;
   j["segments"] = json::array();
-  for (const auto& s : m.segments) j["segments"].push_back(segment_to_json(s));
-  return j.dump(2) + "\n";
+  for (const auto& s : m.segments) j["segments"].push_back(to_json(s));
+  return j;
 }
 
-RecordingManifest manifest_from_json(std::string_view text, const std::string& file) {
+// The manifest of a JSON document; `file` names it in errors.
+RecordingManifest manifest_from_json(const json& j, const std::string& file) {
   Reader r(file);
-  json j;
-  try {
-    j = json::parse(text.begin(), text.end());
-  } catch (const json::exception& e) {  // parse_error, out_of_range (a number beyond a double)
-    r.fail(std::string("not valid JSON: ") + e.what());
-  }
   RecordingManifest m;
   const std::string where = "manifest";
   m.format = r.str(j, "format", where);
@@ -320,13 +317,27 @@ RecordingManifest manifest_from_json(std::string_view text, const std::string& f
   return m;
 }
 
+}  // namespace
+
+std::string manifest_text(const RecordingManifest& m) { return to_json(m).dump(2) + "\n"; }
+
+RecordingManifest parse_manifest(std::string_view text, const std::string& file) {
+  json j;
+  try {
+    j = json::parse(text.begin(), text.end());
+  } catch (const json::exception& e) {  // parse_error, out_of_range (a number beyond a double)
+    Reader(file).fail(std::string("not valid JSON: ") + e.what());
+  }
+  return manifest_from_json(j, file);
+}
+
 RecordingManifest read_manifest(const std::string& dir) {
   const std::string path = dir + "/" + std::string(kManifestName);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, 0, 0, "cannot be read", "a cubecal recording directory holds manifest.json");
   std::ostringstream ss;
   ss << in.rdbuf();
-  return manifest_from_json(ss.str(), path);
+  return parse_manifest(ss.str(), path);
 }
 
 bool is_recording_dir(const std::string& dir) {
@@ -364,7 +375,7 @@ void replace_file_atomically(const std::string& path, std::string_view content) 
 }
 
 void write_manifest(const std::string& dir, const RecordingManifest& m) {
-  replace_file_atomically(dir + "/" + std::string(kManifestName), manifest_to_json(m));
+  replace_file_atomically(dir + "/" + std::string(kManifestName), manifest_text(m));
 }
 
 std::string utc_iso8601(std::int64_t seconds, long nanoseconds) {

@@ -75,49 +75,63 @@ constexpr double kReweightTolerance = 1e-10;
 // Share of the fitted variance from which a term "dominates" a tau.
 constexpr double kDominantShare = 0.25;
 
-}  // namespace
+// The curve in normalized units, so that the system is well scaled for any
+// data unit (clock data reach 1e-30 in variance) and any tau span (1e-2 ..
+// 1e5 s makes tau^2 span 14 decades): variance over v_ref, tau over
+// tau_ref (every weighted column is then scaled to unit norm).
+struct NormalizedCurve {
+  double tau_ref = 0.0;
+  double v_ref = 0.0;
+  Eigen::MatrixXd powers;  // (tau / tau_ref)^k
+  Eigen::VectorXd y;       // dev^2 / v_ref
+};
 
-NoiseFit fit_noise_terms(const AllanCurve& curve) {
-  NoiseFit fit;
-  const std::size_t n = curve.size();
-  if (n == 0) return fit;
-
-  // Work in normalized units so that the system is well scaled for any data
-  // unit (clock data reach 1e-30 in variance) and any tau span (1e-2 ..
-  // 1e5 s makes tau^2 span 14 decades): variance over v_ref, tau over
-  // tau_ref, then every weighted column scaled to unit norm.
-  const double tau_ref = geometric_mean(curve.tau, 1.0);
-  const double v_ref = geometric_mean(curve.dev, 2.0);
-
-  // Without any uncertainty on the curve: weights 1/dev^4 (edf 2, i.e.
-  // relative residuals) and the scatter of the residuals sets the scale.
-  const auto known_edf = point_edfs(curve);
-  const bool absolute_weights = known_edf.has_value();
-  const std::vector<double> edf = known_edf.value_or(std::vector<double>(n, 2.0));
-
-  const auto rows = static_cast<Index>(n);
-  Eigen::MatrixXd powers(rows, kPowers);  // (tau / tau_ref)^k
-  Eigen::VectorXd y(rows);                // dev^2 / v_ref
+NormalizedCurve normalized_curve(const AllanCurve& curve) {
+  NormalizedCurve nc;
+  nc.tau_ref = geometric_mean(curve.tau, 1.0);
+  nc.v_ref = geometric_mean(curve.dev, 2.0);
+  const auto rows = static_cast<Index>(curve.size());
+  nc.powers.resize(rows, kPowers);
+  nc.y.resize(rows);
   for (Index i = 0; i < rows; ++i) {
     const auto ui = static_cast<std::size_t>(i);
-    const double t = curve.tau[ui] / tau_ref;
-    for (int k = 0; k < kPowers; ++k) powers(i, k) = std::pow(t, k - 2);
-    const double d = curve.dev[ui] / std::sqrt(v_ref);
-    y(i) = d * d;
+    const double t = curve.tau[ui] / nc.tau_ref;
+    for (int k = 0; k < kPowers; ++k) nc.powers(i, k) = std::pow(t, k - 2);
+    const double d = curve.dev[ui] / std::sqrt(nc.v_ref);
+    nc.y(i) = d * d;
   }
+  return nc;
+}
 
-  // Var(AVAR estimate) = 2 sigma^4 / edf. The sigma^4 is taken first from
-  // the measured points, then from the fitted model until the fit stops
-  // changing: weighting by the measurement favours points that came out low
-  // and biases the fit down where edf is small (the long-tau end, where K
-  // and R live). At the fixed point the weights are those of the returned
-  // model, so the result satisfies the NNLS optimality conditions for them.
+// The reweighted NNLS solution: the whitened, column-scaled system (a, b)
+// of the last pass, its solution d over scale, the free set and the model.
+struct ReweightedSolution {
   Eigen::VectorXd d = Eigen::VectorXd::Zero(kPowers);
-  Eigen::VectorXd scale(kPowers);
+  Eigen::VectorXd scale = Eigen::VectorXd(kPowers);
   Eigen::MatrixXd a;
   Eigen::VectorXd b;
   std::vector<bool> free_set;
-  Eigen::VectorXd model = y;
+  Eigen::VectorXd model;
+};
+
+// Var(AVAR estimate) = 2 sigma^4 / edf. The sigma^4 is taken first from
+// the measured points, then from the fitted model until the fit stops
+// changing: weighting by the measurement favours points that came out low
+// and biases the fit down where edf is small (the long-tau end, where K
+// and R live). At the fixed point the weights are those of the returned
+// model, so the result satisfies the NNLS optimality conditions for them.
+ReweightedSolution reweighted_nnls(const NormalizedCurve& nc, const std::vector<double>& edf) {
+  const Eigen::MatrixXd& powers = nc.powers;
+  const Eigen::VectorXd& y = nc.y;
+  const Index rows = y.size();
+  ReweightedSolution sol;
+  Eigen::VectorXd& d = sol.d;
+  Eigen::VectorXd& scale = sol.scale;
+  Eigen::MatrixXd& a = sol.a;
+  Eigen::VectorXd& b = sol.b;
+  std::vector<bool>& free_set = sol.free_set;
+  Eigen::VectorXd& model = sol.model;
+  model = y;
   for (int pass = 0; pass < kMaxReweightings; ++pass) {
     Eigen::VectorXd r(rows);  // sqrt(weight) in normalized units
     for (Index i = 0; i < rows; ++i) {
@@ -138,27 +152,22 @@ NoiseFit fit_noise_terms(const AllanCurve& curve) {
     model = next;
     if (pass > 0 && change < kReweightTolerance) break;
   }
+  return sol;
+}
 
-  // C_k in data units: model / v_ref = sum (tau / tau_ref)^k d_k / scale_k.
-  std::array<double, kPowers> to_c{};
-  for (int k = 0; k < kPowers; ++k) to_c[static_cast<std::size_t>(k)] = v_ref / (scale(k) * std::pow(tau_ref, k - 2));
-  for (std::size_t k = 0; k < kPowers; ++k)
-    fit.c[k] = free_set[k] ? std::max(0.0, d(static_cast<Index>(k))) * to_c[k] : 0.0;
-
-  fit.chi2 = (b - a * d).squaredNorm();
-  std::vector<Index> cols;
-  for (Index k = 0; k < kPowers; ++k)
-    if (free_set[static_cast<std::size_t>(k)]) cols.push_back(k);
+// Covariance of the free coefficients, sandwich form for correlated
+// points: with the whitened design A_P = Q R, cov = R^-1 (Q^T rho Q) R^-T,
+// which is (A_P^T W A_P)^-1 when the points are independent (rho = I).
+// The model is only approximate, so the covariance is inflated by
+// chi2 / E[chi2] when that is > 1, with E[chi2] = tr((I - Q Q^T) rho)
+// = n - tr(Q^T rho Q) (= dof for independent points); without weights on
+// the curve it is always scaled by that ratio. Returns the sigma of each
+// normalized coefficient d_k (0 for a bound one).
+std::array<double, kPowers> coefficient_sigmas(const NoiseFit& fit, const AllanCurve& curve, const Eigen::MatrixXd& a,
+                                               const std::vector<Index>& cols, double v_ref, bool absolute_weights) {
+  const std::size_t n = curve.size();
+  const auto rows = static_cast<Index>(n);
   const std::size_t p = cols.size();
-  fit.dof = n > p ? n - p : 0;
-
-  // Covariance of the free coefficients, sandwich form for correlated
-  // points: with the whitened design A_P = Q R, cov = R^-1 (Q^T rho Q) R^-T,
-  // which is (A_P^T W A_P)^-1 when the points are independent (rho = I).
-  // The model is only approximate, so the covariance is inflated by
-  // chi2 / E[chi2] when that is > 1, with E[chi2] = tr((I - Q Q^T) rho)
-  // = n - tr(Q^T rho Q) (= dof for independent points); without weights on
-  // the curve it is always scaled by that ratio.
   std::array<double, kPowers> d_sigma{};
   if (p > 0 && n >= p) {
     const auto pp = static_cast<Index>(p);
@@ -184,7 +193,19 @@ NoiseFit fit_noise_terms(const AllanCurve& curve) {
       d_sigma[static_cast<std::size_t>(cols[static_cast<std::size_t>(j)])] =
           std::sqrt(std::max(0.0, cov(j, j)) * factor);
   }
+  return d_sigma;
+}
 
+// Each term's value and sigma, and where the term carries at least a
+// quarter of the fitted variance; a term that never does is reported at
+// the tau of its largest share.
+void term_estimates(NoiseFit& fit, const AllanCurve& curve, const NormalizedCurve& nc, const ReweightedSolution& sol,
+                    const std::array<double, kPowers>& d_sigma, const std::array<double, kPowers>& to_c) {
+  const std::size_t n = curve.size();
+  const Eigen::MatrixXd& powers = nc.powers;
+  const Eigen::VectorXd& d = sol.d;
+  const Eigen::VectorXd& scale = sol.scale;
+  const Eigen::VectorXd& model = sol.model;
   std::array<TermEstimate*, kPowers> terms = {&fit.Q, &fit.N, &fit.B, &fit.K, &fit.R};
   for (std::size_t k = 0; k < kPowers; ++k) {
     const auto kk = static_cast<Index>(k);
@@ -216,6 +237,47 @@ NoiseFit fit_noise_terms(const AllanCurve& curve) {
     }
     if (!any) e.tau_lo = e.tau_hi = curve.tau[best];
   }
+}
+
+}  // namespace
+
+NoiseFit fit_noise_terms(const AllanCurve& curve) {
+  NoiseFit fit;
+  const std::size_t n = curve.size();
+  if (n == 0) return fit;
+
+  // Work in normalized units so that the system is well scaled for any data
+  // unit and any tau span.
+  const NormalizedCurve nc = normalized_curve(curve);
+  const double tau_ref = nc.tau_ref;
+  const double v_ref = nc.v_ref;
+
+  // Without any uncertainty on the curve: weights 1/dev^4 (edf 2, i.e.
+  // relative residuals) and the scatter of the residuals sets the scale.
+  const auto known_edf = point_edfs(curve);
+  const bool absolute_weights = known_edf.has_value();
+  const std::vector<double> edf = known_edf.value_or(std::vector<double>(n, 2.0));
+
+  const ReweightedSolution sol = reweighted_nnls(nc, edf);
+  const Eigen::VectorXd& d = sol.d;
+  const Eigen::VectorXd& scale = sol.scale;
+  const std::vector<bool>& free_set = sol.free_set;
+
+  // C_k in data units: model / v_ref = sum (tau / tau_ref)^k d_k / scale_k.
+  std::array<double, kPowers> to_c{};
+  for (int k = 0; k < kPowers; ++k) to_c[static_cast<std::size_t>(k)] = v_ref / (scale(k) * std::pow(tau_ref, k - 2));
+  for (std::size_t k = 0; k < kPowers; ++k)
+    fit.c[k] = free_set[k] ? std::max(0.0, d(static_cast<Index>(k))) * to_c[k] : 0.0;
+
+  fit.chi2 = (sol.b - sol.a * d).squaredNorm();
+  std::vector<Index> cols;
+  for (Index k = 0; k < kPowers; ++k)
+    if (free_set[static_cast<std::size_t>(k)]) cols.push_back(k);
+  const std::size_t p = cols.size();
+  fit.dof = n > p ? n - p : 0;
+
+  const std::array<double, kPowers> d_sigma = coefficient_sigmas(fit, curve, sol.a, cols, v_ref, absolute_weights);
+  term_estimates(fit, curve, nc, sol, d_sigma, to_c);
 
   double ss = 0.0;
   for (std::size_t i = 0; i < n; ++i) {

@@ -247,34 +247,32 @@ TwinFidelity twin_fidelity(const WaveletVariance& wv, const std::vector<double>&
 
 bool twin_faithful(const TwinFidelity& f) { return f.scales - f.inside <= allowed_outside(f.scales); }
 
-TwinSelection select_twin(const WaveletVariance& wv, std::size_t samples, double rate_hz,
-                          const std::vector<SpectralLine>& lines, const TwinOptions& options) {
-  if (wv.size() < 3)
-    throw UsageError("model", "the record gives " + std::to_string(wv.size()) +
-                                  " wavelet-variance scales, too few for a twin (at least 3: a record of 16 samples "
-                                  "or more)");
-  if (!(rate_hz > 0.0) || !std::isfinite(rate_hz)) throw UsageError("rate", "the sample rate must be positive");
-  Search search(wv, samples, rate_hz, lines, options);
-  const std::size_t scattered = options.starts > 0 ? options.starts - 1 : 0;
+namespace {
 
-  // The forward search with the curve's own spread as weights. Every
-  // model it fits is kept (the lowest-WIC fit of each structure) for the
-  // ranking.
-  std::vector<TwinCandidate> path, seen;
-  const auto keep = [&seen](const TwinCandidate& c) {
-    const std::string name = model_name(c.structure);
-    for (TwinCandidate& s : seen)
-      if (model_name(s.structure) == name) {
-        if (c.score.wic < s.score.wic) s = c;
-        return;
-      }
-    seen.push_back(c);
-  };
-  std::optional<TwinCandidate> at =
-      search.fit(parse_composite_model("WN"), {}, search.sd_, std::max<std::size_t>(options.starts, 1), 0);
-  if (!at)
-    throw CalibrationError(CalibrationReason::degenerate,
-                           "no white noise fits the curve (" + search.failed_.front() + ")");
+// Every model the search fitted, kept once by structure: the lowest-WIC fit.
+void keep_lowest(std::vector<TwinCandidate>& seen, const TwinCandidate& c) {
+  const std::string name = model_name(c.structure);
+  for (TwinCandidate& s : seen)
+    if (model_name(s.structure) == name) {
+      if (c.score.wic < s.score.wic) s = c;
+      return;
+    }
+  seen.push_back(c);
+}
+
+// The forward search with the curve's own spread as weights, from `start`:
+// the models where it went (path) and every model it fitted (seen).
+struct SearchTrail {
+  std::vector<TwinCandidate> path;
+  std::vector<TwinCandidate> seen;
+};
+
+SearchTrail forward_search(Search& search, TwinCandidate start, const TwinOptions& options) {
+  const std::size_t scattered = options.starts > 0 ? options.starts - 1 : 0;
+  SearchTrail trail;
+  std::vector<TwinCandidate>& path = trail.path;
+  const auto keep = [&trail](const TwinCandidate& c) { keep_lowest(trail.seen, c); };
+  std::optional<TwinCandidate> at = std::move(start);
   std::size_t lines_used = 0;
   // Each step lowers the WIC; the cap only bounds a pathological curve.
   constexpr std::size_t kMaxSteps = 40;
@@ -312,20 +310,23 @@ TwinSelection select_twin(const WaveletVariance& wv, std::size_t samples, double
     if (best_is_line) ++lines_used;
     at = std::move(best);
   }
+  return trail;
+}
 
-  // Every model the search fitted, refitted with common weights, the spread
-  // at a reference curve, each from its own fit. The reference: the
-  // geometric mean of the measured curve and that of the model where the
-  // search stopped, so that a scale which came out low is not weighed
-  // without bound, nor a model far above the last scales excused (at the
-  // model's own curve alone, one of a few degrees of freedom would weigh
-  // next to nothing where the model overshoots it).
+// Every model the search fitted, refitted with common weights, the spread
+// at a reference curve, each from its own fit. The reference: the
+// geometric mean of the measured curve and that of the model where the
+// search stopped, so that a scale which came out low is not weighed
+// without bound, nor a model far above the last scales excused (at the
+// model's own curve alone, one of a few degrees of freedom would weigh
+// next to nothing where the model overshoots it).
+void refit_with_common_weights(Search& search, const WaveletVariance& wv, const SearchTrail& trail,
+                               std::vector<CandidateFit>& scored, std::vector<TwinCandidate>& refit) {
+  const std::vector<TwinCandidate>& path = trail.path;
+  const std::vector<TwinCandidate>& seen = trail.seen;
   std::vector<double> reference(wv.size());
   for (std::size_t j = 0; j < wv.size(); ++j) reference[j] = std::sqrt(wv.nu2[j] * path.back().fit.nu2_model[j]);
   std::vector<double> sd = wic_weights(wv, reference);
-  TwinSelection sel;
-  std::vector<CandidateFit> scored;
-  std::vector<TwinCandidate> refit;
   for (const TwinCandidate& c : seen) {
     std::optional<TwinCandidate> r = search.fit(c.structure, {c.fit.model}, sd, 0, c.step);
     if (!r) continue;
@@ -333,10 +334,12 @@ TwinSelection select_twin(const WaveletVariance& wv, std::size_t samples, double
     scored.push_back({r->structure, r->fit, r->score});
     refit.push_back(std::move(*r));
   }
-  sel.failed = search.failed_;
-  if (refit.empty())
-    throw CalibrationError(CalibrationReason::degenerate,
-                           "no model of the twin's search kept a fit with common weights (" + sel.failed.front() + ")");
+}
+
+// The refitted models by WIC, the selected first, then the first faithful
+// one moved to the front.
+void rank_twins(TwinSelection& sel, std::vector<CandidateFit>& scored, std::vector<TwinCandidate>& refit,
+                const TwinOptions& options) {
   // By WIC, the selected first: the fewest parameters within rank_band of
   // the lowest (rank_by_wic's rule, with the twin's band).
   std::stable_sort(scored.begin(), scored.end(), [](const CandidateFit& a, const CandidateFit& b) {
@@ -368,6 +371,38 @@ TwinSelection select_twin(const WaveletVariance& wv, std::size_t samples, double
     }
   }
   sel.ranked = std::move(ranked);
+}
+
+}  // namespace
+
+TwinSelection select_twin(const WaveletVariance& wv, std::size_t samples, double rate_hz,
+                          const std::vector<SpectralLine>& lines, const TwinOptions& options) {
+  if (wv.size() < 3)
+    throw UsageError("model", "the record gives " + std::to_string(wv.size()) +
+                                  " wavelet-variance scales, too few for a twin (at least 3: a record of 16 samples "
+                                  "or more)");
+  if (!(rate_hz > 0.0) || !std::isfinite(rate_hz)) throw UsageError("rate", "the sample rate must be positive");
+  Search search(wv, samples, rate_hz, lines, options);
+
+  // The forward search with the curve's own spread as weights. Every
+  // model it fits is kept (the lowest-WIC fit of each structure) for the
+  // ranking.
+  std::optional<TwinCandidate> at =
+      search.fit(parse_composite_model("WN"), {}, search.sd_, std::max<std::size_t>(options.starts, 1), 0);
+  if (!at)
+    throw CalibrationError(CalibrationReason::degenerate,
+                           "no white noise fits the curve (" + search.failed_.front() + ")");
+  const SearchTrail trail = forward_search(search, std::move(*at), options);
+
+  TwinSelection sel;
+  std::vector<CandidateFit> scored;
+  std::vector<TwinCandidate> refit;
+  refit_with_common_weights(search, wv, trail, scored, refit);
+  sel.failed = search.failed_;
+  if (refit.empty())
+    throw CalibrationError(CalibrationReason::degenerate,
+                           "no model of the twin's search kept a fit with common weights (" + sel.failed.front() + ")");
+  rank_twins(sel, scored, refit, options);
   return sel;
 }
 

@@ -599,6 +599,85 @@ void reread_white_noise(NoiseAnalysis& n) {
   n.readoffs.N = read_off_noise_terms(to_allan_curve(n.adev)).N;
 }
 
+// Channel c of the document (r: the record so far, its samples, rate and
+// temperature sensor; the sensor is set from the first channel that names it).
+ChannelAnalysis read_channel(const Node& chans, std::size_t c, AnalysisResult& r, double version,
+                             const std::string& label) {
+  const double dt = 1.0 / r.rate_hz;
+  const Node cj = chans.at(c);
+  ChannelAnalysis ch;
+  ch.name = cj.at("name").str();
+  const std::string unit = cj.at("unit").str();
+  const auto u = parse_unit(unit);
+  if (!u) cj.at("unit").fail("unknown unit '" + unit + "' (known: " + known_units() + ")");
+  ch.unit = *u;
+  ch.mean = cj.num("mean");
+  ch.stddev = cj.num("stddev");
+  ch.noise = read_noise(cj.at("noise"), ch.unit);
+  ch.noise.adev = read_curve(cj.at("adev"));
+  if (cj.has("adev_stride")) {
+    const Node st = cj.at("adev_stride");
+    if (st.size() != ch.noise.adev.size()) st.fail("not one stride per point of adev");
+    for (std::size_t k = 0; k < st.size(); ++k) ch.adev_strides.push_back(st.at(k).count());
+  }
+  if (version < 2) reread_white_noise(ch.noise);
+  ch.model = read_model(cj.at("model"), ch, dt);
+  if (cj.at("model").has("composite")) {
+    const Node m = cj.at("model").at("composite");
+    ch.model.composite = model_channel_from_json(m.raw(), label, "channels[" + std::to_string(c) + "].model.composite");
+    ch.model.composite_residual.rms_log = m.num("residual_rms_log");
+    ch.model.composite_residual.chi2 = m.num("residual_chi2");
+    if (m.has("twin_error")) {
+      const Node e = m.at("twin_error");
+      ch.model.twin_error = {e.at("taus").count(),   e.at("inside").count(),   e.num("share_inside"),
+                             e.num("max_error"),     e.num("max_error_tau_s"), e.num("max_error_10s"),
+                             e.num("max_error_100s")};
+    }
+  }
+  const Node d = cj.at("drift");
+  const double window = d.num("window_s") * r.rate_hz;  // samples
+  if (!(window >= 0.0 && window <= 1e15)) d.at("window_s").fail("not a window length in seconds");
+  ch.drift.window = static_cast<std::size_t>(std::llround(window));
+  ch.drift.mean = d.num("fixed_bias");
+  if (cj.has("temperature")) {
+    const Node t = cj.at("temperature");
+    ch.temperature = read_temperature(t, ch, r.samples, dt);
+    if (version < 2) reread_white_noise(ch.temperature->compensated);
+    if (r.temp_name.empty()) r.temp_name = t.str_or("sensor", "");
+  }
+  // Written by analyze --psd only (and not before it existed).
+  if (cj.has("spectral")) ch.spectral = read_spectral(cj.at("spectral"), ch.unit, r.rate_hz);
+  return ch;
+}
+
+// analyze --twin-check's curves.
+TwinCheck read_twin_check(const Node& t) {
+  TwinCheck tc;
+  tc.twins = t.at("twins").count();
+  tc.seed = t.at("seed").count();
+  tc.samples = t.at("samples").count();
+  const Node cs = t.at("channels");
+  for (std::size_t i = 0; i < cs.size(); ++i) {
+    const Node c = cs.at(i);
+    TwinCheckChannel ch;
+    ch.name = c.at("name").str();
+    ch.tau = c.at("tau").nums();
+    ch.measured = c.at("measured").nums();
+    ch.twins = c.at("twins").nums();
+    ch.twins_lo = c.at("twins_lo").nums();
+    ch.twins_hi = c.at("twins_hi").nums();
+    const std::size_t n = ch.tau.size();
+    if (ch.measured.size() != n || ch.twins.size() != n || ch.twins_lo.size() != n || ch.twins_hi.size() != n)
+      c.fail("tau, measured, twins, twins_lo and twins_hi differ in length");
+    ch.max_error_10s = c.num("max_error_10s");
+    ch.max_error_100s = c.num("max_error_100s");
+    ch.max_error = c.num("max_error");
+    ch.max_error_tau_s = c.num("max_error_tau_s");
+    tc.channels.push_back(std::move(ch));
+  }
+  return tc;
+}
+
 AnalysisResult read_result(const json& doc, const std::string& label) {
   const Node root(doc, "", label);
   if (!doc.is_object() || !doc.contains("input") || !doc.contains("channels")) root.fail("no 'input' and 'channels'");
@@ -615,55 +694,8 @@ AnalysisResult read_result(const json& doc, const std::string& label) {
   r.gaps = gaps == "split" ? io::GapPolicy::split : gaps == "skip" ? io::GapPolicy::skip : io::GapPolicy::error;
   r.ci = root.num_or("ci", 0.683);
   const double version = root.num_or("format_version", 1.0);
-  const double dt = 1.0 / r.rate_hz;
   const Node chans = root.at("channels");
-  for (std::size_t c = 0; c < chans.size(); ++c) {
-    const Node cj = chans.at(c);
-    ChannelAnalysis ch;
-    ch.name = cj.at("name").str();
-    const std::string unit = cj.at("unit").str();
-    const auto u = parse_unit(unit);
-    if (!u) cj.at("unit").fail("unknown unit '" + unit + "' (known: " + known_units() + ")");
-    ch.unit = *u;
-    ch.mean = cj.num("mean");
-    ch.stddev = cj.num("stddev");
-    ch.noise = read_noise(cj.at("noise"), ch.unit);
-    ch.noise.adev = read_curve(cj.at("adev"));
-    if (cj.has("adev_stride")) {
-      const Node st = cj.at("adev_stride");
-      if (st.size() != ch.noise.adev.size()) st.fail("not one stride per point of adev");
-      for (std::size_t k = 0; k < st.size(); ++k) ch.adev_strides.push_back(st.at(k).count());
-    }
-    if (version < 2) reread_white_noise(ch.noise);
-    ch.model = read_model(cj.at("model"), ch, dt);
-    if (cj.at("model").has("composite")) {
-      const Node m = cj.at("model").at("composite");
-      ch.model.composite =
-          model_channel_from_json(m.raw(), label, "channels[" + std::to_string(c) + "].model.composite");
-      ch.model.composite_residual.rms_log = m.num("residual_rms_log");
-      ch.model.composite_residual.chi2 = m.num("residual_chi2");
-      if (m.has("twin_error")) {
-        const Node e = m.at("twin_error");
-        ch.model.twin_error = {e.at("taus").count(),   e.at("inside").count(),   e.num("share_inside"),
-                               e.num("max_error"),     e.num("max_error_tau_s"), e.num("max_error_10s"),
-                               e.num("max_error_100s")};
-      }
-    }
-    const Node d = cj.at("drift");
-    const double window = d.num("window_s") * r.rate_hz;  // samples
-    if (!(window >= 0.0 && window <= 1e15)) d.at("window_s").fail("not a window length in seconds");
-    ch.drift.window = static_cast<std::size_t>(std::llround(window));
-    ch.drift.mean = d.num("fixed_bias");
-    if (cj.has("temperature")) {
-      const Node t = cj.at("temperature");
-      ch.temperature = read_temperature(t, ch, r.samples, dt);
-      if (version < 2) reread_white_noise(ch.temperature->compensated);
-      if (r.temp_name.empty()) r.temp_name = t.str_or("sensor", "");
-    }
-    // Written by analyze --psd only (and not before it existed).
-    if (cj.has("spectral")) ch.spectral = read_spectral(cj.at("spectral"), ch.unit, r.rate_hz);
-    r.channels.push_back(std::move(ch));
-  }
+  for (std::size_t c = 0; c < chans.size(); ++c) r.channels.push_back(read_channel(chans, c, r, version, label));
   const Node cov = root.at("covariance");
   const Node names = cov.at("channels");
   for (std::size_t i = 0; i < names.size(); ++i) r.cov_names.push_back(names.at(i).str());
@@ -681,40 +713,14 @@ AnalysisResult read_result(const json& doc, const std::string& label) {
     if (r.composite->robust) r.composite->robust_efficiency = c.num("robust_efficiency");
   }
   if (root.has("composite_skipped")) r.composite_skipped = root.at("composite_skipped").str();
-  if (root.has("twin_check")) {
-    const Node t = root.at("twin_check");
-    TwinCheck tc;
-    tc.twins = t.at("twins").count();
-    tc.seed = t.at("seed").count();
-    tc.samples = t.at("samples").count();
-    const Node cs = t.at("channels");
-    for (std::size_t i = 0; i < cs.size(); ++i) {
-      const Node c = cs.at(i);
-      TwinCheckChannel ch;
-      ch.name = c.at("name").str();
-      ch.tau = c.at("tau").nums();
-      ch.measured = c.at("measured").nums();
-      ch.twins = c.at("twins").nums();
-      ch.twins_lo = c.at("twins_lo").nums();
-      ch.twins_hi = c.at("twins_hi").nums();
-      const std::size_t n = ch.tau.size();
-      if (ch.measured.size() != n || ch.twins.size() != n || ch.twins_lo.size() != n || ch.twins_hi.size() != n)
-        c.fail("tau, measured, twins, twins_lo and twins_hi differ in length");
-      ch.max_error_10s = c.num("max_error_10s");
-      ch.max_error_100s = c.num("max_error_100s");
-      ch.max_error = c.num("max_error");
-      ch.max_error_tau_s = c.num("max_error_tau_s");
-      tc.channels.push_back(std::move(ch));
-    }
-    r.twin_check = std::move(tc);
-  }
+  if (root.has("twin_check")) r.twin_check = read_twin_check(root.at("twin_check"));
   return r;
 }
 
 }  // namespace
 
-void to_json(json& j, const AnalysisResult& r) {
-  j = json::object();
+json to_json(const AnalysisResult& r) {
+  json j = json::object();
   j["format_version"] = kAnalysisFormatVersion;
   j["input"] = {{"file", r.file},
                 {"samples", r.samples},
@@ -809,12 +815,13 @@ void to_json(json& j, const AnalysisResult& r) {
                         "twin's deviation; max_error: the largest |twins / measured - 1|"},
                        {"channels", checked}};
   }
+  return j;
 }
 
-void from_json(const json& j, AnalysisResult& r) { r = read_result(j, "analysis.json"); }
+AnalysisResult analysis_result_from_json(const json& j, const std::string& where) { return read_result(j, where); }
 
 json to_json(const AnalysisDocument& d) {
-  json j = d.result;
+  json j = to_json(d.result);
   j["command"] = d.command;
   return j;
 }
@@ -832,8 +839,8 @@ AnalysisDocument parse_analysis_json(const std::string& text, const std::string&
   return d;
 }
 
-void to_json(json& j, const DevResult& r) {
-  j = json::object();
+json to_json(const DevResult& r) {
+  json j = json::object();
   j["stat"] = to_string(r.stat);
   j["type"] = to_string(r.type);
   j["rate_hz"] = r.rate_hz;
@@ -852,12 +859,12 @@ void to_json(json& j, const DevResult& r) {
   j["columns"] = std::move(cols);
   if (r.window_bound > 0) j["stream"] = {{"window_bound", r.window_bound}};
   write_tau_list(j, r.tau_list);
+  return j;
 }
 
-void from_json(const json& j, DevResult& r) {
-  const std::string label = "dev result";
-  const Node root(j, "", label);
-  r = DevResult{};
+DevResult dev_result_from_json(const json& j, const std::string& where) {
+  const Node root(j, "", where);
+  DevResult r;
   const std::string stat = root.at("stat").str(), type = root.at("type").str();
   const auto s = parse_stat(stat);
   const auto t = parse_data_type(type);
@@ -887,6 +894,7 @@ void from_json(const json& j, DevResult& r) {
   }
   if (root.has("stream")) r.window_bound = root.at("stream").at("window_bound").count();
   r.tau_list = read_tau_list(root);
+  return r;
 }
 
 }  // namespace cubecal::pipeline

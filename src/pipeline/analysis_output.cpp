@@ -25,8 +25,8 @@ std::string num(double v) {
 
 }  // namespace
 
-std::string analysis_json(const AnalysisResult& r, const OutputContext& ctx) {
-  json j = r;
+json to_json(const AnalysisResult& r, const OutputContext& ctx) {
+  json j = to_json(r);
   j["command"] = ctx.command;
   json names = json::array();
   for (const Estimator e : ctx.estimators) names.push_back(std::string(estimator_name(e)));
@@ -46,8 +46,10 @@ std::string analysis_json(const AnalysisResult& r, const OutputContext& ctx) {
                          {"dropped", p.dropped}});
   }
   if (!exports.empty()) j["estimator_files"]["simulator_projections"] = std::move(exports);
-  return j.dump(1) + "\n";
+  return j;
 }
+
+std::string analysis_json(const AnalysisResult& r, const OutputContext& ctx) { return to_json(r, ctx).dump(1) + "\n"; }
 
 std::string dev_json(const DevResult& r, const DevJsonContext& ctx) {
   DevResult d = r;
@@ -55,7 +57,7 @@ std::string dev_json(const DevResult& r, const DevJsonContext& ctx) {
   d.options.ci = ctx.ci;
   d.options.edf = ctx.edf_method == "simple" ? EdfMethod::simple : EdfMethod::greenhall;
   d.options.intervals = ctx.intervals;
-  const json j = d;
+  const json j = to_json(d);
   return j.dump(1) + "\n";
 }
 

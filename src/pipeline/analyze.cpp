@@ -18,6 +18,7 @@
 #include "cubecal/pipeline/psd.hpp"
 #include "cubecal/pipeline/spectral_analysis.hpp"
 #include "detail/analysis_parts.hpp"
+#include "../detail/for_channels.hpp"
 
 namespace cubecal::pipeline {
 
@@ -141,18 +142,10 @@ void analyze_temperature(AnalysisResult& r, const io::Series& s, const AnalyzeRe
   r.temp_name = s.extra_names.at(*req.temp_index);
   const std::vector<BiasGap> gaps = bias_gaps(s);
   const int threads = request.threads > 0 ? static_cast<int>(request.threads) : omp_get_max_threads();
-  std::vector<std::exception_ptr> failure(nch);
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-  for (std::size_t c = 0; c < nch; ++c) {
-    try {
-      r.channels[c].temperature =
-          analyze_temperature_of(c, s, req, r.temp_name, gaps, lsb_of(c), r.channels[c].model.composite);
-    } catch (...) {
-      failure[c] = std::current_exception();
-    }
-  }
-  for (const std::exception_ptr& e : failure)
-    if (e) std::rethrow_exception(e);
+  cubecal::detail::for_channels(nch, cubecal::detail::Team{threads}, [&](std::size_t c) {
+    r.channels[c].temperature =
+        analyze_temperature_of(c, s, req, r.temp_name, gaps, lsb_of(c), r.channels[c].model.composite);
+  });
 }
 
 // The composite noise model (AnalyzeRequest::composite) must see one
@@ -250,11 +243,11 @@ SpectralAnalysis spectral_of(PsdResult& p, std::size_t c) {
 
 }  // namespace
 
-AnalysisResult run_analyze(const io::Series& s, const AnalyzeRequest& req) {
+namespace {
+
+// The result's record, and its channels' names and units.
+AnalysisResult analysis_of_record(const io::Series& s, const AnalyzeRequest& req) {
   const std::size_t nch = s.channels.size();
-  detail::check_channel_lists(req, nch);
-  check_composite(s, req);
-  auto lsb_of = [&](std::size_t c) { return detail::model_lsb(req, c); };
   AnalysisResult r;
   r.file = s.file;
   r.samples = s.samples();
@@ -263,7 +256,6 @@ AnalysisResult run_analyze(const io::Series& s, const AnalyzeRequest& req) {
   r.segments = s.segments.size();
   r.gaps = s.gaps;
   r.ci = req.ci;
-  const double dt = s.tau0;
 
   r.channels.resize(nch);
   for (std::size_t c = 0; c < nch; ++c) {
@@ -271,16 +263,15 @@ AnalysisResult run_analyze(const io::Series& s, const AnalyzeRequest& req) {
     ch.name = s.names[c];
     ch.unit = detail::unit_of(req, c);
   }
+  return r;
+}
 
-  // Allan deviations of all channels in one parallel run.
-  const DevResult dev = run_dev(s, oadev_request(req));
-  StageTimer reading_off(req.times, Stage::fits);  // read-offs and the 5-term fit
-  for (std::size_t c = 0; c < nch; ++c) r.channels[c].noise = noise_of(dev.channels[c]);
-  reading_off.stop();
-  r.tau_list = dev.tau_list;
-
-  // The model is fitted on the first max_samples samples when asked (the
-  // paper reduced its 72 h record to 42000 samples to get a V-shaped curve).
+// The Allan curves the sensor models are fitted on: the record's, or
+// those of its first max_samples samples when asked (the paper reduced its
+// 72 h record to 42000 samples to get a V-shaped curve).
+void model_curves(AnalysisResult& r, const io::Series& s, const AnalyzeRequest& req, const DevResult& dev) {
+  const std::size_t nch = s.channels.size();
+  const double dt = s.tau0;
   const std::size_t first = s.segments.front().size();
   if (req.max_samples > 0 && req.max_samples < first) {
     std::vector<std::vector<double>> head;
@@ -304,37 +295,69 @@ AnalysisResult run_analyze(const io::Series& s, const AnalyzeRequest& req) {
       r.channels[c].model.samples = r.samples;
     }
   }
+}
 
-#pragma omp parallel for schedule(dynamic, 1) num_threads(req.threads > 0 ? static_cast <int>(req.threads) : 0)
-  for (std::size_t c = 0; c < nch; ++c) {
-    auto& ch = r.channels[c];
-    const auto& y = s.channels[c];
-    StageTimer fitting(req.times, Stage::fits);
-    fit_models(ch.model, dt, lsb_of(c));
-    fitting.stop();
-    const StageTimer drifting(req.times, Stage::drift);
-    double mean = 0.0;
-    for (double v : y) mean += v;
-    mean /= static_cast<double>(y.size());
-    double ss = 0.0;
-    for (double v : y) ss += (v - mean) * (v - mean);
-    ch.mean = mean;
-    ch.stddev = y.size() > 1 ? std::sqrt(ss / static_cast<double>(y.size() - 1)) : 0.0;
+// A channel's sensor models, its mean and spread, and its bias drift per
+// contiguous segment (a window never spans a gap).
+void fit_and_drift(ChannelAnalysis& ch, const std::vector<double>& y, const io::Series& s, const AnalyzeRequest& req,
+                   double lsb) {
+  const double dt = s.tau0;
+  StageTimer fitting(req.times, Stage::fits);
+  fit_models(ch.model, dt, lsb);
+  fitting.stop();
+  const StageTimer drifting(req.times, Stage::drift);
+  double mean = 0.0;
+  for (double v : y) mean += v;
+  mean /= static_cast<double>(y.size());
+  double ss = 0.0;
+  for (double v : y) ss += (v - mean) * (v - mean);
+  ch.mean = mean;
+  ch.stddev = y.size() > 1 ? std::sqrt(ss / static_cast<double>(y.size() - 1)) : 0.0;
 
-    // Drift per contiguous segment: a window never spans a gap.
-    const std::size_t window = detail::drift_window(req, ch.unit, dt);
-    ch.drift.window = window;
-    ch.drift.mean = mean;
-    for (const auto& seg : s.segments) {
-      std::span<const double> part(y.data() + seg.begin, seg.size());
-      const DriftSeries d = bias_drift(part, dt, window, 0, mean);
-      const double t0 = s.time.empty() ? static_cast<double>(seg.begin) * dt : s.time[seg.begin] - s.time.front();
-      for (std::size_t i = 0; i < d.t.size(); ++i) {
-        ch.drift.t.push_back(t0 + d.t[i]);
-        ch.drift.drift.push_back(d.drift[i]);
-      }
+  // Drift per contiguous segment: a window never spans a gap.
+  const std::size_t window = detail::drift_window(req, ch.unit, dt);
+  ch.drift.window = window;
+  ch.drift.mean = mean;
+  for (const auto& seg : s.segments) {
+    std::span<const double> part(y.data() + seg.begin, seg.size());
+    const DriftSeries d = bias_drift(part, dt, window, 0, mean);
+    const double t0 = s.time.empty() ? static_cast<double>(seg.begin) * dt : s.time[seg.begin] - s.time.front();
+    for (std::size_t i = 0; i < d.t.size(); ++i) {
+      ch.drift.t.push_back(t0 + d.t[i]);
+      ch.drift.drift.push_back(d.drift[i]);
     }
   }
+}
+
+// Covariance of the selected channels (eq. 12).
+void analyze_covariance(AnalysisResult& r, const io::Series& s, const AnalyzeRequest& req) {
+  const StageTimer timer(req.times, Stage::covariance);
+  std::vector<std::span<const double>> spans;
+  for (const auto& c : s.channels) spans.emplace_back(c);
+  r.cov_names = s.names;
+  r.cov_samples = req.cov_samples > 0 ? std::min(req.cov_samples, r.samples) : r.samples;
+  r.covariance = covariance_matrix(spans, r.cov_samples);
+}
+
+}  // namespace
+
+AnalysisResult run_analyze(const io::Series& s, const AnalyzeRequest& req) {
+  const std::size_t nch = s.channels.size();
+  detail::check_channel_lists(req, nch);
+  check_composite(s, req);
+  auto lsb_of = [&](std::size_t c) { return detail::model_lsb(req, c); };
+  AnalysisResult r = analysis_of_record(s, req);
+
+  // Allan deviations of all channels in one parallel run.
+  const DevResult dev = run_dev(s, oadev_request(req));
+  StageTimer reading_off(req.times, Stage::fits);  // read-offs and the 5-term fit
+  for (std::size_t c = 0; c < nch; ++c) r.channels[c].noise = noise_of(dev.channels[c]);
+  reading_off.stop();
+  r.tau_list = dev.tau_list;
+
+  model_curves(r, s, req, dev);
+  cubecal::detail::for_channels(nch, cubecal::detail::Team{req.threads > 0 ? static_cast<int>(req.threads) : 0},
+                                [&](std::size_t c) { fit_and_drift(r.channels[c], s.channels[c], s, req, lsb_of(c)); });
 
   if (req.composite) fit_composite(r, s, req);
   if (req.twin_check > 0) {
@@ -354,14 +377,7 @@ AnalysisResult run_analyze(const io::Series& s, const AnalyzeRequest& req) {
   }
 
   // Covariance of the selected channels (eq. 12).
-  if (nch > 0) {
-    const StageTimer timer(req.times, Stage::covariance);
-    std::vector<std::span<const double>> spans;
-    for (const auto& c : s.channels) spans.emplace_back(c);
-    r.cov_names = s.names;
-    r.cov_samples = req.cov_samples > 0 ? std::min(req.cov_samples, r.samples) : r.samples;
-    r.covariance = covariance_matrix(spans, r.cov_samples);
-  }
+  if (nch > 0) analyze_covariance(r, s, req);
 
   // Temperature: the coefficients jointly with the random-walk bias, then the
   // noise terms and the sensor models again on the compensated series.

@@ -60,8 +60,8 @@ nlohmann::json to_json(const MagResult& m) {
   return j;
 }
 
-void from_json(const nlohmann::json& j, MagResult& m) {
-  m = {};
+MagResult mag_result_from_json(const nlohmann::json& j) {
+  MagResult m;
   m.file = j.at("file").get<std::string>();
   m.unit = j.at("unit").get<std::string>();
   m.field_source =
@@ -102,6 +102,7 @@ void from_json(const nlohmann::json& j, MagResult& m) {
   r.covariance_names = j.at("covariance").at("names").get<std::vector<std::string>>();
   r.covariance = j.at("covariance").at("matrix").get<std::vector<std::vector<double>>>();
   r.notes = j.at("notes").get<std::vector<std::string>>();
+  return m;
 }
 
 }  // namespace cubecal::pipeline

@@ -170,8 +170,8 @@ nlohmann::json to_json(const MultipositionResult& r) {
   return j;
 }
 
-void from_json(const nlohmann::json& j, MultipositionResult& r) {
-  r = {};
+MultipositionResult multiposition_result_from_json(const nlohmann::json& j) {
+  MultipositionResult r;
   r.acc_file = j.at("acc_file").get<std::string>();
   if (!j.at("gyro_file").is_null()) r.gyro_file = j["gyro_file"].get<std::string>();
   r.samples = j.at("samples").get<std::size_t>();
@@ -200,7 +200,7 @@ void from_json(const nlohmann::json& j, MultipositionResult& r) {
   a.sigma0 = ja.at("sigma0").get<double>();
   a.iterations = ja.at("iterations").get<std::size_t>();
   a.converged = ja.at("converged").get<bool>();
-  if (j.at("gyroscope").is_null()) return;
+  if (j.at("gyroscope").is_null()) return r;
   const auto& jg = j["gyroscope"];
   mp::GyroResult g;
   params_of(jg.at("parameters"), g.names, g.values, g.sigma);
@@ -222,6 +222,7 @@ void from_json(const nlohmann::json& j, MultipositionResult& r) {
   g.iterations = jg.at("iterations").get<std::size_t>();
   g.converged = jg.at("converged").get<bool>();
   r.gyroscope = std::move(g);
+  return r;
 }
 
 }  // namespace cubecal::pipeline

@@ -96,8 +96,8 @@ nlohmann::json to_json(const RateTableResult& r) {
   return j;
 }
 
-void from_json(const nlohmann::json& j, RateTableResult& r) {
-  r = {};
+RateTableResult rate_table_result_from_json(const nlohmann::json& j) {
+  RateTableResult r;
   r.file = j.at("file").get<std::string>();
   r.unit = j.at("unit").get<std::string>();
   r.source = parse_plateau_source(j.at("plateau_source").get<std::string>()).value_or(PlateauSource::reference);
@@ -135,6 +135,7 @@ void from_json(const nlohmann::json& j, RateTableResult& r) {
     r.found.plateaus.push_back(plateau_of(p));
     if (p.contains("residual_after")) c.residuals_after.push_back(p["residual_after"].get<std::array<double, 3>>());
   }
+  return r;
 }
 
 }  // namespace cubecal::pipeline

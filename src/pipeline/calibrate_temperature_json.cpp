@@ -25,14 +25,14 @@ nlohmann::json to_json(const TemperatureResult& r) {
   return j;
 }
 
-void from_json(const nlohmann::json& j, TemperatureResult& r) {
-  r = {};
+TemperatureResult temperature_result_from_json(const nlohmann::json& j) {
+  TemperatureResult r;
   r.file = j.at("file").get<std::string>();
   r.temperature_column = j.at("temperature_column").get<std::string>();
   r.order = j.at("order").get<std::size_t>();
   r.unit = j.at("unit").get<std::string>();
   r.samples = j.at("samples").get<std::size_t>();
-  if (!j.contains("channels")) return;
+  if (!j.contains("channels")) return r;
   for (const auto& c : j["channels"]) {
     TemperatureChannel ch;
     ch.name = c.at("name").get<std::string>();
@@ -46,6 +46,7 @@ void from_json(const nlohmann::json& j, TemperatureResult& r) {
     ch.fit.order = c.at("order").get<std::size_t>();
     r.channels.push_back(std::move(ch));
   }
+  return r;
 }
 
 }  // namespace cubecal::pipeline

@@ -8,6 +8,7 @@
 #include <exception>
 
 #include "cubecal/error.hpp"
+#include "../detail/for_channels.hpp"
 
 namespace cubecal::pipeline {
 
@@ -111,19 +112,11 @@ DavarResult run_davar(const io::Series& series, const DavarRequest& request) {
   // The first channel alone: a request the record cannot satisfy fails once,
   // before the other channels start.
   if (C > 0) r.channels[0] = {series.names[0], davar(series.channels[0], request.type, series.tau0, opt)};
-  std::vector<std::exception_ptr> errors(C);
   const int threads = static_cast<int>(request.threads > 0 ? request.threads
                                                            : static_cast<unsigned>(std::max(1, omp_get_max_threads())));
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-  for (std::size_t c = 1; c < C; ++c) {
-    try {
-      r.channels[c] = {series.names[c], davar(series.channels[c], request.type, series.tau0, opt)};
-    } catch (...) {
-      errors[c] = std::current_exception();
-    }
-  }
-  for (const auto& e : errors)
-    if (e) std::rethrow_exception(e);
+  cubecal::detail::for_channels(1, C, cubecal::detail::Team{threads}, [&](std::size_t c) {
+    r.channels[c] = {series.names[c], davar(series.channels[c], request.type, series.tau0, opt)};
+  });
   return r;
 }
 

@@ -8,6 +8,7 @@
 #include "cubecal/error.hpp"
 #include "cubecal/stats/gap_deviation.hpp"
 #include "cubecal/stats/tau_exclusions.hpp"
+#include "../detail/for_channels.hpp"
 
 namespace cubecal::pipeline {
 
@@ -40,25 +41,15 @@ DevResult run_dev_skipping_missing(const io::Series& series, const DevRequest& r
   if (ms.empty())
     throw UsageError("the record (" + std::to_string(r.samples) + " samples) is too short for any tau of the grid");
   r.channels.resize(series.channels.size());
-  std::vector<std::exception_ptr> failures(series.channels.size());
-  const int n = static_cast<int>(series.channels.size());
   const int threads = request.threads > 0 ? static_cast<int>(request.threads) : omp_get_max_threads();
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-  for (int c = 0; c < n; ++c) {
-    const auto k = static_cast<std::size_t>(c);
-    try {
-      r.channels[k].name = series.names[k];
-      // A factor without a whole term has no point, as run_dev leaves out
-      // a factor no segment holds.
-      for (const StabilityPoint& p :
-           oadev_skipping_missing(series.channels[k], request.type, r.tau0, ms, request.options))
-        if (p.n > 0) r.channels[k].points.push_back(p);
-    } catch (...) {
-      failures[k] = std::current_exception();
-    }
-  }
-  for (const auto& f : failures)
-    if (f) std::rethrow_exception(f);
+  cubecal::detail::for_channels(series.channels.size(), cubecal::detail::Team{threads}, [&](std::size_t k) {
+    r.channels[k].name = series.names[k];
+    // A factor without a whole term has no point, as run_dev leaves out
+    // a factor no segment holds.
+    for (const StabilityPoint& p :
+         oadev_skipping_missing(series.channels[k], request.type, r.tau0, ms, request.options))
+      if (p.n > 0) r.channels[k].points.push_back(p);
+  });
   for (std::size_t k = 0; k < r.channels.size(); ++k)
     if (r.channels[k].points.empty())
       throw UsageError("column " + r.channels[k].name +

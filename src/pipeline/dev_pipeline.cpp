@@ -14,6 +14,7 @@
 #include "cubecal/stats/edf.hpp"
 #include "cubecal/stats/theo.hpp"
 #include "cubecal/error.hpp"
+#include "../detail/for_channels.hpp"
 
 namespace cubecal::pipeline {
 
@@ -120,8 +121,9 @@ StabilityPoint combine(const std::vector<StabilityPoint>& parts, std::size_t m, 
   return out;
 }
 
-DevResult run(const std::vector<std::string>& names, const std::vector<std::span<const double>>& channels,
-              double rate_hz, const std::vector<io::Segment>& segments, const DevRequest& req) {
+// The result's settings, without its channels.
+DevResult dev_settings(const std::vector<std::span<const double>>& channels, double rate_hz,
+                       const std::vector<io::Segment>& segments, const DevRequest& req) {
   DevResult res;
   res.stat = req.stat;
   res.type = req.type;
@@ -131,9 +133,13 @@ DevResult run(const std::vector<std::string>& names, const std::vector<std::span
   res.segments = segments.size();
   res.options = req.options;
   if (!has_intervals(req.stat)) res.options.intervals = false;  // TIE rms, MTIE
+  return res;
+}
 
-  const int threads = req.threads > 0 ? static_cast<int>(req.threads) : omp_get_max_threads();
-
+// The averaging factors of the grid the segments allow (res.segments_used
+// and res.tau_list set on the way); throws for a record that allows none
+// or that the statistic cannot take.
+std::vector<std::size_t> dev_factors(DevResult& res, const std::vector<io::Segment>& segments, const DevRequest& req) {
   const std::size_t nseg = segments.size();
   std::size_t max_m = 0;
   res.segments_used = 0;
@@ -170,9 +176,13 @@ DevResult run(const std::vector<std::string>& names, const std::vector<std::span
                      " samples in the longest segment, and no averaging factor of the tau "
                      "grid fits (record longer data or choose smaller taus)" +
                      (res.tau_list.excluded.empty() ? "" : ": " + res.tau_list.excluded.front().reason));
+  return ms;
+}
 
-  // Ranges of the grid per task; a kernel group is never cut, so a point is
-  // the same bits for any thread count and as the front door's.
+// Ranges of the grid per task; a kernel group is never cut, so a point is
+// the same bits for any thread count and as the front door's.
+std::vector<std::pair<std::size_t, std::size_t>> factor_ranges(const std::vector<std::size_t>& ms, std::size_t nseg,
+                                                               int threads) {
   const std::size_t nm = ms.size();
   const std::size_t block = block_size(nm, nseg, static_cast<unsigned>(threads));  // cut for one channel
   std::vector<std::pair<std::size_t, std::size_t>> ranges;
@@ -181,31 +191,32 @@ DevResult run(const std::vector<std::string>& names, const std::vector<std::span
     while (j < nm && j - start < block) j += kernel_group_at(ms, j) ? kKernelGroup : 1;
     ranges.emplace_back(start, j);
   }
-  const auto range_terms = [&](std::size_t seg, std::size_t r) {
-    const std::size_t n = phase_points(segments[seg], req.type);
-    const std::size_t top = max_averaging_factor(req.stat, n);
-    double t = 0.0;
-    for (std::size_t j = ranges[r].first; j < ranges[r].second; ++j)
-      if (ms[j] <= top) t += terms_at(req.stat, ms[j], n, req.options.intervals);
-    return t;
-  };
-  double total = 0.0;
-  for (std::size_t s = 0; s < nseg; ++s)
-    for (std::size_t r = 0; r < ranges.size(); ++r) total += range_terms(s, r);
-  total *= static_cast<double>(channels.size());
+  return ranges;
+}
 
-  // A phase record is a copy of its channel: the channels are analysed a
-  // batch at a time, so that the records alive at once hold two batches of
-  // one channel (or, when one channel gives too few tasks to keep the
-  // threads busy, one channel per thread) rather than a second copy of the
-  // whole record.
-  const std::size_t tasks_per_channel = nseg * ranges.size();
-  const std::size_t batch = tasks_per_channel >= 4 * static_cast<std::size_t>(threads)
-                                ? 1
-                                : std::min<std::size_t>(channels.size(), static_cast<std::size_t>(threads));
-  std::vector<StabilityPoint> evals(channels.size() * nseg * nm);
-  double done = 0.0;
-  double reported = 0.0;  // thread 0's last report: rounding must not make the next one smaller
+// The evaluation of every (channel, segment, range of factors): the
+// channels' phase records built a batch at a time and evaluated on the
+// threads, with the progress reported from the caller's thread.
+class BatchedEvaluation {
+ public:
+  BatchedEvaluation(const std::vector<std::string>& names, const std::vector<std::span<const double>>& channels,
+                    const std::vector<io::Segment>& segments, const DevRequest& req, double tau0,
+                    const std::vector<std::size_t>& ms, int threads)
+      : names_(names),
+        channels_(channels),
+        segments_(segments),
+        req_(req),
+        tau0_(tau0),
+        ms_(ms),
+        threads_(threads),
+        nseg_(segments.size()),
+        nm_(ms.size()),
+        ranges_(factor_ranges(ms, segments.size(), threads)) {}
+
+  // Every point, [(channel * segments + segment) * factors + factor].
+  std::vector<StabilityPoint> run();
+
+ private:
   // Records of the batch starting at channel c0, one per (channel, segment).
   // Exceptions must not leave an OpenMP region: build() keeps the message
   // and check() rethrows it.
@@ -214,83 +225,140 @@ DevResult run(const std::vector<std::string>& names, const std::vector<std::span
     std::vector<std::unique_ptr<StabilityRecord>> records;
     std::vector<std::string> errors;
   };
-  const auto batch_at = [&](std::size_t c0) {
+
+  double range_terms(std::size_t seg, std::size_t r) const {
+    const std::size_t n = phase_points(segments_[seg], req_.type);
+    const std::size_t top = max_averaging_factor(req_.stat, n);
+    double t = 0.0;
+    for (std::size_t j = ranges_[r].first; j < ranges_[r].second; ++j)
+      if (ms_[j] <= top) t += terms_at(req_.stat, ms_[j], n, req_.options.intervals);
+    return t;
+  }
+  Batch batch_at(std::size_t c0) const {
     Batch b;
     b.c0 = c0;
-    const std::size_t size = c0 < channels.size() ? (std::min(channels.size(), c0 + batch) - c0) * nseg : 0;
+    const std::size_t size = c0 < channels_.size() ? (std::min(channels_.size(), c0 + batch_) - c0) * nseg_ : 0;
     b.records.resize(size);
     b.errors.resize(size);
     return b;
-  };
-  const auto build = [&](Batch& b, std::size_t k) {
-    const auto& seg = segments[k % nseg];
-    const auto& ch = channels[b.c0 + k / nseg];
+  }
+  void build(Batch& b, std::size_t k) const {
+    const auto& seg = segments_[k % nseg_];
+    const auto& ch = channels_[b.c0 + k / nseg_];
     try {
-      const StageTimer timer(req.times, Stage::phase);
+      const StageTimer timer(req_.times, Stage::phase);
       b.records[k] = std::make_unique<StabilityRecord>(std::span<const double>(ch.data() + seg.begin, seg.size()),
-                                                       req.type, res.tau0, req.stat);
+                                                       req_.type, tau0_, req_.stat);
     } catch (const std::exception& e) {
       b.errors[k] = e.what();
     }
-  };
-  const auto check = [&](const Batch& b) {
+  }
+  void check(const Batch& b) const {
     for (std::size_t k = 0; k < b.errors.size(); ++k)
       if (!b.errors[k].empty())
-        throw UsageError("column " + names[b.c0 + k / nseg] + ": " + b.errors[k] +
+        throw UsageError("column " + names_[b.c0 + k / nseg_] + ": " + b.errors[k] +
                          " (remove or repair it before the analysis)");
-  };
+  }
+  // Task k of the batch's evaluations: one piece over one range of factors.
+  void evaluate(const Batch& cur, std::size_t k, std::atomic<double>& batch_done);
+
+  const std::vector<std::string>& names_;
+  const std::vector<std::span<const double>>& channels_;
+  const std::vector<io::Segment>& segments_;
+  const DevRequest& req_;
+  const double tau0_;
+  const std::vector<std::size_t>& ms_;
+  const int threads_;
+  const std::size_t nseg_;
+  const std::size_t nm_;
+  const std::vector<std::pair<std::size_t, std::size_t>> ranges_;
+  std::size_t batch_ = 1;
+  double total_ = 0.0;
+  std::vector<StabilityPoint> evals_;
+  double done_ = 0.0;
+  double reported_ = 0.0;  // thread 0's last report: rounding must not make the next one smaller
+};
+
+void BatchedEvaluation::evaluate(const Batch& cur, std::size_t k, std::atomic<double>& batch_done) {
+  const std::size_t piece = k / ranges_.size();
+  const auto& rec = *cur.records[piece];
+  const std::size_t j0 = ranges_[k % ranges_.size()].first;
+  std::size_t j1 = ranges_[k % ranges_.size()].second;
+  while (j1 > j0 && ms_[j1 - 1] > rec.max_m()) --j1;  // ms ascending
+  if (j1 > j0) {
+    const auto points = rec.evaluate(std::span<const std::size_t>(ms_.data() + j0, j1 - j0), req_.options, req_.times);
+    std::copy(points.begin(), points.end(),
+              evals_.begin() + static_cast<std::ptrdiff_t>((cur.c0 * nseg_ + piece) * nm_ + j0));
+  }
+  const double t = range_terms(piece % nseg_, k % ranges_.size());
+  const double now = done_ + batch_done.fetch_add(t) + t;
+  if (req_.progress && omp_get_thread_num() == 0 && total_ > 0.0) {
+    reported_ = std::max(reported_, std::min(now / total_, 1.0));  // the sum may round past the total
+    req_.progress(reported_);
+  }
+}
+
+std::vector<StabilityPoint> BatchedEvaluation::run() {
+  for (std::size_t s = 0; s < nseg_; ++s)
+    for (std::size_t r = 0; r < ranges_.size(); ++r) total_ += range_terms(s, r);
+  total_ *= static_cast<double>(channels_.size());
+
+  // A phase record is a copy of its channel: the channels are analysed a
+  // batch at a time, so that the records alive at once hold two batches of
+  // one channel (or, when one channel gives too few tasks to keep the
+  // threads busy, one channel per thread) rather than a second copy of the
+  // whole record.
+  const std::size_t tasks_per_channel = nseg_ * ranges_.size();
+  batch_ = tasks_per_channel >= 4 * static_cast<std::size_t>(threads_)
+               ? 1
+               : std::min<std::size_t>(channels_.size(), static_cast<std::size_t>(threads_));
+  evals_.resize(channels_.size() * nseg_ * nm_);
 
   Batch cur = batch_at(0);
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-  for (std::size_t k = 0; k < cur.records.size(); ++k) build(cur, k);
+  cubecal::detail::for_channels(cur.records.size(), cubecal::detail::Team{threads_},
+                                [&](std::size_t k) { build(cur, k); });
   check(cur);
-  for (; cur.c0 < channels.size();) {
+  for (; cur.c0 < channels_.size();) {
     // Every (piece, range of factors) evaluation is independent; the next
     // batch's records are built among them (first, so that a thread builds
     // while the others evaluate), which keeps two batches alive for a
     // while rather than leaving threads idle while one is built. The
     // caller's thread (OpenMP thread 0) reports the progress between its
     // tasks.
-    Batch next = batch_at(cur.c0 + batch);
+    Batch next = batch_at(cur.c0 + batch_);
     const std::size_t builds = next.records.size();
-    const std::size_t tasks = builds + cur.records.size() * ranges.size();
+    const std::size_t tasks = builds + cur.records.size() * ranges_.size();
     std::atomic<double> batch_done{0.0};
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-    for (std::size_t task = 0; task < tasks; ++task) {
-      if (task < builds) {
+    cubecal::detail::for_channels(tasks, cubecal::detail::Team{threads_}, [&](std::size_t task) {
+      if (task < builds)
         build(next, task);
-        continue;
-      }
-      const std::size_t k = task - builds;
-      const std::size_t piece = k / ranges.size();
-      const auto& rec = *cur.records[piece];
-      const std::size_t j0 = ranges[k % ranges.size()].first;
-      std::size_t j1 = ranges[k % ranges.size()].second;
-      while (j1 > j0 && ms[j1 - 1] > rec.max_m()) --j1;  // ms ascending
-      if (j1 > j0) {
-        const auto points = rec.evaluate(std::span<const std::size_t>(ms.data() + j0, j1 - j0), req.options, req.times);
-        std::copy(points.begin(), points.end(),
-                  evals.begin() + static_cast<std::ptrdiff_t>((cur.c0 * nseg + piece) * nm + j0));
-      }
-      const double t = range_terms(piece % nseg, k % ranges.size());
-      const double now = done + batch_done.fetch_add(t) + t;
-      if (req.progress && omp_get_thread_num() == 0 && total > 0.0) {
-        reported = std::max(reported, std::min(now / total, 1.0));  // the sum may round past the total
-        req.progress(reported);
-      }
-    }
-    done += batch_done.load();
+      else
+        evaluate(cur, task - builds, batch_done);
+    });
+    done_ += batch_done.load();
     // The ranges above ran apart: Stable32's run rule over each whole run.
-    StageTimer carrying(req.times, Stage::intervals);
+    StageTimer carrying(req_.times, Stage::intervals);
     for (std::size_t k = 0; k < cur.records.size(); ++k)
       cur.records[k]->carry_types(
-          std::span<StabilityPoint>(evals.data() + static_cast<std::ptrdiff_t>((cur.c0 * nseg + k) * nm), nm),
-          req.options);
+          std::span<StabilityPoint>(evals_.data() + static_cast<std::ptrdiff_t>((cur.c0 * nseg_ + k) * nm_), nm_),
+          req_.options);
     carrying.stop();
     check(next);
     cur = std::move(next);
   }
-  if (req.progress) req.progress(1.0);
+  if (req_.progress) req_.progress(1.0);
+  return std::move(evals_);
+}
+
+DevResult run(const std::vector<std::string>& names, const std::vector<std::span<const double>>& channels,
+              double rate_hz, const std::vector<io::Segment>& segments, const DevRequest& req) {
+  DevResult res = dev_settings(channels, rate_hz, segments, req);
+  const int threads = req.threads > 0 ? static_cast<int>(req.threads) : omp_get_max_threads();
+  const std::size_t nseg = segments.size();
+  const std::vector<std::size_t> ms = dev_factors(res, segments, req);
+  const std::size_t nm = ms.size();
+  const std::vector<StabilityPoint> evals =
+      BatchedEvaluation(names, channels, segments, req, res.tau0, ms, threads).run();
 
   for (std::size_t c = 0; c < channels.size(); ++c) {
     DevChannel ch{names[c], {}, {}};

@@ -6,7 +6,7 @@
 
 #include "cubecal/error.hpp"
 #include "cubecal/stats/streaming_deviation.hpp"
-#include "detail/for_channels.hpp"
+#include "../detail/for_channels.hpp"
 
 namespace cubecal::pipeline {
 
@@ -46,7 +46,7 @@ DevResult run_dev_stream(io::SampleStream& in, const DevRequest& req, std::size_
   for (std::size_t c = 0; c < in.names().size(); ++c) acc.emplace_back(req.stat, ms, window_bound);
   io::SampleChunk chunk;
   while (in.next(chunk)) {
-    detail::for_channels(acc.size(), req.threads, [&](std::size_t c) {
+    cubecal::detail::for_channels(acc.size(), req.threads, [&](std::size_t c) {
       try {
         acc[c].push(chunk.channels[c]);
       } catch (const std::invalid_argument& e) {

@@ -17,6 +17,7 @@
 #include "cubecal/pipeline/welch_psd.hpp"
 #include "cubecal/sim/composite_simulator.hpp"
 #include "cubecal/stats/robust_wavelet_variance.hpp"
+#include "../detail/for_channels.hpp"
 
 namespace cubecal::pipeline {
 
@@ -205,11 +206,10 @@ void fit_twin(ModelChannel& ch, std::span<const double> y, double rate_hz, std::
 
 }  // namespace
 
-ModelResult run_model(const io::Series& series, const ModelRequest& req) {
-  const bool twin = is_twin(req.model);
-  const std::vector<CompositeModel> candidates =
-      twin ? std::vector<CompositeModel>{CompositeModel{}} : parse_candidate_models(req.model);
-  const bool selecting = !twin && candidates.size() > 1;
+namespace {
+
+// The request's checks that need the record, before any work.
+void check_model_request(const io::Series& series, const ModelRequest& req, bool selecting) {
   if (selecting && req.selection_replicates == 1)
     throw UsageError("wic_replicates",
                      "give 0 (the WIC's asymptotic optimism) or at least 2 bootstrap replicates, not 1");
@@ -225,6 +225,11 @@ ModelResult run_model(const io::Series& series, const ModelRequest& req) {
     throw UsageError("segments", series.file + ": the record is cut into " + std::to_string(series.segments.size()) +
                                      " pieces at gaps; the wavelet variance needs one contiguous record (fit a "
                                      "piece, or repair the gaps)");
+}
+
+// The result's record and settings, without its channels.
+ModelResult model_settings(const io::Series& series, const ModelRequest& req,
+                           const std::vector<CompositeModel>& candidates, bool twin, bool selecting) {
   ModelResult r;
   r.file = series.file;
   r.rate_hz = series.rate_hz;
@@ -243,68 +248,80 @@ ModelResult run_model(const io::Series& series, const ModelRequest& req) {
   r.seed = req.seed;
   r.robust = req.robust;
   r.robust_efficiency = req.robust_efficiency;
-  if (req.robust) (void)biweight_tuning(req.robust_efficiency);  // an efficiency out of range fails before the work
-  // The channel's and every replicate's wavelet variance, robust on request.
-  const auto wavelet_variance_of = [&req](std::span<const double> y, std::size_t scales) {
-    return req.robust ? robust_wavelet_variance(y, req.ci, req.robust_efficiency, scales)
-                      : wavelet_variance(y, req.ci, scales);
-  };
-  const double dt = 1.0 / series.rate_hz;
-  const int threads = req.threads > 0 ? static_cast<int>(req.threads) : omp_get_max_threads();
+  return r;
+}
 
-  // The fits, one channel per thread; a selection, one channel at a time
-  // with the candidates and their replicates on the threads.
+// The channel's and every replicate's wavelet variance, robust on request.
+WaveletVariance wavelet_variance_of(std::span<const double> y, std::size_t scales, const ModelRequest& req) {
+  return req.robust ? robust_wavelet_variance(y, req.ci, req.robust_efficiency, scales)
+                    : wavelet_variance(y, req.ci, scales);
+}
+
+// A selection among the candidates (their replicates on the threads), the
+// selected model refitted as a lone fit is (reweighted at its own curve),
+// from its fit with the common weights; returns the selected structure.
+CompositeModel select_and_refit(ModelChannel& ch, std::size_t samples, const std::vector<CompositeModel>& candidates,
+                                const ModelRequest& req, int threads) {
+  WicOptions wo;
+  wo.replicates = req.selection_replicates;
+  wo.seed = req.seed;
+  wo.gmwm = req.gmwm;
+  wo.threads = static_cast<unsigned>(threads);
+  wo.robust_efficiency = req.robust ? req.robust_efficiency : 0.0;
+  ModelSelection sel = select_composite_model(ch.wv, samples, candidates, wo);
+  for (const CandidateFit& cf : sel.ranked) {
+    ch.candidates.push_back({model_name(cf.structure), parameter_count(cf.structure), cf.score, cf.fit.objective});
+  }
+  ch.failed = std::move(sel.failed);
+  // The selected model refitted as a lone fit is (reweighted at
+  // its own curve), from its fit with the common weights.
+  CompositeModel structure = sel.ranked.front().structure;
+  GmwmOptions refit = req.gmwm;
+  refit.start = sel.ranked.front().fit.model;
+  ch.fit = fit_gmwm(ch.wv, structure, refit);
+  return structure;
+}
+
+// The fits, one channel per thread; a selection, one channel at a time
+// with the candidates and their replicates on the threads. Returns each
+// channel's fitted structure.
+std::vector<CompositeModel> fit_channels(ModelResult& r, const io::Series& series, const ModelRequest& req,
+                                         const std::vector<CompositeModel>& candidates, bool twin, bool selecting,
+                                         int threads) {
+  const std::size_t nch = series.channels.size();
   r.channels.resize(nch);
   std::vector<CompositeModel> structure(nch, candidates.front());
-  std::vector<std::exception_ptr> failure(nch);
-#pragma omp parallel for schedule(dynamic, 1) num_threads(selecting ? 1 : threads)
-  for (std::size_t c = 0; c < nch; ++c) {
-    try {
-      ModelChannel& ch = r.channels[c];
-      ch.name = series.names[c];
-      if (!req.units.empty()) ch.unit = req.units.size() == 1 ? req.units[0] : req.units[c];
-      ch.wv = wavelet_variance_of(series.channels[c], 0);
-      if (twin) {
-        fit_twin(ch, series.channels[c], series.rate_hz, r.samples, req);
-        structure[c] = ch.fit.model;
-      } else if (!selecting) {
-        ch.fit = fit_gmwm(ch.wv, structure[c], req.gmwm);
-      } else {
-        WicOptions wo;
-        wo.replicates = req.selection_replicates;
-        wo.seed = req.seed;
-        wo.gmwm = req.gmwm;
-        wo.threads = static_cast<unsigned>(threads);
-        wo.robust_efficiency = req.robust ? req.robust_efficiency : 0.0;
-        ModelSelection sel = select_composite_model(ch.wv, r.samples, candidates, wo);
-        for (const CandidateFit& cf : sel.ranked) {
-          ch.candidates.push_back(
-              {model_name(cf.structure), parameter_count(cf.structure), cf.score, cf.fit.objective});
-        }
-        ch.failed = std::move(sel.failed);
-        // The selected model refitted as a lone fit is (reweighted at
-        // its own curve), from its fit with the common weights.
-        structure[c] = sel.ranked.front().structure;
-        GmwmOptions refit = req.gmwm;
-        refit.start = sel.ranked.front().fit.model;
-        ch.fit = fit_gmwm(ch.wv, structure[c], refit);
-      }
-      ch.model = model_name(structure[c]);
-    } catch (...) {
-      failure[c] = std::current_exception();
+  cubecal::detail::for_channels(nch, cubecal::detail::Team{selecting ? 1 : threads}, [&](std::size_t c) {
+    ModelChannel& ch = r.channels[c];
+    ch.name = series.names[c];
+    if (!req.units.empty()) ch.unit = req.units.size() == 1 ? req.units[0] : req.units[c];
+    ch.wv = wavelet_variance_of(series.channels[c], 0, req);
+    if (twin) {
+      fit_twin(ch, series.channels[c], series.rate_hz, r.samples, req);
+      structure[c] = ch.fit.model;
+    } else if (!selecting) {
+      ch.fit = fit_gmwm(ch.wv, structure[c], req.gmwm);
+    } else {
+      structure[c] = select_and_refit(ch, r.samples, candidates, req, threads);
     }
-  }
-  for (const auto& e : failure)
-    if (e) std::rethrow_exception(e);
+    ch.model = model_name(structure[c]);
+  });
+  return structure;
+}
 
-  // The parametric bootstrap: every (channel, replicate) on its own seed,
-  // so that the result does not depend on the threads.
+// The parametric bootstrap: every (channel, replicate) on its own seed,
+// so that the result does not depend on the threads. Returns
+// [channel][replicate] -> quantities in term order (empty: no fit).
+std::vector<std::vector<std::vector<double>>> bootstrap_draws(const ModelResult& r,
+                                                              const std::vector<CompositeModel>& structure,
+                                                              const ModelRequest& req, bool twin, int threads) {
+  const std::size_t nch = r.channels.size();
+  const double dt = 1.0 / r.rate_hz;
   const std::size_t reps = req.bootstrap;
   std::vector<std::vector<std::vector<double>>> draws(nch);  // [channel][replicate] -> quantities in term order
   for (std::size_t c = 0; c < nch; ++c) draws[c].resize(reps);
   if (reps > 0) {
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-    for (std::size_t k = 0; k < nch * reps; ++k) {
+    cubecal::detail::for_channels(nch * reps, cubecal::detail::Team{threads}, [&](std::size_t k) {
       const std::size_t c = k / reps, b = k % reps;
       const ModelChannel& ch = r.channels[c];
       try {
@@ -313,7 +330,7 @@ ModelResult run_model(const io::Series& series, const ModelRequest& req) {
         std::vector<std::size_t> ms;
         for (double t : ch.wv.tau) ms.push_back(static_cast<std::size_t>(t / 2.0));
         const WaveletVariance wv =
-            twin && !req.robust ? wavelet_variance_at(y, ms, req.ci) : wavelet_variance_of(y, ch.wv.size());
+            twin && !req.robust ? wavelet_variance_at(y, ms, req.ci) : wavelet_variance_of(y, ch.wv.size(), req);
         GmwmOptions opt = req.gmwm;
         opt.start = ch.fit.model;
         const GmwmFit f = fit_gmwm(wv, structure[c], opt);
@@ -324,54 +341,74 @@ ModelResult run_model(const io::Series& series, const ModelRequest& req) {
       } catch (const std::exception&) {
         // A replicate without a fit is left out and counted.
       }
-    }
+    });
   }
+  return draws;
+}
 
+// The channel's terms: each quantity with its display value and, from the
+// replicates with a fit, its spread and interval.
+void model_terms(ModelChannel& ch, const std::vector<std::vector<double>>& draws, std::size_t samples, double dt,
+                 const ModelRequest& req) {
   const Unit u_shown{"u", SensorKind::generic, 1.0, "u"};
-  for (std::size_t c = 0; c < nch; ++c) {
-    ModelChannel& ch = r.channels[c];
-    const Unit& unit = ch.unit.name.empty() ? u_shown : ch.unit;
-    std::vector<std::vector<double>> per_quantity;
-    for (const auto& d : draws[c]) {
-      if (d.empty()) continue;
-      ++ch.replicates;
-      if (per_quantity.empty()) per_quantity.resize(d.size());
-      for (std::size_t i = 0; i < d.size(); ++i) per_quantity[i].push_back(d[i]);
-    }
-    const std::vector<double> asym = asymptotic_sds(ch, r.samples, dt, req.robust ? 1.0 / req.robust_efficiency : 1.0);
-    std::size_t qi = 0;
-    for (const Process& p : ch.fit.model.processes) {
-      ModelTerm t;
-      t.kind = p.kind;
-      t.process = p;
-      for (const auto& [name, v] : physical(p, dt)) {
-        ModelQuantity q;
-        q.name = name;
-        q.value = v;
-        q.unit = raw_unit(name, unit.name);
-        if (ch.replicates >= 2) {
-          const std::vector<double>& s = per_quantity[qi];
-          double mean = 0.0, var = 0.0;
-          for (double x : s) mean += x;
-          mean /= static_cast<double>(s.size());
-          for (double x : s) var += (x - mean) * (x - mean);
-          q.sd = std::sqrt(var / static_cast<double>(s.size() - 1));
-          q.lo = quantile(s, 0.5 * (1.0 - req.ci));
-          q.hi = quantile(s, 0.5 * (1.0 + req.ci));
-        }
-        q.display = shown(name, v, q.sd, unit);
-        // Every display unit is a factor on the data unit and seconds.
-        const double factor = v != 0.0 ? q.display.value / v : 1.0;
-        q.display_lo = q.lo * factor;
-        q.display_hi = q.hi * factor;
-        q.asymptotic_sd = qi < asym.size() ? asym[qi] : std::numeric_limits<double>::quiet_NaN();
-        q.display_asymptotic_sd = q.asymptotic_sd * factor;
-        t.quantities.push_back(std::move(q));
-        ++qi;
-      }
-      ch.terms.push_back(std::move(t));
-    }
+  const Unit& unit = ch.unit.name.empty() ? u_shown : ch.unit;
+  std::vector<std::vector<double>> per_quantity;
+  for (const auto& d : draws) {
+    if (d.empty()) continue;
+    ++ch.replicates;
+    if (per_quantity.empty()) per_quantity.resize(d.size());
+    for (std::size_t i = 0; i < d.size(); ++i) per_quantity[i].push_back(d[i]);
   }
+  const std::vector<double> asym = asymptotic_sds(ch, samples, dt, req.robust ? 1.0 / req.robust_efficiency : 1.0);
+  std::size_t qi = 0;
+  for (const Process& p : ch.fit.model.processes) {
+    ModelTerm t;
+    t.kind = p.kind;
+    t.process = p;
+    for (const auto& [name, v] : physical(p, dt)) {
+      ModelQuantity q;
+      q.name = name;
+      q.value = v;
+      q.unit = raw_unit(name, unit.name);
+      if (ch.replicates >= 2) {
+        const std::vector<double>& s = per_quantity[qi];
+        double mean = 0.0, var = 0.0;
+        for (double x : s) mean += x;
+        mean /= static_cast<double>(s.size());
+        for (double x : s) var += (x - mean) * (x - mean);
+        q.sd = std::sqrt(var / static_cast<double>(s.size() - 1));
+        q.lo = quantile(s, 0.5 * (1.0 - req.ci));
+        q.hi = quantile(s, 0.5 * (1.0 + req.ci));
+      }
+      q.display = shown(name, v, q.sd, unit);
+      // Every display unit is a factor on the data unit and seconds.
+      const double factor = v != 0.0 ? q.display.value / v : 1.0;
+      q.display_lo = q.lo * factor;
+      q.display_hi = q.hi * factor;
+      q.asymptotic_sd = qi < asym.size() ? asym[qi] : std::numeric_limits<double>::quiet_NaN();
+      q.display_asymptotic_sd = q.asymptotic_sd * factor;
+      t.quantities.push_back(std::move(q));
+      ++qi;
+    }
+    ch.terms.push_back(std::move(t));
+  }
+}
+
+}  // namespace
+
+ModelResult run_model(const io::Series& series, const ModelRequest& req) {
+  const bool twin = is_twin(req.model);
+  const std::vector<CompositeModel> candidates =
+      twin ? std::vector<CompositeModel>{CompositeModel{}} : parse_candidate_models(req.model);
+  const bool selecting = !twin && candidates.size() > 1;
+  check_model_request(series, req, selecting);
+  ModelResult r = model_settings(series, req, candidates, twin, selecting);
+  if (req.robust) (void)biweight_tuning(req.robust_efficiency);  // an efficiency out of range fails before the work
+  const double dt = 1.0 / series.rate_hz;
+  const int threads = req.threads > 0 ? static_cast<int>(req.threads) : omp_get_max_threads();
+  const std::vector<CompositeModel> structure = fit_channels(r, series, req, candidates, twin, selecting, threads);
+  const auto draws = bootstrap_draws(r, structure, req, twin, threads);
+  for (std::size_t c = 0; c < r.channels.size(); ++c) model_terms(r.channels[c], draws[c], r.samples, dt, req);
   return r;
 }
 

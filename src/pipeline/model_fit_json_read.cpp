@@ -159,12 +159,12 @@ ModelChannel read_channel(const Node& c) {
 
 }  // namespace
 
-ModelChannel model_channel_from_json(const nlohmann::json& j, const std::string& label, const std::string& path) {
-  return read_channel(Node(j, path, label, kWhat));
+ModelChannel model_channel_from_json(const nlohmann::json& j, const std::string& where, const std::string& path) {
+  return read_channel(Node(j, path, where, kWhat));
 }
 
-ModelResult model_result_from_json(const nlohmann::json& j, const std::string& label) {
-  const Node root(j, "", label, kWhat);
+ModelResult model_result_from_json(const nlohmann::json& j, const std::string& where) {
+  const Node root(j, "", where, kWhat);
   if (!j.is_object() || !j.contains("command") || j["command"] != "model")
     root.fail("not a `cubecal model --format json` result (its \"command\" is \"model\")");
   ModelResult r;

@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "cubecal/error.hpp"
+#include "../detail/for_channels.hpp"
 
 namespace cubecal::pipeline {
 
@@ -45,24 +46,22 @@ ModelSelection select_composite_model(const WaveletVariance& wv, std::size_t sam
   // Every candidate fitted with those weights kept.
   std::vector<std::optional<GmwmFit>> fits(nc);
   std::vector<std::string> why(nc);
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-  for (std::size_t c = 0; c < nc; ++c) {
+  cubecal::detail::for_channels(nc, cubecal::detail::Team{threads}, [&](std::size_t c) {
     try {
       fits[c] = fit_gmwm(wv, candidates[c], fixed);
     } catch (const std::exception& e) {  // UsageError: more parameters than scales; CalibrationError: no fit
       why[c] = e.what();
     }
-  }
+  });
 
   // Replicate b of every candidate from seed + b: common random numbers.
   std::vector<WicReplicate> draws(nc * reps);
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-  for (std::size_t k = 0; k < nc * reps; ++k) {
+  cubecal::detail::for_channels(nc * reps, cubecal::detail::Team{threads}, [&](std::size_t k) {
     const std::size_t c = k / reps, b = k % reps;
     if (fits[c])
       draws[k] = wic_replicate(candidates[c], *fits[c], samples, wv.size(), options.seed + b, fixed,
                                options.robust_efficiency);
-  }
+  });
 
   ModelSelection sel;
   for (std::size_t c = 0; c < nc; ++c) {

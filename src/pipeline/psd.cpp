@@ -10,6 +10,7 @@
 #include "cubecal/error.hpp"
 #include "cubecal/pipeline/welch_psd.hpp"
 #include "cubecal/spectral/log_bins.hpp"
+#include "../detail/for_channels.hpp"
 
 namespace cubecal::pipeline {
 
@@ -46,36 +47,27 @@ PsdResult run_psd(const std::vector<std::string>& names, const std::vector<std::
     if (welch_segments(p.size(), plan) > 0) ++r.pieces_used;
 
   const int threads = request.threads > 0 ? static_cast<int>(request.threads) : omp_get_max_threads();
-  std::vector<std::exception_ptr> errors(channels.size());
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-  for (std::ptrdiff_t ci = 0; ci < static_cast<std::ptrdiff_t>(channels.size()); ++ci) {
-    const auto c = static_cast<std::size_t>(ci);
-    try {
-      std::vector<std::span<const double>> views;
-      for (const auto& p : pieces) views.push_back(channels[c].subspan(p.begin, p.size()));
-      const Psd raw = welch_psd(std::span<const std::span<const double>>(views), rate_hz, request.welch);
-      PsdChannel& out = r.channels[c];
-      out.name = names[c];
-      if (units == 1) out.unit = request.units[0];
-      if (units > 1) out.unit = request.units[c];
-      if (request.fit) {
-        try {
-          out.fit = fit_power_law(raw, request.fit_options);
-          out.allan_terms = psd_allan_terms(out.fit, out.unit, rate_hz);
-        } catch (const UsageError& e) {
-          const bool band_asked =
-              request.fit_options.min_frequency_hz > 0.0 || request.fit_options.max_frequency_hz > 0.0;
-          if (e.option() != "fit_range" || band_asked) throw;
-          out.fit_error = e.what();  // a short record: the spectrum without its fit
-        }
+  cubecal::detail::for_channels(channels.size(), cubecal::detail::Team{threads}, [&](std::size_t c) {
+    std::vector<std::span<const double>> views;
+    for (const auto& p : pieces) views.push_back(channels[c].subspan(p.begin, p.size()));
+    const Psd raw = welch_psd(std::span<const std::span<const double>>(views), rate_hz, request.welch);
+    PsdChannel& out = r.channels[c];
+    out.name = names[c];
+    if (units == 1) out.unit = request.units[0];
+    if (units > 1) out.unit = request.units[c];
+    if (request.fit) {
+      try {
+        out.fit = fit_power_law(raw, request.fit_options);
+        out.allan_terms = psd_allan_terms(out.fit, out.unit, rate_hz);
+      } catch (const UsageError& e) {
+        const bool band_asked =
+            request.fit_options.min_frequency_hz > 0.0 || request.fit_options.max_frequency_hz > 0.0;
+        if (e.option() != "fit_range" || band_asked) throw;
+        out.fit_error = e.what();  // a short record: the spectrum without its fit
       }
-      out.spectrum = request.bins_per_decade > 0 ? log_bin(raw, request.bins_per_decade) : raw;
-    } catch (...) {
-      errors[c] = std::current_exception();
     }
-  }
-  for (const auto& e : errors)
-    if (e) std::rethrow_exception(e);
+    out.spectrum = request.bins_per_decade > 0 ? log_bin(raw, request.bins_per_decade) : raw;
+  });
   return r;
 }
 

@@ -90,12 +90,12 @@ nlohmann::json to_json(const RunSummary& r) {
   return j;
 }
 
-void from_json(const nlohmann::json& j, RunSummary& r) {
-  r = {};
+RunSummary run_summary_from_json(const nlohmann::json& j) {
+  RunSummary r;
   r.file = j.at("file").get<std::string>();
   r.samples = j.at("samples").get<std::size_t>();
   r.rate_hz = j.at("rate_hz").get<double>();
-  if (!j.contains("channels")) return;
+  if (!j.contains("channels")) return r;
   for (const auto& c : j["channels"]) {
     RunChannel ch;
     ch.name = c.at("name").get<std::string>();
@@ -106,6 +106,7 @@ void from_json(const nlohmann::json& j, RunSummary& r) {
     ch.adev = adev_of(c.at("adev"));
     r.channels.push_back(std::move(ch));
   }
+  return r;
 }
 
 nlohmann::json to_json(const TurnOnResult& t) {
@@ -129,11 +130,13 @@ nlohmann::json to_json(const std::vector<RunSummary>& compared) {
   return j;
 }
 
-void from_json(const nlohmann::json& j, TurnOnResult& t) {
-  t = {};
+TurnOnResult turn_on_result_from_json(const nlohmann::json& j) {
+  TurnOnResult t;
   t.ci = j.at("ci").get<double>();
-  if (j.contains("runs")) t.runs = j["runs"].get<std::vector<RunSummary>>();
-  if (!j.contains("channels")) return;
+  if (j.contains("runs"))
+    for (const nlohmann::json& run : j["runs"].get<std::vector<nlohmann::json>>())
+      t.runs.push_back(run_summary_from_json(run));
+  if (!j.contains("channels")) return t;
   for (const auto& c : j["channels"]) {
     t.names.push_back(c.at("name").get<std::string>());
     t.units.push_back(unit_of(c.at("unit").get<std::string>(), c.at("unit_si")));
@@ -142,6 +145,7 @@ void from_json(const nlohmann::json& j, TurnOnResult& t) {
     t.turn_on_lo.push_back(c.at("turn_on_bias_lo").get<double>());
     t.turn_on_hi.push_back(c.at("turn_on_bias_hi").get<double>());
   }
+  return t;
 }
 
 }  // namespace cubecal::pipeline

@@ -9,7 +9,7 @@
 #include "cubecal/pipeline/analyze.hpp"
 #include "cubecal/sim/composite_simulator.hpp"
 #include "cubecal/stats/deviation.hpp"
-#include "detail/for_channels.hpp"
+#include "../detail/for_channels.hpp"
 
 namespace cubecal::pipeline {
 
@@ -31,7 +31,7 @@ TwinCheck twin_check(const AnalysisResult& r, std::size_t twins, std::uint64_t s
   // [channel][twin][point]: each twin's Allan variance at the curve's taus.
   std::vector<std::vector<std::vector<double>>> avar(nc, std::vector<std::vector<double>>(twins));
   // Every (channel, twin) on the threads, each from its own seed.
-  detail::for_channels(nc * twins, threads, [&](std::size_t k) {
+  cubecal::detail::for_channels(nc * twins, threads, [&](std::size_t k) {
     const std::size_t i = k / twins, b = k % twins;
     const ModelAnalysis& m = r.channels[with[i]].model;
     const std::vector<double> y = simulate_composite(m.composite->fit.model, m.samples, seed + b);

@@ -86,82 +86,79 @@ PlotSeries term_line(double a, double p, double t0, double t1, const char* c, st
   return s;
 }
 
-}  // namespace
-
-ReportFigure allan_figure(const AnalysisResult& d, const SensorGroup& g) {
-  const std::string ci = ci_text(d.ci);
-  ReportFigure f;
-  Plot& p = f.plot;
-  p.name = "allan_" + g.key;
-  p.title = "Allan deviation, " + lower_first(g.title);
-  p.x = {"averaging time τ [s]", true, std::nullopt, std::nullopt};
-  p.y = {"Allan deviation σ(τ) [" + g.unit + "]", true, std::nullopt, std::nullopt};
-  p.key = "outside bottom center horizontal Left reverse maxrows 3";
-  p.height = 640;
+// What an Allan figure draws beside the measured curves.
+struct AllanDrawn {
   bool any_model = false, any_gm = false, any_composite = false, any_terms = false, any_twins = false;
-  const bool twin = d.composite && pipeline::is_twin(d.composite->model);
-  double tmin = INFINITY, tmax = 0;
-  for (auto c : g.channels)
-    for (const auto& pt : d.channels[c].noise.adev)
-      if (pt.tau > 0) {
-        tmin = std::min(tmin, pt.tau);
-        tmax = std::max(tmax, pt.tau);
+};
+
+// Channel k of the group: its measured curve, its models' curves, its
+// twins' mean curve and its noise-term lines over [tmin, tmax].
+void allan_channel_series(Plot& p, const AnalysisResult& d, const ChannelAnalysis& ch, std::size_t k, bool twin,
+                          double tmin, double tmax, AllanDrawn& drawn) {
+  bool& any_model = drawn.any_model;
+  bool& any_gm = drawn.any_gm;
+  bool& any_composite = drawn.any_composite;
+  bool& any_terms = drawn.any_terms;
+  bool& any_twins = drawn.any_twins;
+  const char* c = color(k);
+  const ModelCurves mc = model_curves(ch, d.rate_hz);
+  std::vector<double> tau;
+  for (const auto& pt : ch.noise.adev) tau.push_back(pt.tau);
+  p.series.push_back(measured_oadev(ch.noise.adev, ch.name, c));
+  // A model's curve, drawn when it has any point.
+  const auto model_curve = [&](const std::vector<double>& y, const char* what, Dash dash, double width, bool& any) {
+    if (!any_finite(y)) return;
+    PlotSeries s;
+    s.x = tau;
+    s.y = y;
+    s.id = ch.name + " " + what;
+    s.dash = dash;
+    s.color = c;
+    s.width = width;
+    p.series.push_back(std::move(s));
+    any = true;
+  };
+  model_curve(mc.model, "random-walk model", Dash::dashed, 1.6, any_model);
+  model_curve(mc.gm, "Gauss-Markov model", Dash::dotted, 1.8, any_gm);
+  model_curve(mc.composite, twin ? "twin" : "composite model", Dash::dash_dot, 1.8, any_composite);
+  // analyze --twin-check: the mean curve of the simulated twins, broad and light.
+  if (d.twin_check)
+    for (const pipeline::TwinCheckChannel& t : d.twin_check->channels)
+      if (t.name == ch.name && !t.tau.empty()) {
+        PlotSeries s;
+        s.x = t.tau;
+        s.y = t.twins;
+        s.id = ch.name + " mean of twins";
+        s.color = c;
+        s.width = 4.0;
+        s.opacity = 0.35;
+        p.series.push_back(std::move(s));
+        any_twins = true;
       }
-  for (std::size_t k = 0; k < g.channels.size(); ++k) {
-    const ChannelAnalysis& ch = d.channels[g.channels[k]];
-    const char* c = color(k);
-    const ModelCurves mc = model_curves(ch, d.rate_hz);
-    std::vector<double> tau;
-    for (const auto& pt : ch.noise.adev) tau.push_back(pt.tau);
-    p.series.push_back(measured_oadev(ch.noise.adev, ch.name, c));
-    // A model's curve, drawn when it has any point.
-    const auto model_curve = [&](const std::vector<double>& y, const char* what, Dash dash, double width, bool& any) {
-      if (!any_finite(y)) return;
-      PlotSeries s;
-      s.x = tau;
-      s.y = y;
-      s.id = ch.name + " " + what;
-      s.dash = dash;
-      s.color = c;
-      s.width = width;
-      p.series.push_back(std::move(s));
-      any = true;
-    };
-    model_curve(mc.model, "random-walk model", Dash::dashed, 1.6, any_model);
-    model_curve(mc.gm, "Gauss-Markov model", Dash::dotted, 1.8, any_gm);
-    model_curve(mc.composite, twin ? "twin" : "composite model", Dash::dash_dot, 1.8, any_composite);
-    // analyze --twin-check: the mean curve of the simulated twins, broad and light.
-    if (d.twin_check)
-      for (const pipeline::TwinCheckChannel& t : d.twin_check->channels)
-        if (t.name == ch.name && !t.tau.empty()) {
-          PlotSeries s;
-          s.x = t.tau;
-          s.y = t.twins;
-          s.id = ch.name + " mean of twins";
-          s.color = c;
-          s.width = 4.0;
-          s.opacity = 0.35;
-          p.series.push_back(std::move(s));
-          any_twins = true;
-        }
-    // Noise-term lines of the weighted fit: N (slope -1/2), K (+1/2), and the
-    // bias-instability floor at sigma_min (0.664 B) where the curve has a minimum.
-    if (tmax > tmin) {
-      const auto& cf = ch.noise.fit.c;
-      if (cf[1] > 0) p.series.push_back(term_line(std::sqrt(cf[1]), -0.5, tmin, tmax, c, ch.name + " N line"));
-      if (cf[3] > 0) p.series.push_back(term_line(std::sqrt(cf[3]), 0.5, tmin, tmax, c, ch.name + " K line"));
-      any_terms = any_terms || cf[1] > 0 || cf[3] > 0;
-      std::optional<double> floor;
-      if (ch.noise.readoffs.B.valid)
-        floor = ch.noise.readoffs.sigma_min;
-      else if (cf[2] > 0)
-        floor = std::sqrt(cf[2]);
-      if (floor && *floor > 0) {
-        p.series.push_back(term_line(*floor, 0.0, tmin, tmax, c, ch.name + " B floor (0.664 B)"));
-        any_terms = true;
-      }
+  // Noise-term lines of the weighted fit: N (slope -1/2), K (+1/2), and the
+  // bias-instability floor at sigma_min (0.664 B) where the curve has a minimum.
+  if (tmax > tmin) {
+    const auto& cf = ch.noise.fit.c;
+    if (cf[1] > 0) p.series.push_back(term_line(std::sqrt(cf[1]), -0.5, tmin, tmax, c, ch.name + " N line"));
+    if (cf[3] > 0) p.series.push_back(term_line(std::sqrt(cf[3]), 0.5, tmin, tmax, c, ch.name + " K line"));
+    any_terms = any_terms || cf[1] > 0 || cf[3] > 0;
+    std::optional<double> floor;
+    if (ch.noise.readoffs.B.valid)
+      floor = ch.noise.readoffs.sigma_min;
+    else if (cf[2] > 0)
+      floor = std::sqrt(cf[2]);
+    if (floor && *floor > 0) {
+      p.series.push_back(term_line(*floor, 0.0, tmin, tmax, c, ch.name + " B floor (0.664 B)"));
+      any_terms = true;
     }
   }
+}
+
+// The legend (the channels' colours, then the kinds of curve drawn) and the notes.
+void allan_legend(Plot& p, const AnalysisResult& d, const SensorGroup& g, const std::string& ci, bool twin,
+                  const AllanDrawn& drawn) {
+  const bool any_model = drawn.any_model, any_gm = drawn.any_gm, any_composite = drawn.any_composite;
+  const bool any_terms = drawn.any_terms, any_twins = drawn.any_twins;
   for (std::size_t k = 0; k < g.channels.size(); ++k)
     p.series.push_back(legend_entry(d.channels[g.channels[k]].name, color(k)));
   p.series.push_back(legend_entry("measured, " + ci + " interval", kInk, Dash::solid, Mark::errorlines));
@@ -179,7 +176,13 @@ ReportFigure allan_figure(const AnalysisResult& d, const SensorGroup& g) {
   p.notes.push_back(
       "model curves from the fitted parameters (analysis.json model), noise-term lines from the "
       "weighted fit (noise.fit.coefficients).");
+}
 
+// The caption: the kinds of curve drawn, as the paper's figures.
+std::string allan_caption(const AnalysisResult& d, const SensorGroup& g, const std::string& ci, bool twin,
+                          const AllanDrawn& drawn) {
+  const bool any_model = drawn.any_model, any_gm = drawn.any_gm, any_composite = drawn.any_composite;
+  const bool any_terms = drawn.any_terms, any_twins = drawn.any_twins;
   std::string cap = "Overlapping Allan deviation of the " + html_escape(lower_first(g.title)) + " (solid, " +
                     html_escape(ci) + " confidence intervals)";
   if (any_model) cap += ", the fitted random-walk model of the paper (dashed)";
@@ -195,7 +198,34 @@ ReportFigure allan_figure(const AnalysisResult& d, const SensorGroup& g) {
         " and, light, the noise-term lines of the weighted fit: white noise N (slope −½), rate random walk K "
         "(+½) and the bias-instability floor 0.664 B";
   cap += ". As the paper's Figs. 1, 2 and 4.";
-  f.caption_html = cap;
+  return cap;
+}
+
+}  // namespace
+
+ReportFigure allan_figure(const AnalysisResult& d, const SensorGroup& g) {
+  const std::string ci = ci_text(d.ci);
+  ReportFigure f;
+  Plot& p = f.plot;
+  p.name = "allan_" + g.key;
+  p.title = "Allan deviation, " + lower_first(g.title);
+  p.x = {"averaging time τ [s]", true, std::nullopt, std::nullopt};
+  p.y = {"Allan deviation σ(τ) [" + g.unit + "]", true, std::nullopt, std::nullopt};
+  p.key = "outside bottom center horizontal Left reverse maxrows 3";
+  p.height = 640;
+  AllanDrawn drawn;
+  const bool twin = d.composite && pipeline::is_twin(d.composite->model);
+  double tmin = INFINITY, tmax = 0;
+  for (auto c : g.channels)
+    for (const auto& pt : d.channels[c].noise.adev)
+      if (pt.tau > 0) {
+        tmin = std::min(tmin, pt.tau);
+        tmax = std::max(tmax, pt.tau);
+      }
+  for (std::size_t k = 0; k < g.channels.size(); ++k)
+    allan_channel_series(p, d, d.channels[g.channels[k]], k, twin, tmin, tmax, drawn);
+  allan_legend(p, d, g, ci, twin, drawn);
+  f.caption_html = allan_caption(d, g, ci, twin, drawn);
   return f;
 }
 
@@ -469,14 +499,63 @@ std::optional<double> temperature_sigma(const ChannelAnalysis& ch) {
 
 }  // namespace
 
-std::vector<ReportFigure> temperature_figures(const AnalysisResult& d, const SensorGroup& g) {
-  std::vector<std::size_t> with;
-  for (std::size_t k = 0; k < g.channels.size(); ++k)
-    if (d.channels[g.channels[k]].temperature) with.push_back(k);
-  if (with.empty()) return {};
-  std::vector<ReportFigure> figs;
-  const std::string ci = ci_text(d.ci);
+namespace {
 
+// Channel k's fitted bias change over T_ref +- half (its polynomial
+// without the offset, tr its own T_ref), with the linear coefficient moved by
+// +-1 sigma when known; true when that band is drawn.
+bool bias_change_series(Plot& p, const ChannelAnalysis& ch, std::size_t k, double t_ref, double half) {
+  const TemperatureFit& t = ch.temperature->fit;
+  // c1, c2, ...: the orders above the offset.
+  std::vector<double> c, cs;
+  if (t.coeff.size() > 1) c.assign(t.coeff.begin() + 1, t.coeff.end());
+  if (t.coeff_sigma.size() > 1) cs.assign(t.coeff_sigma.begin() + 1, t.coeff_sigma.end());
+  const double tr = std::isfinite(t.t_ref) ? t.t_ref : t_ref;
+  auto poly = [&](double dT, double c1shift) {
+    double y = 0.0, pw = 1.0;
+    for (std::size_t q = 0; q < c.size(); ++q) {
+      pw *= dT;
+      y += (c[q] + (q == 0 ? c1shift : 0.0)) * pw;
+    }
+    return y;
+  };
+  PlotSeries s, up, dn;
+  for (int i = 0; i <= 40; ++i) {
+    const double T = t_ref - half + 2.0 * half * i / 40.0;
+    s.x.push_back(T);
+    s.y.push_back(poly(T - tr, 0.0));
+    if (!cs.empty()) {
+      up.x.push_back(T);
+      up.y.push_back(poly(T - tr, cs[0]));
+      dn.x.push_back(T);
+      dn.y.push_back(poly(T - tr, -cs[0]));
+    }
+  }
+  s.id = ch.name + " fitted bias change";
+  s.color = color(k);
+  s.width = 1.8;
+  const std::string unit = ch.unit.name + "/degC";
+  s.label =
+      ch.name + ": " +
+      format_pm(c.empty() ? std::nullopt : std::optional(c[0]), cs.empty() ? std::nullopt : std::optional(cs[0])) +
+      " " + unit + (c.size() > 1 ? " (+ higher orders)" : "");
+  p.series.push_back(std::move(s));
+  if (!up.x.empty()) {
+    for (PlotSeries* b : {&up, &dn}) {
+      b->id = ch.name + (b == &up ? " fit, c1 + 1 sigma" : " fit, c1 - 1 sigma");
+      b->color = color(k);
+      b->width = 1.0;
+      b->dash = Dash::dashed;
+      b->opacity = 0.6;
+      p.series.push_back(std::move(*b));
+    }
+    return true;
+  }
+  return false;
+}
+
+// The fitted bias change against temperature, the channels of `with`.
+ReportFigure bias_change_figure(const AnalysisResult& d, const SensorGroup& g, const std::vector<std::size_t>& with) {
   // Fitted bias change against temperature.
   std::vector<double> sig;
   double t_ref = 0.0;
@@ -498,55 +577,8 @@ std::vector<ReportFigure> temperature_figures(const AnalysisResult& d, const Sen
   p.key = "outside bottom center horizontal Left reverse maxrows 3";
   bool band = false;
   const std::string sensor = d.temp_name;
-  for (auto k : with) {
-    const ChannelAnalysis& ch = d.channels[g.channels[k]];
-    const TemperatureFit& t = ch.temperature->fit;
-    // c1, c2, ...: the orders above the offset.
-    std::vector<double> c, cs;
-    if (t.coeff.size() > 1) c.assign(t.coeff.begin() + 1, t.coeff.end());
-    if (t.coeff_sigma.size() > 1) cs.assign(t.coeff_sigma.begin() + 1, t.coeff_sigma.end());
-    const double tr = std::isfinite(t.t_ref) ? t.t_ref : t_ref;
-    auto poly = [&](double dT, double c1shift) {
-      double y = 0.0, pw = 1.0;
-      for (std::size_t q = 0; q < c.size(); ++q) {
-        pw *= dT;
-        y += (c[q] + (q == 0 ? c1shift : 0.0)) * pw;
-      }
-      return y;
-    };
-    PlotSeries s, up, dn;
-    for (int i = 0; i <= 40; ++i) {
-      const double T = t_ref - half + 2.0 * half * i / 40.0;
-      s.x.push_back(T);
-      s.y.push_back(poly(T - tr, 0.0));
-      if (!cs.empty()) {
-        up.x.push_back(T);
-        up.y.push_back(poly(T - tr, cs[0]));
-        dn.x.push_back(T);
-        dn.y.push_back(poly(T - tr, -cs[0]));
-      }
-    }
-    s.id = ch.name + " fitted bias change";
-    s.color = color(k);
-    s.width = 1.8;
-    const std::string unit = ch.unit.name + "/degC";
-    s.label =
-        ch.name + ": " +
-        format_pm(c.empty() ? std::nullopt : std::optional(c[0]), cs.empty() ? std::nullopt : std::optional(cs[0])) +
-        " " + unit + (c.size() > 1 ? " (+ higher orders)" : "");
-    p.series.push_back(std::move(s));
-    if (!up.x.empty()) {
-      for (PlotSeries* b : {&up, &dn}) {
-        b->id = ch.name + (b == &up ? " fit, c1 + 1 sigma" : " fit, c1 - 1 sigma");
-        b->color = color(k);
-        b->width = 1.0;
-        b->dash = Dash::dashed;
-        b->opacity = 0.6;
-        p.series.push_back(std::move(*b));
-      }
-      band = true;
-    }
-  }
+  for (auto k : with)
+    if (bias_change_series(p, d.channels[g.channels[k]], k, t_ref, half)) band = true;
   if (band) p.series.push_back(legend_entry("linear coefficient ± 1σ", kInk, Dash::dashed, Mark::line, 0.6));
   p.notes.push_back("the fitted polynomial of analysis.json channels[].temperature (coeff, t_ref), offset removed");
   p.notes.push_back(inferred ? "temperature range: T_ref ± 2 sigma_T, sigma_T = sqrt(R^2) std(y) / |c1| (the record's "
@@ -565,8 +597,59 @@ std::vector<ReportFigure> temperature_figures(const AnalysisResult& d, const Sen
   else
     cap += "the range drawn is T<sub>ref</sub> ± 10 °C (the spread could not be inferred from the fit).";
   f.caption_html = cap;
-  figs.push_back(std::move(f));
+  return f;
+}
 
+// Channel k's Allan deviation as recorded and compensated, with the
+// random-walk model of the compensated series; true when that model is drawn.
+bool compensated_series(Plot& q, const AnalysisResult& d, const ChannelAnalysis& ch, std::size_t k) {
+  PlotSeries raw;
+  for (const auto& pt : ch.noise.adev) {
+    raw.x.push_back(pt.tau);
+    raw.y.push_back(pt.dev);
+  }
+  raw.id = ch.name + " as recorded";
+  raw.color = color(k);
+  raw.opacity = 0.4;
+  raw.width = 1.2;
+  q.series.push_back(std::move(raw));
+  PlotSeries s;
+  for (const auto& pt : ch.temperature->compensated.adev) {
+    s.x.push_back(pt.tau);
+    s.y.push_back(pt.dev);
+    s.lo.push_back(pt.lo);
+    s.hi.push_back(pt.hi);
+  }
+  s.mark = Mark::errorlines;
+  s.id = ch.name + " temperature compensated";
+  s.color = color(k);
+  s.width = 1.4;
+  s.point_size = 0.25;
+  if (!s.x.empty()) q.series.push_back(std::move(s));
+  // The random-walk model fitted to the compensated series.
+  const pipeline::ModelAnalysis& cm = ch.temperature->compensated_model;
+  if (cm.ok && d.rate_hz > 0) {
+    PlotSeries m;
+    for (const auto& pt : ch.temperature->compensated.adev) {
+      const auto factor = static_cast<std::size_t>(std::max(1.0, std::round(pt.tau * d.rate_hz)));
+      m.x.push_back(pt.tau);
+      m.y.push_back(std::sqrt(avar(cm.random_walk, factor)));
+    }
+    m.id = ch.name + " compensated, random-walk model";
+    m.color = color(k);
+    m.width = 1.0;
+    m.dash = Dash::dashed;
+    if (!m.x.empty()) {
+      q.series.push_back(std::move(m));
+      return true;
+    }
+  }
+  return false;
+}
+
+// The Allan deviation before and after compensation, the channels of `with`.
+ReportFigure compensated_figure(const AnalysisResult& d, const SensorGroup& g, const std::vector<std::size_t>& with,
+                                const std::string& ci) {
   // Allan deviation before and after compensation.
   ReportFigure h;
   Plot& q = h.plot;
@@ -576,50 +659,8 @@ std::vector<ReportFigure> temperature_figures(const AnalysisResult& d, const Sen
   q.y = {"Allan deviation σ(τ) [" + g.unit + "]", true, std::nullopt, std::nullopt};
   q.key = "outside bottom center horizontal Left reverse maxrows 3";
   bool comp_model = false;
-  for (auto k : with) {
-    const ChannelAnalysis& ch = d.channels[g.channels[k]];
-    PlotSeries raw;
-    for (const auto& pt : ch.noise.adev) {
-      raw.x.push_back(pt.tau);
-      raw.y.push_back(pt.dev);
-    }
-    raw.id = ch.name + " as recorded";
-    raw.color = color(k);
-    raw.opacity = 0.4;
-    raw.width = 1.2;
-    q.series.push_back(std::move(raw));
-    PlotSeries s;
-    for (const auto& pt : ch.temperature->compensated.adev) {
-      s.x.push_back(pt.tau);
-      s.y.push_back(pt.dev);
-      s.lo.push_back(pt.lo);
-      s.hi.push_back(pt.hi);
-    }
-    s.mark = Mark::errorlines;
-    s.id = ch.name + " temperature compensated";
-    s.color = color(k);
-    s.width = 1.4;
-    s.point_size = 0.25;
-    if (!s.x.empty()) q.series.push_back(std::move(s));
-    // The random-walk model fitted to the compensated series.
-    const pipeline::ModelAnalysis& cm = ch.temperature->compensated_model;
-    if (cm.ok && d.rate_hz > 0) {
-      PlotSeries m;
-      for (const auto& pt : ch.temperature->compensated.adev) {
-        const auto factor = static_cast<std::size_t>(std::max(1.0, std::round(pt.tau * d.rate_hz)));
-        m.x.push_back(pt.tau);
-        m.y.push_back(std::sqrt(avar(cm.random_walk, factor)));
-      }
-      m.id = ch.name + " compensated, random-walk model";
-      m.color = color(k);
-      m.width = 1.0;
-      m.dash = Dash::dashed;
-      if (!m.x.empty()) {
-        q.series.push_back(std::move(m));
-        comp_model = true;
-      }
-    }
-  }
+  for (auto k : with)
+    if (compensated_series(q, d, d.channels[g.channels[k]], k)) comp_model = true;
   for (auto k : with) q.series.push_back(legend_entry(d.channels[g.channels[k]].name, color(k)));
   q.series.push_back(legend_entry("as recorded", kInk, Dash::solid, Mark::line, 0.4));
   q.series.push_back(legend_entry("temperature compensated, " + ci + " interval", kInk, Dash::solid, Mark::errorlines));
@@ -627,7 +668,20 @@ std::vector<ReportFigure> temperature_figures(const AnalysisResult& d, const Sen
   h.caption_html = "Allan deviation of the " + html_escape(lower_first(g.title)) +
                    " as recorded (light) and after removing the fitted temperature dependence (with " +
                    html_escape(ci) + " intervals): what the temperature swing adds at long averaging times.";
-  figs.push_back(std::move(h));
+  return h;
+}
+
+}  // namespace
+
+std::vector<ReportFigure> temperature_figures(const AnalysisResult& d, const SensorGroup& g) {
+  std::vector<std::size_t> with;
+  for (std::size_t k = 0; k < g.channels.size(); ++k)
+    if (d.channels[g.channels[k]].temperature) with.push_back(k);
+  if (with.empty()) return {};
+  std::vector<ReportFigure> figs;
+  const std::string ci = ci_text(d.ci);
+  figs.push_back(bias_change_figure(d, g, with));
+  figs.push_back(compensated_figure(d, g, with, ci));
   return figs;
 }
 

@@ -205,12 +205,8 @@ std::string unit_of(const AnalysisResult& r, const SensorGroup& g, Term which) {
   return display(TermEstimate{}, which, r.channels[g.channels.front()].unit).unit;
 }
 
-std::string noise_table(const AnalysisResult& r, const SensorGroup& g) {
-  Table t(r, g);
-  t.section("Record");
-  t.value(
-      "fixed bias β (record mean)", g.unit, [](const ChannelAnalysis& c) { return finite(c.mean); }, 7);
-  t.value("standard deviation", g.unit, [](const ChannelAnalysis& c) { return finite(c.stddev); });
+// The slope read-offs (IEEE 952, as the paper).
+void readoff_rows(Table& t, const AnalysisResult& r, const SensorGroup& g) {
   t.section(
       "Slope read-offs (IEEE 952, as the paper): N on the −1/2 line at τ = 1 s, B = σ<sub>min</sub> / 0.664, "
       "K at τ = 3 s");
@@ -266,6 +262,10 @@ std::string noise_table(const AnalysisResult& r, const SensorGroup& g) {
       true);
   t.term("Q, quantization", Term::Q, [](const ChannelAnalysis& c) { return &c.noise.readoffs.Q; });
   t.term("R, rate ramp", Term::R, [](const ChannelAnalysis& c) { return &c.noise.readoffs.R; });
+}
+
+// The weighted least-squares fit of the curve.
+void curve_fit_rows(Table& t) {
   t.section("Weighted least-squares fit of σ²(τ) = Σ C<sub>k</sub> τ<sup>k</sup>, k = −2…2");
   t.term("white-noise term √C<sub>−1</sub> (the fit's, not the reported N)", Term::N,
          [](const ChannelAnalysis& c) { return &c.noise.fit.N; });
@@ -281,6 +281,10 @@ std::string noise_table(const AnalysisResult& r, const SensorGroup& g) {
     const auto v = finite(c.noise.fit.rms_rel_residual);
     return Cell{v ? html_escape(format_num(100.0 * *v, 3)) : std::string("—"), ""};
   });
+}
+
+// The noise densities of the reported N and K.
+void density_rows(Table& t, const AnalysisResult& r, const SensorGroup& g) {
   // Densities from the fit where it found the term, else from the read-off.
   auto density = [&](const std::string& label, bool white, bool si) {
     std::string unit;
@@ -306,6 +310,17 @@ std::string noise_table(const AnalysisResult& r, const SensorGroup& g) {
   density("white noise density, SI", true, true);
   density("random-walk density", false, false);
   density("random-walk density, SI", false, true);
+}
+
+std::string noise_table(const AnalysisResult& r, const SensorGroup& g) {
+  Table t(r, g);
+  t.section("Record");
+  t.value(
+      "fixed bias β (record mean)", g.unit, [](const ChannelAnalysis& c) { return finite(c.mean); }, 7);
+  t.value("standard deviation", g.unit, [](const ChannelAnalysis& c) { return finite(c.stddev); });
+  readoff_rows(t, r, g);
+  curve_fit_rows(t);
+  density_rows(t, r, g);
   return t.str();
 }
 
@@ -404,7 +419,8 @@ std::string model_table(const AnalysisResult& r, const SensorGroup& g) {
   return t.str();
 }
 
-std::string temperature_table(const AnalysisResult& r, const SensorGroup& g) {
+// The polynomial fit of each channel on temperature.
+void temperature_fit_rows(Table& t, const AnalysisResult& r, const SensorGroup& g) {
   std::size_t order = 0;  // highest power fitted
   for (auto c : g.channels)
     if (r.channels[c].temperature && !r.channels[c].temperature->fit.coeff.empty())
@@ -415,7 +431,6 @@ std::string temperature_table(const AnalysisResult& r, const SensorGroup& g) {
   auto tan_of = [](const ChannelAnalysis& c) -> const pipeline::TemperatureAnalysis* {
     return c.temperature ? &*c.temperature : nullptr;
   };
-  Table t(r, g);
   t.section(
       "Polynomial fit of the channel on temperature, y = Σ c<sub>p</sub> (T − T<sub>ref</sub>)<sup>p</sup> + "
       "random-walk bias + white noise");
@@ -478,6 +493,10 @@ std::string temperature_table(const AnalysisResult& r, const SensorGroup& g) {
         return f ? finite(f->residual_rms) : std::nullopt;
       },
       4);
+}
+
+// The noise terms of the compensated series (slope read-offs).
+void compensated_noise_rows(Table& t) {
   t.section("Noise terms after compensation (slope read-offs)");
   auto comp = [](const ChannelAnalysis& c) -> const SlopeReadOffs* {
     return c.temperature ? &c.temperature->compensated.readoffs : nullptr;
@@ -489,6 +508,10 @@ std::string temperature_table(const AnalysisResult& r, const SensorGroup& g) {
       [&](const ChannelAnalysis& c) { return comp(c) && comp(c)->B.valid ? finite(comp(c)->tau_min) : std::nullopt; },
       4);
   t.term("K, rate random walk", Term::K, [&](const ChannelAnalysis& c) { return comp(c) ? &comp(c)->K : nullptr; });
+}
+
+// The sensor models of the compensated series.
+void compensated_model_rows(Table& t, const SensorGroup& g) {
   // The sensor models of the compensated series beside the record's (Models
   // table): a temperature cycle raises the record's σ_μ.
   auto cm = [&](const ChannelAnalysis& c) -> const pipeline::ModelAnalysis* {
@@ -516,6 +539,13 @@ std::string temperature_table(const AnalysisResult& r, const SensorGroup& g) {
   });
   t.reason("Gauss–Markov model of the compensated series",
            [&](const ChannelAnalysis& c) { return cm(c) && !cm(c)->gm_ok ? cm(c)->gm_error : std::string(); });
+}
+
+std::string temperature_table(const AnalysisResult& r, const SensorGroup& g) {
+  Table t(r, g);
+  temperature_fit_rows(t, r, g);
+  compensated_noise_rows(t);
+  compensated_model_rows(t, g);
   return t.str();
 }
 
@@ -705,25 +735,8 @@ ReportBlock figure_block(ReportFigure f) {
   return b;
 }
 
-}  // namespace
-
-CommandReport analysis_report(const AnalysisResult& r, const AnalysisReportContext& ctx, const std::string& dir,
-                              const ReportOptions& options) {
-  const auto groups = detail::sensor_groups(r);
-  const std::string& file = r.file;
-  const std::string base = file.substr(file.find_last_of('/') == std::string::npos ? 0 : file.find_last_of('/') + 1);
-
-  CommandReport page;
-  page.title = "Sensor analysis: " + (base.empty() ? std::string("record") : base);
-  page.lead_html =
-      "Static characterization by <code>cubecal analyze</code>: Allan deviation with confidence "
-      "intervals, IEEE 952 noise terms, the paper's sensor model and a Gauss–Markov alternative, bias drift, "
-      "temperature dependence and covariance (Carrara, Pereira and Azevedo, “Attitude sensors calibration and "
-      "modeling for CubeSats”).";
-  page.input_html = input_fields(r);
-  page.command = ctx.command;
-  page.plot_prefixes = {"allan_", "drift_", "temperature_", "compensated_", "psd_", "composite_"};
-
+// How to make the analysis and this page again.
+std::string reproduce_html(const AnalysisReportContext& ctx, const std::string& dir) {
   std::string rep;
   if (!ctx.command.empty())
     rep += "<p>The analysis, as recorded in analysis.json:</p>\n<pre><code>" + html_escape(ctx.command) +
@@ -735,8 +748,11 @@ CommandReport analysis_report(const AnalysisResult& r, const AnalysisReportConte
       "<p>Each plot is a gnuplot script beside its data in <code>plots/</code>: edit the script (line styles "
       "come first), run <code>gnuplot NAME.gp</code> in that directory for new SVG and PNG files, and "
       "<code>cubecal report DIR --force --keep-scripts</code> to put the restyled plots into this page.</p>\n";
-  page.reproduce_html = rep;
+  return rep;
+}
 
+// The Allan curves and noise terms of each sensor group.
+ReportSection allan_section(const AnalysisResult& r, const std::vector<SensorGroup>& groups) {
   ReportSection allan{"allan", "Allan deviation and noise terms", {}};
   allan.blocks.push_back(html_block(
       "<p>Noise terms in the units the literature quotes: for rate sensors N in °/√h, B in °/h, K in "
@@ -751,8 +767,11 @@ CommandReport analysis_report(const AnalysisResult& r, const AnalysisReportConte
     allan.blocks.push_back(std::move(b));
     allan.blocks.push_back(html_block(noise_table(r, g)));
   }
-  page.sections.push_back(std::move(allan));
+  return allan;
+}
 
+// The spectral view (analyze --psd), when made.
+void add_spectral_section(CommandReport& page, const AnalysisResult& r) {
   bool any_spectral = false;
   for (const auto& ch : r.channels) any_spectral = any_spectral || ch.spectral.has_value();
   if (any_spectral) {
@@ -781,7 +800,11 @@ CommandReport analysis_report(const AnalysisResult& r, const AnalysisReportConte
     }
     page.sections.push_back(std::move(spec));
   }
+}
 
+// The sensor models and bias drift of each sensor group.
+ReportSection model_section(const AnalysisResult& r, const std::vector<SensorGroup>& groups,
+                            const AnalysisReportContext& ctx, const ReportOptions& options) {
   ReportSection model{"model", "Fitted sensor model and bias drift", {}};
   model.blocks.push_back(html_block(
       "<p>The paper's measurement model, per axis and sample k (period Δt): "
@@ -797,8 +820,11 @@ CommandReport analysis_report(const AnalysisResult& r, const AnalysisReportConte
     if (auto f = detail::drift_figure(r, g, options)) b.figures.push_back(std::move(*f));
     model.blocks.push_back(std::move(b));
   }
-  page.sections.push_back(std::move(model));
+  return model;
+}
 
+// The composite noise model (analyze --composite), when fitted.
+void add_composite_section(CommandReport& page, const AnalysisResult& r) {
   if (r.composite) {
     ReportSection comp{"composite", "Composite noise model", {}};
     comp.blocks.push_back(html_block(
@@ -819,7 +845,10 @@ CommandReport analysis_report(const AnalysisResult& r, const AnalysisReportConte
     }
     page.sections.push_back(std::move(comp));
   }
+}
 
+// The temperature fits of each sensor group with a temperature.
+void add_temperature_section(CommandReport& page, const AnalysisResult& r, const std::vector<SensorGroup>& groups) {
   bool any_temp = false;
   for (const auto& ch : r.channels) any_temp = any_temp || ch.temperature.has_value();
   if (any_temp) {
@@ -833,6 +862,33 @@ CommandReport analysis_report(const AnalysisResult& r, const AnalysisReportConte
     }
     page.sections.push_back(std::move(temp));
   }
+}
+
+}  // namespace
+
+CommandReport analysis_report(const AnalysisResult& r, const AnalysisReportContext& ctx, const std::string& dir,
+                              const ReportOptions& options) {
+  const auto groups = detail::sensor_groups(r);
+  const std::string& file = r.file;
+  const std::string base = file.substr(file.find_last_of('/') == std::string::npos ? 0 : file.find_last_of('/') + 1);
+
+  CommandReport page;
+  page.title = "Sensor analysis: " + (base.empty() ? std::string("record") : base);
+  page.lead_html =
+      "Static characterization by <code>cubecal analyze</code>: Allan deviation with confidence "
+      "intervals, IEEE 952 noise terms, the paper's sensor model and a Gauss–Markov alternative, bias drift, "
+      "temperature dependence and covariance (Carrara, Pereira and Azevedo, “Attitude sensors calibration and "
+      "modeling for CubeSats”).";
+  page.input_html = input_fields(r);
+  page.command = ctx.command;
+  page.plot_prefixes = {"allan_", "drift_", "temperature_", "compensated_", "psd_", "composite_"};
+
+  page.reproduce_html = reproduce_html(ctx, dir);
+  page.sections.push_back(allan_section(r, groups));
+  add_spectral_section(page, r);
+  page.sections.push_back(model_section(r, groups, ctx, options));
+  add_composite_section(page, r);
+  add_temperature_section(page, r, groups);
 
   ReportSection cov{"covariance", "Covariance", {}};
   cov.blocks.push_back(html_block(covariance_html(r)));

@@ -55,21 +55,27 @@ std::pair<double, double> tau_edges(const std::vector<double>& tau, std::size_t 
   return {std::sqrt(below * tau[j]), std::sqrt(tau[j] * above)};
 }
 
-ReportFigure heat_map(const std::string& channel, const DavarMatrix& mx, double step_s,
-                      std::vector<std::string>& taken) {
-  ReportFigure f;
-  Plot& p = f.plot;
+// The map's columns: groups of consecutive windows, each averaged in
+// log10 (value[c * taus + j], NaN: no positive deviation), and the range of
+// the levels.
+struct MapColumns {
+  std::vector<double> x_left, x_right, value;
+  double vmin = INFINITY, vmax = -INFINITY;
+};
+
+MapColumns map_columns(const DavarMatrix& mx, double step_s, const TimeAxis& ta) {
   const std::size_t K = mx.windows(), J = mx.taus();
-  const TimeAxis ta = time_axis(mx.centre.back() - mx.centre.front() + step_s);
-  p.name = unique_name("davar_map_", channel, taken);
-  p.title = "Dynamic Allan deviation, " + channel;
-  p.width = 900;
-  p.height = 560;
-  p.key = "outside right top title 'σ(τ)'";
+  MapColumns m;
+  std::vector<double>& x_left = m.x_left;
+  std::vector<double>& x_right = m.x_right;
+  std::vector<double>& value = m.value;
+  double& vmin = m.vmin;
+  double& vmax = m.vmax;
   // Columns: groups of consecutive windows, each averaged in log10.
   const std::size_t C = std::min(K, kMaxColumns);
-  std::vector<double> x_left(C), x_right(C), value(C * J, std::numeric_limits<double>::quiet_NaN());
-  double vmin = INFINITY, vmax = -INFINITY;
+  x_left.resize(C);
+  x_right.resize(C);
+  value.assign(C * J, std::numeric_limits<double>::quiet_NaN());
   for (std::size_t c = 0; c < C; ++c) {
     const std::size_t k0 = c * K / C, k1 = (c + 1) * K / C;
     x_left[c] = (mx.centre[k0] - 0.5 * step_s) / ta.per;
@@ -99,44 +105,72 @@ ReportFigure heat_map(const std::string& channel, const DavarMatrix& mx, double 
     vmin -= 0.5;
     vmax += 0.5;
   }
-  const double width = (vmax - vmin) / static_cast<double>(kLevels);
+  return m;
+}
+
+// One band per level of tau row j: over x, the tau cell of the row where
+// the row's columns are at that level and nothing (lo = hi) between them.
+void map_row_bands(Plot& p, const DavarMatrix& mx, const MapColumns& m, std::size_t j, double width) {
+  const std::size_t J = mx.taus(), C = m.x_left.size();
+  const std::vector<double>& x_left = m.x_left;
+  const std::vector<double>& x_right = m.x_right;
+  const std::vector<double>& value = m.value;
+  const double vmin = m.vmin;
   auto level_of = [&](double v) {
     const double l = std::floor((v - vmin) / width);
     return static_cast<std::size_t>(std::clamp(l, 0.0, static_cast<double>(kLevels - 1)));
   };
-  // One band per (tau row, level): over x, the tau cell of the row where
-  // the row's columns are at that level and nothing (lo = hi) between them.
-  for (std::size_t j = 0; j < J; ++j) {
-    const auto [lo, hi] = tau_edges(mx.tau, j);
-    std::vector<PlotSeries> row(kLevels);
-    for (std::size_t c = 0; c < C;) {
-      const double v = value[c * J + j];
-      if (std::isnan(v)) {
-        ++c;
-        continue;
-      }
-      const std::size_t l = level_of(v);
-      std::size_t e = c + 1;  // the run of columns at level l
-      while (e < C && !std::isnan(value[e * J + j]) && level_of(value[e * J + j]) == l) ++e;
-      PlotSeries& s = row[l];
-      for (const auto& [x, top] : {std::pair{x_left[c], lo}, std::pair{x_left[c], hi}, std::pair{x_right[e - 1], hi},
-                                   std::pair{x_right[e - 1], lo}}) {
-        s.x.push_back(x);
-        s.y.push_back(lo);
-        s.lo.push_back(lo);
-        s.hi.push_back(top);
-      }
-      c = e;
+  const auto [lo, hi] = tau_edges(mx.tau, j);
+  std::vector<PlotSeries> row(kLevels);
+  for (std::size_t c = 0; c < C;) {
+    const double v = value[c * J + j];
+    if (std::isnan(v)) {
+      ++c;
+      continue;
     }
-    for (std::size_t l = 0; l < kLevels; ++l) {
-      if (row[l].x.empty()) continue;
-      row[l].mark = Mark::band;
-      row[l].color = kLevelColors[l];
-      row[l].id = "level " + std::to_string(l + 1) + " of " + std::to_string(kLevels) + ", tau " +
-                  format_num(mx.tau[j], 6) + " s";
-      p.series.push_back(std::move(row[l]));
+    const std::size_t l = level_of(v);
+    std::size_t e = c + 1;  // the run of columns at level l
+    while (e < C && !std::isnan(value[e * J + j]) && level_of(value[e * J + j]) == l) ++e;
+    PlotSeries& s = row[l];
+    for (const auto& [x, top] : {std::pair{x_left[c], lo}, std::pair{x_left[c], hi}, std::pair{x_right[e - 1], hi},
+                                 std::pair{x_right[e - 1], lo}}) {
+      s.x.push_back(x);
+      s.y.push_back(lo);
+      s.lo.push_back(lo);
+      s.hi.push_back(top);
     }
+    c = e;
   }
+  for (std::size_t l = 0; l < kLevels; ++l) {
+    if (row[l].x.empty()) continue;
+    row[l].mark = Mark::band;
+    row[l].color = kLevelColors[l];
+    row[l].id = "level " + std::to_string(l + 1) + " of " + std::to_string(kLevels) + ", tau " +
+                format_num(mx.tau[j], 6) + " s";
+    p.series.push_back(std::move(row[l]));
+  }
+}
+
+ReportFigure heat_map(const std::string& channel, const DavarMatrix& mx, double step_s,
+                      std::vector<std::string>& taken) {
+  ReportFigure f;
+  Plot& p = f.plot;
+  const std::size_t K = mx.windows(), J = mx.taus();
+  const TimeAxis ta = time_axis(mx.centre.back() - mx.centre.front() + step_s);
+  p.name = unique_name("davar_map_", channel, taken);
+  p.title = "Dynamic Allan deviation, " + channel;
+  p.width = 900;
+  p.height = 560;
+  p.key = "outside right top title 'σ(τ)'";
+  // Columns: groups of consecutive windows, each averaged in log10.
+  const std::size_t C = std::min(K, kMaxColumns);
+  const MapColumns m = map_columns(mx, step_s, ta);
+  const std::vector<double>& x_left = m.x_left;
+  const std::vector<double>& x_right = m.x_right;
+  const double vmin = m.vmin, vmax = m.vmax;
+  const double width = (vmax - vmin) / static_cast<double>(kLevels);
+  // One band per (tau row, level).
+  for (std::size_t j = 0; j < J; ++j) map_row_bands(p, mx, m, j, width);
   // The colour key, largest level on top.
   for (std::size_t l = kLevels; l-- > 0;) {
     const double a = std::pow(10.0, vmin + width * static_cast<double>(l));

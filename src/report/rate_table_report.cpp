@@ -108,18 +108,12 @@ std::vector<ReportFigure> rate_table_residual_figures(const PlateauDetection& fo
           residual_figure(found, cal.residuals_after, true, ctx, cal)};
 }
 
-CommandReport rate_table_report(const PlateauDetection& found, const RateTableCalibration& cal,
-                                const RateTableReportContext& ctx) {
+namespace {
+
+// The input fields: the file, the plateaus used and dropped, the Earth rate.
+void rate_table_input(CommandReport& r, const PlateauDetection& found, const RateTableCalibration& cal,
+                      const RateTableReportContext& ctx) {
   const std::string& u = ctx.unit;
-  CommandReport r;
-  r.title = "Rate-table calibration: " + base_name(ctx.file);
-  r.lead_html =
-      "Gyro scale factors, misalignment and bias by <code>cubecal calibrate rate-table</code> from the "
-      "gyro means of constant-rate plateaus (the paper's fourth gyro test, eq. 6–13): the forward model "
-      "w<sub>g</sub> = S w + b<sub>g</sub> fitted by least squares and inverted to the paper's "
-      "w = A w<sub>g</sub> + β, with 1σ uncertainties.";
-  r.command = ctx.command;
-  r.plot_prefixes = {"rate_residual_"};
   r.input = {{"file", ctx.file, true},
              {"unit", u, false},
              {"plateaus from", ctx.source_text, false},
@@ -139,7 +133,10 @@ CommandReport rate_table_report(const PlateauDetection& found, const RateTableCa
                                  format_num(ctx.earth_rate[1], 5) + ", " + format_num(ctx.earth_rate[2], 5) + ") " + u
                            : "ignored (as when the table compensates it)",
                      false});
+}
 
+// The calibration, inverted (paper eq. 6) and forward.
+ReportSection calibration_section(const RateTableCalibration& cal, const std::string& u) {
   // Calibration.
   ReportTable inv;
   inv.title = "Calibration w = A w_g + β (paper eq. 6), 1σ";
@@ -170,8 +167,13 @@ CommandReport rate_table_report(const PlateauDetection& found, const RateTableCa
   ReportSection cal_sec{"calibration", "Calibration", {}};
   cal_sec.blocks.push_back({{}, std::move(inv), {}});
   cal_sec.blocks.push_back({{}, std::move(fwd), {}});
-  r.sections.push_back(std::move(cal_sec));
+  return cal_sec;
+}
 
+// The plateau residuals before and after, with their figures and the plateaus.
+ReportSection residual_section(const PlateauDetection& found, const RateTableCalibration& cal,
+                               const RateTableReportContext& ctx) {
+  const std::string& u = ctx.unit;
   // Residuals.
   ReportTable sum;
   sum.title = "Plateau residuals";
@@ -202,8 +204,11 @@ CommandReport rate_table_report(const PlateauDetection& found, const RateTableCa
   }
   pl.note = "Reference rates and residuals in " + u + "; the plateau numbers are those of the figures.";
   res_sec.blocks.push_back({{}, std::move(pl), {}});
-  r.sections.push_back(std::move(res_sec));
+  return res_sec;
+}
 
+// The error covariance of the calibrated samples (eq. 12).
+ReportSection covariance_section(const RateTableCalibration& cal, const std::string& u) {
   // Error covariance (eq. 12).
   ReportTable cov;
   cov.title = "Error covariance of the calibrated samples (paper eq. 12), (" + u + ")²";
@@ -217,7 +222,28 @@ CommandReport rate_table_report(const PlateauDetection& found, const RateTableCa
       "plus the spread of the plateau residuals): the measurement noise of the calibrated gyro.";
   ReportSection cov_sec{"covariance", "Error covariance", {}};
   cov_sec.blocks.push_back({{}, std::move(cov), {}});
-  r.sections.push_back(std::move(cov_sec));
+  return cov_sec;
+}
+
+}  // namespace
+
+CommandReport rate_table_report(const PlateauDetection& found, const RateTableCalibration& cal,
+                                const RateTableReportContext& ctx) {
+  const std::string& u = ctx.unit;
+  CommandReport r;
+  r.title = "Rate-table calibration: " + base_name(ctx.file);
+  r.lead_html =
+      "Gyro scale factors, misalignment and bias by <code>cubecal calibrate rate-table</code> from the "
+      "gyro means of constant-rate plateaus (the paper's fourth gyro test, eq. 6–13): the forward model "
+      "w<sub>g</sub> = S w + b<sub>g</sub> fitted by least squares and inverted to the paper's "
+      "w = A w<sub>g</sub> + β, with 1σ uncertainties.";
+  r.command = ctx.command;
+  r.plot_prefixes = {"rate_residual_"};
+  rate_table_input(r, found, cal, ctx);
+
+  r.sections.push_back(calibration_section(cal, u));
+  r.sections.push_back(residual_section(found, cal, ctx));
+  r.sections.push_back(covariance_section(cal, u));
   return r;
 }
 

@@ -139,6 +139,95 @@ double PowerLawFit::density(double f) const noexcept {
   return s;
 }
 
+namespace {
+
+// The weighted NNLS solution h of the normalized problem, with its passive
+// set and the whitened system (a_w, b_w) of the final model's weights.
+struct WeightedSolution {
+  VectorXd h;
+  std::vector<bool> passive;
+  MatrixXd a_w;
+  VectorXd b_w;
+};
+
+// Iteratively reweighted: the covariance of the band means is the model's
+// S_G S_H C_GH; the first pass takes the measured densities for S.
+WeightedSolution reweighted_fit(const Bands& b, const MatrixXd& x, const VectorXd& d, double floor, Index p) {
+  WeightedSolution w;
+  VectorXd& h = w.h;
+  std::vector<bool>& passive = w.passive;
+  MatrixXd& a_w = w.a_w;
+  VectorXd& b_w = w.b_w;
+  VectorXd s = d.cwiseMax(floor);
+  h = VectorXd::Zero(p);
+  for (int pass = 0; pass < kMaxPasses; ++pass) {
+    const Eigen::LLT<MatrixXd> llt = factor(b.corr, s);
+    a_w = llt.matrixL().solve(x);
+    b_w = llt.matrixL().solve(d);
+    VectorXd norm = a_w.colwise().norm().transpose();
+    for (Index a = 0; a < p; ++a)
+      if (!(norm(a) > 0.0)) norm(a) = 1.0;
+    const MatrixXd scaled = a_w * norm.cwiseInverse().asDiagonal();
+    h = noise::detail::nnls(scaled, b_w, passive).cwiseQuotient(norm);
+    const VectorXd next = (x * h).cwiseMax(floor);
+    const double change = ((next - s).cwiseAbs().cwiseQuotient(s)).maxCoeff();
+    s = next;
+    if (change < kConverged) break;
+  }
+  // Weights of the final model.
+  {
+    const Eigen::LLT<MatrixXd> llt = factor(b.corr, s);
+    a_w = llt.matrixL().solve(x);
+    b_w = llt.matrixL().solve(d);
+  }
+  return w;
+}
+
+// The terms in the data's units, with the covariance of the free ones.
+void terms_in_units(PowerLawFit& fit, const std::vector<int>& exponents, const VectorXd& h,
+                    const std::vector<Index>& free, const MatrixXd& cov_free, double d_ref, double f_ref) {
+  const auto p = static_cast<Index>(exponents.size());
+  // Back to the data's units: h_alpha = h'_alpha d_ref / f_ref^alpha.
+  std::vector<double> unit(static_cast<std::size_t>(p));
+  for (Index a = 0; a < p; ++a)
+    unit[static_cast<std::size_t>(a)] =
+        d_ref / std::pow(f_ref, static_cast<double>(exponents[static_cast<std::size_t>(a)]));
+  for (Index a = 0; a < p; ++a) {
+    PowerLawTerm& t = fit.terms[static_cast<std::size_t>(a)];
+    t.h = h(a) * unit[static_cast<std::size_t>(a)];
+  }
+  for (std::size_t i = 0; i < free.size(); ++i) {
+    const auto ai = static_cast<std::size_t>(free[i]);
+    fit.terms[ai].valid = true;
+    fit.terms[ai].sigma = std::sqrt(cov_free(static_cast<Index>(i), static_cast<Index>(i))) * unit[ai];
+    for (std::size_t j = 0; j < free.size(); ++j) {
+      const auto aj = static_cast<std::size_t>(free[j]);
+      fit.covariance[ai * static_cast<std::size_t>(p) + aj] =
+          cov_free(static_cast<Index>(i), static_cast<Index>(j)) * unit[ai] * unit[aj];
+    }
+  }
+}
+
+// Where each term is at least half of the model.
+void dominance_bands(PowerLawFit& fit) {
+  const double decades = std::log10(fit.f_hi / fit.f_lo);
+  const auto points = static_cast<std::size_t>(std::ceil(decades * kDominanceGridPerDecade)) + 1;
+  for (auto& t : fit.terms) {
+    if (!t.valid) continue;
+    for (std::size_t i = 0; i < points; ++i) {
+      const double f =
+          points == 1 ? fit.f_lo
+                      : fit.f_lo * std::pow(10.0, decades * static_cast<double>(i) / static_cast<double>(points - 1));
+      if (t.h * std::pow(f, t.alpha) >= 0.5 * fit.density(f)) {
+        if (t.f_lo == 0.0) t.f_lo = f;
+        t.f_hi = f;
+      }
+    }
+  }
+}
+
+}  // namespace
+
 PowerLawFit fit_power_law(const Psd& raw, const PowerLawFitOptions& options) {
   check_exponents(options.exponents);
   if (raw.bins_per_decade != 0) throw std::invalid_argument("fit_power_law: give the raw spectrum");
@@ -186,33 +275,11 @@ PowerLawFit fit_power_law(const Psd& raw, const PowerLawFitOptions& options) {
   const VectorXd d = b.density / d_ref;
   const double floor = 1e-12 * d.maxCoeff();
 
-  // Iteratively reweighted: the covariance of the band means is the model's
-  // S_G S_H C_GH; the first pass takes the measured densities for S.
-  VectorXd s = d.cwiseMax(floor);
-  VectorXd h = VectorXd::Zero(p);
-  std::vector<bool> passive;
-  MatrixXd a_w;
-  VectorXd b_w;
-  for (int pass = 0; pass < kMaxPasses; ++pass) {
-    const Eigen::LLT<MatrixXd> llt = factor(b.corr, s);
-    a_w = llt.matrixL().solve(x);
-    b_w = llt.matrixL().solve(d);
-    VectorXd norm = a_w.colwise().norm().transpose();
-    for (Index a = 0; a < p; ++a)
-      if (!(norm(a) > 0.0)) norm(a) = 1.0;
-    const MatrixXd scaled = a_w * norm.cwiseInverse().asDiagonal();
-    h = noise::detail::nnls(scaled, b_w, passive).cwiseQuotient(norm);
-    const VectorXd next = (x * h).cwiseMax(floor);
-    const double change = ((next - s).cwiseAbs().cwiseQuotient(s)).maxCoeff();
-    s = next;
-    if (change < kConverged) break;
-  }
-  // Weights of the final model.
-  {
-    const Eigen::LLT<MatrixXd> llt = factor(b.corr, s);
-    a_w = llt.matrixL().solve(x);
-    b_w = llt.matrixL().solve(d);
-  }
+  WeightedSolution w = reweighted_fit(b, x, d, floor, p);
+  const VectorXd& h = w.h;
+  const std::vector<bool>& passive = w.passive;
+  const MatrixXd& a_w = w.a_w;
+  const VectorXd& b_w = w.b_w;
   fit.chi2 = (a_w * h - b_w).squaredNorm();
   std::vector<Index> free;
   for (Index a = 0; a < p; ++a)
@@ -225,40 +292,8 @@ PowerLawFit fit_power_law(const Psd& raw, const PowerLawFitOptions& options) {
     for (std::size_t c = 0; c < free.size(); ++c) af.col(static_cast<Index>(c)) = a_w.col(free[c]);
     cov_free = (af.transpose() * af).ldlt().solve(MatrixXd::Identity(af.cols(), af.cols())) * fit.scale;
   }
-  // Back to the data's units: h_alpha = h'_alpha d_ref / f_ref^alpha.
-  std::vector<double> unit(static_cast<std::size_t>(p));
-  for (Index a = 0; a < p; ++a)
-    unit[static_cast<std::size_t>(a)] =
-        d_ref / std::pow(f_ref, static_cast<double>(options.exponents[static_cast<std::size_t>(a)]));
-  for (Index a = 0; a < p; ++a) {
-    PowerLawTerm& t = fit.terms[static_cast<std::size_t>(a)];
-    t.h = h(a) * unit[static_cast<std::size_t>(a)];
-  }
-  for (std::size_t i = 0; i < free.size(); ++i) {
-    const auto ai = static_cast<std::size_t>(free[i]);
-    fit.terms[ai].valid = true;
-    fit.terms[ai].sigma = std::sqrt(cov_free(static_cast<Index>(i), static_cast<Index>(i))) * unit[ai];
-    for (std::size_t j = 0; j < free.size(); ++j) {
-      const auto aj = static_cast<std::size_t>(free[j]);
-      fit.covariance[ai * static_cast<std::size_t>(p) + aj] =
-          cov_free(static_cast<Index>(i), static_cast<Index>(j)) * unit[ai] * unit[aj];
-    }
-  }
-  // Where each term is at least half of the model.
-  const double decades = std::log10(fit.f_hi / fit.f_lo);
-  const auto points = static_cast<std::size_t>(std::ceil(decades * kDominanceGridPerDecade)) + 1;
-  for (auto& t : fit.terms) {
-    if (!t.valid) continue;
-    for (std::size_t i = 0; i < points; ++i) {
-      const double f =
-          points == 1 ? fit.f_lo
-                      : fit.f_lo * std::pow(10.0, decades * static_cast<double>(i) / static_cast<double>(points - 1));
-      if (t.h * std::pow(f, t.alpha) >= 0.5 * fit.density(f)) {
-        if (t.f_lo == 0.0) t.f_lo = f;
-        t.f_hi = f;
-      }
-    }
-  }
+  terms_in_units(fit, options.exponents, h, free, cov_free, d_ref, f_ref);
+  dominance_bands(fit);
   return fit;
 }
 

@@ -246,12 +246,8 @@ struct IntervalFactors {
 constexpr int kLowestAlpha = -2;  // the Allan family (docs/formulas/stability.md §4.1)
 constexpr int kHighestAlpha = 2;
 
-}  // namespace
-
-DavarMatrix davar(std::span<const double> data, DataType type, double tau0, const DavarOptions& options) {
-  if (!(tau0 > 0.0) || !std::isfinite(tau0))
-    throw std::invalid_argument("davar: tau0 must be a positive finite number");
-  const std::size_t N = data.size();
+// The window, step and intervals asked for, checked against the record of N samples.
+void check_davar_options(std::size_t N, DataType type, const DavarOptions& options) {
   const std::size_t W = options.window, S = options.step;
   const std::size_t min_window = type == DataType::freq ? 4 : 5;
   if (S == 0) throw UsageError("step", "the step must be at least one sample");
@@ -270,25 +266,13 @@ DavarMatrix davar(std::span<const double> data, DataType type, double tau0, cons
                      "the noise type of an Allan deviation is one of +2 (WPM), +1 (FPM), 0 (WFM), "
                      "-1 (FFM), -2 (RWFM); got " +
                          std::to_string(*iv.alpha));
+}
 
-  const std::size_t P = davar_window_points(W, type);
-  const std::size_t top = max_averaging_factor(Stat::oadev, P);
-  std::vector<std::size_t> ms = averaging_factors(options.grid, top, tau0);
-  if (ms.empty())
-    throw UsageError("taus", "no tau of the grid fits a window of " + std::to_string(W) +
-                                 " samples (OADEV evaluates m up to " + std::to_string(top) + ")");
-
-  // Missing samples (skip_missing and a NaN in the record): the gapped
-  // record; otherwise the phase record of every statistic.
-  const std::size_t missing = options.skip_missing ? missing_samples(data) : 0;
-  std::optional<GappedRecord> gapped;
-  if (missing > 0) gapped.emplace(gapped_record(data, type, tau0));
-  const double scale = gapped ? gapped->scale : power_of_two_scale(data);
-  const std::vector<double> x = gapped                   ? std::vector<double>()
-                                : type == DataType::freq ? freq_to_phase(data, tau0, scale)
-                                                         : normalize_phase(data, scale);
-  const std::span<const double> xs = gapped ? std::span<const double>(gapped->x) : std::span<const double>(x);
-
+// The matrix's axes: the windows' start and centre times, the factors'
+// taus and term counts.
+DavarMatrix davar_axes(std::size_t N, DataType type, double tau0, const DavarOptions& options, std::size_t P,
+                       const std::vector<std::size_t>& ms, std::size_t missing) {
+  const std::size_t W = options.window, S = options.step;
   DavarMatrix res;
   res.tau0 = tau0;
   res.type = type;
@@ -313,39 +297,47 @@ DavarMatrix davar(std::span<const double> data, DataType type, double tau0, cons
     res.tau[j] = static_cast<double>(ms[j]) * tau0;
     res.n[j] = P - 2 * ms[j];
   }
+  return res;
+}
 
-  // Variances, then deviations (the OADEV of stats/kernels.cpp:
-  // sum / (2 n tau^2), scaled back).
-  res.dev.assign(J * K, 0.0);
-  constexpr double kNoValue = std::numeric_limits<double>::quiet_NaN();
-  if (gapped) {
-    // The whole terms of each cell (docs/formulas/stability.md §7a); a cell
-    // without one has no value.
-    res.terms.assign(J * K, 0);
-    if (options.method == DavarMethod::fast) {
-      fast_energies_gapped(*gapped, P, S, K, ms, res.dev, res.terms);
-      for (std::size_t j = 0; j < J; ++j) {
-        const double tau = res.tau[j];
-        for (std::size_t k = 0; k < K; ++k) {
-          const std::size_t c = res.cell(j, k);
-          const double denom = 2.0 * static_cast<double>(res.terms[c]) * tau * tau;
-          res.dev[c] = res.terms[c] > 0 ? std::sqrt(std::max(res.dev[c] / denom, 0.0)) * scale : kNoValue;
-        }
+constexpr double kNoValue = std::numeric_limits<double>::quiet_NaN();
+
+// The deviations of a record with missing samples: the whole terms of each
+// cell (docs/formulas/stability.md §7a); a cell without one has no value.
+void gapped_deviations(DavarMatrix& res, const GappedRecord& g, DavarMethod method, double scale) {
+  const std::size_t P = res.window_points, S = res.step, K = res.start.size(), J = res.m.size();
+  const std::vector<std::size_t>& ms = res.m;
+  res.terms.assign(J * K, 0);
+  if (method == DavarMethod::fast) {
+    fast_energies_gapped(g, P, S, K, ms, res.dev, res.terms);
+    for (std::size_t j = 0; j < J; ++j) {
+      const double tau = res.tau[j];
+      for (std::size_t k = 0; k < K; ++k) {
+        const std::size_t c = res.cell(j, k);
+        const double denom = 2.0 * static_cast<double>(res.terms[c]) * tau * tau;
+        res.dev[c] = res.terms[c] > 0 ? std::sqrt(std::max(res.dev[c] / denom, 0.0)) * scale : kNoValue;
       }
-    } else {
-      // The whole terms of every window summed anew, from the same phase
-      // points as the fast method (as the direct method without gaps).
-      for (std::size_t k = 0; k < K; ++k)
-        for (std::size_t j = 0; j < J; ++j) {
-          const std::size_t c = res.cell(j, k);
-          double energy = 0.0;
-          whole_term_energy(*gapped, k * S, P - 2 * ms[j], ms[j], energy, res.terms[c]);
-          const double tau = res.tau[j];
-          const double denom = 2.0 * static_cast<double>(res.terms[c]) * tau * tau;
-          res.dev[c] = res.terms[c] > 0 ? std::sqrt(std::max(energy / denom, 0.0)) * scale : kNoValue;
-        }
     }
-  } else if (options.method == DavarMethod::fast) {
+  } else {
+    // The whole terms of every window summed anew, from the same phase
+    // points as the fast method (as the direct method without gaps).
+    for (std::size_t k = 0; k < K; ++k)
+      for (std::size_t j = 0; j < J; ++j) {
+        const std::size_t c = res.cell(j, k);
+        double energy = 0.0;
+        whole_term_energy(g, k * S, P - 2 * ms[j], ms[j], energy, res.terms[c]);
+        const double tau = res.tau[j];
+        const double denom = 2.0 * static_cast<double>(res.terms[c]) * tau * tau;
+        res.dev[c] = res.terms[c] > 0 ? std::sqrt(std::max(energy / denom, 0.0)) * scale : kNoValue;
+      }
+  }
+}
+
+// The deviations of a record without missing samples, from its phase points xs.
+void deviations(DavarMatrix& res, std::span<const double> xs, DavarMethod method, double scale) {
+  const std::size_t P = res.window_points, S = res.step, K = res.start.size(), J = res.m.size();
+  const std::vector<std::size_t>& ms = res.m;
+  if (method == DavarMethod::fast) {
     fast_energies(xs, P, S, K, ms, res.dev);  // sums first, deviations in place
     for (std::size_t j = 0; j < J; ++j) {
       const double tau = res.tau[j];
@@ -363,12 +355,106 @@ DavarMatrix davar(std::span<const double> data, DataType type, double tau0, cons
     // eps |x|, not of the sum: docs/formulas/davar.md §4.)
     for (std::size_t k = 0; k < K; ++k)
       for (std::size_t j = 0; j < J; ++j) {
-        const VarianceTerm v = oavar(xs.subspan(k * S, P), ms[j], tau0);
+        const VarianceTerm v = oavar(xs.subspan(k * S, P), ms[j], res.tau0);
         res.dev[res.cell(j, k)] = std::sqrt(std::max(v.var, 0.0)) * scale;
       }
   }
+}
 
-  if (!iv.enabled) return res;
+// The EDF depends on (alpha, m, P) only, the same in every window: each is
+// computed once, and the interval of a cell is its deviation times the
+// ratios chi2_interval gives for a deviation of 1.
+class IntervalFactorTable {
+ public:
+  IntervalFactorTable(const std::vector<std::size_t>& ms, std::size_t P, const DavarIntervals& iv)
+      : ms_(ms), P_(P), iv_(iv), factors_(ms.size()) {}
+
+  // A window without a missing sample.
+  const IntervalFactors& whole(std::size_t j, int a) {
+    IntervalFactors& f = factors_[j][static_cast<std::size_t>(a - kLowestAlpha)];
+    if (!f.ready) {
+      f.edf = edf_for(Stat::oadev, a, ms_[j], P_, iv_.edf);
+      f.ratio = chi2_interval(1.0, f.edf, iv_.ci);
+      f.ready = true;
+    }
+    return f;
+  }
+
+  // Windows with a missing sample: the EDF of a window without gaps giving
+  // as many terms (per factor, type and count, once).
+  const IntervalFactors& gapped(std::size_t j, int a, std::size_t terms) {
+    IntervalFactors& f = gapped_factors_[{j, a, terms}];
+    if (!f.ready) {
+      f.edf = edf_for(Stat::oadev, a, ms_[j], terms + 2 * ms_[j], iv_.edf);
+      f.ratio = chi2_interval(1.0, f.edf, iv_.ci);
+      f.ready = true;
+    }
+    return f;
+  }
+
+ private:
+  const std::vector<std::size_t>& ms_;
+  std::size_t P_;
+  const DavarIntervals& iv_;
+  std::vector<std::array<IntervalFactors, kHighestAlpha - kLowestAlpha + 1>> factors_;
+  std::map<std::tuple<std::size_t, int, std::size_t>, IntervalFactors> gapped_factors_;
+};
+
+// The intervals of window k with a missing sample: the noise type as dev
+// --gaps skip identifies it on the window.
+void gapped_window_intervals(DavarMatrix& res, std::size_t k, std::span<const double> data, const DavarIntervals& iv,
+                             IntervalFactorTable& table) {
+  const std::size_t S = res.step, W = res.window, J = res.m.size();
+  const std::vector<std::size_t>& ms = res.m;
+  std::vector<GapNoiseType> typed;
+  if (!iv.alpha) {
+    StabilityOptions so;
+    so.ci = iv.ci;
+    so.edf = iv.edf;
+    typed = noise_types_skipping_missing(data.subspan(k * S, W), res.type, res.tau0, ms, so);
+  }
+  for (std::size_t j = 0; j < J; ++j) {
+    const std::size_t c = res.cell(j, k);
+    if (res.terms[c] == 0) {
+      res.edf[c] = res.lo[c] = res.hi[c] = kNoValue;
+      continue;
+    }
+    res.alpha[c] = iv.alpha ? *iv.alpha : typed[j].alpha;
+    res.alpha_carried[c] = !iv.alpha && typed[j].carried;
+    const IntervalFactors& f = table.gapped(j, res.alpha[c], res.terms[c]);
+    res.edf[c] = f.edf;
+    res.lo[c] = res.dev[c] * f.ratio.lo;
+    res.hi[c] = res.dev[c] * f.ratio.hi;
+  }
+}
+
+// The intervals of window k without a missing sample, from its phase points.
+void window_intervals(DavarMatrix& res, std::size_t k, std::span<const double> xs, std::size_t top,
+                      const DavarIntervals& iv, IntervalFactorTable& table) {
+  const std::size_t S = res.step, P = res.window_points, J = res.m.size();
+  const std::vector<std::size_t>& ms = res.m;
+  const std::span<const double> win = xs.subspan(k * S, P);
+  for (std::size_t j = 0; j < J; ++j) {
+    const std::size_t c = res.cell(j, k);
+    if (iv.alpha) {
+      res.alpha[c] = *iv.alpha;
+    } else if (j > 0 && 2 * ms[j] > top) {  // the run rule (docs/formulas/stability.md §4.5)
+      res.alpha[c] = res.alpha[res.cell(j - 1, k)];
+      res.alpha_carried[c] = true;
+    } else {
+      res.alpha[c] = identify_noise(win, ms[j], Stat::oadev).alpha;
+    }
+    const IntervalFactors& f = table.whole(j, res.alpha[c]);
+    res.edf[c] = f.edf;
+    res.lo[c] = res.dev[c] * f.ratio.lo;
+    res.hi[c] = res.dev[c] * f.ratio.hi;
+  }
+}
+
+// Every cell's interval, EDF and noise type.
+void davar_intervals(DavarMatrix& res, std::span<const double> data, std::span<const double> xs,
+                     const std::optional<GappedRecord>& gapped, std::size_t top, const DavarIntervals& iv) {
+  const std::size_t S = res.step, W = res.window, K = res.start.size(), J = res.m.size();
   res.intervals = true;
   res.ci = iv.ci;
   res.edf_method = iv.edf;
@@ -378,73 +464,55 @@ DavarMatrix davar(std::span<const double> data, DataType type, double tau0, cons
   res.edf.assign(J * K, 0.0);
   res.alpha.assign(J * K, 0);
   res.alpha_carried.assign(J * K, false);
-  // The EDF depends on (alpha, m, P) only, the same in every window: each is
-  // computed once, and the interval of a cell is its deviation times the
-  // ratios chi2_interval gives for a deviation of 1.
-  std::vector<std::array<IntervalFactors, kHighestAlpha - kLowestAlpha + 1>> factors(J);
-  auto factor = [&](std::size_t j, int a) -> const IntervalFactors& {
-    IntervalFactors& f = factors[j][static_cast<std::size_t>(a - kLowestAlpha)];
-    if (!f.ready) {
-      f.edf = edf_for(Stat::oadev, a, ms[j], P, iv.edf);
-      f.ratio = chi2_interval(1.0, f.edf, iv.ci);
-      f.ready = true;
-    }
-    return f;
-  };
-  // Windows with a missing sample: the noise type as dev --gaps skip
-  // identifies it on the window, the EDF of a window without gaps giving as
-  // many terms (per factor, type and count, once).
-  std::map<std::tuple<std::size_t, int, std::size_t>, IntervalFactors> gapped_factors;
-  auto gapped_factor = [&](std::size_t j, int a, std::size_t terms) -> const IntervalFactors& {
-    IntervalFactors& f = gapped_factors[{j, a, terms}];
-    if (!f.ready) {
-      f.edf = edf_for(Stat::oadev, a, ms[j], terms + 2 * ms[j], iv.edf);
-      f.ratio = chi2_interval(1.0, f.edf, iv.ci);
-      f.ready = true;
-    }
-    return f;
-  };
+  IntervalFactorTable table(res.m, res.window_points, iv);
   for (std::size_t k = 0; k < K; ++k) {
-    if (gapped && gapped->missing_in(k * S, W) > 0) {
-      std::vector<GapNoiseType> typed;
-      if (!iv.alpha) {
-        StabilityOptions so;
-        so.ci = iv.ci;
-        so.edf = iv.edf;
-        typed = noise_types_skipping_missing(data.subspan(k * S, W), type, tau0, ms, so);
-      }
-      for (std::size_t j = 0; j < J; ++j) {
-        const std::size_t c = res.cell(j, k);
-        if (res.terms[c] == 0) {
-          res.edf[c] = res.lo[c] = res.hi[c] = kNoValue;
-          continue;
-        }
-        res.alpha[c] = iv.alpha ? *iv.alpha : typed[j].alpha;
-        res.alpha_carried[c] = !iv.alpha && typed[j].carried;
-        const IntervalFactors& f = gapped_factor(j, res.alpha[c], res.terms[c]);
-        res.edf[c] = f.edf;
-        res.lo[c] = res.dev[c] * f.ratio.lo;
-        res.hi[c] = res.dev[c] * f.ratio.hi;
-      }
-      continue;
-    }
-    const std::span<const double> win = xs.subspan(k * S, P);
-    for (std::size_t j = 0; j < J; ++j) {
-      const std::size_t c = res.cell(j, k);
-      if (iv.alpha) {
-        res.alpha[c] = *iv.alpha;
-      } else if (j > 0 && 2 * ms[j] > top) {  // the run rule (docs/formulas/stability.md §4.5)
-        res.alpha[c] = res.alpha[res.cell(j - 1, k)];
-        res.alpha_carried[c] = true;
-      } else {
-        res.alpha[c] = identify_noise(win, ms[j], Stat::oadev).alpha;
-      }
-      const IntervalFactors& f = factor(j, res.alpha[c]);
-      res.edf[c] = f.edf;
-      res.lo[c] = res.dev[c] * f.ratio.lo;
-      res.hi[c] = res.dev[c] * f.ratio.hi;
-    }
+    if (gapped && gapped->missing_in(k * S, W) > 0)
+      gapped_window_intervals(res, k, data, iv, table);
+    else
+      window_intervals(res, k, xs, top, iv, table);
   }
+}
+
+}  // namespace
+
+DavarMatrix davar(std::span<const double> data, DataType type, double tau0, const DavarOptions& options) {
+  if (!(tau0 > 0.0) || !std::isfinite(tau0))
+    throw std::invalid_argument("davar: tau0 must be a positive finite number");
+  const std::size_t N = data.size();
+  const std::size_t W = options.window;
+  check_davar_options(N, type, options);
+  const DavarIntervals& iv = options.intervals;
+
+  const std::size_t P = davar_window_points(W, type);
+  const std::size_t top = max_averaging_factor(Stat::oadev, P);
+  std::vector<std::size_t> ms = averaging_factors(options.grid, top, tau0);
+  if (ms.empty())
+    throw UsageError("taus", "no tau of the grid fits a window of " + std::to_string(W) +
+                                 " samples (OADEV evaluates m up to " + std::to_string(top) + ")");
+
+  // Missing samples (skip_missing and a NaN in the record): the gapped
+  // record; otherwise the phase record of every statistic.
+  const std::size_t missing = options.skip_missing ? missing_samples(data) : 0;
+  std::optional<GappedRecord> gapped;
+  if (missing > 0) gapped.emplace(gapped_record(data, type, tau0));
+  const double scale = gapped ? gapped->scale : power_of_two_scale(data);
+  const std::vector<double> x = gapped                   ? std::vector<double>()
+                                : type == DataType::freq ? freq_to_phase(data, tau0, scale)
+                                                         : normalize_phase(data, scale);
+  const std::span<const double> xs = gapped ? std::span<const double>(gapped->x) : std::span<const double>(x);
+
+  DavarMatrix res = davar_axes(N, type, tau0, options, P, ms, missing);
+
+  // Variances, then deviations (the OADEV of stats/kernels.cpp:
+  // sum / (2 n tau^2), scaled back).
+  res.dev.assign(res.m.size() * res.start.size(), 0.0);
+  if (gapped)
+    gapped_deviations(res, *gapped, options.method, scale);
+  else
+    deviations(res, xs, options.method, scale);
+
+  if (!iv.enabled) return res;
+  davar_intervals(res, data, xs, gapped, top, iv);
   return res;
 }
 

@@ -143,6 +143,76 @@ void window_sums(const double* P, std::size_t b0, std::size_t k, std::size_t n, 
   }
 }
 
+// The overlapping terms of a pass over a level's len values (prefix sums
+// P): each factor's new terms, those whose last prefix index is past the
+// processed part, summed into its energy. (Level and Factor are
+// StreamingDeviation's: deduced, as they are its own.)
+template <class Level, class Factor>
+void add_overlapping_energies(const Level& lv, std::vector<Factor>& state, const double* P, std::size_t len,
+                              int order) {
+  // New terms: those whose last prefix index is past the processed part,
+  // starts first .. last of each factor. Taken in tiles of kTile starts,
+  // every factor of the level on one tile before the next: the prefix
+  // values a tile reads (near kTile starts and at +k, +2k, .. of each
+  // factor, and the octave grid shares these) stay in the cache.
+  std::size_t lo_all = len, hi_all = 0;
+  for (std::size_t idx : lv.factors) {
+    Factor& f = state[idx];
+    const std::size_t span = static_cast<std::size_t>(order) * f.k;
+    f.pass_energy = 0.0;
+    f.first = 1;
+    f.last = 0;
+    if (len < span) continue;
+    f.first = lv.kept + 1 > span ? lv.kept + 1 - span : 0;
+    f.last = len - span;
+    if (f.last < f.first) continue;
+    lo_all = std::min(lo_all, f.first);
+    hi_all = std::max(hi_all, f.last + 1);
+  }
+  for (std::size_t t0 = lo_all; t0 < hi_all; t0 += kTile) {
+    const std::size_t t1 = std::min(hi_all, t0 + kTile);
+    for (std::size_t idx : lv.factors) {
+      Factor& f = state[idx];
+      const std::size_t from = std::max(t0, f.first), to = std::min(t1, f.last + 1);
+      if (f.last < f.first || from >= to) continue;
+      f.pass_energy += order == 2 ? second_difference_energy(P + from, to - from, f.k)
+                                  : third_difference_energy(P + from, to - from, f.k);
+    }
+  }
+  for (std::size_t idx : lv.factors) {
+    Factor& f = state[idx];
+    if (f.last < f.first) continue;
+    // Kahan: the record's sum over many passes.
+    const double yk = f.pass_energy - f.energy_c;
+    const double t = f.energy + yk;
+    f.energy_c = (t - f.energy) - yk;
+    f.energy = t;
+    f.terms += f.last - f.first + 1;
+  }
+}
+
+// Pair sums of a pass over a level's len values for the next level,
+// aligned on even indices of this one: lv.out[0 .. out_n).
+template <class Level>
+void pair_sums_for_next(Level& lv, std::size_t len) {
+  lv.out_n = 0;
+  std::size_t j = lv.kept;
+  if (lv.out.size() < (len - j) / 2 + 1) lv.out.resize((len - j) / 2 + 1);
+  if (lv.odd && j < len) {
+    lv.out[lv.out_n++] = lv.pending + lv.buf[j];
+    lv.odd = false;
+    ++j;
+  }
+  const std::size_t pairs = (len - j) / 2;
+  pair_sums(lv.buf.data() + j, pairs, lv.out.data() + lv.out_n);
+  lv.out_n += pairs;
+  j += 2 * pairs;
+  if (j < len) {
+    lv.odd = true;
+    lv.pending = lv.buf[j];
+  }
+}
+
 }  // namespace
 
 bool streams(Stat stat) noexcept {
@@ -289,47 +359,7 @@ void StreamingDeviation::process(std::size_t level) {
   recentre(lv.buf.data(), kept, c - lv.mean, prefix_.data());
   centred_prefix(lv.buf.data() + kept, len - kept, cp, prefix_.data() + kept);
   const double* P = prefix_.data();
-  if (overlapping_) {
-    // New terms: those whose last prefix index is past the processed part,
-    // starts first .. last of each factor. Taken in tiles of kTile starts,
-    // every factor of the level on one tile before the next: the prefix
-    // values a tile reads (near kTile starts and at +k, +2k, .. of each
-    // factor, and the octave grid shares these) stay in the cache.
-    std::size_t lo_all = len, hi_all = 0;
-    for (std::size_t idx : lv.factors) {
-      Factor& f = state_[idx];
-      const std::size_t span = static_cast<std::size_t>(order_) * f.k;
-      f.pass_energy = 0.0;
-      f.first = 1;
-      f.last = 0;
-      if (len < span) continue;
-      f.first = lv.kept + 1 > span ? lv.kept + 1 - span : 0;
-      f.last = len - span;
-      if (f.last < f.first) continue;
-      lo_all = std::min(lo_all, f.first);
-      hi_all = std::max(hi_all, f.last + 1);
-    }
-    for (std::size_t t0 = lo_all; t0 < hi_all; t0 += kTile) {
-      const std::size_t t1 = std::min(hi_all, t0 + kTile);
-      for (std::size_t idx : lv.factors) {
-        Factor& f = state_[idx];
-        const std::size_t from = std::max(t0, f.first), to = std::min(t1, f.last + 1);
-        if (f.last < f.first || from >= to) continue;
-        f.pass_energy += order_ == 2 ? second_difference_energy(P + from, to - from, f.k)
-                                     : third_difference_energy(P + from, to - from, f.k);
-      }
-    }
-    for (std::size_t idx : lv.factors) {
-      Factor& f = state_[idx];
-      if (f.last < f.first) continue;
-      // Kahan: the record's sum over many passes.
-      const double yk = f.pass_energy - f.energy_c;
-      const double t = f.energy + yk;
-      f.energy_c = (t - f.energy) - yk;
-      f.energy = t;
-      f.terms += f.last - f.first + 1;
-    }
-  }
+  if (overlapping_) add_overlapping_energies(lv, state_, P, len, order_);
   for (std::size_t idx : lv.factors) {
     Factor& f = state_[idx];
     const std::size_t k = f.k;
@@ -355,24 +385,7 @@ void StreamingDeviation::process(std::size_t level) {
     }
   }
   // Pair sums for the next level, aligned on even indices of this one.
-  if (level + 1 < levels_.size()) {
-    lv.out_n = 0;
-    std::size_t j = lv.kept;
-    if (lv.out.size() < (len - j) / 2 + 1) lv.out.resize((len - j) / 2 + 1);
-    if (lv.odd && j < len) {
-      lv.out[lv.out_n++] = lv.pending + lv.buf[j];
-      lv.odd = false;
-      ++j;
-    }
-    const std::size_t pairs = (len - j) / 2;
-    pair_sums(lv.buf.data() + j, pairs, lv.out.data() + lv.out_n);
-    lv.out_n += pairs;
-    j += 2 * pairs;
-    if (j < len) {
-      lv.odd = true;
-      lv.pending = lv.buf[j];
-    }
-  }
+  if (level + 1 < levels_.size()) pair_sums_for_next(lv, len);
   // Keep the span's prefix sums for the terms that end in the next pass.
   const std::size_t keep = std::min(lv.span, len);
   rebase(P + (len - keep), keep, lv.buf.data());

@@ -89,10 +89,10 @@ std::string_view to_string(RecordingEvent::Kind k) noexcept;
 std::string crc32_hex(std::uint32_t crc);
 
 // The manifest as JSON text (pretty-printed, ending in a newline).
-std::string manifest_to_json(const RecordingManifest& m);
+std::string manifest_text(const RecordingManifest& m);
 // Parses manifest text; `file` names it in errors (InputError: not JSON, not
 // "cubecal-record/1", a field missing or of the wrong type).
-RecordingManifest manifest_from_json(std::string_view text, const std::string& file);
+RecordingManifest parse_manifest(std::string_view text, const std::string& file);
 
 // Reads DIR/manifest.json (InputError when unreadable or malformed).
 RecordingManifest read_manifest(const std::string& dir);
@@ -106,7 +106,7 @@ bool is_recording_dir(const std::string& dir);
 // std::system_error (with the path in its message) on failure.
 void replace_file_atomically(const std::string& path, std::string_view content);
 
-// replace_file_atomically(DIR/manifest.json, manifest_to_json(m)).
+// replace_file_atomically(DIR/manifest.json, manifest_text(m)).
 void write_manifest(const std::string& dir, const RecordingManifest& m);
 
 // "2026-11-27T13:00:00.123456789Z" from a CLOCK_REALTIME reading.

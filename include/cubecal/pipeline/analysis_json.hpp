@@ -1,7 +1,7 @@
 // The JSON form of the analysis results, beside their types: `analyze`'s
 // AnalysisResult (analysis.json: stable keys, every number with its unit,
 // the confidence level of the intervals) and `dev`'s DevResult
-// (`dev --format json`). from_json reads back what to_json wrote, so a later
+// (`dev --format json`). The readers read back what to_json wrote, so a later
 // run (`cubecal report DIR`, `simulate --model`) gets the typed result of an
 // earlier one; a document without a key the result needs is a UsageError
 // naming the key.
@@ -21,14 +21,14 @@ namespace cubecal::pipeline {
 // its shortest taus), and noise.reported holds the terms every output
 // reports (noise/reported_terms.hpp): N, K only when significant, B or
 // "no minimum within the record". A file without the key is version 1:
-// from_json reads its N again from the stored curve.
+// analysis_result_from_json reads its N again from the stored curve.
 inline constexpr int kAnalysisFormatVersion = 2;
 
 // analysis.json without its "command" (see AnalysisDocument). Noise terms
 // are stored in their display units (display() of noise/units.hpp) with the
 // tau range they were read from; densities are derived values, written for
 // the user and not read back. The drift series are not stored (drift.csv
-// holds them): from_json leaves DriftSeries::t and ::drift empty. A channel
+// holds them): analysis_result_from_json leaves DriftSeries::t and ::drift empty. A channel
 // with a spectral view (analyze --psd) has "spectral": "welch" (the plan),
 // "spectrum" (the log bands), "fit" (as `psd --format json` writes it; null
 // with "fit_error" when not made) and "terms" (each IEEE 952 term of the fit
@@ -38,11 +38,11 @@ inline constexpr int kAnalysisFormatVersion = 2;
 // "model" has "composite" (the channel as `model --format json` writes it,
 // model_fit_json.hpp) and the document a "composite" with how they were
 // fitted (model, selection_replicates, bootstrap, seed, robust).
-void to_json(nlohmann::json& j, const AnalysisResult& r);
+nlohmann::json to_json(const AnalysisResult& r);
 // Throws UsageError ("analysis.json: channels[0].noise: no key 'fit' ...")
 // for a document that lacks a key the result needs. Keys added after the
 // first release (ci, gaps, ...) take their defaults when absent.
-void from_json(const nlohmann::json& j, AnalysisResult& r);
+AnalysisResult analysis_result_from_json(const nlohmann::json& j, const std::string& where);
 
 // An analysis.json document: the result and the command line recorded with it.
 struct AnalysisDocument {
@@ -64,7 +64,7 @@ AnalysisDocument parse_analysis_json(const std::string& text, const std::string&
 // computed. analysis.json carries "excluded_taus" and "merged_taus" of its
 // Allan curve the same way, and "model_excluded_taus" (listed taus on the
 // curve but beyond the --max-samples head the model is fitted on).
-void to_json(nlohmann::json& j, const DevResult& r);
-void from_json(const nlohmann::json& j, DevResult& r);
+nlohmann::json to_json(const DevResult& r);
+DevResult dev_result_from_json(const nlohmann::json& j, const std::string& where);
 
 }  // namespace cubecal::pipeline

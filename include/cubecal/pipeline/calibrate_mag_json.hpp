@@ -4,10 +4,10 @@
 // norm_error_before/after {mean, rms, max, unit}, chi2, dof, p_value, noise,
 // noise_estimated, points, points_total, rejected, reject_sigma,
 // rejected_lines, iterations, converged, semi_axes, axis_ratio, coverage
-// {...}, covariance {names, matrix}, notes; and what from_json needs besides
+// {...}, covariance {names, matrix}, notes; and what mag_result_from_json needs besides
 // (eta, field_norm_default, field_norm_per_point, first_data_line,
 // coverage.centre_from_sphere_fit). The input points and per-point field
-// norms are the input file's content and are not written: from_json leaves
+// norms are the input file's content and are not written: mag_result_from_json leaves
 // MagResult::points and ::field_norms empty.
 #pragma once
 #include <nlohmann/json.hpp>
@@ -17,7 +17,7 @@
 namespace cubecal::pipeline {
 
 nlohmann::json to_json(const MagResult& r);
-// nlohmann's convention: j.get<MagResult>() calls it.
-void from_json(const nlohmann::json& j, MagResult& r);
+// The result that to_json wrote.
+MagResult mag_result_from_json(const nlohmann::json& j);
 
 }  // namespace cubecal::pipeline

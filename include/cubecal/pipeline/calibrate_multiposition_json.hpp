@@ -3,7 +3,7 @@
 // Keys: method, acc_file, gyro_file, model, samples, rate_hz, g,
 // init_static_s, window, interval_samples, min_intervals, th_mult, threshold,
 // init_variance_norm, static_intervals, intervals, trials, accelerometer
-// {...}, gyroscope {...} or null; and what from_json needs besides (options,
+// {...}, gyroscope {...} or null; and what multiposition_result_from_json needs besides (options,
 // accelerometer.init_samples, the misalignment angles of each model).
 #pragma once
 #include <nlohmann/json.hpp>
@@ -13,7 +13,7 @@
 namespace cubecal::pipeline {
 
 nlohmann::json to_json(const MultipositionResult& r);
-// nlohmann's convention: j.get<MultipositionResult>() calls it.
-void from_json(const nlohmann::json& j, MultipositionResult& r);
+// The result that to_json wrote.
+MultipositionResult multiposition_result_from_json(const nlohmann::json& j);
 
 }  // namespace cubecal::pipeline

@@ -8,7 +8,7 @@
 // plateaus_unmatched, plateaus [...]; and the exact values behind the scaled
 // ones (inverse_cov, forward.cov, forward.scale_factor_error(_sigma),
 // forward.misalignment(_sigma) in rad, detection {...}) so that
-// from_json(to_json(r)) gives r back.
+// rate_table_result_from_json(to_json(r)) gives r back.
 #pragma once
 #include <nlohmann/json.hpp>
 
@@ -17,7 +17,7 @@
 namespace cubecal::pipeline {
 
 nlohmann::json to_json(const RateTableResult& r);
-// nlohmann's convention: j.get<RateTableResult>() calls it.
-void from_json(const nlohmann::json& j, RateTableResult& r);
+// The result that to_json wrote.
+RateTableResult rate_table_result_from_json(const nlohmann::json& j);
 
 }  // namespace cubecal::pipeline

@@ -10,7 +10,7 @@
 namespace cubecal::pipeline {
 
 nlohmann::json to_json(const TemperatureResult& r);
-// nlohmann's convention: j.get<TemperatureResult>() calls it.
-void from_json(const nlohmann::json& j, TemperatureResult& r);
+// The result that to_json wrote.
+TemperatureResult temperature_result_from_json(const nlohmann::json& j);
 
 }  // namespace cubecal::pipeline

@@ -23,10 +23,10 @@ nlohmann::json to_json(const ModelChannel& c, double rate_hz, bool bootstrapped)
 
 // The inverses (model_fit_json_read.cpp), for `simulate --model model.json`
 // and analysis.json: what to_json wrote, read back (the weights' standard
-// deviations, GmwmFit::sd, are not written and come back empty). `label`
+// deviations, GmwmFit::sd, are not written and come back empty). `where`
 // (the file) and `path` (the place in the document) start every message;
 // a document without a key it needs is a UsageError naming the key.
-ModelResult model_result_from_json(const nlohmann::json& j, const std::string& label);
-ModelChannel model_channel_from_json(const nlohmann::json& j, const std::string& label, const std::string& path);
+ModelResult model_result_from_json(const nlohmann::json& j, const std::string& where);
+ModelChannel model_channel_from_json(const nlohmann::json& j, const std::string& where, const std::string& path);
 
 }  // namespace cubecal::pipeline

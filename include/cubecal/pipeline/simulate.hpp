@@ -63,7 +63,7 @@ void simulate_blocks(const SimulateRequest& r,
 // (t, <names...>): the same file write_simulation writes for its request.
 void write_record(const SimulatedRecord& rec, io::CsvWriter& out);
 
-// Sensor models from an `analyze` result (e.g. from_json of an
+// Sensor models from an `analyze` result (e.g. analysis_result_from_json of an
 // analysis.json; `label` names it in messages): consecutive
 // channels form triads (a last partial triad keeps only its channels); the
 // fixed bias is the measured mean, white noise and bias process come from

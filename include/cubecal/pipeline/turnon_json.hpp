@@ -16,9 +16,9 @@ namespace cubecal::pipeline {
 nlohmann::json to_json(const RunSummary& r);
 nlohmann::json to_json(const TurnOnResult& t);
 nlohmann::json to_json(const std::vector<RunSummary>& compared);  // {"runs": [...]}
-// nlohmann's convention: j.get<RunSummary>(), j.get<TurnOnResult>() call them;
-// a compare document is j.at("runs").get<std::vector<RunSummary>>().
-void from_json(const nlohmann::json& j, RunSummary& r);
-void from_json(const nlohmann::json& j, TurnOnResult& t);
+// The results that to_json wrote; a compare document's runs are
+// run_summary_from_json of each element of j.at("runs").
+RunSummary run_summary_from_json(const nlohmann::json& j);
+TurnOnResult turn_on_result_from_json(const nlohmann::json& j);
 
 }  // namespace cubecal::pipeline
