@@ -309,7 +309,7 @@ TEST(AnalyzeComposite, RefusedWhereItCannotBeMade) {
     pipeline::check_analyze_streamable(req, true);
     FAIL() << "a streamed analysis took the composite model";
   } catch (const UsageError& e) {
-    EXPECT_EQ(e.option(), "composite");
+    EXPECT_EQ(e.field(), cubecal::Field::composite);
   }
   // A record cut at gaps, with no head to fit on.
   io::Series s = record({paper_gyro(kPaperRate)}, kPaperRate, 0.5, 6);

@@ -299,7 +299,7 @@ TEST(CommandReportPage, RefusesAnExistingReportAndAMissingGnuplot) {
   } catch (const UsageError& e) {
     // The path given is named.
     EXPECT_EQ(std::string(e.what()), report::gnuplot_missing((d / "no-such" / "gnuplot").string()));
-    EXPECT_EQ(e.option(), "gnuplot");
+    EXPECT_EQ(e.field(), cubecal::Field::gnuplot);
   }
   // Without gnuplot and require_plots = false: the page, saying why.
   report::ReportOptions o;

@@ -620,7 +620,7 @@ TEST_F(Reader, LsbCountMustMatchTheColumns) {
       read_series(path, opt);
       ADD_FAILURE() << "no error";
     } catch (const UsageError& e) {
-      EXPECT_EQ(e.option(), "counts_per_unit");
+      EXPECT_EQ(e.field(), cubecal::Field::counts_per_unit);
       EXPECT_EQ(std::string(e.what()),
                 path + ": 3 LSB values for 2 columns (gx,az): give one value for every column, or one per column");
     }

@@ -257,7 +257,7 @@ TEST_F(ReportTest, MissingGnuplotIsAClearError) {
   } catch (const UsageError& e) {
     // The path given is named (it used to say "install gnuplot-nox" for a typo in it).
     EXPECT_EQ(std::string(e.what()), report::gnuplot_missing(o.gnuplot));
-    EXPECT_EQ(e.option(), "gnuplot");
+    EXPECT_EQ(e.field(), cubecal::Field::gnuplot);
     EXPECT_NE(std::string(e.what()).find("no executable gnuplot at " + o.gnuplot), std::string::npos);
   }
   EXPECT_FALSE(fs::exists(d / "report.html"));

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "cubecal/error.hpp"
+#include "cubecal/field.hpp"
 
 namespace py = pybind11;
 
@@ -19,6 +20,10 @@ void raise(PyObject* type, const std::string& message, const py::dict& attribute
 }
 
 }  // namespace
+
+std::string python_words(const std::string& text) {
+  return render_fields(text, [](Field f) { return std::string(field_name(f)) + "="; });
+}
 
 void bind_errors(py::module_& m) {
   // Handles that live as long as the interpreter (pybind11's own idiom for
@@ -42,17 +47,21 @@ void bind_errors(py::module_& m) {
       a["file"] = e.file();
       a["line"] = e.line();
       a["column"] = e.column();
-      a["problem"] = e.problem();
-      a["hint"] = e.hint();
-      raise(input_error.ptr(), e.what(), a);
+      a["problem"] = python_words(e.problem());
+      a["hint"] = python_words(e.hint());
+      raise(input_error.ptr(), python_words(e.text()), a);
+    } catch (const ArgumentError& e) {
+      py::dict a;
+      a["option"] = e.argument();
+      raise(usage_error.ptr(), python_words(e.text()), a);
     } catch (const UsageError& e) {
       py::dict a;
-      a["option"] = e.option();
-      raise(usage_error.ptr(), e.what(), a);
+      a["option"] = e.field() ? std::string(field_name(*e.field())) : std::string();
+      raise(usage_error.ptr(), python_words(e.text()), a);
     } catch (const CalibrationError& e) {
       py::dict a;
       a["reason"] = std::string(to_string(e.reason()));
-      raise(calibration_error.ptr(), e.what(), a);
+      raise(calibration_error.ptr(), python_words(e.text()), a);
     }
   });
 }

@@ -3,7 +3,28 @@
 #pragma once
 #include <pybind11/pybind11.h>
 
+#include <string>
+#include <utility>
+
+#include "cubecal/error.hpp"
+
 namespace cubecal::python {
+
+// A UsageError on an argument only Python has (the arrays passed in, a
+// profile given as a string): `argument` is its keyword, raised as the
+// UsageError's .option.
+class ArgumentError : public UsageError {
+ public:
+  ArgumentError(std::string argument, const std::string& what) : UsageError(what), argument_(std::move(argument)) {}
+  const std::string& argument() const noexcept { return argument_; }
+
+ private:
+  std::string argument_;
+};
+
+// `text` (a library message with field markers) in Python's words: a field
+// as its keyword, "stream=".
+std::string python_words(const std::string& text);
 
 // Defines cubecal.Error (a ValueError), cubecal.InputError (file, line,
 // column, problem, hint), cubecal.UsageError (option) and

@@ -13,7 +13,7 @@ namespace cubecal::acquire {
 namespace {
 
 [[noreturn]] void bad(const std::string& what) {
-  throw UsageError("frame", printable_text(what) +
+  throw UsageError(Field::frame, printable_text(what) +
                                 " (e.g. --frame 'sync=A55A;fields=t:u32,gx:i16,gy:i16,gz:i16;checksum=xor8;endian=le'; "
                                 "types u8 i8 u16 i16 u32 i32 u64 i64 f32 f64, checksums none xor8 sum8 crc16 crc32)");
 }

@@ -49,7 +49,7 @@ std::string table_text(const pipeline::TemperatureResult& r) {
 
 int run_calibrate_temperature(const TemperatureOptions& o) {
   if (split_list(o.unit).size() > 1)
-    throw UsageError("unit",
+    throw UsageError(Field::unit,
                      "one unit here, the unit of the coefficients of every channel: calibrate the channels "
                      "of each unit in their own run (--columns)");
   ResultOutput result(o.out, o.force);  // refuses an existing file before the work

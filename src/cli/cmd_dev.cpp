@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "field_flags.hpp"
 #include "common_options.hpp"
 #include "cubecal/error.hpp"
 #include "cubecal/io/series.hpp"
@@ -122,7 +123,7 @@ int run_dev_command(DevOptions& o) {
             o.input.file, static_cast<double>(need) / 1e6, static_cast<double>(budget) / 1e6);
       } catch (const UsageError& e) {
         std::cerr << "cubecal: warning: " << o.input.file << " may not fit the memory budget (--memory), and it "
-                  << "cannot be streamed: " << e.what() << '\n';
+                  << "cannot be streamed: " << flag_words(e.text()) << '\n';
       }
     }
   }

@@ -18,7 +18,7 @@ namespace {
 // Creating a file is the only test of writability that holds for root, for
 // read-only mounts and for ACLs alike; with O_EXCL a file of the probe's
 // name, should one exist, is never touched.
-void probe_writable(const fs::path& dir, const std::string& option, const std::string& shown) {
+void probe_writable(const fs::path& dir, Field option, const std::string& shown) {
   int err = 0;
   for (int attempt = 0; attempt < 8; ++attempt) {
     std::string name = ".cubecal-probe-" + std::to_string(::getpid());
@@ -42,7 +42,7 @@ std::string parent_text(const fs::path& p) { return p.empty() ? std::string(".")
 
 }  // namespace
 
-void check_output_file(const std::string& path, bool force, const std::string& option) {
+void check_output_file(const std::string& path, bool force, Field option) {
   std::error_code ec;
   const fs::path p(path);
   if (path.empty()) throw UsageError(option, "the output file name is empty");
@@ -62,7 +62,7 @@ void check_output_file(const std::string& path, bool force, const std::string& o
 }
 
 void prepare_output_dir(const std::string& dir, bool force, const std::vector<std::string>& files,
-                        const std::string& option) {
+                        Field option) {
   std::error_code ec;
   const fs::path d(dir);
   if (dir.empty()) throw UsageError(option, "the output directory name is empty");

@@ -20,7 +20,7 @@ RawLayout parse_raw_layout(const std::string& types, std::size_t header_bytes) {
     const std::string name = types.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
     const auto type = parse_sample_type(name);
     if (!type) {
-      throw UsageError("binary", "unknown sample type '" + name +
+      throw UsageError(Field::binary, "unknown sample type '" + name +
                                      "': use int8, uint8, int16, uint16, int32, uint32, int64, uint64, float32 or "
                                      "float64, with le or be (byte order) after all but the 8-bit types, one per "
                                      "channel separated by commas (e.g. int16le,int16le,float32le)");

@@ -419,7 +419,7 @@ struct Reader {
   // text file.
   void check_values(Series& s) const {
     if (opt.lsb.size() > 1 && opt.lsb.size() != s.channels.size())
-      throw UsageError("counts_per_unit", dir + ": " + std::to_string(opt.lsb.size()) + " LSB values for " +
+      throw UsageError(Field::counts_per_unit, dir + ": " + std::to_string(opt.lsb.size()) + " LSB values for " +
                                               std::to_string(s.channels.size()) + " columns (" + joined(s.names) +
                                               "): give one value for every column, or one per column");
     for (std::size_t c = 0; c < s.channels.size(); ++c) {
@@ -447,7 +447,7 @@ void check_options(const SeriesOptions& opt, const std::string& dir) {
     throw UsageError(dir + " is a recording directory, whose chunks have no preamble rows: leave out the rows to skip");
   if (!opt.topics.empty()) throw UsageError(dir + " is a recording directory, not a ROS bag: leave out the topics");
   if (!opt.dataset.empty())
-    throw UsageError("dataset", dir + " is a recording directory, not an HDF5 file: leave out the dataset");
+    throw UsageError(Field::dataset, dir + " is a recording directory, not an HDF5 file: leave out the dataset");
 }
 
 }  // namespace

@@ -167,20 +167,20 @@ class ByteSource {
 
 void check_common(const SeriesOptions& opt) {
   if (opt.gaps == GapPolicy::split)
-    throw UsageError("gaps",
+    throw UsageError(Field::gaps,
                      "a streamed record is not split at gaps: leave out --gaps split (a gap is then an "
                      "error naming its place), or read the record into memory without --stream");
   if (opt.gaps == GapPolicy::skip)
-    throw UsageError("gaps",
+    throw UsageError(Field::gaps,
                      "missing samples are skipped in a record read into memory: leave out --stream, or "
                      "--gaps skip (a gap is then an error naming its place)");
-  if (!opt.topics.empty()) throw UsageError("topics", "ROS bags are read into memory: leave out --stream");
+  if (!opt.topics.empty()) throw UsageError(Field::topics, "ROS bags are read into memory: leave out --stream");
   for (const double lsb : opt.lsb)
     if (!(lsb > 0.0) || !std::isfinite(lsb))
-      throw UsageError("counts_per_unit",
+      throw UsageError(Field::counts_per_unit,
                        "the LSB (counts per unit) must be a positive finite number, got " + stamp(lsb));
   if (opt.rate_hz != 0.0 && !(opt.rate_hz >= kMinRateHz && opt.rate_hz <= kMaxRateHz))
-    throw UsageError("rate", "the sampling rate " + stamp(opt.rate_hz) + " Hz is outside the range " +
+    throw UsageError(Field::rate, "the sampling rate " + stamp(opt.rate_hz) + " Hz is outside the range " +
                                  stamp(kMinRateHz) + " to " + stamp(kMaxRateHz) + " Hz");
 }
 
@@ -188,7 +188,7 @@ void check_lsb_count(const SeriesOptions& opt, const std::string& file, const st
   if (opt.lsb.size() <= 1 || opt.lsb.size() == names.size()) return;
   std::string list;
   for (const auto& n : names) list += (list.empty() ? "" : ",") + n;
-  throw UsageError("counts_per_unit", file + ": " + std::to_string(opt.lsb.size()) + " LSB values for " +
+  throw UsageError(Field::counts_per_unit, file + ": " + std::to_string(opt.lsb.size()) + " LSB values for " +
                                           std::to_string(names.size()) + " columns (" + list +
                                           "): give one value for every column, or one per column");
 }
@@ -205,7 +205,7 @@ class BinaryStream final : public SampleStream {
  public:
   BinaryStream(const std::string& path, const SeriesOptions& opt, std::size_t chunk_bytes)
       : src_(path, file_, total_bytes_), layout_(opt.binary) {
-    if (opt.rate_hz == 0.0) throw UsageError("rate", "raw binary has no time column: give the sampling rate");
+    if (opt.rate_hz == 0.0) throw UsageError(Field::rate, "raw binary has no time column: give the sampling rate");
     rate_hz_ = opt.rate_hz;
     // Resolve the columns as read_series does, on a table without rows.
     Table all;
@@ -524,7 +524,7 @@ class TextStream final : public SampleStream {
         const double period = median(dt);
         if (period > 0.0 && std::isfinite(period) && std::fabs(opt_.rate_hz * period - 1.0) > opt_.tolerance)
           throw UsageError(
-              "rate", file_ + ": the rate " + stamp(opt_.rate_hz) + " Hz contradicts the time column '" + time_name_ +
+              Field::rate, file_ + ": the rate " + stamp(opt_.rate_hz) + " Hz contradicts the time column '" + time_name_ +
                           "' (" + stamp(1.0 / period) +
                           " Hz): leave the rate out to take it from the time stamps, or fix the time column");
       }

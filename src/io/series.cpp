@@ -97,13 +97,13 @@ void default_columns(const Table& layout, const std::string& time_spec, const Se
 void check_options(const SeriesOptions& opt) {
   for (const double lsb : opt.lsb)
     if (!(lsb > 0.0) || !std::isfinite(lsb))
-      throw UsageError("counts_per_unit",
+      throw UsageError(Field::counts_per_unit,
                        "the LSB (counts per unit) must be a positive finite number, got " + stamp(lsb));
   if (!(opt.rate_hz >= 0.0) || !std::isfinite(opt.rate_hz)) {
     throw UsageError("the sampling rate must be a positive finite number of Hz, got " + stamp(opt.rate_hz));
   }
   if (opt.rate_hz != 0.0 && !(opt.rate_hz >= kMinRateHz && opt.rate_hz <= kMaxRateHz)) {
-    throw UsageError("rate", "the sampling rate " + stamp(opt.rate_hz) + " Hz is outside the range " +
+    throw UsageError(Field::rate, "the sampling rate " + stamp(opt.rate_hz) + " Hz is outside the range " +
                                  stamp(kMinRateHz) + " to " + stamp(kMaxRateHz) + " Hz");
   }
   if (!(opt.tolerance >= 0.0) || !std::isfinite(opt.tolerance)) {
@@ -116,7 +116,7 @@ void check_lsb_count(const SeriesOptions& opt, const std::string& file, const st
   if (opt.lsb.size() <= 1 || opt.lsb.size() == names.size()) return;
   std::string list;
   for (const auto& n : names) list += (list.empty() ? "" : ",") + n;
-  throw UsageError("counts_per_unit", file + ": " + std::to_string(opt.lsb.size()) + " LSB values for " +
+  throw UsageError(Field::counts_per_unit, file + ": " + std::to_string(opt.lsb.size()) + " LSB values for " +
                                           std::to_string(names.size()) +
                                           (names.size() == 1 ? " column (" : " columns (") + list +
                                           "): give one value for every column, or one per column");
@@ -194,7 +194,7 @@ void check_rate_agrees(const std::string& file, const std::string& time_name, co
   if (!(period > 0.0) || !std::isfinite(period)) return;  // not increasing: check_timing says where
   const double from_time = 1.0 / period;
   if (std::fabs(opt.rate_hz * period - 1.0) <= opt.tolerance) return;
-  throw UsageError("rate", file + ": the rate " + period_text(opt.rate_hz) + " Hz contradicts the time column '" +
+  throw UsageError(Field::rate, file + ": the rate " + period_text(opt.rate_hz) + " Hz contradicts the time column '" +
                                time_name + "' (" + period_text(from_time) + " Hz, median interval " +
                                period_text(period) +
                                " s): leave the rate out to take it from the time stamps, "
@@ -362,7 +362,7 @@ Series read_series(const std::string& path_arg, const SeriesOptions& opt) {
   const std::string open_path = path_arg == kStdinPath || buf.was_gzip() ? std::string() : path_arg;
   std::optional<Table> all = binary_table(buf.view(), path, open_path, opt);
   if (!opt.dataset.empty() && !looks_like_hdf5(buf.view()))
-    throw UsageError("dataset", path + " is not an HDF5 file: --dataset chooses a dataset of an HDF5 file");
+    throw UsageError(Field::dataset, path + " is not an HDF5 file: --dataset chooses a dataset of an HDF5 file");
   const Table layout = all ? Table{} : parse_layout(buf.view(), path, opt.table);
   const TimeChoice time = choose_time_column(opt, all ? *all : layout);
 

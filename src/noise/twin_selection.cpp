@@ -250,10 +250,10 @@ bool twin_faithful(const TwinFidelity& f) { return f.scales - f.inside <= allowe
 TwinSelection select_twin(const WaveletVariance& wv, std::size_t samples, double rate_hz,
                           const std::vector<SpectralLine>& lines, const TwinOptions& options) {
   if (wv.size() < 3)
-    throw UsageError("model", "the record gives " + std::to_string(wv.size()) +
+    throw UsageError(Field::model, "the record gives " + std::to_string(wv.size()) +
                                   " wavelet-variance scales, too few for a twin (at least 3: a record of 16 samples "
                                   "or more)");
-  if (!(rate_hz > 0.0) || !std::isfinite(rate_hz)) throw UsageError("rate", "the sample rate must be positive");
+  if (!(rate_hz > 0.0) || !std::isfinite(rate_hz)) throw UsageError(Field::rate, "the sample rate must be positive");
   Search search(wv, samples, rate_hz, lines, options);
   const std::size_t scattered = options.starts > 0 ? options.starts - 1 : 0;
 

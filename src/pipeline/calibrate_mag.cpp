@@ -27,21 +27,21 @@ bool positive(double v) { return v > 0.0 && std::isfinite(v); }
 
 void check_request(const io::Table& t, const MagRequest& req) {
   if (t.data.size() != 3)
-    throw UsageError("mag_columns", t.file + " has " + std::to_string(t.data.size()) +
+    throw UsageError(Field::mag_columns, t.file + " has " + std::to_string(t.data.size()) +
                                         " data columns: the 3 magnetometer columns are needed");
   if (!positive(req.counts_per_unit))
-    throw UsageError("counts_per_unit", "must be a positive number of counts per unit");
+    throw UsageError(Field::counts_per_unit, "must be a positive number of counts per unit");
   if (req.field_norm && !positive(*req.field_norm))
-    throw UsageError("field_norm", "must be a positive field magnitude (in the units of the values after the scaling)");
+    throw UsageError(Field::field_norm, "must be a positive field magnitude (in the units of the values after the scaling)");
   if (req.noise && !positive(*req.noise))
-    throw UsageError("noise", "must be a positive standard deviation per axis (leave it out to estimate it)");
+    throw UsageError(Field::noise, "must be a positive standard deviation per axis (leave it out to estimate it)");
   if (!(req.reject_sigma >= 0.0) || !std::isfinite(req.reject_sigma))
-    throw UsageError("reject_sigma", "must be a positive number of standard deviations (0: no rejection)");
+    throw UsageError(Field::reject_sigma, "must be a positive number of standard deviations (0: no rejection)");
   if (req.field_column && req.field_norm)
-    throw UsageError("field_column", "a field norm per point and one field norm for all cannot both be used");
+    throw UsageError(Field::field_column, "a field norm per point and one field norm for all cannot both be used");
   if (req.field_column && req.method == mag::Method::ellipsoid)
-    throw UsageError("field_column", "a field norm per point needs the TWOSTEP methods");
-  if (req.field_column && t.extra.size() != 1) throw UsageError("field_column", "the field column was not read");
+    throw UsageError(Field::field_column, "a field norm per point needs the TWOSTEP methods");
+  if (req.field_column && t.extra.size() != 1) throw UsageError(Field::field_column, "the field column was not read");
 }
 
 }  // namespace

@@ -7,8 +7,8 @@
 namespace cubecal::pipeline {
 
 TemperatureResult calibrate_temperature(const io::Series& s, const TemperatureRequest& req) {
-  if (req.order < 1 || req.order > 5) throw UsageError("polynomial_order", "the polynomial order must be 1 to 5");
-  if (req.temp_index >= s.extra.size()) throw UsageError("temp_index", "the temperature column was not read");
+  if (req.order < 1 || req.order > 5) throw UsageError(Field::polynomial_order, "the polynomial order must be 1 to 5");
+  if (req.temp_index >= s.extra.size()) throw UsageError(Field::temp_index, "the temperature column was not read");
   const auto& temp = s.extra[req.temp_index];
   TemperatureResult r;
   r.file = s.file;

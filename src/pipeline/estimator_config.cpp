@@ -167,7 +167,7 @@ struct Sensors {
 
 Sensors sensors(const AnalysisResult& r, const EstimatorContext& ctx) {
   if (!(ctx.inflate >= 1.0) || !std::isfinite(ctx.inflate))
-    throw UsageError("inflate", plain(ctx.inflate) + " is not a factor >= 1");
+    throw UsageError(Field::inflate, plain(ctx.inflate) + " is not a factor >= 1");
   Sensors s;
   s.noise = imu_noise(r);
   std::vector<Unit> units;
@@ -394,7 +394,7 @@ std::string_view estimator_file(Estimator e) { return kFiles[static_cast<std::si
 void require_imu_units(const std::vector<Unit>& units) {
   if (std::none_of(units.begin(), units.end(),
                    [](const Unit& u) { return u.kind == SensorKind::rate || u.kind == SensorKind::acceleration; }))
-    throw UsageError("estimators",
+    throw UsageError(Field::estimators,
                      "the record has no gyroscope (deg/s, rad/s) or accelerometer (g, m/s^2) channel: "
                      "give --unit of the IMU columns");
 }

@@ -211,18 +211,18 @@ ModelResult run_model(const io::Series& series, const ModelRequest& req) {
       twin ? std::vector<CompositeModel>{CompositeModel{}} : parse_candidate_models(req.model);
   const bool selecting = !twin && candidates.size() > 1;
   if (selecting && req.selection_replicates == 1)
-    throw UsageError("wic_replicates",
+    throw UsageError(Field::wic_replicates,
                      "give 0 (the WIC's asymptotic optimism) or at least 2 bootstrap replicates, not 1");
-  if (!(req.ci > 0.0 && req.ci < 1.0)) throw UsageError("ci", "the confidence must lie between 0 and 1");
+  if (!(req.ci > 0.0 && req.ci < 1.0)) throw UsageError(Field::ci, "the confidence must lie between 0 and 1");
   if (req.bootstrap == 1 || req.bootstrap > 100000)
-    throw UsageError("bootstrap",
+    throw UsageError(Field::bootstrap,
                      "give 0 (none) or 2 to 100000 bootstrap replicates, not " + std::to_string(req.bootstrap));
   const std::size_t nch = series.channels.size();
   if (req.units.size() > 1 && req.units.size() != nch)
-    throw UsageError("units", "give one unit for all channels or one per channel (" + std::to_string(req.units.size()) +
+    throw UsageError(Field::units, "give one unit for all channels or one per channel (" + std::to_string(req.units.size()) +
                                   " units for " + std::to_string(nch) + " channels)");
   if (series.segments.size() > 1)
-    throw UsageError("segments", series.file + ": the record is cut into " + std::to_string(series.segments.size()) +
+    throw UsageError(Field::segments, series.file + ": the record is cut into " + std::to_string(series.segments.size()) +
                                      " pieces at gaps; the wavelet variance needs one contiguous record (fit a "
                                      "piece, or repair the gaps)");
   ModelResult r;

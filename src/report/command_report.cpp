@@ -162,7 +162,7 @@ std::string command_report_html(const CommandReport& r, const std::vector<Render
 
 void check_report_target(const std::string& dir, bool force, const std::string& gnuplot) {
   if (!find_gnuplot(gnuplot)) throw_gnuplot_missing(gnuplot);
-  io::prepare_output_dir(dir, force, {"report.html", "plots"}, "report");
+  io::prepare_output_dir(dir, force, {"report.html", "plots"}, Field::report);
 }
 
 ReportResult write_command_report(const CommandReport& report, const std::string& dir, const ReportOptions& options) {

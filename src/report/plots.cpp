@@ -291,7 +291,7 @@ std::string gnuplot_missing(const std::string& explicit_path) {
 
 void throw_gnuplot_missing(const std::string& explicit_path) {
   if (explicit_path.empty()) throw UsageError(kGnuplotMissing);
-  throw UsageError("gnuplot", gnuplot_missing(explicit_path));
+  throw UsageError(Field::gnuplot, gnuplot_missing(explicit_path));
 }
 
 void decimate_minmax(std::vector<double>& x, std::vector<double>& y, std::size_t max_points) {

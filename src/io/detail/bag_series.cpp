@@ -171,7 +171,7 @@ Decoded decode(const MessageLog& bag, std::uint32_t index, bool record_time) {
 
 Series read_bag_series(const MessageLog& bag, bool gzip, const SeriesOptions& opt) {
   if (std::any_of(opt.lsb.begin(), opt.lsb.end(), [](double v) { return v != 1.0; }))
-    throw UsageError("counts_per_unit", bag.file + " is a ROS bag: its values are in SI units already, without an LSB");
+    throw UsageError(Field::counts_per_unit, bag.file + " is a ROS bag: its values are in SI units already, without an LSB");
   if (opt.table.skip_rows != 0) throw UsageError(bag.file + " is a ROS bag: it has no rows to skip");
   bool record_time = false;
   std::string time_name = "header.stamp";
@@ -179,7 +179,7 @@ Series read_bag_series(const MessageLog& bag, bool gzip, const SeriesOptions& op
     record_time = true;
     time_name = "record time";
   } else if (!opt.time_col.empty() && opt.time_col != "stamp") {
-    throw UsageError("time_col", bag.file +
+    throw UsageError(Field::time_col, bag.file +
                                      " is a ROS bag: its time is 'stamp' (header.stamp, the default) or "
                                      "'record' (when the bag recorded each message), not '" +
                                      opt.time_col + "'");

@@ -227,7 +227,7 @@ double rate_of(const std::vector<double>& t) {
 
 Series read_ulog_series(const ULog& log, std::string_view bytes, bool gzip, const SeriesOptions& opt) {
   if (std::any_of(opt.lsb.begin(), opt.lsb.end(), [](double v) { return v != 1.0; }))
-    throw UsageError("counts_per_unit",
+    throw UsageError(Field::counts_per_unit,
                      log.file + " is a ULog file: its values are in SI units already, without an LSB");
   if (opt.table.skip_rows != 0) throw UsageError(log.file + " is a ULog file: it has no rows to skip");
   const std::string time_field = opt.time_col.empty() ? "timestamp" : opt.time_col;
