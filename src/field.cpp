@@ -1,6 +1,8 @@
 // Field names and the rendering of field markers (field.hpp).
 #include "cubecal/field.hpp"
 
+#include <utility>
+
 namespace cubecal {
 
 std::string_view field_name(Field f) noexcept {
@@ -136,6 +138,22 @@ std::string render_fields(std::string_view text, const std::function<std::string
   }
   out.append(text, i);
   return out;
+}
+
+namespace {
+
+std::function<std::string(Field)>& face_vocabulary() {
+  static std::function<std::string(Field)> words;
+  return words;
+}
+
+}  // namespace
+
+void set_face_words(std::function<std::string(Field)> words) { face_vocabulary() = std::move(words); }
+
+std::string face_words(std::string_view text) {
+  const auto& words = face_vocabulary();
+  return words ? render_fields(text, words) : library_words(text);
 }
 
 std::string library_words(std::string_view text) {

@@ -9,7 +9,7 @@
 // A message names no face's option: it names a request field by a marker
 // (field.hpp), "leave out {stream}". what() reads it in the library's words
 // ("leave out stream"); text() keeps the markers for a face to render in its
-// own (the CLI "--stream", Python "stream=").
+// own (the CLI `--stream`, Python `stream=`).
 //
 //   UsageError        what was asked cannot be done as asked: an option out
 //                     of range, contradictory options, a record too short
@@ -43,14 +43,22 @@ class Error : public std::runtime_error {
 
 class UsageError : public Error {
  public:
+  // Where the message names its field: `in_front`, a face puts the field's
+  // name before it (the CLI `--unit: what`); `in_text`, the message names it
+  // itself by its marker (`{noise} must be positive`).
+  enum class Named { in_front, in_text };
+
   explicit UsageError(const std::string& what) : Error(what) {}
   // `field` is the request field at fault; each face names it in its own
-  // words (the CLI as "--unit: what", Python as the exception's .option).
-  UsageError(Field field, const std::string& what) : Error(what), field_(field) {}
+  // words (the CLI by its flag, Python as the exception's .option).
+  UsageError(Field field, const std::string& what, Named named = Named::in_front)
+      : Error(what), field_(field), named_(named) {}
   const std::optional<Field>& field() const noexcept { return field_; }
+  Named named() const noexcept { return named_; }
 
  private:
   std::optional<Field> field_;
+  Named named_ = Named::in_front;
 };
 
 class InputError : public Error {

@@ -2,7 +2,7 @@
 // carries the field at fault; a message that refers to another field writes
 // a marker, the field's name in braces ("leave out {stream}"). The library
 // renders a marker in its own words (the field's name), each face in its own:
-// the CLI as the flag ("--stream"), Python as the keyword ("stream=").
+// the CLI as the flag (`--stream`), Python as the keyword (`stream=`).
 #pragma once
 #include <cstddef>
 #include <functional>
@@ -125,5 +125,15 @@ std::string render_fields(std::string_view text, const std::function<std::string
 
 // `text` in the library's words: each marker becomes the field's name.
 std::string library_words(std::string_view text);
+
+// The words of the face the library runs under, for the text the library
+// writes into its results and files (a report page's "add {force}", an
+// estimator file's "{inflate}"): the face sets them once, before its first
+// call (the CLI its flags, Python its keywords); until then, the library's.
+// Errors carry their markers instead (Error::text()), for the face to render.
+void set_face_words(std::function<std::string(Field)> words);
+
+// `text` in the face's words (set_face_words).
+std::string face_words(std::string_view text);
 
 }  // namespace cubecal

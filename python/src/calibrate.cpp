@@ -103,8 +103,8 @@ std::vector<double> checked_times(const Doubles& a, std::size_t samples, const s
                                   const std::string& label, bool allow_jitter) {
   std::vector<double> t = finite_values(a, what, label, 0);
   if (t.size() != samples)
-    throw UsageError(what, "the time stamps must be one per sample (" + std::to_string(t.size()) + " for " +
-                               std::to_string(samples) + " samples)");
+    throw ArgumentError(what, "the time stamps must be one per sample (" + std::to_string(t.size()) + " for " +
+                                  std::to_string(samples) + " samples)");
   for (std::size_t i = 1; i < t.size(); ++i)
     if (!(t[i] > t[i - 1]))
       throw InputError(label, i + 1, 0,
@@ -168,17 +168,17 @@ std::vector<ScheduleRow> schedule_rows(const Doubles& a) {
 pipeline::RateTableRequest rate_table_request(const RateTableArgs& a, bool use_ref) {
   const bool use_schedule = !a.schedule_file.empty() || a.schedule.has_value();
   if (use_ref == use_schedule)
-    throw UsageError(use_ref ? "schedule" : "reference",
-                     use_ref ? "give either reference or schedule, not both"
-                             : "the true rates are needed: give reference (the 3 reference rate columns of the "
-                               "record) or schedule (rows t_begin, t_end, wx, wy, wz)");
+    throw ArgumentError(use_ref ? "schedule" : "reference",
+                        use_ref ? "give either reference or schedule, not both"
+                                : "the true rates are needed: give reference (the 3 reference rate columns of the "
+                                  "record) or schedule (rows t_begin, t_end, wx, wy, wz)");
   if (a.from_signal && !use_schedule)
     throw UsageError(Field::from_signal, "from_signal labels the plateaus from a schedule: give schedule");
   const auto seconds = [](double x, bool positive, const char* option) {
     if (!(positive ? x > 0.0 : x >= 0.0) || !std::isfinite(x))
-      throw UsageError(option, std::string(option) +
-                                   ": margin, min_plateau and ref_tolerance must be >= 0 and "
-                                   "window > 0 seconds");
+      throw ArgumentError(option, std::string(option) +
+                                      ": margin, min_plateau and ref_tolerance must be >= 0 and "
+                                      "window > 0 seconds");
   };
   seconds(a.margin, false, "margin");
   seconds(a.min_plateau, false, "min_plateau");
@@ -193,7 +193,8 @@ pipeline::RateTableRequest rate_table_request(const RateTableArgs& a, bool use_r
   if (!a.earth_axis.empty()) {
     if (a.earth_axis.size() != 3 || !std::isfinite(a.earth_axis[0]) || !std::isfinite(a.earth_axis[1]) ||
         !std::isfinite(a.earth_axis[2]))
-      throw UsageError(Field::earth_axis, "earth_axis takes three numbers X, Y, Z (the Earth's axis in the sensor frame)");
+      throw UsageError(Field::earth_axis,
+                       "earth_axis takes three numbers X, Y, Z (the Earth's axis in the sensor frame)");
     req.earth_axis = std::array<double, 3>{a.earth_axis[0], a.earth_axis[1], a.earth_axis[2]};
   }
   req.plateaus.margin_s = a.margin;
@@ -230,8 +231,8 @@ std::string rate_table_arrays(const std::vector<Doubles>& channels, const std::v
     throw ArgumentError("reference", "reference: the 3 reference rates x, y, z, one value per sample each");
   if (reference_names.size() != reference.size()) throw std::invalid_argument("reference_names: one per reference");
   if (channels.size() != 3)
-    throw ArgumentError("data",
-                     "a rate table needs exactly the 3 gyro channels, " + std::to_string(channels.size()) + " given");
+    throw ArgumentError(
+        "data", "a rate table needs exactly the 3 gyro channels, " + std::to_string(channels.size()) + " given");
   pipeline::RateTableRequest req = rate_table_request(a, !reference.empty());
   std::vector<double> t;
   if (time) {
@@ -241,9 +242,10 @@ std::string rate_table_arrays(const std::vector<Doubles>& channels, const std::v
   io::Series s = array_series(channels, names, rate, std::nullopt, "", label);
   if (time) {
     if (std::fabs(s.rate_hz * median_interval(t) - 1.0) > 0.01)
-      throw UsageError(Field::rate, fmt::format("the rate {:.6g} Hz contradicts the time stamps (median interval {:.6g} s): "
-                                           "leave the rate out to take it from the time stamps",
-                                           s.rate_hz, median_interval(t)));
+      throw UsageError(Field::rate,
+                       fmt::format("the rate {:.6g} Hz contradicts the time stamps (median interval {:.6g} s): "
+                                   "leave the rate out to take it from the time stamps",
+                                   s.rate_hz, median_interval(t)));
     s.time = std::move(t);
     s.time_name = "time";
   }
@@ -252,8 +254,8 @@ std::string rate_table_arrays(const std::vector<Doubles>& channels, const std::v
     s.extra.push_back(finite_values(reference[k], reference_names[k], label, channels.size() + k + 1));
     if (s.extra.back().size() != s.samples())
       throw ArgumentError("reference", "the reference rates must have one value per sample (" +
-                                        std::to_string(s.extra.back().size()) + " for " + std::to_string(s.samples()) +
-                                        " samples)");
+                                           std::to_string(s.extra.back().size()) + " for " +
+                                           std::to_string(s.samples()) + " samples)");
   }
   nlohmann::json j;
   {
@@ -277,24 +279,11 @@ struct MagArgs {
   std::string unit;
 };
 
-// The request, checked as `calibrate mag` checks its options; `field_column`:
-// a field norm per point is given.
+// The request, validated as the CLI's; `field_column`: a field norm per
+// point is given.
 pipeline::MagRequest mag_request(const MagArgs& a, bool field_column) {
   const auto method = mag::parse_method(a.method);
   if (!method) throw UsageError(Field::method, "method must be \"twostep\", \"twostep-full\" or \"ellipsoid\"");
-  if (!finite_positive(a.lsb)) throw UsageError(Field::lsb, "lsb must be a positive number of counts per unit");
-  if (a.field_norm && !finite_positive(*a.field_norm))
-    throw UsageError(Field::field_norm,
-                     "field_norm must be a positive field magnitude (in the units of the values after lsb)");
-  if (a.noise && !finite_positive(*a.noise))
-    throw UsageError(Field::noise, "noise must be a positive standard deviation per axis (leave it out to estimate it)");
-  if (!(a.reject >= 0.0) || !std::isfinite(a.reject))
-    throw UsageError(Field::reject, "reject must be a positive number of standard deviations (0: no rejection)");
-  if (a.field_norm && field_column)
-    throw UsageError(Field::field_column, "give either field_norm or field_column, not both");
-  if (field_column && *method == mag::Method::ellipsoid)
-    throw UsageError(Field::field_column,
-                     "field_column (a field norm per point) needs method \"twostep\" or \"twostep-full\"");
   pipeline::MagRequest req;
   req.method = *method;
   req.counts_per_unit = a.lsb;
@@ -304,13 +293,13 @@ pipeline::MagRequest mag_request(const MagArgs& a, bool field_column) {
   req.reject_sigma = a.reject;
   req.allow_partial = a.allow_partial;
   req.unit = a.unit;
+  req.validate();
   return req;
 }
 
 std::string mag_file(const std::string& path, const std::vector<std::string>& columns, std::size_t skip_rows,
                      unsigned threads, const std::string& field_column, const MagArgs& a, const std::string& command) {
-  if (!columns.empty() && columns.size() != 3)
-    throw UsageError(Field::columns, "columns takes the 3 magnetometer columns (mx,my,mz or 1,2,3)");
+  pipeline::check_mag_columns(columns);
   const pipeline::MagRequest req = mag_request(a, !field_column.empty());
   io::TableOptions to;
   to.columns = columns;
@@ -323,7 +312,7 @@ std::string mag_file(const std::string& path, const std::vector<std::string>& co
     const io::Table t = io::read_table(path, to);
     if (t.data.size() != 3)
       throw UsageError(Field::columns, path + " has " + std::to_string(t.data.size()) +
-                                      " data columns: name the 3 magnetometer columns with columns=\"mx,my,mz\"");
+                                           " data columns: name the 3 magnetometer columns with columns=\"mx,my,mz\"");
     j = pipeline::to_json(on_record(path, [&] { return pipeline::calibrate_mag(t, req); }));
   }
   return with_invocation(std::move(j), command);
@@ -346,7 +335,7 @@ std::string mag_arrays(const std::vector<Doubles>& xyz, const std::vector<std::s
     t.indices.push_back(c);
     if (t.data.back().size() != t.data.front().size())
       throw ArgumentError("points", "x, y and z must have the same length (" + std::to_string(t.data.back().size()) +
-                                     " and " + std::to_string(t.data.front().size()) + ")");
+                                        " and " + std::to_string(t.data.front().size()) + ")");
   }
   t.total_columns = 3;
   if (field_norms) {
@@ -355,8 +344,9 @@ std::string mag_arrays(const std::vector<Doubles>& xyz, const std::vector<std::s
     t.extra_indices.push_back(3);
     t.total_columns = 4;
     if (t.extra[0].size() != t.rows())
-      throw UsageError(Field::field_column, "the field norms must be one per point (" + std::to_string(t.extra[0].size()) +
-                                           " for " + std::to_string(t.rows()) + " points)");
+      throw UsageError(Field::field_column, "the field norms must be one per point (" +
+                                                std::to_string(t.extra[0].size()) + " for " + std::to_string(t.rows()) +
+                                                " points)");
   }
   nlohmann::json j;
   {
@@ -375,15 +365,11 @@ struct TemperatureArgs {
 };
 
 pipeline::TemperatureRequest temperature_request(const TemperatureArgs& a) {
-  if (a.order < 1 || a.order > 5) throw UsageError(Field::order, "order: the polynomial order is 1 to 5");
-  if (a.unit.find(',') != std::string::npos)
-    throw UsageError(Field::unit,
-                     "one unit here, the unit of the coefficients of every channel: calibrate the channels "
-                     "of each unit in their own call (columns=)");
   pipeline::TemperatureRequest req;
   req.order = a.order;
   req.unit = a.unit;
   req.temp_index = 0;
+  req.validate();
   return req;
 }
 
@@ -450,7 +436,8 @@ pipeline::MultipositionRequest multiposition_request(const MultipositionArgs& a,
     if (!std::isfinite(b)) throw UsageError(Field::acc_bias, "acc_bias must be finite");
   if (!(a.acc_scale >= 0.0) || !std::isfinite(a.acc_scale))
     throw UsageError(Field::acc_scale, "acc_scale must be 0 (automatic) or a positive scale guess");
-  if (!finite_positive(a.gyro_scale)) throw UsageError(Field::gyro_scale, "gyro_scale must be positive (rad/s per count)");
+  if (!finite_positive(a.gyro_scale))
+    throw UsageError(Field::gyro_scale, "gyro_scale must be positive (rad/s per count)");
   pipeline::MultipositionRequest req;
   mp::Options& opt = req.options;
   opt.g = a.g;
@@ -471,7 +458,8 @@ pipeline::MultipositionRequest multiposition_request(const MultipositionArgs& a,
 void check_sampling_choice(bool stamped, double rate) {
   if (rate < 0.0 || !std::isfinite(rate)) throw UsageError(Field::rate, "rate must be a positive number of Hz");
   if (stamped && rate > 0.0) throw UsageError(Field::rate, "give the time stamps or the rate, not both");
-  if (!stamped && !(rate > 0.0)) throw UsageError(Field::rate, "give the time stamps (time=) or the sampling rate (rate=)");
+  if (!stamped && !(rate > 0.0))
+    throw UsageError(Field::rate, "give the time stamps (time=) or the sampling rate (rate=)");
 }
 
 // The given columns (3 or 6) of one file as triads, with the time column
@@ -487,8 +475,8 @@ std::vector<pipeline::TriadSamples> read_triads(const std::string& path, const s
   const io::Table tab = io::read_table(path, to);
   const std::size_t want = columns.empty() ? 3 : columns.size();
   if (tab.data.size() != want || want % 3 != 0)
-    throw UsageError(what_columns, fmt::format("{}: {} data columns{}: choose three with {}", path, tab.data.size(),
-                                               time_col.empty() ? "" : " besides the time column", what_columns));
+    throw ArgumentError(what_columns, fmt::format("{}: {} data columns{}: choose three with {}", path, tab.data.size(),
+                                                  time_col.empty() ? "" : " besides the time column", what_columns));
   if (!time_col.empty()) {
     const auto& t = tab.extra[0];
     const auto at = [&](std::size_t i) { return io::locate(tab, i, tab.extra_indices[0]); };
@@ -552,7 +540,8 @@ std::string multiposition_file(const std::string& acc_path, const std::string& g
     py::gil_scoped_release free;
     if (gyro_path.empty() && !gyro_columns.empty()) {
       // One file with both triads.
-      if (acc_columns.empty()) throw UsageError(Field::acc_columns, "give acc_columns with gyro_columns for a single file");
+      if (acc_columns.empty())
+        throw UsageError(Field::acc_columns, "give acc_columns with gyro_columns for a single file");
       std::vector<std::string> cols = acc_columns;
       cols.insert(cols.end(), gyro_columns.begin(), gyro_columns.end());
       auto both = read_triads(acc_path, cols, time_col, skip_rows, threads, "acc_columns and gyro_columns");
@@ -571,11 +560,11 @@ std::string multiposition_file(const std::string& acc_path, const std::string& g
 pipeline::TriadSamples triad_of(const std::vector<Doubles>& xyz, const std::optional<Doubles>& time,
                                 const std::string& what, const std::string& label) {
   if (xyz.size() != 3)
-    throw UsageError(what, what + ": the 3 axes x, y, z (an array of shape (n, 3), 3 arrays or 3 named columns)");
+    throw ArgumentError(what, what + ": the 3 axes x, y, z (an array of shape (n, 3), 3 arrays or 3 named columns)");
   std::array<std::vector<double>, 3> axes;
   for (std::size_t c = 0; c < 3; ++c) {
     axes[c] = finite_values(xyz[c], what + " axis " + std::string(1, "xyz"[c]), label, c + 1);
-    if (axes[c].size() != axes[0].size()) throw UsageError(what, what + ": the 3 axes must have the same length");
+    if (axes[c].size() != axes[0].size()) throw ArgumentError(what, what + ": the 3 axes must have the same length");
   }
   pipeline::TriadSamples tr;
   tr.file = label;
@@ -626,7 +615,7 @@ std::vector<Unit> units_of(const std::vector<std::string>& names, const std::str
   std::vector<Unit> units;
   for (const auto& name : names) {
     const auto u = parse_unit(name);
-    if (!u) throw UsageError(option, "unknown unit '" + name + "' (use " + known_units() + ")");
+    if (!u) throw ArgumentError(option, "unknown unit '" + name + "' (use " + known_units() + ")");
     units.push_back(*u);
   }
   return units;
@@ -662,8 +651,8 @@ std::vector<pipeline::AnalyzeRequest> run_requests(const pipeline::AnalyzeReques
       bool same = other.size() == inferred.size();
       for (std::size_t c = 0; same && c < inferred.size(); ++c) same = other[c].name == inferred[c].name;
       if (!same)
-        throw UsageError(Field::unit, runs[k].file + ": its channel names do not announce the units of " + reference->file +
-                                     "'s: give unit=");
+        throw UsageError(Field::unit, runs[k].file + ": its channel names do not announce the units of " +
+                                          reference->file + "'s: give unit=");
     }
     reqs[k].units = inferred;
   }
@@ -706,9 +695,10 @@ std::string turnon(const std::vector<RunInput>& inputs, const RunsArgs& a) {
   const pipeline::AnalyzeRequest base = runs_request(a);
   for (const auto& in : inputs)
     if (!in.units.empty())
-      throw UsageError(Field::unit, (in.path.empty() ? in.label : in.path) +
-                                   ": turnon averages the runs' biases, so every run is in the same unit: give unit= "
-                                   "to turnon (or scale a run with lsb=), not a unit per run");
+      throw UsageError(Field::unit,
+                       (in.path.empty() ? in.label : in.path) +
+                           ": turnon averages the runs' biases, so every run is in the same unit: give unit= "
+                           "to turnon (or scale a run with lsb=), not a unit per run");
   auto arrays = array_runs(inputs);
   nlohmann::json j;
   {

@@ -21,8 +21,29 @@ void raise(PyObject* type, const std::string& message, const py::dict& attribute
 
 }  // namespace
 
+std::string_view python_keyword(Field f) noexcept {
+  switch (f) {
+    case Field::counts_per_unit: return "lsb";
+    case Field::reject_sigma: return "reject";
+    case Field::mag_columns: return "columns";
+    default: return field_name(f);
+  }
+}
+
 std::string python_words(const std::string& text) {
-  return render_fields(text, [](Field f) { return std::string(field_name(f)) + "="; });
+  // The subject of the message ("{noise} must be positive") as the keyword,
+  // an argument to give ("leave out {stream}") as `keyword=`.
+  std::string out;
+  std::string rest = text;
+  for (std::size_t i = 0; i < kFieldCount; ++i) {
+    const auto f = static_cast<Field>(i);
+    if (text.starts_with(marker(f))) {
+      out = python_keyword(f);
+      rest = text.substr(marker(f).size());
+      break;
+    }
+  }
+  return out + render_fields(rest, [](Field f) { return std::string(python_keyword(f)) + "="; });
 }
 
 void bind_errors(py::module_& m) {
@@ -56,7 +77,7 @@ void bind_errors(py::module_& m) {
       raise(usage_error.ptr(), python_words(e.text()), a);
     } catch (const UsageError& e) {
       py::dict a;
-      a["option"] = e.field() ? std::string(field_name(*e.field())) : std::string();
+      a["option"] = e.field() ? std::string(python_keyword(*e.field())) : std::string();
       raise(usage_error.ptr(), python_words(e.text()), a);
     } catch (const CalibrationError& e) {
       py::dict a;

@@ -4,6 +4,7 @@
 #include <pybind11/pybind11.h>
 
 #include <string>
+#include <string_view>
 #include <utility>
 
 #include "cubecal/error.hpp"
@@ -22,8 +23,12 @@ class ArgumentError : public UsageError {
   std::string argument_;
 };
 
+// The keyword of a Python function that sets `f` (its name, but for the
+// arguments named as the CLI's options: lsb, reject, columns).
+std::string_view python_keyword(Field f) noexcept;
+
 // `text` (a library message with field markers) in Python's words: a field
-// as its keyword, "stream=".
+// as its keyword, `stream=`.
 std::string python_words(const std::string& text);
 
 // Defines cubecal.Error (a ValueError), cubecal.InputError (file, line,

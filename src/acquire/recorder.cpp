@@ -190,15 +190,15 @@ std::vector<std::string> recover_recording(const std::string& dir, io::Recording
 class Recorder::Impl final : public SampleHandler {
  public:
   Impl(Source& src, RecorderOptions opt, io::RecordingManifest& m) : src_(src), opt_(std::move(opt)), m_(m) {
-    if (opt_.chunk_seconds <= 0) throw UsageError(Field::chunk_seconds, "--chunk-seconds must be positive");
-    if (opt_.chunk_bytes < 4096) throw UsageError(Field::chunk_bytes, "--chunk-bytes must be at least 4096");
+    if (opt_.chunk_seconds <= 0) throw UsageError(Field::chunk_seconds, "{chunk_seconds} must be positive");
+    if (opt_.chunk_bytes < 4096) throw UsageError(Field::chunk_bytes, "{chunk_bytes} must be at least 4096");
     if (opt_.sync_interval_s <= 0 || opt_.sync_interval_s > 1.0)
       throw UsageError(Field::sync, "the sync interval is between 0 and 1 s");
     if (opt_.rate_hz && !(*opt_.rate_hz > 0 && std::isfinite(*opt_.rate_hz)))
       throw UsageError(Field::rate, "the rate must be a positive number of Hz");
     const std::string& dir = opt_.out_dir;
-    if (dir.empty()) throw UsageError(Field::out, "--out DIR is required: the recording directory");
-    if (exists(dir) && !is_dir(dir)) throw UsageError(Field::out, dir + " is a file; --out names a directory");
+    if (dir.empty()) throw UsageError(Field::out, "{out} DIR is required: the recording directory");
+    if (exists(dir) && !is_dir(dir)) throw UsageError(Field::out, dir + " is a file; {out} names a directory");
     if (is_dir(dir) && exists(dir + "/" + std::string(io::kManifestName))) {
       m_ = io::read_manifest(dir);
       existing_ = true;
@@ -208,8 +208,8 @@ class Recorder::Impl final : public SampleHandler {
       for (const auto& e : dir_entries(dir))
         if (e != std::string(io::kManifestName) + ".tmp")
           throw UsageError(Field::out, dir +
-                                      " is not empty and holds no cubecal recording (no manifest.json); "
-                                      "record into a new or empty directory");
+                                           " is not empty and holds no cubecal recording (no manifest.json); "
+                                           "record into a new or empty directory");
     } else {
       make_dirs(dir);
     }
@@ -224,7 +224,7 @@ class Recorder::Impl final : public SampleHandler {
       text_.emplace(opt_.text);
       if (!opt_.text.columns.empty() && existing_ && !m_.columns.empty() && m_.columns != opt_.text.columns)
         throw UsageError(Field::out, opt_.out_dir + " was recorded with the columns " + join(m_.columns) + ", not " +
-                                    join(opt_.text.columns) + "; record into a new directory");
+                                         join(opt_.text.columns) + "; record into a new directory");
     }
     last_.reserve(64);
   }
@@ -311,19 +311,20 @@ class Recorder::Impl final : public SampleHandler {
     if (!existing_ || m_.columns.empty()) return;
     if (!same_names(m_.columns, names))
       throw UsageError(Field::out, opt_.out_dir + " was recorded with the columns " + join(m_.columns) +
-                                  " and this source gives " + join(names) + "; record into a new directory");
+                                       " and this source gives " + join(names) + "; record into a new directory");
     const bool binary = opt_.frame.has_value();
     const bool was_binary = m_.framing.kind == io::RecordingFraming::Kind::binary;
     if (binary != was_binary)
-      throw UsageError(Field::out, opt_.out_dir + " was recorded from " + (was_binary ? "binary frames" : "text lines") +
-                                  " and this run reads " + (binary ? "binary frames" : "text lines") +
-                                  "; record into a new directory");
+      throw UsageError(Field::out, opt_.out_dir + " was recorded from " +
+                                       (was_binary ? "binary frames" : "text lines") + " and this run reads " +
+                                       (binary ? "binary frames" : "text lines") + "; record into a new directory");
     if (binary && m_.framing.frame != opt_.frame->text)
-      throw UsageError(Field::out, opt_.out_dir + " was recorded with --frame '" + m_.framing.frame + "', not '" +
-                                  opt_.frame->text + "'; record into a new directory");
+      throw UsageError(Field::out, opt_.out_dir + " was recorded with {frame} '" + m_.framing.frame + "', not '" +
+                                       opt_.frame->text + "'; record into a new directory");
     if (!binary && text_ && text_->has_layout() && m_.framing.delimiter != delimiter_name(text_->delimiter()))
       throw UsageError(Field::out, opt_.out_dir + " was recorded from lines delimited by '" + m_.framing.delimiter +
-                                  "', not '" + delimiter_name(text_->delimiter()) + "'; record into a new directory");
+                                       "', not '" + delimiter_name(text_->delimiter()) +
+                                       "'; record into a new directory");
   }
 
   std::string segment_path() const { return opt_.out_dir + "/" + seg_.dir; }

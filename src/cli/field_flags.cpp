@@ -100,16 +100,17 @@ FieldFlag field_flag(Field f) noexcept {
   return {};
 }
 
-std::string flag_words(std::string_view text) {
-  return render_fields(text, [](Field f) {
-    const FieldFlag ff = field_flag(f);
-    return std::string(ff.flag.empty() ? field_name(f) : ff.flag);
-  });
+std::string flag_of(Field f) {
+  const FieldFlag ff = field_flag(f);
+  return std::string(ff.flag.empty() ? field_name(f) : ff.flag);
 }
+
+std::string flag_words(std::string_view text) { return render_fields(text, flag_of); }
 
 std::string cli_message(const Error& e) {
   std::string msg = flag_words(e.text());
-  if (const auto* u = dynamic_cast<const UsageError*>(&e); u != nullptr && u->field()) {
+  if (const auto* u = dynamic_cast<const UsageError*>(&e);
+      u != nullptr && u->field() && u->named() == UsageError::Named::in_front) {
     const FieldFlag ff = field_flag(*u->field());
     if (ff.prefix == FieldFlag::Prefix::yes) msg = std::string(ff.flag) + ": " + msg;
   }

@@ -21,6 +21,9 @@ struct FieldFlag {
 
 FieldFlag field_flag(Field f) noexcept;
 
+// The flag of `f`, or its name where no option sets it.
+std::string flag_of(Field f);
+
 // `text` with each field marker as the field's flag ("leave out --stream").
 std::string flag_words(std::string_view text);
 

@@ -59,6 +59,8 @@ int main(int argc, char** argv) {
                                        "for = [\"kalibr\"]); command-line flags override it");
   app.allow_config_extras(CLI::config_extras_mode::error);
   app.fallthrough();
+  // What the library writes into results and files names options as flags.
+  cubecal::set_face_words(cubecal::cli::flag_of);
   cubecal::cli::Command run;
   cubecal::cli::set_invocation(argc, argv);
   cubecal::cli::add_dev_command(app, run);

@@ -184,9 +184,9 @@ AnalysisResult run_analyze_stream(io::SampleStream& in, const AnalyzeRequest& re
       throw UsageError(Field::temp_index, r.temp_name + ": " + e.what());
     }
     t.fit = t.ols;
-    t.joint_error =
+    t.joint_error = face_words(
         "the joint estimate with the bias random walk refits the noise model on the whole compensated record at "
-        "every iteration and is not streamed: the least-squares fit is reported (leave out --stream for it)";
+        "every iteration and is not streamed: the least-squares fit is reported (leave out {stream} for it)");
     r.channels[c].temperature = std::move(t);
   }
   const std::unique_ptr<io::SampleStream> again = reopen();

@@ -70,10 +70,11 @@ std::size_t span_samples(const DavarSpan& span, double rate_hz, Field option) {
 
 DavarResult run_davar(const io::Series& series, const DavarRequest& request) {
   if (series.segments.size() > 1)
-    throw UsageError(Field::gaps, series.file + ": the record has " + std::to_string(series.segments.size() - 1) +
-                                 " gap(s); davar slides one window along one contiguous record: read it with --gaps "
-                                 "skip (a gap of whole periods is then missing samples, left out of each window's "
-                                 "terms), or cut it at its gaps");
+    throw UsageError(Field::gaps,
+                     series.file + ": the record has " + std::to_string(series.segments.size() - 1) +
+                         " gap(s); davar slides one window along one contiguous record: read it with {gaps} "
+                         "skip (a gap of whole periods is then missing samples, left out of each window's "
+                         "terms), or cut it at its gaps");
   DavarResult r;
   r.file = series.file;
   r.rate_hz = series.rate_hz;

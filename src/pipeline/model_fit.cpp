@@ -163,7 +163,7 @@ void fit_twin(ModelChannel& ch, std::span<const double> y, double rate_hz, std::
   try {
     ch.lines = find_spectral_lines(welch_psd(y, rate_hz));
   } catch (const UsageError& e) {
-    ch.lines_error = e.what();  // a record too short for one segment
+    ch.lines_error = face_words(e.text());  // a record too short for one segment
   }
   const TwinSelection sel = select_twin(ch.wv, samples, rate_hz, ch.lines, req.twin);
   for (const TwinCandidate& c : sel.ranked)
@@ -219,12 +219,14 @@ ModelResult run_model(const io::Series& series, const ModelRequest& req) {
                      "give 0 (none) or 2 to 100000 bootstrap replicates, not " + std::to_string(req.bootstrap));
   const std::size_t nch = series.channels.size();
   if (req.units.size() > 1 && req.units.size() != nch)
-    throw UsageError(Field::units, "give one unit for all channels or one per channel (" + std::to_string(req.units.size()) +
-                                  " units for " + std::to_string(nch) + " channels)");
+    throw UsageError(Field::units, "give one unit for all channels or one per channel (" +
+                                       std::to_string(req.units.size()) + " units for " + std::to_string(nch) +
+                                       " channels)");
   if (series.segments.size() > 1)
-    throw UsageError(Field::segments, series.file + ": the record is cut into " + std::to_string(series.segments.size()) +
-                                     " pieces at gaps; the wavelet variance needs one contiguous record (fit a "
-                                     "piece, or repair the gaps)");
+    throw UsageError(Field::segments, series.file + ": the record is cut into " +
+                                          std::to_string(series.segments.size()) +
+                                          " pieces at gaps; the wavelet variance needs one contiguous record (fit a "
+                                          "piece, or repair the gaps)");
   ModelResult r;
   r.file = series.file;
   r.rate_hz = series.rate_hz;

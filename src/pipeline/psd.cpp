@@ -22,7 +22,7 @@ PsdResult run_psd(const std::vector<std::string>& names, const std::vector<std::
   const std::size_t units = request.units.size();
   if (units > 1 && units != channels.size())
     throw UsageError(Field::units, "give one unit for all channels or one per channel (" + std::to_string(units) +
-                                  " units for " + std::to_string(channels.size()) + " channels)");
+                                       " units for " + std::to_string(channels.size()) + " channels)");
   std::vector<io::Segment> pieces = segments;
   if (pieces.empty()) pieces.push_back({0, n});
   for (const auto& p : pieces)
@@ -66,7 +66,7 @@ PsdResult run_psd(const std::vector<std::string>& names, const std::vector<std::
           const bool band_asked =
               request.fit_options.min_frequency_hz > 0.0 || request.fit_options.max_frequency_hz > 0.0;
           if (e.field() != Field::fit_range || band_asked) throw;
-          out.fit_error = e.what();  // a short record: the spectrum without its fit
+          out.fit_error = face_words(e.text());  // a short record: the spectrum without its fit
         }
       }
       out.spectrum = request.bins_per_decade > 0 ? log_bin(raw, request.bins_per_decade) : raw;

@@ -21,8 +21,8 @@ TwinCheck twin_check(const AnalysisResult& r, std::size_t twins, std::uint64_t s
     if (r.channels[c].model.composite && !r.channels[c].model.adev.empty()) with.push_back(c);
   if (with.empty())
     throw UsageError(Field::twin_check, "no channel has a twin to simulate" + (r.composite_skipped.empty()
-                                                                              ? std::string(" (--composite none)")
-                                                                              : " (" + r.composite_skipped + ")"));
+                                                                                   ? std::string(" ({composite} none)")
+                                                                                   : " (" + r.composite_skipped + ")"));
   TwinCheck out;
   out.twins = twins;
   out.seed = seed;

@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "analysis_data.hpp"
+#include "cubecal/field.hpp"
 #include "cubecal/noise/drift.hpp"
 #include "cubecal/noise/noise_terms.hpp"
 #include "cubecal/noise/sensor_noise_model.hpp"
@@ -554,8 +555,9 @@ std::vector<ReportFigure> temperature_figures(const AnalysisResult& d, const Sen
                              : "temperature range: T_ref ± 10 degC (the spread could not be inferred)");
   std::string cap = "Bias change against temperature";
   if (!sensor.empty()) cap += " (sensor column <code>" + html_escape(sensor) + "</code>)";
-  cap += ": the polynomial fitted by <code>--temp-col</code>, relative to the bias at T<sub>ref</sub> = " +
-         html_escape(fmt("%.2f", t_ref)) + " °C";
+  cap +=
+      face_words(": the polynomial fitted by <code>{temp_index}</code>, relative to the bias at T<sub>ref</sub> = ") +
+      html_escape(fmt("%.2f", t_ref)) + " °C";
   if (band) cap += ", with the linear coefficient moved by ±1σ (dashed)";
   cap += ". The record's temperatures are not part of the analysis files, so the raw points are not shown; ";
   if (inferred)

@@ -15,10 +15,10 @@ namespace cubecal::pipeline::detail {
 void check_channel_lists(const AnalyzeRequest& req, std::size_t nch) {
   if (!req.units.empty() && req.units.size() != 1 && req.units.size() != nch)
     throw UsageError(Field::units, std::to_string(req.units.size()) + " units for " + std::to_string(nch) +
-                                  " columns (give one unit, or one per column)");
+                                       " columns (give one unit, or one per column)");
   if (!req.lsb.empty() && req.lsb.size() != 1 && req.lsb.size() != nch)
     throw UsageError(Field::lsb, std::to_string(req.lsb.size()) + " values for " + std::to_string(nch) +
-                                " columns (give one value, or one per column)");
+                                     " columns (give one value, or one per column)");
 }
 
 Unit unit_of(const AnalyzeRequest& req, std::size_t c) {
@@ -69,7 +69,7 @@ void fit_models(ModelAnalysis& m, double dt, double lsb) {
     m.random_walk_residual = residual(m.random_walk, curve);
     m.ok = true;
   } catch (const CalibrationError& e) {
-    m.error = e.what();
+    m.error = face_words(e.text());
   } catch (const std::invalid_argument& e) {
     m.error = e.what();
   }
@@ -87,7 +87,7 @@ void fit_models(ModelAnalysis& m, double dt, double lsb) {
       m.gm_ok = true;
     }
   } catch (const CalibrationError& e) {
-    m.gm_error = e.what();
+    m.gm_error = face_words(e.text());
   } catch (const std::invalid_argument& e) {
     m.gm_error = e.what();
   }
