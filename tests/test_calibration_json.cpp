@@ -459,7 +459,7 @@ TEST(CalibrationJson, TemperatureErrorsNameTheChannelOrTheField) {
     pipeline::calibrate_temperature(temperature_series(), req);
     ADD_FAILURE() << "order 6 accepted";
   } catch (const UsageError& e) {
-    EXPECT_EQ(e.field(), cubecal::Field::polynomial_order);
+    EXPECT_EQ(e.field(), cubecal::Field::order);
   }
   io::Series s = temperature_series();
   std::fill(s.extra[0].begin(), s.extra[0].end(), 20.0);

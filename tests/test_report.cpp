@@ -353,7 +353,7 @@ TEST_F(ReportTest, NeverReplacesAReportUnasked) {
     report::write_report(d.string());
     FAIL() << "replaced without force";
   } catch (const UsageError& e) {
-    EXPECT_NE(std::string(e.what()).find("already exists (add --force"), std::string::npos) << e.what();
+    EXPECT_NE(e.text().find("already exists (add {force}"), std::string::npos) << e.text();
   }
   EXPECT_EQ(fs::last_write_time(d / "report.html"), before);
   report::ReportOptions o;
