@@ -63,6 +63,15 @@ std::string model_hint(CalibrationReason reason) {
   }
 }
 
+// analyze --composite: the GMWM found no fit of the composite model.
+std::string composite_hint(CalibrationReason reason) {
+  switch (reason) {
+    case CalibrationReason::degenerate:
+    case CalibrationReason::not_converged: return "give --composite a model with fewer terms";
+    default: return {};
+  }
+}
+
 }  // namespace
 
 std::string calibration_hint(CalibrationReason reason, const HintContext& ctx) {
@@ -72,6 +81,7 @@ std::string calibration_hint(CalibrationReason reason, const HintContext& ctx) {
     case CalibrationCommand::multiposition: return multiposition_hint(reason, ctx);
     case CalibrationCommand::temperature: return temperature_hint(reason);
     case CalibrationCommand::model: return model_hint(reason);
+    case CalibrationCommand::composite: return composite_hint(reason);
   }
   return {};
 }

@@ -9,7 +9,7 @@
 
 namespace cubecal::cli {
 
-enum class CalibrationCommand { rate_table, mag, multiposition, temperature, model };
+enum class CalibrationCommand { rate_table, mag, multiposition, temperature, model, composite };
 
 // The facts of the run a hint depends on.
 struct HintContext {
