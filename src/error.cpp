@@ -36,7 +36,7 @@ std::string format_message(const std::string& file, std::size_t line, std::size_
 }  // namespace
 
 InputError::InputError(std::string file, std::size_t line, std::size_t column, std::string what, std::string hint)
-    : std::runtime_error(format_message(file, line, column, what, hint)),
+    : Error(format_message(file, line, column, what, hint)),
       file_(std::move(file)),
       line_(line),
       column_(column),

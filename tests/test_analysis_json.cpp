@@ -468,7 +468,7 @@ TEST(AnalysisJson, SimulateModelsFromTheTypedResult) {
     (void)pipeline::models_from_analysis(r, "a.json", false);
     FAIL() << "no error for a channel without a model";
   } catch (const UsageError& e) {
-    EXPECT_EQ(e.option(), "bias");
+    EXPECT_EQ(e.field(), cubecal::Field::bias);
     EXPECT_NE(std::string(e.what()).find("a.json: channel white has no fitted random-walk model ("), std::string::npos)
         << e.what();
   }

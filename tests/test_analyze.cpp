@@ -73,7 +73,7 @@ TEST(Temperature, CoefficientWithinUncertaintyOverSeeds) {
 
 TEST(Temperature, ConstantTemperatureIsAnError) {
   std::vector<double> y(100, 1.0), T(100, 20.0);
-  EXPECT_THROW(fit_temperature(y, T, 1), std::invalid_argument);
+  EXPECT_THROW(fit_temperature(y, T, 1), cubecal::CalibrationError);
 }
 
 TEST(Drift, RampGivesCentredWindowMeans) {

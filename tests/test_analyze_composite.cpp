@@ -308,7 +308,7 @@ TEST(AnalyzeComposite, RefusedWhereItCannotBeMade) {
     pipeline::check_analyze_streamable(req, true);
     FAIL() << "a streamed analysis took the composite model";
   } catch (const UsageError& e) {
-    EXPECT_EQ(e.option(), "composite");
+    EXPECT_EQ(e.field(), cubecal::Field::composite);
   }
   // A record cut at gaps, with no head to fit on.
   io::Series s = record({paper_gyro(kPaperRate)}, kPaperRate, 0.5, 6);
@@ -404,6 +404,22 @@ TEST(CompositeNoise, BlocksGiveTheSameSamplesAndTheExactAllanVariance) {
 }
 
 class CompositeCli : public test::TempDirTest {};
+
+// A composite model the GMWM cannot fit is said as such, with the file and
+// a hint (it used to be relabelled as a missing sample).
+TEST_F(CompositeCli, NoCandidateThatFitsIsACalibrationError) {
+  using test::run_cubecal;
+  const std::string rec = (dir_ / "short.csv").string();
+  ASSERT_EQ(run_cubecal("simulate --preset sport-gyro --rate 10 --duration 200s --seed 3 --out " + rec).code, 0);
+  // 10 and 11 parameters, 9 scales: no candidate gives a fit.
+  const test::CliRun r =
+      run_cubecal("analyze " + rec + " --columns gx --unit deg/s --composite WN+4*GM+RW,WN+QN+4*GM+RW");
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("cubecal: error: " + rec + ": GMWM: no candidate model gave a fit"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("(give --composite a model with fewer terms)\n"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("missing sample"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("needs every sample"), std::string::npos) << r.err;
+}
 
 TEST_F(CompositeCli, SimulateTakesTheModelOfAnalyzeAndOfModel) {
   using test::run_cubecal;

@@ -151,7 +151,7 @@ TEST(CalibrationJson, RateTableErrorsByType) {
     pipeline::calibrate_rate_table(s, {});
     ADD_FAILURE() << "2 gyro channels accepted";
   } catch (const UsageError& e) {
-    EXPECT_EQ(e.option(), "columns");
+    EXPECT_EQ(e.field(), cubecal::Field::columns);
   }
   pipeline::RateTableRequest req;
   req.plateaus.min_plateau_s = 1000.0;  // longer than every plateau
@@ -270,7 +270,7 @@ TEST(CalibrationJson, MagRequestErrorsNameTheField) {
     pipeline::calibrate_mag(mag_table(), req);
     ADD_FAILURE() << "zero counts per unit accepted";
   } catch (const UsageError& e) {
-    EXPECT_EQ(e.option(), "counts_per_unit");
+    EXPECT_EQ(e.field(), cubecal::Field::counts_per_unit);
   }
   req = {};
   req.field_column = true;  // with the ellipsoid method
@@ -278,7 +278,7 @@ TEST(CalibrationJson, MagRequestErrorsNameTheField) {
     pipeline::calibrate_mag(mag_table(), req);
     ADD_FAILURE() << "a field column accepted with the ellipsoid fit";
   } catch (const UsageError& e) {
-    EXPECT_EQ(e.option(), "field_column");
+    EXPECT_EQ(e.field(), cubecal::Field::field_column);
   }
 }
 
@@ -407,7 +407,7 @@ TEST(CalibrationJson, MultipositionNeedsTimeStampsOrARate) {
     pipeline::calibrate_multiposition_accelerometer(acc, req);
     ADD_FAILURE() << "time stamps and a rate accepted";
   } catch (const UsageError& e) {
-    EXPECT_EQ(e.option(), "sampling");
+    EXPECT_EQ(e.field(), cubecal::Field::sampling);
   }
   acc.t.clear();
   req.rate_hz = 0.0;
@@ -476,7 +476,7 @@ TEST(CalibrationJson, TemperatureErrorsNameTheChannelOrTheField) {
     pipeline::calibrate_temperature(temperature_series(), req);
     ADD_FAILURE() << "order 6 accepted";
   } catch (const UsageError& e) {
-    EXPECT_EQ(e.option(), "polynomial_order");
+    EXPECT_EQ(e.field(), cubecal::Field::order);
   }
   io::Series s = temperature_series();
   std::fill(s.extra[0].begin(), s.extra[0].end(), 20.0);

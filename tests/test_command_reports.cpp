@@ -299,7 +299,7 @@ TEST(CommandReportPage, RefusesAnExistingReportAndAMissingGnuplot) {
   } catch (const UsageError& e) {
     // The path given is named.
     EXPECT_EQ(std::string(e.what()), report::gnuplot_missing((d / "no-such" / "gnuplot").string()));
-    EXPECT_EQ(e.option(), "gnuplot");
+    EXPECT_EQ(e.field(), cubecal::Field::gnuplot);
   }
   // Without gnuplot and require_plots = false: the page, saying why.
   report::ReportOptions o;
@@ -315,7 +315,7 @@ TEST(CommandReportPage, RefusesAnExistingReportAndAMissingGnuplot) {
     FAIL() << "no error for an existing report";
   } catch (const UsageError& e) {
     EXPECT_NE(std::string(e.what()).find("report.html already exists"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("--force"), std::string::npos) << e.what();
+    EXPECT_NE(e.text().find("{force}"), std::string::npos) << e.text();
   }
   o.force = false;
   EXPECT_THROW(report::write_command_report(evil_report(), d.string(), o), UsageError);

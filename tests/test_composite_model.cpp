@@ -290,7 +290,7 @@ TEST(CompositeModel, ModelSyntax) {
       parse_composite_model(bad);
       ADD_FAILURE() << "accepted '" << bad << "'";
     } catch (const UsageError& e) {
-      EXPECT_EQ(e.option(), "model");
+      EXPECT_EQ(e.field(), cubecal::Field::model);
       EXPECT_NE(std::string(e.what()).find("MA1 with"), std::string::npos) << e.what();
     }
   }
@@ -300,7 +300,7 @@ TEST(CompositeModel, ModelSyntax) {
       parse_composite_model(bad);
       ADD_FAILURE() << "accepted '" << bad << "'";
     } catch (const UsageError& e) {
-      EXPECT_EQ(e.option(), "model");
+      EXPECT_EQ(e.field(), cubecal::Field::model);
       EXPECT_NE(std::string(e.what()).find("terms: WN, QN, RW, DR, GM"), std::string::npos) << e.what();
     }
   }

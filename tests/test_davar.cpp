@@ -176,7 +176,7 @@ TEST(Davar, RefusesWhatItCannotDo) {
     try {
       run(y, type, 0.1, window, step, grid_of(taus), DavarMethod::fast);
     } catch (const UsageError& e) {
-      return e.option();
+      return e.field() ? std::string(cubecal::field_name(*e.field())) : std::string();
     }
     return std::string("no error");
   };
@@ -671,8 +671,8 @@ TEST_F(DavarCli, GapsSkipSpreadTableLeavesOutCellsWithoutATerm) {
   so.gaps = io::GapPolicy::skip;
   const io::Series series = io::read_series(f, so);
   pipeline::DavarRequest req;
-  req.window = pipeline::parse_davar_span("600", "window");
-  req.step = pipeline::parse_davar_span("100", "step");
+  req.window = pipeline::parse_davar_span("600", cubecal::Field::window);
+  req.step = pipeline::parse_davar_span("100", cubecal::Field::step);
   req.grid = grid_of("octave");
   const pipeline::DavarResult res = pipeline::run_davar(series, req);
   const report::CommandReport rep = report::davar_report(res, "cubecal davar holes.csv --gaps skip");

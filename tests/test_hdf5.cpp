@@ -194,7 +194,7 @@ TEST_F(Hdf5, SeveralDatasetsAreListedAndOneIsChosen) {
     H5Gclose(g);
   });
   const std::string e = error_of(f, at_rate(10));
-  EXPECT_NE(e.find("2 numeric datasets: /a (400,) float64; /imu/b (400, 3) float32 (choose one with --dataset PATH)"),
+  EXPECT_NE(e.find("2 numeric datasets: /a (400,) float64; /imu/b (400, 3) float32 (choose one with dataset PATH)"),
             std::string::npos)
       << e;
   io::SeriesOptions o = at_rate(10);

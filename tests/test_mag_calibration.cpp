@@ -407,21 +407,21 @@ TEST(Ellipsoid, QuadricConversionRejectsNonEllipsoids) {
       {
         try {
           ellipsoid_from_quadric({1, 1, -1, 0, 0, 0, 0, 0, 0, -1}, 1.0);
-        } catch (const std::invalid_argument& e) {
+        } catch (const cubecal::CalibrationError& e) {
           EXPECT_NE(std::string(e.what()).find("degenerate ellipsoid fit"), std::string::npos) << e.what();
           throw;
         }
       },
-      std::invalid_argument);
+      cubecal::CalibrationError);
   // Cylinder x^2 + y^2 = 1.
-  EXPECT_THROW(ellipsoid_from_quadric({1, 1, 0, 0, 0, 0, 0, 0, 0, -1}, 1.0), std::invalid_argument);
+  EXPECT_THROW(ellipsoid_from_quadric({1, 1, 0, 0, 0, 0, 0, 0, 0, -1}, 1.0), cubecal::CalibrationError);
   // Imaginary ellipsoid x^2 + y^2 + z^2 + 1 = 0.
-  EXPECT_THROW(ellipsoid_from_quadric({1, 1, 1, 0, 0, 0, 0, 0, 0, 1}, 1.0), std::invalid_argument);
+  EXPECT_THROW(ellipsoid_from_quadric({1, 1, 1, 0, 0, 0, 0, 0, 0, 1}, 1.0), cubecal::CalibrationError);
   // The same sphere with the sign flipped is accepted.
   const EllipsoidFit f = ellipsoid_from_quadric({-1, -1, -1, 0, 0, 0, 0, 0, 0, 4}, 2.0);
   EXPECT_NEAR(f.semi_axes[0], 2.0, 1e-15);
   EXPECT_NEAR(f.correction[0][0], 1.0, 1e-15);
-  EXPECT_THROW(ellipsoid_from_quadric({1, 1, 1, 0, 0, 0, 0, 0, 0, -1}, 0.0), std::invalid_argument);
+  EXPECT_THROW(ellipsoid_from_quadric({1, 1, 1, 0, 0, 0, 0, 0, 0, -1}, 0.0), cubecal::CalibrationError);
 }
 
 TEST(Ellipsoid, CoplanarPointsAreDegenerate) {
@@ -430,7 +430,7 @@ TEST(Ellipsoid, CoplanarPointsAreDegenerate) {
   try {
     fit_ellipsoid(h, 50.0);
     ADD_FAILURE() << "no error";
-  } catch (const std::invalid_argument& e) {
+  } catch (const cubecal::CalibrationError& e) {
     EXPECT_EQ(std::string(e.what()).rfind("degenerate ellipsoid fit: the points are coplanar", 0), 0u) << e.what();
   }
 }
@@ -462,6 +462,8 @@ template <class F>
 std::string error_of(F f) {
   try {
     f();
+  } catch (const cubecal::CalibrationError& e) {
+    return e.what();
   } catch (const std::invalid_argument& e) {
     return e.what();
   }
@@ -497,8 +499,8 @@ TEST(MagCalibration, FieldNormAndNoiseMustBePositive) {
   o.field_norms.assign(h.size(), 50.0);
   o.method = Method::ellipsoid;
   EXPECT_NE(error_of([&] { calibrate(h, o); }).find("TWOSTEP only"), std::string::npos);
-  EXPECT_THROW(twostep(h, std::vector<double>{-1.0}), std::invalid_argument);
-  EXPECT_THROW(fit_ellipsoid(h, 0.0), std::invalid_argument);
+  EXPECT_THROW(twostep(h, std::vector<double>{-1.0}), cubecal::CalibrationError);
+  EXPECT_THROW(fit_ellipsoid(h, 0.0), cubecal::CalibrationError);
   auto bad = h;
   bad[3][1] = std::nan("");
   o.field_norms.clear();
@@ -694,7 +696,7 @@ TEST(MagCalibration, MagnetoOutlierRule) {
   // Too strict a level leaves too few points.
   o.reject_sigma = 1e-9;
   EXPECT_NE(error_of([&] { calibrate(h, o); }).find("after outlier rejection"), std::string::npos);
-  EXPECT_THROW(reject_outliers(h, -1.0), std::invalid_argument);
+  EXPECT_THROW(reject_outliers(h, -1.0), cubecal::CalibrationError);
 }
 
 TEST(MagCalibration, DefaultFieldNormIsTheMeanRawNorm) {

@@ -206,5 +206,20 @@ TEST_F(ModelCli, BadInputIsOneLine) {
   EXPECT_NE(r.err.find("--model"), std::string::npos) << r.err;
 }
 
+// A fit the data cannot give is a calibration error on the file, with the
+// command's hint and exit 2 (it used to end as an internal error).
+TEST_F(ModelCli, NoCandidateThatFitsIsOneLineWithAHint) {
+  const std::string file = record(2000);
+  // 10 and 11 parameters, 9 scales: no candidate gives a fit.
+  const CliRun r = run_cubecal("model " + file + " --model WN+4*GM+RW,WN+QN+4*GM+RW");
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_TRUE(one_error_line(r)) << r.err;
+  EXPECT_EQ(r.err.find("internal error"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(file + ": GMWM: no candidate model gave a fit"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("(give a model with fewer terms (--model) or more starting points (--starts))"),
+            std::string::npos)
+      << r.err;
+}
+
 }  // namespace
 }  // namespace cubecal::test

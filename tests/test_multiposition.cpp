@@ -220,7 +220,7 @@ TEST(MultiPosition, WindowRule) {
   EXPECT_EQ(normalised_window(101), 101u);
   EXPECT_EQ(normalised_window(100), 101u);
   EXPECT_EQ(normalised_window(11), 11u);
-  EXPECT_THROW(normalised_window(10), std::invalid_argument);
+  EXPECT_THROW(normalised_window(10), cubecal::CalibrationError);
 }
 
 TEST(MultiPosition, StaticDetectionFindsPlantedIntervals) {
@@ -334,7 +334,7 @@ TEST(MultiPosition, FewerThanTwelveIntervalsIsAClearError) {
   try {
     (void)calibrate_accelerometer(series(s, false), synthetic_options(tr));
     FAIL() << "no error";
-  } catch (const std::invalid_argument& e) {
+  } catch (const cubecal::CalibrationError& e) {
     const std::string msg = e.what();
     std::printf("10 poses: %s\n", msg.c_str());
     EXPECT_NE(msg.find("fewer than 12 static intervals"), std::string::npos) << msg;
@@ -350,7 +350,7 @@ TEST(MultiPosition, StaticTooShortIsAClearError) {
   // 16 poses held 1.5 s: the 101-sample window leaves fewer than 100 centres.
   const Truth tr = make_truth();
   const Synthetic s = make_sequence(tr, 16, 1.0, 2.0, 5, 10.0, 1.5);
-  EXPECT_THROW((void)calibrate_accelerometer(series(s, false), synthetic_options(tr)), std::invalid_argument);
+  EXPECT_THROW((void)calibrate_accelerometer(series(s, false), synthetic_options(tr)), cubecal::CalibrationError);
 }
 
 TEST(MultiPosition, BadInputsAreRejected) {
@@ -361,7 +361,7 @@ TEST(MultiPosition, BadInputsAreRejected) {
     try {
       (void)calibrate_accelerometer(a, opt);
       ADD_FAILURE() << "no error, expected: " << part;
-    } catch (const std::invalid_argument& e) {
+    } catch (const cubecal::CalibrationError& e) {
       EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what();
     }
   };
@@ -625,7 +625,7 @@ TEST(MultiPosition, Mpu6050ExampleHasTooFewPoses) {
   try {
     (void)calibrate(sa, sg, o);
     FAIL() << "expected the too-few-intervals error";
-  } catch (const std::invalid_argument& e) {
+  } catch (const cubecal::CalibrationError& e) {
     std::printf("mpu6050: %s\n", e.what());
     EXPECT_NE(std::string(e.what()).find("fewer than 12 static intervals: at most 10"), std::string::npos);
   }

@@ -154,7 +154,7 @@ TEST(WelchPsd, RefusesWhatTheRecordCannotGive) {
     try {
       (void)pipeline::welch_psd(x, 10.0, o);
     } catch (const UsageError& e) {
-      return e.option();
+      return e.field() ? std::string(cubecal::field_name(*e.field())) : std::string();
     }
     return std::string("none");
   };
@@ -428,7 +428,7 @@ TEST(PowerLawFit, RefusesATooNarrowBandAndBadExponents) {
     (void)fit_power_law(p, o);
     FAIL() << "no error";
   } catch (const UsageError& e) {
-    EXPECT_EQ(e.option(), "fit_range");
+    EXPECT_EQ(e.field(), cubecal::Field::fit_range);
   }
   o = {};
   o.exponents = {0, 0};

@@ -438,7 +438,7 @@ TEST(Plateaus, ReferenceRunsShorterThanTheMinimumAreDropped) {
   spec.plateau_s = 45.0;  // 25 s after the margins
   const SimLog log = simulate_run(paper_S(), paper_bias(), kNoise, 1, spec);
   PlateauOptions opt;
-  EXPECT_THROW(cubecal::plateaus_from_reference(log.record(), log.reference(), opt), std::invalid_argument);
+  EXPECT_THROW(cubecal::plateaus_from_reference(log.record(), log.reference(), opt), cubecal::CalibrationError);
   opt.min_plateau_s = 20.0;
   const PlateauDetection found = cubecal::plateaus_from_reference(log.record(), log.reference(), opt);
   EXPECT_EQ(found.plateaus.size(), 9u);
@@ -451,6 +451,8 @@ TEST(Plateaus, ReferenceRunsShorterThanTheMinimumAreDropped) {
 std::string message_of(const std::function<void()>& f) {
   try {
     f();
+  } catch (const cubecal::CalibrationError& e) {
+    return e.what();
   } catch (const std::invalid_argument& e) {
     return e.what();
   }
@@ -467,7 +469,7 @@ TEST(RateTableErrors, ThreePlateausAreNotEnough) {
   const std::string msg = message_of([&] { calibrate_rate_table(p); });
   EXPECT_NE(msg.find("3 plateaus are not enough"), std::string::npos) << msg;
   EXPECT_NE(msg.find("4 affinely independent"), std::string::npos) << msg;
-  EXPECT_THROW(calibrate_rate_table(std::span<const Plateau>()), std::invalid_argument);
+  EXPECT_THROW(calibrate_rate_table(std::span<const Plateau>()), cubecal::CalibrationError);
 }
 
 TEST(RateTableErrors, DegenerateGeometryIsRefused) {
@@ -498,7 +500,7 @@ TEST(RateTableErrors, PlateauWithoutReferenceOrNonFinite) {
   EXPECT_NE(message_of([&] { calibrate_rate_table(p); }).find("plateau 3 has no reference"), std::string::npos);
   p[2].has_ref = true;
   p[4].mean[1] = std::nan("");
-  EXPECT_THROW(calibrate_rate_table(p), std::invalid_argument);
+  EXPECT_THROW(calibrate_rate_table(p), cubecal::CalibrationError);
 }
 
 TEST(RateTableErrors, OverlappingOrReversedScheduleRows) {
@@ -508,8 +510,8 @@ TEST(RateTableErrors, OverlappingOrReversedScheduleRows) {
   ASSERT_TRUE(problem.has_value());
   EXPECT_EQ(problem->row, 2u);
   EXPECT_NE(problem->what.find("rows 2 and 3 overlap"), std::string::npos) << problem->what;
-  EXPECT_THROW(cubecal::plateaus_from_schedule(log.record(), rows), std::invalid_argument);
-  EXPECT_THROW(cubecal::label_with_schedule(PlateauDetection{}, rows), std::invalid_argument);
+  EXPECT_THROW(cubecal::plateaus_from_schedule(log.record(), rows), cubecal::CalibrationError);
+  EXPECT_THROW(cubecal::label_with_schedule(PlateauDetection{}, rows), cubecal::CalibrationError);
   rows[2] = {640, 630, {-5, 0, 0}};
   ASSERT_TRUE(cubecal::check_schedule(rows).has_value());
   EXPECT_NE(cubecal::check_schedule(rows)->what.find("ends before it begins"), std::string::npos);
@@ -620,10 +622,10 @@ TEST(RateTableErrors, InconsistentRecord) {
   const SimLog log = simulate_run(paper_S(), paper_bias(), 0.0, 1);
   TriadRecord rec = log.record();
   rec.axes[2] = rec.axes[2].subspan(1);
-  EXPECT_THROW(cubecal::plateaus_from_signal(rec), std::invalid_argument);
+  EXPECT_THROW(cubecal::plateaus_from_signal(rec), cubecal::CalibrationError);
   rec = log.record();
   rec.dt = 0.0;
-  EXPECT_THROW(cubecal::plateaus_from_reference(rec, log.reference()), std::invalid_argument);
+  EXPECT_THROW(cubecal::plateaus_from_reference(rec, log.reference()), cubecal::CalibrationError);
 }
 
 // ---------------------------------------------------------------------------

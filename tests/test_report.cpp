@@ -257,7 +257,7 @@ TEST_F(ReportTest, MissingGnuplotIsAClearError) {
   } catch (const UsageError& e) {
     // The path given is named (it used to say "install gnuplot-nox" for a typo in it).
     EXPECT_EQ(std::string(e.what()), report::gnuplot_missing(o.gnuplot));
-    EXPECT_EQ(e.option(), "gnuplot");
+    EXPECT_EQ(e.field(), cubecal::Field::gnuplot);
     EXPECT_NE(std::string(e.what()).find("no executable gnuplot at " + o.gnuplot), std::string::npos);
   }
   EXPECT_FALSE(fs::exists(d / "report.html"));
@@ -353,7 +353,7 @@ TEST_F(ReportTest, NeverReplacesAReportUnasked) {
     report::write_report(d.string());
     FAIL() << "replaced without force";
   } catch (const UsageError& e) {
-    EXPECT_NE(std::string(e.what()).find("already exists (add --force"), std::string::npos) << e.what();
+    EXPECT_NE(e.text().find("already exists (add {force}"), std::string::npos) << e.text();
   }
   EXPECT_EQ(fs::last_write_time(d / "report.html"), before);
   report::ReportOptions o;

@@ -113,7 +113,7 @@ TEST(BiweightTuning, DeliversTheEfficiencyAsked) {
       (void)biweight_tuning(bad);
       ADD_FAILURE() << bad;
     } catch (const UsageError& e) {
-      EXPECT_EQ(e.option(), "efficiency");
+      EXPECT_EQ(e.field(), cubecal::Field::efficiency);
     }
   }
 }
@@ -531,14 +531,14 @@ TEST(RobustWaveletVariance, BadInputAsTheClassical) {
       (void)robust_wavelet_variance(y, ci);
       ADD_FAILURE() << ci;
     } catch (const UsageError& e) {
-      EXPECT_EQ(e.option(), "ci");
+      EXPECT_EQ(e.field(), cubecal::Field::ci);
     }
   }
   try {
     (void)robust_wavelet_variance(y, 0.95, 1.2);
     ADD_FAILURE();
   } catch (const UsageError& e) {
-    EXPECT_EQ(e.option(), "efficiency");
+    EXPECT_EQ(e.field(), cubecal::Field::efficiency);
   }
   std::vector<double> bad = y;
   bad[5] = std::nan("");

@@ -292,31 +292,31 @@ TEST(RandomWalkModelFit, RejectsCurvesWithoutAV) {
   const auto ms = log_grid(10500);
   // White only: falls to the last tau.
   const auto falling = exact_curve(RandomWalkModel{0.01, 0.0, kPaperDt, 0.0}, ms, kPaperSamples);
-  EXPECT_THROW(cubecal::fit_random_walk_model(falling, kPaperDt), std::invalid_argument);
+  EXPECT_THROW(cubecal::fit_random_walk_model(falling, kPaperDt), cubecal::CalibrationError);
   try {
     cubecal::fit_random_walk_model(falling, kPaperDt);
-  } catch (const std::invalid_argument& e) {
+  } catch (const cubecal::CalibrationError& e) {
     EXPECT_NE(std::string(e.what()).find("no minimum"), std::string::npos) << e.what();
   }
   // Random walk only: rises from the first tau.
   const auto rising = exact_curve(RandomWalkModel{0.0, 1e-3, kPaperDt, 0.0}, ms, kPaperSamples);
-  EXPECT_THROW(cubecal::fit_random_walk_model(rising, kPaperDt), std::invalid_argument);
+  EXPECT_THROW(cubecal::fit_random_walk_model(rising, kPaperDt), cubecal::CalibrationError);
   try {
     cubecal::fit_random_walk_model(rising, kPaperDt);
-  } catch (const std::invalid_argument& e) {
+  } catch (const cubecal::CalibrationError& e) {
     EXPECT_NE(std::string(e.what()).find("no white-noise arm"), std::string::npos) << e.what();
   }
   // White noise below what the quantization alone gives.
   const auto fine = exact_curve(RandomWalkModel{1e-4, 1e-5, kPaperDt, 0.0}, ms, kPaperSamples);
   EXPECT_NO_THROW(cubecal::fit_random_walk_model(fine, kPaperDt));
-  EXPECT_THROW(cubecal::fit_random_walk_model(fine, kPaperDt, kGyroLsb), std::invalid_argument);
+  EXPECT_THROW(cubecal::fit_random_walk_model(fine, kPaperDt, kGyroLsb), cubecal::CalibrationError);
   // Malformed input.
   AllanCurve two = fine;
   two.tau.resize(2);
   two.dev.resize(2);
   two.edf.resize(2);
-  EXPECT_THROW(cubecal::fit_random_walk_model(two, kPaperDt), std::invalid_argument);
-  EXPECT_THROW(cubecal::fit_random_walk_model(fine, 0.0), std::invalid_argument);
+  EXPECT_THROW(cubecal::fit_random_walk_model(two, kPaperDt), cubecal::CalibrationError);
+  EXPECT_THROW(cubecal::fit_random_walk_model(fine, 0.0), cubecal::CalibrationError);
 }
 
 using cubecal::test::reason_of;

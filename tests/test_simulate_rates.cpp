@@ -146,7 +146,7 @@ TEST(SimulateRates, ModelsFromAnalysisRefusesABadRate) {
     (void)pipeline::models_from_analysis(measured, "a.json", false, 0.0);
     FAIL() << "no error for rate 0";
   } catch (const UsageError& e) {
-    EXPECT_EQ(e.option(), "rate");
+    EXPECT_EQ(e.field(), cubecal::Field::rate);
   }
 }
 

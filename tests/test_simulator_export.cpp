@@ -562,7 +562,7 @@ TEST(SimulatorExport, AChannelWithoutItsTwinIsRefused) {
       file(e, r);
       ADD_FAILURE() << pipeline::estimator_name(e) << ": no refusal";
     } catch (const UsageError& err) {
-      EXPECT_EQ(err.option(), "estimators");
+      EXPECT_EQ(err.field(), cubecal::Field::estimators);
       const std::string m = err.what();
       EXPECT_NE(m.find("gy"), std::string::npos) << m;
       EXPECT_NE(m.find("twin"), std::string::npos) << m;

@@ -1,9 +1,15 @@
-// The errors cubecal reports to its users, as types. Every layer throws
-// these for what a user can fix; each face maps them by type and reason
-// (the CLI to one line and exit code 2 with a hint, Python to an exception
-// class), never by matching message text. A plain std::invalid_argument
-// from the core means a call the caller should not have made (a span of the
-// wrong length, a NaN passed where the data were already checked).
+// The errors cubecal reports to its users, as types, under one base,
+// cubecal::Error. Every layer throws these for what a user can fix; each face
+// maps them by type and reason (the CLI to one line and exit code 2 with a
+// hint, Python to an exception class), never by matching message text. A
+// plain std::invalid_argument from the core means a call the caller should
+// not have made (a span of the wrong length, a NaN passed where the data were
+// already checked); it is no cubecal::Error.
+//
+// A message names no face's option: it names a request field by a marker
+// (field.hpp), "leave out {stream}". what() reads it in the library's words
+// ("leave out stream"); text() keeps the markers for a face to render in its
+// own (the CLI `--stream`, Python `stream=`).
 //
 //   UsageError        what was asked cannot be done as asked: an option out
 //                     of range, contradictory options, a record too short
@@ -13,32 +19,53 @@
 //                     asked for; reason() says why.
 #pragma once
 #include <cstddef>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
 #include <utility>
 
+#include "cubecal/field.hpp"
+
 namespace cubecal {
 
-class UsageError : public std::runtime_error {
+// The base of every error cubecal reports to a user.
+class Error : public std::runtime_error {
  public:
-  explicit UsageError(const std::string& what) : std::runtime_error(what) {}
-  // `option` names the request field at fault, in the library's words
-  // ("units", "lsb", "temp_index", "temp_order", "bias", "columns"); each
-  // face says it in its own (the CLI as "--unit: what"). The message itself
-  // names no flag.
-  UsageError(std::string option, const std::string& what) : std::runtime_error(what), option_(std::move(option)) {}
-  const std::string& option() const noexcept { return option_; }
+  // `text` may hold field markers; what() is it in the library's words.
+  explicit Error(const std::string& text) : std::runtime_error(library_words(text)), text_(text) {}
+  // The message with its field markers, for a face to render.
+  const std::string& text() const noexcept { return text_; }
 
  private:
-  std::string option_;
+  std::string text_;
 };
 
-class InputError : public std::runtime_error {
+class UsageError : public Error {
+ public:
+  // Where the message names its field: `in_front`, a face puts the field's
+  // name before it (the CLI `--unit: what`); `in_text`, the message names it
+  // itself by its marker (`{noise} must be positive`).
+  enum class Named { in_front, in_text };
+
+  explicit UsageError(const std::string& what) : Error(what) {}
+  // `field` is the request field at fault; each face names it in its own
+  // words (the CLI by its flag, Python as the exception's .option).
+  UsageError(Field field, const std::string& what, Named named = Named::in_front)
+      : Error(what), field_(field), named_(named) {}
+  const std::optional<Field>& field() const noexcept { return field_; }
+  Named named() const noexcept { return named_; }
+
+ private:
+  std::optional<Field> field_;
+  Named named_ = Named::in_front;
+};
+
+class InputError : public Error {
  public:
   // line and column are 1-based; 0 means "not applicable" and is omitted
   // from the formatted message (e.g. "FILE: empty file"). The message reads
-  // "FILE:LINE:COL: what (hint)".
+  // "FILE:LINE:COL: what (hint)"; what and hint may hold field markers.
   InputError(std::string file, std::size_t line, std::size_t column, std::string what, std::string hint = {});
 
   const std::string& file() const noexcept { return file_; }
@@ -72,11 +99,11 @@ enum class CalibrationReason {
 
 std::string_view to_string(CalibrationReason r) noexcept;
 
-// Derives from std::invalid_argument: the calibration was given arguments
-// (the data) it cannot work with.
-class CalibrationError : public std::invalid_argument {
+// The data cannot determine what was asked: a usage of the method that is
+// right, on data that do not allow it. Not a UsageError: no option is wrong.
+class CalibrationError : public Error {
  public:
-  CalibrationError(CalibrationReason reason, const std::string& what) : std::invalid_argument(what), reason_(reason) {}
+  CalibrationError(CalibrationReason reason, const std::string& what) : Error(what), reason_(reason) {}
   CalibrationReason reason() const noexcept { return reason_; }
 
  private:

@@ -56,7 +56,7 @@ std::vector<Unit> channel_units(const std::vector<std::string>& given, const io:
   if (!given.empty()) {
     for (const auto& name : given) {
       const auto u = parse_unit(name);
-      if (!u) throw UsageError("unit", "unknown unit '" + name + "' (use " + known_units() + ")");
+      if (!u) throw UsageError(Field::unit, "unknown unit '" + name + "' (use " + known_units() + ")");
       units.push_back(*u);
     }
     return units;
@@ -67,14 +67,14 @@ std::vector<Unit> channel_units(const std::vector<std::string>& given, const io:
 pipeline::AnalyzeRequest request(const AnalyzeArgs& a) {
   pipeline::AnalyzeRequest req;
   req.grid = taus_arg(a.taus);
-  if (!(a.ci > 0.0 && a.ci < 1.0)) throw UsageError("ci", "ci must be between 0 and 1");
+  if (!(a.ci > 0.0 && a.ci < 1.0)) throw UsageError(Field::ci, "ci must be between 0 and 1");
   req.ci = a.ci;
   req.temp_order = a.temp_order;
   req.drift_window_s = a.drift_window;
   req.cov_samples = a.cov_samples;
   req.max_samples = a.max_samples;
   for (const double x : a.model_lsb)
-    if (!(x >= 0.0) || !std::isfinite(x)) throw UsageError("lsb", "model_lsb: counts per unit, 0 or more");
+    if (!(x >= 0.0) || !std::isfinite(x)) throw UsageError(Field::lsb, "model_lsb: counts per unit, 0 or more");
   req.lsb = a.model_lsb;
   req.threads = a.threads;
   req.psd = a.psd;
@@ -156,11 +156,11 @@ std::vector<std::string> write_files(const AnalysisHandle& h, const std::string&
     const fs::path tmp = path.string() + ".partial";
     {
       std::FILE* out = std::fopen(tmp.c_str(), "wb");
-      if (out == nullptr) throw UsageError("out", "cannot write " + tmp.string());
+      if (out == nullptr) throw UsageError(Field::out, "cannot write " + tmp.string());
       const bool ok = std::fwrite(f.text.data(), 1, f.text.size(), out) == f.text.size();
       if (std::fclose(out) != 0 || !ok) {
         fs::remove(tmp);
-        throw UsageError("out", "could not write " + path.string() + " (disk full?)");
+        throw UsageError(Field::out, "could not write " + path.string() + " (disk full?)");
       }
     }
     fs::rename(tmp, path);

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "cubecal/error.hpp"
+#include "errors.hpp"
 
 namespace cubecal::python {
 
@@ -12,8 +13,8 @@ io::Series array_series(const std::vector<Doubles>& channels, const std::vector<
                         const std::optional<Doubles>& temperature, const std::string& temp_name,
                         const std::string& label) {
   if (!(rate > 0.0) || !std::isfinite(rate) || rate < io::kMinRateHz || rate > io::kMaxRateHz)
-    throw UsageError("rate", "rate must be a positive number of Hz (1e-9 to 1e9)");
-  if (channels.empty()) throw UsageError("data", "no channel to analyze");
+    throw UsageError(Field::rate, "rate must be a positive number of Hz (1e-9 to 1e9)");
+  if (channels.empty()) throw ArgumentError("data", "no channel to analyze");
   if (names.size() != channels.size()) throw std::invalid_argument("names: one name per channel");
   io::Series s;
   s.file = label;
@@ -31,7 +32,7 @@ io::Series array_series(const std::vector<Doubles>& channels, const std::vector<
   for (std::size_t c = 0; c < channels.size(); ++c) {
     s.channels.push_back(take(channels[c], names[c], c + 1));
     if (s.channels.back().size() != s.channels.front().size())
-      throw UsageError("data", "every channel must have the same length (" + names[c] + " has " +
+      throw ArgumentError("data", "every channel must have the same length (" + names[c] + " has " +
                                    std::to_string(s.channels.back().size()) + " samples, " + names[0] + " " +
                                    std::to_string(s.channels.front().size()) + ")");
   }
@@ -39,12 +40,12 @@ io::Series array_series(const std::vector<Doubles>& channels, const std::vector<
     s.extra_names.push_back(temp_name);
     s.extra.push_back(take(*temperature, temp_name, channels.size() + 1));
     if (s.extra[0].size() != s.channels[0].size())
-      throw UsageError("temperature", "the temperature must have one value per sample (" +
+      throw ArgumentError("temperature", "the temperature must have one value per sample (" +
                                           std::to_string(s.extra[0].size()) + " for " +
                                           std::to_string(s.channels[0].size()) + " samples)");
   }
   const std::size_t n = s.channels[0].size();
-  if (n < 3) throw UsageError("data", "a record needs at least 3 samples");
+  if (n < 3) throw ArgumentError("data", "a record needs at least 3 samples");
   s.segments = {{0, n}};
   return s;
 }

@@ -31,6 +31,7 @@
 #include "array_series.hpp"
 #include "arrays.hpp"
 #include "common.hpp"
+#include "errors.hpp"
 #include "json_value.hpp"
 #include "cubecal/calib/mag_calibration.hpp"
 #include "cubecal/calib/multiposition.hpp"
@@ -103,8 +104,8 @@ std::vector<double> checked_times(const Doubles& a, std::size_t samples, const s
                                   const std::string& label, bool allow_jitter) {
   std::vector<double> t = finite_values(a, what, label, 0);
   if (t.size() != samples)
-    throw UsageError(what, "the time stamps must be one per sample (" + std::to_string(t.size()) + " for " +
-                               std::to_string(samples) + " samples)");
+    throw ArgumentError(what, "the time stamps must be one per sample (" + std::to_string(t.size()) + " for " +
+                                  std::to_string(samples) + " samples)");
   for (std::size_t i = 1; i < t.size(); ++i)
     if (!(t[i] > t[i - 1]))
       throw InputError(label, i + 1, 0,
@@ -153,13 +154,13 @@ struct RateTableArgs {
 
 std::vector<ScheduleRow> schedule_rows(const Doubles& a) {
   if (a.ndim() != 2 || a.shape(1) != 5)
-    throw UsageError("schedule", "the schedule is an array of rows t_begin, t_end, wx, wy, wz (shape (rows, 5))");
+    throw UsageError(Field::schedule, "the schedule is an array of rows t_begin, t_end, wx, wy, wz (shape (rows, 5))");
   const auto n = static_cast<std::size_t>(a.shape(0));
   const double* p = a.data();
   std::vector<ScheduleRow> rows(n);
   for (std::size_t i = 0; i < n; ++i) rows[i] = {p[5 * i], p[5 * i + 1], {p[5 * i + 2], p[5 * i + 3], p[5 * i + 4]}};
-  if (rows.empty()) throw UsageError("schedule", "the schedule has no rows");
-  if (const auto problem = check_schedule(rows)) throw UsageError("schedule", problem->what);
+  if (rows.empty()) throw UsageError(Field::schedule, "the schedule has no rows");
+  if (const auto problem = check_schedule(rows)) throw UsageError(Field::schedule, problem->what);
   return rows;
 }
 
@@ -168,23 +169,23 @@ std::vector<ScheduleRow> schedule_rows(const Doubles& a) {
 pipeline::RateTableRequest rate_table_request(const RateTableArgs& a, bool use_ref) {
   const bool use_schedule = !a.schedule_file.empty() || a.schedule.has_value();
   if (use_ref == use_schedule)
-    throw UsageError(use_ref ? "schedule" : "reference",
-                     use_ref ? "give either reference or schedule, not both"
-                             : "the true rates are needed: give reference (the 3 reference rate columns of the "
-                               "record) or schedule (rows t_begin, t_end, wx, wy, wz)");
+    throw ArgumentError(use_ref ? "schedule" : "reference",
+                        use_ref ? "give either reference or schedule, not both"
+                                : "the true rates are needed: give reference (the 3 reference rate columns of the "
+                                  "record) or schedule (rows t_begin, t_end, wx, wy, wz)");
   if (a.from_signal && !use_schedule)
-    throw UsageError("from_signal", "from_signal labels the plateaus from a schedule: give schedule");
+    throw UsageError(Field::from_signal, "from_signal labels the plateaus from a schedule: give schedule");
   const auto seconds = [](double x, bool positive, const char* option) {
     if (!(positive ? x > 0.0 : x >= 0.0) || !std::isfinite(x))
-      throw UsageError(option, std::string(option) +
-                                   ": margin, min_plateau and ref_tolerance must be >= 0 and "
-                                   "window > 0 seconds");
+      throw ArgumentError(option, std::string(option) +
+                                      ": margin, min_plateau and ref_tolerance must be >= 0 and "
+                                      "window > 0 seconds");
   };
   seconds(a.margin, false, "margin");
   seconds(a.min_plateau, false, "min_plateau");
   seconds(a.ref_tolerance, false, "ref_tolerance");
   seconds(a.window, true, "window");
-  if (a.unit != "deg/s" && a.unit != "rad/s") throw UsageError("unit", "unit must be \"deg/s\" or \"rad/s\"");
+  if (a.unit != "deg/s" && a.unit != "rad/s") throw UsageError(Field::unit, "unit must be \"deg/s\" or \"rad/s\"");
   pipeline::RateTableRequest req;
   req.source = use_ref         ? pipeline::PlateauSource::reference
                : a.from_signal ? pipeline::PlateauSource::signal_schedule
@@ -193,7 +194,8 @@ pipeline::RateTableRequest rate_table_request(const RateTableArgs& a, bool use_r
   if (!a.earth_axis.empty()) {
     if (a.earth_axis.size() != 3 || !std::isfinite(a.earth_axis[0]) || !std::isfinite(a.earth_axis[1]) ||
         !std::isfinite(a.earth_axis[2]))
-      throw UsageError("earth_axis", "earth_axis takes three numbers X, Y, Z (the Earth's axis in the sensor frame)");
+      throw UsageError(Field::earth_axis,
+                       "earth_axis takes three numbers X, Y, Z (the Earth's axis in the sensor frame)");
     req.earth_axis = std::array<double, 3>{a.earth_axis[0], a.earth_axis[1], a.earth_axis[2]};
   }
   req.plateaus.margin_s = a.margin;
@@ -207,8 +209,8 @@ pipeline::RateTableRequest rate_table_request(const RateTableArgs& a, bool use_r
 nlohmann::json rate_table_file(const std::string& path, const ReadArgs& read, const RateTableArgs& a,
                                const std::string& command) {
   if (!a.reference.empty() && a.reference.size() != 3)
-    throw UsageError("reference", "reference takes the 3 reference rate columns (rx,ry,rz or 5,6,7)");
-  if (!read.extra.empty()) throw UsageError("extra", "the extra columns of a rate table are its reference columns");
+    throw ArgumentError("reference", "reference takes the 3 reference rate columns (rx,ry,rz or 5,6,7)");
+  if (!read.extra.empty()) throw ArgumentError("extra", "the extra columns of a rate table are its reference columns");
   pipeline::RateTableRequest req = rate_table_request(a, !a.reference.empty());
   io::SeriesOptions so = series_options(read);
   so.table.extra_columns = a.reference;  // the reference is in physical units: not scaled by lsb
@@ -227,11 +229,11 @@ nlohmann::json rate_table_arrays(const std::vector<Doubles>& channels, const std
                                  const std::vector<std::string>& reference_names, const RateTableArgs& a,
                                  const std::string& label, const std::string& command) {
   if (!reference.empty() && reference.size() != 3)
-    throw UsageError("reference", "reference: the 3 reference rates x, y, z, one value per sample each");
+    throw ArgumentError("reference", "reference: the 3 reference rates x, y, z, one value per sample each");
   if (reference_names.size() != reference.size()) throw std::invalid_argument("reference_names: one per reference");
   if (channels.size() != 3)
-    throw UsageError("data",
-                     "a rate table needs exactly the 3 gyro channels, " + std::to_string(channels.size()) + " given");
+    throw ArgumentError(
+        "data", "a rate table needs exactly the 3 gyro channels, " + std::to_string(channels.size()) + " given");
   pipeline::RateTableRequest req = rate_table_request(a, !reference.empty());
   std::vector<double> t;
   if (time) {
@@ -241,9 +243,10 @@ nlohmann::json rate_table_arrays(const std::vector<Doubles>& channels, const std
   io::Series s = array_series(channels, names, rate, std::nullopt, "", label);
   if (time) {
     if (std::fabs(s.rate_hz * median_interval(t) - 1.0) > 0.01)
-      throw UsageError("rate", fmt::format("the rate {:.6g} Hz contradicts the time stamps (median interval {:.6g} s): "
-                                           "leave the rate out to take it from the time stamps",
-                                           s.rate_hz, median_interval(t)));
+      throw UsageError(Field::rate,
+                       fmt::format("the rate {:.6g} Hz contradicts the time stamps (median interval {:.6g} s): "
+                                   "leave the rate out to take it from the time stamps",
+                                   s.rate_hz, median_interval(t)));
     s.time = std::move(t);
     s.time_name = "time";
   }
@@ -251,9 +254,9 @@ nlohmann::json rate_table_arrays(const std::vector<Doubles>& channels, const std
     s.extra_names.push_back(reference_names[k]);
     s.extra.push_back(finite_values(reference[k], reference_names[k], label, channels.size() + k + 1));
     if (s.extra.back().size() != s.samples())
-      throw UsageError("reference", "the reference rates must have one value per sample (" +
-                                        std::to_string(s.extra.back().size()) + " for " + std::to_string(s.samples()) +
-                                        " samples)");
+      throw ArgumentError("reference", "the reference rates must have one value per sample (" +
+                                           std::to_string(s.extra.back().size()) + " for " +
+                                           std::to_string(s.samples()) + " samples)");
   }
   nlohmann::json j;
   {
@@ -277,24 +280,11 @@ struct MagArgs {
   std::string unit;
 };
 
-// The request, checked as `calibrate mag` checks its options; `field_column`:
-// a field norm per point is given.
+// The request, validated as the CLI's; `field_column`: a field norm per
+// point is given.
 pipeline::MagRequest mag_request(const MagArgs& a, bool field_column) {
   const auto method = mag::parse_method(a.method);
-  if (!method) throw UsageError("method", "method must be \"twostep\", \"twostep-full\" or \"ellipsoid\"");
-  if (!finite_positive(a.lsb)) throw UsageError("lsb", "lsb must be a positive number of counts per unit");
-  if (a.field_norm && !finite_positive(*a.field_norm))
-    throw UsageError("field_norm",
-                     "field_norm must be a positive field magnitude (in the units of the values after lsb)");
-  if (a.noise && !finite_positive(*a.noise))
-    throw UsageError("noise", "noise must be a positive standard deviation per axis (leave it out to estimate it)");
-  if (!(a.reject >= 0.0) || !std::isfinite(a.reject))
-    throw UsageError("reject", "reject must be a positive number of standard deviations (0: no rejection)");
-  if (a.field_norm && field_column)
-    throw UsageError("field_column", "give either field_norm or field_column, not both");
-  if (field_column && *method == mag::Method::ellipsoid)
-    throw UsageError("field_column",
-                     "field_column (a field norm per point) needs method \"twostep\" or \"twostep-full\"");
+  if (!method) throw UsageError(Field::method, "method must be \"twostep\", \"twostep-full\" or \"ellipsoid\"");
   pipeline::MagRequest req;
   req.method = *method;
   req.counts_per_unit = a.lsb;
@@ -304,14 +294,14 @@ pipeline::MagRequest mag_request(const MagArgs& a, bool field_column) {
   req.reject_sigma = a.reject;
   req.allow_partial = a.allow_partial;
   req.unit = a.unit;
+  req.validate();
   return req;
 }
 
 nlohmann::json mag_file(const std::string& path, const std::vector<std::string>& columns, std::size_t skip_rows,
                         unsigned threads, const std::string& field_column, const MagArgs& a,
                         const std::string& command) {
-  if (!columns.empty() && columns.size() != 3)
-    throw UsageError("columns", "columns takes the 3 magnetometer columns (mx,my,mz or 1,2,3)");
+  pipeline::check_mag_columns(columns);
   const pipeline::MagRequest req = mag_request(a, !field_column.empty());
   io::TableOptions to;
   to.columns = columns;
@@ -323,8 +313,8 @@ nlohmann::json mag_file(const std::string& path, const std::vector<std::string>&
     py::gil_scoped_release free;
     const io::Table t = io::read_table(path, to);
     if (t.data.size() != 3)
-      throw UsageError("columns", path + " has " + std::to_string(t.data.size()) +
-                                      " data columns: name the 3 magnetometer columns with columns=\"mx,my,mz\"");
+      throw UsageError(Field::columns, path + " has " + std::to_string(t.data.size()) +
+                                           " data columns: name the 3 magnetometer columns with columns=\"mx,my,mz\"");
     j = pipeline::to_json(on_record(path, [&] { return pipeline::calibrate_mag(t, req); }));
   }
   return with_invocation(std::move(j), command);
@@ -336,7 +326,7 @@ nlohmann::json mag_arrays(const std::vector<Doubles>& xyz, const std::vector<std
                           const std::optional<Doubles>& field_norms, const MagArgs& a, const std::string& label,
                           const std::string& command) {
   if (xyz.size() != 3 || names.size() != 3)
-    throw UsageError("points", "the points are 3 arrays x, y, z (or an array of shape (n, 3))");
+    throw ArgumentError("points", "the points are 3 arrays x, y, z (or an array of shape (n, 3))");
   const pipeline::MagRequest req = mag_request(a, field_norms.has_value());
   io::Table t;
   t.file = label;
@@ -346,8 +336,8 @@ nlohmann::json mag_arrays(const std::vector<Doubles>& xyz, const std::vector<std
     t.data.push_back(finite_values(xyz[c], names[c], label, c + 1));
     t.indices.push_back(c);
     if (t.data.back().size() != t.data.front().size())
-      throw UsageError("points", "x, y and z must have the same length (" + std::to_string(t.data.back().size()) +
-                                     " and " + std::to_string(t.data.front().size()) + ")");
+      throw ArgumentError("points", "x, y and z must have the same length (" + std::to_string(t.data.back().size()) +
+                                        " and " + std::to_string(t.data.front().size()) + ")");
   }
   t.total_columns = 3;
   if (field_norms) {
@@ -356,8 +346,9 @@ nlohmann::json mag_arrays(const std::vector<Doubles>& xyz, const std::vector<std
     t.extra_indices.push_back(3);
     t.total_columns = 4;
     if (t.extra[0].size() != t.rows())
-      throw UsageError("field_column", "the field norms must be one per point (" + std::to_string(t.extra[0].size()) +
-                                           " for " + std::to_string(t.rows()) + " points)");
+      throw UsageError(Field::field_column, "the field norms must be one per point (" +
+                                                std::to_string(t.extra[0].size()) + " for " + std::to_string(t.rows()) +
+                                                " points)");
   }
   nlohmann::json j;
   {
@@ -376,23 +367,19 @@ struct TemperatureArgs {
 };
 
 pipeline::TemperatureRequest temperature_request(const TemperatureArgs& a) {
-  if (a.order < 1 || a.order > 5) throw UsageError("order", "order: the polynomial order is 1 to 5");
-  if (a.unit.find(',') != std::string::npos)
-    throw UsageError("unit",
-                     "one unit here, the unit of the coefficients of every channel: calibrate the channels "
-                     "of each unit in their own call (columns=)");
   pipeline::TemperatureRequest req;
   req.order = a.order;
   req.unit = a.unit;
   req.temp_index = 0;
+  req.validate();
   return req;
 }
 
 nlohmann::json temperature_file(const std::string& path, const ReadArgs& read, const std::string& temperature,
                                 const TemperatureArgs& a) {
-  if (temperature.empty()) throw UsageError("temperature", "name the temperature column (degC) of the file");
+  if (temperature.empty()) throw ArgumentError("temperature", "name the temperature column (degC) of the file");
   if (!read.extra.empty())
-    throw UsageError("extra", "the extra column of a temperature calibration is its temperature");
+    throw ArgumentError("extra", "the extra column of a temperature calibration is its temperature");
   const pipeline::TemperatureRequest req = temperature_request(a);
   io::SeriesOptions so = series_options(read);
   so.table.extra_columns = {temperature};
@@ -435,23 +422,24 @@ struct MultipositionArgs {
 };
 
 pipeline::MultipositionRequest multiposition_request(const MultipositionArgs& a, double rate) {
-  if (!finite_positive(a.g)) throw UsageError("g", "g: the local gravity magnitude must be positive");
+  if (!finite_positive(a.g)) throw UsageError(Field::g, "g: the local gravity magnitude must be positive");
   if (!finite_positive(a.init_static))
-    throw UsageError("init_static", "init_static: the initial static period must be a positive number of seconds");
+    throw UsageError(Field::init_static, "init_static: the initial static period must be a positive number of seconds");
   if (a.window < mp::kMinWindow)
-    throw UsageError("window",
+    throw UsageError(Field::window,
                      "window: the variance window must be at least " + std::to_string(mp::kMinWindow) + " samples");
   if (a.interval_samples < 1 || a.interval_samples > 1000000)
-    throw UsageError("interval_samples", "interval_samples must be 1 to 1000000");
+    throw UsageError(Field::interval_samples, "interval_samples must be 1 to 1000000");
   if (a.min_intervals < 4 || a.min_intervals > 100000)
-    throw UsageError("min_intervals", "min_intervals must be 4 to 100000");
+    throw UsageError(Field::min_intervals, "min_intervals must be 4 to 100000");
   if (a.acc_bias.size() != 1 && a.acc_bias.size() != 3)
-    throw UsageError("acc_bias", "acc_bias takes one value or three (x, y, z)");
+    throw UsageError(Field::acc_bias, "acc_bias takes one value or three (x, y, z)");
   for (const double b : a.acc_bias)
-    if (!std::isfinite(b)) throw UsageError("acc_bias", "acc_bias must be finite");
+    if (!std::isfinite(b)) throw UsageError(Field::acc_bias, "acc_bias must be finite");
   if (!(a.acc_scale >= 0.0) || !std::isfinite(a.acc_scale))
-    throw UsageError("acc_scale", "acc_scale must be 0 (automatic) or a positive scale guess");
-  if (!finite_positive(a.gyro_scale)) throw UsageError("gyro_scale", "gyro_scale must be positive (rad/s per count)");
+    throw UsageError(Field::acc_scale, "acc_scale must be 0 (automatic) or a positive scale guess");
+  if (!finite_positive(a.gyro_scale))
+    throw UsageError(Field::gyro_scale, "gyro_scale must be positive (rad/s per count)");
   pipeline::MultipositionRequest req;
   mp::Options& opt = req.options;
   opt.g = a.g;
@@ -470,9 +458,10 @@ pipeline::MultipositionRequest multiposition_request(const MultipositionArgs& a,
 }
 
 void check_sampling_choice(bool stamped, double rate) {
-  if (rate < 0.0 || !std::isfinite(rate)) throw UsageError("rate", "rate must be a positive number of Hz");
-  if (stamped && rate > 0.0) throw UsageError("rate", "give the time stamps or the rate, not both");
-  if (!stamped && !(rate > 0.0)) throw UsageError("rate", "give the time stamps (time=) or the sampling rate (rate=)");
+  if (rate < 0.0 || !std::isfinite(rate)) throw UsageError(Field::rate, "rate must be a positive number of Hz");
+  if (stamped && rate > 0.0) throw UsageError(Field::rate, "give the time stamps or the rate, not both");
+  if (!stamped && !(rate > 0.0))
+    throw UsageError(Field::rate, "give the time stamps (time=) or the sampling rate (rate=)");
 }
 
 // The given columns (3 or 6) of one file as triads, with the time column
@@ -488,8 +477,8 @@ std::vector<pipeline::TriadSamples> read_triads(const std::string& path, const s
   const io::Table tab = io::read_table(path, to);
   const std::size_t want = columns.empty() ? 3 : columns.size();
   if (tab.data.size() != want || want % 3 != 0)
-    throw UsageError(what_columns, fmt::format("{}: {} data columns{}: choose three with {}", path, tab.data.size(),
-                                               time_col.empty() ? "" : " besides the time column", what_columns));
+    throw ArgumentError(what_columns, fmt::format("{}: {} data columns{}: choose three with {}", path, tab.data.size(),
+                                                  time_col.empty() ? "" : " besides the time column", what_columns));
   if (!time_col.empty()) {
     const auto& t = tab.extra[0];
     const auto at = [&](std::size_t i) { return io::locate(tab, i, tab.extra_indices[0]); };
@@ -543,9 +532,9 @@ nlohmann::json multiposition_file(const std::string& acc_path, const std::string
                                   const std::string& command) {
   check_sampling_choice(!time_col.empty(), rate);
   if (!acc_columns.empty() && acc_columns.size() != 3)
-    throw UsageError("acc_columns", "acc_columns takes three columns");
+    throw UsageError(Field::acc_columns, "acc_columns takes three columns");
   if (!gyro_columns.empty() && gyro_columns.size() != 3)
-    throw UsageError("gyro_columns", "gyro_columns takes three columns");
+    throw UsageError(Field::gyro_columns, "gyro_columns takes three columns");
   const pipeline::MultipositionRequest req = multiposition_request(a, rate);
   pipeline::TriadSamples acc;
   std::optional<pipeline::TriadSamples> gyro;
@@ -553,7 +542,8 @@ nlohmann::json multiposition_file(const std::string& acc_path, const std::string
     py::gil_scoped_release free;
     if (gyro_path.empty() && !gyro_columns.empty()) {
       // One file with both triads.
-      if (acc_columns.empty()) throw UsageError("acc_columns", "give acc_columns with gyro_columns for a single file");
+      if (acc_columns.empty())
+        throw UsageError(Field::acc_columns, "give acc_columns with gyro_columns for a single file");
       std::vector<std::string> cols = acc_columns;
       cols.insert(cols.end(), gyro_columns.begin(), gyro_columns.end());
       auto both = read_triads(acc_path, cols, time_col, skip_rows, threads, "acc_columns and gyro_columns");
@@ -572,11 +562,11 @@ nlohmann::json multiposition_file(const std::string& acc_path, const std::string
 pipeline::TriadSamples triad_of(const std::vector<Doubles>& xyz, const std::optional<Doubles>& time,
                                 const std::string& what, const std::string& label) {
   if (xyz.size() != 3)
-    throw UsageError(what, what + ": the 3 axes x, y, z (an array of shape (n, 3), 3 arrays or 3 named columns)");
+    throw ArgumentError(what, what + ": the 3 axes x, y, z (an array of shape (n, 3), 3 arrays or 3 named columns)");
   std::array<std::vector<double>, 3> axes;
   for (std::size_t c = 0; c < 3; ++c) {
     axes[c] = finite_values(xyz[c], what + " axis " + std::string(1, "xyz"[c]), label, c + 1);
-    if (axes[c].size() != axes[0].size()) throw UsageError(what, what + ": the 3 axes must have the same length");
+    if (axes[c].size() != axes[0].size()) throw ArgumentError(what, what + ": the 3 axes must have the same length");
   }
   pipeline::TriadSamples tr;
   tr.file = label;
@@ -593,7 +583,7 @@ nlohmann::json multiposition_arrays(const std::vector<Doubles>& acc, const std::
                                     double rate, const MultipositionArgs& a, const std::string& acc_label,
                                     const std::string& gyro_label, const std::string& command) {
   check_sampling_choice(time.has_value(), rate);
-  if (gyro_time && !time) throw UsageError("gyro_time", "gyro_time needs the accelerometer's time stamps (time=)");
+  if (gyro_time && !time) throw ArgumentError("gyro_time", "gyro_time needs the accelerometer's time stamps (time=)");
   const pipeline::MultipositionRequest req = multiposition_request(a, rate);
   const pipeline::TriadSamples acc_samples = triad_of(acc, time, "acc", acc_label);
   std::optional<pipeline::TriadSamples> gyro_samples;
@@ -627,7 +617,7 @@ std::vector<Unit> units_of(const std::vector<std::string>& names, const std::str
   std::vector<Unit> units;
   for (const auto& name : names) {
     const auto u = parse_unit(name);
-    if (!u) throw UsageError(option, "unknown unit '" + name + "' (use " + known_units() + ")");
+    if (!u) throw ArgumentError(option, "unknown unit '" + name + "' (use " + known_units() + ")");
     units.push_back(*u);
   }
   return units;
@@ -663,8 +653,8 @@ std::vector<pipeline::AnalyzeRequest> run_requests(const pipeline::AnalyzeReques
       bool same = other.size() == inferred.size();
       for (std::size_t c = 0; same && c < inferred.size(); ++c) same = other[c].name == inferred[c].name;
       if (!same)
-        throw UsageError("unit", runs[k].file + ": its channel names do not announce the units of " + reference->file +
-                                     "'s: give unit=");
+        throw UsageError(Field::unit, runs[k].file + ": its channel names do not announce the units of " +
+                                          reference->file + "'s: give unit=");
     }
     reqs[k].units = inferred;
   }
@@ -674,7 +664,7 @@ std::vector<pipeline::AnalyzeRequest> run_requests(const pipeline::AnalyzeReques
 pipeline::AnalyzeRequest runs_request(const RunsArgs& a) {
   pipeline::AnalyzeRequest req;
   req.grid = taus_arg(a.taus);
-  if (!(a.ci > 0.0 && a.ci < 1.0)) throw UsageError("ci", "ci must be between 0 and 1");
+  if (!(a.ci > 0.0 && a.ci < 1.0)) throw UsageError(Field::ci, "ci must be between 0 and 1");
   req.ci = a.ci;
   req.threads = a.threads;
   units_of(a.units, "unit");  // a typo fails before any file is read
@@ -707,9 +697,10 @@ nlohmann::json turnon(const std::vector<RunInput>& inputs, const RunsArgs& a) {
   const pipeline::AnalyzeRequest base = runs_request(a);
   for (const auto& in : inputs)
     if (!in.units.empty())
-      throw UsageError("unit", (in.path.empty() ? in.label : in.path) +
-                                   ": turnon averages the runs' biases, so every run is in the same unit: give unit= "
-                                   "to turnon (or scale a run with lsb=), not a unit per run");
+      throw UsageError(Field::unit,
+                       (in.path.empty() ? in.label : in.path) +
+                           ": turnon averages the runs' biases, so every run is in the same unit: give unit= "
+                           "to turnon (or scale a run with lsb=), not a unit per run");
   auto arrays = array_runs(inputs);
   nlohmann::json j;
   {
@@ -723,7 +714,7 @@ nlohmann::json turnon(const std::vector<RunInput>& inputs, const RunsArgs& a) {
 
 nlohmann::json compare(const std::vector<RunInput>& inputs, const RunsArgs& a) {
   const pipeline::AnalyzeRequest base = runs_request(a);
-  if (inputs.empty()) throw UsageError("runs", "no run to compare");
+  if (inputs.empty()) throw ArgumentError("runs", "no run to compare");
   auto arrays = array_runs(inputs);
   nlohmann::json j;
   {

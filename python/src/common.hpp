@@ -44,7 +44,7 @@ struct ReadArgs {
 // gaps="skip" (an empty field or NaN is a missing sample, a gap of whole
 // periods is filled with them) is taken where the call leaves missing samples
 // out, as the CLI's --gaps skip (`missing_samples`: cubecal.read, davar, dev),
-// and refused with UsageError("gaps") elsewhere.
+// and refused with UsageError(Field::gaps) elsewhere.
 io::SeriesOptions series_options(const ReadArgs& a, bool missing_samples = false);
 // The record as a dict of 1-D arrays in file order (time first when there is
 // one, the channels, then the extra columns) and its metadata.

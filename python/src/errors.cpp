@@ -4,6 +4,7 @@
 #include <string>
 
 #include "cubecal/error.hpp"
+#include "cubecal/field.hpp"
 
 namespace py = pybind11;
 
@@ -19,6 +20,31 @@ void raise(PyObject* type, const std::string& message, const py::dict& attribute
 }
 
 }  // namespace
+
+std::string_view python_keyword(Field f) noexcept {
+  switch (f) {
+    case Field::counts_per_unit: return "lsb";
+    case Field::reject_sigma: return "reject";
+    case Field::mag_columns: return "columns";
+    default: return field_name(f);
+  }
+}
+
+std::string python_words(const std::string& text) {
+  // The subject of the message ("{noise} must be positive") as the keyword,
+  // an argument to give ("leave out {stream}") as `keyword=`.
+  std::string out;
+  std::string rest = text;
+  for (std::size_t i = 0; i < kFieldCount; ++i) {
+    const auto f = static_cast<Field>(i);
+    if (text.starts_with(marker(f))) {
+      out = python_keyword(f);
+      rest = text.substr(marker(f).size());
+      break;
+    }
+  }
+  return out + render_fields(rest, [](Field f) { return std::string(python_keyword(f)) + "="; });
+}
 
 void bind_errors(py::module_& m) {
   // Handles that live as long as the interpreter (pybind11's own idiom for
@@ -42,17 +68,21 @@ void bind_errors(py::module_& m) {
       a["file"] = e.file();
       a["line"] = e.line();
       a["column"] = e.column();
-      a["problem"] = e.problem();
-      a["hint"] = e.hint();
-      raise(input_error.ptr(), e.what(), a);
+      a["problem"] = python_words(e.problem());
+      a["hint"] = python_words(e.hint());
+      raise(input_error.ptr(), python_words(e.text()), a);
+    } catch (const ArgumentError& e) {
+      py::dict a;
+      a["option"] = e.argument();
+      raise(usage_error.ptr(), python_words(e.text()), a);
     } catch (const UsageError& e) {
       py::dict a;
-      a["option"] = e.option();
-      raise(usage_error.ptr(), e.what(), a);
+      a["option"] = e.field() ? std::string(python_keyword(*e.field())) : std::string();
+      raise(usage_error.ptr(), python_words(e.text()), a);
     } catch (const CalibrationError& e) {
       py::dict a;
       a["reason"] = std::string(to_string(e.reason()));
-      raise(calibration_error.ptr(), e.what(), a);
+      raise(calibration_error.ptr(), python_words(e.text()), a);
     }
   });
 }

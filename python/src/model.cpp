@@ -45,7 +45,7 @@ nlohmann::json model(const std::optional<std::string>& path, const ReadArgs& rea
   (void)parse_candidate_models(a.model);  // a typo fails before the reading
   req.selection_replicates = a.wic_replicates;
   req.units = named_units(a.units);
-  if (a.starts < 1) throw UsageError("starts", "give at least one starting point");
+  if (a.starts < 1) throw UsageError(Field::starts, "give at least one starting point");
   req.bootstrap = a.bootstrap;
   req.seed = a.seed;
   req.ci = a.ci;

@@ -29,16 +29,16 @@ io::SeriesOptions series_options(const ReadArgs& a, bool missing_samples) {
   s.table.skip_rows = a.skip_rows;
   s.table.threads = a.threads;
   s.time_col = a.time;
-  if (a.rate < 0.0 || !std::isfinite(a.rate)) throw UsageError("rate", "rate must be a positive number of Hz");
+  if (a.rate < 0.0 || !std::isfinite(a.rate)) throw UsageError(Field::rate, "rate must be a positive number of Hz");
   s.rate_hz = a.rate;
   for (const double x : a.lsb)
     if (!(x > 0.0) || !std::isfinite(x))
-      throw UsageError("lsb", "lsb: every value must be a positive number of counts per unit");
+      throw UsageError(Field::lsb, "lsb: every value must be a positive number of counts per unit");
   s.lsb = a.lsb.empty() ? std::vector<double>{1.0} : a.lsb;
   if (a.gaps != "error" && a.gaps != "split" && a.gaps != "skip")
-    throw UsageError("gaps", "gaps must be \"error\", \"split\" or \"skip\"");
+    throw UsageError(Field::gaps, "gaps must be \"error\", \"split\" or \"skip\"");
   if (a.gaps == "skip" && !missing_samples)
-    throw UsageError("gaps",
+    throw UsageError(Field::gaps,
                      "gaps=\"skip\": this call needs every sample (missing samples are skipped by dev and "
                      "davar, for OADEV); use gaps=\"split\" to analyze the contiguous pieces");
   s.gaps = a.gaps == "split" ? io::GapPolicy::split : a.gaps == "skip" ? io::GapPolicy::skip : io::GapPolicy::error;
@@ -46,10 +46,10 @@ io::SeriesOptions series_options(const ReadArgs& a, bool missing_samples) {
   s.dataset = a.dataset;
   if (a.binary.empty()) {
     if (a.header_bytes != 0)
-      throw UsageError("header_bytes", "header_bytes applies to raw binary input: give binary=TYPES");
+      throw UsageError(Field::header_bytes, "header_bytes applies to raw binary input: give binary=TYPES");
   } else {
     if (a.skip_rows != 0)
-      throw UsageError("skip_rows", "skip_rows counts text lines; for raw binary give header_bytes");
+      throw UsageError(Field::skip_rows, "skip_rows counts text lines; for raw binary give header_bytes");
     s.binary = io::parse_raw_layout(a.binary, a.header_bytes);
   }
   return s;

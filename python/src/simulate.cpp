@@ -18,6 +18,7 @@
 #include "analysis_handle.hpp"
 #include "arrays.hpp"
 #include "cubecal/error.hpp"
+#include "errors.hpp"
 #include "cubecal/io/series.hpp"
 #include "cubecal/pipeline/analysis_json.hpp"
 #include "cubecal/pipeline/model_fit_json.hpp"
@@ -62,7 +63,7 @@ std::vector<double> numbers(const std::string& list, const std::string& what) {
       used = 0;
     }
     if (used == 0 || used != item.size() || !std::isfinite(x))
-      throw UsageError("temperature", what + ": '" + item + "' is not a number");
+      throw ArgumentError("temperature", what + ": '" + item + "' is not a number");
     v.push_back(x);
   }
   return v;
@@ -73,7 +74,7 @@ TemperatureProfile temperature(const SimulateArgs& a) {
   if (a.temperature_values) {
     const std::span<const double> v = view(*a.temperature_values, "temperature");
     for (const double x : v)
-      if (!std::isfinite(x)) throw UsageError("temperature", "temperature values must be finite");
+      if (!std::isfinite(x)) throw ArgumentError("temperature", "temperature values must be finite");
     p.kind = TemperatureProfile::Kind::series;
     p.values.assign(v.begin(), v.end());
     return p;
@@ -81,23 +82,23 @@ TemperatureProfile temperature(const SimulateArgs& a) {
   const std::string& spec = a.temperature;
   if (spec.rfind("const:", 0) == 0) {
     const auto v = numbers(spec.substr(6), "const:T");
-    if (v.size() != 1) throw UsageError("temperature", "const:T takes one temperature in degC");
+    if (v.size() != 1) throw ArgumentError("temperature", "const:T takes one temperature in degC");
     p.mean = v[0];
     return p;
   }
   if (spec.rfind("sine:", 0) == 0) {
     const auto v = numbers(spec.substr(5), "sine:MEAN,AMPLITUDE[,PERIOD_S]");
-    if (v.size() < 2 || v.size() > 3) throw UsageError("temperature", "sine:MEAN,AMPLITUDE[,PERIOD_S]");
+    if (v.size() < 2 || v.size() > 3) throw ArgumentError("temperature", "sine:MEAN,AMPLITUDE[,PERIOD_S]");
     p.kind = TemperatureProfile::Kind::sinusoid;
     p.mean = v[0];
     p.amplitude = v[1];
     if (v.size() == 3) {
-      if (!(v[2] > 0)) throw UsageError("temperature", "sine: the period must be positive");
+      if (!(v[2] > 0)) throw ArgumentError("temperature", "sine: the period must be positive");
       p.period_s = v[2];
     }
     return p;
   }
-  throw UsageError(
+  throw ArgumentError(
       "temperature",
       "temperature must be \"const:T\", \"sine:MEAN,AMPLITUDE[,PERIOD_S]\" or an array, not '" + spec + "'");
 }
@@ -106,7 +107,7 @@ TemperatureProfile temperature(const SimulateArgs& a) {
 void read_model_file(const std::string& path, std::optional<pipeline::AnalysisResult>& analysis,
                      std::optional<pipeline::ModelResult>& model) {
   std::ifstream in(path);
-  if (!in) throw UsageError("model", "cannot read " + path);
+  if (!in) throw UsageError(Field::model, "cannot read " + path);
   std::stringstream ss;
   ss << in.rdbuf();
   const nlohmann::json j = nlohmann::json::parse(ss.str(), nullptr, false);
@@ -119,7 +120,7 @@ void read_model_file(const std::string& path, std::optional<pipeline::AnalysisRe
 py::tuple simulate(const SimulateArgs& a) {
   pipeline::SimulateRequest req;
   if (a.rate != 0.0 && (!(a.rate >= io::kMinRateHz && a.rate <= io::kMaxRateHz) || !std::isfinite(a.rate)))
-    throw UsageError("rate", "rate must be a positive number of Hz (1e-9 to 1e9)");
+    throw UsageError(Field::rate, "rate must be a positive number of Hz (1e-9 to 1e9)");
   const bool rate_given = a.rate != 0.0;
   req.rate_hz = rate_given ? a.rate : 10.0;
   // The model's sigma_n and sigma_mu hold per sample at the rate it was
@@ -136,12 +137,12 @@ py::tuple simulate(const SimulateArgs& a) {
     } catch (const std::invalid_argument&) {
       std::string known;
       for (const auto& n : preset_names()) known += (known.empty() ? "" : ", ") + n;
-      throw UsageError("model", "unknown preset '" + name + "' (known: " + known + ")");
+      throw UsageError(Field::model, "unknown preset '" + name + "' (known: " + known + ")");
     }
   }
   if (!a.bias.empty() && a.bias != "random-walk" && a.bias != "gauss-markov" && a.bias != "composite" &&
       a.bias != "twin")
-    throw UsageError("bias", "bias must be \"twin\", \"random-walk\", \"gauss-markov\" or \"composite\"");
+    throw UsageError(Field::bias, "bias must be \"twin\", \"random-walk\", \"gauss-markov\" or \"composite\"");
   if (model != nullptr) {
     const std::string label = a.analysis ? std::string("the analysis") : a.model_file;
     // The twin by default, where every channel has one; else the paper's model.
@@ -155,41 +156,41 @@ py::tuple simulate(const SimulateArgs& a) {
   }
   if (composite_file) {
     if (!a.bias.empty() && a.bias != "composite" && a.bias != "twin")
-      throw UsageError("bias", a.model_file +
+      throw UsageError(Field::bias, a.model_file +
                                    " is a cubecal model result, which holds composite models only "
                                    "(bias=\"composite\", or leave bias out)");
     for (auto& t : pipeline::models_from_composite(*composite_file, a.model_file, req.rate_hz))
       req.triads.push_back(std::move(t));
   }
-  if (req.triads.empty()) throw UsageError("model", "nothing to simulate: give a preset or an analysis");
+  if (req.triads.empty()) throw UsageError(Field::model, "nothing to simulate: give a preset or an analysis");
   if (!a.flicker.empty()) {
     if (a.flicker.size() != 1 && a.flicker.size() != req.triads.size())
-      throw UsageError("flicker", "flicker: one bias instability B for all triads or one per triad (" +
+      throw UsageError(Field::flicker, "flicker: one bias instability B for all triads or one per triad (" +
                                       std::to_string(req.triads.size()) + ")");
     for (std::size_t k = 0; k < req.triads.size(); ++k) {
       const double b = a.flicker.size() == 1 ? a.flicker[0] : a.flicker[k];
-      if (!(b >= 0.0) || !std::isfinite(b)) throw UsageError("flicker", "flicker: B must be a finite number >= 0");
+      if (!(b >= 0.0) || !std::isfinite(b)) throw UsageError(Field::flicker, "flicker: B must be a finite number >= 0");
       for (auto& axis : req.triads[k].axes) axis.power_law.push_back(flicker_term(b));
     }
   }
   if (!(a.duration > 0.0) || !std::isfinite(a.duration))
-    throw UsageError("duration", "duration must be a positive number of seconds");
+    throw UsageError(Field::duration, "duration must be a positive number of seconds");
   req.duration_s = a.duration;
   req.seed = a.seed;
   req.temperature = temperature(a);
   if (a.true_t) {
-    if (a.true_w.size() != 3) throw UsageError("true_input", "a true-input profile is (t, wx, wy, wz)");
+    if (a.true_w.size() != 3) throw ArgumentError("true_input", "a true-input profile is (t, wx, wy, wz)");
     const auto t = view(*a.true_t, "true_input t");
     req.true_input.t.assign(t.begin(), t.end());
     for (int k = 0; k < 3; ++k) {
       const auto w = view(a.true_w[static_cast<std::size_t>(k)], "true_input w");
-      if (w.size() != t.size()) throw UsageError("true_input", "t and each rate must have the same length");
+      if (w.size() != t.size()) throw ArgumentError("true_input", "t and each rate must have the same length");
       req.true_input.w[static_cast<std::size_t>(k)].assign(w.begin(), w.end());
     }
   }
   const double samples = req.duration_s * req.rate_hz;
-  if (samples > 1e10) throw UsageError("duration", "more than 1e10 samples asked for: shorten duration or lower rate");
-  if (pipeline::sample_count(req) < 1) throw UsageError("duration", "duration shorter than one sample period");
+  if (samples > 1e10) throw UsageError(Field::duration, "more than 1e10 samples asked for: shorten duration or lower rate");
+  if (pipeline::sample_count(req) < 1) throw UsageError(Field::duration, "duration shorter than one sample period");
   pipeline::SimulatedRecord rec;
   {
     py::gil_scoped_release free;

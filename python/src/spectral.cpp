@@ -48,9 +48,9 @@ py::tuple psd(const std::optional<std::string>& path, const ReadArgs& read, cons
   pipeline::PsdRequest req;
   const auto window = parse_window(a.window);
   if (!window)
-    throw UsageError("window", "window must be hann, hamming, blackman or rectangular, not '" + a.window + "'");
+    throw UsageError(Field::window, "window must be hann, hamming, blackman or rectangular, not '" + a.window + "'");
   const auto detrend = parse_detrend(a.detrend);
-  if (!detrend) throw UsageError("detrend", "detrend must be none, constant or linear, not '" + a.detrend + "'");
+  if (!detrend) throw UsageError(Field::detrend, "detrend must be none, constant or linear, not '" + a.detrend + "'");
   req.welch.window = *window;
   req.welch.detrend = *detrend;
   req.welch.segment_length = a.segment;
@@ -106,10 +106,10 @@ nlohmann::json davar(const std::optional<std::string>& path, const ReadArgs& rea
                      const std::vector<std::string>& names, double rate, const DavarArgs& a) {
   pipeline::DavarRequest req;
   req.type = data_type_arg(a.type);
-  if (!a.window.empty()) req.window = pipeline::parse_davar_span(a.window, "window");
-  if (!a.step.empty()) req.step = pipeline::parse_davar_span(a.step, "step");
+  if (!a.window.empty()) req.window = pipeline::parse_davar_span(a.window, Field::window);
+  if (!a.step.empty()) req.step = pipeline::parse_davar_span(a.step, Field::step);
   req.grid = taus_arg(a.taus);
-  if (!(a.ci > 0.0 && a.ci < 1.0)) throw UsageError("ci", "ci must be between 0 and 1");
+  if (!(a.ci > 0.0 && a.ci < 1.0)) throw UsageError(Field::ci, "ci must be between 0 and 1");
   req.intervals.enabled = a.intervals;
   req.intervals.ci = a.ci;
   req.intervals.alpha = a.alpha;

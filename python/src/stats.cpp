@@ -19,6 +19,7 @@
 #include "common.hpp"
 #include "json_value.hpp"
 #include "cubecal/error.hpp"
+#include "errors.hpp"
 #include "cubecal/pipeline/analysis_json.hpp"
 #include "cubecal/io/series.hpp"
 #include "cubecal/pipeline/dev_pipeline.hpp"
@@ -34,12 +35,12 @@ Stat stat_arg(const std::string& name) {
   if (const auto s = parse_stat(name)) return *s;
   std::string known;
   for (std::string_view n : stat_names()) known += (known.empty() ? "" : ", ") + std::string(n);
-  throw UsageError("stat", "unknown statistic '" + name + "' (" + known + ")");
+  throw UsageError(Field::stat, "unknown statistic '" + name + "' (" + known + ")");
 }
 
 DataType data_type_arg(const std::string& name) {
   if (const auto t = parse_data_type(name)) return *t;
-  throw UsageError("data_type", "data_type must be \"phase\" or \"freq\", not '" + name + "'");
+  throw ArgumentError("data_type", "data_type must be \"phase\" or \"freq\", not '" + name + "'");
 }
 
 TauGrid taus_arg(const py::object& taus) {
@@ -49,25 +50,25 @@ TauGrid taus_arg(const py::object& taus) {
     try {
       return parse_tau_grid(spec);
     } catch (const std::invalid_argument& e) {
-      throw UsageError("taus", e.what());
+      throw UsageError(Field::taus, e.what());
     }
   }
   TauGrid g;
   g.kind = TauGrid::Kind::list;
   const Doubles list = Doubles::ensure(taus);
   if (!list || list.ndim() != 1 || list.size() == 0)
-    throw UsageError("taus",
+    throw UsageError(Field::taus,
                      "taus must be \"octave\", \"decade\", \"all\", \"log:K\" or a 1-D sequence of taus in seconds");
   g.taus.assign(list.data(), list.data() + list.size());
   for (const double t : g.taus)
-    if (!(t > 0.0) || !std::isfinite(t)) throw UsageError("taus", "every tau must be a positive number of seconds");
+    if (!(t > 0.0) || !std::isfinite(t)) throw UsageError(Field::taus, "every tau must be a positive number of seconds");
   return g;
 }
 
 namespace {
 
 void check_rate(double rate) {
-  if (!(rate > 0.0) || !std::isfinite(rate)) throw UsageError("rate", "rate must be a positive number of Hz");
+  if (!(rate > 0.0) || !std::isfinite(rate)) throw UsageError(Field::rate, "rate must be a positive number of Hz");
 }
 
 // (m, dev, n) at the given averaging factors; n == 0 where the record is too
@@ -83,7 +84,7 @@ py::tuple deviation(const std::string& stat_name, const Doubles& data, double ra
   ms.reserve(static_cast<std::size_t>(factors.size()));
   for (py::ssize_t i = 0; i < factors.size(); ++i) {
     const std::int64_t m = factors.data()[i];
-    if (m < 1) throw UsageError("taus", "every averaging factor must be at least 1");
+    if (m < 1) throw UsageError(Field::taus, "every averaging factor must be at least 1");
     ms.push_back(static_cast<std::size_t>(m));
   }
   std::vector<StabilityPoint> pts;
@@ -111,11 +112,11 @@ py::tuple deviation_missing(const Doubles& data, double rate, const std::string&
                             double ci, std::optional<int> alpha) {
   const DataType type = data_type_arg(type_name);
   check_rate(rate);
-  if (!(ci > 0.0 && ci < 1.0)) throw UsageError("ci", "ci must be between 0 and 1");
+  if (!(ci > 0.0 && ci < 1.0)) throw UsageError(Field::ci, "ci must be between 0 and 1");
   const std::span<const double> x = view(data, "data");
   std::vector<std::size_t> ms;
   for (py::ssize_t i = 0; i < factors.size(); ++i) {
-    if (factors.data()[i] < 1) throw UsageError("taus", "every averaging factor must be at least 1");
+    if (factors.data()[i] < 1) throw UsageError(Field::taus, "every averaging factor must be at least 1");
     ms.push_back(static_cast<std::size_t>(factors.data()[i]));
   }
   StabilityOptions opt;
@@ -179,17 +180,17 @@ py::tuple dev(const std::vector<Doubles>& channels, const std::vector<std::strin
               const std::string& stat_name, const std::string& type_name, const py::object& taus, double ci,
               std::optional<int> alpha, const std::string& edf, bool conservative, bool intervals, unsigned threads,
               const std::string& gaps) {
-  if (gaps != "error" && gaps != "skip") throw UsageError("gaps", "gaps must be \"error\" or \"skip\" for arrays");
+  if (gaps != "error" && gaps != "skip") throw UsageError(Field::gaps, "gaps must be \"error\" or \"skip\" for arrays");
   pipeline::DevRequest req;
   req.stat = stat_arg(stat_name);
   req.type = data_type_arg(type_name);
   req.grid = taus_arg(taus);
   check_rate(rate);
-  if (!(ci > 0.0 && ci < 1.0)) throw UsageError("ci", "ci must be between 0 and 1");
+  if (!(ci > 0.0 && ci < 1.0)) throw UsageError(Field::ci, "ci must be between 0 and 1");
   req.options.ci = ci;
-  if (alpha && (*alpha < -4 || *alpha > 2)) throw UsageError("alpha", "alpha must be an integer from -4 to 2");
+  if (alpha && (*alpha < -4 || *alpha > 2)) throw UsageError(Field::alpha, "alpha must be an integer from -4 to 2");
   req.options.alpha = alpha;
-  if (edf != "greenhall" && edf != "simple") throw UsageError("edf", "edf must be \"greenhall\" or \"simple\"");
+  if (edf != "greenhall" && edf != "simple") throw UsageError(Field::edf, "edf must be \"greenhall\" or \"simple\"");
   req.options.edf = edf == "simple" ? EdfMethod::simple : EdfMethod::greenhall;
   req.options.conservative_short = conservative;
   req.options.intervals = intervals;
@@ -199,7 +200,7 @@ py::tuple dev(const std::vector<Doubles>& channels, const std::vector<std::strin
   for (std::size_t c = 0; c < channels.size(); ++c) {
     views.push_back(view(channels[c], names[c]));
     if (views.back().size() != views.front().size())
-      throw UsageError("data", "every channel must have the same length (" + names[c] + " has " +
+      throw ArgumentError("data", "every channel must have the same length (" + names[c] + " has " +
                                    std::to_string(views.back().size()) + ", " + names[0] + " " +
                                    std::to_string(views.front().size()) + ")");
   }

@@ -10,10 +10,10 @@
 
 namespace cubecal::python {
 
-// UsageError("unit") naming the channels that announce none.
+// UsageError(Field::unit) naming the channels that announce none.
 std::vector<Unit> announced_units(const io::Series& s);
 
-// The units a call names (unit=), parsed; UsageError("unit") for one it
+// The units a call names (unit=), parsed; UsageError(Field::unit) for one it
 // does not know.
 std::vector<Unit> named_units(const std::vector<std::string>& names);
 

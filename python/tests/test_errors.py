@@ -44,6 +44,17 @@ class Errors(unittest.TestCase):
                     call()
                 self.assertEqual(cm.exception.option, option)
 
+    def test_messages_name_python_arguments(self):
+        # The library's checks, in Python's words: the argument, never a CLI flag.
+        with self.assertRaises(cubecal.UsageError) as cm:
+            cubecal.calibrate_mag(np.ones((100, 3)), lsb=0)
+        self.assertEqual(cm.exception.option, "lsb")
+        self.assertEqual(str(cm.exception), "lsb must be a positive number of counts per unit")
+        with self.assertRaises(cubecal.UsageError) as cm:
+            cubecal.calibrate_mag(np.ones((100, 3)), field_norm=50.0, field_column=np.ones(100), method="twostep")
+        self.assertEqual(cm.exception.option, "field_column")
+        self.assertEqual(str(cm.exception), "give either field_norm= or field_column=, not both")
+
     def test_non_finite_sample(self):
         y = np.ones(1000)
         y[17] = np.nan

@@ -108,7 +108,7 @@ class GapsSkip(unittest.TestCase):
         with self.assertRaises(cubecal.InputError) as cm:
             cubecal.read(self.csv)
         self.assertEqual((cm.exception.line, cm.exception.column), (132, 6))  # '13.0,' then the field
-        self.assertIn("--gaps skip leaves it out of the OADEV terms", str(cm.exception))
+        self.assertIn("gaps= skip leaves it out of the OADEV terms", str(cm.exception))
 
     def test_davar_equals_cli(self):
         args = dict(window="60s", step="20s", taus="octave")

@@ -13,9 +13,10 @@ namespace cubecal::acquire {
 namespace {
 
 [[noreturn]] void bad(const std::string& what) {
-  throw UsageError("frame", printable_text(what) +
-                                " (e.g. --frame 'sync=A55A;fields=t:u32,gx:i16,gy:i16,gz:i16;checksum=xor8;endian=le'; "
-                                "types u8 i8 u16 i16 u32 i32 u64 i64 f32 f64, checksums none xor8 sum8 crc16 crc32)");
+  throw UsageError(Field::frame,
+                   printable_text(what) +
+                       " (e.g. {frame} 'sync=A55A;fields=t:u32,gx:i16,gy:i16,gz:i16;checksum=xor8;endian=le'; "
+                       "types u8 i8 u16 i16 u32 i32 u64 i64 f32 f64, checksums none xor8 sum8 crc16 crc32)");
 }
 
 std::vector<std::string_view> split(std::string_view s, char sep) {
@@ -43,7 +44,7 @@ FieldType field_type(std::string_view t) {
       {"f32", FieldType::f32}, {"f64", FieldType::f64}};
   for (const auto& [name, type] : kTypes)
     if (name == t) return type;
-  bad("--frame: unknown field type '" + std::string(t) + "'");
+  bad("{frame}: unknown field type '" + std::string(t) + "'");
 }
 
 }  // namespace
@@ -90,18 +91,18 @@ FrameSpec parse_frame_spec(std::string_view spec) {
   for (const std::string_view item : split(spec, ';')) {
     if (item.empty()) continue;
     const auto eq = item.find('=');
-    if (eq == std::string_view::npos) bad("--frame: '" + std::string(item) + "' is not KEY=VALUE");
+    if (eq == std::string_view::npos) bad("{frame}: '" + std::string(item) + "' is not KEY=VALUE");
     const std::string_view key = item.substr(0, eq), value = item.substr(eq + 1);
     // A key given twice would add a second sync to the first, or a second
     // field list to the first, beyond what either says.
     if (!keys.insert(std::string(key)).second)
-      bad("--frame: " + std::string(key) + " is given twice; give each key once");
+      bad("{frame}: " + std::string(key) + " is given twice; give each key once");
     if (key == "sync") {
       if (value.size() < 2 || value.size() > 8 || value.size() % 2 != 0)
-        bad("--frame: sync is 1 to 4 bytes in hex, got '" + std::string(value) + "'");
+        bad("{frame}: sync is 1 to 4 bytes in hex, got '" + std::string(value) + "'");
       for (std::size_t i = 0; i < value.size(); i += 2) {
         const int hi = hex_digit(value[i]), lo = hex_digit(value[i + 1]);
-        if (hi < 0 || lo < 0) bad("--frame: sync '" + std::string(value) + "' is not hex");
+        if (hi < 0 || lo < 0) bad("{frame}: sync '" + std::string(value) + "' is not hex");
         s.sync.push_back(static_cast<char>(hi * 16 + lo));
       }
     } else if (key == "fields") {
@@ -109,11 +110,11 @@ FrameSpec parse_frame_spec(std::string_view spec) {
       for (const std::string_view f : split(value, ',')) {
         const auto colon = f.find(':');
         if (colon == std::string_view::npos || colon == 0)
-          bad("--frame: field '" + std::string(f) + "' is not NAME:TYPE");
+          bad("{frame}: field '" + std::string(f) + "' is not NAME:TYPE");
         FrameField field;
         field.name = std::string(f.substr(0, colon));
         field.type = field_type(f.substr(colon + 1));
-        if (!seen.insert(field.name).second) bad("--frame: field '" + field.name + "' is named twice");
+        if (!seen.insert(field.name).second) bad("{frame}: field '" + field.name + "' is named twice");
         s.fields.push_back(std::move(field));
       }
     } else if (key == "checksum") {
@@ -128,20 +129,20 @@ FrameSpec parse_frame_spec(std::string_view spec) {
       else if (value == "crc32")
         s.checksum = Checksum::crc32;
       else
-        bad("--frame: unknown checksum '" + std::string(value) + "'");
+        bad("{frame}: unknown checksum '" + std::string(value) + "'");
     } else if (key == "endian") {
       if (value == "le")
         s.big_endian = false;
       else if (value == "be")
         s.big_endian = true;
       else
-        bad("--frame: endian is le or be, got '" + std::string(value) + "'");
+        bad("{frame}: endian is le or be, got '" + std::string(value) + "'");
     } else {
-      bad("--frame: unknown key '" + std::string(key) + "' (sync, fields, checksum, endian)");
+      bad("{frame}: unknown key '" + std::string(key) + "' (sync, fields, checksum, endian)");
     }
   }
-  if (s.sync.empty()) bad("--frame: sync=HEX is missing");
-  if (s.fields.empty()) bad("--frame: fields=NAME:TYPE,... is missing");
+  if (s.sync.empty()) bad("{frame}: sync=HEX is missing");
+  if (s.fields.empty()) bad("{frame}: fields=NAME:TYPE,... is missing");
   std::size_t offset = s.sync.size();
   for (auto& f : s.fields) {
     f.offset = offset;

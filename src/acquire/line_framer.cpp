@@ -54,7 +54,7 @@ std::string header_name(std::string_view f) {
 LineFramer::LineFramer(LineFramerOptions opt) : opt_(std::move(opt)) {
   if (opt_.delimiter && *opt_.delimiter != ',' && *opt_.delimiter != '\t' && *opt_.delimiter != ';' &&
       *opt_.delimiter != ' ')
-    throw UsageError("delimiter", "the delimiter is one of , ; tab or space");
+    throw UsageError(Field::delimiter, "the delimiter is one of , ; tab or space");
   values_.reserve(64);
   fields_.reserve(64);
 }
@@ -224,9 +224,9 @@ void LineFramer::first_line(std::string_view text, SampleHandler& h) {
   const bool header = any_name && !any_number;
   if (header) {
     if (!opt_.columns.empty() && opt_.columns.size() != f.size())
-      throw UsageError("columns", "--columns names " + std::to_string(opt_.columns.size()) +
-                                      " columns but the source's header line has " + std::to_string(f.size()) +
-                                      " fields: '" + printable_text(text.substr(0, 200)) + "'");
+      throw UsageError(Field::columns, "{columns} names " + std::to_string(opt_.columns.size()) +
+                                           " columns but the source's header line has " + std::to_string(f.size()) +
+                                           " fields: '" + printable_text(text.substr(0, 200)) + "'");
     std::vector<std::string> names;
     if (!opt_.columns.empty())
       names = opt_.columns;

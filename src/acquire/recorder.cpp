@@ -74,7 +74,7 @@ void make_dirs(const std::string& dir) {
     const auto slash = dir.find('/', i);
     path = dir.substr(0, slash);
     if (!path.empty() && !is_dir(path) && ::mkdir(path.c_str(), 0755) != 0 && errno != EEXIST)
-      throw UsageError("out", dir + ": cannot create the directory (" + std::strerror(errno) + ")");
+      throw UsageError(Field::out, dir + ": cannot create the directory (" + std::strerror(errno) + ")");
     if (slash == std::string::npos) break;
     i = slash + 1;
   }
@@ -190,15 +190,15 @@ std::vector<std::string> recover_recording(const std::string& dir, io::Recording
 class Recorder::Impl final : public SampleHandler {
  public:
   Impl(Source& src, RecorderOptions opt, io::RecordingManifest& m) : src_(src), opt_(std::move(opt)), m_(m) {
-    if (opt_.chunk_seconds <= 0) throw UsageError("chunk_seconds", "--chunk-seconds must be positive");
-    if (opt_.chunk_bytes < 4096) throw UsageError("chunk_bytes", "--chunk-bytes must be at least 4096");
+    if (opt_.chunk_seconds <= 0) throw UsageError(Field::chunk_seconds, "{chunk_seconds} must be positive");
+    if (opt_.chunk_bytes < 4096) throw UsageError(Field::chunk_bytes, "{chunk_bytes} must be at least 4096");
     if (opt_.sync_interval_s <= 0 || opt_.sync_interval_s > 1.0)
-      throw UsageError("sync", "the sync interval is between 0 and 1 s");
+      throw UsageError(Field::sync, "the sync interval is between 0 and 1 s");
     if (opt_.rate_hz && !(*opt_.rate_hz > 0 && std::isfinite(*opt_.rate_hz)))
-      throw UsageError("rate", "the rate must be a positive number of Hz");
+      throw UsageError(Field::rate, "the rate must be a positive number of Hz");
     const std::string& dir = opt_.out_dir;
-    if (dir.empty()) throw UsageError("out", "--out DIR is required: the recording directory");
-    if (exists(dir) && !is_dir(dir)) throw UsageError("out", dir + " is a file; --out names a directory");
+    if (dir.empty()) throw UsageError(Field::out, "{out} DIR is required: the recording directory");
+    if (exists(dir) && !is_dir(dir)) throw UsageError(Field::out, dir + " is a file; {out} names a directory");
     if (is_dir(dir) && exists(dir + "/" + std::string(io::kManifestName))) {
       m_ = io::read_manifest(dir);
       existing_ = true;
@@ -207,14 +207,14 @@ class Recorder::Impl final : public SampleHandler {
     } else if (is_dir(dir)) {
       for (const auto& e : dir_entries(dir))
         if (e != std::string(io::kManifestName) + ".tmp")
-          throw UsageError("out", dir +
-                                      " is not empty and holds no cubecal recording (no manifest.json); "
-                                      "record into a new or empty directory");
+          throw UsageError(Field::out, dir +
+                                           " is not empty and holds no cubecal recording (no manifest.json); "
+                                           "record into a new or empty directory");
     } else {
       make_dirs(dir);
     }
     if (::access(dir.c_str(), W_OK | X_OK) != 0)
-      throw UsageError("out", dir + ": cannot write there (" + std::strerror(errno) + ")");
+      throw UsageError(Field::out, dir + ": cannot write there (" + std::strerror(errno) + ")");
     segment_index_ = 1;
     for (const auto& s : m_.segments) segment_index_ = std::max(segment_index_, s.index + 1);
     if (opt_.frame) {
@@ -223,8 +223,8 @@ class Recorder::Impl final : public SampleHandler {
     } else {
       text_.emplace(opt_.text);
       if (!opt_.text.columns.empty() && existing_ && !m_.columns.empty() && m_.columns != opt_.text.columns)
-        throw UsageError("out", opt_.out_dir + " was recorded with the columns " + join(m_.columns) + ", not " +
-                                    join(opt_.text.columns) + "; record into a new directory");
+        throw UsageError(Field::out, opt_.out_dir + " was recorded with the columns " + join(m_.columns) + ", not " +
+                                         join(opt_.text.columns) + "; record into a new directory");
     }
     last_.reserve(64);
   }
@@ -260,7 +260,7 @@ class Recorder::Impl final : public SampleHandler {
         if (end != nullptr && *end == '\0' && k >= 1 && static_cast<std::size_t>(k) <= names.size())
           time_idx_ = static_cast<int>(k - 1);
       }
-      if (time_idx_ < 0) throw UsageError("time_col", "no column '" + opt_.time_col + "' among " + join(names));
+      if (time_idx_ < 0) throw UsageError(Field::time_col, "no column '" + opt_.time_col + "' among " + join(names));
     } else {
       for (std::size_t i = 0; i < names.size() && time_idx_ < 0; ++i)
         if (io::looks_like_time_column(names[i])) time_idx_ = static_cast<int>(i);
@@ -326,20 +326,21 @@ class Recorder::Impl final : public SampleHandler {
   void check_framing(const std::vector<std::string>& names) const {
     if (!existing_ || m_.columns.empty()) return;
     if (!same_names(m_.columns, names))
-      throw UsageError("out", opt_.out_dir + " was recorded with the columns " + join(m_.columns) +
-                                  " and this source gives " + join(names) + "; record into a new directory");
+      throw UsageError(Field::out, opt_.out_dir + " was recorded with the columns " + join(m_.columns) +
+                                       " and this source gives " + join(names) + "; record into a new directory");
     const bool binary = opt_.frame.has_value();
     const bool was_binary = m_.framing.kind == io::RecordingFraming::Kind::binary;
     if (binary != was_binary)
-      throw UsageError("out", opt_.out_dir + " was recorded from " + (was_binary ? "binary frames" : "text lines") +
-                                  " and this run reads " + (binary ? "binary frames" : "text lines") +
-                                  "; record into a new directory");
+      throw UsageError(Field::out, opt_.out_dir + " was recorded from " +
+                                       (was_binary ? "binary frames" : "text lines") + " and this run reads " +
+                                       (binary ? "binary frames" : "text lines") + "; record into a new directory");
     if (binary && m_.framing.frame != opt_.frame->text)
-      throw UsageError("out", opt_.out_dir + " was recorded with --frame '" + m_.framing.frame + "', not '" +
-                                  opt_.frame->text + "'; record into a new directory");
+      throw UsageError(Field::out, opt_.out_dir + " was recorded with {frame} '" + m_.framing.frame + "', not '" +
+                                       opt_.frame->text + "'; record into a new directory");
     if (!binary && text_ && text_->has_layout() && m_.framing.delimiter != delimiter_name(text_->delimiter()))
-      throw UsageError("out", opt_.out_dir + " was recorded from lines delimited by '" + m_.framing.delimiter +
-                                  "', not '" + delimiter_name(text_->delimiter()) + "'; record into a new directory");
+      throw UsageError(Field::out, opt_.out_dir + " was recorded from lines delimited by '" + m_.framing.delimiter +
+                                       "', not '" + delimiter_name(text_->delimiter()) +
+                                       "'; record into a new directory");
   }
 
   std::string segment_path() const { return opt_.out_dir + "/" + seg_.dir; }

@@ -108,11 +108,12 @@ class SerialSource final : public Source {
  public:
   SerialSource(std::string device, const SourceOptions& opt)
       : device_(std::move(device)), baud_(opt.baud), backoff_(opt.reconnect_first_s, opt.reconnect_max_s) {
-    if (baud_ <= 0) throw UsageError("baud", "the baud rate must be positive (e.g. --baud 115200)");
+    if (baud_ <= 0) throw UsageError(Field::baud, "the baud rate must be positive (e.g. {baud} 115200)");
     std::string why;
     if (!open(why))
-      throw UsageError("source", device_ + ": cannot open the serial device (" + why +
-                                     "); SOURCE is -, tcp:HOST:PORT, udp:PORT or a serial device such as /dev/ttyUSB0");
+      throw UsageError(Field::source,
+                       device_ + ": cannot open the serial device (" + why +
+                           "); SOURCE is -, tcp:HOST:PORT, udp:PORT or a serial device such as /dev/ttyUSB0");
   }
   ~SerialSource() override { close(); }
 

@@ -64,7 +64,7 @@ class TcpSource final : public Source {
     fd_ = connect_to(host_, port_, why);
     if (fd_ < 0)
       throw UsageError(
-          "source", describe() + ": cannot connect (" + why + "); start the sender first, or check the host and port");
+          Field::source, describe() + ": cannot connect (" + why + "); start the sender first, or check the host and port");
   }
   ~TcpSource() override {
     if (fd_ >= 0) ::close(fd_);

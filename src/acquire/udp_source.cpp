@@ -31,7 +31,7 @@ class UdpSource final : public Source {
       hints.ai_family = AF_INET;
       rc = ::getaddrinfo(nullptr, port_.c_str(), &hints, &res);
     }
-    if (rc != 0) throw UsageError("source", describe() + ": not a port number (udp:PORT, e.g. udp:5000)");
+    if (rc != 0) throw UsageError(Field::source, describe() + ": not a port number (udp:PORT, e.g. udp:5000)");
     std::string why;
     for (addrinfo* a = res; a != nullptr && fd_ < 0; a = a->ai_next) {
       fd_ = ::socket(a->ai_family, a->ai_socktype | SOCK_CLOEXEC, a->ai_protocol);
@@ -49,7 +49,7 @@ class UdpSource final : public Source {
       }
     }
     ::freeaddrinfo(res);
-    if (fd_ < 0) throw UsageError("source", describe() + ": cannot listen (" + why + "); choose a free port");
+    if (fd_ < 0) throw UsageError(Field::source, describe() + ": cannot listen (" + why + "); choose a free port");
   }
   ~UdpSource() override {
     if (fd_ >= 0) ::close(fd_);

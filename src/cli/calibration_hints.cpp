@@ -52,6 +52,26 @@ std::string temperature_hint(CalibrationReason reason) {
   }
 }
 
+// cubecal model: the GMWM found no fit of the model asked for.
+std::string model_hint(CalibrationReason reason) {
+  switch (reason) {
+    case CalibrationReason::degenerate:
+    case CalibrationReason::not_converged:
+      return "give a model with fewer terms (--model) or more starting points (--starts)";
+    case CalibrationReason::too_few_points: return "the record is too short for the model: give a longer one";
+    default: return {};
+  }
+}
+
+// analyze --composite: the GMWM found no fit of the composite model.
+std::string composite_hint(CalibrationReason reason) {
+  switch (reason) {
+    case CalibrationReason::degenerate:
+    case CalibrationReason::not_converged: return "give --composite a model with fewer terms";
+    default: return {};
+  }
+}
+
 }  // namespace
 
 std::string calibration_hint(CalibrationReason reason, const HintContext& ctx) {
@@ -60,6 +80,8 @@ std::string calibration_hint(CalibrationReason reason, const HintContext& ctx) {
     case CalibrationCommand::mag: return mag_hint(reason, ctx);
     case CalibrationCommand::multiposition: return multiposition_hint(reason, ctx);
     case CalibrationCommand::temperature: return temperature_hint(reason);
+    case CalibrationCommand::model: return model_hint(reason);
+    case CalibrationCommand::composite: return composite_hint(reason);
   }
   return {};
 }

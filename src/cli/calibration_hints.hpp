@@ -9,7 +9,7 @@
 
 namespace cubecal::cli {
 
-enum class CalibrationCommand { rate_table, mag, multiposition, temperature };
+enum class CalibrationCommand { rate_table, mag, multiposition, temperature, model, composite };
 
 // The facts of the run a hint depends on.
 struct HintContext {
@@ -37,7 +37,7 @@ decltype(auto) with_calibration_hints(const std::string& file, const HintContext
   try {
     return f();
   } catch (const CalibrationError& e) {
-    throw InputError(file, 0, 0, e.what(), calibration_hint(e.reason(), ctx));
+    throw InputError(file, 0, 0, e.text(), calibration_hint(e.reason(), ctx));
   } catch (const std::invalid_argument& e) {
     throw InputError(file, 0, 0, e.what());
   }

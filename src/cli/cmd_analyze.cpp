@@ -12,6 +12,7 @@
 #include <iostream>
 #include <optional>
 
+#include "calibration_hints.hpp"
 #include "commands.hpp"
 #include "common_options.hpp"
 #include "cubecal/error.hpp"
@@ -337,7 +338,9 @@ pipeline::AnalysisResult analyze_in_memory(AnalyzeOptions& o, io::SeriesOptions 
   req.units = std::move(units.units);
   progress.stage(fmt::format("analyzing {} channels", series.channels.size()));
   req.times = o.timings.sink();
-  pipeline::AnalysisResult r = pipeline::run_analyze(series, req);
+  // A composite model the GMWM cannot fit is a calibration error on the file.
+  pipeline::AnalysisResult r = with_calibration_hints(series.file, {CalibrationCommand::composite},
+                                                      [&] { return pipeline::run_analyze(series, req); });
   progress.done();
   return r;
 }

@@ -106,19 +106,18 @@ void print_table(std::ostream& out, const pipeline::MagResult& m) {
 int run_calibrate_mag(const MagCliOptions& o) {
   const auto method = mag::parse_method(o.method);
   if (!method) throw UsageError("--method must be twostep, twostep-full or ellipsoid");
-  if (!(o.lsb > 0.0) || !std::isfinite(o.lsb)) throw UsageError("--lsb must be a positive number of counts per unit");
-  if (o.field_norm_given && (!(o.field_norm > 0.0) || !std::isfinite(o.field_norm)))
-    throw UsageError("--field-norm must be a positive field magnitude (in the units of the values after --lsb)");
-  if (o.noise_given && (!(o.noise > 0.0) || !std::isfinite(o.noise)))
-    throw UsageError("--noise must be a positive standard deviation per axis (leave it out to estimate it)");
-  if (!(o.reject >= 0.0) || !std::isfinite(o.reject))
-    throw UsageError("--reject must be a positive number of standard deviations (0: no rejection)");
-  if (o.field_norm_given && !o.field_col.empty()) throw UsageError("give either --field-norm or --field-col, not both");
-  if (!o.field_col.empty() && *method == mag::Method::ellipsoid)
-    throw UsageError("--field-col (a field norm per point) needs --method twostep or twostep-full");
+  pipeline::MagRequest req;
+  req.method = *method;
+  req.counts_per_unit = o.lsb;
+  if (o.field_norm_given) req.field_norm = o.field_norm;
+  req.field_column = !o.field_col.empty();
+  if (o.noise_given) req.noise = o.noise;
+  req.reject_sigma = o.reject;
+  req.allow_partial = o.partial;
+  req.unit = o.unit;
+  req.validate();
   const std::vector<std::string> cols = split_list(o.columns);
-  if (!cols.empty() && cols.size() != 3)
-    throw UsageError("--columns takes the 3 magnetometer columns (mx,my,mz or 1,2,3)");
+  pipeline::check_mag_columns(cols);
 
   // Refuse to replace a result before spending any time.
   ResultOutput result(o.out, o.force);  // refuses an existing file before the work
@@ -138,16 +137,6 @@ int run_calibrate_mag(const MagCliOptions& o) {
     const std::string w = field_norm_warning(o.field_norm, t.data, o.lsb);
     if (!w.empty()) std::cerr << "cubecal: warning: " << o.file << ": " << w << '\n';
   }
-
-  pipeline::MagRequest req;
-  req.method = *method;
-  req.counts_per_unit = o.lsb;
-  if (o.field_norm_given) req.field_norm = o.field_norm;
-  req.field_column = !o.field_col.empty();
-  if (o.noise_given) req.noise = o.noise;
-  req.reject_sigma = o.reject;
-  req.allow_partial = o.partial;
-  req.unit = o.unit;
 
   HintContext hints;
   hints.command = CalibrationCommand::mag;

@@ -48,18 +48,15 @@ std::string table_text(const pipeline::TemperatureResult& r) {
 }
 
 int run_calibrate_temperature(const TemperatureOptions& o) {
-  if (split_list(o.unit).size() > 1)
-    throw UsageError("unit",
-                     "one unit here, the unit of the coefficients of every channel: calibrate the channels "
-                     "of each unit in their own run (--columns)");
+  pipeline::TemperatureRequest req;
+  req.order = o.order;
+  req.unit = o.unit;
+  req.validate();
   ResultOutput result(o.out, o.force);  // refuses an existing file before the work
   check_report_option(o.report, o.force);
   io::SeriesOptions so = to_series_options(o.input);
   so.table.extra_columns = {o.temp_col};
   const io::Series s = io::read_series(o.input.file, so);
-  pipeline::TemperatureRequest req;
-  req.order = o.order;
-  req.unit = o.unit;
   const pipeline::TemperatureResult r = with_calibration_hints(o.input.file, {CalibrationCommand::temperature},
                                                                [&] { return pipeline::calibrate_temperature(s, req); });
   result.stream() << (o.format == "json" ? pipeline::to_json(r).dump(1) + "\n" : table_text(r));

@@ -111,8 +111,8 @@ int run_davar_command(const DavarCliOptions& o) {
   ResultOutput result(o.out, o.force);  // refuses an unusable --out before the work
   pipeline::DavarRequest req;
   req.type = *parse_data_type(o.type);
-  if (!o.window.empty()) req.window = pipeline::parse_davar_span(o.window, "window");
-  if (!o.step.empty()) req.step = pipeline::parse_davar_span(o.step, "step");
+  if (!o.window.empty()) req.window = pipeline::parse_davar_span(o.window, Field::window);
+  if (!o.step.empty()) req.step = pipeline::parse_davar_span(o.step, Field::step);
   req.grid = parse_taus(o.taus);
   req.intervals.enabled = !o.no_ci;
   if (!(o.ci > 0.0 && o.ci < 1.0)) throw UsageError("--ci must be between 0 and 1 (e.g. 0.683 or 0.95)");

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "field_flags.hpp"
 #include "common_options.hpp"
 #include "cubecal/error.hpp"
 #include "cubecal/io/series.hpp"
@@ -122,7 +123,7 @@ bool stream_beyond_budget(const DevOptions& o, const pipeline::DevRequest& req, 
       return true;
     } catch (const UsageError& e) {
       std::cerr << "cubecal: warning: " << o.input.file << " may not fit the memory budget (--memory), and it "
-                << "cannot be streamed: " << e.what() << '\n';
+                << "cannot be streamed: " << flag_words(e.text()) << '\n';
     }
   }
   return false;

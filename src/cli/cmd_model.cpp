@@ -6,6 +6,7 @@
 #include <cmath>
 #include <iostream>
 
+#include "calibration_hints.hpp"
 #include "commands.hpp"
 #include "common_options.hpp"
 #include "cubecal/error.hpp"
@@ -125,7 +126,8 @@ int run_model_command(const ModelOptions& o) {
                   "(--unit names it)";
     }
   }
-  const pipeline::ModelResult res = pipeline::run_model(series, req);
+  const pipeline::ModelResult res = with_calibration_hints(o.input.file, {CalibrationCommand::model},
+                                                           [&] { return pipeline::run_model(series, req); });
   note_default_columns(series);
   if (!unit_note.empty()) std::cerr << unit_note << '\n';
   std::ostream& out = result.stream();

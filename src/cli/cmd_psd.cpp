@@ -137,7 +137,7 @@ int run_psd_command(const PsdOptions& o) {
   req.fit_options.min_frequency_hz = o.fit_min;
   req.fit_options.max_frequency_hz = o.fit_max;
   if (o.fit_min > 0.0 && o.fit_max > 0.0 && !(o.fit_max > o.fit_min))
-    throw UsageError("fit_range", "the band's upper end must lie above its lower end");
+    throw UsageError(Field::fit_range, "the band's upper end must lie above its lower end");
   req.threads = o.input.threads;
 
   check_report_option(o.report, o.force);

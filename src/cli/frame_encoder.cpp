@@ -43,7 +43,7 @@ FrameEncoder::FrameEncoder(acquire::FrameSpec spec, const std::vector<std::strin
     if (c == columns.size()) {
       std::string known;
       for (const auto& n : columns) known += (known.empty() ? "" : ", ") + n;
-      throw UsageError("frame", "field '" + f.name + "' is not a column of the simulation (" + known + ")");
+      throw UsageError(Field::frame, "field '" + f.name + "' is not a column of the simulation (" + known + ")");
     }
     column_of_field_.push_back(c);
   }
@@ -72,7 +72,7 @@ void FrameEncoder::encode(std::span<const double> values, std::string& out) cons
     const double lo = is_signed ? -std::ldexp(1.0, static_cast<int>(bits) - 1) : 0.0;
     const double hi = is_signed ? std::ldexp(1.0, static_cast<int>(bits) - 1) : std::ldexp(1.0, static_cast<int>(bits));
     if (!(r >= lo && r < hi))
-      throw UsageError("frame", "value " + std::to_string(v) + " of field '" + f.name + "' does not fit " +
+      throw UsageError(Field::frame, "value " + std::to_string(v) + " of field '" + f.name + "' does not fit " +
                                     type_name(f.type) + ": use a wider type, or f32/f64 for values in physical units");
     const std::uint64_t raw =
         is_signed ? static_cast<std::uint64_t>(static_cast<std::int64_t>(r)) : static_cast<std::uint64_t>(r);

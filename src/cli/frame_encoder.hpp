@@ -17,10 +17,10 @@ namespace cubecal::cli {
 class FrameEncoder {
  public:
   // `columns`: the names of the values given to encode() in order. A field
-  // naming no column is a UsageError("frame") listing them.
+  // naming no column is a UsageError(Field::frame) listing them.
   FrameEncoder(acquire::FrameSpec spec, const std::vector<std::string>& columns);
   // Appends the frame of `values` to `out`. A value that does not fit its
-  // integer field (or is not finite) is a UsageError("frame") naming it.
+  // integer field (or is not finite) is a UsageError(Field::frame) naming it.
   void encode(std::span<const double> values, std::string& out) const;
 
  private:

@@ -6,9 +6,9 @@
 #include <exception>
 #include <iostream>
 #include <string>
-#include <utility>
 
 #include "commands.hpp"
+#include "field_flags.hpp"
 #include "cubecal/error.hpp"
 #include "cubecal/printable_text.hpp"
 
@@ -16,62 +16,6 @@ namespace {
 
 constexpr int kExitBadInput = 2;
 constexpr int kExitInternal = 1;
-
-// The flag of each request field a library UsageError may name.
-std::string usage_message(const cubecal::UsageError& e) {
-  static constexpr std::pair<const char*, const char*> kFlags[] = {
-      {"units", "--unit"},
-      {"lsb", "--model-lsb"},
-      {"temp_index", "--temp-col"},
-      {"temp_order", "--temp-order"},
-      {"bias", "--bias"},
-      {"columns", "--columns"},
-      {"unit", "--unit"},
-      {"reference_columns", "--ref-columns"},
-      {"schedule", "--schedule"},
-      {"plateaus", "--margin/--min-plateau/--ref-tolerance/--window"},
-      {"mag_columns", "--columns"},
-      {"counts_per_unit", "--lsb"},
-      {"field_norm", "--field-norm"},
-      {"field_column", "--field-col"},
-      {"noise", "--noise"},
-      {"reject_sigma", "--reject"},
-      {"sampling", "--time-col/--rate"},
-      {"polynomial_order", "--order"},
-      {"rate", "--rate"},
-      {"time_col", "--time-col"},
-      {"out", "--out"},
-      {"report", "--report"},
-      {"estimators", "--for"},
-      {"inflate", "--inflate"},
-      {"gnuplot", "--gnuplot"},
-      {"duration", "--duration"},
-      {"binary", "--binary"},
-      {"dataset", "--dataset"},
-      {"stat", "--stat"},
-      {"type", "--type"},
-      {"taus", "--taus"},
-      {"gaps", "--gaps"},
-      {"topics", "--topic"},
-      {"memory", "--memory"},
-      {"window", "--window"},
-      {"segment_length", "--segment"},
-      {"min_frequency", "--fmin"},
-      {"overlap", "--overlap"},
-      {"bins_per_decade", "--bins-per-decade"},
-      {"fit_range", "--fit-min/--fit-max"},
-      {"step", "--step"},
-      {"psd", "--psd"},
-      {"model", "--model"},
-      {"bootstrap", "--bootstrap"},
-      {"wic_replicates", "--wic-replicates"},
-      {"efficiency", "--efficiency"},
-      {"ci", "--ci"},
-  };
-  for (const auto& [option, flag] : kFlags)
-    if (e.option() == option) return std::string(flag) + ": " + e.what();
-  return e.what();
-}
 
 // CLI11's "INI was not able to parse analyze.bogus" as a hint on the file.
 std::string config_message(const CLI::ConfigError& e, const std::string& file) {
@@ -115,6 +59,8 @@ int main(int argc, char** argv) {
                                        "for = [\"kalibr\"]); command-line flags override it");
   app.allow_config_extras(CLI::config_extras_mode::error);
   app.fallthrough();
+  // What the library writes into results and files names options as flags.
+  cubecal::set_face_words(cubecal::cli::flag_of);
   cubecal::cli::Command run;
   cubecal::cli::set_invocation(argc, argv);
   cubecal::cli::add_dev_command(app, run);
@@ -150,10 +96,9 @@ int main(int argc, char** argv) {
 
   try {
     return run ? run() : 0;
-  } catch (const cubecal::InputError& e) {
-    return fail(e.what(), kExitBadInput);
-  } catch (const cubecal::UsageError& e) {
-    return fail(usage_message(e), kExitBadInput);
+  } catch (const cubecal::Error& e) {
+    // Usage, input and calibration errors: what the user can fix.
+    return fail(cubecal::cli::cli_message(e), kExitBadInput);
   } catch (const std::bad_alloc&) {
     return fail("out of memory (analyse fewer columns at once or a shorter record)", kExitInternal);
   } catch (const std::exception& e) {

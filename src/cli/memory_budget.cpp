@@ -42,14 +42,14 @@ std::size_t stream_window(const MemoryOptions& opt, std::size_t budget, std::siz
     return std::min(bound, std::max<std::size_t>(std::bit_ceil(samples_hint), 4096));
   }
   if (opt.window < 16 || (opt.window & (opt.window - 1)) != 0 || opt.window > (std::size_t{1} << 30))
-    throw UsageError("window",
+    throw UsageError(Field::window,
                      std::to_string(opt.window) + " is not a power of two from 16 to 2^30 (e.g. 64, 4096 or 1048576)");
   return opt.window;
 }
 
 std::size_t parse_memory_size(const std::string& text) {
   const auto bad = [&] {
-    return UsageError("memory", "'" + text +
+    return UsageError(Field::memory, "'" + text +
                                     "' is not a size: give a number of bytes with an optional k, M, G or T "
                                     "(powers of 1024), e.g. 2G or 512M");
   };
@@ -74,7 +74,7 @@ std::size_t parse_memory_size(const std::string& text) {
     if (pos < text.size() && (text[pos] == 'B' || text[pos] == 'b')) ++pos;
   }
   if (pos != text.size() || !(v > 0.0) || !std::isfinite(v) || v * unit < 1024.0 * 1024.0 || v * unit > 1e18)
-    throw UsageError("memory", "'" + text + "' is not a usable size: give at least 1M, e.g. 2G or 512M");
+    throw UsageError(Field::memory, "'" + text + "' is not a usable size: give at least 1M, e.g. 2G or 512M");
   return static_cast<std::size_t>(v * unit);
 }
 

@@ -19,13 +19,13 @@ struct MemoryOptions {
 void add_memory_options(CLI::App& cmd, MemoryOptions& opt);
 
 // "2G" -> 2^31 (k, M, G, T: powers of 1024; a plain number is bytes);
-// throws UsageError("memory").
+// throws UsageError(Field::memory).
 std::size_t parse_memory_size(const std::string& text);
 
 // The stream's window bound: --window, or the largest the budget allows
 // for `channels` channels, but no larger than the power of two at or above
 // `samples_hint` (an estimate of the record's length, 0: unknown): every
-// factor of a shorter record is exact with it. UsageError("window") if
+// factor of a shorter record is exact with it. UsageError(Field::window) if
 // --window is not a power of two of at least 16.
 std::size_t stream_window(const MemoryOptions& opt, std::size_t budget, std::size_t channels,
                           std::size_t samples_hint = 0);

@@ -615,13 +615,13 @@ std::optional<std::size_t> table_start(std::string_view text) {
   return std::nullopt;
 }
 
-// " (a preamble of N lines: add --skip-rows N)" when the table seems to start
+// " (a preamble of N lines: add {skip_rows} N)" when the table seems to start
 // after line `first_data_line` was taken for its first row; else empty.
 std::string preamble_hint(std::string_view text, const Layout& lay) {
   const auto start = table_start(text);
   const std::size_t first_row = lay.has_header ? lay.header_line : lay.first_data_line;  // 1-based
   if (!start || *start + 1 <= first_row) return {};
-  return "the table seems to start on line " + std::to_string(*start + 1) + " after a preamble: add --skip-rows " +
+  return "the table seems to start on line " + std::to_string(*start + 1) + " after a preamble: add {skip_rows} " +
          std::to_string(*start);
 }
 
@@ -654,14 +654,14 @@ std::string preamble_hint(std::string_view text, const Layout& lay) {
   switch (r.fault) {
     case Fault::empty:
       throw InputError(file, pos.line, pos.column, "empty field in " + label,
-                       "a missing sample: --gaps skip leaves it out of the OADEV terms (dev, davar); otherwise "
+                       "a missing sample: {gaps} skip leaves it out of the OADEV terms (dev, davar); otherwise "
                        "fill or remove the row");
     case Fault::not_finite: {
       const char* c = field.begin;
       while (c < field.end && (*c == '+' || *c == '-')) ++c;
       if (c < field.end && (*c == 'n' || *c == 'N')) {
         throw InputError(file, pos.line, pos.column, "NaN is not accepted in " + label,
-                         "a missing sample: --gaps skip leaves it out of the OADEV terms (dev, davar); otherwise "
+                         "a missing sample: {gaps} skip leaves it out of the OADEV terms (dev, davar); otherwise "
                          "remove the row or split the record there");
       }
       throw InputError(file, pos.line, pos.column, "infinite value " + text_of_field + " in " + label,
@@ -680,7 +680,7 @@ std::string preamble_hint(std::string_view text, const Layout& lay) {
   } else if (const std::string preamble = preamble_hint(text, lay); !preamble.empty()) {
     hint = preamble;
   } else if (pos.line == lay.first_data_line) {
-    hint += "; a preamble before the header can be skipped with --skip-rows N";
+    hint += "; a preamble before the header can be skipped with {skip_rows} N";
   }
   throw InputError(file, pos.line, pos.column, "non-numeric field " + text_of_field + " in " + label, hint);
 }

@@ -314,24 +314,24 @@ Table read_group(hid_t group, const std::string& path, const std::string& file, 
     if (!ds.valid()) {
       H5Eclear2(H5E_DEFAULT);
       fail(file, path + " is a group whose member " + m + " is not a dataset",
-           "give a dataset with --dataset PATH, or a group of numeric 1-D datasets of one length");
+           "give a dataset with {dataset} PATH, or a group of numeric 1-D datasets of one length");
     }
     const Dataset d = describe(ds.get(), member_path);
     const Handle type(H5Dget_type(ds.get()), H5Tclose);
     if (d.dims.size() != 1 || !type.valid() || !numeric_class(type.get()))
       fail(file, path + " is a group whose member " + d.described() + " is not a numeric 1-D dataset",
-           "give a dataset with --dataset PATH, or a group of numeric 1-D datasets of one length");
+           "give a dataset with {dataset} PATH, or a group of numeric 1-D datasets of one length");
     if (length && *length != d.dims[0])
       fail(file,
            "group " + path + ": " + d.described() + " differs in length from the members before it (" +
                std::to_string(*length) + ")",
-           "give one of its datasets with --dataset PATH");
+           "give one of its datasets with {dataset} PATH");
     length = d.dims[0];
     t.data.push_back(
         read_doubles(ds.get(), H5T_NATIVE_DOUBLE, static_cast<std::size_t>(d.dims[0]), file_bytes, file, member_path));
     names.push_back(m);
   }
-  if (names.empty()) fail(file, "group " + path + " holds no datasets", "give a dataset with --dataset PATH");
+  if (names.empty()) fail(file, "group " + path + " holds no datasets", "give a dataset with {dataset} PATH");
   name_columns(t, names);
   check_finite(t, path, missing_as_nan);
   return t;
@@ -364,7 +364,7 @@ Table read_locked(std::string_view bytes, const std::string& file, const std::st
       for (const Dataset* d : candidates) shown.push_back(*d);
       if (candidates.empty()) fail(file, "no numeric 1-D or 2-D dataset; datasets are: " + listed(all), kWrite);
       fail(file, std::to_string(candidates.size()) + " numeric datasets: " + listed(shown),
-           "choose one with --dataset PATH");
+           "choose one with {dataset} PATH");
     }
     const Handle ds(H5Dopen2(f.get(), candidates[0]->path.c_str(), H5P_DEFAULT), H5Dclose);
     if (!ds.valid()) fail_library(file, "cannot open dataset " + candidates[0]->path);
@@ -375,11 +375,11 @@ Table read_locked(std::string_view bytes, const std::string& file, const std::st
   if (!obj.valid()) {
     H5Eclear2(H5E_DEFAULT);
     fail(file, "dataset " + dataset + " not found; datasets are: " + listed(datasets_of(f.get())),
-         "choose one of them with --dataset PATH");
+         "choose one of them with {dataset} PATH");
   }
   if (H5Iget_type(obj.get()) == H5I_GROUP) return read_group(obj.get(), dataset, file, bytes.size(), missing_as_nan);
   if (H5Iget_type(obj.get()) != H5I_DATASET)
-    fail(file, dataset + " is neither a dataset nor a group", "choose a dataset with --dataset PATH");
+    fail(file, dataset + " is neither a dataset nor a group", "choose a dataset with {dataset} PATH");
   const std::string path = dataset.starts_with('/') ? dataset : "/" + dataset;
   return read_dataset(obj.get(), describe(obj.get(), path), file, bytes.size(), missing_as_nan);
 }

@@ -18,7 +18,7 @@ namespace {
 // Creating a file is the only test of writability that holds for root, for
 // read-only mounts and for ACLs alike; with O_EXCL a file of the probe's
 // name, should one exist, is never touched.
-void probe_writable(const fs::path& dir, const std::string& option, const std::string& shown) {
+void probe_writable(const fs::path& dir, Field option, const std::string& shown) {
   int err = 0;
   for (int attempt = 0; attempt < 8; ++attempt) {
     std::string name = ".cubecal-probe-" + std::to_string(::getpid());
@@ -42,14 +42,14 @@ std::string parent_text(const fs::path& p) { return p.empty() ? std::string(".")
 
 }  // namespace
 
-void check_output_file(const std::string& path, bool force, const std::string& option) {
+void check_output_file(const std::string& path, bool force, Field option) {
   std::error_code ec;
   const fs::path p(path);
   if (path.empty()) throw UsageError(option, "the output file name is empty");
   const fs::file_status st = fs::status(p, ec);
   if (fs::is_directory(st)) throw UsageError(option, path + " is a directory: give a file name for the result");
   if (fs::exists(st) && !force)
-    throw UsageError(option, path + " already exists (choose another name or add --force to replace it)");
+    throw UsageError(option, path + " already exists (choose another name or add {force} to replace it)");
   const fs::path parent = p.parent_path();
   if (!parent.empty()) {
     const fs::file_status ps = fs::status(parent, ec);
@@ -61,8 +61,7 @@ void check_output_file(const std::string& path, bool force, const std::string& o
   probe_writable(parent.empty() ? fs::path(".") : parent, option, parent_text(parent));
 }
 
-void prepare_output_dir(const std::string& dir, bool force, const std::vector<std::string>& files,
-                        const std::string& option) {
+void prepare_output_dir(const std::string& dir, bool force, const std::vector<std::string>& files, Field option) {
   std::error_code ec;
   const fs::path d(dir);
   if (dir.empty()) throw UsageError(option, "the output directory name is empty");
@@ -84,7 +83,7 @@ void prepare_output_dir(const std::string& dir, bool force, const std::vector<st
     for (const std::string& f : files)
       if (fs::exists(d / f, ec))
         throw UsageError(option,
-                         (d / f).string() + " already exists (choose another directory or add --force to replace it)");
+                         (d / f).string() + " already exists (choose another directory or add {force} to replace it)");
   probe_writable(d, option, dir);
 }
 

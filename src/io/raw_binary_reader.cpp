@@ -20,10 +20,10 @@ RawLayout parse_raw_layout(const std::string& types, std::size_t header_bytes) {
     const std::string name = types.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
     const auto type = parse_sample_type(name);
     if (!type) {
-      throw UsageError("binary", "unknown sample type '" + name +
-                                     "': use int8, uint8, int16, uint16, int32, uint32, int64, uint64, float32 or "
-                                     "float64, with le or be (byte order) after all but the 8-bit types, one per "
-                                     "channel separated by commas (e.g. int16le,int16le,float32le)");
+      throw UsageError(Field::binary, "unknown sample type '" + name +
+                                          "': use int8, uint8, int16, uint16, int32, uint32, int64, uint64, float32 or "
+                                          "float64, with le or be (byte order) after all but the 8-bit types, one per "
+                                          "channel separated by commas (e.g. int16le,int16le,float32le)");
     }
     layout.channels.push_back(*type);
     if (comma == std::string::npos) break;
@@ -40,7 +40,7 @@ Table read_raw_binary(std::string_view bytes, const std::string& file, const Raw
     throw InputError(file, 0, 0,
                      "the file has " + std::to_string(bytes.size()) + " bytes, fewer than the " +
                          std::to_string(layout.header_bytes) + " header bytes to skip",
-                     "check --header-bytes");
+                     "check {header_bytes}");
   }
   const std::size_t body = bytes.size() - layout.header_bytes;
   const std::size_t rows = body / frame;
@@ -49,7 +49,7 @@ Table read_raw_binary(std::string_view bytes, const std::string& file, const Raw
                      "trailing partial frame: " + std::to_string(rest) + " bytes at byte offset " +
                          std::to_string(layout.header_bytes + rows * frame) + " after " + std::to_string(rows) +
                          " whole frames",
-                     types_hint + "; check --binary and --header-bytes, or cut the file to whole frames");
+                     types_hint + "; check {binary} and {header_bytes}, or cut the file to whole frames");
   }
   detail::BinaryLayout bl;
   bl.rows = rows;

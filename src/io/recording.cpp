@@ -147,7 +147,7 @@ Plan plan_of(const RecordingManifest& m, const std::string& dir, const SeriesOpt
       throw InputError(p.manifest, 0, 0,
                        "rate_hz " + number(p.rate_hz) + " is outside the range " + number(kMinRateHz) + " to " +
                            number(kMaxRateHz) + " Hz",
-                       "give --rate HZ");
+                       "give {rate} HZ");
   } else {
     p.time = std::string(kHostMonoColumn);
     p.timing = Timing::host_mono;
@@ -396,7 +396,7 @@ struct Reader {
         if (!(time[row] > time[row - 1]))
           throw at(row, "receive stamp " + number(time[row]) + " s is not after the previous one",
                    "the recording has no device time column and no rate: several samples were received at once; "
-                   "give --rate HZ");
+                   "give {rate} HZ");
   }
 
   // The segments [from, to) of the manifest as one record named `label`;
@@ -448,9 +448,9 @@ struct Reader {
   // text file.
   void check_values(Series& s) const {
     if (opt.lsb.size() > 1 && opt.lsb.size() != s.channels.size())
-      throw UsageError("counts_per_unit", dir + ": " + std::to_string(opt.lsb.size()) + " LSB values for " +
-                                              std::to_string(s.channels.size()) + " columns (" + joined(s.names) +
-                                              "): give one value for every column, or one per column");
+      throw UsageError(Field::counts_per_unit, dir + ": " + std::to_string(opt.lsb.size()) + " LSB values for " +
+                                                   std::to_string(s.channels.size()) + " columns (" + joined(s.names) +
+                                                   "): give one value for every column, or one per column");
     for (std::size_t c = 0; c < s.channels.size(); ++c) {
       std::vector<double>& v = s.channels[c];
       const double lsb = opt.lsb_of(c);
@@ -476,7 +476,7 @@ void check_options(const SeriesOptions& opt, const std::string& dir) {
     throw UsageError(dir + " is a recording directory, whose chunks have no preamble rows: leave out the rows to skip");
   if (!opt.topics.empty()) throw UsageError(dir + " is a recording directory, not a ROS bag: leave out the topics");
   if (!opt.dataset.empty())
-    throw UsageError("dataset", dir + " is a recording directory, not an HDF5 file: leave out the dataset");
+    throw UsageError(Field::dataset, dir + " is a recording directory, not an HDF5 file: leave out the dataset");
 }
 
 }  // namespace

@@ -167,30 +167,30 @@ class ByteSource {
 
 void check_common(const SeriesOptions& opt) {
   if (opt.gaps == GapPolicy::split)
-    throw UsageError("gaps",
-                     "a streamed record is not split at gaps: leave out --gaps split (a gap is then an "
-                     "error naming its place), or read the record into memory without --stream");
+    throw UsageError(Field::gaps,
+                     "a streamed record is not split at gaps: leave out {gaps} split (a gap is then an "
+                     "error naming its place), or read the record into memory without {stream}");
   if (opt.gaps == GapPolicy::skip)
-    throw UsageError("gaps",
-                     "missing samples are skipped in a record read into memory: leave out --stream, or "
-                     "--gaps skip (a gap is then an error naming its place)");
-  if (!opt.topics.empty()) throw UsageError("topics", "ROS bags are read into memory: leave out --stream");
+    throw UsageError(Field::gaps,
+                     "missing samples are skipped in a record read into memory: leave out {stream}, or "
+                     "{gaps} skip (a gap is then an error naming its place)");
+  if (!opt.topics.empty()) throw UsageError(Field::topics, "ROS bags are read into memory: leave out {stream}");
   for (const double lsb : opt.lsb)
     if (!(lsb > 0.0) || !std::isfinite(lsb))
-      throw UsageError("counts_per_unit",
+      throw UsageError(Field::counts_per_unit,
                        "the LSB (counts per unit) must be a positive finite number, got " + stamp(lsb));
   if (opt.rate_hz != 0.0 && !(opt.rate_hz >= kMinRateHz && opt.rate_hz <= kMaxRateHz))
-    throw UsageError("rate", "the sampling rate " + stamp(opt.rate_hz) + " Hz is outside the range " +
-                                 stamp(kMinRateHz) + " to " + stamp(kMaxRateHz) + " Hz");
+    throw UsageError(Field::rate, "the sampling rate " + stamp(opt.rate_hz) + " Hz is outside the range " +
+                                      stamp(kMinRateHz) + " to " + stamp(kMaxRateHz) + " Hz");
 }
 
 void check_lsb_count(const SeriesOptions& opt, const std::string& file, const std::vector<std::string>& names) {
   if (opt.lsb.size() <= 1 || opt.lsb.size() == names.size()) return;
   std::string list;
   for (const auto& n : names) list += (list.empty() ? "" : ",") + n;
-  throw UsageError("counts_per_unit", file + ": " + std::to_string(opt.lsb.size()) + " LSB values for " +
-                                          std::to_string(names.size()) + " columns (" + list +
-                                          "): give one value for every column, or one per column");
+  throw UsageError(Field::counts_per_unit, file + ": " + std::to_string(opt.lsb.size()) + " LSB values for " +
+                                               std::to_string(names.size()) + " columns (" + list +
+                                               "): give one value for every column, or one per column");
 }
 
 [[noreturn]] void refuse_format(const std::string& file, const std::string& what, const std::string& hint) {
@@ -205,7 +205,7 @@ class BinaryStream final : public SampleStream {
  public:
   BinaryStream(const std::string& path, const SeriesOptions& opt, std::size_t chunk_bytes)
       : src_(path, file_, total_bytes_), layout_(opt.binary) {
-    if (opt.rate_hz == 0.0) throw UsageError("rate", "raw binary has no time column: give the sampling rate");
+    if (opt.rate_hz == 0.0) throw UsageError(Field::rate, "raw binary has no time column: give the sampling rate");
     rate_hz_ = opt.rate_hz;
     // Resolve the columns as read_series does, on a table without rows.
     Table all;
@@ -238,7 +238,7 @@ class BinaryStream final : public SampleStream {
         throw InputError(file_, 0, 0,
                          "the input has " + std::to_string(layout_.header_bytes - left) + " bytes, fewer than the " +
                              std::to_string(layout_.header_bytes) + " header bytes to skip",
-                         "check --header-bytes");
+                         "check {header_bytes}");
       left -= got;
       bytes_read_ += got;
     }
@@ -253,7 +253,7 @@ class BinaryStream final : public SampleStream {
                            std::to_string(bytes_read_ + rows * frame_) + " after " + std::to_string(rows_read_ + rows) +
                            " whole frames",
                        "the frame of " + std::to_string(layout_.channels.size()) + " channels is " +
-                           std::to_string(frame_) + " bytes; check --binary and --header-bytes");
+                           std::to_string(frame_) + " bytes; check {binary} and {header_bytes}");
     }
     out.channels.resize(columns_.size());
     out.extra.resize(extras_.size());
@@ -341,9 +341,9 @@ class TextStream final : public SampleStream {
     read_piece();
     const std::string_view head(text_.data(), std::min<std::size_t>(text_.size(), 64));
     if (head.size() >= 2 && static_cast<unsigned char>(head[0]) == 0x1f && static_cast<unsigned char>(head[1]) == 0x8b)
-      refuse_format(file_, "gzip-compressed text", "decompress into a pipe: zcat FILE | cubecal ... - --stream");
+      refuse_format(file_, "gzip-compressed text", "decompress into a pipe: zcat FILE | cubecal ... - {stream}");
     if (is_known_binary_format(head))
-      refuse_format(file_, "a NumPy or ROS bag file", "leave out --stream (it is read into memory)");
+      refuse_format(file_, "a NumPy or ROS bag file", "leave out {stream} (it is read into memory)");
     const Table layout = parse_layout(text_, file_, opt.table);
     // The time column, as read_series chooses it.
     std::string time_spec;
@@ -356,7 +356,7 @@ class TextStream final : public SampleStream {
         if (opt.rate_hz == 0.0)
           throw UsageError(file_ +
                            ": no sampling rate: no column is named as a time column (t, time, t_s, "
-                           "timestamp...): give --rate HZ or --time-col NAME");
+                           "timestamp...): give {rate} HZ or {time_col} NAME");
       } else {
         time_spec = *it;
         timing_ = opt.rate_hz == 0.0;
@@ -523,16 +523,16 @@ class TextStream final : public SampleStream {
       if (opt_.check_rate_against_time && !dt.empty()) {
         const double period = median(dt);
         if (period > 0.0 && std::isfinite(period) && std::fabs(opt_.rate_hz * period - 1.0) > opt_.tolerance)
-          throw UsageError(
-              "rate", file_ + ": the rate " + stamp(opt_.rate_hz) + " Hz contradicts the time column '" + time_name_ +
-                          "' (" + stamp(1.0 / period) +
-                          " Hz): leave the rate out to take it from the time stamps, or fix the time column");
+          throw UsageError(Field::rate,
+                           file_ + ": the rate " + stamp(opt_.rate_hz) + " Hz contradicts the time column '" +
+                               time_name_ + "' (" + stamp(1.0 / period) +
+                               " Hz): leave the rate out to take it from the time stamps, or fix the time column");
       }
       return;
     }
     if (opt_.rate_hz > 0.0) return;
     if (dt.empty())
-      throw InputError(file_, 0, 0, "cannot infer the sampling rate from a single time stamp", "give --rate HZ");
+      throw InputError(file_, 0, 0, "cannot infer the sampling rate from a single time stamp", "give {rate} HZ");
     const double raw = 1.0 / median(dt);
     if (!(raw >= kMinRateHz && raw <= kMaxRateHz))
       fail_at(1,
@@ -563,7 +563,7 @@ class TextStream final : public SampleStream {
     if (!timing_ || t.extra.size() <= extra_count_) return;
     const std::vector<double>& time = t.extra[extra_count_];
     const double period = 1.0 / rate_hz_;
-    const std::string ignore = opt_.time_col.empty() ? ", or give --rate HZ to ignore the time stamps" : "";
+    const std::string ignore = opt_.time_col.empty() ? ", or give {rate} HZ to ignore the time stamps" : "";
     for (std::size_t i = 0; i < time.size(); ++i) {
       const double now = time[i];
       if (have_last_) {
@@ -577,7 +577,7 @@ class TextStream final : public SampleStream {
             fail_at(i,
                     "gap of " + stamp(dt) + " s (" + std::to_string(std::llround(dt / period)) + " periods of " +
                         stamp(period) + " s) after t = " + stamp(last_) + " s",
-                    "a streamed record is not split: cut it at the gap, or read it into memory with --gaps split");
+                    "a streamed record is not split: cut it at the gap, or read it into memory with {gaps} split");
           fail_at(i, "jitter: interval " + stamp(dt) + " s differs from the period " + stamp(period) + " s",
                   "cut the record at irregular intervals" + ignore);
         }
@@ -623,7 +623,7 @@ std::unique_ptr<SampleStream> open_recording_stream(const std::string& dir, cons
   const auto whole = [&](const std::string& why) {
     return UsageError(dir + ": " + why +
                       ": a recording is streamed only as one closed segment without breaks; leave out "
-                      "--stream (it is read into memory and its pieces placed on one clock)");
+                      "{stream} (it is read into memory and its pieces placed on one clock)");
   };
   if (seg == nullptr) throw InputError(dir, 0, 0, "the recording holds no sample", "record into it first");
   if (with_samples > 1) throw whole("it has " + std::to_string(with_samples) + " segments with samples");
@@ -647,7 +647,7 @@ std::unique_ptr<SampleStream> open_recording_stream(const std::string& dir, cons
     else if (m.rate_hz)
       o.rate_hz = *m.rate_hz;
     else
-      throw UsageError(dir + ": the recording has no device time column and no rate: give --rate HZ");
+      throw UsageError(dir + ": the recording has no device time column and no rate: give {rate} HZ");
   }
   return std::make_unique<TextStream>(std::move(chunks), dir, o, chunk_bytes);
 }

@@ -97,14 +97,14 @@ void default_columns(const Table& layout, const std::string& time_spec, const Se
 void check_options(const SeriesOptions& opt) {
   for (const double lsb : opt.lsb)
     if (!(lsb > 0.0) || !std::isfinite(lsb))
-      throw UsageError("counts_per_unit",
+      throw UsageError(Field::counts_per_unit,
                        "the LSB (counts per unit) must be a positive finite number, got " + stamp(lsb));
   if (!(opt.rate_hz >= 0.0) || !std::isfinite(opt.rate_hz)) {
     throw UsageError("the sampling rate must be a positive finite number of Hz, got " + stamp(opt.rate_hz));
   }
   if (opt.rate_hz != 0.0 && !(opt.rate_hz >= kMinRateHz && opt.rate_hz <= kMaxRateHz)) {
-    throw UsageError("rate", "the sampling rate " + stamp(opt.rate_hz) + " Hz is outside the range " +
-                                 stamp(kMinRateHz) + " to " + stamp(kMaxRateHz) + " Hz");
+    throw UsageError(Field::rate, "the sampling rate " + stamp(opt.rate_hz) + " Hz is outside the range " +
+                                      stamp(kMinRateHz) + " to " + stamp(kMaxRateHz) + " Hz");
   }
   if (!(opt.tolerance >= 0.0) || !std::isfinite(opt.tolerance)) {
     throw UsageError("the interval tolerance must be a non-negative fraction, got " + stamp(opt.tolerance));
@@ -116,10 +116,10 @@ void check_lsb_count(const SeriesOptions& opt, const std::string& file, const st
   if (opt.lsb.size() <= 1 || opt.lsb.size() == names.size()) return;
   std::string list;
   for (const auto& n : names) list += (list.empty() ? "" : ",") + n;
-  throw UsageError("counts_per_unit", file + ": " + std::to_string(opt.lsb.size()) + " LSB values for " +
-                                          std::to_string(names.size()) +
-                                          (names.size() == 1 ? " column (" : " columns (") + list +
-                                          "): give one value for every column, or one per column");
+  throw UsageError(Field::counts_per_unit, file + ": " + std::to_string(opt.lsb.size()) + " LSB values for " +
+                                               std::to_string(names.size()) +
+                                               (names.size() == 1 ? " column (" : " columns (") + list +
+                                               "): give one value for every column, or one per column");
 }
 
 [[noreturn]] void throw_too_short(const std::string& file, std::size_t n, std::size_t min, std::string hint) {
@@ -141,7 +141,7 @@ TimeChoice choose_time_column(const SeriesOptions& opt, const Table& layout) {
     if (opt.rate_hz == 0.0)
       throw UsageError(layout.file +
                        ": no sampling rate: no column is named as a time column (t, time, "
-                       "t_s, timestamp...): give --rate HZ or --time-col NAME");
+                       "t_s, timestamp...): give {rate} HZ or {time_col} NAME");
     return {};
   }
   // A given rate overrides time stamps that were found by name only (e.g.
@@ -194,11 +194,11 @@ void check_rate_agrees(const std::string& file, const std::string& time_name, co
   if (!(period > 0.0) || !std::isfinite(period)) return;  // not increasing: check_timing says where
   const double from_time = 1.0 / period;
   if (std::fabs(opt.rate_hz * period - 1.0) <= opt.tolerance) return;
-  throw UsageError("rate", file + ": the rate " + period_text(opt.rate_hz) + " Hz contradicts the time column '" +
-                               time_name + "' (" + period_text(from_time) + " Hz, median interval " +
-                               period_text(period) +
-                               " s): leave the rate out to take it from the time stamps, "
-                               "or fix the time column");
+  throw UsageError(Field::rate, file + ": the rate " + period_text(opt.rate_hz) + " Hz contradicts the time column '" +
+                                    time_name + "' (" + period_text(from_time) + " Hz, median interval " +
+                                    period_text(period) +
+                                    " s): leave the rate out to take it from the time stamps, "
+                                    "or fix the time column");
 }
 
 // GapPolicy::skip: the rows of `fills` (row, count) get `count` missing
@@ -246,7 +246,7 @@ void check_timing(Series& s, const detail::PlaceError& at, const SeriesOptions& 
     s.tau0 = 1.0 / opt.rate_hz;
   } else {
     if (time.size() < 2) {
-      throw InputError(s.file, 0, 0, "cannot infer the sampling rate from a single time stamp", "give --rate HZ");
+      throw InputError(s.file, 0, 0, "cannot infer the sampling rate from a single time stamp", "give {rate} HZ");
     }
     // The median ignores gaps and outliers as long as most intervals are
     // regular, which the checks below then require anyway.
@@ -267,7 +267,7 @@ void check_timing(Series& s, const detail::PlaceError& at, const SeriesOptions& 
   }
   const double period = s.tau0;
 
-  const std::string ignore_stamps = opt.time_col.empty() ? ", or give --rate HZ to ignore the time stamps" : "";
+  const std::string ignore_stamps = opt.time_col.empty() ? ", or give {rate} HZ to ignore the time stamps" : "";
   std::size_t begin = 0;
   std::vector<std::pair<std::size_t, std::size_t>> fills;  // skip: (row, missing samples before it)
   for (std::size_t i = 1; i < time.size(); ++i) {
@@ -284,7 +284,7 @@ void check_timing(Series& s, const detail::PlaceError& at, const SeriesOptions& 
       fail_at(i,
               "interval " + duration(dt) + " s is not a whole number of periods of " + period_text(period) +
                   " s: no missing sample explains it",
-              "use --gaps split to cut the record at irregular intervals" + ignore_stamps);
+              "use {gaps} split to cut the record at irregular intervals" + ignore_stamps);
     }
     if (opt.gaps == GapPolicy::split) {
       s.segments.push_back({begin, i});
@@ -298,12 +298,12 @@ void check_timing(Series& s, const detail::PlaceError& at, const SeriesOptions& 
       fail_at(i,
               "gap of " + duration(dt) + " s (" + std::to_string(std::llround(dt / period)) + " periods of " +
                   period_text(period) + " s) after t = " + stamp(time[i - 1]) + " s",
-              "use --gaps split to analyze the contiguous pieces");
+              "use {gaps} split to analyze the contiguous pieces");
     } else {
       fail_at(i,
               "jitter: interval " + duration(dt) + " s differs from the period " + period_text(period) + " s by " +
                   to_text(100.0 * std::fabs(dt - period) / period, std::chars_format::general, 3) + " %",
-              "use --gaps split to cut the record at irregular intervals" + ignore_stamps);
+              "use {gaps} split to cut the record at irregular intervals" + ignore_stamps);
     }
   }
   if (!fills.empty()) fill_missing(s, fills);
@@ -362,7 +362,7 @@ Series read_series(const std::string& path_arg, const SeriesOptions& opt) {
   const std::string open_path = path_arg == kStdinPath || buf.was_gzip() ? std::string() : path_arg;
   std::optional<Table> all = binary_table(buf.view(), path, open_path, opt);
   if (!opt.dataset.empty() && !looks_like_hdf5(buf.view()))
-    throw UsageError("dataset", path + " is not an HDF5 file: --dataset chooses a dataset of an HDF5 file");
+    throw UsageError(Field::dataset, path + " is not an HDF5 file: {dataset} chooses a dataset of an HDF5 file");
   const Table layout = all ? Table{} : parse_layout(buf.view(), path, opt.table);
   const TimeChoice time = choose_time_column(opt, all ? *all : layout);
 

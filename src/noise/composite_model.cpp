@@ -42,7 +42,7 @@ std::string upper_trimmed(std::string_view s) {
 }
 
 [[noreturn]] void bad_model(const std::string& text, const std::string& why) {
-  throw UsageError("model",
+  throw UsageError(Field::model,
                    "model '" + text + "': " + why +
                        " (terms: WN, QN, RW, DR, GM or AR1, MA1, SIN, k*GM or k*SIN for k of them, joined by +; "
                        "e.g. WN+RW+2*GM, MA1+RW+2*GM+SIN)");
@@ -176,45 +176,45 @@ double haar_wavelet_variance(const CompositeModel& model, double tau) noexcept {
 
 GaussMarkovTerm gauss_markov_term(const Process& gm, double dt) {
   if (gm.kind != ProcessKind::gm || !(gm.phi > 0.0 && gm.phi < 1.0) || !(gm.value >= 0.0) || !(dt > 0.0))
-    throw UsageError("model", "a Gauss-Markov term needs 0 < phi < 1, a variance >= 0 and a positive sample period");
+    throw UsageError(Field::model, "a Gauss-Markov term needs 0 < phi < 1, a variance >= 0 and a positive sample period");
   return {-dt / std::log(gm.phi), std::sqrt(gm.value / -std::expm1(2.0 * std::log(gm.phi)))};
 }
 
 Process gm_process(double tau_c, double sigma_b, double dt) {
   if (!(tau_c > 0.0) || !(sigma_b >= 0.0) || !(dt > 0.0) || !std::isfinite(tau_c))
-    throw UsageError("model", "a Gauss-Markov term needs a positive, finite correlation time and sigma_b >= 0");
+    throw UsageError(Field::model, "a Gauss-Markov term needs a positive, finite correlation time and sigma_b >= 0");
   const double a = dt / tau_c;
   return {ProcessKind::gm, sigma_b * sigma_b * -std::expm1(-2.0 * a), std::exp(-a)};
 }
 
 MovingAverageTerm moving_average_term(const Process& ma1, double dt) {
   if (ma1.kind != ProcessKind::ma1 || !(std::abs(ma1.theta) < 1.0) || !(ma1.value >= 0.0) || !(dt > 0.0))
-    throw UsageError("model", "an MA1 term needs -1 < theta < 1, a variance >= 0 and a positive sample period");
+    throw UsageError(Field::model, "an MA1 term needs -1 < theta < 1, a variance >= 0 and a positive sample period");
   return {std::sqrt(ma1.value * dt) * (1.0 + ma1.theta), ma1.theta};
 }
 
 Process ma1_process(double n, double theta, double dt) {
   if (!(n >= 0.0) || !std::isfinite(n) || !(std::abs(theta) < 1.0) || !(dt > 0.0))
-    throw UsageError("model", "an MA1 term needs a finite N >= 0 and -1 < theta < 1");
+    throw UsageError(Field::model, "an MA1 term needs a finite N >= 0 and -1 < theta < 1");
   Process p{ProcessKind::ma1, n * n / (dt * (1.0 + theta) * (1.0 + theta)), 0.0, theta};
   return p;
 }
 
 SineTerm sine_term(const Process& sin, double dt) {
   if (sin.kind != ProcessKind::sin || !(sin.value >= 0.0) || !(sin.omega > 0.0 && sin.omega < kPi) || !(dt > 0.0))
-    throw UsageError("model", "a SIN term needs A^2 >= 0, 0 < omega < pi and a positive sample period");
+    throw UsageError(Field::model, "a SIN term needs A^2 >= 0, 0 < omega < pi and a positive sample period");
   return {std::sqrt(sin.value), sin.omega / (2.0 * kPi * dt)};
 }
 
 Process sin_process(double amplitude, double frequency_hz, double dt) {
-  if (!(dt > 0.0) || !std::isfinite(dt)) throw UsageError("model", "a SIN term needs a positive, finite sample period");
+  if (!(dt > 0.0) || !std::isfinite(dt)) throw UsageError(Field::model, "a SIN term needs a positive, finite sample period");
   if (!(amplitude >= 0.0) || !std::isfinite(amplitude))
-    throw UsageError("model", "a SIN term needs a finite amplitude >= 0");
+    throw UsageError(Field::model, "a SIN term needs a finite amplitude >= 0");
   const double nyquist = 0.5 / dt;
   if (!(frequency_hz > 0.0 && frequency_hz < nyquist)) {
     char b[96];
     std::snprintf(b, sizeof b, "a SIN line at %.6g Hz lies outside (0, %.6g) Hz", frequency_hz, nyquist);
-    throw UsageError("model", std::string(b) +
+    throw UsageError(Field::model, std::string(b) +
                                   ", the band a record at this rate can hold (the Nyquist frequency is "
                                   "half the rate)");
   }

@@ -102,7 +102,7 @@ CompositeModel to_model(const CompositeModel& structure, const VectorXd& theta) 
 // The log-parameters of a model (to_model's inverse, before its sorting).
 VectorXd theta_of(const CompositeModel& structure, const CompositeModel& m) {
   if (model_name(m) != model_name(structure) || m.processes.size() != structure.processes.size())
-    throw UsageError("model", "the start " + model_name(m) + " is not a model " + model_name(structure));
+    throw UsageError(Field::model, "the start " + model_name(m) + " is not a model " + model_name(structure));
   VectorXd theta(static_cast<Eigen::Index>(parameter_count(structure)));
   Eigen::Index k = 0;
   for (const Process& p : m.processes) {
@@ -113,7 +113,7 @@ VectorXd theta_of(const CompositeModel& structure, const CompositeModel& m) {
                                                     (p.kind != ProcessKind::gm || (p.phi > 0.0 && p.phi < 1.0)) &&
                                                     (p.kind != ProcessKind::ma1 || std::abs(p.theta) < 1.0) &&
                                                     (p.kind != ProcessKind::sin || (p.omega > 0.0 && p.omega < kPi));
-    if (!ok) throw UsageError("model", "the start " + model_name(m) + " has a parameter beyond its range");
+    if (!ok) throw UsageError(Field::model, "the start " + model_name(m) + " has a parameter beyond its range");
     constexpr double kSmallest = 1e-300;
     theta(k++) = std::log(std::max(p.kind == ProcessKind::dr ? p.value * p.value : p.value, kSmallest));
     if (p.kind == ProcessKind::gm) theta(k++) = std::log(-std::log(p.phi));
@@ -262,16 +262,16 @@ std::vector<double> weights_at(const WaveletVariance& wv, const std::vector<doub
 }  // namespace
 
 GmwmFit fit_gmwm(const WaveletVariance& wv, const CompositeModel& structure, const GmwmOptions& options) {
-  if (structure.processes.empty()) throw UsageError("model", "the model has no process");
+  if (structure.processes.empty()) throw UsageError(Field::model, "the model has no process");
   const std::size_t np = parameter_count(structure);
   if (wv.size() < np + 1)
-    throw UsageError("model", "model " + model_name(structure) + " has " + std::to_string(np) +
+    throw UsageError(Field::model, "model " + model_name(structure) + " has " + std::to_string(np) +
                                   " parameters, more than the " + std::to_string(wv.size()) +
                                   " scales of the wavelet variance allow (at least one more): a longer record or "
                                   "a smaller model");
   for (std::size_t j = 0; j < wv.size(); ++j)
     if (!(wv.nu2[j] > 0.0) || !std::isfinite(wv.nu2[j]) || !(wv.edf[j] > 0.0))
-      throw UsageError("model", "the wavelet variance is zero or not finite at scale " +
+      throw UsageError(Field::model, "the wavelet variance is zero or not finite at scale " +
                                     std::to_string(static_cast<long long>(wv.tau[j])) +
                                     ": a constant or damaged record");
 

@@ -41,10 +41,10 @@ GmwmAsymptotics gmwm_asymptotics(const GmwmFit& fit, const WaveletVariance& wv, 
                                  bool pseudo_inverse) {
   const std::size_t J = wv.size();
   if (!(inflation >= 1.0) || !std::isfinite(inflation))
-    throw UsageError("model", "the wavelet variance's variance can only be inflated (a factor >= 1), not " +
+    throw UsageError(Field::model, "the wavelet variance's variance can only be inflated (a factor >= 1), not " +
                                   std::to_string(inflation));
   if (fit.sd.size() != J || fit.nu2_model.size() != J || fit.model.processes.empty())
-    throw UsageError("model", "the GMWM fit has " + std::to_string(fit.sd.size()) + " scales, the wavelet variance " +
+    throw UsageError(Field::model, "the GMWM fit has " + std::to_string(fit.sd.size()) + " scales, the wavelet variance " +
                                   std::to_string(J) + ": they do not belong together");
   const std::size_t p = parameter_count(fit.model);
 
@@ -76,7 +76,7 @@ GmwmAsymptotics gmwm_asymptotics(const GmwmFit& fit, const WaveletVariance& wv, 
     }
   }
   if (!A.allFinite())
-    throw UsageError("model", "model " + model_name(fit.model) + ": a parameter is outside its range");
+    throw UsageError(Field::model, "model " + model_name(fit.model) + ": a parameter is outside its range");
 
   std::vector<double> v = wavelet_variance_covariance(fit.model, wv.tau, samples);
   for (double& x : v) x *= inflation;

@@ -378,10 +378,11 @@ void rank_twins(TwinSelection& sel, std::vector<CandidateFit>& scored, std::vect
 TwinSelection select_twin(const WaveletVariance& wv, std::size_t samples, double rate_hz,
                           const std::vector<SpectralLine>& lines, const TwinOptions& options) {
   if (wv.size() < 3)
-    throw UsageError("model", "the record gives " + std::to_string(wv.size()) +
-                                  " wavelet-variance scales, too few for a twin (at least 3: a record of 16 samples "
-                                  "or more)");
-  if (!(rate_hz > 0.0) || !std::isfinite(rate_hz)) throw UsageError("rate", "the sample rate must be positive");
+    throw UsageError(Field::model,
+                     "the record gives " + std::to_string(wv.size()) +
+                         " wavelet-variance scales, too few for a twin (at least 3: a record of 16 samples "
+                         "or more)");
+  if (!(rate_hz > 0.0) || !std::isfinite(rate_hz)) throw UsageError(Field::rate, "the sample rate must be positive");
   Search search(wv, samples, rate_hz, lines, options);
 
   // The forward search with the curve's own spread as weights. Every

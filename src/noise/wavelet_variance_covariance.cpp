@@ -108,7 +108,7 @@ struct Terms {
 };
 
 [[noreturn]] void bad_parameter(const CompositeModel& model) {
-  throw UsageError("model", "model " + model_name(model) +
+  throw UsageError(Field::model, "model " + model_name(model) +
                                 ": every variance must be finite and >= 0, every drift finite, every "
                                 "Gauss-Markov phi in (0, 1) and every MA1 theta in (-1, 1)");
 }
@@ -384,7 +384,7 @@ class LagSums {
 
 double half_scale(double tau) {
   if (!(tau >= 2.0) || !std::isfinite(tau) || std::fmod(tau, 2.0) != 0.0 || tau > 9.0e15)
-    throw UsageError("scales",
+    throw UsageError(Field::scales,
                      "a wavelet-variance scale must be an even number of samples >= 2, not " + std::to_string(tau));
   return tau / 2.0;
 }
@@ -407,7 +407,7 @@ std::vector<double> wavelet_variance_covariance(const CompositeModel& model, std
   for (std::size_t j = 0; j < J; ++j) {
     m[j] = half_scale(tau[j]);
     if (tau[j] > N)
-      throw UsageError("scales", "the scale " + std::to_string(tau[j]) + " is longer than the record (" +
+      throw UsageError(Field::scales, "the scale " + std::to_string(tau[j]) + " is longer than the record (" +
                                      std::to_string(samples) + " samples)");
   }
   std::vector<double> cov(J * J, 0.0);

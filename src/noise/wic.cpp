@@ -37,14 +37,14 @@ std::vector<CompositeModel> parse_candidate_models(const std::string& text) {
     const std::size_t comma = text.find(',', from);
     const std::string piece = trim(text.substr(from, comma == std::string::npos ? std::string::npos : comma - from));
     if (piece.empty())
-      throw UsageError("model", "model list '" + text + "': an empty model between commas (give e.g. WN+RW,WN+GM)");
+      throw UsageError(Field::model, "model list '" + text + "': an empty model between commas (give e.g. WN+RW,WN+GM)");
     CompositeModel m = parse_composite_model(piece);
     // The same terms in another order are the same model.
     std::string key;
     for (const Process& p : m.processes) key += to_string(p.kind);
     std::sort(key.begin(), key.end());
     if (std::find(names.begin(), names.end(), key) != names.end())
-      throw UsageError("model", "model list '" + text + "': " + model_name(m) + " is named twice");
+      throw UsageError(Field::model, "model list '" + text + "': " + model_name(m) + " is named twice");
     names.push_back(std::move(key));
     out.push_back(std::move(m));
     if (comma == std::string::npos) break;
@@ -93,7 +93,7 @@ WicScore wic_score(const WaveletVariance& wv, const std::vector<double>& sd, con
     if (r.nu2.size() == J && r.model.size() == J) ok.push_back(&r);
   s.replicates = ok.size();
   if (ok.size() < 2)
-    throw UsageError("model", "the WIC's optimism needs at least 2 bootstrap replicates with a fit, not " +
+    throw UsageError(Field::model, "the WIC's optimism needs at least 2 bootstrap replicates with a fit, not " +
                                   std::to_string(ok.size()));
   const double n = static_cast<double>(ok.size());
   double optimism = 0.0;

@@ -60,8 +60,11 @@ TemperatureAnalysis analyze_temperature_of(std::size_t c, const io::Series& s, c
   TemperatureAnalysis t;
   try {
     t.ols = fit_temperature(s.channels[c], temp, req.temp_order);
+  } catch (const CalibrationError& e) {
+    // The temperature column cannot explain the drift: the column is what to change.
+    throw UsageError(Field::temp_index, temp_name + ": " + e.text());
   } catch (const std::invalid_argument& e) {
-    throw UsageError("temp_index", temp_name + ": " + e.what());
+    throw UsageError(Field::temp_index, temp_name + ": " + e.what());
   }
   const CompensatedNoiseModel noise_model = [&](std::span<const double> y) {
     const DevResult d = run_dev({s.names[c]}, {y}, s.rate_hz, s.segments, oadev_request(req));
@@ -75,6 +78,10 @@ TemperatureAnalysis analyze_temperature_of(std::size_t c, const io::Series& s, c
     t.iterations = j.iterations;
     t.converged = j.converged;
     t.joint = true;
+  } catch (const CalibrationError& e) {
+    t.fit = t.ols;
+    t.joint_error = std::string("no random-walk model fits the compensated series (") + face_words(e.text()) +
+                    "): the least-squares fit is reported";
   } catch (const std::invalid_argument& e) {
     t.fit = t.ols;
     t.joint_error = std::string("no random-walk model fits the compensated series (") + e.what() +
@@ -156,10 +163,10 @@ void check_composite(const io::Series& s, const AnalyzeRequest& req) {
   const std::size_t first = s.segments.front().size();
   const bool head = req.max_samples > 0 && req.max_samples <= first;
   if (s.segments.size() > 1 && !head)
-    throw UsageError("composite", s.file + ": the record is cut into " + std::to_string(s.segments.size()) +
-                                      " pieces at gaps, and the composite model's wavelet variance needs one "
-                                      "contiguous piece: fit it on the first " +
-                                      std::to_string(first) + " samples (--max-samples), or repair the gaps");
+    throw UsageError(Field::composite, s.file + ": the record is cut into " + std::to_string(s.segments.size()) +
+                                           " pieces at gaps, and the composite model's wavelet variance needs one "
+                                           "contiguous piece: fit it on the first " +
+                                           std::to_string(first) + " samples ({max_samples}), or repair the gaps");
 }
 
 // The composite model of every channel: run_model of the samples the sensor
@@ -190,9 +197,10 @@ void fit_composite_required(AnalysisResult& r, const io::Series& s, const Analyz
     }
   } catch (const std::invalid_argument& e) {
     // A missing sample (NaN under --gaps skip): the wavelet variance takes none.
-    throw UsageError("composite", s.file + ": " + e.what() +
-                                      "; the composite model's wavelet variance needs every sample (read the record "
-                                      "with --gaps split and fit a piece)");
+    throw UsageError(Field::composite,
+                     s.file + ": " + e.what() +
+                         "; the composite model's wavelet variance needs every sample (read the record "
+                         "with {gaps} split and fit a piece)");
   }
   r.composite = CompositeSettings{m.model, m.selection_replicates, m.bootstrap, m.seed, m.robust, m.robust_efficiency};
   for (std::size_t c = 0; c < r.channels.size(); ++c) {

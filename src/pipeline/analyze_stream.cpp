@@ -47,17 +47,17 @@ struct CurveStreams {
 
 void check_analyze_streamable(const AnalyzeRequest& req, bool can_reopen) {
   if (req.psd)
-    throw UsageError("psd",
+    throw UsageError(Field::psd,
                      "the spectral view needs the whole record in memory (Welch's segments are an eighth of it), "
                      "which a streamed analysis does not hold: analyze the record in memory, with a larger memory "
                      "budget if it is above it");
   if (req.composite && req.composite_required)
-    throw UsageError("composite",
+    throw UsageError(Field::composite,
                      "the composite model's wavelet variance reaches scales of half the record, which a streamed "
                      "analysis does not hold: analyze the record in memory (with a larger memory budget if it is "
                      "above it), or fit the model with cubecal model");
   if (req.temp_index && !can_reopen)
-    throw UsageError("temp_index",
+    throw UsageError(Field::temp_index,
                      "a streamed temperature analysis reads the record twice (the compensated curves need the "
                      "coefficients first), and the standard input can be read only once: give the record as a file");
 }
@@ -211,13 +211,15 @@ class StreamedAnalysis {
       TemperatureAnalysis t;
       try {
         t.ols = temps_[c]->finish();
+      } catch (const CalibrationError& e) {
+        throw UsageError(Field::temp_index, r.temp_name + ": " + e.text());
       } catch (const std::invalid_argument& e) {
-        throw UsageError("temp_index", r.temp_name + ": " + e.what());
+        throw UsageError(Field::temp_index, r.temp_name + ": " + e.what());
       }
       t.fit = t.ols;
-      t.joint_error =
+      t.joint_error = face_words(
           "the joint estimate with the bias random walk refits the noise model on the whole compensated record at "
-          "every iteration and is not streamed: the least-squares fit is reported (leave out --stream for it)";
+          "every iteration and is not streamed: the least-squares fit is reported (leave out {stream} for it)");
       r.channels[c].temperature = std::move(t);
     }
   }

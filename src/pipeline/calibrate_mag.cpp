@@ -27,24 +27,41 @@ bool positive(double v) { return v > 0.0 && std::isfinite(v); }
 
 void check_request(const io::Table& t, const MagRequest& req) {
   if (t.data.size() != 3)
-    throw UsageError("mag_columns", t.file + " has " + std::to_string(t.data.size()) +
-                                        " data columns: the 3 magnetometer columns are needed");
-  if (!positive(req.counts_per_unit))
-    throw UsageError("counts_per_unit", "must be a positive number of counts per unit");
-  if (req.field_norm && !positive(*req.field_norm))
-    throw UsageError("field_norm", "must be a positive field magnitude (in the units of the values after the scaling)");
-  if (req.noise && !positive(*req.noise))
-    throw UsageError("noise", "must be a positive standard deviation per axis (leave it out to estimate it)");
-  if (!(req.reject_sigma >= 0.0) || !std::isfinite(req.reject_sigma))
-    throw UsageError("reject_sigma", "must be a positive number of standard deviations (0: no rejection)");
-  if (req.field_column && req.field_norm)
-    throw UsageError("field_column", "a field norm per point and one field norm for all cannot both be used");
-  if (req.field_column && req.method == mag::Method::ellipsoid)
-    throw UsageError("field_column", "a field norm per point needs the TWOSTEP methods");
-  if (req.field_column && t.extra.size() != 1) throw UsageError("field_column", "the field column was not read");
+    throw UsageError(Field::mag_columns, t.file + " has " + std::to_string(t.data.size()) +
+                                             " data columns: the 3 magnetometer columns are needed");
+  req.validate();
+  if (req.field_column && t.extra.size() != 1) throw UsageError(Field::field_column, "the field column was not read");
 }
 
 }  // namespace
+
+void MagRequest::validate() const {
+  constexpr auto in_text = UsageError::Named::in_text;
+  if (!positive(counts_per_unit))
+    throw UsageError(Field::counts_per_unit, "{counts_per_unit} must be a positive number of counts per unit", in_text);
+  if (field_norm && !positive(*field_norm))
+    throw UsageError(Field::field_norm,
+                     "{field_norm} must be a positive field magnitude (in the units of the values after "
+                     "{counts_per_unit})",
+                     in_text);
+  if (noise && !positive(*noise))
+    throw UsageError(Field::noise,
+                     "{noise} must be a positive standard deviation per axis (leave it out to estimate it)", in_text);
+  if (!(reject_sigma >= 0.0) || !std::isfinite(reject_sigma))
+    throw UsageError(Field::reject_sigma,
+                     "{reject_sigma} must be a positive number of standard deviations (0: no rejection)", in_text);
+  if (field_column && field_norm)
+    throw UsageError(Field::field_column, "give either {field_norm} or {field_column}, not both", in_text);
+  if (field_column && method == mag::Method::ellipsoid)
+    throw UsageError(Field::field_column,
+                     "{field_column} (a field norm per point) needs {method} twostep or twostep-full", in_text);
+}
+
+void check_mag_columns(const std::vector<std::string>& columns) {
+  if (!columns.empty() && columns.size() != 3)
+    throw UsageError(Field::mag_columns, "{mag_columns} takes the 3 magnetometer columns (mx,my,mz or 1,2,3)",
+                     UsageError::Named::in_text);
+}
 
 MagResult calibrate_mag(const io::Table& table, const MagRequest& req) {
   check_request(table, req);

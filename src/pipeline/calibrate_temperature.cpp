@@ -6,9 +6,18 @@
 
 namespace cubecal::pipeline {
 
+void TemperatureRequest::validate() const {
+  if (order < 1 || order > 5)
+    throw UsageError(Field::order, "{order}: the polynomial order is 1 to 5", UsageError::Named::in_text);
+  if (unit.find(',') != std::string::npos)
+    throw UsageError(Field::unit,
+                     "one unit here, the unit of the coefficients of every channel: calibrate the channels "
+                     "of each unit in their own run ({columns})");
+}
+
 TemperatureResult calibrate_temperature(const io::Series& s, const TemperatureRequest& req) {
-  if (req.order < 1 || req.order > 5) throw UsageError("polynomial_order", "the polynomial order must be 1 to 5");
-  if (req.temp_index >= s.extra.size()) throw UsageError("temp_index", "the temperature column was not read");
+  req.validate();
+  if (req.temp_index >= s.extra.size()) throw UsageError(Field::temp_index, "the temperature column was not read");
   const auto& temp = s.extra[req.temp_index];
   TemperatureResult r;
   r.file = s.file;
@@ -22,7 +31,7 @@ TemperatureResult calibrate_temperature(const io::Series& s, const TemperatureRe
     try {
       ch.fit = fit_temperature(s.channels[c], temp, req.order);
     } catch (const CalibrationError& e) {
-      throw CalibrationError(e.reason(), ch.name + ": " + e.what());
+      throw CalibrationError(e.reason(), ch.name + ": " + e.text());
     } catch (const std::invalid_argument& e) {
       throw UsageError(ch.name + ": " + e.what());
     }

@@ -36,7 +36,7 @@ std::size_t min_window(DataType type) { return type == DataType::freq ? 4 : 5; }
 
 }  // namespace
 
-DavarSpan parse_davar_span(const std::string& text, const std::string& option) {
+DavarSpan parse_davar_span(const std::string& text, Field option) {
   DavarSpan span;
   span.text = text;
   std::string_view s = text;
@@ -60,7 +60,7 @@ DavarSpan parse_davar_span(const std::string& text, const std::string& option) {
   return span;
 }
 
-std::size_t span_samples(const DavarSpan& span, double rate_hz, const std::string& option) {
+std::size_t span_samples(const DavarSpan& span, double rate_hz, Field option) {
   if (span.samples > 0) return span.samples;
   const double n = std::round(span.seconds * rate_hz);
   if (!(n >= 1.0))
@@ -71,10 +71,11 @@ std::size_t span_samples(const DavarSpan& span, double rate_hz, const std::strin
 
 DavarResult run_davar(const io::Series& series, const DavarRequest& request) {
   if (series.segments.size() > 1)
-    throw UsageError("gaps", series.file + ": the record has " + std::to_string(series.segments.size() - 1) +
-                                 " gap(s); davar slides one window along one contiguous record: read it with --gaps "
-                                 "skip (a gap of whole periods is then missing samples, left out of each window's "
-                                 "terms), or cut it at its gaps");
+    throw UsageError(Field::gaps,
+                     series.file + ": the record has " + std::to_string(series.segments.size() - 1) +
+                         " gap(s); davar slides one window along one contiguous record: read it with {gaps} "
+                         "skip (a gap of whole periods is then missing samples, left out of each window's "
+                         "terms), or cut it at its gaps");
   DavarResult r;
   r.file = series.file;
   r.rate_hz = series.rate_hz;
@@ -83,7 +84,7 @@ DavarResult run_davar(const io::Series& series, const DavarRequest& request) {
   r.grid = request.grid;
   const std::size_t N = r.samples;
   if (request.window) {
-    r.window = span_samples(*request.window, series.rate_hz, "window");
+    r.window = span_samples(*request.window, series.rate_hz, Field::window);
     r.window_text = request.window->text;
   } else {
     r.window = N / 10 >= min_window(request.type) ? N / 10 : N;
@@ -91,7 +92,7 @@ DavarResult run_davar(const io::Series& series, const DavarRequest& request) {
         (r.window == N ? "the whole record: " : "a tenth of the record: ") + samples_text(r.window, r.rate_hz);
   }
   if (request.step) {
-    r.step = span_samples(*request.step, series.rate_hz, "step");
+    r.step = span_samples(*request.step, series.rate_hz, Field::step);
     r.step_text = request.step->text;
   } else {
     r.step = std::max<std::size_t>(1, r.window / 10);

@@ -20,9 +20,9 @@ std::vector<std::size_t> missing_per_channel(const io::Series& series) {
 
 DevResult run_dev_skipping_missing(const io::Series& series, const DevRequest& request) {
   if (request.stat != Stat::oadev)
-    throw UsageError("stat",
-                     "missing samples are skipped for OADEV only (as AllanTools' gradev): give --stat "
-                     "oadev, or --gaps split to analyze the contiguous pieces with " +
+    throw UsageError(Field::stat,
+                     "missing samples are skipped for OADEV only (as AllanTools' gradev): give {stat} "
+                     "oadev, or {gaps} split to analyze the contiguous pieces with " +
                          std::string(to_string(request.stat)));
   DevResult r;
   r.stat = request.stat;

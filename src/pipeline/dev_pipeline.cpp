@@ -152,7 +152,7 @@ std::vector<std::size_t> dev_factors(DevResult& res, const std::vector<io::Segme
   for (const auto& s : segments) longest = std::max(longest, s.size());
   // TheoH's switch and its factors of listed taus follow the record length.
   if (req.stat == Stat::theoh && res.segments_used > 1)
-    throw UsageError("stat",
+    throw UsageError(Field::stat,
                      "theoh switches from OADEV to TheoBR at 20 % of the record's length: it takes one "
                      "contiguous record, and this one has " +
                          std::to_string(res.segments_used) +
@@ -163,7 +163,7 @@ std::vector<std::size_t> dev_factors(DevResult& res, const std::vector<io::Segme
   const std::vector<std::size_t> ms = averaging_factors(grid, max_m, res.tau0 * tau_per_factor(req.stat));
   if ((req.stat == Stat::theobr || req.stat == Stat::theoh) &&
       phase_points(io::Segment{0, longest}, req.type) > StabilityRecord::kTheobrMaxPoints)
-    throw UsageError("stat",
+    throw UsageError(Field::stat,
                      "theobr's bias ratio takes Theo1 at every fourth averaging factor up to 2N/3 (about "
                      "N^3/65 terms): " +
                          std::to_string(longest) + " samples is beyond the " +

@@ -19,15 +19,15 @@ std::size_t window_bound_for(std::size_t memory_bytes, std::size_t channels) {
 
 void check_streamable(const DevRequest& req) {
   if (!streams(req.stat))
-    throw UsageError("stat", std::string(to_string(req.stat)) +
-                                 " needs the whole record in memory (its terms average over every window): "
-                                 "use adev, oadev, hdev or ohdev with --stream, or leave out --stream");
+    throw UsageError(Field::stat, std::string(to_string(req.stat)) +
+                                      " needs the whole record in memory (its terms average over every window): "
+                                      "use adev, oadev, hdev or ohdev with {stream}, or leave out {stream}");
   if (req.type != DataType::freq)
-    throw UsageError("type", "a stream takes frequency (rate) data: leave out --type phase, or --stream");
+    throw UsageError(Field::type, "a stream takes frequency (rate) data: leave out {type} phase, or {stream}");
   if (req.grid.kind == TauGrid::Kind::all)
-    throw UsageError("taus",
-                     "--taus all is not streamed (every factor would be a pass over each sample): use "
-                     "octave, decade or log:K with --stream");
+    throw UsageError(Field::taus,
+                     "{taus} all is not streamed (every factor would be a pass over each sample): use "
+                     "octave, decade or log:K with {stream}");
 }
 
 DevResult run_dev_stream(io::SampleStream& in, const DevRequest& req, std::size_t window_bound) {

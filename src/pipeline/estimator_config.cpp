@@ -44,7 +44,7 @@ AxisNoise axis_noise(const ChannelAnalysis& c, const std::string& file) {
                      "channel " + c.name +
                          ": the Allan deviation is zero at every tau (a constant record), so "
                          "there is no noise to write into an estimator file",
-                     "check --columns, or leave out --for");
+                     "check {columns}, or leave out {estimators}");
   const ReportedTerms t = reported_terms(c.noise.readoffs, c.noise.fit, to_allan_curve(curve));
   const double si = c.unit.to_si;
   AxisNoise a;
@@ -150,7 +150,7 @@ std::string header(std::string_view title, const AnalysisResult& r, const Estima
        "# not identified, or K not significant, is written as the upper bound the curve allows,\n"
        "# marked UPPER BOUND (never 0).\n";
   h += "# Inflation: every density and random walk below is the measured value x " + plain(ctx.inflate) +
-       " (--inflate" + (ctx.inflate == 1.0 ? ": not inflated" : "") + ").\n";
+       face_words(" ({inflate}") + (ctx.inflate == 1.0 ? ": not inflated" : "") + ").\n";
   return h;
 }
 
@@ -167,7 +167,7 @@ struct Sensors {
 
 Sensors sensors(const AnalysisResult& r, const EstimatorContext& ctx) {
   if (!(ctx.inflate >= 1.0) || !std::isfinite(ctx.inflate))
-    throw UsageError("inflate", plain(ctx.inflate) + " is not a factor >= 1");
+    throw UsageError(Field::inflate, plain(ctx.inflate) + " is not a factor >= 1");
   Sensors s;
   s.noise = imu_noise(r);
   std::vector<Unit> units;
@@ -239,14 +239,15 @@ std::string openvins(const AnalysisResult& r, const Sensors& s, const EstimatorC
 std::string vins(const AnalysisResult& r, const Sensors& s, const EstimatorContext& ctx) {
   std::string y = header("VINS-Mono / VINS-Fusion IMU parameters (the \"imu parameters\" block)", r, ctx);
   const double rate = r.rate_hz;
-  y += "# Copy these keys into the VINS config (an OpenCV %YAML:1.0 file).\n"
-       "# acc_n, gyr_n are the continuous-time noise densities sigma_w and acc_w, gyr_w the\n"
-       "# continuous-time bias random walks sigma_bw, the same numbers Kalibr takes. VINS's\n"
-       "# comments call them \"standard deviations\" and its pre-integration (integration_base.h)\n"
-       "# multiplies their squares by dt^2 per IMU step; the published configs (acc_n 0.1,\n"
-       "# gyr_n 0.01, acc_w 0.001, gyr_w 1e-4) are 10-100x what a static Allan analysis gives, to\n"
-       "# cover motion, vibration and temperature. Inflate with --inflate K rather than editing\n"
-       "# by hand; the per-sample (discrete) equivalents are in each line's comment.\n";
+  y += face_words(
+      "# Copy these keys into the VINS config (an OpenCV %YAML:1.0 file).\n"
+      "# acc_n, gyr_n are the continuous-time noise densities sigma_w and acc_w, gyr_w the\n"
+      "# continuous-time bias random walks sigma_bw, the same numbers Kalibr takes. VINS's\n"
+      "# comments call them \"standard deviations\" and its pre-integration (integration_base.h)\n"
+      "# multiplies their squares by dt^2 per IMU step; the published configs (acc_n 0.1,\n"
+      "# gyr_n 0.01, acc_w 0.001, gyr_w 1e-4) are 10-100x what a static Allan analysis gives, to\n"
+      "# cover motion, vibration and temperature. Inflate with {inflate} K rather than editing\n"
+      "# by hand; the per-sample (discrete) equivalents are in each line's comment.\n");
   const double k = ctx.inflate;
   auto line = [&](const char* key, const Pick& p, const std::string& unit, bool walk) {
     const double v = p.value * k;
@@ -394,9 +395,9 @@ std::string_view estimator_file(Estimator e) { return kFiles[static_cast<std::si
 void require_imu_units(const std::vector<Unit>& units) {
   if (std::none_of(units.begin(), units.end(),
                    [](const Unit& u) { return u.kind == SensorKind::rate || u.kind == SensorKind::acceleration; }))
-    throw UsageError("estimators",
+    throw UsageError(Field::estimators,
                      "the record has no gyroscope (deg/s, rad/s) or accelerometer (g, m/s^2) channel: "
-                     "give --unit of the IMU columns");
+                     "give {units} of the IMU columns");
 }
 
 ImuNoise imu_noise(const AnalysisResult& r) {

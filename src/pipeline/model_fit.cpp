@@ -164,7 +164,7 @@ void fit_twin(ModelChannel& ch, std::span<const double> y, double rate_hz, std::
   try {
     ch.lines = find_spectral_lines(welch_psd(y, rate_hz));
   } catch (const UsageError& e) {
-    ch.lines_error = e.what();  // a record too short for one segment
+    ch.lines_error = face_words(e.text());  // a record too short for one segment
   }
   const TwinSelection sel = select_twin(ch.wv, samples, rate_hz, ch.lines, req.twin);
   for (const TwinCandidate& c : sel.ranked)
@@ -211,20 +211,22 @@ namespace {
 // The request's checks that need the record, before any work.
 void check_model_request(const io::Series& series, const ModelRequest& req, bool selecting) {
   if (selecting && req.selection_replicates == 1)
-    throw UsageError("wic_replicates",
+    throw UsageError(Field::wic_replicates,
                      "give 0 (the WIC's asymptotic optimism) or at least 2 bootstrap replicates, not 1");
-  if (!(req.ci > 0.0 && req.ci < 1.0)) throw UsageError("ci", "the confidence must lie between 0 and 1");
+  if (!(req.ci > 0.0 && req.ci < 1.0)) throw UsageError(Field::ci, "the confidence must lie between 0 and 1");
   if (req.bootstrap == 1 || req.bootstrap > 100000)
-    throw UsageError("bootstrap",
+    throw UsageError(Field::bootstrap,
                      "give 0 (none) or 2 to 100000 bootstrap replicates, not " + std::to_string(req.bootstrap));
   const std::size_t nch = series.channels.size();
   if (req.units.size() > 1 && req.units.size() != nch)
-    throw UsageError("units", "give one unit for all channels or one per channel (" + std::to_string(req.units.size()) +
-                                  " units for " + std::to_string(nch) + " channels)");
+    throw UsageError(Field::units, "give one unit for all channels or one per channel (" +
+                                       std::to_string(req.units.size()) + " units for " + std::to_string(nch) +
+                                       " channels)");
   if (series.segments.size() > 1)
-    throw UsageError("segments", series.file + ": the record is cut into " + std::to_string(series.segments.size()) +
-                                     " pieces at gaps; the wavelet variance needs one contiguous record (fit a "
-                                     "piece, or repair the gaps)");
+    throw UsageError(Field::segments, series.file + ": the record is cut into " +
+                                          std::to_string(series.segments.size()) +
+                                          " pieces at gaps; the wavelet variance needs one contiguous record (fit a "
+                                          "piece, or repair the gaps)");
 }
 
 // The result's record and settings, without its channels.

@@ -166,7 +166,7 @@ ModelChannel model_channel_from_json(const nlohmann::json& j, const std::string&
 ModelResult model_result_from_json(const nlohmann::json& j, const std::string& where) {
   const Node root(j, "", where, kWhat);
   if (!j.is_object() || !j.contains("command") || j["command"] != "model")
-    root.fail("not a `cubecal model --format json` result (its \"command\" is \"model\")");
+    root.fail("not a `cubecal model {format} json` result (its \"command\" is \"model\")");
   ModelResult r;
   r.file = root.at("file").str();
   r.rate_hz = root.num("rate_hz");

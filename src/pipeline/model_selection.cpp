@@ -15,9 +15,9 @@ namespace cubecal::pipeline {
 
 ModelSelection select_composite_model(const WaveletVariance& wv, std::size_t samples,
                                       const std::vector<CompositeModel>& candidates, const WicOptions& options) {
-  if (candidates.empty()) throw UsageError("model", "no candidate model to select from");
+  if (candidates.empty()) throw UsageError(Field::model, "no candidate model to select from");
   if (options.replicates == 1)
-    throw UsageError("model", "the WIC's bootstrap needs at least 2 replicates (0: its asymptotic form)");
+    throw UsageError(Field::model, "the WIC's bootstrap needs at least 2 replicates (0: its asymptotic form)");
   const int threads = options.threads > 0 ? static_cast<int>(options.threads) : omp_get_max_threads();
   const std::size_t nc = candidates.size(), reps = options.replicates;
 

@@ -22,8 +22,8 @@ PsdResult run_psd(const std::vector<std::string>& names, const std::vector<std::
     if (c.size() != n) throw std::invalid_argument("run_psd: channels of different lengths");
   const std::size_t units = request.units.size();
   if (units > 1 && units != channels.size())
-    throw UsageError("units", "give one unit for all channels or one per channel (" + std::to_string(units) +
-                                  " units for " + std::to_string(channels.size()) + " channels)");
+    throw UsageError(Field::units, "give one unit for all channels or one per channel (" + std::to_string(units) +
+                                       " units for " + std::to_string(channels.size()) + " channels)");
   std::vector<io::Segment> pieces = segments;
   if (pieces.empty()) pieces.push_back({0, n});
   for (const auto& p : pieces)
@@ -62,8 +62,8 @@ PsdResult run_psd(const std::vector<std::string>& names, const std::vector<std::
       } catch (const UsageError& e) {
         const bool band_asked =
             request.fit_options.min_frequency_hz > 0.0 || request.fit_options.max_frequency_hz > 0.0;
-        if (e.option() != "fit_range" || band_asked) throw;
-        out.fit_error = e.what();  // a short record: the spectrum without its fit
+        if (e.field() != Field::fit_range || band_asked) throw;
+        out.fit_error = face_words(e.text());  // a short record: the spectrum without its fit
       }
     }
     out.spectrum = request.bins_per_decade > 0 ? log_bin(raw, request.bins_per_decade) : raw;

@@ -82,7 +82,7 @@ std::size_t sample_count(const SimulateRequest& r) {
   if (!(n >= 0.0) || !(n <= kMaxSimulatedSamples)) {
     char count[32];
     std::snprintf(count, sizeof count, "%.3g", n);
-    throw UsageError("duration", std::string("duration x rate = ") + count +
+    throw UsageError(Field::duration, std::string("duration x rate = ") + count +
                                      " samples: more than any record can hold (at most 1e15); shorten it");
   }
   return static_cast<std::size_t>(std::llround(n));
@@ -202,7 +202,7 @@ std::vector<TriadModel> models_from_analysis(const AnalysisResult& r, const std:
             : ch.model;
     if (gm) {
       if (!model.gm_ok)
-        throw UsageError("bias", label + ": channel " + m.axis_names[a] +
+        throw UsageError(Field::bias, label + ": channel " + m.axis_names[a] +
                                      " has no Gauss-Markov model (use the random-walk model, or re-run analyze)");
       ax.white_sigma = model.gauss_markov.sigma_n;
       ax.bias = BiasProcess::gauss_markov;
@@ -210,7 +210,7 @@ std::vector<TriadModel> models_from_analysis(const AnalysisResult& r, const std:
       ax.tau_c = model.gauss_markov.tau_c;
     } else {
       if (!model.ok)
-        throw UsageError("bias",
+        throw UsageError(Field::bias,
                          label + ": channel " + m.axis_names[a] + " has no fitted random-walk model (" +
                              (model.error.empty() ? std::string("no minimum in its Allan curve") : model.error) +
                              "; the Gauss-Markov model may have one)");
@@ -262,7 +262,7 @@ struct CompositeChannel {
 
 std::vector<TriadModel> composite_triads(const std::vector<CompositeChannel>& channels, const std::string& label,
                                          double from_hz, double to_hz) {
-  if (!(to_hz > 0.0) || !std::isfinite(to_hz)) throw UsageError("rate", "the sampling rate must be positive");
+  if (!(to_hz > 0.0) || !std::isfinite(to_hz)) throw UsageError(Field::rate, "the sampling rate must be positive");
   if (!(from_hz > 0.0) || !std::isfinite(from_hz))
     throw UsageError(label + ": the composite models have no sampling rate (fit them again)");
   std::vector<TriadModel> out;
@@ -295,7 +295,7 @@ std::vector<TriadModel> models_from_composite(const AnalysisResult& r, const std
   std::vector<CompositeChannel> channels;
   for (const ChannelAnalysis& ch : r.channels) {
     if (!ch.model.composite)
-      throw UsageError("bias", label + ": channel " + ch.name + " has no twin (composite model)" +
+      throw UsageError(Field::bias, label + ": channel " + ch.name + " has no twin (composite model)" +
                                    (r.composite_skipped.empty() ? std::string() : " (" + r.composite_skipped + ")") +
                                    ": re-run analyze, or simulate the random-walk or Gauss-Markov model");
     CompositeChannel cc{ch.name, ch.unit.name, ch.mean, ch.model.composite->fit.model};
@@ -325,7 +325,7 @@ std::vector<TriadModel> models_from_composite(const ModelResult& r, const std::s
 
 std::vector<TriadModel> models_from_analysis(const AnalysisResult& r, const std::string& label, bool gm,
                                              double rate_hz) {
-  if (!(rate_hz > 0.0) || !std::isfinite(rate_hz)) throw UsageError("rate", "the sampling rate must be positive");
+  if (!(rate_hz > 0.0) || !std::isfinite(rate_hz)) throw UsageError(Field::rate, "the sampling rate must be positive");
   std::vector<TriadModel> out = models_from_analysis(r, label, gm);
   if (!(r.rate_hz > 0.0) || !std::isfinite(r.rate_hz))
     throw UsageError(label + ": the analysis has no sampling rate (re-run analyze)");

@@ -59,10 +59,10 @@ bool imu_channel(const ChannelAnalysis& c) {
 Axis axis_of(const ChannelAnalysis& c, double rate_hz, std::string_view target) {
   const std::string refusal = "channel " + c.name + " carries no composite noise model (its twin) to export to " +
                               std::string(target) + ": run analyze with the composite model (the twin)";
-  if (!c.model.composite) throw UsageError("estimators", refusal);
+  if (!c.model.composite) throw UsageError(Field::estimators, refusal);
   const ModelChannel& m = *c.model.composite;
   if (m.fit.model.processes.empty() || m.wv.size() < 2 || m.wv.edf.size() != m.wv.size())
-    throw UsageError("estimators", refusal + " (its composite model has no fitted terms or no wavelet variance)");
+    throw UsageError(Field::estimators, refusal + " (its composite model has no fitted terms or no wavelet variance)");
   Axis a;
   a.channel = &c;
   a.twin = &m.fit.model;
@@ -75,7 +75,7 @@ Axis axis_of(const ChannelAnalysis& c, double rate_hz, std::string_view target) 
   for (std::size_t j = 0; j < m.wv.size(); ++j) {
     const double v = haar_wavelet_variance(m.fit.model, m.wv.tau[j]);
     if (!(v > 0.0) || !std::isfinite(v) || !(m.wv.edf[j] > 0.0))
-      throw UsageError("estimators", "channel " + c.name + ": its composite model " + model_name(m.fit.model) +
+      throw UsageError(Field::estimators, "channel " + c.name + ": its composite model " + model_name(m.fit.model) +
                                          " has no positive, finite wavelet variance at tau = " +
                                          std::to_string(static_cast<long long>(m.wv.tau[j])) +
                                          " samples: nothing to export");
@@ -105,7 +105,7 @@ Groups groups_of(const AnalysisResult& r, std::string_view target) {
   for (const auto& c : r.channels) units.push_back(c.unit);
   require_imu_units(units);
   if (!(r.rate_hz > 0.0) || !std::isfinite(r.rate_hz))
-    throw UsageError("estimators", "the record has no sample rate to state the simulator's noise at");
+    throw UsageError(Field::estimators, "the record has no sample rate to state the simulator's noise at");
   Groups g;
   for (const auto& c : r.channels) {
     if (!imu_channel(c)) continue;

@@ -622,7 +622,7 @@ std::string basilisk(const Context& x) {
 
 EstimatorFile simulator_config(Estimator e, const AnalysisResult& r, const EstimatorContext& ctx) {
   if (!(ctx.inflate >= 1.0) || !std::isfinite(ctx.inflate))
-    throw UsageError("inflate", plain(ctx.inflate) + " is not a factor >= 1");
+    throw UsageError(Field::inflate, plain(ctx.inflate) + " is not a factor >= 1");
   const std::vector<ExportProjection> projections = simulator_projections(e, r);
   Context x;
   x.r = &r;

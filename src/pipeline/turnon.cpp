@@ -43,7 +43,7 @@ TurnOnResult run_turnon(const std::vector<io::Series>& runs, const AnalyzeReques
   for (const auto& s : runs)
     if (s.names != runs.front().names)
       throw UsageError(
-          "columns", s.file + ": columns differ from " + runs.front().file + " (choose the same columns in every run)");
+          Field::columns, s.file + ": columns differ from " + runs.front().file + " (choose the same columns in every run)");
   TurnOnResult t;
   t.ci = req.ci;
   t.runs = run_compare(runs, req);

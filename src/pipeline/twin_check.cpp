@@ -15,14 +15,14 @@ namespace cubecal::pipeline {
 
 TwinCheck twin_check(const AnalysisResult& r, std::size_t twins, std::uint64_t seed, unsigned threads) {
   if (twins == 0 || twins > 10000)
-    throw UsageError("twin_check", "give 1 to 10000 twins, not " + std::to_string(twins));
+    throw UsageError(Field::twin_check, "give 1 to 10000 twins, not " + std::to_string(twins));
   std::vector<std::size_t> with;
   for (std::size_t c = 0; c < r.channels.size(); ++c)
     if (r.channels[c].model.composite && !r.channels[c].model.adev.empty()) with.push_back(c);
   if (with.empty())
-    throw UsageError("twin_check", "no channel has a twin to simulate" + (r.composite_skipped.empty()
-                                                                              ? std::string(" (--composite none)")
-                                                                              : " (" + r.composite_skipped + ")"));
+    throw UsageError(Field::twin_check, "no channel has a twin to simulate" + (r.composite_skipped.empty()
+                                                                                   ? std::string(" ({composite} none)")
+                                                                                   : " (" + r.composite_skipped + ")"));
   TwinCheck out;
   out.twins = twins;
   out.seed = seed;

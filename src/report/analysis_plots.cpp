@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "analysis_data.hpp"
+#include "cubecal/field.hpp"
 #include "cubecal/noise/drift.hpp"
 #include "cubecal/noise/noise_terms.hpp"
 #include "cubecal/noise/sensor_noise_model.hpp"
@@ -586,8 +587,9 @@ ReportFigure bias_change_figure(const AnalysisResult& d, const SensorGroup& g, c
                              : "temperature range: T_ref ± 10 degC (the spread could not be inferred)");
   std::string cap = "Bias change against temperature";
   if (!sensor.empty()) cap += " (sensor column <code>" + html_escape(sensor) + "</code>)";
-  cap += ": the polynomial fitted by <code>--temp-col</code>, relative to the bias at T<sub>ref</sub> = " +
-         html_escape(fmt("%.2f", t_ref)) + " °C";
+  cap +=
+      face_words(": the polynomial fitted by <code>{temp_index}</code>, relative to the bias at T<sub>ref</sub> = ") +
+      html_escape(fmt("%.2f", t_ref)) + " °C";
   if (band) cap += ", with the linear coefficient moved by ±1σ (dashed)";
   cap += ". The record's temperatures are not part of the analysis files, so the raw points are not shown; ";
   if (inferred)

@@ -2,6 +2,7 @@
 // command that reproduces it, figures, parameter tables (units,
 // uncertainties), fitted models, temperature dependence and covariance, all
 // from the typed result. Every string from the data is escaped.
+#include "cubecal/field.hpp"
 #include "cubecal/report/analysis_report.hpp"
 
 #include <algorithm>
@@ -367,8 +368,8 @@ std::string model_table(const AnalysisResult& r, const SensorGroup& g) {
     const bool twin = pipeline::is_twin(r.composite->model);
     t.section(twin ? "Twin (composite noise model selected and fitted by the GMWM, docs/twins.md): terms and "
                      "uncertainties in the section “Composite noise model”"
-                   : "Composite noise model (GMWM, <code>analyze --composite</code>): terms and uncertainties in "
-                     "the section “Composite noise model”");
+                   : face_words("Composite noise model (GMWM, <code>analyze {composite}</code>): terms and "
+                                "uncertainties in the section “Composite noise model”"));
     t.row("model", "", [](const ChannelAnalysis& c) {
       if (!c.model.composite) return Cell{"—", ""};
       const pipeline::ModelChannel& m = *c.model.composite;
@@ -609,12 +610,12 @@ std::vector<ReportHtmlField> input_fields(const AnalysisResult& r) {
   const bool split = r.gaps == io::GapPolicy::split;
   if (r.segments > 1)
     html("gaps", html_escape(format_num(count(r.segments), 10)) +
-                     " contiguous segments: the record was split at its gaps (<code>--gaps split</code>), each "
-                     "segment analysed and the results combined");
+                     face_words(" contiguous segments: the record was split at its gaps (<code>{gaps} split</code>), "
+                                "each segment analysed and the results combined"));
   else
     html("gaps", std::string("none: one contiguous segment") +
-                     (split ? " (<code>--gaps split</code>)"
-                            : " (policy <code>--gaps error</code>: a gap stops the analysis)"));
+                     face_words(split ? " (<code>{gaps} split</code>)"
+                                      : " (policy <code>{gaps} error</code>: a gap stops the analysis)"));
   std::string chans;
   for (const auto& ch : r.channels) {
     if (!chans.empty()) chans += ", ";
@@ -624,15 +625,16 @@ std::vector<ReportHtmlField> input_fields(const AnalysisResult& r) {
   html("channels", chans);
   bool temp = false;
   for (const auto& ch : r.channels) temp = temp || ch.temperature.has_value();
-  html("temperature", !temp ? std::string("not analysed (no <code>--temp-col</code>)")
+  html("temperature", !temp ? face_words("not analysed (no <code>{temp_index}</code>)")
                             : "column <code>" + html_escape(r.temp_name) + "</code>, regressed per channel");
   const std::size_t model_samples = r.channels.empty() ? 0 : r.channels.front().model.samples;
   if (model_samples > 0)
-    html("model fitted on",
-         html_escape(format_num(count(model_samples), 12)) + " samples" +
-             (r.samples > 0 && model_samples < r.samples
-                  ? " (the first ones: <code>--max-samples</code>, as the paper reduced its record to 42000)"
-                  : std::string(" (the whole record)")));
+    html(
+        "model fitted on",
+        html_escape(format_num(count(model_samples), 12)) + " samples" +
+            (r.samples > 0 && model_samples < r.samples
+                 ? face_words(" (the first ones: <code>{max_samples}</code>, as the paper reduced its record to 42000)")
+                 : std::string(" (the whole record)")));
   html("confidence of the intervals", html_escape(detail::ci_text(r.ci)));
   return in;
 }
@@ -718,7 +720,7 @@ ReportTable composite_table(const AnalysisResult& r, const ChannelAnalysis& c) {
       "§8d; — where the wavelet variance does not determine it). ";
   note += sd ? "Bootstrap: " + std::to_string(m.replicates) + " parametric replicates fitted (seed " +
                    std::to_string(cs.seed) + ")."
-             : std::string("No bootstrap: --composite-bootstrap B adds its standard deviation and interval.");
+             : face_words("No bootstrap: {composite_bootstrap} B adds its standard deviation and interval.");
   t.note = note;
   return t;
 }
@@ -743,11 +745,13 @@ std::string reproduce_html(const AnalysisReportContext& ctx, const std::string& 
            "</code></pre>\n";
   else
     rep += "<p class=\"muted\">analysis.json does not record its command.</p>\n";
-  rep += "<p>This page and its plots:</p>\n<pre><code>cubecal report " + html_escape(dir) + " --force</code></pre>\n";
+  rep += "<p>This page and its plots:</p>\n<pre><code>cubecal report " + html_escape(dir) +
+         face_words(" {force}</code></pre>\n");
   rep +=
       "<p>Each plot is a gnuplot script beside its data in <code>plots/</code>: edit the script (line styles "
       "come first), run <code>gnuplot NAME.gp</code> in that directory for new SVG and PNG files, and "
-      "<code>cubecal report DIR --force --keep-scripts</code> to put the restyled plots into this page.</p>\n";
+      "<code>cubecal report DIR " +
+      face_words("{force} {keep_scripts}") + "</code> to put the restyled plots into this page.</p>\n";
   return rep;
 }
 
@@ -776,12 +780,13 @@ void add_spectral_section(CommandReport& page, const AnalysisResult& r) {
   for (const auto& ch : r.channels) any_spectral = any_spectral || ch.spectral.has_value();
   if (any_spectral) {
     ReportSection spec{"spectrum", "Allan curve and spectrum", {}};
-    spec.blocks.push_back(html_block(
-        "<p>The same noise seen twice (<code>analyze --psd</code>): the IEEE 952 terms from the Allan curve above "
-        "and from the one-sided power spectral density of each channel (Welch's method with the defaults of "
-        "<code>cubecal psd</code>), whose power-law fit S(f) = Σ h<sub>α</sub> f<sup>α</sup> stands for N "
-        "(h<sub>0</sub> = 2N²), B (h<sub>−1</sub> = B²/π) and K (h<sub>−2</sub> = K²/(2π²)). Definitions: "
-        "<code>docs/formulas/spectral.md</code>.</p>\n"));
+    spec.blocks.push_back(
+        html_block(face_words("<p>The same noise seen twice (<code>analyze {psd}</code>): ") +
+                   "the IEEE 952 terms from the Allan curve above "
+                   "and from the one-sided power spectral density of each channel (Welch's method with the defaults of "
+                   "<code>cubecal psd</code>), whose power-law fit S(f) = Σ h<sub>α</sub> f<sup>α</sup> stands for N "
+                   "(h<sub>0</sub> = 2N²), B (h<sub>−1</sub> = B²/π) and K (h<sub>−2</sub> = K²/(2π²)). Definitions: "
+                   "<code>docs/formulas/spectral.md</code>.</p>\n"));
     std::vector<std::string> taken;
     for (const auto& ch : r.channels) {
       if (!ch.spectral) continue;
@@ -828,12 +833,14 @@ void add_composite_section(CommandReport& page, const AnalysisResult& r) {
   if (r.composite) {
     ReportSection comp{"composite", "Composite noise model", {}};
     comp.blocks.push_back(html_block(
-        "<p>Beside the paper's model and the Gauss–Markov alternative, a composite noise model "
-        "(<code>analyze --composite</code>): a sum of white noise (WN, N), quantization noise (QN, Q), a random walk "
+        "<p>Beside the paper's model and the Gauss–Markov alternative, a composite noise model " +
+        face_words("(<code>analyze {composite}</code>): ") +
+        "a sum of white noise (WN, N), quantization noise (QN, Q), a random walk "
         "(RW, K), a drift (DR, R) and first-order Gauss–Markov terms (GM, σ<sub>b</sub> and T<sub>c</sub>), fitted "
         "by the Generalized Method of Wavelet Moments to the Haar wavelet variance of the samples the models are "
-        "fitted on, as <code>cubecal model</code> does (<code>docs/formulas/noise-terms.md</code> §8a–8c). "
-        "<code>cubecal simulate --model analysis.json --bias composite</code> simulates it, each term in its "
+        "fitted on, as <code>cubecal model</code> does (<code>docs/formulas/noise-terms.md</code> §8a–8c). " +
+        face_words("<code>cubecal simulate {model} analysis.json {bias} composite</code>") +
+        " simulates it, each term in its "
         "discrete-time form at any rate.</p>\n"));
     std::vector<std::string> taken;
     for (const auto& ch : r.channels) {

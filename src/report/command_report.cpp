@@ -115,8 +115,9 @@ std::string command_report_html(const CommandReport& r, const std::vector<Render
     b += r.reproduce_html;
   } else {
     if (!r.command.empty())
-      b += "<p>The command that wrote this page (add <code>--force</code> to replace it):</p>\n<pre><code>" +
-           html_escape(r.command) + "</code></pre>\n";
+      b +=
+          face_words("<p>The command that wrote this page (add <code>{force}</code> to replace it):</p>\n<pre><code>") +
+          html_escape(r.command) + "</code></pre>\n";
     b += "<p>Each plot is a gnuplot script beside its data in <code>plots/</code>: edit the script (line styles "
          "come first) and run <code>gnuplot NAME.gp</code> in that directory for new SVG and PNG files.</p>\n";
   }
@@ -162,7 +163,7 @@ std::string command_report_html(const CommandReport& r, const std::vector<Render
 
 void check_report_target(const std::string& dir, bool force, const std::string& gnuplot) {
   if (!find_gnuplot(gnuplot)) throw_gnuplot_missing(gnuplot);
-  io::prepare_output_dir(dir, force, {"report.html", "plots"}, "report");
+  io::prepare_output_dir(dir, force, {"report.html", "plots"}, Field::report);
 }
 
 ReportResult write_command_report(const CommandReport& report, const std::string& dir, const ReportOptions& options) {
@@ -171,7 +172,7 @@ ReportResult write_command_report(const CommandReport& report, const std::string
   if (!options.force) {
     const auto existing = existing_report_outputs(dir);
     if (!existing.empty())
-      throw UsageError(existing.front() + " already exists (add --force to replace the report" +
+      throw UsageError(existing.front() + " already exists (add {force} to replace the report" +
                        std::string(fs::exists(d / "plots") ? " and its plots" : "") + ")");
   }
   std::error_code ec;

@@ -16,6 +16,7 @@
 #include <limits>
 
 #include "command_util.hpp"
+#include "cubecal/field.hpp"
 #include "cubecal/report/command_reports.hpp"
 #include "cubecal/report/html.hpp"
 
@@ -309,10 +310,10 @@ ReportTable spread_table(const std::string& channel, const DavarMatrix& mx) {
   t.note = "Per τ, the deviation over the " + std::to_string(K) +
            " windows: the smallest and the largest with the centre of their window, the median, and their ratio.";
   if (gapped)
-    t.note +=
-        " With missing samples (--gaps skip) the terms of a window are its whole terms (their range over the "
-        "windows); a window without a whole term at τ has no value there: it is left out of the smallest, "
-        "median and largest and counted in the last column.";
+    t.note += face_words(" With missing samples ({gaps} skip) ") +
+              "the terms of a window are its whole terms (their range over the "
+              "windows); a window without a whole term at τ has no value there: it is left out of the smallest, "
+              "median and largest and counted in the last column.";
   return t;
 }
 
@@ -362,8 +363,9 @@ CommandReport davar_report(const pipeline::DavarResult& r, const std::string& co
   std::size_t missing = 0;
   for (const auto& c : r.channels) missing += c.matrix.missing;
   if (missing > 0)
-    rep.input.push_back(
-        {"missing samples", std::to_string(missing) + " (--gaps skip: left out of each window's OADEV terms)", false});
+    rep.input.push_back({"missing samples",
+                         std::to_string(missing) + face_words(" ({gaps} skip: left out of each window's OADEV terms)"),
+                         false});
   if (first) {
     rep.input.push_back({"windows", std::to_string(first->windows()), false});
     if (first->taus() > 0)

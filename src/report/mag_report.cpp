@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "command_util.hpp"
+#include "cubecal/field.hpp"
 #include "cubecal/report/command_reports.hpp"
 #include "cubecal/report/html.hpp"
 
@@ -147,8 +148,8 @@ std::vector<ReportFigure> mag_projection_figures(std::span<const Vec3> h, const 
     centre.id = "hard-iron offset b";
     p.series.push_back(std::move(centre));
 
-    p.notes.push_back("raw: the input points (after --lsb); calibrated: A^-1 (h - b); both projected on " + an + "-" +
-                      bn);
+    p.notes.push_back(face_words("raw: the input points (after {counts_per_unit}); ") +
+                      "calibrated: A^-1 (h - b); both projected on " + an + "-" + bn);
     if (ps.stride > 1) p.notes.push_back("every " + std::to_string(ps.stride) + "th point used is drawn");
     if (figs.empty())
       f.caption_html = "The points projected on the " + an + "–" + bn +
@@ -256,10 +257,11 @@ CommandReport mag_report(std::span<const Vec3> h, const mag::Result& r, const Ma
       "hard-iron offset, A<sup>−1</sup> the symmetric soft-iron correction.";
   rep.command = ctx.command;
   rep.plot_prefixes = {"mag_"};
-  const std::string fsrc = ctx.field_source == "given"    ? "given (--field-norm)"
-                           : ctx.field_source == "column" ? "the mean of the field-norm column (--field-col)"
-                                                          : "the mean raw |h| (Magneto's default; give --field-norm "
-                                                            "for an absolute scale)";
+  const std::string fsrc =
+      face_words(ctx.field_source == "given"    ? "given ({field_norm})"
+                 : ctx.field_source == "column" ? "the mean of the field-norm column ({field_column})"
+                                                : "the mean raw |h| (Magneto's default; give {field_norm} "
+                                                  "for an absolute scale)");
   rep.input = {{"file", ctx.file, true},
                {"points",
                 std::to_string(r.points_used) + " used of " + std::to_string(h.size()) +

@@ -191,7 +191,7 @@ std::string gnuplot_script(const Plot& plot) {
   s += "# Written by cubecal. Restyle freely (line styles first, then labels, ranges\n";
   s += "# and the plot command) and re-render from this directory:\n";
   s += "#     gnuplot " + n + ".gp        writes " + n + ".svg and " + n + ".png\n";
-  s += "# To put the restyled plot into report.html: cubecal report DIR --force --keep-scripts\n";
+  s += face_words("# To put the restyled plot into report.html: cubecal report DIR {force} {keep_scripts}\n");
   s += "# Data: " + n + ".dat, one block per series (index 0, 1, ...): x y [lo hi].\n";
   for (const auto& note : plot.notes) s += comment(note);
   s += "\nset encoding utf8\n";
@@ -291,7 +291,7 @@ std::string gnuplot_missing(const std::string& explicit_path) {
 
 void throw_gnuplot_missing(const std::string& explicit_path) {
   if (explicit_path.empty()) throw UsageError(kGnuplotMissing);
-  throw UsageError("gnuplot", gnuplot_missing(explicit_path));
+  throw UsageError(Field::gnuplot, gnuplot_missing(explicit_path));
 }
 
 void decimate_minmax(std::vector<double>& x, std::vector<double>& y, std::size_t max_points) {

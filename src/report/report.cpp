@@ -45,7 +45,7 @@ ReportResult write_report(const std::string& dir, const ReportOptions& options) 
   const fs::path d(dir);
   const fs::path p = d / "analysis.json";
   if (!fs::exists(p))
-    throw UsageError(p.string() + " not found: " + dir + " holds no analysis (run `cubecal analyze FILE ... --out " +
+    throw UsageError(p.string() + " not found: " + dir + " holds no analysis (run `cubecal analyze FILE ... {out} " +
                      dir + "` first)");
   const std::string text = read_file(p);
   pipeline::AnalysisDocument doc = pipeline::parse_analysis_json(text, p.string());
@@ -59,7 +59,7 @@ ReportResult write_report(const std::string& dir, const ReportOptions& options) 
     try {
       ok = pipeline::read_drift_csv(drift.string(), doc.drift_points, doc.result);
     } catch (const InputError& e) {
-      ctx.drift_note = std::string("drift.csv could not be read (") + e.what() + "): no drift plots.";
+      ctx.drift_note = std::string("drift.csv could not be read (") + face_words(e.text()) + "): no drift plots.";
     }
     if (!ok && ctx.drift_note.empty()) ctx.drift_note = "drift.csv does not match analysis.json: no drift plots.";
   }

@@ -22,7 +22,7 @@ std::vector<double> simulate_composite(const CompositeModel& model, std::size_t 
                                                  (p.kind != ProcessKind::ma1 || std::abs(p.theta) < 1.0) &&
                                                  (p.kind != ProcessKind::sin || (p.omega > 0.0 && p.omega < kPi)));
     if (!ok)
-      throw UsageError("model", "model " + model_name(model) +
+      throw UsageError(Field::model, "model " + model_name(model) +
                                     ": every variance must be finite and >= 0, every Gauss-Markov phi in (0, 1), "
                                     "every MA1 theta in (-1, 1) and every SIN omega in (0, pi)");
   }

@@ -78,7 +78,7 @@ std::vector<double> avar_from_density(std::span<const double> density, double df
   out.reserve(taus.size());
   for (const double tau : taus) {
     if (!(tau > 0.0) || !std::isfinite(tau) || (kernel == AllanKernel::sampled && tau < tau0 * (1.0 - 1e-12)))
-      throw UsageError("taus", "an Allan variance needs tau >= 1/rate (" + std::to_string(tau) + " s)");
+      throw UsageError(Field::taus, "an Allan variance needs tau >= 1/rate (" + std::to_string(tau) + " s)");
     const double m = tau / tau0;
     double sum = 0.0;
     // k = 0: the kernel is 0 at f = 0 (sin^4 over a square).

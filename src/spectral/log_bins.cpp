@@ -10,7 +10,7 @@
 namespace cubecal {
 
 std::vector<BinRun> log_band_runs(const Psd& raw, std::size_t bins_per_decade, double f_lo, double f_hi) {
-  if (bins_per_decade == 0) throw UsageError("bins_per_decade", "give at least one band per decade");
+  if (bins_per_decade == 0) throw UsageError(Field::bins_per_decade, "give at least one band per decade");
   if (raw.bins_per_decade != 0) throw std::invalid_argument("log_band_runs: the spectrum is binned already");
   const std::size_t n = raw.frequency.size();
   // The Nyquist bin of an even L, like DC, holds half a density.

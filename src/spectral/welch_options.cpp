@@ -44,39 +44,39 @@ std::optional<Detrend> parse_detrend(std::string_view name) {
 
 WelchPlan plan_welch(const WelchOptions& o, std::size_t longest, double rate_hz) {
   if (!(rate_hz > 0.0) || !std::isfinite(rate_hz))
-    throw UsageError("rate", "the sampling rate must be a positive number of Hz");
+    throw UsageError(Field::rate, "the sampling rate must be a positive number of Hz");
   if (!(o.overlap >= 0.0 && o.overlap < 1.0))
-    throw UsageError("overlap", "the overlap is a fraction of a segment, at least 0 and below 1 (0.5 is half)");
+    throw UsageError(Field::overlap, "the overlap is a fraction of a segment, at least 0 and below 1 (0.5 is half)");
   WelchPlan p;
   if (o.segment_length > 0) {
     if (o.segment_length < kMinSegment)
-      throw UsageError("segment_length", "a segment needs at least " + count_text(kMinSegment) + " samples");
+      throw UsageError(Field::segment_length, "a segment needs at least " + count_text(kMinSegment) + " samples");
     if (o.segment_length > longest)
-      throw UsageError("segment_length", "segments of " + count_text(o.segment_length) +
+      throw UsageError(Field::segment_length, "segments of " + count_text(o.segment_length) +
                                              " samples are longer than the record (" + count_text(longest) +
                                              " samples" + " contiguous)");
     p.segment_length = o.segment_length;
   } else if (o.min_frequency_hz != 0.0) {
     if (!(o.min_frequency_hz > 0.0) || !std::isfinite(o.min_frequency_hz))
-      throw UsageError("min_frequency", "the lowest frequency must be a positive number of Hz");
+      throw UsageError(Field::min_frequency, "the lowest frequency must be a positive number of Hz");
     const double need = std::ceil(std::log2(rate_hz / o.min_frequency_hz) - 1e-12);
     const double length = std::exp2(std::max(need, 2.0));
     if (length > static_cast<double>(longest))
-      throw UsageError("min_frequency", "resolving " + hz_text(o.min_frequency_hz) + " Hz at " + hz_text(rate_hz) +
+      throw UsageError(Field::min_frequency, "resolving " + hz_text(o.min_frequency_hz) + " Hz at " + hz_text(rate_hz) +
                                             " Hz takes segments of " + std::to_string(static_cast<long long>(length)) +
                                             " samples, longer than the record (" + count_text(longest) +
                                             " samples contiguous)");
     p.segment_length = static_cast<std::size_t>(length);
   } else {
     if (longest < kMinDefaultSegment)
-      throw UsageError("samples", "a spectrum needs at least " + count_text(kMinDefaultSegment) +
+      throw UsageError(Field::samples, "a spectrum needs at least " + count_text(kMinDefaultSegment) +
                                       " contiguous samples; the record has " + count_text(longest));
     std::size_t l = kMinDefaultSegment;
     while (2 * l <= longest / kDefaultSegments) l *= 2;
     p.segment_length = l;
   }
   p.overlap = static_cast<std::size_t>(std::floor(o.overlap * static_cast<double>(p.segment_length)));
-  if (p.overlap >= p.segment_length) throw UsageError("overlap", "the overlap leaves no step between segments");
+  if (p.overlap >= p.segment_length) throw UsageError(Field::overlap, "the overlap leaves no step between segments");
   p.step = p.segment_length - p.overlap;
   return p;
 }

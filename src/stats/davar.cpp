@@ -250,19 +250,19 @@ constexpr int kHighestAlpha = 2;
 void check_davar_options(std::size_t N, DataType type, const DavarOptions& options) {
   const std::size_t W = options.window, S = options.step;
   const std::size_t min_window = type == DataType::freq ? 4 : 5;
-  if (S == 0) throw UsageError("step", "the step must be at least one sample");
+  if (S == 0) throw UsageError(Field::step, "the step must be at least one sample");
   if (W < min_window)
-    throw UsageError("window", "a window of " + std::to_string(W) + " samples is too short: OADEV needs at least " +
-                                   std::to_string(min_window) + (type == DataType::freq ? " frequency" : " phase") +
-                                   " samples for m = 1");
+    throw UsageError(Field::window, "a window of " + std::to_string(W) +
+                                        " samples is too short: OADEV needs at least " + std::to_string(min_window) +
+                                        (type == DataType::freq ? " frequency" : " phase") + " samples for m = 1");
   if (W > N)
-    throw UsageError("window", "a window of " + std::to_string(W) + " samples is longer than the record (" +
-                                   std::to_string(N) + " samples)");
+    throw UsageError(Field::window, "a window of " + std::to_string(W) + " samples is longer than the record (" +
+                                        std::to_string(N) + " samples)");
   const DavarIntervals& iv = options.intervals;
   if (iv.enabled && !(iv.ci > 0.0 && iv.ci < 1.0))
-    throw UsageError("ci", "the confidence must be between 0 and 1 (e.g. 0.683 or 0.95)");
+    throw UsageError(Field::ci, "the confidence must be between 0 and 1 (e.g. 0.683 or 0.95)");
   if (iv.enabled && iv.alpha && (*iv.alpha < kLowestAlpha || *iv.alpha > kHighestAlpha))
-    throw UsageError("alpha",
+    throw UsageError(Field::alpha,
                      "the noise type of an Allan deviation is one of +2 (WPM), +1 (FPM), 0 (WFM), "
                      "-1 (FFM), -2 (RWFM); got " +
                          std::to_string(*iv.alpha));
@@ -487,8 +487,8 @@ DavarMatrix davar(std::span<const double> data, DataType type, double tau0, cons
   const std::size_t top = max_averaging_factor(Stat::oadev, P);
   std::vector<std::size_t> ms = averaging_factors(options.grid, top, tau0);
   if (ms.empty())
-    throw UsageError("taus", "no tau of the grid fits a window of " + std::to_string(W) +
-                                 " samples (OADEV evaluates m up to " + std::to_string(top) + ")");
+    throw UsageError(Field::taus, "no tau of the grid fits a window of " + std::to_string(W) +
+                                      " samples (OADEV evaluates m up to " + std::to_string(top) + ")");
 
   // Missing samples (skip_missing and a NaN in the record): the gapped
   // record; otherwise the phase record of every statistic.

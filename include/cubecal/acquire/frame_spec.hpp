@@ -36,7 +36,7 @@ struct FrameSpec {
   std::size_t frame_size() const noexcept;    // sync + fields + checksum
 };
 
-// Parses SPEC; a UsageError("frame") says what is wrong and what is allowed.
+// Parses SPEC; a UsageError(Field::frame) says what is wrong and what is allowed.
 FrameSpec parse_frame_spec(std::string_view spec);
 
 // The checksum of `bytes` by `c` (0 for none).

@@ -7,15 +7,17 @@
 #include <string>
 #include <vector>
 
+#include "cubecal/field.hpp"
+
 namespace cubecal::io {
 
 // A file to be written at `path` (the writer creates PATH.partial and renames
 // it into place). `option` is the request field the path came from ("out").
-void check_output_file(const std::string& path, bool force, const std::string& option = "out");
+void check_output_file(const std::string& path, bool force, Field option = Field::out);
 
 // A directory to write results into: created when missing; `files` are the
 // names the run will write in it, refused when one exists and !force.
 void prepare_output_dir(const std::string& dir, bool force, const std::vector<std::string>& files,
-                        const std::string& option = "out");
+                        Field option = Field::out);
 
 }  // namespace cubecal::io

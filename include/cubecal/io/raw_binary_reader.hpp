@@ -20,7 +20,7 @@ struct RawLayout {
 };
 
 // "int16le,int16le,float32le" (see parse_sample_type); throws
-// UsageError("binary") naming an unknown type.
+// UsageError(Field::binary) naming an unknown type.
 RawLayout parse_raw_layout(const std::string& types, std::size_t header_bytes);
 
 // Every channel as a column (col1..colN, Table::binary). A header longer

@@ -26,7 +26,7 @@ class SampleStream {
  public:
   // Opens the record and reads its layout (the text header, the rate from
   // the first time stamps). Throws InputError / UsageError as read_series;
-  // GapPolicy::split is a UsageError("gaps") (a stream is not cut).
+  // GapPolicy::split is a UsageError(Field::gaps) (a stream is not cut).
   // chunk_bytes: about the bytes read per piece.
   static std::unique_ptr<SampleStream> open(const std::string& path, const SeriesOptions& opt,
                                             std::size_t chunk_bytes = std::size_t{8} << 20);

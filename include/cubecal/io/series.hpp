@@ -24,7 +24,7 @@ enum class GapPolicy { error, split, skip };
 // The range of sampling rates and data magnitudes every statistic can take
 // without its sums of squares overflowing or underflowing: a rate (given or
 // inferred from the time stamps) outside [kMinRateHz, kMaxRateHz] is a
-// UsageError("rate") or an InputError at the time column; a value (after the
+// UsageError(Field::rate) or an InputError at the time column; a value (after the
 // LSB) whose magnitude exceeds kMaxMagnitude, or is non-zero below
 // kMinMagnitude, an InputError at its place.
 inline constexpr double kMinRateHz = 1e-9;
@@ -39,7 +39,7 @@ struct SeriesOptions {
   // Counts per unit of the selected columns (value / lsb): one value for
   // every column, or one per column in their order (table.columns, or the
   // default columns); empty is 1. Any other count is a
-  // UsageError("counts_per_unit") naming both counts.
+  // UsageError(Field::counts_per_unit) naming both counts.
   std::vector<double> lsb{1.0};
   // The LSB of channel c (lsb.size() is 0, 1 or the number of channels).
   double lsb_of(std::size_t c) const { return lsb.empty() ? 1.0 : lsb.size() == 1 ? lsb[0] : lsb.at(c); }
@@ -52,7 +52,7 @@ struct SeriesOptions {
   // read for its temperature.
   bool skip_temperature = true;
   // A given rate_hz must agree with the time column, when there is one,
-  // within `tolerance` of its median interval (UsageError("rate") if not).
+  // within `tolerance` of its median interval (UsageError(Field::rate) if not).
   // False where the time stamps are not used at all.
   bool check_rate_against_time = true;
   // ROS bags: the topics to read (sensor_msgs/Imu, MagneticField,

@@ -54,7 +54,7 @@ struct CompositeModel {
 
 // "WN+QN+RW+DR+2*GM", "MA1+RW+2*GM", "MA1+RW+GM+2*SIN" (case-insensitive;
 // AR1 is a synonym of GM; spaces allowed; k*TERM repeats a GM or SIN term):
-// the processes with zero parameters. Throws UsageError("model") naming what it could not read and
+// the processes with zero parameters. Throws UsageError(Field::model) naming what it could not read and
 // the terms it knows; each of WN, QN, RW, DR and MA1 may appear once, and
 // MA1 not beside WN or QN.
 CompositeModel parse_composite_model(const std::string& text);
@@ -106,7 +106,7 @@ struct SineTerm {
   double frequency_hz = 0.0;  // Hz
 };
 SineTerm sine_term(const Process& sin, double dt);
-// Throws UsageError("model") for a negative amplitude or a frequency not
+// Throws UsageError(Field::model) for a negative amplitude or a frequency not
 // strictly between 0 and the Nyquist frequency 1 / (2 dt).
 Process sin_process(double amplitude, double frequency_hz, double dt);
 

@@ -56,7 +56,7 @@ struct GmwmFit {
   bool converged = false;         // the last Levenberg-Marquardt run met a convergence test
 };
 
-// Throws UsageError("model") for a model with no process or more parameters
+// Throws UsageError(Field::model) for a model with no process or more parameters
 // than scales (or a start of another structure, or outside the parameters'
 // ranges), and CalibrationError(degenerate) when no start gives a finite fit.
 GmwmFit fit_gmwm(const WaveletVariance& wv, const CompositeModel& structure, const GmwmOptions& options = {});

@@ -43,7 +43,7 @@ struct GmwmAsymptotics {
 // the classical estimator times `inflation` (>= 1): for the robust wavelet
 // variance (stats/robust_wavelet_variance.hpp) 1 / efficiency bounds the
 // ratio of the two estimators' variances from above. Throws
-// UsageError("model") when the fit and the wavelet variance do not belong
+// UsageError(Field::model) when the fit and the wavelet variance do not belong
 // together, and CalibrationError(degenerate) when A'WA is singular (a
 // parameter the wavelet variance does not determine, e.g. a Gauss-Markov
 // term pushed to phi -> 0). With pseudo_inverse, a singular A'WA is

@@ -68,7 +68,7 @@ struct TwinSelection {
 };
 
 // `samples`: the record's length (the WIC's covariance). Throws
-// UsageError("model") for a wavelet variance of fewer than 3 scales (a
+// UsageError(Field::model) for a wavelet variance of fewer than 3 scales (a
 // record too short for any model) and CalibrationError(degenerate) when not
 // even white noise fits.
 TwinSelection select_twin(const WaveletVariance& wv, std::size_t samples, double rate_hz,

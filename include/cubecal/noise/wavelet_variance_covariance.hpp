@@ -28,14 +28,14 @@ namespace cubecal {
 // c_jk(h) = cov(W_{j,a}, W_{k,a+h}) for the scales tau_j, tau_k (samples,
 // even, >= 2) of the model's random part (a drift only shifts the mean).
 // The coefficients are indexed by the first sample of their window.
-// Throws UsageError("model") for a parameter outside its range and
-// UsageError("scales") for a scale that is not an even number >= 2.
+// Throws UsageError(Field::model) for a parameter outside its range and
+// UsageError(Field::scales) for a scale that is not an even number >= 2.
 double haar_coefficient_covariance(const CompositeModel& model, double tau_j, double tau_k, long long h);
 
 // The J x J covariance (row-major) of the empirical Haar wavelet variance at
 // the scales tau (samples: even, >= 2, at most `samples`, any order) from a
 // record of `samples` samples of the model, taken as Gaussian. Throws as
-// haar_coefficient_covariance does, and UsageError("scales") for a scale
+// haar_coefficient_covariance does, and UsageError(Field::scales) for a scale
 // longer than the record.
 std::vector<double> wavelet_variance_covariance(const CompositeModel& model, std::span<const double> tau,
                                                 std::size_t samples);

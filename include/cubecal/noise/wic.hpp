@@ -47,7 +47,7 @@ struct CandidateFit {
 std::vector<CompositeModel> default_candidate_models();
 
 // "auto" -> default_candidate_models(); "WN+RW, WN+GM,WN+2*GM+RW" -> those
-// (a comma between models). Throws UsageError("model") as
+// (a comma between models). Throws UsageError(Field::model) as
 // parse_composite_model does, and for the same model named twice.
 std::vector<CompositeModel> parse_candidate_models(const std::string& text);
 
@@ -72,7 +72,7 @@ WicReplicate wic_replicate(const CompositeModel& structure, const GmwmFit& fit, 
 std::vector<double> wic_weights(const WaveletVariance& wv, const std::vector<double>& reference);
 
 // The score of a fit (made with GmwmOptions::fixed_sd = sd) from its
-// replicates (those with a fit). Throws UsageError("model") for fewer than 2.
+// replicates (those with a fit). Throws UsageError(Field::model) for fewer than 2.
 WicScore wic_score(const WaveletVariance& wv, const std::vector<double>& sd, const GmwmFit& fit,
                    const std::vector<WicReplicate>& replicates);
 

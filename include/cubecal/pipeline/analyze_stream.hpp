@@ -24,9 +24,9 @@ namespace cubecal::pipeline {
 // only (the standard input).
 using ReopenStream = std::function<std::unique_ptr<io::SampleStream>()>;
 
-// Throws UsageError("temp_index") when a temperature is asked of a record
-// that cannot be read twice, UsageError("psd") for the spectral view
-// (AnalyzeRequest::psd: it needs the whole record) and UsageError("composite")
+// Throws UsageError(Field::temp_index) when a temperature is asked of a record
+// that cannot be read twice, UsageError(Field::psd) for the spectral view
+// (AnalyzeRequest::psd: it needs the whole record) and UsageError(Field::composite)
 // for the composite model (AnalyzeRequest::composite: likewise).
 void check_analyze_streamable(const AnalyzeRequest& request, bool can_reopen);
 

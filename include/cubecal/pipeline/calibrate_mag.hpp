@@ -29,7 +29,15 @@ struct MagRequest {
   double reject_sigma = 0.0;         // Magneto's outlier rule at this level; 0: none
   bool allow_partial = false;        // fit even when the points cover too little of the sphere
   std::string unit;                  // name of the unit after counts_per_unit; empty: none given
+
+  // A UsageError naming the field at fault for a request no data can make
+  // right (a scale that is not positive, a field column with the ellipsoid).
+  void validate() const;
 };
+
+// A UsageError unless `columns` is empty (every column of the file) or names
+// the 3 magnetometer columns.
+void check_mag_columns(const std::vector<std::string>& columns);
 
 struct MagResult {
   std::string file;

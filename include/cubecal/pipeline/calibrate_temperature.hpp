@@ -17,6 +17,10 @@ struct TemperatureRequest {
   std::size_t order = 1;        // of the polynomial, 1 to 5
   std::string unit = "counts";  // of the channels, for the coefficient units
   std::size_t temp_index = 0;   // index into Series::extra of the temperature (degC)
+
+  // A UsageError naming the field at fault: an order outside 1 to 5, more
+  // than one unit.
+  void validate() const;
 };
 
 struct TemperatureChannel {

@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cubecal/field.hpp"
 #include "cubecal/io/series.hpp"
 #include "cubecal/stats/davar.hpp"
 #include "cubecal/stats/tau_exclusions.hpp"
@@ -25,11 +26,11 @@ struct DavarSpan {
 };
 
 // Throws UsageError(option) naming the text when it is neither.
-DavarSpan parse_davar_span(const std::string& text, const std::string& option);
+DavarSpan parse_davar_span(const std::string& text, Field option);
 
 // The span in samples at `rate_hz` (a duration rounded to the nearest
 // sample); UsageError(option) when that is no sample at all.
-std::size_t span_samples(const DavarSpan& span, double rate_hz, const std::string& option);
+std::size_t span_samples(const DavarSpan& span, double rate_hz, Field option);
 
 struct DavarRequest {
   DataType type = DataType::freq;
@@ -66,7 +67,7 @@ struct DavarResult {
   std::vector<DavarChannel> channels;
 };
 
-// Throws UsageError("gaps") for a record cut at gaps (one window slides along
+// Throws UsageError(Field::gaps) for a record cut at gaps (one window slides along
 // one contiguous record), and the errors of davar() (UsageError "window",
 // "step", "taus", "alpha", "ci"). A record read with io::GapPolicy::skip has
 // its missing samples (NaN) left out of each window's terms

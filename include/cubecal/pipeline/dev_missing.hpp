@@ -13,7 +13,7 @@ namespace cubecal::pipeline {
 
 // The DevResult of run_dev, one segment (missing samples do not split the
 // record). A factor at which a channel has no whole term has no point (as
-// run_dev leaves out a factor no segment holds). UsageError("stat") for a
+// run_dev leaves out a factor no segment holds). UsageError(Field::stat) for a
 // statistic other than OADEV, UsageError when no averaging factor of the
 // grid fits the record, or when a channel has no whole term at any of them.
 DevResult run_dev_skipping_missing(const io::Series& series, const DevRequest& request);

@@ -34,7 +34,7 @@ struct ModelSelection {
 
 // `samples` is the record's length (the bootstrap's). Candidates with more
 // parameters than the scales allow, or with no fit, go to `failed`. Throws
-// UsageError("model") for no candidate or replicates == 1,
+// UsageError(Field::model) for no candidate or replicates == 1,
 // CalibrationError(degenerate) when no candidate gives a fit.
 ModelSelection select_composite_model(const WaveletVariance& wv, std::size_t samples,
                                       const std::vector<CompositeModel>& candidates, const WicOptions& options = {});

@@ -39,7 +39,7 @@ struct SimulatedRecord {
   std::vector<std::vector<double>> channels;  // one per name
 };
 
-// round(duration x rate); UsageError("duration") past kMaxSimulatedSamples.
+// round(duration x rate); UsageError(Field::duration) past kMaxSimulatedSamples.
 inline constexpr double kMaxSimulatedSamples = 1e15;
 std::size_t sample_count(const SimulateRequest& r);
 
@@ -71,7 +71,7 @@ void write_record(const SimulatedRecord& rec, io::CsvWriter& out);
 // one fitted to the temperature-compensated series when the channel has a
 // temperature analysis with that model: the twin adds the temperature term
 // itself); the quantizer is the model's LSB. Throws UsageError for a result without
-// channels, and UsageError("bias", ...) for a channel without the fitted model asked for.
+// channels, and UsageError(Field::bias, ...) for a channel without the fitted model asked for.
 std::vector<TriadModel> models_from_analysis(const AnalysisResult& analysis, const std::string& label,
                                              bool gauss_markov);
 
@@ -79,7 +79,7 @@ std::vector<TriadModel> models_from_analysis(const AnalysisResult& analysis, con
 // rate (rate_hz) and each channel's unit; its sigma_n and sigma_mu are per
 // sample at that rate (noise-terms.md §4), so they are rescaled to keep the
 // sensor's N, K (and hence B) whatever rate is asked (model_at_rate).
-// Throws UsageError("rate", ...) for a rate that is not positive.
+// Throws UsageError(Field::rate, ...) for a rate that is not positive.
 std::vector<TriadModel> models_from_analysis(const AnalysisResult& analysis, const std::string& label,
                                              bool gauss_markov, double rate_hz);
 
@@ -91,8 +91,8 @@ std::vector<TriadModel> models_from_analysis(const AnalysisResult& analysis, con
 // rate: N, Q, K, R, sigma_b and T_c kept), plus, from an analysis, the
 // measured mean as the fixed bias. No white noise, bias process, quantizer
 // or temperature term besides: the model was fitted to the record as
-// measured. Throws UsageError("bias") for an analysis without composite
-// models, UsageError("rate") for a rate that is not positive, and
+// measured. Throws UsageError(Field::bias) for an analysis without composite
+// models, UsageError(Field::rate) for a rate that is not positive, and
 // UsageError for a result without channels.
 std::vector<TriadModel> models_from_composite(const AnalysisResult& analysis, const std::string& label, double rate_hz);
 std::vector<TriadModel> models_from_composite(const ModelResult& model, const std::string& label, double rate_hz);

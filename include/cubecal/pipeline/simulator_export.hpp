@@ -70,13 +70,13 @@ bool is_simulator(Estimator e) noexcept;
 // the twin's expressible part (WN, an MA1 at its white level, RW, GM); the
 // twin error is against the whole twin. Throws
 // std::invalid_argument for an estimator that is not a simulator,
-// UsageError("estimators") when the record has no IMU channel or an IMU
+// UsageError(Field::estimators) when the record has no IMU channel or an IMU
 // channel carries no composite model.
 std::vector<ExportProjection> simulator_projections(Estimator e, const AnalysisResult& r);
 
 // The file of a simulator target (estimator_config dispatches to it).
-// Throws UsageError("estimators") as simulator_projections, and
-// UsageError("inflate") for ctx.inflate below 1 or not finite.
+// Throws UsageError(Field::estimators) as simulator_projections, and
+// UsageError(Field::inflate) for ctx.inflate below 1 or not finite.
 EstimatorFile simulator_config(Estimator e, const AnalysisResult& r, const EstimatorContext& ctx);
 
 }  // namespace cubecal::pipeline

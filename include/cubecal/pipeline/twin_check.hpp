@@ -35,7 +35,7 @@ struct TwinCheck {
   std::vector<TwinCheckChannel> channels;  // those with a composite model, in column order
 };
 
-// Throws UsageError("twin_check") for twins = 0 or above 10000, or when no
+// Throws UsageError(Field::twin_check) for twins = 0 or above 10000, or when no
 // channel of `r` carries a composite model (the reason of
 // AnalysisResult::composite_skipped included). `threads` 0: all cores.
 TwinCheck twin_check(const AnalysisResult& r, std::size_t twins, std::uint64_t seed, unsigned threads = 0);

@@ -55,7 +55,7 @@ class CompositeNoise {
 //       neighbouring samples at either period).
 //   SIN A and the frequency in Hz kept: omega = 2 pi f dt.
 // Throws std::invalid_argument for a period that is not positive and finite,
-// UsageError("rate") for a SIN line at or above the Nyquist frequency of to_dt.
+// UsageError(Field::rate) for a SIN line at or above the Nyquist frequency of to_dt.
 CompositeModel composite_at_period(const CompositeModel& model, double from_dt, double to_dt);
 
 }  // namespace cubecal

@@ -20,7 +20,7 @@
 
 namespace cubecal {
 
-// Throws UsageError("model") for a parameter outside its range (a negative
+// Throws UsageError(Field::model) for a parameter outside its range (a negative
 // variance, phi outside (0, 1)).
 std::vector<double> simulate_composite(const CompositeModel& model, std::size_t samples, std::uint64_t seed);
 

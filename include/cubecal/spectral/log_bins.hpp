@@ -19,7 +19,7 @@ struct BinRun {
 
 // The runs of raw bins that fall in each non-empty band between f_lo and
 // f_hi (inclusive), leaving out the DC bin and, for an even L, the Nyquist
-// bin (they hold half densities). Throws UsageError("bins_per_decade") for
+// bin (they hold half densities). Throws UsageError(Field::bins_per_decade) for
 // K = 0.
 std::vector<BinRun> log_band_runs(const Psd& raw, std::size_t bins_per_decade, double f_lo, double f_hi);
 

@@ -58,8 +58,8 @@ struct PowerLawFit {
   double density(double f) const noexcept;  // sum h_alpha f^alpha
 };
 
-// Throws UsageError("exponents") for an empty, repeated or out-of-range
-// exponent, UsageError("fit_range") when the band holds fewer log bands than
+// Throws UsageError(Field::exponents) for an empty, repeated or out-of-range
+// exponent, UsageError(Field::fit_range) when the band holds fewer log bands than
 // exponents + 1 (a longer segment or a wider band helps), and
 // std::invalid_argument for a spectrum without its bin covariance.
 PowerLawFit fit_power_law(const Psd& raw, const PowerLawFitOptions& options = {});
@@ -79,7 +79,7 @@ struct SlopeFit {
   std::size_t dof = 0;
 };
 
-// Throws UsageError("fit_range") for fewer than 3 bands in [f_lo, f_hi].
+// Throws UsageError(Field::fit_range) for fewer than 3 bands in [f_lo, f_hi].
 SlopeFit fit_slope(const Psd& raw, double f_lo, double f_hi, std::size_t bins_per_decade = 10);
 
 }  // namespace cubecal

@@ -116,11 +116,11 @@ std::size_t davar_window_points(std::size_t window, DataType type) noexcept;
 std::size_t davar_window_count(std::size_t samples, std::size_t window, std::size_t step) noexcept;
 
 // The dynamic OADEV of `data` (frequency or phase samples every tau0 s).
-// Throws UsageError("window") for a window shorter than OADEV needs for
+// Throws UsageError(Field::window) for a window shorter than OADEV needs for
 // m = 1 (4 frequency or 5 phase samples) or longer than the record,
-// UsageError("step") for a zero step, UsageError("taus") when no factor of
-// the grid fits a window, UsageError("alpha") for a fixed noise type outside
-// -2..2, UsageError("ci") for a confidence outside (0, 1), and
+// UsageError(Field::step) for a zero step, UsageError(Field::taus) when no factor of
+// the grid fits a window, UsageError(Field::alpha) for a fixed noise type outside
+// -2..2, UsageError(Field::ci) for a confidence outside (0, 1), and
 // std::invalid_argument for an infinite sample, a NaN one (unless
 // options.skip_missing) or a tau0 that is not a positive finite number.
 //

@@ -43,7 +43,7 @@ struct BiweightTuning {
   double var_chi = 0.0;     // Var chi(Z)
 };
 
-// Throws UsageError("efficiency") for an efficiency outside (0, 1) or above
+// Throws UsageError(Field::efficiency) for an efficiency outside (0, 1) or above
 // the 0.999998 that c <= 100 reaches (the classical estimator is the limit).
 BiweightTuning biweight_tuning(double efficiency);
 // The Gaussian moments at a given c (> 0); efficiency = slope^2 / (2 var_chi).
@@ -73,7 +73,7 @@ std::vector<double> haar_coefficients(std::span<const double> y, std::size_t tau
 // factor between 1 (strongly correlated coefficients) and 1 / efficiency
 // (uncorrelated ones), so the intervals (chi-square at that edf) and the
 // GMWM weights widen by the efficiency's cost, on the safe side. Throws as
-// wavelet_variance and UsageError("efficiency") as biweight_tuning.
+// wavelet_variance and UsageError(Field::efficiency) as biweight_tuning.
 WaveletVariance robust_wavelet_variance(std::span<const double> y, double ci = 0.95, double efficiency = 0.6,
                                         std::size_t max_scales = 0);
 

@@ -28,7 +28,7 @@ struct WaveletVariance {
 
 // Scales 2^1 .. 2^J with J the largest for which 2^J <= N / 2 (at least
 // N / 2 + 1 coefficients), or fewer when max_scales > 0 asks so. Throws
-// UsageError("samples") for fewer than 4 samples or ci outside (0, 1), and
+// UsageError(Field::samples) for fewer than 4 samples or ci outside (0, 1), and
 // std::invalid_argument naming a sample that is not finite.
 WaveletVariance wavelet_variance(std::span<const double> y, double ci = 0.95, std::size_t max_scales = 0);
 
@@ -37,7 +37,7 @@ WaveletVariance wavelet_variance(std::span<const double> y, double ci = 0.95, st
 // Allan variance at each m. The twin's fit (noise/twin_selection.hpp) adds
 // the factors 3 * 2^k between the dyadic ones, where a periodic line's
 // curve swings between them. Throws as wavelet_variance, and
-// UsageError("scales") for factors not ascending or out of that range.
+// UsageError(Field::scales) for factors not ascending or out of that range.
 WaveletVariance wavelet_variance_at(std::span<const double> y, std::span<const std::size_t> factors, double ci = 0.95);
 
 // The dyadic factors 1, 2, 4, ... up to max_m and the factors 3 * 2^k

@@ -65,10 +65,10 @@ std::vector<const Topic*> choose_topics(const MessageLog& bag, const std::vector
       if (kind_of(t) == Kind::imu) chosen.push_back(&t);
     if (chosen.empty())
       throw InputError(bag.file, 0, 0, "no sensor_msgs/Imu topic; topics are: " + listed(topics),
-                       "choose the topics to read with --topic NAME");
+                       "choose the topics to read with {topics} NAME");
     if (chosen.size() > 1)
       throw InputError(bag.file, 0, 0, "several sensor_msgs/Imu topics: " + listed(chosen),
-                       "choose one with --topic NAME");
+                       "choose one with {topics} NAME");
     if (!decodable(*chosen.front())) throw not_decodable(bag, *chosen.front());
     return chosen;
   }
@@ -76,7 +76,7 @@ std::vector<const Topic*> choose_topics(const MessageLog& bag, const std::vector
     const auto it = std::find_if(topics.begin(), topics.end(), [&](const Topic& t) { return t.name == name; });
     if (it == topics.end())
       throw InputError(bag.file, 0, 0, "topic " + name + " not found; topics are: " + listed(topics),
-                       "choose one of them with --topic NAME");
+                       "choose one of them with {topics} NAME");
     if (kind_of(*it) == Kind::other)
       throw InputError(bag.file, 0, 0,
                        "topic " + it->described() + " is not of a type cubecal reads (" + std::string(kImu) + ", " +
@@ -171,7 +171,8 @@ Decoded decode(const MessageLog& bag, std::uint32_t index, bool record_time) {
 
 Series read_bag_series(const MessageLog& bag, bool gzip, const SeriesOptions& opt) {
   if (std::any_of(opt.lsb.begin(), opt.lsb.end(), [](double v) { return v != 1.0; }))
-    throw UsageError("counts_per_unit", bag.file + " is a ROS bag: its values are in SI units already, without an LSB");
+    throw UsageError(Field::counts_per_unit,
+                     bag.file + " is a ROS bag: its values are in SI units already, without an LSB");
   if (opt.table.skip_rows != 0) throw UsageError(bag.file + " is a ROS bag: it has no rows to skip");
   bool record_time = false;
   std::string time_name = "header.stamp";
@@ -179,10 +180,10 @@ Series read_bag_series(const MessageLog& bag, bool gzip, const SeriesOptions& op
     record_time = true;
     time_name = "record time";
   } else if (!opt.time_col.empty() && opt.time_col != "stamp") {
-    throw UsageError("time_col", bag.file +
-                                     " is a ROS bag: its time is 'stamp' (header.stamp, the default) or "
-                                     "'record' (when the bag recorded each message), not '" +
-                                     opt.time_col + "'");
+    throw UsageError(Field::time_col, bag.file +
+                                          " is a ROS bag: its time is 'stamp' (header.stamp, the default) or "
+                                          "'record' (when the bag recorded each message), not '" +
+                                          opt.time_col + "'");
   }
 
   const std::vector<Topic>& topics = bag.topics;
@@ -227,7 +228,7 @@ Series read_bag_series(const MessageLog& bag, bool gzip, const SeriesOptions& op
       throw message_error(bag, *source[i], f->index, f->what, std::move(f->hint));
   };
   take_channels(s, all, opt, check, bag.file, "no channels besides the temperature in " + listed(chosen),
-                "read a sensor_msgs/Imu or MagneticField topic with --topic NAME");
+                "read a sensor_msgs/Imu or MagneticField topic with {topics} NAME");
 
   const bool timing = !opt.time_col.empty() || opt.rate_hz == 0.0;
   finish_series(s, first.time, first.topic->name + " " + time_name, timing, opt,

@@ -12,7 +12,7 @@ namespace {
 
 constexpr const char* kReads =
     "cubecal reads delimited text (CSV, TSV or whitespace-separated, plain or gzip-compressed), NumPy .npy, "
-    "and raw interleaved binary described by --binary TYPE,TYPE,...";
+    "and raw interleaved binary described by {binary} TYPE,TYPE,...";
 
 struct Signature {
   std::string_view magic;
@@ -133,8 +133,8 @@ void check_text_like(std::string_view head, const std::string& file, bool decomp
   throw InputError(file, 0, 0,
                    "not a text or known binary format: " + std::string(what) + std::to_string(head.size()) + " bytes" +
                        (decompressed ? " of decompressed data" : ""),
-                   "a raw binary log? give its layout with --binary TYPE,TYPE,... (e.g. int16le,int16le,int16le) "
-                   "and --rate; " +
+                   "a raw binary log? give its layout with {binary} TYPE,TYPE,... (e.g. int16le,int16le,int16le) "
+                   "and {rate}; " +
                        std::string(kReads));
 }
 

@@ -31,7 +31,7 @@ Table binary_table(std::string_view bytes, const std::string& file, const Binary
 // The hint of the error for a NaN sample of a binary record read without
 // `--gaps skip`.
 inline constexpr const char* kNanSampleHint =
-    "a missing sample: --gaps skip leaves it out of the OADEV terms (dev, davar); otherwise cut the record "
+    "a missing sample: {gaps} skip leaves it out of the OADEV terms (dev, davar); otherwise cut the record "
     "there or fill the gap";
 
 }  // namespace cubecal::io::detail

@@ -58,7 +58,7 @@ std::size_t resolve_channel(const std::string& file, const std::vector<TopicColu
   std::string names;
   for (const auto& c : columns) names += (names.empty() ? "" : ", ") + c.name;
   throw InputError(file, 0, 0, "no channel '" + spec + "' in the topics read; channels are: " + names,
-                   "choose among them, or read other topics with --topic NAME");
+                   "choose among them, or read other topics with {topics} NAME");
 }
 
 void take_channels(Series& s, std::vector<TopicColumn>& all, const SeriesOptions& opt,

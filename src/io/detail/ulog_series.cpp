@@ -142,7 +142,7 @@ const ULogTopic& find_topic(const ULog& log, const std::string& label) {
   for (const auto& t : log.topics)
     if (t.label() == label || (t.multi_id == 0 && label == t.name + ":0")) return t;
   throw InputError(log.file, 0, 0, "topic " + label + " not found; topics are: " + listed(log),
-                   "choose one of them with --topic NAME");
+                   "choose one of them with {topics} NAME");
 }
 
 const ULogField& field_of(const ULog& log, const ULogTopic& t, const std::string& name, std::size_t element) {
@@ -171,7 +171,7 @@ Decoded decode(const ULog& log, std::string_view bytes, const ULogTopic& topic, 
   if (kind == kinds().end())
     throw InputError(log.file, 0, 0,
                      "topic " + described(topic) + " is not one cubecal reads (" + readable_list() + ")",
-                     "choose another topic with --topic NAME");
+                     "choose another topic with {topics} NAME");
   Decoded d;
   d.topic = &topic;
   const ULogField& time = field_of(log, topic, time_field, 0);
@@ -179,7 +179,7 @@ Decoded decode(const ULog& log, std::string_view bytes, const ULogTopic& topic, 
     throw InputError(log.file, 0, 0,
                      "topic " + topic.label() + ": field " + time_field + " is a " + time.type +
                          ", not an integer time stamp in microseconds",
-                     "give --time-col timestamp (the default) or another time stamp field");
+                     "give {time_col} timestamp (the default) or another time stamp field");
   std::vector<const ULogField*> fields;
   for (const auto& c : kind->channels) {
     fields.push_back(&field_of(log, topic, c.field, c.element));
@@ -227,7 +227,7 @@ double rate_of(const std::vector<double>& t) {
 
 Series read_ulog_series(const ULog& log, std::string_view bytes, bool gzip, const SeriesOptions& opt) {
   if (std::any_of(opt.lsb.begin(), opt.lsb.end(), [](double v) { return v != 1.0; }))
-    throw UsageError("counts_per_unit",
+    throw UsageError(Field::counts_per_unit,
                      log.file + " is a ULog file: its values are in SI units already, without an LSB");
   if (opt.table.skip_rows != 0) throw UsageError(log.file + " is a ULog file: it has no rows to skip");
   const std::string time_field = opt.time_col.empty() ? "timestamp" : opt.time_col;
@@ -247,7 +247,7 @@ Series read_ulog_series(const ULog& log, std::string_view bytes, bool gzip, cons
     if (std::any_of(decoded.begin(), decoded.end(), [&](const Decoded& d) { return d.topic == &t; })) continue;
     if (t.messages.empty())
       throw InputError(log.file, 0, 0, "topic " + t.label() + " has no data messages",
-                       "choose another topic with --topic NAME");
+                       "choose another topic with {topics} NAME");
     decoded.push_back(decode(log, bytes, t, time_field));
   }
   // One channel name per topic; then the rates must agree.
@@ -285,7 +285,7 @@ Series read_ulog_series(const ULog& log, std::string_view bytes, bool gzip, cons
       throw message_error(log, *source[i], f->index, f->what, std::move(f->hint));
   };
   take_channels(s, all, opt, check, log.file, "no channels besides the temperature in the topics read",
-                "read sensor_combined or a magnetometer topic with --topic NAME");
+                "read sensor_combined or a magnetometer topic with {topics} NAME");
 
   const bool timing = !opt.time_col.empty() || opt.rate_hz == 0.0;
   finish_series(s, first.time, first.topic->label() + "." + time_field, timing, opt,

@@ -14,11 +14,11 @@ namespace cubecal::pipeline::detail {
 
 void check_channel_lists(const AnalyzeRequest& req, std::size_t nch) {
   if (!req.units.empty() && req.units.size() != 1 && req.units.size() != nch)
-    throw UsageError("units", std::to_string(req.units.size()) + " units for " + std::to_string(nch) +
-                                  " columns (give one unit, or one per column)");
+    throw UsageError(Field::units, std::to_string(req.units.size()) + " units for " + std::to_string(nch) +
+                                       " columns (give one unit, or one per column)");
   if (!req.lsb.empty() && req.lsb.size() != 1 && req.lsb.size() != nch)
-    throw UsageError("lsb", std::to_string(req.lsb.size()) + " values for " + std::to_string(nch) +
-                                " columns (give one value, or one per column)");
+    throw UsageError(Field::lsb, std::to_string(req.lsb.size()) + " values for " + std::to_string(nch) +
+                                     " columns (give one value, or one per column)");
 }
 
 Unit unit_of(const AnalyzeRequest& req, std::size_t c) {
@@ -68,6 +68,8 @@ void fit_models(ModelAnalysis& m, double dt, double lsb) {
     m.random_walk = fit_random_walk_model(curve, dt, lsb);
     m.random_walk_residual = residual(m.random_walk, curve);
     m.ok = true;
+  } catch (const CalibrationError& e) {
+    m.error = face_words(e.text());
   } catch (const std::invalid_argument& e) {
     m.error = e.what();
   }
@@ -84,6 +86,8 @@ void fit_models(ModelAnalysis& m, double dt, double lsb) {
     } else {
       m.gm_ok = true;
     }
+  } catch (const CalibrationError& e) {
+    m.gm_error = face_words(e.text());
   } catch (const std::invalid_argument& e) {
     m.gm_error = e.what();
   }

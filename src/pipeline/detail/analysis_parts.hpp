@@ -7,7 +7,7 @@
 
 namespace cubecal::pipeline::detail {
 
-// Throws UsageError("units" / "lsb") when the request's per-channel lists
+// Throws UsageError(Field::units / "lsb") when the request's per-channel lists
 // fit neither one value for all nor one per channel.
 void check_channel_lists(const AnalyzeRequest& req, std::size_t channels);
 // Channel c's unit (counts when none given), quantizer of the model
