@@ -47,7 +47,7 @@ TEST(GmwmMonteCarlo, WhiteNoiseAndRandomWalkUnbiasedAndCovered) {
     series.tau0 = 1.0;
     series.names = {"y"};
     series.channels = {simulate_composite(truth, kSamples, s)};
-    series.segments = {io::Segment{0, kSamples}};
+    series.segments = {IndexRange{0, kSamples}};
     pipeline::ModelRequest req;
     req.model = "WN+RW";
     req.bootstrap = kReplicates;

@@ -39,7 +39,7 @@ io::Series series_of(std::vector<double> y) {
   s.names = {"gyro"};
   const std::size_t n = y.size();
   s.channels.push_back(std::move(y));
-  s.segments = {io::Segment{0, n}};
+  s.segments = {IndexRange{0, n}};
   return s;
 }
 

@@ -86,8 +86,7 @@ std::vector<double> asymptotic_sds(const ModelChannel& ch, std::size_t samples, 
   std::vector<double> out;
   try {
     const GmwmAsymptotics as = gmwm_asymptotics(ch.fit, ch.wv, samples, inflation);
-    const std::size_t np = as.parameters;
-    const auto C = [&](std::size_t i, std::size_t k) { return as.covariance[i * np + k]; };
+    const auto C = [&](std::size_t i, std::size_t k) { return as.covariance(i, k); };
     std::size_t k = 0;
     for (const Process& p : ch.fit.model.processes) {
       const auto values = physical(p, dt);

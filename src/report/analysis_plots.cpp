@@ -59,8 +59,8 @@ PlotSeries measured_oadev(const std::vector<StabilityPoint>& curve, const std::s
   for (const auto& pt : curve) {
     m.x.push_back(pt.tau);
     m.y.push_back(pt.dev);
-    m.lo.push_back(pt.lo);
-    m.hi.push_back(pt.hi);
+    m.lo.push_back(pt.interval.lo);
+    m.hi.push_back(pt.interval.hi);
   }
   m.mark = Mark::errorlines;
   m.id = channel + " measured OADEV";
@@ -592,8 +592,8 @@ std::vector<ReportFigure> temperature_figures(const AnalysisResult& d, const Sen
     for (const auto& pt : ch.temperature->compensated.adev) {
       s.x.push_back(pt.tau);
       s.y.push_back(pt.dev);
-      s.lo.push_back(pt.lo);
-      s.hi.push_back(pt.hi);
+      s.lo.push_back(pt.interval.lo);
+      s.hi.push_back(pt.interval.hi);
     }
     s.mark = Mark::errorlines;
     s.id = ch.name + " temperature compensated";

@@ -522,11 +522,11 @@ std::string temperature_table(const AnalysisResult& r, const SensorGroup& g) {
 std::string covariance_html(const AnalysisResult& r) {
   const auto& names = r.cov_names;
   const auto& m = r.covariance;
-  if (names.empty() || m.size() != names.size()) return "<p class=\"muted\">No covariance in the analysis.</p>\n";
+  if (names.empty() || m.rows() != names.size()) return "<p class=\"muted\">No covariance in the analysis.</p>\n";
   const std::size_t n = names.size();
   std::vector<std::vector<std::optional<double>>> v(n, std::vector<std::optional<double>>(n));
   for (std::size_t a = 0; a < n; ++a)
-    for (std::size_t b = 0; b < n && b < m[a].size(); ++b) v[a][b] = finite(m[a][b]);
+    for (std::size_t b = 0; b < n && b < m.cols(); ++b) v[a][b] = finite(m(a, b));
   // The unit of entry (a, b) is unit_a * unit_b.
   std::vector<std::string> units(n);
   for (std::size_t a = 0; a < n; ++a)
