@@ -244,7 +244,7 @@ TEST(AnalyzeComposite, AnalysisJsonReadsBackIdentically) {
   }
   EXPECT_EQ(back.channels[0].model.composite_residual.rms_log, r.channels[0].model.composite_residual.rms_log);
   // The intervals are the analysis's: at its ci.
-  EXPECT_LT(c.wv.lo[0], c.wv.nu2[0]);
+  EXPECT_LT(c.wv.interval[0].lo, c.wv.nu2[0]);
   // adev.csv: the composite model's column, its AVAR 2 nu2(2m) at each tau.
   const std::string csv = pipeline::adev_csv(r);
   EXPECT_EQ(csv.substr(0, csv.find('\n')),

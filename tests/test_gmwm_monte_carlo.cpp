@@ -60,7 +60,7 @@ TEST(GmwmMonteCarlo, WhiteNoiseAndRandomWalkUnbiasedAndCovered) {
       const pipeline::ModelQuantity& q = ch.terms[k].quantities.at(0);
       ASSERT_EQ(q.name, names[k]);
       est[k].push_back(q.value);
-      covered[k] += q.lo <= want[k] && want[k] <= q.hi;
+      covered[k] += q.interval.lo <= want[k] && want[k] <= q.interval.hi;
     }
   }
   for (std::size_t k = 0; k < 2; ++k) {

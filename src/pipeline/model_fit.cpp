@@ -355,14 +355,12 @@ ModelResult run_model(const io::Series& series, const ModelRequest& req) {
           mean /= static_cast<double>(s.size());
           for (double x : s) var += (x - mean) * (x - mean);
           q.sd = std::sqrt(var / static_cast<double>(s.size() - 1));
-          q.lo = quantile(s, 0.5 * (1.0 - req.ci));
-          q.hi = quantile(s, 0.5 * (1.0 + req.ci));
+          q.interval = {quantile(s, 0.5 * (1.0 - req.ci)), quantile(s, 0.5 * (1.0 + req.ci))};
         }
         q.display = shown(name, v, q.sd, unit);
         // Every display unit is a factor on the data unit and seconds.
         const double factor = v != 0.0 ? q.display.value / v : 1.0;
-        q.display_lo = q.lo * factor;
-        q.display_hi = q.hi * factor;
+        q.display_interval = {q.interval.lo * factor, q.interval.hi * factor};
         q.asymptotic_sd = qi < asym.size() ? asym[qi] : std::numeric_limits<double>::quiet_NaN();
         q.display_asymptotic_sd = q.asymptotic_sd * factor;
         t.quantities.push_back(std::move(q));

@@ -236,8 +236,8 @@ ReportFigure composite_figure(const AnalysisResult& d, const ChannelAnalysis& ch
   for (std::size_t j = 0; j < mc.wv.size(); ++j) {
     w.x.push_back(0.5 * mc.wv.tau[j] * dt);
     w.y.push_back(std::sqrt(2.0 * mc.wv.nu2[j]));
-    w.lo.push_back(std::sqrt(2.0 * mc.wv.lo[j]));
-    w.hi.push_back(std::sqrt(2.0 * mc.wv.hi[j]));
+    w.lo.push_back(std::sqrt(2.0 * mc.wv.interval[j].lo));
+    w.hi.push_back(std::sqrt(2.0 * mc.wv.interval[j].hi));
   }
   w.mark = Mark::errorbars;
   w.id = ch.name + " Haar wavelet variance";

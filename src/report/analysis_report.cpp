@@ -665,10 +665,10 @@ ReportTable composite_table(const AnalysisResult& r, const ChannelAnalysis& c) {
   for (const pipeline::ModelTerm& term : m.terms)
     for (std::size_t i = 0; i < term.quantities.size(); ++i) {
       const pipeline::ModelQuantity& q = term.quantities[i];
-      t.rows.push_back({i == 0 ? std::string(to_string(term.kind)) : std::string(), q.name,
-                        format_num(finite(q.display.value), 5), format_num(finite(q.display_asymptotic_sd), 2),
-                        sd ? format_num(finite(q.display.sigma), 2) : "—",
-                        sd ? interval_text(q.display_lo, q.display_hi) : std::string("—"), q.display.unit});
+      t.rows.push_back(
+          {i == 0 ? std::string(to_string(term.kind)) : std::string(), q.name, format_num(finite(q.display.value), 5),
+           format_num(finite(q.display_asymptotic_sd), 2), sd ? format_num(finite(q.display.sigma), 2) : "—",
+           sd ? interval_text(q.display_interval.lo, q.display_interval.hi) : std::string("—"), q.display.unit});
     }
   std::string note = "GMWM fit to the Haar wavelet variance of " + format_num(count(c.model.samples), 12) +
                      " samples over " + std::to_string(m.wv.size()) + " dyadic scales (objective " +
