@@ -65,7 +65,7 @@ void BM_GmwmBootstrap(benchmark::State& state) {
   s.tau0 = 1.0;
   s.names = {"y"};
   s.channels = {record()};
-  s.segments = {cubecal::io::Segment{0, kSamples}};
+  s.segments = {cubecal::IndexRange{0, kSamples}};
   cubecal::pipeline::ModelRequest req;
   req.model = "WN+2*GM+RW";
   req.bootstrap = static_cast<std::size_t>(state.range(0));

@@ -329,7 +329,7 @@ SeedResult run_seed(const Options& o, const std::string& name, std::size_t n, st
       s.rate_hz = 1.0 / kDt;
       s.tau0 = kDt;
       s.names = {"y"};
-      s.segments = {io::Segment{0, n}};
+      s.segments = {IndexRange{0, n}};
       s.channels.push_back(std::move(y));
       pipeline::ModelRequest req;
       req.model = name;
@@ -346,8 +346,8 @@ SeedResult run_seed(const Options& o, const std::string& name, std::size_t n, st
           Estimate e;
           e.valid = std::isfinite(q.value);
           e.value = q.value;
-          e.lo = q.lo;
-          e.hi = q.hi;
+          e.lo = q.interval.lo;
+          e.hi = q.interval.hi;
           e.sd = q.sd;
           r.gmwm.push_back(e);
         }

@@ -42,8 +42,7 @@ WaveletVariance from_scale(WaveletVariance wv, std::size_t drop) {
   cut(wv.nu2);
   cut(wv.n);
   cut(wv.edf);
-  cut(wv.lo);
-  cut(wv.hi);
+  cut(wv.interval);
   return wv;
 }
 
@@ -83,7 +82,7 @@ TEST_P(Adis16405Gyro, FirstScalesLieBelowTheWhiteLine) {
   for (std::size_t j = 2; j <= 5; ++j) s2 = j == 2 ? wv.tau[j] * wv.nu2[j] : std::min(s2, wv.tau[j] * wv.nu2[j]);
   for (std::size_t j = 0; j <= 1; ++j) {
     SCOPED_TRACE("tau " + std::to_string(wv.tau[j]));
-    EXPECT_LT(wv.hi[j], s2 / wv.tau[j]);
+    EXPECT_LT(wv.interval[j].hi, s2 / wv.tau[j]);
   }
 }
 
@@ -96,12 +95,12 @@ TEST_P(Adis16405Gyro, ModelInsideTheIntervalsFromTheSecondScale) {
   ASSERT_EQ(fit.nu2_model.size(), wv.size());
   for (std::size_t j = 0; j < wv.size(); ++j) {
     SCOPED_TRACE("tau " + std::to_string(wv.tau[j]));
-    EXPECT_GE(fit.nu2_model[j], wv.lo[j]);
-    EXPECT_LE(fit.nu2_model[j], wv.hi[j]);
+    EXPECT_GE(fit.nu2_model[j], wv.interval[j].lo);
+    EXPECT_LE(fit.nu2_model[j], wv.interval[j].hi);
   }
   // Over all 18 scales the same structure misses the first one.
   const GmwmFit full = fit_gmwm(all, parse_composite_model("WN+RW+2*GM"));
-  EXPECT_FALSE(all.lo[0] <= full.nu2_model[0] && full.nu2_model[0] <= all.hi[0]);
+  EXPECT_FALSE(all.interval[0].lo <= full.nu2_model[0] && full.nu2_model[0] <= all.interval[0].hi);
 }
 
 // The gyro fits of all six runs from tau = 4 and from tau = 32 samples (the
@@ -124,7 +123,7 @@ TEST(Adis16405Gmwm, Table) {
         std::string outside;
         std::size_t n_out = 0;
         for (std::size_t j = 0; j < wv.size(); ++j)
-          if (fit.nu2_model[j] < wv.lo[j] || fit.nu2_model[j] > wv.hi[j]) {
+          if (fit.nu2_model[j] < wv.interval[j].lo || fit.nu2_model[j] > wv.interval[j].hi) {
             ++n_out;
             char t[32];
             std::snprintf(t, sizeof t, "%s%g", outside.empty() ? ": " : ", ", wv.tau[j] * s.tau0);
@@ -182,9 +181,9 @@ TEST(Adis16405Gmwm, MovingAverageTableInsideEveryScale) {
       const GmwmFit fit = fit_gmwm(wv, parse_composite_model("MA1+RW+2*GM"));
       std::size_t inside = 0;
       for (std::size_t j = 0; j < wv.size(); ++j) {
-        EXPECT_GE(fit.nu2_model[j], wv.lo[j]) << "tau " << wv.tau[j];
-        EXPECT_LE(fit.nu2_model[j], wv.hi[j]) << "tau " << wv.tau[j];
-        inside += wv.lo[j] <= fit.nu2_model[j] && fit.nu2_model[j] <= wv.hi[j];
+        EXPECT_GE(fit.nu2_model[j], wv.interval[j].lo) << "tau " << wv.tau[j];
+        EXPECT_LE(fit.nu2_model[j], wv.interval[j].hi) << "tau " << wv.tau[j];
+        inside += wv.interval[j].lo <= fit.nu2_model[j] && fit.nu2_model[j] <= wv.interval[j].hi;
       }
       double mean = 0.0;
       for (double v : y) mean += v;

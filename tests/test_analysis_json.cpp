@@ -98,8 +98,8 @@ void expect_points(const std::vector<StabilityPoint>& a, const std::vector<Stabi
     EXPECT_EQ(a[i].tau, b[i].tau) << what << " " << i;
     EXPECT_EQ(a[i].dev, b[i].dev) << what << " " << i;
     EXPECT_EQ(a[i].n, b[i].n) << what << " " << i;
-    EXPECT_EQ(a[i].lo, b[i].lo) << what << " " << i;
-    EXPECT_EQ(a[i].hi, b[i].hi) << what << " " << i;
+    EXPECT_EQ(a[i].interval.lo, b[i].interval.lo) << what << " " << i;
+    EXPECT_EQ(a[i].interval.hi, b[i].interval.hi) << what << " " << i;
     EXPECT_EQ(a[i].edf, b[i].edf) << what << " " << i;
     EXPECT_EQ(a[i].alpha, b[i].alpha) << what << " " << i;
   }

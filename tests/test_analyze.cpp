@@ -99,12 +99,12 @@ TEST(Covariance, KnownMatrixWithinSampling) {
   }
   const auto c = covariance_matrix({a, b});
   // Standard error of a sample covariance ~ sqrt((s_aa s_bb + s_ab^2)/n) < 0.003 here.
-  EXPECT_NEAR(c[0][0], 1.0, 0.015);
-  EXPECT_NEAR(c[0][1], 0.5, 0.015);
-  EXPECT_NEAR(c[1][1], 1.25, 0.015);
-  EXPECT_EQ(c[0][1], c[1][0]);
+  EXPECT_NEAR(c(0, 0), 1.0, 0.015);
+  EXPECT_NEAR(c(0, 1), 0.5, 0.015);
+  EXPECT_NEAR(c(1, 1), 1.25, 0.015);
+  EXPECT_EQ(c(0, 1), c(1, 0));
   const auto first = covariance_matrix({a, b}, 13000);  // the paper's first 13000 samples
-  EXPECT_NEAR(first[0][1], 0.5, 0.05);
+  EXPECT_NEAR(first(0, 1), 0.5, 0.05);
 }
 
 // The sums walked side by side in blocks are each the one add chain of its
@@ -134,8 +134,8 @@ TEST(Covariance, EqualsThePassPerSumDefinitionToTheBit) {
             double s = 0.0;
             for (std::size_t i = 0; i < used; ++i) s += (ch[a][i] - mean[a]) * (ch[b][i] - mean[b]);
             const double want = s / static_cast<double>(used - 1);
-            EXPECT_EQ(got[a][b], want) << k << " channels, " << used << " samples, " << a << "," << b;
-            EXPECT_EQ(got[b][a], want);
+            EXPECT_EQ(got(a, b), want) << k << " channels, " << used << " samples, " << a << "," << b;
+            EXPECT_EQ(got(b, a), want);
           }
       }
     }

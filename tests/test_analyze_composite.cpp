@@ -98,7 +98,9 @@ pipeline::AnalyzeRequest composite_request(const std::string& model, std::size_t
 }
 
 // Whether a model's Allan deviation at the curve's point lies in its interval.
-bool inside(double model_dev, const StabilityPoint& p) { return model_dev >= p.lo && model_dev <= p.hi; }
+bool inside(double model_dev, const StabilityPoint& p) {
+  return model_dev >= p.interval.lo && model_dev <= p.interval.hi;
+}
 
 TEST(AnalyzeComposite, PaperGyroFitsTheWhiteArmAndTheMinimumWhereEquationThreeCannot) {
   // 72 h at 10 Hz, as the paper's static test; the curve at 95 %.
@@ -147,10 +149,11 @@ TEST(AnalyzeComposite, PaperGyroFitsTheWhiteArmAndTheMinimumWhereEquationThreeCa
   }
   const StabilityPoint& m = curve[imin];
   std::printf("  tau 1 s: measured %.5g [%.5g, %.5g], composite %.5g, eq. (3) %.5g deg/s\n",
-              curve[arm[arm.size() / 2]].dev, curve[arm[arm.size() / 2]].lo, curve[arm[arm.size() / 2]].hi,
-              composite_dev(curve[arm[arm.size() / 2]]), paper_dev(curve[arm[arm.size() / 2]]));
+              curve[arm[arm.size() / 2]].dev, curve[arm[arm.size() / 2]].interval.lo,
+              curve[arm[arm.size() / 2]].interval.hi, composite_dev(curve[arm[arm.size() / 2]]),
+              paper_dev(curve[arm[arm.size() / 2]]));
   std::printf("  minimum at %.4g s: measured %.5g [%.5g, %.5g], composite %.5g, eq. (3) %.5g deg/s\n", m.tau, m.dev,
-              m.lo, m.hi, composite_dev(m), paper_dev(m));
+              m.interval.lo, m.interval.hi, composite_dev(m), paper_dev(m));
   std::printf(
       "  white arm: composite inside at %zu of %zu points, eq. (3) at %zu; model %s, residual %.4f vs "
       "eq. (3) %.4f\n",
@@ -240,7 +243,7 @@ TEST(AnalyzeComposite, AnalysisJsonReadsBackIdentically) {
   }
   EXPECT_EQ(back.channels[0].model.composite_residual.rms_log, r.channels[0].model.composite_residual.rms_log);
   // The intervals are the analysis's: at its ci.
-  EXPECT_LT(c.wv.lo[0], c.wv.nu2[0]);
+  EXPECT_LT(c.wv.interval[0].lo, c.wv.nu2[0]);
   // adev.csv: the composite model's column, its AVAR 2 nu2(2m) at each tau.
   const std::string csv = pipeline::adev_csv(r);
   EXPECT_EQ(csv.substr(0, csv.find('\n')),

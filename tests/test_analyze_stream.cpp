@@ -73,7 +73,7 @@ TEST(StreamingCovariance, EqualsTheWholeRecordInAnyPieces) {
     // the summation error of either side.
     for (std::size_t i = 0; i < 3; ++i)
       for (std::size_t j = 0; j < 3; ++j)
-        EXPECT_LE(std::abs(got[i][j] - want[i][j]), 1e-10 * std::sqrt(want[i][i] * want[j][j])) << i << "," << j;
+        EXPECT_LE(std::abs(got(i, j) - want(i, j)), 1e-10 * std::sqrt(want(i, i) * want(j, j))) << i << "," << j;
     double mean = 0.0;
     for (std::size_t i = 0; i < s.count(); ++i) mean += a[i];
     expect_rel(s.mean(0), mean / static_cast<double>(s.count()), 1e-13, "mean");
@@ -225,7 +225,7 @@ TEST_F(AnalyzeStreamTest, EqualsTheInMemoryAnalysisAtStrideOne) {
     for (std::size_t i = 0; i < b.drift.drift.size(); ++i) EXPECT_NEAR(a.drift.drift[i], b.drift.drift[i], 1e-12);
   }
   for (std::size_t i = 0; i < 2; ++i)
-    for (std::size_t j = 0; j < 2; ++j) expect_rel(str.covariance[i][j], mem.covariance[i][j], 1e-10, "cov");
+    for (std::size_t j = 0; j < 2; ++j) expect_rel(str.covariance(i, j), mem.covariance(i, j), 1e-10, "cov");
 }
 
 TEST_F(AnalyzeStreamTest, StridedTermsLieWithinTheInMemoryIntervals) {
@@ -255,8 +255,8 @@ TEST_F(AnalyzeStreamTest, StridedTermsLieWithinTheInMemoryIntervals) {
       } else {
         ++strided;
         EXPECT_LT(got[k].n, want[k].n);  // a stride leaves terms out
-        EXPECT_GE(got[k].dev, want[k].lo) << "AF " << got[k].m;
-        EXPECT_LE(got[k].dev, want[k].hi) << "AF " << got[k].m;
+        EXPECT_GE(got[k].dev, want[k].interval.lo) << "AF " << got[k].m;
+        EXPECT_LE(got[k].dev, want[k].interval.hi) << "AF " << got[k].m;
       }
     }
   }

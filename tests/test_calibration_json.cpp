@@ -533,8 +533,8 @@ void expect_same(const pipeline::RunSummary& b, const pipeline::RunSummary& r) {
       EXPECT_EQ(x.adev[i].tau, y.adev[i].tau);
       EXPECT_EQ(x.adev[i].dev, y.adev[i].dev);
       EXPECT_EQ(x.adev[i].n, y.adev[i].n);
-      EXPECT_EQ(x.adev[i].lo, y.adev[i].lo);
-      EXPECT_EQ(x.adev[i].hi, y.adev[i].hi);
+      EXPECT_EQ(x.adev[i].interval.lo, y.adev[i].interval.lo);
+      EXPECT_EQ(x.adev[i].interval.hi, y.adev[i].interval.hi);
       EXPECT_EQ(x.adev[i].edf, y.adev[i].edf);
       EXPECT_EQ(x.adev[i].alpha, y.adev[i].alpha);
     }
@@ -579,8 +579,7 @@ TEST(CalibrationJson, TurnOnRoundTrip) {
   }
   EXPECT_EQ(b.mean_bias, t.mean_bias);
   EXPECT_EQ(b.turn_on, t.turn_on);
-  EXPECT_EQ(b.turn_on_lo, t.turn_on_lo);
-  EXPECT_EQ(b.turn_on_hi, t.turn_on_hi);
+  EXPECT_EQ(b.turn_on_interval, t.turn_on_interval);
   ASSERT_EQ(b.runs.size(), t.runs.size());
   for (std::size_t k = 0; k < t.runs.size(); ++k) expect_same(b.runs[k], t.runs[k]);
 }

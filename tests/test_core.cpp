@@ -137,7 +137,7 @@ TEST(Kernels, WhiteFmWithinConfidenceIntervalOverSeeds) {
       o.alpha = 0;  // known noise type
       const auto p = rec.evaluate(m, o);
       const double truth = sigma / std::sqrt(static_cast<double>(m));
-      inside += (p.lo <= truth && truth <= p.hi);
+      inside += (p.interval.lo <= truth && truth <= p.interval.hi);
       ++total;
     }
   }

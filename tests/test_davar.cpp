@@ -147,8 +147,8 @@ TEST(Davar, EveryWindowIsDevOnThatWindowsSamples) {
       EXPECT_EQ(mx.alpha[c], pts[j].alpha) << "window " << k << ", m " << mx.m[j];
       EXPECT_EQ(mx.alpha_carried[c], pts[j].type_carried);
       EXPECT_EQ(mx.edf[c], pts[j].edf);
-      EXPECT_NEAR(mx.lo[c] / pts[j].lo, 1.0, 1e-12);
-      EXPECT_NEAR(mx.hi[c] / pts[j].hi, 1.0, 1e-12);
+      EXPECT_NEAR(mx.lo[c] / pts[j].interval.lo, 1.0, 1e-12);
+      EXPECT_NEAR(mx.hi[c] / pts[j].interval.hi, 1.0, 1e-12);
     }
   }
   std::printf("davar vs dev on each window's samples: max relative difference %.3g\n", worst);
@@ -306,8 +306,8 @@ TEST(Davar, MissingSamplesEachCellIsDevGapsSkipOnItsWindow) {
         EXPECT_EQ(mx.alpha[c], pts[j].alpha);
         EXPECT_EQ(mx.alpha_carried[c], pts[j].type_carried);
         EXPECT_NEAR(mx.edf[c] / pts[j].edf, 1.0, 1e-12);
-        EXPECT_NEAR(mx.lo[c] / pts[j].lo, 1.0, 1e-12);
-        EXPECT_NEAR(mx.hi[c] / pts[j].hi, 1.0, 1e-12);
+        EXPECT_NEAR(mx.lo[c] / pts[j].interval.lo, 1.0, 1e-12);
+        EXPECT_NEAR(mx.hi[c] / pts[j].interval.hi, 1.0, 1e-12);
       }
     }
     std::printf(

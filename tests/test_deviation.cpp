@@ -48,8 +48,8 @@ TEST(FrontDoor, EveryStatisticMatchesStable32OnItsOctaveGrid) {
       EXPECT_EQ(pts[i].n, rows[i].n);
       EXPECT_NEAR(pts[i].dev / rows[i].dev, 1.0, 1e-4) << "af " << rows[i].af;
       if (rows[i].lo > 0 && pts[i].alpha == rows[i].alpha) {
-        EXPECT_NEAR(pts[i].lo / rows[i].lo, 1.0, 1e-3) << "af " << rows[i].af;
-        EXPECT_NEAR(pts[i].hi / rows[i].hi, 1.0, 1e-3) << "af " << rows[i].af;
+        EXPECT_NEAR(pts[i].interval.lo / rows[i].lo, 1.0, 1e-3) << "af " << rows[i].af;
+        EXPECT_NEAR(pts[i].interval.hi / rows[i].hi, 1.0, 1e-3) << "af " << rows[i].af;
       }
     }
   }
@@ -91,8 +91,8 @@ TEST(FrontDoor, NamedCallsEqualThePipeline) {
       EXPECT_DOUBLE_EQ(pts[i].dev, ref[i].dev);
       EXPECT_EQ(pts[i].alpha, ref[i].alpha);
       EXPECT_DOUBLE_EQ(pts[i].edf, ref[i].edf);
-      EXPECT_DOUBLE_EQ(pts[i].lo, ref[i].lo);
-      EXPECT_DOUBLE_EQ(pts[i].hi, ref[i].hi);
+      EXPECT_DOUBLE_EQ(pts[i].interval.lo, ref[i].interval.lo);
+      EXPECT_DOUBLE_EQ(pts[i].interval.hi, ref[i].interval.hi);
     }
   }
 }
@@ -108,7 +108,7 @@ TEST(FrontDoor, RampHasTheClosedFormAllanDeviation) {
   ASSERT_GE(pts.size(), 6u);
   for (const auto& p : pts) {
     EXPECT_NEAR(p.dev / (R * p.tau / std::sqrt(2.0)), 1.0, 1e-9) << "tau " << p.tau;
-    EXPECT_EQ(p.lo, 0.0);  // no intervals asked for
+    EXPECT_EQ(p.interval.lo, 0.0);  // no intervals asked for
   }
 }
 

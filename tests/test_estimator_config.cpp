@@ -95,7 +95,7 @@ double model_white_read(const pipeline::ChannelAnalysis& c, double n, double k) 
   double sw = 0.0, swv = 0.0;
   for (const auto& p : c.noise.adev) {
     if (p.tau < t.tau_lo || p.tau > t.tau_hi) continue;
-    const double rel = (p.hi - p.lo) / (2.0 * p.dev);
+    const double rel = (p.interval.hi - p.interval.lo) / (2.0 * p.dev);
     const double w = 1.0 / (rel * rel);
     sw += w;
     swv += w * std::sqrt(n * n + k * k * p.tau * p.tau / 3.0);

@@ -124,7 +124,7 @@ TEST(GapDeviation, AllanToolsGapDataStaysNearTheWholeSeries) {
   for (std::size_t j = 0; j < ms.size(); ++j) {
     EXPECT_LT(std::abs(std::log(b[j].dev / a[j].dev)), 0.05) << "m " << ms[j];
     EXPECT_LT(b[j].n, a[j].n);
-    EXPECT_TRUE(b[j].lo <= a[j].hi && a[j].lo <= b[j].hi) << "m " << ms[j];
+    EXPECT_TRUE(b[j].interval.lo <= a[j].interval.hi && a[j].interval.lo <= b[j].interval.hi) << "m " << ms[j];
   }
 }
 

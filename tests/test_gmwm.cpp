@@ -44,8 +44,8 @@ TEST(WaveletVariance, EqualsTheHaarCoefficientsSummedDirectly) {
     EXPECT_EQ(wv.n[j], count);
     EXPECT_NEAR(wv.nu2[j], sum / static_cast<double>(count), 1e-12 * wv.nu2[j]) << tau;
     EXPECT_DOUBLE_EQ(wv.edf[j], std::max(static_cast<double>(count) / static_cast<double>(tau), 1.0));
-    EXPECT_LT(wv.lo[j], wv.nu2[j]);
-    EXPECT_GT(wv.hi[j], wv.nu2[j]);
+    EXPECT_LT(wv.interval[j].lo, wv.nu2[j]);
+    EXPECT_GT(wv.interval[j].hi, wv.nu2[j]);
   }
   EXPECT_EQ(wavelet_variance(y, 0.683, 3).size(), 3u);
   EXPECT_THROW(wavelet_variance(std::vector<double>{1.0, 2.0, 3.0}), UsageError);
@@ -124,7 +124,7 @@ TEST(Gmwm, SeededRecordsUnbiasedWithinTheirSpread) {
     const WaveletVariance wv = wavelet_variance(y, 0.95);
     for (std::size_t j = 0; j < wv.size(); ++j, ++points) {
       const double theory = haar_wavelet_variance(m, wv.tau[j]);
-      inside += theory >= wv.lo[j] && theory <= wv.hi[j];
+      inside += theory >= wv.interval[j].lo && theory <= wv.interval[j].hi;
     }
     const GmwmFit fit = fit_gmwm(wv, parse_composite_model("WN+GM"));
     est[0].push_back(fit.model.processes[0].value);

@@ -67,20 +67,21 @@ TEST(GmwmAsymptotics, HatMatrixSandwichAndJacobian) {
   const GmwmAsymptotics as = gmwm_asymptotics(fit, wv, N);
   const std::size_t J = wv.size(), p = as.parameters;
   ASSERT_EQ(p, 3u);
-  ASSERT_EQ(as.hat.size(), J * J);
+  ASSERT_EQ(as.hat.rows(), J);
+  ASSERT_EQ(as.hat.cols(), J);
   // P = A (A'WA)^-1 A'W: P P = P, tr P = p, P A = A.
   double trace = 0.0;
   for (std::size_t i = 0; i < J; ++i) {
-    trace += as.hat[i * J + i];
+    trace += as.hat(i, i);
     for (std::size_t k = 0; k < J; ++k) {
       double pp = 0.0;
-      for (std::size_t l = 0; l < J; ++l) pp += as.hat[i * J + l] * as.hat[l * J + k];
-      EXPECT_NEAR(pp, as.hat[i * J + k], 1e-9);
+      for (std::size_t l = 0; l < J; ++l) pp += as.hat(i, l) * as.hat(l, k);
+      EXPECT_NEAR(pp, as.hat(i, k), 1e-9);
     }
     for (std::size_t c = 0; c < p; ++c) {
       double pa = 0.0;
-      for (std::size_t l = 0; l < J; ++l) pa += as.hat[i * J + l] * as.jacobian[l * p + c];
-      EXPECT_NEAR(pa, as.jacobian[i * p + c], 1e-9 * std::abs(as.jacobian[i * p + c]) + 1e-15);
+      for (std::size_t l = 0; l < J; ++l) pa += as.hat(i, l) * as.jacobian(l, c);
+      EXPECT_NEAR(pa, as.jacobian(i, c), 1e-9 * std::abs(as.jacobian(i, c)) + 1e-15);
     }
   }
   EXPECT_NEAR(trace, 3.0, 1e-9);
@@ -92,11 +93,11 @@ TEST(GmwmAsymptotics, HatMatrixSandwichAndJacobian) {
     const double dq = (gauss_markov_wavelet_variance(a * std::exp(h), gm.value, wv.tau[j]) -
                        gauss_markov_wavelet_variance(a * std::exp(-h), gm.value, wv.tau[j])) /
                       (2.0 * h);
-    EXPECT_NEAR(as.jacobian[j * p + 2], dq, 1e-6 * std::abs(dq) + 1e-18) << wv.tau[j];
+    EXPECT_NEAR(as.jacobian(j, 2), dq, 1e-6 * std::abs(dq) + 1e-18) << wv.tau[j];
   }
   // The per-sample parameters' sd by the delta method.
-  EXPECT_NEAR(as.sd[0].value, fit.model.processes[0].value * std::sqrt(as.covariance[0]), 1e-15);
-  EXPECT_NEAR(as.sd[1].phi, gm.phi * a * std::sqrt(as.covariance[2 * p + 2]), 1e-15);
+  EXPECT_NEAR(as.sd[0].value, fit.model.processes[0].value * std::sqrt(as.covariance(0, 0)), 1e-15);
+  EXPECT_NEAR(as.sd[1].phi, gm.phi * a * std::sqrt(as.covariance(2, 2)), 1e-15);
   EXPECT_EQ(as.sd[0].phi, 0.0);
 
   // Bad pairs.
@@ -125,13 +126,13 @@ Spread spread(const CompositeModel& truth, std::size_t N, std::size_t records, s
     theta.push_back(log_parameters(fit.model));
     const GmwmAsymptotics as = gmwm_asymptotics(fit, wv, N);
     std::vector<double> sd;
-    for (std::size_t i = 0; i < as.parameters; ++i) sd.push_back(std::sqrt(as.covariance[i * as.parameters + i]));
+    for (std::size_t i = 0; i < as.parameters; ++i) sd.push_back(std::sqrt(as.covariance(i, i)));
     sds.push_back(sd);
     if (r == 0) {
       const GmwmAsymptotics at = gmwm_asymptotics(fit_at_truth(truth, wv), wv, N);
       for (std::size_t i = 0; i < at.parameters; ++i) {
-        s.truth_sd.push_back(std::sqrt(at.covariance[i * at.parameters + i]));
-        s.naive_sd.push_back(std::sqrt(at.naive[i * at.parameters + i]));
+        s.truth_sd.push_back(std::sqrt(at.covariance(i, i)));
+        s.naive_sd.push_back(std::sqrt(at.naive(i, i)));
       }
     }
   }
@@ -198,7 +199,7 @@ TEST(GmwmAsymptotics, ModelQuantitiesCarryTheDeltaMethodAndAgreeWithTheBootstrap
   const pipeline::ModelResult r = pipeline::run_model(s, req);
   const pipeline::ModelChannel& ch = r.channels.at(0);
   const GmwmAsymptotics as = gmwm_asymptotics(ch.fit, ch.wv, N);
-  const auto C = [&](std::size_t i, std::size_t k) { return as.covariance[i * as.parameters + k]; };
+  const auto C = [&](std::size_t i, std::size_t k) { return as.covariance(i, k); };
   const double dt = 0.01;
   // N = sqrt(sigma2 dt): half the relative sd of sigma2.
   const pipeline::ModelQuantity& n = ch.terms[0].quantities[0];

@@ -47,7 +47,7 @@ TEST(GmwmMonteCarlo, WhiteNoiseAndRandomWalkUnbiasedAndCovered) {
     series.tau0 = 1.0;
     series.names = {"y"};
     series.channels = {simulate_composite(truth, kSamples, s)};
-    series.segments = {io::Segment{0, kSamples}};
+    series.segments = {IndexRange{0, kSamples}};
     pipeline::ModelRequest req;
     req.model = "WN+RW";
     req.bootstrap = kReplicates;
@@ -60,7 +60,7 @@ TEST(GmwmMonteCarlo, WhiteNoiseAndRandomWalkUnbiasedAndCovered) {
       const pipeline::ModelQuantity& q = ch.terms[k].quantities.at(0);
       ASSERT_EQ(q.name, names[k]);
       est[k].push_back(q.value);
-      covered[k] += q.lo <= want[k] && want[k] <= q.hi;
+      covered[k] += q.interval.lo <= want[k] && want[k] <= q.interval.hi;
     }
   }
   for (std::size_t k = 0; k < 2; ++k) {

@@ -112,7 +112,7 @@ TEST_F(LongWork, EstimateCountsTheTermsOfTheGrid) {
   std::normal_distribution<double> g;
   for (auto& c : s.channels)
     for (double& v : c) v = g(rng);
-  s.segments = {io::Segment{0, 5000}};
+  s.segments = {IndexRange{0, 5000}};
   pipeline::DevRequest req;
   req.options.intervals = false;
   req.grid = parse_tau_grid("all");

@@ -202,8 +202,8 @@ Tallies run_power_law_check(bool widest) {
                           nid.alpha_est,
                           p.edf,
                           q.edf,
-                          std::log(p.hi / p.lo),
-                          std::log(q.hi / q.lo)};
+                          std::log(p.interval.hi / p.interval.lo),
+                          std::log(q.interval.hi / q.interval.lo)};
               t.worst = std::min(t.worst, r.ratio());
               if (r.ratio() < kNarrowest) {
                 ++t.failing;

@@ -63,8 +63,7 @@ AllanCurve synthetic_curve(F avar, double tau0, double samples, unsigned per_dec
     const double rel = 1.0 / std::sqrt(2.0 * edf);
     c.tau.push_back(tau);
     c.dev.push_back(dev);
-    c.lo.push_back(dev * (1.0 - rel));
-    c.hi.push_back(dev * (1.0 + rel));
+    c.interval.push_back({dev * (1.0 - rel), dev * (1.0 + rel)});
     c.edf.push_back(edf);
   }
   return c;
@@ -86,17 +85,16 @@ std::size_t index_of_min(const std::vector<double>& v) {
 
 TEST(AllanCurve, KeepsSupportedPositivePointsInTauOrder) {
   std::vector<StabilityPoint> pts(5);
-  pts[0] = {4, 0.4, 2.0, 10, 1.5, 2.5, 8.0, 0};
-  pts[1] = {1, 0.1, 5.0, 40, 4.5, 5.5, 30.0, 0};
-  pts[2] = {8, 0.8, 0.0, 5, 0.0, 0.0, 0.0, 0};   // zero deviation
-  pts[3] = {16, 1.6, 1.0, 0, 0.0, 0.0, 0.0, 0};  // beyond the record
-  pts[4] = {2, 0.2, 3.0, 20, 2.5, 3.5, 15.0, 0};
+  pts[0] = {4, 0.4, 2.0, 10, {1.5, 2.5}, 8.0, 0};
+  pts[1] = {1, 0.1, 5.0, 40, {4.5, 5.5}, 30.0, 0};
+  pts[2] = {8, 0.8, 0.0, 5, {0.0, 0.0}, 0.0, 0};   // zero deviation
+  pts[3] = {16, 1.6, 1.0, 0, {0.0, 0.0}, 0.0, 0};  // beyond the record
+  pts[4] = {2, 0.2, 3.0, 20, {2.5, 3.5}, 15.0, 0};
   const AllanCurve c = to_allan_curve(pts);
   ASSERT_EQ(c.size(), 3u);
   EXPECT_EQ(c.tau, (std::vector<double>{0.1, 0.2, 0.4}));
   EXPECT_EQ(c.dev, (std::vector<double>{5.0, 3.0, 2.0}));
-  EXPECT_EQ(c.lo, (std::vector<double>{4.5, 2.5, 1.5}));
-  EXPECT_EQ(c.hi, (std::vector<double>{5.5, 3.5, 2.5}));
+  EXPECT_EQ(c.interval, (std::vector<Interval>{{4.5, 5.5}, {2.5, 3.5}, {1.5, 2.5}}));
   EXPECT_EQ(c.edf, (std::vector<double>{30.0, 15.0, 8.0}));
 }
 
@@ -142,8 +140,7 @@ TEST(NoiseFit, RecoversTermsFromTheIntervalOrWithoutWeights) {
   expect_exact_terms(fit_noise_terms(from_ci), kFiveTerms, 1e-6);
 
   AllanCurve bare = from_ci;  // no uncertainty at all: relative weights
-  std::fill(bare.lo.begin(), bare.lo.end(), 0.0);
-  std::fill(bare.hi.begin(), bare.hi.end(), 0.0);
+  std::fill(bare.interval.begin(), bare.interval.end(), Interval{});
   expect_exact_terms(fit_noise_terms(bare), kFiveTerms, 1e-6);
 }
 
@@ -213,8 +210,8 @@ TEST(NoiseFit, IsTheNonNegativeOptimumOfItsWeights) {
     for (std::size_t i = 0; i < c.size(); ++i) {
       const double f = 1.0 + g(rng) / std::sqrt(2.0 * c.edf[i]);
       c.dev[i] *= f;
-      c.lo[i] *= f;
-      c.hi[i] *= f;
+      c.interval[i].lo *= f;
+      c.interval[i].hi *= f;
     }
     const NoiseFit f = fit_noise_terms(c);
     for (int k = 0; k < 5; ++k) {
@@ -254,8 +251,8 @@ TEST(NoiseFit, HeavyScatterGivesConsistentNonNegativeTerms) {
     for (std::size_t i = 0; i < c.size(); ++i) {
       const double f = std::exp(0.3 * g(rng));
       c.dev[i] *= f;
-      c.lo[i] *= f;
-      c.hi[i] *= f;
+      c.interval[i].lo *= f;
+      c.interval[i].hi *= f;
     }
     const NoiseFit f = fit_noise_terms(c);
     const TermEstimate* terms[5] = {&f.Q, &f.N, &f.B, &f.K, &f.R};
@@ -285,8 +282,8 @@ TEST(NoiseFit, HeavyScatterGivesConsistentNonNegativeTerms) {
 void claim_white_pm_edf(AllanCurve& c, std::size_t from) {
   for (std::size_t i = from; i < c.size(); ++i) {
     c.edf[i] = 8e4;
-    c.lo[i] = c.dev[i] * (1.0 - 1.0 / std::sqrt(2.0 * c.edf[i]));
-    c.hi[i] = c.dev[i] * (1.0 + 1.0 / std::sqrt(2.0 * c.edf[i]));
+    c.interval[i].lo = c.dev[i] * (1.0 - 1.0 / std::sqrt(2.0 * c.edf[i]));
+    c.interval[i].hi = c.dev[i] * (1.0 + 1.0 / std::sqrt(2.0 * c.edf[i]));
   }
 }
 
@@ -306,7 +303,7 @@ TEST(ReadOff, ImplausibleEdfAtTheEndDoesNotShrinkTheUncertainty) {
   const Terms t{0.0, 5e-3, 0.0, 1e-4, 0.0};
   AllanCurve c = synthetic_curve(t);
   const std::size_t n = c.size();
-  const double rel_before = (c.hi[n - 4] - c.lo[n - 4]) / (2.0 * c.dev[n - 4]);
+  const double rel_before = (c.interval[n - 4].hi - c.interval[n - 4].lo) / (2.0 * c.dev[n - 4]);
   claim_white_pm_edf(c, n - 3);
   const SlopeReadOffs r = read_off_noise_terms(c);
   ASSERT_TRUE(r.K.valid);
@@ -325,15 +322,15 @@ TEST(NoiseFit, ScatterBeyondTheEdfsInflatesTheUncertainty) {
   for (std::size_t i = 0; i < c.size(); ++i) {
     const double f = 1.0 + g(rng) / std::sqrt(2.0 * c.edf[i]);
     c.dev[i] *= f;
-    c.lo[i] *= f;
-    c.hi[i] *= f;
+    c.interval[i].lo *= f;
+    c.interval[i].hi *= f;
   }
   AllanCurve overclaimed = c;
   for (std::size_t i = 0; i < c.size(); ++i) {
     overclaimed.edf[i] *= 100.0;
     const double rel = 1.0 / std::sqrt(2.0 * overclaimed.edf[i]);
-    overclaimed.lo[i] = c.dev[i] * (1.0 - rel);
-    overclaimed.hi[i] = c.dev[i] * (1.0 + rel);
+    overclaimed.interval[i].lo = c.dev[i] * (1.0 - rel);
+    overclaimed.interval[i].hi = c.dev[i] * (1.0 + rel);
   }
   const NoiseFit f = fit_noise_terms(c);
   const NoiseFit o = fit_noise_terms(overclaimed);
@@ -420,8 +417,8 @@ TEST(ReadOff, FlatBottomIsWhereTheIntervalsReachTheMinimum) {
   const double a = 1e-4, b = 1e-8;
   AllanCurve c = synthetic_curve([&](double tau) { return a / tau + b * tau; }, 0.1, 1e7, 40);
   for (std::size_t i = 0; i < c.size(); ++i) {
-    c.lo[i] = 0.9 * c.dev[i];
-    c.hi[i] = 1.1 * c.dev[i];
+    c.interval[i].lo = 0.9 * c.dev[i];
+    c.interval[i].hi = 1.1 * c.dev[i];
   }
   const SlopeReadOffs r = read_off_noise_terms(c);
   const double tau_star = std::sqrt(a / b);
@@ -650,8 +647,8 @@ TEST(NoiseTerms, IndependentOfTheDataScale) {
   for (std::size_t i = 0; i < c.size(); ++i) {
     const double f = 1.0 + g(rng) / std::sqrt(2.0 * c.edf[i]);
     c.dev[i] *= f;
-    c.lo[i] *= f;
-    c.hi[i] *= f;
+    c.interval[i].lo *= f;
+    c.interval[i].hi *= f;
   }
   const NoiseFit f = fit_noise_terms(c);
   const SlopeReadOffs r = read_off_noise_terms(c);
@@ -659,8 +656,8 @@ TEST(NoiseTerms, IndependentOfTheDataScale) {
     AllanCurve s = c;
     for (std::size_t i = 0; i < s.size(); ++i) {
       s.dev[i] *= scale;
-      s.lo[i] *= scale;
-      s.hi[i] *= scale;
+      s.interval[i].lo *= scale;
+      s.interval[i].hi *= scale;
     }
     const NoiseFit fs = fit_noise_terms(s);
     const TermEstimate* a[5] = {&f.Q, &f.N, &f.B, &f.K, &f.R};

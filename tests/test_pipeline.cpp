@@ -51,7 +51,7 @@ TEST(DevPipeline, SegmentsPoolTheirDifferences) {
       EXPECT_NEAR(q.dev / p.dev, 1.0, 1e-12) << to_string(st) << " m " << p.m;
       EXPECT_EQ(q.n, 2 * p.n);
       EXPECT_NEAR(q.edf / p.edf, 2.0, 1e-9);
-      EXPECT_LT(q.hi - q.lo, p.hi - p.lo);  // more data, narrower interval
+      EXPECT_LT(q.interval.hi - q.interval.lo, p.interval.hi - p.interval.lo);  // more data, narrower interval
     }
   }
 }
@@ -68,7 +68,7 @@ TEST(DevPipeline, ThreadCountDoesNotChangeResults) {
   for (std::size_t c = 0; c < 3; ++c)
     for (std::size_t k = 0; k < r1.channels[c].points.size(); ++k) {
       EXPECT_EQ(r1.channels[c].points[k].dev, r2.channels[c].points[k].dev);
-      EXPECT_EQ(r1.channels[c].points[k].lo, r2.channels[c].points[k].lo);
+      EXPECT_EQ(r1.channels[c].points[k].interval.lo, r2.channels[c].points[k].interval.lo);
     }
 }
 
@@ -104,7 +104,7 @@ TEST(DevPipeline, ChannelsInBatchesEqualEachChannelAlone) {
         ASSERT_EQ(p.size(), q.size()) << grid;
         for (std::size_t k = 0; k < p.size(); ++k) {
           EXPECT_EQ(p[k].dev, q[k].dev) << grid << " " << threads << " " << c << " m " << p[k].m;
-          EXPECT_EQ(p[k].lo, q[k].lo);
+          EXPECT_EQ(p[k].interval.lo, q[k].interval.lo);
           EXPECT_EQ(p[k].alpha, q[k].alpha);
         }
       }

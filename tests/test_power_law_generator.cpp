@@ -98,7 +98,7 @@ TEST(PowerLawGenerator, AllanVarianceOfEachPowerLaw) {
       opt.alpha = static_cast<int>(c.term.alpha);  // the known noise type: its EDF
       for (const StabilityPoint& p : oadev(y, 1.0 / dt, DataType::freq, grid, opt)) {
         const double truth = std::sqrt(c.avar(c.term.h, p.tau));
-        inside += p.lo <= truth && truth <= p.hi;
+        inside += p.interval.lo <= truth && truth <= p.interval.hi;
         ++total;
       }
     }

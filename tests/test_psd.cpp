@@ -550,8 +550,8 @@ TEST(AllanConversion, SimulatedRecordOadevAgreesWithThePsdIntegral) {
   for (const auto& pt : points) {
     if (pt.m > p.segment_length / 16) break;
     const double adev = std::sqrt(avar_from_psd(p, std::vector<double>{pt.tau})[0]);
-    EXPECT_GE(adev, pt.lo) << "tau " << pt.tau;
-    EXPECT_LE(adev, pt.hi) << "tau " << pt.tau;
+    EXPECT_GE(adev, pt.interval.lo) << "tau " << pt.tau;
+    EXPECT_LE(adev, pt.interval.hi) << "tau " << pt.tau;
     ++checked;
   }
   EXPECT_GE(checked, 10u);

@@ -35,8 +35,8 @@
 namespace {
 
 using cubecal::calibrate_rate_table;
-using cubecal::Covariance12;
 using cubecal::Mat3;
+using cubecal::Matrix;
 using cubecal::Plateau;
 using cubecal::PlateauDetection;
 using cubecal::PlateauOptions;
@@ -171,11 +171,11 @@ void expect_paper_recovered(const RateTableCalibration& c, const char* how) {
 }
 
 // Normalized estimation error squared e^T P^-1 e by Cholesky.
-double nees(const std::array<double, 12>& e, const Covariance12& P) {
+double nees(const std::array<double, 12>& e, const Matrix& P) {
   std::array<std::array<double, 12>, 12> L{};
   for (int i = 0; i < 12; ++i)
     for (int j = 0; j <= i; ++j) {
-      double s = P[i][j];
+      double s = P(static_cast<std::size_t>(i), static_cast<std::size_t>(j));
       for (int k = 0; k < j; ++k) s -= L[i][k] * L[j][k];
       L[i][j] = i == j ? std::sqrt(s) : s / L[j][j];
     }

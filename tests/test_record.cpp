@@ -281,7 +281,7 @@ TEST(RecordingManifest, AtomicReplace) {
   EXPECT_FALSE(io::is_recording_dir(d + "/none"));
   EXPECT_EQ(io::read_manifest(d).columns, m.columns);
   struct stat st {};
-  EXPECT_NE(::stat((d + "/manifest.json.tmp").c_str(), &st), 0);  // renamed away
+  EXPECT_NE(::stat((d + "/manifest.json.partial").c_str(), &st), 0);  // renamed away
   EXPECT_EQ(std::system(("rm -rf " + d).c_str()), 0);
 }
 

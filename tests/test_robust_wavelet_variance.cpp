@@ -556,8 +556,8 @@ TEST(RobustWaveletVariance, BadInputAsTheClassical) {
     EXPECT_EQ(wr.tau[j], wc.tau[j]);
     EXPECT_EQ(wr.n[j], wc.n[j]);
     EXPECT_NEAR(wr.edf[j], 0.5 * wc.edf[j], 1e-9 * wc.edf[j]);
-    EXPECT_LT(wr.lo[j], wr.nu2[j]);
-    EXPECT_GT(wr.hi[j], wr.nu2[j]);
+    EXPECT_LT(wr.interval[j].lo, wr.nu2[j]);
+    EXPECT_GT(wr.interval[j].hi, wr.nu2[j]);
   }
   EXPECT_EQ(robust_wavelet_variance(y, 0.9, 0.6, 1).size(), 1u);
   // A constant record: every coefficient zero, nu2 = 0 (the fit refuses it).

@@ -61,8 +61,7 @@ AllanCurve exact_curve(const Model& model, const std::vector<std::size_t>& ms, d
     const double edf = edf_white_fm(static_cast<double>(m), n_samples + 1.0);
     c.tau.push_back(static_cast<double>(m) * model.dt);
     c.dev.push_back(dev);
-    c.lo.push_back(dev * (1.0 - 1.0 / std::sqrt(2.0 * edf)));
-    c.hi.push_back(dev * (1.0 + 1.0 / std::sqrt(2.0 * edf)));
+    c.interval.push_back({dev * (1.0 - 1.0 / std::sqrt(2.0 * edf)), dev * (1.0 + 1.0 / std::sqrt(2.0 * edf))});
     c.edf.push_back(edf);
   }
   return c;
@@ -370,14 +369,12 @@ TEST(RandomWalkModelFit, IgnoresChanceDipInTheTail) {
   const auto clean = cubecal::fit_random_walk_model(curve, kPaperDt, kGyroLsb);
   const double vmin = *std::min_element(curve.dev.begin(), curve.dev.end());
   curve.dev.back() = 0.7 * vmin;
-  curve.lo.back() = 0.3 * vmin;
-  curve.hi.back() = 2.0 * vmin;
+  curve.interval.back() = {0.3 * vmin, 2.0 * vmin};
   const auto dipped = cubecal::fit_random_walk_model(curve, kPaperDt, kGyroLsb);
   EXPECT_EQ(dipped.sigma_n, clean.sigma_n);
   EXPECT_EQ(dipped.sigma_mu, clean.sigma_mu);
   // Without usable intervals the EDF decides; without EDF any rise does.
-  curve.lo.clear();
-  curve.hi.clear();
+  curve.interval.clear();
   EXPECT_EQ(cubecal::fit_random_walk_model(curve, kPaperDt, kGyroLsb).sigma_mu, clean.sigma_mu);
   curve.edf.clear();
   EXPECT_EQ(cubecal::fit_random_walk_model(curve, kPaperDt, kGyroLsb).sigma_mu, clean.sigma_mu);

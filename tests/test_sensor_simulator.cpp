@@ -162,8 +162,8 @@ Coverage coverage(const TriadModel& model, double dt, const AvarFn& truth, const
         if (p.n == 0) continue;
         const double dev = std::sqrt(truth(p.m));
         const bool dense = static_cast<double>(kSamples) / static_cast<double>(p.m) >= kMinAveragedPoints;
-        (dense ? c.counted : c.sparse).add(dev, p.lo, p.hi);
-        if (dense) c.control.add(std::sqrt(wrong(p.m)), p.lo, p.hi);
+        (dense ? c.counted : c.sparse).add(dev, p.interval.lo, p.interval.hi);
+        if (dense) c.control.add(std::sqrt(wrong(p.m)), p.interval.lo, p.interval.hi);
       }
       per_record = c.counted.total() - before.total();
       record_coverage.push_back(static_cast<double>(c.counted.inside - before.inside) /

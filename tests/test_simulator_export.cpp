@@ -69,8 +69,7 @@ pipeline::ChannelAnalysis channel(const std::string& name, const std::string& un
     m.wv.n.push_back(static_cast<std::size_t>(M));
     m.wv.edf.push_back(std::max(M / tau, 1.0));
   }
-  m.wv.lo = m.wv.nu2;
-  m.wv.hi = m.wv.nu2;
+  for (const double v : m.wv.nu2) m.wv.interval.push_back({v, v});
   m.fit.model = std::move(twin);
   c.model.composite = std::move(m);
   return c;
@@ -214,7 +213,7 @@ Figures check(const Sim& s, const std::map<std::string, double>& reported,
   for (std::size_t j = 0; j < w.size(); ++j) {
     const double theory = haar_wavelet_variance(s.model_si, w.tau[j]);
     ++f.scales;
-    if (theory < w.lo[j] || theory > w.hi[j]) ++f.outside;
+    if (theory < w.interval[j].lo || theory > w.interval[j].hi) ++f.outside;
     if (w.edf[j] >= 100.0) f.max_rel = std::max(f.max_rel, std::abs(w.nu2[j] / theory - 1.0));
   }
   EXPECT_LE(f.outside, 2u) << s.label << ": the simulated curve leaves the projection's at " << f.outside << " of "

@@ -216,20 +216,21 @@ Summary compare(const Case& c, bool check) {
       StabilityOptions forced;
       forced.alpha = row.alpha;
       const StabilityPoint q = rec.evaluate(row.af, forced);
-      const double ef = std::max(rel(q.lo, ref_lo), rel(q.hi, ref_hi));
+      const double ef = std::max(rel(q.interval.lo, ref_lo), rel(q.interval.hi, ref_hi));
       if (check) {
-        EXPECT_LE(ef, 1e-3) << "forced alpha " << row.alpha << ": [" << q.lo << ", " << q.hi << "] vs [" << ref_lo
-                            << ", " << ref_hi << "] edf " << q.edf;
+        EXPECT_LE(ef, 1e-3) << "forced alpha " << row.alpha << ": [" << q.interval.lo << ", " << q.interval.hi
+                            << "] vs [" << ref_lo << ", " << ref_hi << "] edf " << q.edf;
       }
       s.worst_ci_forced = std::max(s.worst_ci_forced, ef);
-      const double ec = std::max(rel(p.lo, ref_lo), rel(p.hi, ref_hi));
+      const double ec = std::max(rel(p.interval.lo, ref_lo), rel(p.interval.hi, ref_hi));
       if (!fault_row) {
         if (ec <= 1e-3) ++s.ci_1e3;
         if (ec <= 1e-2) ++s.ci_1e2;
         s.worst_ci = std::max(s.worst_ci, ec);
       }
       if (check && p.alpha == row.alpha) {
-        EXPECT_LE(ec, 1e-3) << "[" << p.lo << ", " << p.hi << "] vs [" << ref_lo << ", " << ref_hi << "]";
+        EXPECT_LE(ec, 1e-3) << "[" << p.interval.lo << ", " << p.interval.hi << "] vs [" << ref_lo << ", " << ref_hi
+                            << "]";
       }
     }
   }

@@ -153,15 +153,16 @@ Outcome compare(const Case& c) {
       StabilityOptions forced = opt;
       forced.alpha = *row.alpha;
       const StabilityPoint q = rec.evaluate(row.af, forced);
-      const double ci_err = std::max(rel(q.lo, row.lo), rel(q.hi, row.hi));
+      const double ci_err = std::max(rel(q.interval.lo, row.lo), rel(q.interval.hi, row.hi));
       if (row.af < c.ci_own_from) {
-        EXPECT_LE(ci_err, 1e-3) << "interval [" << q.lo << ", " << q.hi << "] vs [" << row.lo << ", " << row.hi << "]";
+        EXPECT_LE(ci_err, 1e-3) << "interval [" << q.interval.lo << ", " << q.interval.hi << "] vs [" << row.lo << ", "
+                                << row.hi << "]";
         o.worst_ci = std::max(o.worst_ci, ci_err);
       } else {
         --o.ci_rows;
         ++o.ci_own_rows;
-        EXPECT_LE(q.lo, row.lo) << "Stable32's interval within ours";
-        EXPECT_GE(q.hi, row.hi) << "Stable32's interval within ours";
+        EXPECT_LE(q.interval.lo, row.lo) << "Stable32's interval within ours";
+        EXPECT_GE(q.interval.hi, row.hi) << "Stable32's interval within ours";
         o.worst_ci_own = std::max(o.worst_ci_own, ci_err);
       }
     }

@@ -33,8 +33,8 @@ bool same_points(const pipeline::DevResult& a, const pipeline::DevResult& b) {
     const auto& q = b.channels[c].points;
     if (p.size() != q.size()) return false;
     for (std::size_t j = 0; j < p.size(); ++j)
-      if (p[j].dev != q[j].dev || p[j].lo != q[j].lo || p[j].hi != q[j].hi || p[j].alpha != q[j].alpha ||
-          p[j].edf != q[j].edf || p[j].n != q[j].n)
+      if (p[j].dev != q[j].dev || p[j].interval.lo != q[j].interval.lo || p[j].interval.hi != q[j].interval.hi ||
+          p[j].alpha != q[j].alpha || p[j].edf != q[j].edf || p[j].n != q[j].n)
         return false;
   }
   return true;

@@ -105,8 +105,8 @@ void compare(Stat stat, const char* grid, std::size_t bound) {
       }
     } else {
       ++strided;
-      EXPECT_GE(s.dev, r.lo);
-      EXPECT_LE(s.dev, r.hi);
+      EXPECT_GE(s.dev, r.interval.lo);
+      EXPECT_LE(s.dev, r.interval.hi);
       EXPECT_LT(s.n, r.n);  // fewer terms than stride 1
       // Greenhall's EDF at the stride: about the overlapping one (with a
       // partial overlap the terms are nearly as informative), at least the

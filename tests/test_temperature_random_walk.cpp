@@ -103,7 +103,7 @@ TEST(TemperatureRandomWalk, KalmanGlsEqualsDenseGls) {
       const auto J = static_cast<Eigen::Index>(j);
       EXPECT_NEAR(f.coeff[j], d.beta(J), 1e-9 * std::sqrt(d.cov(J, J)) + 1e-12) << w << " c" << j;
       for (std::size_t k = 1; k < 3; ++k)
-        EXPECT_NEAR(f.cov[j][k], d.cov(J, static_cast<Eigen::Index>(k)), 1e-9 * d.cov(J, J)) << w << " cov" << j << k;
+        EXPECT_NEAR(f.cov(j, k), d.cov(J, static_cast<Eigen::Index>(k)), 1e-9 * d.cov(J, J)) << w << " cov" << j << k;
       EXPECT_NEAR(f.coeff_sigma[j], std::sqrt(d.cov(J, J)), 1e-9 * std::sqrt(d.cov(J, J))) << w;
     }
     // c_0: the record's mean of y less the fitted temperature part.

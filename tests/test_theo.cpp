@@ -223,8 +223,8 @@ TEST(TheoH, EqualsOadevThenTheoBr) {
     EXPECT_EQ(p.dev, q.dev) << m;
     EXPECT_EQ(p.alpha, q.alpha) << m;
     EXPECT_EQ(p.edf, q.edf) << m;
-    EXPECT_EQ(p.lo, q.lo) << m;
-    EXPECT_EQ(p.hi, q.hi) << m;
+    EXPECT_EQ(p.interval.lo, q.interval.lo) << m;
+    EXPECT_EQ(p.interval.hi, q.interval.hi) << m;
     ++(*part == Stat::oadev ? avar_points : theo_points);
   }
   // N = 1001: k = 200 tau0; OADEV at m = 1..199, TheoBR at even m = 268..1000.
@@ -273,8 +273,8 @@ TEST(TheoH, RefusesARecordInSegments) {
   pipeline::DevRequest req;
   req.stat = Stat::theoh;
   const std::vector<std::span<const double>> ch{y};
-  EXPECT_THROW(pipeline::run_dev({"y"}, ch, 1.0, {io::Segment{0, 200}, io::Segment{210, 400}}, req), UsageError);
-  EXPECT_NO_THROW(pipeline::run_dev({"y"}, ch, 1.0, {io::Segment{0, 400}}, req));
+  EXPECT_THROW(pipeline::run_dev({"y"}, ch, 1.0, {IndexRange{0, 200}, IndexRange{210, 400}}, req), UsageError);
+  EXPECT_NO_THROW(pipeline::run_dev({"y"}, ch, 1.0, {IndexRange{0, 400}}, req));
 }
 
 // Seeded white FM of unit variance per frequency sample: AVAR(tau) = 1/tau
@@ -313,11 +313,11 @@ TEST(TheoH, WhiteFmAgainstTheClosedForm) {
       const double truth = 1.0 / std::sqrt(p.tau);
       const bool avar = theoh_stat_at(Stat::theoh, ms[j], kN) == Stat::oadev;
       v[j].push_back(p.dev * p.dev * p.tau);
-      inside[avar ? 0 : 1] += (p.lo <= truth && truth <= p.hi) ? 1 : 0;
+      inside[avar ? 0 : 1] += (p.interval.lo <= truth && truth <= p.interval.hi) ? 1 : 0;
       ++total[avar ? 0 : 1];
       if (!avar) {
         const StabilityPoint q = raw.evaluate(ms[j], opt);
-        inside[2] += (q.lo <= truth && truth <= q.hi) ? 1 : 0;
+        inside[2] += (q.interval.lo <= truth && truth <= q.interval.hi) ? 1 : 0;
         ++total[2];
       }
     }

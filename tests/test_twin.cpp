@@ -39,7 +39,7 @@ io::Series series_of(std::vector<double> y) {
   s.names = {"gyro"};
   const std::size_t n = y.size();
   s.channels.push_back(std::move(y));
-  s.segments = {io::Segment{0, n}};
+  s.segments = {IndexRange{0, n}};
   return s;
 }
 
@@ -94,8 +94,7 @@ TEST(Twin, SinTermFitBringsAmplitudeAndFrequencyBack) {
     wv.nu2.push_back(haar_wavelet_variance(truth, tau));
     wv.edf.push_back(std::max(262144.0 / tau, 1.0));
     wv.n.push_back(262144 - static_cast<std::size_t>(tau) + 1);
-    wv.lo.push_back(wv.nu2.back() * 0.9);
-    wv.hi.push_back(wv.nu2.back() * 1.1);
+    wv.interval.push_back({wv.nu2.back() * 0.9, wv.nu2.back() * 1.1});
   }
   CompositeModel structure = parse_composite_model("WN+SIN");
   structure.processes[1] = sin_process(0.7, 7.03, kDt);  // the start a spectrum gives

@@ -80,7 +80,7 @@ TEST(WaveletVarianceCovariance, EqualsTheQuadraticFormsOnAShortRecord) {
     return Q;
   };
   const std::vector<double> tau{2, 4, 6, 8, 16, 24, 48};
-  const std::vector<double> cov = wavelet_variance_covariance(model, tau, N);
+  const cubecal::Matrix cov = wavelet_variance_covariance(model, tau, N);
   const std::size_t J = tau.size();
   for (std::size_t j = 0; j < J; ++j)
     for (std::size_t k = j; k < J; ++k) {
@@ -95,8 +95,8 @@ TEST(WaveletVarianceCovariance, EqualsTheQuadraticFormsOnAShortRecord) {
       for (std::size_t i = 0; i < N; ++i)
         for (std::size_t l = 0; l < N; ++l) mean_part += mu[i] * ASB[i][l] * mu[l];
       const double expected = 2.0 * trace + 4.0 * mean_part;
-      EXPECT_NEAR(cov[j * J + k], expected, 1e-11 * std::abs(expected)) << tau[j] << " x " << tau[k];
-      EXPECT_DOUBLE_EQ(cov[j * J + k], cov[k * J + j]);
+      EXPECT_NEAR(cov(j, k), expected, 1e-11 * std::abs(expected)) << tau[j] << " x " << tau[k];
+      EXPECT_DOUBLE_EQ(cov(j, k), cov(k, j));
     }
 }
 
@@ -109,7 +109,7 @@ TEST(WaveletVarianceCovariance, WhiteNoiseAtTheFinestScale) {
     const std::vector<double> tau{2};
     const double M = static_cast<double>(N - 1);
     const double expected = 2.5 * 2.5 * (3.0 * M - 1.0) / (4.0 * M * M);
-    EXPECT_NEAR(wavelet_variance_covariance(wn, tau, N)[0], expected, 1e-10 * expected) << N;
+    EXPECT_NEAR(wavelet_variance_covariance(wn, tau, N)(0, 0), expected, 1e-10 * expected) << N;
   }
 }
 
@@ -169,13 +169,12 @@ TEST(WaveletVarianceCovariance, QuadratureEqualsTheLagByLagSums) {
       tau.push_back(a);
       tau.push_back(b);
     }
-    const std::vector<double> cov = wavelet_variance_covariance(model, tau, N);
-    const std::size_t J = tau.size();
+    const cubecal::Matrix cov = wavelet_variance_covariance(model, tau, N);
     for (std::size_t i = 0; i < pairs.size(); ++i) {
       const std::size_t j = 2 * i, k = 2 * i + 1;
-      const double scale = std::sqrt(cov[j * J + j] * cov[k * J + k]);
+      const double scale = std::sqrt(cov(j, j) * cov(k, k));
       const double direct = direct_entry(model, tau[j], tau[k], N)[0];
-      EXPECT_NEAR(cov[j * J + k], direct, 1e-10 * scale) << model_name(model) << " " << tau[j] << " x " << tau[k];
+      EXPECT_NEAR(cov(j, k), direct, 1e-10 * scale) << model_name(model) << " " << tau[j] << " x " << tau[k];
     }
   }
 }
@@ -281,7 +280,7 @@ TEST(WaveletVarianceCovariance, MonteCarloVariancesAndCorrelations) {
     const MonteCarlo mc = simulate(c.model, N, records, seed);
     seed += records;
     const std::size_t J = mc.tau.size();
-    const std::vector<double> cov = wavelet_variance_covariance(c.model, mc.tau, N);
+    const cubecal::Matrix cov = wavelet_variance_covariance(c.model, mc.tau, N);
     const auto n = static_cast<double>(records);
     double worst_var = 0.0, worst_corr = 0.0;
     for (std::size_t j = 0; j < J; ++j) {
@@ -296,7 +295,7 @@ TEST(WaveletVarianceCovariance, MonteCarloVariancesAndCorrelations) {
       const double var = m2 * n / (n - 1.0);
       // The sd of a sample variance: sqrt((mu4 - sigma^4 (n - 3) / (n - 1)) / n).
       const double se = std::sqrt((m4 - m2 * m2 * (n - 3.0) / (n - 1.0)) / n);
-      const double z = (var - cov[j * J + j]) / se;
+      const double z = (var - cov(j, j)) / se;
       worst_var = std::max(worst_var, std::abs(z));
       if (j + 3 >= J) {
         // The long-record form (2 / M) sum_h c(h)^2 beside the exact one.
@@ -306,19 +305,19 @@ TEST(WaveletVarianceCovariance, MonteCarloVariancesAndCorrelations) {
           lag_sum += std::pow(haar_coefficient_covariance(c.model, mc.tau[j], mc.tau[j], h), 2);
         const double asymptotic = 2.0 * lag_sum / static_cast<double>(N - mc.tau[j] + 1.0);
         std::printf("%-12s tau %5.0f: MC var %.4e (se %.1e), exact %.4e (z %+.2f), long-record %.4e (z %+.2f)\n",
-                    c.name.c_str(), mc.tau[j], var, se, cov[j * J + j], z, asymptotic, (var - asymptotic) / se);
+                    c.name.c_str(), mc.tau[j], var, se, cov(j, j), z, asymptotic, (var - asymptotic) / se);
         // At the last scale (M ~ tau) the long-record form is 20-35 % high,
         // which these records see; the exact sum over the pairs is not.
         if (j + 1 == J) {
-          EXPECT_GT(asymptotic / cov[j * J + j], 1.15) << c.name;
+          EXPECT_GT(asymptotic / cov(j, j), 1.15) << c.name;
           EXPECT_LT(std::abs(z), std::abs(var - asymptotic) / se) << c.name;
         }
       }
-      EXPECT_LT(std::abs(z), 4.0) << c.name << " tau " << mc.tau[j] << ": MC " << var << " computed " << cov[j * J + j]
+      EXPECT_LT(std::abs(z), 4.0) << c.name << " tau " << mc.tau[j] << ": MC " << var << " computed " << cov(j, j)
                                   << " (se " << se << ")";
       if (j + 1 < J) {
         const auto [r, r_se] = correlation(mc, j, j + 1);
-        const double rho = cov[j * J + j + 1] / std::sqrt(cov[j * J + j] * cov[(j + 1) * J + j + 1]);
+        const double rho = cov(j, j + 1) / std::sqrt(cov(j, j) * cov(j + 1, j + 1));
         worst_corr = std::max(worst_corr, std::abs(r - rho) / r_se);
         EXPECT_LT(std::abs(r - rho), 4.0 * r_se)
             << c.name << " tau " << mc.tau[j] << " x " << mc.tau[j + 1] << ": MC " << r << " computed " << rho;
@@ -340,10 +339,10 @@ TEST(WaveletVarianceCovariance, TimingAtTwentyScales) {
   std::vector<double> tau;
   for (double t = 2; t <= N / 2; t *= 2) tau.push_back(t);
   const auto t0 = std::chrono::steady_clock::now();
-  const std::vector<double> cov = wavelet_variance_covariance(model, tau, N);
+  const cubecal::Matrix cov = wavelet_variance_covariance(model, tau, N);
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   std::printf("%zu scales at N = %zu: %.1f ms\n", tau.size(), N, ms);
-  for (std::size_t j = 0; j < tau.size(); ++j) EXPECT_GT(cov[j * tau.size() + j], 0.0);
+  for (std::size_t j = 0; j < tau.size(); ++j) EXPECT_GT(cov(j, j), 0.0);
 }
 
 }  // namespace

@@ -6,6 +6,8 @@
 #pragma once
 
 #include "cubecal/error.hpp"
+#include "cubecal/math/index_range.hpp"
+#include "cubecal/math/matrix.hpp"
 #include "cubecal/math/vec3.hpp"
 
 // stats: the Allan and Hadamard families with noise identification, EDF and

@@ -18,6 +18,7 @@
 #include "common.hpp"
 #include "json_value.hpp"
 #include "cubecal/error.hpp"
+#include "cubecal/io/atomic_file.hpp"
 #include "cubecal/io/output_path.hpp"
 #include "cubecal/noise/unit_from_name.hpp"
 #include "cubecal/noise/units.hpp"
@@ -141,7 +142,7 @@ py::object analysis_document(const AnalysisHandle& h, const std::string& command
   return to_python(pipeline::to_json(*h.result, pipeline::OutputContext{command}));
 }
 
-// The files of `analyze --out DIR`, each written whole through NAME.partial;
+// The files of `analyze --out DIR`, each written whole through an io::AtomicFile;
 // an existing file is refused unless force.
 std::vector<std::string> write_files(const AnalysisHandle& h, const std::string& dir, bool force,
                                      const std::string& command) {
@@ -153,17 +154,7 @@ std::vector<std::string> write_files(const AnalysisHandle& h, const std::string&
   std::vector<std::string> written;
   for (const auto& f : files) {
     const fs::path path = fs::path(dir) / f.name;
-    const fs::path tmp = path.string() + ".partial";
-    {
-      std::FILE* out = std::fopen(tmp.c_str(), "wb");
-      if (out == nullptr) throw UsageError(Field::out, "cannot write " + tmp.string());
-      const bool ok = std::fwrite(f.text.data(), 1, f.text.size(), out) == f.text.size();
-      if (std::fclose(out) != 0 || !ok) {
-        fs::remove(tmp);
-        throw UsageError(Field::out, "could not write " + path.string() + " (disk full?)");
-      }
-    }
-    fs::rename(tmp, path);
+    io::write_file(path.string(), f.text, Field::out);
     written.push_back(path.string());
   }
   return written;

@@ -77,7 +77,7 @@ py::tuple series_to_python(io::Series&& s) {
   meta["left_out"] = s.left_out;
   meta["topics"] = s.topics;
   py::list segments;
-  for (const io::Segment& g : s.segments) segments.append(py::make_tuple(g.begin, g.end));
+  for (const IndexRange& g : s.segments) segments.append(py::make_tuple(g.begin, g.end));
   meta["segments"] = segments;
   meta["gaps"] = s.gaps == io::GapPolicy::split ? "split" : s.gaps == io::GapPolicy::skip ? "skip" : "error";
   meta["missing_samples"] = missing;

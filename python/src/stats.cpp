@@ -131,8 +131,8 @@ py::tuple deviation_missing(const Doubles& data, double rate, const std::string&
   std::vector<std::int64_t> n(pts.size());
   for (std::size_t i = 0; i < pts.size(); ++i) {
     dev[i] = pts[i].dev;
-    lo[i] = pts[i].lo;
-    hi[i] = pts[i].hi;
+    lo[i] = pts[i].interval.lo;
+    hi[i] = pts[i].interval.hi;
     n[i] = static_cast<std::int64_t>(pts[i].n);
   }
   return py::make_tuple(to_array(std::move(dev)), to_array(std::move(n)), to_array(std::move(lo)),
@@ -150,8 +150,8 @@ py::dict curve(const pipeline::DevChannel& ch, bool intervals) {
     n[i] = static_cast<std::int64_t>(p.n);
     tau[i] = p.tau;
     dev[i] = p.dev;
-    lo[i] = p.lo;
-    hi[i] = p.hi;
+    lo[i] = p.interval.lo;
+    hi[i] = p.interval.hi;
     edf[i] = p.edf;
     alpha[i] = p.alpha;
     carried[i] = p.type_carried;
@@ -212,7 +212,7 @@ py::tuple dev(const std::vector<Doubles>& channels, const std::vector<std::strin
     s.tau0 = 1.0 / rate;
     s.names = names;
     for (const auto& v : views) s.channels.emplace_back(v.begin(), v.end());
-    s.segments = {io::Segment{0, s.samples()}};
+    s.segments = {IndexRange{0, s.samples()}};
     s.gaps = io::GapPolicy::skip;
     py::gil_scoped_release free;
     r = pipeline::run_dev(s, req);

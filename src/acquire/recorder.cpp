@@ -205,8 +205,10 @@ class Recorder::Impl final : public SampleHandler {
       for (const auto& n : recover_recording(dir, m_)) notice(n);
       io::write_manifest(dir, m_);
     } else if (is_dir(dir)) {
+      // A manifest's temporary (io/atomic_file.hpp; ".tmp" from earlier
+      // versions) left by a run killed before its first rename.
       for (const auto& e : dir_entries(dir))
-        if (e != std::string(io::kManifestName) + ".tmp")
+        if (e != std::string(io::kManifestName) + ".partial" && e != std::string(io::kManifestName) + ".tmp")
           throw UsageError(Field::out, dir +
                                            " is not empty and holds no cubecal recording (no manifest.json); "
                                            "record into a new or empty directory");

@@ -85,6 +85,68 @@ EllipsoidFit ellipsoid_from_quadric(const std::array<double, 10>& coeff_in, doub
   return f;
 }
 
+namespace {
+
+// C^-1 Sch v = lambda v. The solution is the real eigenvector that
+// satisfies the constraint (v^T C v > 0); for a PD Sch there is exactly
+// one, with lambda > 0. Exact (noise-free) points make Sch singular and
+// lambda ~ 0 of either sign, so the sign of v^T C v decides, and the
+// smallest algebraic residual among several candidates. v1 is scaled to
+// v^T C v = 1; `best` gets its residual.
+V6 constrained_eigenvector(const M6& Sch, const M6& C, const M6& Cinv, double& best) {
+  const Eigen::EigenSolver<M6> es(Cinv * Sch);
+  if (es.info() != Eigen::Success) degenerate("the eigenproblem did not converge");
+  const double lmax = es.eigenvalues().cwiseAbs().maxCoeff();
+  best = std::numeric_limits<double>::infinity();
+  V6 v1 = V6::Zero();
+  bool found = false;
+  for (int i = 0; i < 6; ++i) {
+    const auto lam = es.eigenvalues()(i);
+    if (std::abs(lam.imag()) > 1e-10 * lmax) continue;
+    V6 v = es.eigenvectors().col(i).real();
+    if (!(v.norm() > 0.0)) continue;
+    v.normalize();
+    const double c = v.dot(C * v);
+    if (!(c > 1e-10)) continue;
+    const double obj = v.dot(Sch * v) / c;
+    if (obj < best) {
+      best = obj;
+      v1 = v / std::sqrt(c);
+      found = true;
+    }
+  }
+  if (!found) degenerate("no eigenvector satisfies the ellipsoid constraint 4J - I^2 > 0");
+  return v1;
+}
+
+// Back to input units: centre m + sc c', correction A'^-1 / sc, and the
+// quadric x^T M x + 2 n^T x + d with M = M', n = sc n' - M' m,
+// d = m^T M' m - 2 sc n'^T m + sc^2 d' (multiplied by sc^2, which keeps
+// 4J - I^2 = 1).
+EllipsoidFit to_input_units(const EllipsoidFit& fn, const V3& m, double sc) {
+  EllipsoidFit f = fn;
+  const V3 cp(fn.centre[0], fn.centre[1], fn.centre[2]);
+  f.centre = to_array(V3(m + sc * cp));
+  for (auto& r : f.correction)
+    for (double& x : r) x /= sc;
+  for (double& a : f.semi_axes) a *= sc;
+  M3 Mp;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) Mp(i, j) = fn.M[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)];
+  const V3 np(fn.n[0], fn.n[1], fn.n[2]);
+  const V3 nr = sc * np - Mp * m;
+  const double dr = m.dot(Mp * m) - 2.0 * sc * np.dot(m) + sc * sc * fn.d;
+  f.n = to_array(nr);
+  f.d = dr;
+  f.coeff[6] = nr(0);
+  f.coeff[7] = nr(1);
+  f.coeff[8] = nr(2);
+  f.coeff[9] = dr;
+  return f;
+}
+
+}  // namespace
+
 EllipsoidFit fit_ellipsoid(std::span<const Vec3> h, double field_norm) {
   const std::size_t n = h.size();
   if (n < kMinPoints)
@@ -130,33 +192,8 @@ EllipsoidFit fit_ellipsoid(std::span<const Vec3> h, double field_norm) {
   C.bottomRightCorner<3, 3>() = -4.0 * Eigen::Matrix3d::Identity();
   const M6 Cinv = C.inverse();
 
-  // C^-1 Sch v = lambda v. The solution is the real eigenvector that
-  // satisfies the constraint (v^T C v > 0); for a PD Sch there is exactly
-  // one, with lambda > 0. Exact (noise-free) points make Sch singular and
-  // lambda ~ 0 of either sign, so the sign of v^T C v decides, and the
-  // smallest algebraic residual among several candidates.
-  const Eigen::EigenSolver<M6> es(Cinv * Sch);
-  if (es.info() != Eigen::Success) degenerate("the eigenproblem did not converge");
-  const double lmax = es.eigenvalues().cwiseAbs().maxCoeff();
-  double best = std::numeric_limits<double>::infinity();
-  V6 v1 = V6::Zero();
-  bool found = false;
-  for (int i = 0; i < 6; ++i) {
-    const auto lam = es.eigenvalues()(i);
-    if (std::abs(lam.imag()) > 1e-10 * lmax) continue;
-    V6 v = es.eigenvectors().col(i).real();
-    if (!(v.norm() > 0.0)) continue;
-    v.normalize();
-    const double c = v.dot(C * v);
-    if (!(c > 1e-10)) continue;
-    const double obj = v.dot(Sch * v) / c;
-    if (obj < best) {
-      best = obj;
-      v1 = v / std::sqrt(c);
-      found = true;
-    }
-  }
-  if (!found) degenerate("no eigenvector satisfies the ellipsoid constraint 4J - I^2 > 0");
+  double best = 0.0;
+  const V6 v1 = constrained_eigenvector(Sch, C, Cinv, best);
   const Eigen::Vector4d v2 = -S22inv_S21 * v1;
 
   // Coefficients in the normalised coordinates x' = (x - m)/sc.
@@ -166,29 +203,7 @@ EllipsoidFit fit_ellipsoid(std::span<const Vec3> h, double field_norm) {
   EllipsoidFit fn = ellipsoid_from_quadric(u, field_norm);
   fn.eigenvalue = best;
 
-  // Back to input units: centre m + sc c', correction A'^-1 / sc, and the
-  // quadric x^T M x + 2 n^T x + d with M = M', n = sc n' - M' m,
-  // d = m^T M' m - 2 sc n'^T m + sc^2 d' (multiplied by sc^2, which keeps
-  // 4J - I^2 = 1).
-  EllipsoidFit f = fn;
-  const V3 cp(fn.centre[0], fn.centre[1], fn.centre[2]);
-  f.centre = to_array(V3(m + sc * cp));
-  for (auto& r : f.correction)
-    for (double& x : r) x /= sc;
-  for (double& a : f.semi_axes) a *= sc;
-  M3 Mp;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) Mp(i, j) = fn.M[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)];
-  const V3 np(fn.n[0], fn.n[1], fn.n[2]);
-  const V3 nr = sc * np - Mp * m;
-  const double dr = m.dot(Mp * m) - 2.0 * sc * np.dot(m) + sc * sc * fn.d;
-  f.n = to_array(nr);
-  f.d = dr;
-  f.coeff[6] = nr(0);
-  f.coeff[7] = nr(1);
-  f.coeff[8] = nr(2);
-  f.coeff[9] = dr;
-  return f;
+  return to_input_units(fn, m, sc);
 }
 
 }  // namespace cubecal::mag

@@ -13,6 +13,7 @@
 #include "cubecal/calib/ellipsoid_fit.hpp"
 #include "cubecal/calib/twostep.hpp"
 #include "cubecal/error.hpp"
+#include "../math/detail/eigen_matrix.hpp"
 #include "detail/eigen_vec3.hpp"
 
 namespace cubecal::mag {
@@ -195,7 +196,11 @@ void check_coverage(const Coverage& c, Method m, double F) {
                 fmt_g(kMaxResultantFull) + ", 0 for the whole sphere");
 }
 
-Result calibrate(std::span<const Vec3> h_in, const Options& opt) {
+namespace {
+
+// The points, the norms and the options, as the header's CalibrationErrors
+// say; true when the field norm is given per point.
+bool check_input(std::span<const Vec3> h_in, const Options& opt) {
   const std::size_t n_in = h_in.size();
   if (n_in < kMinPoints)
     throw CalibrationError(CalibrationReason::too_few_points, "magnetometer calibration needs at least " +
@@ -224,14 +229,13 @@ Result calibrate(std::span<const Vec3> h_in, const Options& opt) {
       if (!(f > 0.0) || !std::isfinite(f))
         throw CalibrationError(CalibrationReason::field_norm, "the field norm must be positive");
   }
+  return per_point;
+}
 
-  Result r;
-  r.method = opt.method;
-  r.reject_sigma = opt.reject_sigma;
-
-  // Outliers (Magneto's rule, one pass).
-  std::vector<Vec3> h;
-  std::vector<double> Hk;
+// Magneto's outlier rule (one pass) on the points, and on their per-point
+// norms alongside; what was rejected goes into r.
+void select_points(std::span<const Vec3> h_in, const Options& opt, bool per_point, Result& r, std::vector<Vec3>& h,
+                   std::vector<double>& Hk) {
   if (opt.reject_sigma > 0.0) {
     const OutlierRejection rej = reject_outliers(h_in, opt.reject_sigma);
     r.rejected = rej.rejected;
@@ -252,8 +256,13 @@ Result calibrate(std::span<const Vec3> h_in, const Options& opt) {
     throw CalibrationError(CalibrationReason::too_few_points,
                            "only " + std::to_string(h.size()) + " points left after outlier rejection, " +
                                std::to_string(kMinPoints) + " needed (raise the rejection level)");
+}
 
-  // Field norm.
+// F: the mean of the per-point norms, the norm given, or Magneto's default
+// (the mean raw |h|); Hk then holds the one norm.
+void set_field_norm(std::span<const Vec3> h_in, const Options& opt, bool per_point, Result& r,
+                    std::vector<double>& Hk) {
+  const std::size_t n_in = h_in.size();
   if (per_point) {
     double s = 0.0;
     for (double f : Hk) s += f;
@@ -277,93 +286,92 @@ Result calibrate(std::span<const Vec3> h_in, const Options& opt) {
       throw CalibrationError(CalibrationReason::field_norm, "the field norm must be positive (all points are zero)");
   }
   if (!per_point) Hk.assign(1, r.field_norm);
+}
 
-  r.coverage = sphere_coverage(h);
-  if (opt.check_coverage) check_coverage(r.coverage, opt.method, r.field_norm);
-  if (opt.method == Method::twostep &&
-      (r.coverage.lambda_min < kMinLambdaFull || r.coverage.resultant > kMaxResultantFull))
-    r.notes.push_back(
-        "partial sphere coverage: the bias is less certain along the poorly covered direction (see "
-        "bias_sigma)");
-
+// The ellipsoid fit's b and W = A^-1, with their covariance from the
+// geometric residuals.
+void fit_with_ellipsoid(const std::vector<Vec3>& h, const Options& opt, Result& r) {
   const std::size_t n = h.size();
-  if (opt.method == Method::ellipsoid) {
-    const EllipsoidFit f = fit_ellipsoid(h, r.field_norm);
-    r.bias = f.centre;
-    r.soft_iron = f.correction;
-    // Covariance of (b, W = A^-1) from the geometric residuals
-    // r_k = |W (h_k - b)| - F linearised at the fit, sigma_k = s |W u_k|.
-    const M3 W = to_eigen(r.soft_iron);
-    const V3 b = to_eigen(r.bias);
-    Eigen::Matrix<double, 9, 9> JtJ = Eigen::Matrix<double, 9, 9>::Zero();
-    std::vector<double> res(n), g2(n);
-    std::vector<Eigen::Matrix<double, 9, 1>> rows(n);
-    for (std::size_t k = 0; k < n; ++k) {
-      const V3 x = to_eigen(h[k]) - b;
-      const V3 y = W * x;
-      const double len = y.norm();
-      const V3 u = len > 0.0 ? V3(y / len) : V3::UnitX();
-      res[k] = len - r.field_norm;
-      g2[k] = (W * u).squaredNorm();
-      Eigen::Matrix<double, 9, 1> row;
-      row.head<3>() = -(W * u);
-      for (int e = 0; e < 6; ++e) {
-        const int i = kSymI[e], j = kSymJ[e];
-        row(3 + e) = i == j ? u(i) * x(i) : u(i) * x(j) + u(j) * x(i);
-      }
-      rows[k] = row;
+  const EllipsoidFit f = fit_ellipsoid(h, r.field_norm);
+  r.bias = f.centre;
+  r.soft_iron = f.correction;
+  // Covariance of (b, W = A^-1) from the geometric residuals
+  // r_k = |W (h_k - b)| - F linearised at the fit, sigma_k = s |W u_k|.
+  const M3 W = to_eigen(r.soft_iron);
+  const V3 b = to_eigen(r.bias);
+  Eigen::Matrix<double, 9, 9> JtJ = Eigen::Matrix<double, 9, 9>::Zero();
+  std::vector<double> res(n), g2(n);
+  std::vector<Eigen::Matrix<double, 9, 1>> rows(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const V3 x = to_eigen(h[k]) - b;
+    const V3 y = W * x;
+    const double len = y.norm();
+    const V3 u = len > 0.0 ? V3(y / len) : V3::UnitX();
+    res[k] = len - r.field_norm;
+    g2[k] = (W * u).squaredNorm();
+    Eigen::Matrix<double, 9, 1> row;
+    row.head<3>() = -(W * u);
+    for (int e = 0; e < 6; ++e) {
+      const int i = kSymI[e], j = kSymJ[e];
+      row(3 + e) = i == j ? u(i) * x(i) : u(i) * x(j) + u(j) * x(i);
     }
-    r.dof = n - 9;
-    double s2 = opt.noise * opt.noise;
-    if (opt.noise == 0.0) {
-      double acc = 0.0;
-      for (std::size_t k = 0; k < n; ++k) acc += res[k] * res[k] / g2[k];
-      s2 = std::max(acc / static_cast<double>(r.dof), 1e-300);
-    }
-    r.chi2 = 0.0;
-    for (std::size_t k = 0; k < n; ++k) {
-      const double v = s2 * g2[k];
-      r.chi2 += res[k] * res[k] / v;
-      JtJ.noalias() += rows[k] * rows[k].transpose() / v;
-    }
-    r.noise = std::sqrt(s2);
-    const Eigen::LDLT<Eigen::Matrix<double, 9, 9>> l(JtJ);
-    Eigen::Matrix<double, 9, 9> C = l.solve(Eigen::Matrix<double, 9, 9>::Identity());
-    C = 0.5 * (C + C.transpose());
-    r.covariance.assign(9, std::vector<double>(9));
-    for (int i = 0; i < 9; ++i)
-      for (int j = 0; j < 9; ++j) r.covariance[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)] = C(i, j);
-    if (f.axis_ratio > 2.0)
-      r.notes.push_back("axis ratio " + fmt_g(f.axis_ratio) +
-                        " > 2: beyond the range the k = 4 constraint is meant for; check the data");
-  } else {
-    TwostepOptions to;
-    to.full = opt.method == Method::twostep_full;
-    to.noise = opt.noise;
-    to.mean_correction = opt.mean_correction;
-    to.eta_tol = opt.eta_tol;
-    to.max_iterations = opt.max_iterations;
-    const TwostepResult t = twostep(h, Hk, to);
-    r.bias = t.offset;
-    if (to.full) {
-      for (std::size_t i = 0; i < 3; ++i)
-        for (std::size_t j = 0; j < 3; ++j) r.soft_iron[i][j] = (i == j ? 1.0 : 0.0) + t.D[i][j];
-    }
-    r.covariance = t.offset_cov;
-    r.chi2 = t.chi2;
-    r.dof = t.dof;
-    r.noise = t.noise;
-    r.iterations = t.iterations;
-    r.converged = t.converged;
-    r.eta = t.eta;
-    if (to.full && t.centred_degenerate)
-      r.notes.push_back(
-          "TWOSTEP step 1 is degenerate (one field norm for all points): the common gain comes from "
-          "step 2 alone");
-    if (!t.converged)
-      r.notes.push_back("TWOSTEP stopped after " + std::to_string(t.iterations) +
-                        " iterations with eta = " + fmt_g(t.eta) + " (not below " + fmt_g(opt.eta_tol) + ")");
+    rows[k] = row;
   }
+  r.dof = n - 9;
+  double s2 = opt.noise * opt.noise;
+  if (opt.noise == 0.0) {
+    double acc = 0.0;
+    for (std::size_t k = 0; k < n; ++k) acc += res[k] * res[k] / g2[k];
+    s2 = std::max(acc / static_cast<double>(r.dof), 1e-300);
+  }
+  r.chi2 = 0.0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const double v = s2 * g2[k];
+    r.chi2 += res[k] * res[k] / v;
+    JtJ.noalias() += rows[k] * rows[k].transpose() / v;
+  }
+  r.noise = std::sqrt(s2);
+  const Eigen::LDLT<Eigen::Matrix<double, 9, 9>> l(JtJ);
+  Eigen::Matrix<double, 9, 9> C = l.solve(Eigen::Matrix<double, 9, 9>::Identity());
+  C = 0.5 * (C + C.transpose());
+  r.covariance = cubecal::detail::to_matrix(C);
+  if (f.axis_ratio > 2.0)
+    r.notes.push_back("axis ratio " + fmt_g(f.axis_ratio) +
+                      " > 2: beyond the range the k = 4 constraint is meant for; check the data");
+}
+
+// TWOSTEP (bias only, or the full form) mapped to the result.
+void fit_with_twostep(const std::vector<Vec3>& h, const std::vector<double>& Hk, const Options& opt, Result& r) {
+  TwostepOptions to;
+  to.full = opt.method == Method::twostep_full;
+  to.noise = opt.noise;
+  to.mean_correction = opt.mean_correction;
+  to.eta_tol = opt.eta_tol;
+  to.max_iterations = opt.max_iterations;
+  const TwostepResult t = twostep(h, Hk, to);
+  r.bias = t.offset;
+  if (to.full) {
+    for (std::size_t i = 0; i < 3; ++i)
+      for (std::size_t j = 0; j < 3; ++j) r.soft_iron[i][j] = (i == j ? 1.0 : 0.0) + t.D[i][j];
+  }
+  r.covariance = t.offset_cov;
+  r.chi2 = t.chi2;
+  r.dof = t.dof;
+  r.noise = t.noise;
+  r.iterations = t.iterations;
+  r.converged = t.converged;
+  r.eta = t.eta;
+  if (to.full && t.centred_degenerate)
+    r.notes.push_back(
+        "TWOSTEP step 1 is degenerate (one field norm for all points): the common gain comes from "
+        "step 2 alone");
+  if (!t.converged)
+    r.notes.push_back("TWOSTEP stopped after " + std::to_string(t.iterations) +
+                      " iterations with eta = " + fmt_g(t.eta) + " (not below " + fmt_g(opt.eta_tol) + ")");
+}
+
+// The noise used (estimated or given) and, for a given noise, the chi2 test.
+void judge_noise(const Options& opt, Result& r) {
   r.noise_estimated = opt.noise == 0.0;
   if (r.noise_estimated)
     r.notes.push_back("noise s = " + fmt_g(r.noise) +
@@ -373,16 +381,18 @@ Result calibrate(std::span<const Vec3> h_in, const Options& opt) {
     const boost::math::chi_squared_distribution<double> chi(static_cast<double>(r.dof));
     r.p_value = boost::math::cdf(boost::math::complement(chi, std::max(r.chi2, 0.0)));
   }
+}
 
-  // Names, sigmas, derived figures.
+// Covariance names, the sigmas of b and W, the semi-axes and axis ratio.
+void describe_parameters(Result& r) {
   r.covariance_names = {"b1", "b2", "b3"};
-  if (r.covariance.size() == 9)
+  if (r.covariance.rows() == 9)
     for (const char* nm : kSoftNames) r.covariance_names.emplace_back(nm);
-  for (std::size_t i = 0; i < 3; ++i) r.bias_sigma[i] = std::sqrt(std::max(r.covariance[i][i], 0.0));
-  if (r.covariance.size() == 9)
+  for (std::size_t i = 0; i < 3; ++i) r.bias_sigma[i] = std::sqrt(std::max(r.covariance(i, i), 0.0));
+  if (r.covariance.rows() == 9)
     for (int e = 0; e < 6; ++e) {
       const double sd =
-          std::sqrt(std::max(r.covariance[static_cast<std::size_t>(3 + e)][static_cast<std::size_t>(3 + e)], 0.0));
+          std::sqrt(std::max(r.covariance(static_cast<std::size_t>(3 + e), static_cast<std::size_t>(3 + e)), 0.0));
       r.soft_iron_sigma[static_cast<std::size_t>(kSymI[e])][static_cast<std::size_t>(kSymJ[e])] = sd;
       r.soft_iron_sigma[static_cast<std::size_t>(kSymJ[e])][static_cast<std::size_t>(kSymI[e])] = sd;
     }
@@ -390,6 +400,36 @@ Result calibrate(std::span<const Vec3> h_in, const Options& opt) {
   const V3 wl = ew.eigenvalues();  // ascending: semi-axes F / w descending
   for (int i = 0; i < 3; ++i) r.semi_axes[static_cast<std::size_t>(i)] = r.field_norm / wl(i);
   r.axis_ratio = wl(2) / wl(0);
+}
+
+}  // namespace
+
+Result calibrate(std::span<const Vec3> h_in, const Options& opt) {
+  const bool per_point = check_input(h_in, opt);
+
+  Result r;
+  r.method = opt.method;
+  r.reject_sigma = opt.reject_sigma;
+
+  std::vector<Vec3> h;
+  std::vector<double> Hk;
+  select_points(h_in, opt, per_point, r, h, Hk);
+  set_field_norm(h_in, opt, per_point, r, Hk);
+
+  r.coverage = sphere_coverage(h);
+  if (opt.check_coverage) check_coverage(r.coverage, opt.method, r.field_norm);
+  if (opt.method == Method::twostep &&
+      (r.coverage.lambda_min < kMinLambdaFull || r.coverage.resultant > kMaxResultantFull))
+    r.notes.push_back(
+        "partial sphere coverage: the bias is less certain along the poorly covered direction (see "
+        "bias_sigma)");
+
+  if (opt.method == Method::ellipsoid)
+    fit_with_ellipsoid(h, opt, r);
+  else
+    fit_with_twostep(h, Hk, opt, r);
+  judge_noise(opt, r);
+  describe_parameters(r);
 
   r.before = raw_norm_error(h, Hk);
   r.after = norm_error(h, r.bias, r.soft_iron, Hk);

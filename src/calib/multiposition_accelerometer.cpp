@@ -13,6 +13,7 @@
 #include "cubecal/calib/static_detection.hpp"
 #include "cubecal/error.hpp"
 #include "../detail/levenberg_marquardt.hpp"
+#include "../math/detail/eigen_matrix.hpp"
 #include "detail/multiposition_common.hpp"
 
 namespace cubecal::multipos {
@@ -88,6 +89,26 @@ std::vector<Vec3> fit_samples(std::span<const Vec3> x, const std::vector<IndexRa
   return out;
 }
 
+// The initial guess: the bias guess, and the scale guess or, without one,
+// g over the mean |a - bias guess| of the initial static period.
+TriadCalibration initial_guess(std::span<const Vec3> init, const Options& opt) {
+  using R = CalibrationReason;
+  TriadCalibration init_model;
+  init_model.bias = opt.acc_bias_guess;
+  double s0 = opt.acc_scale_guess;
+  if (s0 == 0.0) {
+    double mean_norm = 0.0;
+    for (const Vec3& a : init)
+      mean_norm += std::hypot(a[0] - init_model.bias[0], a[1] - init_model.bias[1], a[2] - init_model.bias[2]);
+    mean_norm /= static_cast<double>(init.size());
+    if (!(mean_norm > 0.0))
+      fail(R::scale_guess, "the initial static period reads the bias guess exactly: give a scale guess");
+    s0 = opt.g / mean_norm;
+  }
+  init_model.scale = {s0, s0, s0};
+  return init_model;
+}
+
 }  // namespace
 
 AccResult calibrate_accelerometer(const TriadSeries& acc, const Options& opt) {
@@ -112,20 +133,7 @@ AccResult calibrate_accelerometer(const TriadSeries& acc, const Options& opt) {
          "the accelerometer does not vary at all over the initial static period: no noise level to set the "
          "static threshold");
 
-  // Initial guess.
-  TriadCalibration init_model;
-  init_model.bias = opt.acc_bias_guess;
-  double s0 = opt.acc_scale_guess;
-  if (s0 == 0.0) {
-    double mean_norm = 0.0;
-    for (const Vec3& a : init)
-      mean_norm += std::hypot(a[0] - init_model.bias[0], a[1] - init_model.bias[1], a[2] - init_model.bias[2]);
-    mean_norm /= static_cast<double>(init.size());
-    if (!(mean_norm > 0.0))
-      fail(R::scale_guess, "the initial static period reads the bias guess exactly: give a scale guess");
-    s0 = opt.g / mean_norm;
-  }
-  init_model.scale = {s0, s0, s0};
+  const TriadCalibration init_model = initial_guess(init, opt);
   res.initial = init_model;
   const VectorXd p0 = acc_params(init_model);
 
@@ -184,7 +192,7 @@ AccResult calibrate_accelerometer(const TriadSeries& acc, const Options& opt) {
   const double m = static_cast<double>(best.r.size());
   res.sigma0 = m > 9 ? std::sqrt(best.cost / (m - 9)) : std::numeric_limits<double>::quiet_NaN();
   const MatrixXd cov = res.sigma0 * res.sigma0 * best.inv_jtj;
-  res.covariance = detail::to_rows(cov);
+  res.covariance = cubecal::detail::to_matrix(cov);
   for (Eigen::Index i = 0; i < 9; ++i) res.sigma.push_back(std::sqrt(cov(i, i)));
   VectorXd r0;
   acc_eval(best_samples, opt.g)(p0, r0, nullptr);

@@ -15,6 +15,7 @@
 #include "cubecal/error.hpp"
 #include "cubecal/stats/sampling.hpp"
 #include "../detail/levenberg_marquardt.hpp"
+#include "../math/detail/eigen_matrix.hpp"
 #include "detail/multiposition_common.hpp"
 #include "detail/quaternion_rk4.hpp"
 
@@ -88,22 +89,9 @@ double angle_between_deg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   return std::atan2(a.cross(b).norm(), a.dot(b)) * 180.0 / std::numbers::pi;
 }
 
-}  // namespace
-
-GyroResult calibrate_gyroscope(const TriadSeries& acc, const AccResult& ar, const TriadSeries& gyro,
-                               const Options& opt) {
-  using R = CalibrationReason;
-  detail::check_options(opt);
-  const std::vector<double> ta = detail::sample_times(acc, "accelerometer");
-  const std::vector<double> tg = detail::sample_times(gyro, "gyroscope");
-  if (ar.intervals.size() < 2) fail(R::too_few_intervals, "the gyroscope fit needs at least 2 static intervals");
-  for (const IndexRange& i : ar.intervals)
-    if (i.end >= acc.x.size() || i.begin >= i.end)
-      fail(R::too_few_intervals, "static intervals do not match the accelerometer record");
-
-  GyroResult res;
-  res.init_samples = detail::init_count(tg, opt.init_static_s);
-  if (res.init_samples < 2) fail(R::initial_static, "the initial static period holds fewer than 2 gyroscope samples");
+// The mean and the standard error of the mean of each axis over the first
+// res.init_samples gyroscope samples: the initial-period bias.
+void set_init_bias(const TriadSeries& gyro, GyroResult& res) {
   for (int c = 0; c < 3; ++c) {
     double mean = 0.0;
     for (std::size_t k = 0; k < res.init_samples; ++k) mean += gyro.x[k][c];
@@ -114,29 +102,38 @@ GyroResult calibrate_gyroscope(const TriadSeries& acc, const AccResult& ar, cons
     res.init_bias_sigma[c] =
         std::sqrt(ss / static_cast<double>(res.init_samples - 1) / static_cast<double>(res.init_samples));
   }
+}
 
-  // Gravity directions from the calibrated accelerometer: the calibration is
-  // affine, so the direction of the calibrated mean is that of the raw mean.
+// The raw accelerometer mean of each static interval.
+std::vector<Vec3> raw_interval_means(const TriadSeries& acc, const std::vector<IndexRange>& intervals) {
   std::vector<Vec3> raw_means;
-  for (const IndexRange& i : ar.intervals) {
+  for (const IndexRange& i : intervals) {
     Vec3 m{};
     for (std::size_t k = i.begin; k < i.end; ++k)
       for (int c = 0; c < 3; ++c) m[c] += acc.x[k][c];
     for (double& v : m) v /= static_cast<double>(i.size());
     raw_means.push_back(m);
   }
-  auto directions = [&raw_means](const TriadCalibration& am) {
-    std::vector<Eigen::Vector3d> u;
-    for (const Vec3& m : raw_means) {
-      const Vec3 a = am.apply(m);
-      u.push_back(Eigen::Vector3d(a[0], a[1], a[2]).normalized());
-    }
-    return u;
-  };
-  const std::vector<Eigen::Vector3d> u = directions(ar.model);
+  return raw_means;
+}
 
-  // A gap in the gyroscope record during a motion loses part of the rotation:
-  // the integral across it would be a guess.
+// Gravity directions from the calibrated accelerometer: the calibration is
+// affine, so the direction of the calibrated mean is that of the raw mean.
+std::vector<Eigen::Vector3d> directions(const std::vector<Vec3>& raw_means, const TriadCalibration& am) {
+  std::vector<Eigen::Vector3d> u;
+  for (const Vec3& m : raw_means) {
+    const Vec3 a = am.apply(m);
+    u.push_back(Eigen::Vector3d(a[0], a[1], a[2]).normalized());
+  }
+  return u;
+}
+
+// The gyroscope samples (less the initial bias) of each motion between
+// consecutive static intervals. A gap in the gyroscope record during a
+// motion loses part of the rotation: the integral across it would be a guess.
+std::vector<GyroPair> motion_pairs(const TriadSeries& gyro, const AccResult& ar, const std::vector<double>& ta,
+                                   const std::vector<double>& tg, const GyroResult& res) {
+  using R = CalibrationReason;
   const double gap_s = gyro.t.empty() ? 0.0 : kGapPeriods * check_sampling(tg).period_s;
   std::vector<GyroPair> pairs;
   for (std::size_t k = 1; k < ar.intervals.size(); ++k) {
@@ -160,6 +157,88 @@ GyroResult calibrate_gyroscope(const TriadSeries& acc, const AccResult& ar, cons
     }
     pairs.push_back(std::move(p));
   }
+  return pairs;
+}
+
+// d r / d (accelerometer parameters) at the fit, and the accelerometer
+// covariance: their part of the gyroscope covariance is S D Sa D^T S^T.
+void add_accelerometer_errors(const std::vector<GyroPair>& pairs, const std::vector<Vec3>& raw_means,
+                              const AccResult& ar, const Options& opt, const LmOutcome& lm, const MatrixXd& S,
+                              MatrixXd& cov) {
+  MatrixXd Sa(9, 9), D(lm.r.size(), 9);
+  const VectorXd pa = acc_params(ar.model);
+  for (Eigen::Index j = 0; j < 9; ++j) {
+    for (Eigen::Index i = 0; i < 9; ++i)
+      Sa(i, j) = ar.covariance(static_cast<std::size_t>(i), static_cast<std::size_t>(j));
+    const double typ = j < 3 ? 1e-2 : j < 6 ? std::abs(pa(j)) : 1e-2 * opt.g / std::abs(pa(3 + (j - 6)));
+    const double h = 1e-6 * std::max(std::abs(pa(j)), typ);
+    VectorXd pp = pa, pm = pa;
+    pp(j) += h;
+    pm(j) -= h;
+    VectorXd rp, rm;
+    gyro_residuals(pairs, directions(raw_means, acc_model(pp)), lm.p, rp);
+    gyro_residuals(pairs, directions(raw_means, acc_model(pm)), lm.p, rm);
+    D.col(j) = (rp - rm) / (pp(j) - pm(j));
+  }
+  if (Sa.allFinite() && D.allFinite()) cov += (S * D) * Sa * (S * D).transpose();
+}
+
+// The same for the initial-period bias, when the fit does not refine it.
+void add_init_bias_errors(const std::vector<GyroPair>& pairs, const std::vector<Eigen::Vector3d>& u,
+                          const GyroResult& res, double bias_typical, const LmOutcome& lm, const MatrixXd& S,
+                          MatrixXd& cov) {
+  MatrixXd D(lm.r.size(), 3);
+  Eigen::Matrix3d Sb = Eigen::Matrix3d::Zero();
+  for (int c = 0; c < 3; ++c) {
+    Sb(c, c) = res.init_bias_sigma[c] * res.init_bias_sigma[c];
+    const double h = 1e-3 * bias_typical;
+    Vec3 sp{}, sm{};
+    sp[c] = h;
+    sm[c] = -h;
+    VectorXd rp, rm;
+    gyro_residuals(pairs, u, lm.p, rp, sp);
+    gyro_residuals(pairs, u, lm.p, rm, sm);
+    D.col(c) = (rp - rm) / (2.0 * h);
+  }
+  if (D.allFinite()) cov += (S * D) * Sb * (S * D).transpose();
+}
+
+// The rms (and the largest) angle between the predicted and the measured
+// gravity direction over the pairs, degrees.
+void angles(const std::vector<GyroPair>& pairs, const std::vector<Eigen::Vector3d>& u, const VectorXd& r, double& rms,
+            double* mx) {
+  double s = 0.0;
+  for (std::size_t k = 0; k < pairs.size(); ++k) {
+    const Eigen::Vector3d a = r.segment<3>(ei(3 * k)) + u[k + 1];
+    const double ang = angle_between_deg(a, u[k + 1]);
+    s += ang * ang;
+    if (mx) *mx = std::max(*mx, ang);
+  }
+  rms = std::sqrt(s / static_cast<double>(pairs.size()));
+}
+
+}  // namespace
+
+GyroResult calibrate_gyroscope(const TriadSeries& acc, const AccResult& ar, const TriadSeries& gyro,
+                               const Options& opt) {
+  using R = CalibrationReason;
+  detail::check_options(opt);
+  const std::vector<double> ta = detail::sample_times(acc, "accelerometer");
+  const std::vector<double> tg = detail::sample_times(gyro, "gyroscope");
+  if (ar.intervals.size() < 2) fail(R::too_few_intervals, "the gyroscope fit needs at least 2 static intervals");
+  for (const IndexRange& i : ar.intervals)
+    if (i.end >= acc.x.size() || i.begin >= i.end)
+      fail(R::too_few_intervals, "static intervals do not match the accelerometer record");
+
+  GyroResult res;
+  res.init_samples = detail::init_count(tg, opt.init_static_s);
+  if (res.init_samples < 2) fail(R::initial_static, "the initial static period holds fewer than 2 gyroscope samples");
+  set_init_bias(gyro, res);
+
+  const std::vector<Vec3> raw_means = raw_interval_means(acc, ar.intervals);
+  const std::vector<Eigen::Vector3d> u = directions(raw_means, ar.model);
+
+  const std::vector<GyroPair> pairs = motion_pairs(gyro, ar, ta, tg, res);
   res.pairs = pairs.size();
 
   const Eigen::Index np = opt.refine_gyro_bias ? 12 : 9;
@@ -198,41 +277,10 @@ GyroResult calibrate_gyroscope(const TriadSeries& acc, const AccResult& ar, cons
   // G dx = -(J^T J)^-1 J^T (dr/dx) dx; their covariance adds G S_x G^T.
   const MatrixXd S = -lm.inv_jtj * lm.J.transpose();
   MatrixXd cov = cov_fit;
-  if (ar.covariance.size() == 9 && ar.values.size() == 9) {
-    MatrixXd Sa(9, 9), D(lm.r.size(), 9);
-    const VectorXd pa = acc_params(ar.model);
-    for (Eigen::Index j = 0; j < 9; ++j) {
-      for (Eigen::Index i = 0; i < 9; ++i)
-        Sa(i, j) = ar.covariance[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)];
-      const double typ = j < 3 ? 1e-2 : j < 6 ? std::abs(pa(j)) : 1e-2 * opt.g / std::abs(pa(3 + (j - 6)));
-      const double h = 1e-6 * std::max(std::abs(pa(j)), typ);
-      VectorXd pp = pa, pm = pa;
-      pp(j) += h;
-      pm(j) -= h;
-      VectorXd rp, rm;
-      gyro_residuals(pairs, directions(acc_model(pp)), lm.p, rp);
-      gyro_residuals(pairs, directions(acc_model(pm)), lm.p, rm);
-      D.col(j) = (rp - rm) / (pp(j) - pm(j));
-    }
-    if (Sa.allFinite() && D.allFinite()) cov += (S * D) * Sa * (S * D).transpose();
-  }
-  if (np == 9) {
-    MatrixXd D(lm.r.size(), 3);
-    Eigen::Matrix3d Sb = Eigen::Matrix3d::Zero();
-    for (int c = 0; c < 3; ++c) {
-      Sb(c, c) = res.init_bias_sigma[c] * res.init_bias_sigma[c];
-      const double h = 1e-3 * bias_typical;
-      Vec3 sp{}, sm{};
-      sp[c] = h;
-      sm[c] = -h;
-      VectorXd rp, rm;
-      gyro_residuals(pairs, u, lm.p, rp, sp);
-      gyro_residuals(pairs, u, lm.p, rm, sm);
-      D.col(c) = (rp - rm) / (2.0 * h);
-    }
-    if (D.allFinite()) cov += (S * D) * Sb * (S * D).transpose();
-  }
-  res.covariance = detail::to_rows(cov);
+  if (ar.covariance.rows() == 9 && ar.values.size() == 9)
+    add_accelerometer_errors(pairs, raw_means, ar, opt, lm, S, cov);
+  if (np == 9) add_init_bias_errors(pairs, u, res, bias_typical, lm, S, cov);
+  res.covariance = cubecal::detail::to_matrix(cov);
   for (Eigen::Index i = 0; i < np; ++i) {
     res.sigma.push_back(std::sqrt(cov(i, i)));
     res.sigma_fit.push_back(std::sqrt(cov_fit(i, i)));
@@ -245,18 +293,8 @@ GyroResult calibrate_gyroscope(const TriadSeries& acc, const AccResult& ar, cons
   gyro_residuals(pairs, u, p0, r0);
   res.before = detail::residual_stats(r0);
   res.after = detail::residual_stats(lm.r);
-  auto angles = [&](const VectorXd& r, double& rms, double* mx) {
-    double s = 0.0;
-    for (std::size_t k = 0; k < pairs.size(); ++k) {
-      const Eigen::Vector3d a = r.segment<3>(ei(3 * k)) + u[k + 1];
-      const double ang = angle_between_deg(a, u[k + 1]);
-      s += ang * ang;
-      if (mx) *mx = std::max(*mx, ang);
-    }
-    rms = std::sqrt(s / static_cast<double>(pairs.size()));
-  };
-  angles(r0, res.angle_rms_before_deg, nullptr);
-  angles(lm.r, res.angle_rms_after_deg, &res.angle_max_after_deg);
+  angles(pairs, u, r0, res.angle_rms_before_deg, nullptr);
+  angles(pairs, u, lm.r, res.angle_rms_after_deg, &res.angle_max_after_deg);
   res.iterations = lm.iterations;
   res.converged = lm.converged;
   return res;

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "cubecal/error.hpp"
+#include "../math/detail/eigen_matrix.hpp"
 #include "detail/eigen_vec3.hpp"
 
 namespace cubecal {
@@ -17,15 +18,9 @@ using Eigen::Index;
 using Mat = Eigen::MatrixXd;
 using calib::detail::to_array;
 using calib::detail::to_eigen;
+using cubecal::detail::to_matrix;
 
 const char* const kNeed = "need rates about at least 3 independent axes plus one more (4 affinely independent)";
-
-Covariance12 to_array(const Eigen::Matrix<double, 12, 12>& m) {
-  Covariance12 out{};
-  for (int i = 0; i < 12; ++i)
-    for (int j = 0; j < 12; ++j) out[i][j] = m(i, j);
-  return out;
-}
 
 // Rank of [w 1] with the rate columns scaled to the largest rate, so that
 // the test does not depend on the unit.
@@ -56,14 +51,8 @@ ResidualStats stats(const Mat& E) {
   return s;
 }
 
-}  // namespace
-
-std::array<double, 3> earth_rate_along(const std::array<double, 3>& axis, double unit_per_rad_s) {
-  return {kEarthRateRadPerS * unit_per_rad_s * axis[0], kEarthRateRadPerS * unit_per_rad_s * axis[1],
-          kEarthRateRadPerS * unit_per_rad_s * axis[2]};
-}
-
-RateTableCalibration calibrate_rate_table(std::span<const Plateau> plateaus, const RateTableOptions& opt) {
+// Enough plateaus, each with a reference rate and finite means.
+void check_plateaus(std::span<const Plateau> plateaus) {
   const std::size_t P = plateaus.size();
   if (P < 4)
     throw CalibrationError(CalibrationReason::too_few_points,
@@ -79,6 +68,77 @@ RateTableCalibration calibrate_rate_table(std::span<const Plateau> plateaus, con
       throw CalibrationError(CalibrationReason::bad_data,
                              "plateau " + std::to_string(j + 1) + " has a non-finite rate or no samples");
   }
+}
+
+// Delta method: dA = -A dS A, dbeta = -A dS beta - A db_g.
+Eigen::Matrix<double, 12, 12> inverse_jacobian(const Eigen::Matrix3d& A, const Eigen::Vector3d& beta) {
+  Eigen::Matrix<double, 12, 12> J = Eigen::Matrix<double, 12, 12>::Zero();
+  for (int a = 0; a < 3; ++a)
+    for (int k = 0; k < 3; ++k) {
+      for (int m = 0; m < 3; ++m) {
+        for (int b = 0; b < 3; ++b) J(4 * a + b, 4 * k + m) = -A(a, k) * A(m, b);
+        J(4 * a + 3, 4 * k + m) = -A(a, k) * beta(m);
+      }
+      J(4 * a + 3, 4 * k + 3) = -A(a, k);
+    }
+  return J;
+}
+
+// Datasheet form: scale-factor errors S_ii - 1 and misalignment angles
+// atan(S_ij / S_ii), with their sigmas from F.
+void set_datasheet_form(const Eigen::Matrix3d& S, const Eigen::Matrix<double, 12, 12>& F, RateTableCalibration& c) {
+  for (int i = 0; i < 3; ++i) {
+    c.scale_factor_error[i] = S(i, i) - 1.0;
+    c.scale_factor_error_sigma[i] = c.S_sigma[i][i];
+    for (int j = 0; j < 3; ++j) {
+      if (i == j) continue;
+      c.misalignment[i][j] = std::atan(S(i, j) / S(i, i));
+      // Gradient of atan(S_ij / S_ii) with respect to S_ij and S_ii.
+      const double r2 = S(i, i) * S(i, i) + S(i, j) * S(i, j);
+      const double gij = S(i, i) / r2, gii = -S(i, j) / r2;
+      const int ij = 4 * i + j, ii = 4 * i + i;
+      c.misalignment_sigma[i][j] =
+          std::sqrt(std::max(0.0, gij * gij * F(ij, ij) + gii * gii * F(ii, ii) + 2.0 * gij * gii * F(ij, ii)));
+    }
+  }
+}
+
+// Eq. (12) over all plateau samples: within-plateau scatter mapped by A,
+// plus the spread of the plateau residuals (law of total covariance).
+Eigen::Matrix3d error_covariance(std::span<const Plateau> plateaus, const Mat& after, const Eigen::Matrix3d& A) {
+  const Index p = static_cast<Index>(plateaus.size());
+  double total = 0.0;
+  Eigen::Vector3d mean_error = Eigen::Vector3d::Zero();
+  for (Index j = 0; j < p; ++j) {
+    const double n = static_cast<double>(plateaus[static_cast<std::size_t>(j)].n);
+    total += n;
+    mean_error += n * after.row(j).transpose();
+  }
+  mean_error /= total;
+  Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
+  for (Index j = 0; j < p; ++j) {
+    const Plateau& pl = plateaus[static_cast<std::size_t>(j)];
+    const double n = static_cast<double>(pl.n);
+    Eigen::Matrix3d within;
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) within(a, b) = pl.cov[a][b];
+    const Eigen::Vector3d d = after.row(j).transpose() - mean_error;
+    C += (n - 1.0) * A * within * A.transpose() + n * d * d.transpose();
+  }
+  if (total > 1.0) C /= total - 1.0;
+  return C;
+}
+
+}  // namespace
+
+std::array<double, 3> earth_rate_along(const std::array<double, 3>& axis, double unit_per_rad_s) {
+  return {kEarthRateRadPerS * unit_per_rad_s * axis[0], kEarthRateRadPerS * unit_per_rad_s * axis[1],
+          kEarthRateRadPerS * unit_per_rad_s * axis[2]};
+}
+
+RateTableCalibration calibrate_rate_table(std::span<const Plateau> plateaus, const RateTableOptions& opt) {
+  const std::size_t P = plateaus.size();
+  check_plateaus(plateaus);
 
   // Y = X Theta, row j: [w_j^T 1] -> w_g,j^T.
   const Index p = static_cast<Index>(P);
@@ -136,22 +196,13 @@ RateTableCalibration calibrate_rate_table(std::span<const Plateau> plateaus, con
   const Eigen::Matrix3d A = lu.inverse();
   const Eigen::Vector3d beta = -A * bg;
 
-  // Delta method: dA = -A dS A, dbeta = -A dS beta - A db_g.
-  Eigen::Matrix<double, 12, 12> J = Eigen::Matrix<double, 12, 12>::Zero();
-  for (int a = 0; a < 3; ++a)
-    for (int k = 0; k < 3; ++k) {
-      for (int m = 0; m < 3; ++m) {
-        for (int b = 0; b < 3; ++b) J(4 * a + b, 4 * k + m) = -A(a, k) * A(m, b);
-        J(4 * a + 3, 4 * k + m) = -A(a, k) * beta(m);
-      }
-      J(4 * a + 3, 4 * k + 3) = -A(a, k);
-    }
+  const Eigen::Matrix<double, 12, 12> J = inverse_jacobian(A, beta);
   const Eigen::Matrix<double, 12, 12> V = J * F * J.transpose();
 
   c.S = to_array(S);
   c.A = to_array(A);
-  c.forward_cov = to_array(F);
-  c.inverse_cov = to_array(V);
+  c.forward_cov = to_matrix(F);
+  c.inverse_cov = to_matrix(V);
   for (int k = 0; k < 3; ++k) {
     c.bias[k] = bg(k);
     c.beta[k] = beta(k);
@@ -163,21 +214,7 @@ RateTableCalibration calibrate_rate_table(std::span<const Plateau> plateaus, con
     }
   }
 
-  // Datasheet form.
-  for (int i = 0; i < 3; ++i) {
-    c.scale_factor_error[i] = S(i, i) - 1.0;
-    c.scale_factor_error_sigma[i] = c.S_sigma[i][i];
-    for (int j = 0; j < 3; ++j) {
-      if (i == j) continue;
-      c.misalignment[i][j] = std::atan(S(i, j) / S(i, i));
-      // Gradient of atan(S_ij / S_ii) with respect to S_ij and S_ii.
-      const double r2 = S(i, i) * S(i, i) + S(i, j) * S(i, j);
-      const double gij = S(i, i) / r2, gii = -S(i, j) / r2;
-      const int ij = 4 * i + j, ii = 4 * i + i;
-      c.misalignment_sigma[i][j] =
-          std::sqrt(std::max(0.0, gij * gij * F(ij, ij) + gii * gii * F(ii, ii) + 2.0 * gij * gii * F(ij, ii)));
-    }
-  }
+  set_datasheet_form(S, F, c);
 
   // Residuals of the plateau means, before and after calibration.
   const Mat W = X.leftCols(3);
@@ -188,27 +225,7 @@ RateTableCalibration calibrate_rate_table(std::span<const Plateau> plateaus, con
   for (Index j = 0; j < p; ++j)
     for (int a = 0; a < 3; ++a) c.residuals_after[static_cast<std::size_t>(j)][a] = after(j, a);
 
-  // Eq. (12) over all plateau samples: within-plateau scatter mapped by A,
-  // plus the spread of the plateau residuals (law of total covariance).
-  double total = 0.0;
-  Eigen::Vector3d mean_error = Eigen::Vector3d::Zero();
-  for (Index j = 0; j < p; ++j) {
-    const double n = static_cast<double>(plateaus[static_cast<std::size_t>(j)].n);
-    total += n;
-    mean_error += n * after.row(j).transpose();
-  }
-  mean_error /= total;
-  Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
-  for (Index j = 0; j < p; ++j) {
-    const Plateau& pl = plateaus[static_cast<std::size_t>(j)];
-    const double n = static_cast<double>(pl.n);
-    Eigen::Matrix3d within;
-    for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b) within(a, b) = pl.cov[a][b];
-    const Eigen::Vector3d d = after.row(j).transpose() - mean_error;
-    C += (n - 1.0) * A * within * A.transpose() + n * d * d.transpose();
-  }
-  if (total > 1.0) C /= total - 1.0;
+  const Eigen::Matrix3d C = error_covariance(plateaus, after, A);
   c.error_covariance = to_array(C);
   return c;
 }

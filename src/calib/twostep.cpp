@@ -16,6 +16,7 @@
 #include <string>
 
 #include "cubecal/error.hpp"
+#include "../math/detail/eigen_matrix.hpp"
 #include "detail/eigen_vec3.hpp"
 
 namespace cubecal::mag {
@@ -29,14 +30,7 @@ using M3 = Eigen::Matrix3d;
 using V3 = Eigen::Vector3d;
 using calib::detail::to_array;
 using calib::detail::to_eigen;
-
-std::vector<std::vector<double>> to_rows(const MatrixXd& m) {
-  std::vector<std::vector<double>> r(static_cast<std::size_t>(m.rows()),
-                                     std::vector<double>(static_cast<std::size_t>(m.cols())));
-  for (Index i = 0; i < m.rows(); ++i)
-    for (Index j = 0; j < m.cols(); ++j) r[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)] = m(i, j);
-  return r;
-}
+using cubecal::detail::to_matrix;
 
 // Symmetric matrix from the 6 entries E11 E22 E33 E12 E13 E23.
 M3 sym(const double* e) {
@@ -237,11 +231,8 @@ Solution solve(const Problem& pr, double s2, bool mean_correction, const Twostep
   return s;
 }
 
-}  // namespace
-
-TwostepResult twostep(std::span<const Vec3> Bin, std::span<const double> Hin, const TwostepOptions& opt) {
-  const Model model(opt.full);
-  const auto p = static_cast<std::size_t>(model.params());
+// The options and the measurements, as twostep.hpp's CalibrationErrors say.
+void check_input(std::span<const Vec3> Bin, std::span<const double> Hin, const TwostepOptions& opt, std::size_t p) {
   const std::size_t n = Bin.size();
   if (n < p + 1)
     throw CalibrationError(CalibrationReason::too_few_points, "TWOSTEP" + std::string(opt.full ? " (full)" : "") +
@@ -261,24 +252,14 @@ TwostepResult twostep(std::span<const Vec3> Bin, std::span<const double> Hin, co
   for (const Vec3& b : Bin)
     for (double v : b)
       if (!std::isfinite(v)) throw CalibrationError(CalibrationReason::bad_data, "TWOSTEP: non-finite measurement");
+}
 
-  // Work in units of the mean field norm: c and E then have the same scale.
-  double kappa = 0.0;
-  for (double h : Hin) kappa += h;
-  kappa /= static_cast<double>(Hin.size());
-  std::vector<V3> B(n);
-  std::vector<double> H2(n);
-  Problem pr{model, B, H2, std::vector<double>(n)};
-  for (std::size_t k = 0; k < n; ++k) {
-    B[k] = to_eigen(Bin[k]) / kappa;
-    const double h = (Hin.size() == 1 ? Hin[0] : Hin[k]) / kappa;
-    H2[k] = h * h;
-    pr.z[k] = B[k].squaredNorm() - H2[k];
-  }
-
-  const std::size_t dof = n - p;
+// The solution for the noise given, or for the noise that makes chi2 = dof
+// (then estimated into s2). Scaled units.
+Solution solve_for_noise(const Problem& pr, const std::vector<double>& H2, std::size_t dof, double kappa,
+                         const TwostepOptions& opt, double& s2) {
+  const std::size_t n = H2.size();
   Solution sol;
-  double s2 = 0.0;
   const bool estimate = opt.noise == 0.0;
   if (!estimate) {
     s2 = (opt.noise / kappa) * (opt.noise / kappa);
@@ -296,6 +277,99 @@ TwostepResult twostep(std::span<const Vec3> Bin, std::span<const double> Hin, co
       sol = solve(pr, s2, opt.mean_correction, opt);
     }
   }
+  return sol;
+}
+
+// (c, E) -> (b, D): E = U diag(e) U^T, D = U diag(sqrt(1+e) - 1) U^T,
+// b = (I+D)^-1 c. `clamp` only for the diagnostic step-1 values.
+bool recover(const VectorXd& t, bool clamp, M3& Dm, V3& bv) {
+  const Eigen::SelfAdjointEigenSolver<M3> es(sym(t.data() + 3));
+  V3 root;
+  for (int i = 0; i < 3; ++i) {
+    const double one_e = 1.0 + es.eigenvalues()(i);
+    if (!(one_e > 0.0) && !clamp) return false;
+    root(i) = std::sqrt(std::max(one_e, 1e-300));
+  }
+  Dm = es.eigenvectors() * root.asDiagonal() * es.eigenvectors().transpose() - M3::Identity();
+  bv = (M3::Identity() + Dm).ldlt().solve(V3(t.head<3>()));
+  return true;
+}
+
+// The forward derivative d(c, E)/d(b, D) at (b, D): dc = (I+D) db + dD b,
+// dE = dD (I+D) + (I+D) dD.
+MatrixXd forward_derivative(const M3& D, const V3& b) {
+  const M3 Wm = M3::Identity() + D;
+  MatrixXd G(9, 9);
+  for (int col = 0; col < 9; ++col) {
+    V3 db = V3::Zero();
+    M3 dD = M3::Zero();
+    if (col < 3) {
+      db(col) = 1.0;
+    } else {
+      const int e = col - 3;
+      dD(kSymI[e], kSymJ[e]) = 1.0;
+      dD(kSymJ[e], kSymI[e]) = 1.0;
+    }
+    const V3 dc = Wm * db + dD * b;
+    const M3 dE = dD * Wm + Wm * dD;
+    for (int i = 0; i < 3; ++i) G(i, col) = dc(i);
+    for (int e = 0; e < 6; ++e) G(3 + e, col) = dE(kSymI[e], kSymJ[e]);
+  }
+  return G;
+}
+
+// The covariance of the hard-iron offset x = (I+E)^-1 c = (I+D)^-1 b and of
+// W = I + D: dx = (I+E)^-1 (dc - dE x); W takes the D rows of J. Sets r.offset.
+MatrixXd offset_covariance(const VectorXd& theta, const MatrixXd& J, const MatrixXd& P, TwostepResult& r) {
+  const M3 IE = M3::Identity() + sym(theta.data() + 3);
+  const M3 IEinv = IE.inverse();
+  const V3 x = IEinv * V3(theta.head<3>());
+  r.offset = to_array(x);
+  MatrixXd K(9, 9);
+  for (int col = 0; col < 9; ++col) {
+    V3 dc = V3::Zero();
+    M3 dE = M3::Zero();
+    if (col < 3) {
+      dc(col) = 1.0;
+    } else {
+      const int e = col - 3;
+      dE(kSymI[e], kSymJ[e]) = 1.0;
+      dE(kSymJ[e], kSymI[e]) = 1.0;
+    }
+    const V3 dx = IEinv * (dc - dE * x);
+    for (int i = 0; i < 3; ++i) K(i, col) = dx(i);
+  }
+  K.bottomRows(6) = J.bottomRows(6);
+  const MatrixXd C = K * P * K.transpose();
+  return C;
+}
+
+}  // namespace
+
+TwostepResult twostep(std::span<const Vec3> Bin, std::span<const double> Hin, const TwostepOptions& opt) {
+  const Model model(opt.full);
+  const auto p = static_cast<std::size_t>(model.params());
+  const std::size_t n = Bin.size();
+  check_input(Bin, Hin, opt, p);
+
+  // Work in units of the mean field norm: c and E then have the same scale.
+  double kappa = 0.0;
+  for (double h : Hin) kappa += h;
+  kappa /= static_cast<double>(Hin.size());
+  std::vector<V3> B(n);
+  std::vector<double> H2(n);
+  Problem pr{model, B, H2, std::vector<double>(n)};
+  for (std::size_t k = 0; k < n; ++k) {
+    B[k] = to_eigen(Bin[k]) / kappa;
+    const double h = (Hin.size() == 1 ? Hin[0] : Hin[k]) / kappa;
+    H2[k] = h * h;
+    pr.z[k] = B[k].squaredNorm() - H2[k];
+  }
+
+  const std::size_t dof = n - p;
+  double s2 = 0.0;
+  const Solution sol = solve_for_noise(pr, H2, dof, kappa, opt, s2);
+  const bool estimate = opt.noise == 0.0;
 
   TwostepResult r;
   r.full = opt.full;
@@ -322,7 +396,7 @@ TwostepResult twostep(std::span<const Vec3> Bin, std::span<const double> Hin, co
   const MatrixXd P = T.asDiagonal() * sol.P * T.asDiagonal();
   r.theta.assign(theta.data(), theta.data() + ip);
   r.centred_theta.assign(centred.data(), centred.data() + ip);
-  r.theta_cov = to_rows(P);
+  r.theta_cov = to_matrix(P);
 
   if (!opt.full) {
     r.b = to_array(V3(theta.head<3>()));
@@ -333,20 +407,6 @@ TwostepResult twostep(std::span<const Vec3> Bin, std::span<const double> Hin, co
     return r;
   }
 
-  // (c, E) -> (b, D): E = U diag(e) U^T, D = U diag(sqrt(1+e) - 1) U^T,
-  // b = (I+D)^-1 c. `clamp` only for the diagnostic step-1 values.
-  auto recover = [](const VectorXd& t, bool clamp, M3& Dm, V3& bv) {
-    const Eigen::SelfAdjointEigenSolver<M3> es(sym(t.data() + 3));
-    V3 root;
-    for (int i = 0; i < 3; ++i) {
-      const double one_e = 1.0 + es.eigenvalues()(i);
-      if (!(one_e > 0.0) && !clamp) return false;
-      root(i) = std::sqrt(std::max(one_e, 1e-300));
-    }
-    Dm = es.eigenvectors() * root.asDiagonal() * es.eigenvectors().transpose() - M3::Identity();
-    bv = (M3::Identity() + Dm).ldlt().solve(V3(t.head<3>()));
-    return true;
-  };
   M3 D;
   V3 b;
   if (!recover(theta, false, D, b))
@@ -364,50 +424,13 @@ TwostepResult twostep(std::span<const Vec3> Bin, std::span<const double> Hin, co
 
   // Covariance of (b, D): J P J^T, J the inverse of the forward derivative
   // d(c, E)/d(b, D): dc = (I+D) db + dD b, dE = dD (I+D) + (I+D) dD.
-  const M3 Wm = M3::Identity() + D;
-  MatrixXd G(9, 9);
-  for (int col = 0; col < 9; ++col) {
-    V3 db = V3::Zero();
-    M3 dD = M3::Zero();
-    if (col < 3) {
-      db(col) = 1.0;
-    } else {
-      const int e = col - 3;
-      dD(kSymI[e], kSymJ[e]) = 1.0;
-      dD(kSymJ[e], kSymI[e]) = 1.0;
-    }
-    const V3 dc = Wm * db + dD * b;
-    const M3 dE = dD * Wm + Wm * dD;
-    for (int i = 0; i < 3; ++i) G(i, col) = dc(i);
-    for (int e = 0; e < 6; ++e) G(3 + e, col) = dE(kSymI[e], kSymJ[e]);
-  }
+  const MatrixXd G = forward_derivative(D, b);
   const MatrixXd J = G.fullPivLu().inverse();
   MatrixXd C = J * P * J.transpose();
-  r.cov = to_rows(0.5 * (C + C.transpose()));
+  r.cov = to_matrix(0.5 * (C + C.transpose()));
 
-  // Hard-iron offset x = (I+E)^-1 c = (I+D)^-1 b: dx = (I+E)^-1 (dc - dE x);
-  // W = I + D takes the D rows of J.
-  const M3 IE = M3::Identity() + sym(theta.data() + 3);
-  const M3 IEinv = IE.inverse();
-  const V3 x = IEinv * V3(theta.head<3>());
-  r.offset = to_array(x);
-  MatrixXd K(9, 9);
-  for (int col = 0; col < 9; ++col) {
-    V3 dc = V3::Zero();
-    M3 dE = M3::Zero();
-    if (col < 3) {
-      dc(col) = 1.0;
-    } else {
-      const int e = col - 3;
-      dE(kSymI[e], kSymJ[e]) = 1.0;
-      dE(kSymJ[e], kSymI[e]) = 1.0;
-    }
-    const V3 dx = IEinv * (dc - dE * x);
-    for (int i = 0; i < 3; ++i) K(i, col) = dx(i);
-  }
-  K.bottomRows(6) = J.bottomRows(6);
-  C = K * P * K.transpose();
-  r.offset_cov = to_rows(0.5 * (C + C.transpose()));
+  C = offset_covariance(theta, J, P, r);
+  r.offset_cov = to_matrix(0.5 * (C + C.transpose()));
   return r;
 }
 

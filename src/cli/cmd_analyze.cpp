@@ -310,14 +310,14 @@ void print_summary(std::ostream& out, const pipeline::AnalysisResult& r) {
     if (c.spectral) print_spectral(out, c);
     if (c.temperature) print_temperature(out, *c.temperature, u);
   }
-  if (r.covariance.size() > 1) {
+  if (r.covariance.rows() > 1) {
     fmt::print(out, "\ncovariance of the first {} samples:\n", r.cov_samples);
     fmt::print(out, "{:>10}", "");
     for (const auto& n : r.cov_names) fmt::print(out, " {:>12}", n);
     out << '\n';
-    for (std::size_t a = 0; a < r.covariance.size(); ++a) {
+    for (std::size_t a = 0; a < r.covariance.rows(); ++a) {
       fmt::print(out, "{:>10}", r.cov_names[a]);
-      for (double v : r.covariance[a]) fmt::print(out, " {:>12.4e}", v);
+      for (double v : r.covariance.row(a)) fmt::print(out, " {:>12.4e}", v);
       out << '\n';
     }
   }

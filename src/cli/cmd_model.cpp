@@ -85,7 +85,8 @@ void write_table(std::ostream& out, const pipeline::ModelResult& r) {
             std::isfinite(q.display_asymptotic_sd) ? fmt::format("{:.3g}", q.display_asymptotic_sd) : "-";
         if (boot)
           fmt::print(out, "  {:<18} {:<8} {:>12.5g} {:>10}   ± {:<10.3g} [{:.5g}, {:.5g}] {}\n", title, q.name,
-                     q.display.value, asym, q.display.sigma, q.display_lo, q.display_hi, q.display.unit);
+                     q.display.value, asym, q.display.sigma, q.display_interval.lo, q.display_interval.hi,
+                     q.display.unit);
         else
           fmt::print(out, "  {:<18} {:<8} {:>12.5g} {:>10}   {}\n", title, q.name, q.display.value, asym,
                      q.display.unit);
@@ -93,7 +94,7 @@ void write_table(std::ostream& out, const pipeline::ModelResult& r) {
     fmt::print(out, "  {:>12} {:>14} {:>14} {:>14} {:>14} {:>8}\n", "tau [s]", "WV", "lo", "hi", "model", "edf");
     for (std::size_t j = 0; j < c.wv.size(); ++j)
       fmt::print(out, "  {:>12.5g} {:>14.6e} {:>14.6e} {:>14.6e} {:>14.6e} {:>8.4g}\n", c.wv.tau[j] / r.rate_hz,
-                 c.wv.nu2[j], c.wv.lo[j], c.wv.hi[j], c.fit.nu2_model[j], c.wv.edf[j]);
+                 c.wv.nu2[j], c.wv.interval[j].lo, c.wv.interval[j].hi, c.fit.nu2_model[j], c.wv.edf[j]);
   }
 }
 

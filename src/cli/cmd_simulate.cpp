@@ -14,6 +14,7 @@
 #include <fstream>
 #include <iostream>
 #include <optional>
+#include <string_view>
 #include <sstream>
 
 #include <unistd.h>
@@ -21,6 +22,7 @@
 #include "commands.hpp"
 #include "common_options.hpp"
 #include "cubecal/error.hpp"
+#include "cubecal/io/atomic_file.hpp"
 #include "cubecal/io/output_path.hpp"
 #include "cubecal/io/series.hpp"
 #include "cubecal/pipeline/analysis_json.hpp"
@@ -139,13 +141,12 @@ int write_raw(const pipeline::SimulateRequest& req_in, const SimulateOptions& o,
               std::size_t columns) {
   pipeline::SimulateRequest req = req_in;
   const bool to_stdout = o.out == "-";
-  std::string tmp;
-  std::FILE* f = stdout;
+  std::optional<io::AtomicFile> file;
   if (!to_stdout) {
     io::check_output_file(o.out, o.force);
-    tmp = o.out + ".partial";
-    f = std::fopen(tmp.c_str(), "wb");
-    if (!f) throw UsageError("cannot write " + o.out + " (check that the directory exists and is writable)");
+    file.emplace(o.out);
+    if (!file->is_open())
+      throw UsageError("cannot write " + o.out + " (check that the directory exists and is writable)");
   }
   Progress progress(!to_stdout && n > 1'000'000, !to_stdout && bytes > 500e6);
   progress.stage(fmt::format("simulating {} samples into {} (about {})", n, o.out, format_bytes(bytes)));
@@ -161,22 +162,21 @@ int write_raw(const pipeline::SimulateRequest& req_in, const SimulateOptions& o,
           swapped[i] = std::bit_cast<double>(__builtin_bswap64(std::bit_cast<std::uint64_t>(frames[i])));
         p = swapped.data();
       }
-      if (std::fwrite(p, sizeof(double), frames.size(), f) != frames.size())
+      const bool written =
+          to_stdout ? std::fwrite(p, sizeof(double), frames.size(), stdout) == frames.size()
+                    : file->write(std::string_view(reinterpret_cast<const char*>(p), frames.size() * sizeof(double)));
+      if (!written)
         throw UsageError(to_stdout ? "could not write the standard output (closed pipe?)"
                                    : "could not write " + o.out + " (disk full?)");
     });
   } catch (...) {
-    if (!to_stdout) {
-      std::fclose(f);
-      std::remove(tmp.c_str());
-    }
+    if (file) file->discard();
     throw;
   }
   if (to_stdout) {
     if (std::fflush(stdout) != 0) throw UsageError("could not write the standard output");
   } else {
-    if (std::fclose(f) != 0) throw UsageError("could not finish writing " + o.out + " (disk full?)");
-    std::filesystem::rename(tmp, o.out);
+    if (!file->commit()) throw UsageError("could not finish writing " + o.out + " (disk full?)");
   }
   progress.done();
   std::string types;

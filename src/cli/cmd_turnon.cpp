@@ -124,7 +124,7 @@ std::string turnon_text(const RunsOptions& o, const pipeline::TurnOnResult& t) {
   s += fmt::format("\n{:<10} {:>14} {:>14} {:>26}\n", "channel", "mean bias", "turn-on (std)", "interval");
   for (std::size_t c = 0; c < t.names.size(); ++c)
     s += fmt::format("{:<10} {:>14.6g} {:>14.4g} {:>12.4g} – {:<11.4g} {}\n", t.names[c], t.mean_bias[c], t.turn_on[c],
-                     t.turn_on_lo[c], t.turn_on_hi[c], t.units[c].name);
+                     t.turn_on_interval[c].lo, t.turn_on_interval[c].hi, t.units[c].name);
   return s;
 }
 

@@ -5,10 +5,12 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
+#include <streambuf>
+#include <string_view>
 
 #include "cubecal/error.hpp"
+#include "cubecal/io/atomic_file.hpp"
 #include "cubecal/io/output_path.hpp"
 
 namespace cubecal::cli {
@@ -61,7 +63,7 @@ void write_dev_table(std::ostream& out, const pipeline::DevResult& r, const DevC
     for (const auto& p : ch.points) {
       if (ctx.intervals)
         fmt::print(out, "{:>8} {:>13.6g} {:>9} {:>6} {:>9.4g} {:>13.5e} {:>13.5e} {:>13.5e}\n", p.m, p.tau, p.n,
-                   p.alpha, p.edf, p.lo, p.dev, p.hi);
+                   p.alpha, p.edf, p.interval.lo, p.dev, p.interval.hi);
       else
         fmt::print(out, "{:>8} {:>13.6g} {:>9} {:>13.5e}\n", p.m, p.tau, p.n, p.dev);
     }
@@ -95,7 +97,7 @@ void write_dev_csv(std::ostream& out, const pipeline::DevResult& r, const DevCon
       const auto& p = ch.points[k];
       fmt::print(out, "{},{},{},{},{},{},{},{},{}", ch.name, p.m, p.tau, p.n,
                  ctx.intervals ? std::to_string(p.alpha) : "", ctx.intervals ? g(p.edf) : "",
-                 ctx.intervals ? g(p.lo) : "", g(p.dev), ctx.intervals ? g(p.hi) : "");
+                 ctx.intervals ? g(p.interval.lo) : "", g(p.dev), ctx.intervals ? g(p.interval.hi) : "");
       if (streamed) fmt::print(out, ",{}", k < ch.strides.size() ? ch.strides[k] : 1);
       out << '\n';
     }
@@ -108,9 +110,7 @@ std::vector<std::string> write_analysis_files(const std::string& dir, const pipe
   fs::create_directories(dir);
   std::vector<std::string> written;
   for (const auto& file : files) {
-    OutputFile f((fs::path(dir) / file.name).string(), true);
-    f.stream() << file.text;
-    f.commit();
+    io::write_file((fs::path(dir) / file.name).string(), file.text);
     written.push_back(file.name);
     if (!file.missing.empty())
       std::cerr << "cubecal: note: " << file.name << " has no " << file.missing << " terms (no " << file.missing
@@ -119,32 +119,54 @@ std::vector<std::string> write_analysis_files(const std::string& dir, const pipe
   return written;
 }
 
-struct OutputFile::Impl {
-  std::ofstream out;
+// An ostream's buffer over the AtomicFile: full buffers are written as they
+// fill; a failed write sets the stream's badbit.
+class AtomicFileBuf : public std::streambuf {
+ public:
+  explicit AtomicFileBuf(io::AtomicFile& file) : file_(file) { setp(buf_, buf_ + sizeof buf_); }
+
+ protected:
+  int_type overflow(int_type c) override {
+    if (!drain()) return traits_type::eof();
+    if (!traits_type::eq_int_type(c, traits_type::eof())) {
+      *pptr() = traits_type::to_char_type(c);
+      pbump(1);
+    }
+    return traits_type::not_eof(c);
+  }
+  int sync() override { return drain() ? 0 : -1; }
+
+ private:
+  bool drain() {
+    const bool ok = file_.write(std::string_view(pbase(), static_cast<std::size_t>(pptr() - pbase())));
+    setp(buf_, buf_ + sizeof buf_);
+    return ok;
+  }
+  io::AtomicFile& file_;
+  char buf_[1 << 16];
 };
 
-OutputFile::OutputFile(std::string path, bool force) : path_(std::move(path)), impl_(std::make_unique<Impl>()) {
+struct OutputFile::Impl {
+  explicit Impl(const std::string& path) : file(path), buf(file), out(&buf) {}
+  io::AtomicFile file;
+  AtomicFileBuf buf;
+  std::ostream out;
+};
+
+OutputFile::OutputFile(std::string path, bool force) : path_(std::move(path)) {
   io::check_output_file(path_, force);
-  tmp_ = path_ + ".partial";
-  impl_->out.open(tmp_, std::ios::binary | std::ios::trunc);
-  if (!impl_->out) throw UsageError("cannot write " + path_ + " (check the directory exists and is writable)");
+  impl_ = std::make_unique<Impl>(path_);
+  if (!impl_->file.is_open())
+    throw UsageError("cannot write " + path_ + " (check the directory exists and is writable)");
 }
 
-OutputFile::~OutputFile() {
-  if (!tmp_.empty()) {
-    impl_->out.close();
-    std::error_code ec;
-    std::filesystem::remove(tmp_, ec);
-  }
-}
+OutputFile::~OutputFile() = default;
 
 std::ostream& OutputFile::stream() { return impl_->out; }
 
 void OutputFile::commit() {
-  impl_->out.close();
-  if (!impl_->out) throw UsageError("could not finish writing " + path_ + " (disk full?)");
-  std::filesystem::rename(tmp_, path_);
-  tmp_.clear();
+  impl_->out.flush();
+  if (!impl_->out || !impl_->file.commit()) throw UsageError("could not finish writing " + path_ + " (disk full?)");
 }
 
 }  // namespace cubecal::cli

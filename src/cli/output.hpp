@@ -40,8 +40,8 @@ std::vector<std::string> write_analysis_files(const std::string& dir, const pipe
                                               const pipeline::OutputContext& ctx);
 
 // Opens `path` for writing; refuses (UsageError) to replace an existing
-// file unless `force`. Writes go to a temporary file renamed into place on
-// commit(), so an interrupted run never leaves a half-written result.
+// file unless `force`. Writes go through an io::AtomicFile renamed into
+// place on commit(), so an interrupted run never leaves a half-written result.
 class OutputFile {
  public:
   OutputFile(std::string path, bool force);
@@ -51,7 +51,6 @@ class OutputFile {
 
  private:
   std::string path_;
-  std::string tmp_;
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

@@ -1,12 +1,13 @@
 #include "cubecal/io/csv_writer.hpp"
 
+#include <unistd.h>
 #include <zlib.h>
 
 #include <charconv>
 #include <cstdio>
-#include <filesystem>
 
 #include "cubecal/error.hpp"
+#include "cubecal/io/atomic_file.hpp"
 #include "cubecal/io/output_path.hpp"
 
 namespace cubecal::io {
@@ -19,7 +20,8 @@ constexpr int kGzipLevel = 1;
 }  // namespace
 
 struct CsvWriter::Sink {
-  std::FILE* file = nullptr;
+  std::unique_ptr<AtomicFile> target;  // null for the standard output
+  std::FILE* file = nullptr;           // on a dup of target's descriptor, or stdout
   gzFile gz = nullptr;
 };
 
@@ -31,12 +33,16 @@ CsvWriter::CsvWriter(std::string path, bool force) : path_(std::move(path)), sin
   }
   check_output_file(path_, force);
   gzip_ = path_.size() > 3 && path_.compare(path_.size() - 3, 3, ".gz") == 0;
-  tmp_ = path_ + ".partial";
-  if (gzip_) {
-    sink_->gz = gzopen(tmp_.c_str(), ("wb" + std::to_string(kGzipLevel)).c_str());
-    if (sink_->gz) gzbuffer(sink_->gz, 1 << 18);
-  } else {
-    sink_->file = std::fopen(tmp_.c_str(), "wb");
+  sink_->target = std::make_unique<AtomicFile>(path_);
+  const int fd = sink_->target->is_open() ? ::dup(sink_->target->fd()) : -1;
+  if (fd >= 0) {
+    if (gzip_) {
+      sink_->gz = gzdopen(fd, ("wb" + std::to_string(kGzipLevel)).c_str());
+      if (sink_->gz) gzbuffer(sink_->gz, 1 << 18);
+    } else {
+      sink_->file = ::fdopen(fd, "wb");
+    }
+    if (!sink_->gz && !sink_->file) ::close(fd);
   }
   if (!sink_->gz && !sink_->file)
     throw UsageError("cannot write " + path_ + " (check that the directory exists and is writable)");
@@ -46,10 +52,6 @@ CsvWriter::CsvWriter(std::string path, bool force) : path_(std::move(path)), sin
 CsvWriter::~CsvWriter() {
   if (sink_->gz) gzclose(sink_->gz);
   if (sink_->file && sink_->file != stdout) std::fclose(sink_->file);
-  if (!tmp_.empty()) {
-    std::error_code ec;
-    std::filesystem::remove(tmp_, ec);
-  }
 }
 
 void CsvWriter::header(const std::vector<std::string>& names) {
@@ -105,9 +107,7 @@ void CsvWriter::commit() {
     ok = std::fclose(sink_->file) == 0;
     sink_->file = nullptr;
   }
-  if (!ok) throw UsageError("could not finish writing " + path_ + " (disk full?)");
-  std::filesystem::rename(tmp_, path_);
-  tmp_.clear();
+  if (!ok || !sink_->target->commit()) throw UsageError("could not finish writing " + path_ + " (disk full?)");
 }
 
 }  // namespace cubecal::io

@@ -2,9 +2,7 @@
 // and its atomic, durable replacement.
 #include "cubecal/io/recording_manifest.hpp"
 
-#include <fcntl.h>
 #include <sys/stat.h>
-#include <unistd.h>
 
 #include <cerrno>
 #include <cstdio>
@@ -15,39 +13,13 @@
 #include <system_error>
 
 #include "cubecal/error.hpp"
+#include "cubecal/io/atomic_file.hpp"
 
 namespace cubecal::io {
 
 namespace {
 
 using json = nlohmann::ordered_json;
-
-std::string parent_dir(const std::string& path) {
-  const auto slash = path.find_last_of('/');
-  if (slash == std::string::npos) return ".";
-  if (slash == 0) return "/";
-  return path.substr(0, slash);
-}
-
-[[noreturn]] void throw_errno(int err, const std::string& what) {
-  throw std::system_error(err, std::generic_category(), what);
-}
-
-void write_all(int fd, std::string_view content, const std::string& path) {
-  const char* p = content.data();
-  std::size_t left = content.size();
-  while (left > 0) {
-    const ssize_t n = ::write(fd, p, left);
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      const int err = errno;
-      ::close(fd);
-      throw_errno(err, path + ": write failed");
-    }
-    p += n;
-    left -= static_cast<std::size_t>(n);
-  }
-}
 
 json optional_string(const std::optional<std::string>& s) { return s ? json(*s) : json(nullptr); }
 
@@ -351,27 +323,6 @@ bool is_recording_dir(const std::string& dir) {
   if (j.is_discarded() || !j.is_object()) return false;
   const auto it = j.find("format");
   return it != j.end() && it->is_string() && it->get<std::string>() == kRecordingFormat;
-}
-
-void replace_file_atomically(const std::string& path, std::string_view content) {
-  const std::string tmp = path + ".tmp";
-  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) throw_errno(errno, tmp + ": cannot be created");
-  write_all(fd, content, tmp);
-  if (::fsync(fd) != 0) {
-    const int err = errno;
-    ::close(fd);
-    throw_errno(err, tmp + ": fsync failed");
-  }
-  if (::close(fd) != 0) throw_errno(errno, tmp + ": close failed");
-  if (::rename(tmp.c_str(), path.c_str()) != 0) throw_errno(errno, path + ": rename failed");
-  const std::string dir = parent_dir(path);
-  const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (dfd < 0) throw_errno(errno, dir + ": cannot be opened");
-  const int rc = ::fsync(dfd);
-  const int err = errno;
-  ::close(dfd);
-  if (rc != 0) throw_errno(err, dir + ": fsync failed");
 }
 
 void write_manifest(const std::string& dir, const RecordingManifest& m) {

@@ -440,7 +440,7 @@ void finish_series(Series& s, std::vector<double> time, const std::string& time_
   s.time = std::move(time);
   check_timing(s, at, opt);
   const auto longest = std::max_element(s.segments.begin(), s.segments.end(),
-                                        [](const Segment& a, const Segment& b) { return a.size() < b.size(); });
+                                        [](const IndexRange& a, const IndexRange& b) { return a.size() < b.size(); });
   if (longest->size() < opt.min_samples) {
     throw_too_short(
         s.file, longest->size(), opt.min_samples,

@@ -29,10 +29,9 @@ void add_products(const std::array<const double*, kLanes>& a, const std::array<c
 
 }  // namespace
 
-std::vector<std::vector<double>> covariance_matrix(const std::vector<std::span<const double>>& channels,
-                                                   std::size_t count) {
+Matrix covariance_matrix(const std::vector<std::span<const double>>& channels, std::size_t count) {
   const std::size_t k = channels.size();
-  std::vector<std::vector<double>> cov(k, std::vector<double>(k, 0.0));
+  Matrix cov(k, k);
   if (k == 0) return cov;
   std::size_t n = channels[0].size();
   for (const auto& c : channels) n = std::min(n, c.size());
@@ -84,7 +83,7 @@ std::vector<std::vector<double>> covariance_matrix(const std::vector<std::span<c
   }
   for (std::size_t p = 0; p < pairs.size(); ++p) {
     const auto [a, b] = pairs[p];
-    cov[a][b] = cov[b][a] = acc[p / kLanes][p % kLanes] / static_cast<double>(n - 1);
+    cov(a, b) = cov(b, a) = acc[p / kLanes][p % kLanes] / static_cast<double>(n - 1);
   }
   return cov;
 }

@@ -9,6 +9,7 @@
 
 #include "cubecal/error.hpp"
 #include "cubecal/noise/wavelet_variance_covariance.hpp"
+#include "../math/detail/eigen_matrix.hpp"
 
 namespace cubecal {
 
@@ -26,13 +27,6 @@ double d_log_a(double a, double sigma2, double tau) {
   };
   const double h = 1e-3;
   return (4.0 * diff(0.5 * h) - diff(h)) / 3.0;
-}
-
-std::vector<double> row_major(const MatrixXd& m) {
-  std::vector<double> out(static_cast<std::size_t>(m.size()));
-  for (Eigen::Index i = 0; i < m.rows(); ++i)
-    for (Eigen::Index k = 0; k < m.cols(); ++k) out[static_cast<std::size_t>(i * m.cols() + k)] = m(i, k);
-  return out;
 }
 
 }  // namespace
@@ -78,11 +72,9 @@ GmwmAsymptotics gmwm_asymptotics(const GmwmFit& fit, const WaveletVariance& wv, 
   if (!A.allFinite())
     throw UsageError(Field::model, "model " + model_name(fit.model) + ": a parameter is outside its range");
 
-  std::vector<double> v = wavelet_variance_covariance(fit.model, wv.tau, samples);
-  for (double& x : v) x *= inflation;
-  MatrixXd V(static_cast<Eigen::Index>(J), static_cast<Eigen::Index>(J));
-  for (std::size_t j = 0; j < J; ++j)
-    for (std::size_t k = 0; k < J; ++k) V(static_cast<Eigen::Index>(j), static_cast<Eigen::Index>(k)) = v[j * J + k];
+  Matrix v = wavelet_variance_covariance(fit.model, wv.tau, samples);
+  for (double& x : v.values()) x *= inflation;
+  const MatrixXd V = detail::to_eigen(v);
 
   // W^1/2 A = U S V': (A'WA)^-1 = V S^-2 V', B = (A'WA)^-1 A'W = V S^-1 U' W^1/2.
   Eigen::VectorXd rw(static_cast<Eigen::Index>(J));
@@ -106,11 +98,11 @@ GmwmAsymptotics gmwm_asymptotics(const GmwmFit& fit, const WaveletVariance& wv, 
   GmwmAsymptotics out;
   out.parameters = p;
   out.scales = J;
-  out.covariance = row_major(cov);
-  out.naive = row_major(naive);
-  out.jacobian = row_major(A);
-  out.nu2_covariance = v;
-  out.hat = row_major(hat);
+  out.covariance = detail::to_matrix(cov);
+  out.naive = detail::to_matrix(naive);
+  out.jacobian = detail::to_matrix(A);
+  out.nu2_covariance = std::move(v);
+  out.hat = detail::to_matrix(hat);
   Eigen::Index k = 0;
   for (const Process& pr : fit.model.processes) {
     ProcessSd sd;

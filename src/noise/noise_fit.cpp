@@ -38,8 +38,8 @@ std::optional<std::vector<double>> point_edfs(const AllanCurve& c) {
   for (std::size_t i = 0; i < c.size(); ++i) {
     double e = c.edf[i];
     if (!(e > 0.0)) {
-      if (!(c.hi[i] > c.lo[i] && c.lo[i] > 0.0)) return std::nullopt;
-      const double rel = (c.hi[i] - c.lo[i]) / (2.0 * c.dev[i]);
+      if (!(c.interval[i].hi > c.interval[i].lo && c.interval[i].lo > 0.0)) return std::nullopt;
+      const double rel = (c.interval[i].hi - c.interval[i].lo) / (2.0 * c.dev[i]);
       e = 1.0 / (2.0 * rel * rel);
     }
     running = std::min(running, e);

@@ -126,7 +126,7 @@ struct Band {
   double lo, hi;
 };
 Band band_of(const AllanCurve& c, std::size_t i, bool use_interval) noexcept {
-  if (use_interval) return {c.lo[i], c.hi[i]};
+  if (use_interval) return {c.interval[i].lo, c.interval[i].hi};
   if (!c.edf.empty()) {
     const double r = 1.0 / std::sqrt(2.0 * c.edf[i]);
     return {c.dev[i] * std::max(0.0, 1.0 - r), c.dev[i] * (1.0 + r)};
@@ -143,10 +143,10 @@ Band band_of(const AllanCurve& c, std::size_t i, bool use_interval) noexcept {
 // neither is the falling tail of a Gauss-Markov curve beyond its peak.
 std::size_t v_bottom(const AllanCurve& c) {
   const std::size_t n = c.size();
-  bool use_interval = c.lo.size() == n && c.hi.size() == n;
+  bool use_interval = c.interval.size() == n;
   for (std::size_t i = 0; use_interval && i < n; ++i)
-    use_interval =
-        std::isfinite(c.lo[i]) && std::isfinite(c.hi[i]) && c.lo[i] > 0.0 && c.lo[i] <= c.dev[i] && c.dev[i] <= c.hi[i];
+    use_interval = std::isfinite(c.interval[i].lo) && std::isfinite(c.interval[i].hi) && c.interval[i].lo > 0.0 &&
+                   c.interval[i].lo <= c.dev[i] && c.dev[i] <= c.interval[i].hi;
   std::size_t r = 0;
   for (std::size_t i = 1; i < n; ++i) {
     if (c.dev[i] < c.dev[r]) {

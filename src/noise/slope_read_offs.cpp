@@ -80,8 +80,8 @@ std::vector<double> relative_sigmas(const AllanCurve& c) {
   double running = 0.0;
   for (std::size_t i = 0; i < c.size(); ++i) {
     double r = 0.0;
-    if (c.hi[i] > c.lo[i] && c.lo[i] > 0.0)
-      r = (c.hi[i] - c.lo[i]) / (2.0 * c.dev[i]);
+    if (c.interval[i].hi > c.interval[i].lo && c.interval[i].lo > 0.0)
+      r = (c.interval[i].hi - c.interval[i].lo) / (2.0 * c.dev[i]);
     else if (c.edf[i] > 0.0)
       r = 1.0 / std::sqrt(2.0 * c.edf[i]);
     running = std::max(running, r);
@@ -205,7 +205,7 @@ SlopeReadOffs read_off_noise_terms(const AllanCurve& curve) {
   // reaches down to sigma_min (their upper bound is above it by definition).
   // Without intervals a point's interval is the point itself.
   const auto reaches = [&](std::size_t i) {
-    const double lo = curve.hi[i] > curve.lo[i] ? curve.lo[i] : curve.dev[i];
+    const double lo = curve.interval[i].hi > curve.interval[i].lo ? curve.interval[i].lo : curve.dev[i];
     return lo <= out.sigma_min;
   };
   std::size_t lo_i = imin;

@@ -47,11 +47,11 @@ double StreamingCovariance::variance(std::size_t channel) const {
   return comoment_[channel * k_ + channel] / static_cast<double>(n_ - 1);
 }
 
-std::vector<std::vector<double>> StreamingCovariance::matrix() const {
+Matrix StreamingCovariance::matrix() const {
   if (n_ < 2) throw std::invalid_argument("covariance needs at least 2 samples");
-  std::vector<std::vector<double>> cov(k_, std::vector<double>(k_));
+  Matrix cov(k_, k_);
   for (std::size_t a = 0; a < k_; ++a)
-    for (std::size_t b = 0; b < k_; ++b) cov[a][b] = comoment_[a * k_ + b] / static_cast<double>(n_ - 1);
+    for (std::size_t b = 0; b < k_; ++b) cov(a, b) = comoment_[a * k_ + b] / static_cast<double>(n_ - 1);
   return cov;
 }
 

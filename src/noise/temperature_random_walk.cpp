@@ -222,14 +222,14 @@ TemperatureFit fit_temperature_gls(std::span<const double> y, std::span<const do
   // Back to (T - t_ref)^j: c_j = cu_j / half_span^j.
   fit.coeff.resize(p);
   fit.coeff_sigma.resize(p);
-  fit.cov.assign(p, std::vector<double>(p));
+  fit.cov = Matrix(p, p);
   for (std::size_t i = 0; i < p; ++i) {
     const double si = std::pow(reg.half_span, -static_cast<double>(i));
     fit.coeff[i] = cu(static_cast<Eigen::Index>(i)) * si;
     for (std::size_t j = 0; j < p; ++j)
-      fit.cov[i][j] = full(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) * si *
+      fit.cov(i, j) = full(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) * si *
                       std::pow(reg.half_span, -static_cast<double>(j));
-    fit.coeff_sigma[i] = std::sqrt(std::max(fit.cov[i][i], 0.0));
+    fit.coeff_sigma[i] = std::sqrt(std::max(fit.cov(i, i), 0.0));
   }
   return fit;
 }

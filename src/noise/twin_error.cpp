@@ -15,7 +15,7 @@ TwinError twin_error(const CompositeModel& model, std::span<const StabilityPoint
     const double sigma = std::sqrt(avar(model, p.m));
     if (!std::isfinite(sigma)) continue;
     ++e.taus;
-    if (sigma >= p.lo && sigma <= p.hi) ++e.inside;
+    if (sigma >= p.interval.lo && sigma <= p.interval.hi) ++e.inside;
     const double err = std::abs(sigma / p.dev - 1.0);
     if (p.tau <= 10.0 * (1.0 + 1e-12)) e.max_error_10s = std::max(e.max_error_10s, err);
     if (p.tau <= 100.0 * (1.0 + 1e-12)) e.max_error_100s = std::max(e.max_error_100s, err);

@@ -398,8 +398,7 @@ double haar_coefficient_covariance(const CompositeModel& model, double tau_j, do
   return mj <= mk ? PairKernel(t, mj, mk).c(lag) : PairKernel(t, mk, mj).c(-lag);
 }
 
-std::vector<double> wavelet_variance_covariance(const CompositeModel& model, std::span<const double> tau,
-                                                std::size_t samples) {
+Matrix wavelet_variance_covariance(const CompositeModel& model, std::span<const double> tau, std::size_t samples) {
   const Terms t = terms_of(model);
   const std::size_t J = tau.size();
   std::vector<double> m(J);
@@ -410,7 +409,7 @@ std::vector<double> wavelet_variance_covariance(const CompositeModel& model, std
       throw UsageError(Field::scales, "the scale " + std::to_string(tau[j]) + " is longer than the record (" +
                                      std::to_string(samples) + " samples)");
   }
-  std::vector<double> cov(J * J, 0.0);
+  Matrix cov(J, J);
   RuleCache cache;
   for (std::size_t j = 0; j < J; ++j)
     for (std::size_t k = j; k < J; ++k) {
@@ -419,7 +418,7 @@ std::vector<double> wavelet_variance_covariance(const CompositeModel& model, std
       const Sums s = LagSums(t, ma, mb, Ma, Mb, cache).run();
       // Coefficient means under a drift: mu = omega tau / 4.
       const double mu2 = t.omega * t.omega * m[j] * m[k] / 4.0;
-      cov[j * J + k] = cov[k * J + j] = (2.0 * s.s2 + 4.0 * mu2 * s.s1) / (Ma * Mb);
+      cov(j, k) = cov(k, j) = (2.0 * s.s2 + 4.0 * mu2 * s.s1) / (Ma * Mb);
     }
   return cov;
 }

@@ -125,7 +125,7 @@ WicScore wic_score_asymptotic(const WaveletVariance& wv, const std::vector<doubl
   const GmwmAsymptotics a = gmwm_asymptotics(fit, wv, samples, 1.0, pseudo_inverse);
   double tr = 0.0;  // tr(Omega V P') = sum_jk Omega_jj V_jk P_jk
   for (std::size_t j = 0; j < J; ++j)
-    for (std::size_t k = 0; k < J; ++k) tr += a.nu2_covariance[j * J + k] * a.hat[j * J + k] / (sd[j] * sd[j]);
+    for (std::size_t k = 0; k < J; ++k) tr += a.nu2_covariance(j, k) * a.hat(j, k) / (sd[j] * sd[j]);
   s.optimism = 2.0 * inflation * tr;
   s.wic = s.loss + s.optimism;
   return s;

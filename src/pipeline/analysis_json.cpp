@@ -2,6 +2,7 @@
 
 #include "cubecal/pipeline/psd_json.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <cstdint>
@@ -351,8 +352,7 @@ std::vector<StabilityPoint> read_curve(const Node& a) {
     if (lo.size() != k || hi.size() != k || edf.size() != k || alpha.size() != k)
       a.fail("the interval arrays differ in length from tau");
     for (std::size_t i = 0; i < k; ++i) {
-      pts[i].lo = lo[i];
-      pts[i].hi = hi[i];
+      pts[i].interval = {lo[i], hi[i]};
       pts[i].edf = edf[i];
       pts[i].alpha = alpha.at(i).integer(-4, 2);  // the power-law noise exponents, +2 WPM .. -4 RRFM
     }
@@ -462,7 +462,11 @@ TemperatureFit read_temperature_fit(const Node& t, std::size_t order) {
   f.coeff_sigma.insert(f.coeff_sigma.end(), sig.begin(), sig.end());
   if (t.has("coeff_cov")) {
     const Node cov = t.at("coeff_cov");
-    for (std::size_t i = 0; i < cov.size(); ++i) f.cov.push_back(cov.at(i).nums());
+    for (std::size_t i = 0; i < cov.size(); ++i) {
+      const std::vector<double> row = cov.at(i).nums();
+      if (i == 0) f.cov = Matrix(cov.size(), row.size());
+      for (std::size_t k = 0; k < row.size() && k < f.cov.cols(); ++k) f.cov(i, k) = row[k];
+    }
   }
   f.order = order > 0 ? order : coeff.size();
   f.r2 = t.num("r2");
@@ -542,10 +546,11 @@ PowerLawFit read_power_law_fit(const Node& f) {
   const Node cov = f.at("covariance");
   const std::size_t p = fit.terms.size();
   if (cov.size() != p) cov.fail("not one row per term");
+  fit.covariance = Matrix(p, p);
   for (std::size_t i = 0; i < p; ++i) {
     const auto row = cov.at(i).nums();
     if (row.size() != p) cov.at(i).fail("not one column per term");
-    fit.covariance.insert(fit.covariance.end(), row.begin(), row.end());
+    std::copy(row.begin(), row.end(), fit.covariance.row(i).begin());
   }
   return fit;
 }
@@ -700,7 +705,11 @@ AnalysisResult read_result(const json& doc, const std::string& label) {
   const Node names = cov.at("channels");
   for (std::size_t i = 0; i < names.size(); ++i) r.cov_names.push_back(names.at(i).str());
   const Node m = cov.at("matrix");
-  for (std::size_t i = 0; i < m.size(); ++i) r.covariance.push_back(m.at(i).nums());
+  for (std::size_t i = 0; i < m.size(); ++i) {
+    const std::vector<double> row = m.at(i).nums();
+    if (i == 0) r.covariance = Matrix(m.size(), row.size());
+    for (std::size_t k = 0; k < row.size() && k < r.covariance.cols(); ++k) r.covariance(i, k) = row[k];
+  }
   r.cov_samples = cov.at("samples").count();
   r.tau_list = read_tau_list(root);
   r.model_excluded_taus = read_excluded(root, "model_excluded_taus");

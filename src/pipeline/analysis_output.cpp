@@ -70,8 +70,8 @@ std::string adev_csv(const AnalysisResult& r) {
   for (const auto& c : r.channels)
     for (const auto& p : c.noise.adev) {
       const auto m = static_cast<std::size_t>(std::llround(p.tau / dt));
-      s += c.name + "," + num(p.tau) + "," + std::to_string(p.n) + "," + num(p.dev) + "," + num(p.lo) + "," +
-           num(p.hi) + "," + num(p.edf) + "," + std::to_string(p.alpha) + "," +
+      s += c.name + "," + num(p.tau) + "," + std::to_string(p.n) + "," + num(p.dev) + "," + num(p.interval.lo) + "," +
+           num(p.interval.hi) + "," + num(p.edf) + "," + std::to_string(p.alpha) + "," +
            num(noise_model_adev(c.noise.fit.c, p.tau)) + "," +
            (c.model.ok ? num(std::sqrt(avar(c.model.random_walk, m))) : "") + "," +
            (c.model.gm_ok ? num(std::sqrt(avar(c.model.gauss_markov, m))) : "");

@@ -112,7 +112,7 @@ TemperatureAnalysis analyze_temperature_of(std::size_t c, const io::Series& s, c
     one.names = {s.names[c]};
     comp.resize(t.compensated_model.samples);  // its last use: the series takes it
     one.channels.push_back(std::move(comp));
-    one.segments = {io::Segment{0, t.compensated_model.samples}};
+    one.segments = {IndexRange{0, t.compensated_model.samples}};
     ModelRequest mreq = *req.composite;
     mreq.model = twin->model;
     mreq.gmwm.start = twin->fit.model;
@@ -190,7 +190,7 @@ void fit_composite_required(AnalysisResult& r, const io::Series& s, const Analyz
       h.names = s.names;
       for (const auto& y : s.channels)
         h.channels.emplace_back(y.begin(), y.begin() + static_cast<std::ptrdiff_t>(req.max_samples));
-      h.segments = {io::Segment{0, req.max_samples}};
+      h.segments = {IndexRange{0, req.max_samples}};
       m = run_model(h, mreq);
     } else {
       m = run_model(s, mreq);

@@ -100,7 +100,7 @@ MagResult mag_result_from_json(const nlohmann::json& j) {
   r.coverage.spread = c.at("spread").get<Vec3>();
   r.coverage.octants = c.at("octants").get<std::size_t>();
   r.covariance_names = j.at("covariance").at("names").get<std::vector<std::string>>();
-  r.covariance = j.at("covariance").at("matrix").get<std::vector<std::vector<double>>>();
+  r.covariance = j.at("covariance").at("matrix").get<Matrix>();
   r.notes = j.at("notes").get<std::vector<std::string>>();
   return m;
 }

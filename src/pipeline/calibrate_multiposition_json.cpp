@@ -191,7 +191,7 @@ MultipositionResult multiposition_result_from_json(const nlohmann::json& j) {
                         t.at("cost").is_null() ? 0.0 : t["cost"].get<double>()});
   const auto& ja = j.at("accelerometer");
   params_of(ja.at("parameters"), a.names, a.values, a.sigma);
-  a.covariance = ja.at("covariance").at("matrix").get<std::vector<std::vector<double>>>();
+  a.covariance = ja.at("covariance").at("matrix").get<Matrix>();
   a.model = model_of(ja.at("model"));
   a.initial = model_of(ja.at("initial"));
   a.init_samples = ja.at("init_samples").get<std::size_t>();
@@ -205,7 +205,7 @@ MultipositionResult multiposition_result_from_json(const nlohmann::json& j) {
   mp::GyroResult g;
   params_of(jg.at("parameters"), g.names, g.values, g.sigma);
   g.sigma_fit = jg.at("sigma_fit").get<std::vector<double>>();
-  g.covariance = jg.at("covariance").at("matrix").get<std::vector<std::vector<double>>>();
+  g.covariance = jg.at("covariance").at("matrix").get<Matrix>();
   g.model = model_of(jg.at("model"));
   g.initial = model_of(jg.at("initial"));
   g.init_bias = jg.at("init_bias").get<Vec3>();

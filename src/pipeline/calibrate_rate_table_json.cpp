@@ -106,7 +106,7 @@ RateTableResult rate_table_result_from_json(const nlohmann::json& j) {
   c.A_sigma = j.at("A_sigma").get<Mat3>();
   c.beta = j.at("beta").get<std::array<double, 3>>();
   c.beta_sigma = j.at("beta_sigma").get<std::array<double, 3>>();
-  c.inverse_cov = j.at("inverse_cov").get<Covariance12>();
+  c.inverse_cov = j.at("inverse_cov").get<Matrix>();
   c.residual_before = {j.at("residual_before").at("max").get<double>(),
                        j.at("residual_before").at("rms").get<double>()};
   c.residual_after = {j.at("residual_after").at("max").get<double>(), j.at("residual_after").at("rms").get<double>()};
@@ -116,7 +116,7 @@ RateTableResult rate_table_result_from_json(const nlohmann::json& j) {
   c.S_sigma = f.at("S_sigma").get<Mat3>();
   c.bias = f.at("bias").get<std::array<double, 3>>();
   c.bias_sigma = f.at("bias_sigma").get<std::array<double, 3>>();
-  c.forward_cov = f.at("cov").get<Covariance12>();
+  c.forward_cov = f.at("cov").get<Matrix>();
   c.scale_factor_error = f.at("scale_factor_error").get<std::array<double, 3>>();
   c.scale_factor_error_sigma = f.at("scale_factor_error_sigma").get<std::array<double, 3>>();
   c.misalignment = f.at("misalignment").get<Mat3>();

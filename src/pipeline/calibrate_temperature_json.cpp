@@ -40,7 +40,7 @@ TemperatureResult temperature_result_from_json(const nlohmann::json& j) {
     ch.fit.t_ref = c.at("t_ref").get<double>();
     ch.fit.coeff = c.at("coeff").get<std::vector<double>>();
     ch.fit.coeff_sigma = c.at("coeff_sigma").get<std::vector<double>>();
-    ch.fit.cov = c.at("covariance").get<std::vector<std::vector<double>>>();
+    ch.fit.cov = c.at("covariance").get<Matrix>();
     ch.fit.r2 = c.at("r2").get<double>();
     ch.fit.residual_rms = c.at("residual_rms").get<double>();
     ch.fit.order = c.at("order").get<std::size_t>();

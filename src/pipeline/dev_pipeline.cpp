@@ -72,7 +72,7 @@ std::size_t block_size(std::size_t factors, std::size_t pieces, unsigned threads
   return std::clamp<std::size_t>(per_task, 1, 32);
 }
 
-std::size_t phase_points(const io::Segment& seg, DataType type) {
+std::size_t phase_points(const IndexRange& seg, DataType type) {
   return type == DataType::freq ? seg.size() + 1 : seg.size();
 }
 
@@ -114,16 +114,14 @@ StabilityPoint combine(const std::vector<StabilityPoint>& parts, std::size_t m, 
   out.dev = std::sqrt(sum / static_cast<double>(out.n));
   if (time_scaled) out.dev *= out.tau / std::sqrt(3.0);
   if (opt.intervals && has_intervals(stat)) {
-    const Interval ci = chi2_interval(out.dev, out.edf, opt.ci);
-    out.lo = ci.lo;
-    out.hi = ci.hi;
+    out.interval = chi2_interval(out.dev, out.edf, opt.ci);
   }
   return out;
 }
 
 // The result's settings, without its channels.
 DevResult dev_settings(const std::vector<std::span<const double>>& channels, double rate_hz,
-                       const std::vector<io::Segment>& segments, const DevRequest& req) {
+                       const std::vector<IndexRange>& segments, const DevRequest& req) {
   DevResult res;
   res.stat = req.stat;
   res.type = req.type;
@@ -139,7 +137,7 @@ DevResult dev_settings(const std::vector<std::span<const double>>& channels, dou
 // The averaging factors of the grid the segments allow (res.segments_used
 // and res.tau_list set on the way); throws for a record that allows none
 // or that the statistic cannot take.
-std::vector<std::size_t> dev_factors(DevResult& res, const std::vector<io::Segment>& segments, const DevRequest& req) {
+std::vector<std::size_t> dev_factors(DevResult& res, const std::vector<IndexRange>& segments, const DevRequest& req) {
   const std::size_t nseg = segments.size();
   std::size_t max_m = 0;
   res.segments_used = 0;
@@ -158,11 +156,11 @@ std::vector<std::size_t> dev_factors(DevResult& res, const std::vector<io::Segme
                          std::to_string(res.segments_used) +
                          " segments (fill or cut the gaps, or use oadev and theobr)");
   const TauGrid grid = req.stat == Stat::theoh
-                           ? theoh_factor_grid(req.grid, phase_points(io::Segment{0, longest}, req.type), res.tau0)
+                           ? theoh_factor_grid(req.grid, phase_points(IndexRange{0, longest}, req.type), res.tau0)
                            : req.grid;
   const std::vector<std::size_t> ms = averaging_factors(grid, max_m, res.tau0 * tau_per_factor(req.stat));
   if ((req.stat == Stat::theobr || req.stat == Stat::theoh) &&
-      phase_points(io::Segment{0, longest}, req.type) > StabilityRecord::kTheobrMaxPoints)
+      phase_points(IndexRange{0, longest}, req.type) > StabilityRecord::kTheobrMaxPoints)
     throw UsageError(Field::stat,
                      "theobr's bias ratio takes Theo1 at every fourth averaging factor up to 2N/3 (about "
                      "N^3/65 terms): " +
@@ -200,7 +198,7 @@ std::vector<std::pair<std::size_t, std::size_t>> factor_ranges(const std::vector
 class BatchedEvaluation {
  public:
   BatchedEvaluation(const std::vector<std::string>& names, const std::vector<std::span<const double>>& channels,
-                    const std::vector<io::Segment>& segments, const DevRequest& req, double tau0,
+                    const std::vector<IndexRange>& segments, const DevRequest& req, double tau0,
                     const std::vector<std::size_t>& ms, int threads)
       : names_(names),
         channels_(channels),
@@ -264,7 +262,7 @@ class BatchedEvaluation {
 
   const std::vector<std::string>& names_;
   const std::vector<std::span<const double>>& channels_;
-  const std::vector<io::Segment>& segments_;
+  const std::vector<IndexRange>& segments_;
   const DevRequest& req_;
   const double tau0_;
   const std::vector<std::size_t>& ms_;
@@ -351,7 +349,7 @@ std::vector<StabilityPoint> BatchedEvaluation::run() {
 }
 
 DevResult run(const std::vector<std::string>& names, const std::vector<std::span<const double>>& channels,
-              double rate_hz, const std::vector<io::Segment>& segments, const DevRequest& req) {
+              double rate_hz, const std::vector<IndexRange>& segments, const DevRequest& req) {
   DevResult res = dev_settings(channels, rate_hz, segments, req);
   const int threads = req.threads > 0 ? static_cast<int>(req.threads) : omp_get_max_threads();
   const std::size_t nseg = segments.size();
@@ -379,7 +377,7 @@ DevResult run(const std::vector<std::string>& names, const std::vector<std::span
 }
 
 // The grid as run() builds it, from the segments' sizes alone.
-std::vector<std::size_t> grid_for(const std::vector<io::Segment>& segments, double tau0, const DevRequest& req) {
+std::vector<std::size_t> grid_for(const std::vector<IndexRange>& segments, double tau0, const DevRequest& req) {
   std::size_t max_m = 0, longest = 0;
   for (const auto& seg : segments) {
     max_m = std::max(max_m, max_averaging_factor(req.stat, phase_points(seg, req.type)));
@@ -415,9 +413,8 @@ DevWorkEstimate estimate_dev(const io::Series& series, const DevRequest& req) {
   // The trial: a block of the grid's middle factors on (a prefix of) the
   // longest segment of the first channel, timed for a few milliseconds (a prefix of 2^18 samples: 2 MB, in the
   // same cache level as the records the estimate matters for).
-  const auto longest =
-      *std::max_element(series.segments.begin(), series.segments.end(),
-                        [](const io::Segment& a, const io::Segment& b) { return a.size() < b.size(); });
+  const auto longest = *std::max_element(series.segments.begin(), series.segments.end(),
+                                         [](const IndexRange& a, const IndexRange& b) { return a.size() < b.size(); });
   constexpr std::size_t kTrialSamples = std::size_t{1} << 18;
   const std::size_t len = std::min(longest.size(), kTrialSamples);
   std::span<const double> data(series.channels[0].data() + longest.begin, len);
@@ -465,11 +462,11 @@ DevResult run_dev(const io::Series& series, const DevRequest& request) {
 DevResult run_dev(const std::vector<std::string>& names, const std::vector<std::vector<double>>& channels,
                   double rate_hz, const DevRequest& request) {
   const std::size_t n = channels.empty() ? 0 : channels[0].size();
-  return run(names, {channels.begin(), channels.end()}, rate_hz, {io::Segment{0, n}}, request);
+  return run(names, {channels.begin(), channels.end()}, rate_hz, {IndexRange{0, n}}, request);
 }
 
 DevResult run_dev(const std::vector<std::string>& names, const std::vector<std::span<const double>>& channels,
-                  double rate_hz, const std::vector<io::Segment>& segments, const DevRequest& request) {
+                  double rate_hz, const std::vector<IndexRange>& segments, const DevRequest& request) {
   if (names.size() != channels.size())
     throw std::invalid_argument("run_dev: " + std::to_string(names.size()) + " names for " +
                                 std::to_string(channels.size()) + " channels");
@@ -477,7 +474,7 @@ DevResult run_dev(const std::vector<std::string>& names, const std::vector<std::
     if (c.size() != channels.front().size()) throw std::invalid_argument("run_dev: channels of different lengths");
   if (segments.empty()) {
     const std::size_t n = channels.empty() ? 0 : channels[0].size();
-    return run(names, channels, rate_hz, {io::Segment{0, n}}, request);
+    return run(names, channels, rate_hz, {IndexRange{0, n}}, request);
   }
   for (const auto& seg : segments)
     if (seg.begin > seg.end || (!channels.empty() && seg.end > channels[0].size()))

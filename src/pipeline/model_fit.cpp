@@ -87,8 +87,7 @@ std::vector<double> asymptotic_sds(const ModelChannel& ch, std::size_t samples, 
   std::vector<double> out;
   try {
     const GmwmAsymptotics as = gmwm_asymptotics(ch.fit, ch.wv, samples, inflation);
-    const std::size_t np = as.parameters;
-    const auto C = [&](std::size_t i, std::size_t k) { return as.covariance[i * np + k]; };
+    const auto C = [&](std::size_t i, std::size_t k) { return as.covariance(i, k); };
     std::size_t k = 0;
     for (const Process& p : ch.fit.model.processes) {
       const auto values = physical(p, dt);
@@ -379,14 +378,12 @@ void model_terms(ModelChannel& ch, const std::vector<std::vector<double>>& draws
         mean /= static_cast<double>(s.size());
         for (double x : s) var += (x - mean) * (x - mean);
         q.sd = std::sqrt(var / static_cast<double>(s.size() - 1));
-        q.lo = quantile(s, 0.5 * (1.0 - req.ci));
-        q.hi = quantile(s, 0.5 * (1.0 + req.ci));
+        q.interval = {quantile(s, 0.5 * (1.0 - req.ci)), quantile(s, 0.5 * (1.0 + req.ci))};
       }
       q.display = shown(name, v, q.sd, unit);
       // Every display unit is a factor on the data unit and seconds.
       const double factor = v != 0.0 ? q.display.value / v : 1.0;
-      q.display_lo = q.lo * factor;
-      q.display_hi = q.hi * factor;
+      q.display_interval = {q.interval.lo * factor, q.interval.hi * factor};
       q.asymptotic_sd = qi < asym.size() ? asym[qi] : std::numeric_limits<double>::quiet_NaN();
       q.display_asymptotic_sd = q.asymptotic_sd * factor;
       t.quantities.push_back(std::move(q));

@@ -21,14 +21,14 @@ nlohmann::json to_json(const ModelChannel& c, double rate_hz, bool bootstrapped)
                     {"value", q.value},
                     {"unit", q.unit},
                     {"sd", maybe(q.sd)},
-                    {"lo", maybe(q.lo)},
-                    {"hi", maybe(q.hi)},
+                    {"lo", maybe(q.interval.lo)},
+                    {"hi", maybe(q.interval.hi)},
                     {"asymptotic_sd", finite(q.asymptotic_sd)},
                     {"display",
                      {{"value", q.display.value},
                       {"sigma", maybe(q.display.sigma)},
-                      {"lo", maybe(q.display_lo)},
-                      {"hi", maybe(q.display_hi)},
+                      {"lo", maybe(q.display_interval.lo)},
+                      {"hi", maybe(q.display_interval.hi)},
                       {"asymptotic_sd", finite(q.display_asymptotic_sd)},
                       {"unit", q.display.unit}}}});
     }
@@ -36,8 +36,13 @@ nlohmann::json to_json(const ModelChannel& c, double rate_hz, bool bootstrapped)
   }
   std::vector<double> tau_s;
   for (double t : c.wv.tau) tau_s.push_back(t / rate_hz);
-  nlohmann::json wv = {{"tau_samples", c.wv.tau}, {"tau_s", tau_s},  {"nu2", c.wv.nu2}, {"lo", c.wv.lo},
-                       {"hi", c.wv.hi},           {"edf", c.wv.edf}, {"n", c.wv.n},     {"model", c.fit.nu2_model}};
+  std::vector<double> lo, hi;
+  for (const Interval& i : c.wv.interval) {
+    lo.push_back(i.lo);
+    hi.push_back(i.hi);
+  }
+  nlohmann::json wv = {{"tau_samples", c.wv.tau}, {"tau_s", tau_s}, {"nu2", c.wv.nu2},         {"lo", lo}, {"hi", hi},
+                       {"edf", c.wv.edf},         {"n", c.wv.n},    {"model", c.fit.nu2_model}};
   nlohmann::json candidates = nlohmann::json::array();
   for (const ModelCandidate& m : c.candidates)
     candidates.push_back({{"model", m.model},

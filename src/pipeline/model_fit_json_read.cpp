@@ -42,16 +42,14 @@ ModelQuantity read_quantity(const Node& q) {
   m.value = q.num("value");
   m.unit = q.at("unit").str();
   m.sd = or_zero(q, "sd");
-  m.lo = or_zero(q, "lo");
-  m.hi = or_zero(q, "hi");
+  m.interval = {or_zero(q, "lo"), or_zero(q, "hi")};
   // The sandwich sd: null (NaN) where the fit does not determine it, and in files before it.
   m.asymptotic_sd = q.num_or("asymptotic_sd", std::numeric_limits<double>::quiet_NaN());
   const Node d = q.at("display");
   m.display.value = d.num("value");
   m.display.sigma = or_zero(d, "sigma");
   m.display.unit = d.at("unit").str();
-  m.display_lo = or_zero(d, "lo");
-  m.display_hi = or_zero(d, "hi");
+  m.display_interval = {or_zero(d, "lo"), or_zero(d, "hi")};
   m.display_asymptotic_sd = d.num_or("asymptotic_sd", std::numeric_limits<double>::quiet_NaN());
   return m;
 }
@@ -123,15 +121,15 @@ ModelChannel read_channel(const Node& c) {
   const Node wv = c.at("wavelet_variance");
   ch.wv.tau = wv.at("tau_samples").nums();
   ch.wv.nu2 = wv.at("nu2").nums();
-  ch.wv.lo = wv.at("lo").nums();
-  ch.wv.hi = wv.at("hi").nums();
+  const std::vector<double> lo = wv.at("lo").nums(), hi = wv.at("hi").nums();
   ch.wv.edf = wv.at("edf").nums();
   ch.wv.n = counts(wv.at("n"));
   ch.fit.nu2_model = wv.at("model").nums();
   const std::size_t k = ch.wv.tau.size();
-  if (ch.wv.nu2.size() != k || ch.wv.lo.size() != k || ch.wv.hi.size() != k || ch.wv.edf.size() != k ||
-      ch.wv.n.size() != k || ch.fit.nu2_model.size() != k)
+  if (ch.wv.nu2.size() != k || lo.size() != k || hi.size() != k || ch.wv.edf.size() != k || ch.wv.n.size() != k ||
+      ch.fit.nu2_model.size() != k)
     wv.fail("tau_samples, nu2, lo, hi, edf, n and model differ in length");
+  for (std::size_t j = 0; j < k; ++j) ch.wv.interval.push_back({lo[j], hi[j]});
   if (c.has("fidelity")) {
     const Node f = c.at("fidelity");
     TwinFidelity t;

@@ -15,7 +15,7 @@
 namespace cubecal::pipeline {
 
 PsdResult run_psd(const std::vector<std::string>& names, const std::vector<std::span<const double>>& channels,
-                  double rate_hz, const std::vector<io::Segment>& segments, const PsdRequest& request) {
+                  double rate_hz, const std::vector<IndexRange>& segments, const PsdRequest& request) {
   if (names.size() != channels.size()) throw std::invalid_argument("run_psd: a name per channel");
   const std::size_t n = channels.empty() ? 0 : channels[0].size();
   for (const auto& c : channels)
@@ -24,7 +24,7 @@ PsdResult run_psd(const std::vector<std::string>& names, const std::vector<std::
   if (units > 1 && units != channels.size())
     throw UsageError(Field::units, "give one unit for all channels or one per channel (" + std::to_string(units) +
                                        " units for " + std::to_string(channels.size()) + " channels)");
-  std::vector<io::Segment> pieces = segments;
+  std::vector<IndexRange> pieces = segments;
   if (pieces.empty()) pieces.push_back({0, n});
   for (const auto& p : pieces)
     if (p.end > n || p.begin > p.end) throw std::invalid_argument("run_psd: a segment outside the record");

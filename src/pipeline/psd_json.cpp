@@ -91,7 +91,8 @@ nlohmann::json power_law_fit_json(const PowerLawFit& f, const Unit& unit) {
   const std::size_t p = f.terms.size();
   for (std::size_t i = 0; i < p; ++i) {
     nlohmann::json row = nlohmann::json::array();
-    for (std::size_t j = 0; j < p && i * p + j < f.covariance.size(); ++j) row.push_back(f.covariance[i * p + j]);
+    for (std::size_t j = 0; j < p && i < f.covariance.rows() && j < f.covariance.cols(); ++j)
+      row.push_back(f.covariance(i, j));
     cov.push_back(std::move(row));
   }
   return {{"f_lo_hz", f.f_lo}, {"f_hi_hz", f.f_hi}, {"bands", f.bands}, {"chi2", f.chi2},

@@ -88,8 +88,8 @@ Axis axis_of(const ChannelAnalysis& c, double rate_hz, std::string_view target) 
   // A twin of dropped terms only (a QN, a line): the whole twin is the
   // target, the closest the structure comes to it.
   if (!expressible) a.curve.nu2 = a.nu2_twin;
-  a.curve.lo = a.curve.nu2;
-  a.curve.hi = a.curve.nu2;
+  a.curve.interval.clear();
+  for (const double v : a.curve.nu2) a.curve.interval.push_back({v, v});
   if (a.curve.n.size() != a.curve.tau.size()) a.curve.n.assign(a.curve.tau.size(), 0);
   return a;
 }
@@ -297,8 +297,7 @@ CompositeModel project_envelope(const std::vector<Axis>& axes, const std::string
     env.edf.push_back(edf);
     sd[j] = twin * std::sqrt(2.0 / edf);
   }
-  env.lo = env.nu2;
-  env.hi = env.nu2;
+  for (const double v : env.nu2) env.interval.push_back({v, v});
   std::vector<const CompositeModel*> twins;
   for (const Axis& a : axes) twins.push_back(&a.expressible);
   return fit_structure(env, sd, structure, twin_starts(structure, twins, env)).model;

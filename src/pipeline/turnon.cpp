@@ -64,8 +64,7 @@ TurnOnResult run_turnon(const std::vector<io::Series>& runs, const AnalyzeReques
     t.mean_bias.push_back(mean);
     t.turn_on.push_back(sd);
     // (k-1) s^2 / sigma^2 ~ chi^2(k-1): the interval of sigma.
-    t.turn_on_lo.push_back(sd * std::sqrt((k - 1.0) / q_hi));
-    t.turn_on_hi.push_back(sd * std::sqrt((k - 1.0) / q_lo));
+    t.turn_on_interval.push_back({sd * std::sqrt((k - 1.0) / q_hi), sd * std::sqrt((k - 1.0) / q_lo)});
   }
   return t;
 }

@@ -119,8 +119,8 @@ nlohmann::json to_json(const TurnOnResult& t) {
                              {"unit_si", unit_si_json(t.units[c])},
                              {"mean_bias", t.mean_bias[c]},
                              {"turn_on_bias", t.turn_on[c]},
-                             {"turn_on_bias_lo", t.turn_on_lo[c]},
-                             {"turn_on_bias_hi", t.turn_on_hi[c]}});
+                             {"turn_on_bias_lo", t.turn_on_interval[c].lo},
+                             {"turn_on_bias_hi", t.turn_on_interval[c].hi}});
   return j;
 }
 
@@ -142,8 +142,7 @@ TurnOnResult turn_on_result_from_json(const nlohmann::json& j) {
     t.units.push_back(unit_of(c.at("unit").get<std::string>(), c.at("unit_si")));
     t.mean_bias.push_back(c.at("mean_bias").get<double>());
     t.turn_on.push_back(c.at("turn_on_bias").get<double>());
-    t.turn_on_lo.push_back(c.at("turn_on_bias_lo").get<double>());
-    t.turn_on_hi.push_back(c.at("turn_on_bias_hi").get<double>());
+    t.turn_on_interval.push_back({c.at("turn_on_bias_lo").get<double>(), c.at("turn_on_bias_hi").get<double>()});
   }
   return t;
 }

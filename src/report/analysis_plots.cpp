@@ -60,8 +60,8 @@ PlotSeries measured_oadev(const std::vector<StabilityPoint>& curve, const std::s
   for (const auto& pt : curve) {
     m.x.push_back(pt.tau);
     m.y.push_back(pt.dev);
-    m.lo.push_back(pt.lo);
-    m.hi.push_back(pt.hi);
+    m.lo.push_back(pt.interval.lo);
+    m.hi.push_back(pt.interval.hi);
   }
   m.mark = Mark::errorlines;
   m.id = channel + " measured OADEV";
@@ -267,8 +267,8 @@ ReportFigure composite_figure(const AnalysisResult& d, const ChannelAnalysis& ch
   for (std::size_t j = 0; j < mc.wv.size(); ++j) {
     w.x.push_back(0.5 * mc.wv.tau[j] * dt);
     w.y.push_back(std::sqrt(2.0 * mc.wv.nu2[j]));
-    w.lo.push_back(std::sqrt(2.0 * mc.wv.lo[j]));
-    w.hi.push_back(std::sqrt(2.0 * mc.wv.hi[j]));
+    w.lo.push_back(std::sqrt(2.0 * mc.wv.interval[j].lo));
+    w.hi.push_back(std::sqrt(2.0 * mc.wv.interval[j].hi));
   }
   w.mark = Mark::errorbars;
   w.id = ch.name + " Haar wavelet variance";
@@ -619,8 +619,8 @@ bool compensated_series(Plot& q, const AnalysisResult& d, const ChannelAnalysis&
   for (const auto& pt : ch.temperature->compensated.adev) {
     s.x.push_back(pt.tau);
     s.y.push_back(pt.dev);
-    s.lo.push_back(pt.lo);
-    s.hi.push_back(pt.hi);
+    s.lo.push_back(pt.interval.lo);
+    s.hi.push_back(pt.interval.hi);
   }
   s.mark = Mark::errorlines;
   s.id = ch.name + " temperature compensated";

@@ -553,11 +553,11 @@ std::string temperature_table(const AnalysisResult& r, const SensorGroup& g) {
 std::string covariance_html(const AnalysisResult& r) {
   const auto& names = r.cov_names;
   const auto& m = r.covariance;
-  if (names.empty() || m.size() != names.size()) return "<p class=\"muted\">No covariance in the analysis.</p>\n";
+  if (names.empty() || m.rows() != names.size()) return "<p class=\"muted\">No covariance in the analysis.</p>\n";
   const std::size_t n = names.size();
   std::vector<std::vector<std::optional<double>>> v(n, std::vector<std::optional<double>>(n));
   for (std::size_t a = 0; a < n; ++a)
-    for (std::size_t b = 0; b < n && b < m[a].size(); ++b) v[a][b] = finite(m[a][b]);
+    for (std::size_t b = 0; b < n && b < m.cols(); ++b) v[a][b] = finite(m(a, b));
   // The unit of entry (a, b) is unit_a * unit_b.
   std::vector<std::string> units(n);
   for (std::size_t a = 0; a < n; ++a)
@@ -697,10 +697,10 @@ ReportTable composite_table(const AnalysisResult& r, const ChannelAnalysis& c) {
   for (const pipeline::ModelTerm& term : m.terms)
     for (std::size_t i = 0; i < term.quantities.size(); ++i) {
       const pipeline::ModelQuantity& q = term.quantities[i];
-      t.rows.push_back({i == 0 ? std::string(to_string(term.kind)) : std::string(), q.name,
-                        format_num(finite(q.display.value), 5), format_num(finite(q.display_asymptotic_sd), 2),
-                        sd ? format_num(finite(q.display.sigma), 2) : "—",
-                        sd ? interval_text(q.display_lo, q.display_hi) : std::string("—"), q.display.unit});
+      t.rows.push_back(
+          {i == 0 ? std::string(to_string(term.kind)) : std::string(), q.name, format_num(finite(q.display.value), 5),
+           format_num(finite(q.display_asymptotic_sd), 2), sd ? format_num(finite(q.display.sigma), 2) : "—",
+           sd ? interval_text(q.display_interval.lo, q.display_interval.hi) : std::string("—"), q.display.unit});
     }
   std::string note = "GMWM fit to the Haar wavelet variance of " + format_num(count(c.model.samples), 12) +
                      " samples over " + std::to_string(m.wv.size()) + " dyadic scales (objective " +

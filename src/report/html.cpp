@@ -5,9 +5,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 
 #include "cubecal/error.hpp"
+#include "cubecal/io/atomic_file.hpp"
 
 namespace cubecal::report {
 
@@ -177,19 +177,9 @@ std::string html_document(std::string_view title, std::string_view body_html) {
 }
 
 void write_page(const std::filesystem::path& html, const std::string& page) {
-  namespace fs = std::filesystem;
-  const fs::path tmp = html.string() + ".partial";
-  {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    f << page;
-    f.close();
-    if (!f) {
-      std::error_code ec;
-      fs::remove(tmp, ec);
-      throw UsageError("cannot write " + html.string() + " (check the directory is writable)");
-    }
-  }
-  fs::rename(tmp, html);
+  io::AtomicFile f(html.string());
+  if (!f.is_open() || !f.write(page) || !f.commit())
+    throw UsageError("cannot write " + html.string() + " (check the directory is writable)");
 }
 
 }  // namespace cubecal::report

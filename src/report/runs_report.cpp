@@ -142,8 +142,8 @@ std::vector<ReportFigure> allan_overlay_figures(const std::vector<pipeline::RunS
       for (const auto& pt : ch.adev) {
         s.x.push_back(pt.tau);
         s.y.push_back(pt.dev);
-        s.lo.push_back(pt.lo);
-        s.hi.push_back(pt.hi);
+        s.lo.push_back(pt.interval.lo);
+        s.hi.push_back(pt.interval.hi);
       }
       if (s.x.empty()) continue;
       s.mark = Mark::errorlines;
@@ -228,7 +228,8 @@ std::vector<ReportFigure> turnon_bias_figures(const pipeline::TurnOnResult& t) {
                      std::to_string(k) +
                      " runs (dashed) and ± the turn-on bias σ = " + html_escape(format_num(sd, 4) + " " + unit) +
                      " (band; " + html_escape(ci_text(t.ci)) + " interval of σ: " +
-                     html_escape(format_num(t.turn_on_lo[c], 3) + " – " + format_num(t.turn_on_hi[c], 3) + " " + unit) +
+                     html_escape(format_num(t.turn_on_interval[c].lo, 3) + " – " +
+                                 format_num(t.turn_on_interval[c].hi, 3) + " " + unit) +
                      ", " + std::to_string(k - 1) + " degrees of freedom).";
     figs.push_back(std::move(f));
   }
@@ -254,7 +255,7 @@ CommandReport turnon_report(const pipeline::TurnOnResult& t, const RunsReportCon
   sum.numeric = {false, false, true, true, true, true};
   for (std::size_t c = 0; c < t.names.size(); ++c)
     sum.rows.push_back({t.names[c], t.units[c].name, format_num(t.mean_bias[c], 6), format_num(t.turn_on[c], 4),
-                        format_num(t.turn_on_lo[c], 4) + " – " + format_num(t.turn_on_hi[c], 4),
+                        format_num(t.turn_on_interval[c].lo, 4) + " – " + format_num(t.turn_on_interval[c].hi, 4),
                         std::to_string(t.runs.size())});
   sum.note = "σ: sample standard deviation of the run biases (n − 1); its interval from (n − 1) s² / σ² ~ χ²(n − 1).";
 

@@ -202,8 +202,7 @@ void terms_in_units(PowerLawFit& fit, const std::vector<int>& exponents, const V
     fit.terms[ai].sigma = std::sqrt(cov_free(static_cast<Index>(i), static_cast<Index>(i))) * unit[ai];
     for (std::size_t j = 0; j < free.size(); ++j) {
       const auto aj = static_cast<std::size_t>(free[j]);
-      fit.covariance[ai * static_cast<std::size_t>(p) + aj] =
-          cov_free(static_cast<Index>(i), static_cast<Index>(j)) * unit[ai] * unit[aj];
+      fit.covariance(ai, aj) = cov_free(static_cast<Index>(i), static_cast<Index>(j)) * unit[ai] * unit[aj];
     }
   }
 }
@@ -245,7 +244,7 @@ PowerLawFit fit_power_law(const Psd& raw, const PowerLawFitOptions& options) {
   fit.f_hi = b.f_hi;
   fit.bands = static_cast<std::size_t>(g);
   for (const int a : options.exponents) fit.terms.push_back({a, 0.0, 0.0, false, 0.0, 0.0});
-  fit.covariance.assign(static_cast<std::size_t>(p * p), 0.0);
+  fit.covariance = Matrix(static_cast<std::size_t>(p), static_cast<std::size_t>(p));
 
   // Normalized: frequencies by the geometric mean of the bands', densities
   // by the geometric mean of the positive band densities.

@@ -21,23 +21,21 @@ AllanCurve to_allan_curve(const std::vector<StabilityPoint>& points) {
   AllanCurve c;
   c.tau.reserve(keep.size());
   c.dev.reserve(keep.size());
-  c.lo.reserve(keep.size());
-  c.hi.reserve(keep.size());
+  c.interval.reserve(keep.size());
   c.edf.reserve(keep.size());
   for (const std::size_t i : keep) {
     const auto& p = points[i];
     c.tau.push_back(p.tau);
     c.dev.push_back(p.dev);
-    c.lo.push_back(p.lo);
-    c.hi.push_back(p.hi);
+    c.interval.push_back(p.interval);
     c.edf.push_back(p.edf);
   }
   return c;
 }
 
 double relative_uncertainty(const AllanCurve& c, std::size_t i) noexcept {
-  if (i < c.lo.size() && i < c.hi.size() && c.hi[i] > c.lo[i] && c.dev[i] > 0.0)
-    return (c.hi[i] - c.lo[i]) / (2.0 * c.dev[i]);
+  if (i < c.interval.size() && c.interval[i].hi > c.interval[i].lo && c.dev[i] > 0.0)
+    return (c.interval[i].hi - c.interval[i].lo) / (2.0 * c.dev[i]);
   if (i < c.edf.size() && c.edf[i] > 0.0) return 1.0 / std::sqrt(2.0 * c.edf[i]);
   return 0.0;
 }

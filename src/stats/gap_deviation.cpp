@@ -154,9 +154,7 @@ std::vector<StabilityPoint> oadev_skipping_missing(std::span<const double> data,
     pt.type_carried = types[j].carried;
     // The EDF of a whole record with as many terms: n + 2m phase points.
     pt.edf = edf_for(Stat::oadev, pt.alpha, pt.m, pt.n + 2 * pt.m, options.edf);
-    const Interval ci = chi2_interval(pt.dev, pt.edf, options.ci);
-    pt.lo = ci.lo;
-    pt.hi = ci.hi;
+    pt.interval = chi2_interval(pt.dev, pt.edf, options.ci);
   }
   return out;
 }

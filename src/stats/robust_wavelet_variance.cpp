@@ -342,8 +342,7 @@ WaveletVariance robust_wavelet_variance(std::span<const double> y, double ci, do
     wv.nu2.push_back(nu2);
     wv.n.push_back(M);
     wv.edf.push_back(edf);
-    wv.lo.push_back(band.lo * band.lo);
-    wv.hi.push_back(band.hi * band.hi);
+    wv.interval.push_back({band.lo * band.lo, band.hi * band.hi});
   }
   return wv;
 }

@@ -192,9 +192,7 @@ void StabilityRecord::set_interval(StabilityPoint& p, const StabilityOptions& op
     for (int a : {p.alpha - 1, p.alpha + 1, wfm})
       if (a >= lowest && a <= 2) p.edf = std::min(p.edf, edf_for(stat_, a, m, x_.size(), opt.edf));
   }
-  const Interval ci = chi2_interval(p.dev, p.edf, opt.ci);
-  p.lo = ci.lo;
-  p.hi = ci.hi;
+  p.interval = chi2_interval(p.dev, p.edf, opt.ci);
 }
 
 void StabilityRecord::carry_types(std::span<StabilityPoint> run, const StabilityOptions& opt) const {

@@ -463,9 +463,7 @@ StreamingDeviation::Result StreamingDeviation::finish(double tau0, const Stabili
           if (a >= lowest && a <= 2)
             p.edf = std::min(p.edf, edf_for_stride(stat_, a, fa.m, covered, fa.stride, opt.edf));
       }
-      const Interval ci = chi2_interval(p.dev, p.edf, opt.ci);
-      p.lo = ci.lo;
-      p.hi = ci.hi;
+      p.interval = chi2_interval(p.dev, p.edf, opt.ci);
     }
     res.points.push_back(p);
     res.strides.push_back(fa.stride);

@@ -47,8 +47,7 @@ WaveletVariance wavelet_variance_at(std::span<const double> y, std::span<const s
     wv.nu2.push_back(nu2);
     wv.n.push_back(v[j].n);
     wv.edf.push_back(edf);
-    wv.lo.push_back(band.lo * band.lo);
-    wv.hi.push_back(band.hi * band.hi);
+    wv.interval.push_back({band.lo * band.lo, band.hi * band.hi});
   }
   return wv;
 }

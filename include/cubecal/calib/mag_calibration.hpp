@@ -18,6 +18,7 @@
 #include <string_view>
 #include <vector>
 
+#include "cubecal/math/matrix.hpp"
 #include "cubecal/math/vec3.hpp"
 
 namespace cubecal::mag {
@@ -127,7 +128,7 @@ struct Result {
   Mat3 soft_iron_sigma{};       // 1 sigma of each entry (0 for bias-only)
   // Covariance of (b1, b2, b3) for bias-only, of (b1, b2, b3, W11, W22, W33,
   // W12, W13, W23) with W = A^-1 otherwise; names in covariance_names.
-  std::vector<std::vector<double>> covariance;
+  Matrix covariance;
   std::vector<std::string> covariance_names;
   double field_norm = 0.0;          // F (the mean of |H_k| when given per point)
   bool field_norm_default = false;  // F was the mean raw |h|

@@ -45,6 +45,7 @@
 #include <vector>
 
 #include "cubecal/calib/static_detection.hpp"
+#include "cubecal/math/matrix.hpp"
 #include "cubecal/math/vec3.hpp"
 
 namespace cubecal::multipos {
@@ -113,7 +114,7 @@ struct AccResult {
   std::vector<std::string> names;
   std::vector<double> values;
   std::vector<double> sigma;
-  std::vector<std::vector<double>> covariance;
+  Matrix covariance;
   std::size_t init_samples = 0;
   double init_variance_norm = 0.0;
   int th_mult = 0;
@@ -139,7 +140,7 @@ struct GyroResult {
   // term alone (conditional on both).
   std::vector<double> sigma;
   std::vector<double> sigma_fit;
-  std::vector<std::vector<double>> covariance;
+  Matrix covariance;
   std::size_t init_samples = 0;
   Vec3 init_bias{};                   // mean over the initial static period
   Vec3 init_bias_sigma{};             // its standard error (white noise)

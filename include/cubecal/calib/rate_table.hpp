@@ -31,6 +31,7 @@
 #include <vector>
 
 #include "cubecal/calib/plateaus.hpp"
+#include "cubecal/math/matrix.hpp"
 #include "cubecal/math/vec3.hpp"
 
 namespace cubecal {
@@ -54,10 +55,10 @@ struct ResidualStats {
   double rms = 0.0;      // root mean square over all plateaus and axes, data unit
 };
 
-// Covariance of 12 parameters ordered per gyro output axis k = 0, 1, 2 as
-// index 4k + m: m = 0..2 the row k of the matrix (S or A), m = 3 the k-th
-// bias (b_g or beta). This is vec Theta, Theta's columns stacked.
-using Covariance12 = std::array<std::array<double, 12>, 12>;
+// forward_cov and inverse_cov: 12 x 12 covariances of the parameters ordered
+// per gyro output axis k = 0, 1, 2 as index 4k + m: m = 0..2 the row k of the
+// matrix (S or A), m = 3 the k-th bias (b_g or beta). This is vec Theta,
+// Theta's columns stacked.
 
 struct RateTableCalibration {
   std::size_t plateaus = 0;
@@ -70,14 +71,14 @@ struct RateTableCalibration {
   std::array<double, 3> bias{};  // b_g, data unit
   Mat3 S_sigma{};
   std::array<double, 3> bias_sigma{};
-  Covariance12 forward_cov{};  // of (S, b_g), ordering above
+  Matrix forward_cov;  // of (S, b_g), ordering above
 
   // Inverse (the paper's) form w = A w_g + beta.
   Mat3 A{};
   std::array<double, 3> beta{};  // data unit
   Mat3 A_sigma{};
   std::array<double, 3> beta_sigma{};
-  Covariance12 inverse_cov{};  // of (A, beta), ordering above
+  Matrix inverse_cov;  // of (A, beta), ordering above
 
   // What datasheets quote, from the forward S:
   // scale-factor error of axis i: S_ii - 1 (x1e6 for ppm, x100 for %);

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "cubecal/calib/mag_calibration.hpp"
+#include "cubecal/math/matrix.hpp"
 
 namespace cubecal::mag {
 
@@ -38,15 +39,15 @@ struct TwostepResult {
   // theta = b (bias only) or [c; E11 E22 E33 E12 E13 E23], c = (I+D) b,
   // E = 2D + D^2 (full).
   std::vector<double> theta, centred_theta;
-  std::vector<std::vector<double>> theta_cov;  // P = F^-1 at convergence
+  Matrix theta_cov;  // P = F^-1 at convergence
   // Covariance of (b1 b2 b3) or (b1 b2 b3 D11 D22 D33 D12 D13 D23): P for
   // bias only, J P J^T with J = d(b, D)/d(c, E) for the full model.
-  std::vector<std::vector<double>> cov;
+  Matrix cov;
   // Hard-iron form h_cal = (I+D)(h - offset): offset = (I+D)^-1 b, and the
   // covariance of (offset, W11 W22 W33 W12 W13 W23) with W = I + D (3x3 for
   // bias only, where offset = b).
   Vec3 offset{};
-  std::vector<std::vector<double>> offset_cov;
+  Matrix offset_cov;
   // Smallest / largest eigenvalue of the centred information matrix: about
   // 1e-17 for the full model when |H_k| is constant (step 1 degenerate).
   double centred_condition = 0.0;

@@ -1,9 +1,9 @@
 // Delimited-text output that the readers take back: comma-separated, one
 // header line, numbers in the shortest form that keeps 9 significant digits.
-// A name ending in .gz is written gzip-compressed. Writes go to
-// NAME.partial and are renamed into place by commit(), so an interrupted run
-// never leaves a truncated file under the real name; an existing file is
-// replaced only when asked.
+// A name ending in .gz is written gzip-compressed. Writes go through an
+// AtomicFile (atomic_file.hpp): NAME.partial renamed into place by commit(),
+// so an interrupted run never leaves a truncated file under the real name; an
+// existing file is replaced only when asked.
 #pragma once
 #include <memory>
 #include <span>
@@ -34,7 +34,6 @@ class CsvWriter {
  private:
   void flush();
   std::string path_;
-  std::string tmp_;
   std::string buf_;
   bool gzip_ = false;
   struct Sink;

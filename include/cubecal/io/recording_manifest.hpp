@@ -100,12 +100,6 @@ RecordingManifest read_manifest(const std::string& dir);
 // "cubecal-record/1" (any error reading it: false).
 bool is_recording_dir(const std::string& dir);
 
-// Replaces `path` by `content` atomically and durably: writes PATH.tmp,
-// fsyncs it, renames it over PATH and fsyncs the directory. After a crash
-// at any point PATH holds either the old or the new content. Throws
-// std::system_error (with the path in its message) on failure.
-void replace_file_atomically(const std::string& path, std::string_view content);
-
 // replace_file_atomically(DIR/manifest.json, manifest_text(m)).
 void write_manifest(const std::string& dir, const RecordingManifest& m);
 

@@ -8,6 +8,7 @@
 
 #include "cubecal/io/delimited_reader.hpp"
 #include "cubecal/io/raw_binary_reader.hpp"
+#include "cubecal/math/index_range.hpp"
 
 namespace cubecal::io {
 
@@ -75,12 +76,6 @@ struct SeriesOptions {
   RawLayout binary;
 };
 
-struct Segment {
-  std::size_t begin = 0;  // first row
-  std::size_t end = 0;    // one past the last row
-  std::size_t size() const noexcept { return end - begin; }
-};
-
 struct Series {
   std::string file;
   double rate_hz = 0.0;
@@ -109,7 +104,7 @@ struct Series {
   // temperature), as read: not scaled by lsb.
   std::vector<std::string> extra_names;
   std::vector<std::vector<double>> extra;
-  std::vector<Segment> segments;        // contiguous pieces; one when there are no gaps
+  std::vector<IndexRange> segments;     // contiguous pieces (rows); one when there are no gaps
   GapPolicy gaps = GapPolicy::error;    // the policy the record was read with
   std::size_t irregular_intervals = 0;  // gaps/jitter split on (policy split)
   bool gzip = false;

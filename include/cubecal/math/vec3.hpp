@@ -1,10 +1,13 @@
-// The small linear-algebra vocabulary every module shares: 3-vectors, 3x3
-// matrices (row-major, m[row][col]) and half-open index ranges. Plain
-// arrays, so results stay aggregates that serialise and copy trivially;
-// solvers convert to Eigen internally.
+// The small linear-algebra vocabulary every module shares: 3-vectors and 3x3
+// matrices (row-major, m[row][col]) of a triad; matrices of any other size
+// are a Matrix (matrix.hpp), index ranges an IndexRange (index_range.hpp).
+// Plain arrays, so results stay aggregates that serialise and copy
+// trivially; solvers convert to Eigen internally.
 #pragma once
 #include <array>
 #include <cstddef>
+
+#include "cubecal/math/index_range.hpp"
 
 namespace cubecal {
 
@@ -12,13 +15,5 @@ using Vec3 = std::array<double, 3>;
 using Mat3 = std::array<std::array<double, 3>, 3>;  // m[row][col]
 
 inline constexpr Mat3 kIdentity3{{{1.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, {0.0, 0.0, 1.0}}};
-
-// Half-open range of sample indices [begin, end).
-struct IndexRange {
-  std::size_t begin = 0;
-  std::size_t end = 0;
-  std::size_t size() const noexcept { return end - begin; }
-  friend bool operator==(const IndexRange&, const IndexRange&) = default;
-};
 
 }  // namespace cubecal

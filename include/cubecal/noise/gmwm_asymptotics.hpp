@@ -16,6 +16,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "cubecal/math/matrix.hpp"
 #include "cubecal/noise/gmwm.hpp"
 #include "cubecal/stats/wavelet_variance.hpp"
 
@@ -29,14 +30,14 @@ struct ProcessSd {
 };
 
 struct GmwmAsymptotics {
-  std::size_t parameters = 0;          // p
-  std::size_t scales = 0;              // J
-  std::vector<double> covariance;      // p x p row-major: the sandwich, of theta
-  std::vector<double> naive;           // p x p row-major: (A'WA)^-1, the scales taken as independent with sd_j
-  std::vector<double> jacobian;        // J x p row-major: A
-  std::vector<double> nu2_covariance;  // J x J row-major: V
-  std::vector<double> hat;             // J x J row-major: P = A (A'WA)^-1 A'W, d nu2(theta_hat) / d nu2_hat
-  std::vector<ProcessSd> sd;           // per process of the fitted model, from the sandwich
+  std::size_t parameters = 0;  // p
+  std::size_t scales = 0;      // J
+  Matrix covariance;           // p x p: the sandwich, of theta
+  Matrix naive;                // p x p: (A'WA)^-1, the scales taken as independent with sd_j
+  Matrix jacobian;             // J x p: A
+  Matrix nu2_covariance;       // J x J: V
+  Matrix hat;                  // J x J: P = A (A'WA)^-1 A'W, d nu2(theta_hat) / d nu2_hat
+  std::vector<ProcessSd> sd;   // per process of the fitted model, from the sandwich
 };
 
 // `samples`: the record's length (the wavelet variance's N). V is that of

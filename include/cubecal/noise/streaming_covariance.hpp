@@ -8,6 +8,8 @@
 #include <span>
 #include <vector>
 
+#include "cubecal/math/matrix.hpp"
+
 namespace cubecal {
 
 class StreamingCovariance {
@@ -23,7 +25,7 @@ class StreamingCovariance {
   double mean(std::size_t channel) const { return mean_.at(channel); }
   // Unbiased (n - 1) normalization; std::invalid_argument below 2 samples.
   double variance(std::size_t channel) const;
-  std::vector<std::vector<double>> matrix() const;
+  Matrix matrix() const;
 
  private:
   std::size_t k_ = 0;

@@ -6,6 +6,8 @@
 #include <span>
 #include <vector>
 
+#include "cubecal/math/matrix.hpp"
+
 namespace cubecal {
 
 struct TemperatureFit {
@@ -15,7 +17,7 @@ struct TemperatureFit {
   // Coefficient covariance: sandwich estimate with batch means of the scores
   // (20 contiguous batches), robust to the correlated residuals a drifting
   // bias leaves; never below the white-residual sigma^2 (V^T V)^-1.
-  std::vector<std::vector<double>> cov;
+  Matrix cov;
   double residual_rms = 0.0;  // data unit
   double r2 = 0.0;            // coefficient of determination
   std::size_t order = 1;

@@ -21,6 +21,7 @@
 #include <span>
 #include <vector>
 
+#include "cubecal/math/matrix.hpp"
 #include "cubecal/noise/composite_model.hpp"
 
 namespace cubecal {
@@ -32,12 +33,11 @@ namespace cubecal {
 // UsageError(Field::scales) for a scale that is not an even number >= 2.
 double haar_coefficient_covariance(const CompositeModel& model, double tau_j, double tau_k, long long h);
 
-// The J x J covariance (row-major) of the empirical Haar wavelet variance at
+// The J x J covariance of the empirical Haar wavelet variance at
 // the scales tau (samples: even, >= 2, at most `samples`, any order) from a
 // record of `samples` samples of the model, taken as Gaussian. Throws as
 // haar_coefficient_covariance does, and UsageError(Field::scales) for a scale
 // longer than the record.
-std::vector<double> wavelet_variance_covariance(const CompositeModel& model, std::span<const double> tau,
-                                                std::size_t samples);
+Matrix wavelet_variance_covariance(const CompositeModel& model, std::span<const double> tau, std::size_t samples);
 
 }  // namespace cubecal

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "cubecal/stage_times.hpp"
+#include "cubecal/math/matrix.hpp"
 #include "cubecal/noise/drift.hpp"
 #include "cubecal/noise/noise_terms.hpp"
 #include "cubecal/noise/sensor_noise_model.hpp"
@@ -165,7 +166,7 @@ struct AnalysisResult {
   std::string temp_name;
   std::vector<ChannelAnalysis> channels;
   std::vector<std::string> cov_names;
-  std::vector<std::vector<double>> covariance;
+  Matrix covariance;
   std::size_t cov_samples = 0;
   // Listed taus (an explicit --taus list) the Allan curves leave out, with
   // the reason, and listed taus merged on one averaging factor; and listed

@@ -85,6 +85,6 @@ DevResult run_dev(const std::vector<std::string>& names, const std::vector<std::
 // copied but the phase record of the channel being evaluated.
 // std::invalid_argument for mismatched names, lengths or segments.
 DevResult run_dev(const std::vector<std::string>& names, const std::vector<std::span<const double>>& channels,
-                  double rate_hz, const std::vector<io::Segment>& segments, const DevRequest& request);
+                  double rate_hz, const std::vector<IndexRange>& segments, const DevRequest& request);
 
 }  // namespace cubecal::pipeline

@@ -17,6 +17,7 @@
 #include "cubecal/noise/gmwm.hpp"
 #include "cubecal/noise/units.hpp"
 #include "cubecal/noise/twin_selection.hpp"
+#include "cubecal/stats/confidence.hpp"
 #include "cubecal/noise/wic.hpp"
 #include "cubecal/spectral/spectral_lines.hpp"
 #include "cubecal/stats/wavelet_variance.hpp"
@@ -51,11 +52,11 @@ struct ModelRequest {
 struct ModelQuantity {
   std::string name;  // "N", "Q", "K", "R", "sigma_b", "T_c", "theta"
   double value = 0.0;
-  std::string unit;                           // of value: u*sqrt(s), u*s, u/sqrt(s), u/s, u, s, Hz; "" for theta
-  Quantity display;                           // display.sigma: the bootstrap's standard deviation (0 without)
-  double sd = 0.0;                            // bootstrap standard deviation of value (0 without)
-  double lo = 0.0, hi = 0.0;                  // bootstrap percentile interval of value at ci (0 without)
-  double display_lo = 0.0, display_hi = 0.0;  // the interval in display.unit
+  std::string unit;           // of value: u*sqrt(s), u*s, u/sqrt(s), u/s, u, s, Hz; "" for theta
+  Quantity display;           // display.sigma: the bootstrap's standard deviation (0 without)
+  double sd = 0.0;            // bootstrap standard deviation of value (0 without)
+  Interval interval;          // bootstrap percentile interval of value at ci ({0, 0} without)
+  Interval display_interval;  // the interval in display.unit
   // The GMWM's asymptotic (sandwich) standard deviation of value by the
   // delta method (noise/gmwm_asymptotics.hpp; docs/formulas/noise-terms.md
   // §8d), and in display.unit; NaN where the wavelet variance does not

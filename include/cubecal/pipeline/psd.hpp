@@ -78,6 +78,6 @@ PsdResult run_psd(const io::Series& series, const PsdRequest& request);
 // (empty: one contiguous piece). std::invalid_argument for mismatched names
 // or lengths.
 PsdResult run_psd(const std::vector<std::string>& names, const std::vector<std::span<const double>>& channels,
-                  double rate_hz, const std::vector<io::Segment>& segments, const PsdRequest& request);
+                  double rate_hz, const std::vector<IndexRange>& segments, const PsdRequest& request);
 
 }  // namespace cubecal::pipeline

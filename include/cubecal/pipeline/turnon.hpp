@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "cubecal/pipeline/analyze.hpp"
+#include "cubecal/stats/confidence.hpp"
 
 namespace cubecal::pipeline {
 
@@ -30,10 +31,9 @@ struct TurnOnResult {
   std::vector<std::string> names;
   std::vector<Unit> units;
   std::vector<RunSummary> runs;
-  std::vector<double> mean_bias;   // mean over runs of the run biases
-  std::vector<double> turn_on;     // sample standard deviation of the run biases
-  std::vector<double> turn_on_lo;  // its confidence interval (chi-squared, runs - 1 dof)
-  std::vector<double> turn_on_hi;
+  std::vector<double> mean_bias;           // mean over runs of the run biases
+  std::vector<double> turn_on;             // sample standard deviation of the run biases
+  std::vector<Interval> turn_on_interval;  // its confidence interval (chi-squared, runs - 1 dof)
   double ci = 0.683;
 };
 

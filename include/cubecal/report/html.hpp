@@ -35,8 +35,8 @@ std::string html_figure(const RenderedPlot& plot, std::string_view caption_html,
 // then `body_html`.
 std::string html_document(std::string_view title, std::string_view body_html);
 
-// Writes a finished page to `html` through NAME.partial and a rename, so a
-// reader never sees half a page. Throws UsageError when it cannot.
+// Writes a finished page to `html` through an io::AtomicFile (NAME.partial
+// and a rename), so a reader never sees half a page. Throws UsageError when it cannot.
 void write_page(const std::filesystem::path& html, const std::string& page);
 
 }  // namespace cubecal::report

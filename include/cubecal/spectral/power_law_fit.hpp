@@ -13,6 +13,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "cubecal/math/matrix.hpp"
 #include "cubecal/spectral/psd.hpp"
 
 namespace cubecal {
@@ -44,7 +45,7 @@ struct PowerLawTerm {
 
 struct PowerLawFit {
   std::vector<PowerLawTerm> terms;  // in the order of the options' exponents
-  std::vector<double> covariance;   // of the h, row-major, terms.size()^2 (zero rows for terms at the bound)
+  Matrix covariance;                // of the h, terms.size() square (zero rows for terms at the bound)
   double f_lo = 0.0;                // the fitted band: first and last raw frequency used
   double f_hi = 0.0;
   std::size_t bands = 0;  // log bands fitted

@@ -5,16 +5,16 @@
 #include <cstddef>
 #include <vector>
 
+#include "cubecal/stats/confidence.hpp"
 #include "cubecal/stats/stability.hpp"
 
 namespace cubecal {
 
 struct AllanCurve {
-  std::vector<double> tau;  // s, ascending
-  std::vector<double> dev;  // sigma(tau), data unit
-  std::vector<double> lo;   // lower confidence bound of dev
-  std::vector<double> hi;   // upper confidence bound of dev
-  std::vector<double> edf;  // equivalent degrees of freedom (> 0)
+  std::vector<double> tau;         // s, ascending
+  std::vector<double> dev;         // sigma(tau), data unit
+  std::vector<Interval> interval;  // confidence interval of dev
+  std::vector<double> edf;         // equivalent degrees of freedom (> 0)
   std::size_t size() const noexcept { return tau.size(); }
 };
 

@@ -3,9 +3,11 @@
 
 namespace cubecal {
 
+// A confidence interval [lo, hi] of an estimate ({0, 0}: none).
 struct Interval {
   double lo = 0.0;
   double hi = 0.0;
+  friend bool operator==(const Interval&, const Interval&) = default;
 };
 
 // Two-sided interval at confidence ci (e.g. 0.683) for a deviation with

@@ -6,6 +6,7 @@
 #include <span>
 #include <vector>
 
+#include "cubecal/stats/confidence.hpp"
 #include "cubecal/stats/edf.hpp"
 #include "cubecal/stage_times.hpp"
 #include "cubecal/stats/kernels.hpp"
@@ -35,8 +36,7 @@ struct StabilityPoint {
   double tau = 0.0;
   double dev = 0.0;
   std::size_t n = 0;
-  double lo = 0.0;
-  double hi = 0.0;
+  Interval interval;  // of dev, at StabilityOptions::ci ({0, 0} without intervals)
   double edf = 0.0;
   int alpha = 0;
   // The noise type is the previous factor's in the run (carry_types), not

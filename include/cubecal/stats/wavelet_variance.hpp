@@ -13,6 +13,8 @@
 #include <span>
 #include <vector>
 
+#include "cubecal/stats/confidence.hpp"
+
 namespace cubecal {
 
 struct WaveletVariance {
@@ -22,7 +24,7 @@ struct WaveletVariance {
   // Percival & Walden's third EDF approximation, eta3 = max(M / tau, 1):
   // no noise type needed, which a composite process does not have.
   std::vector<double> edf;
-  std::vector<double> lo, hi;  // chi-square interval of nu2 at the confidence asked for
+  std::vector<Interval> interval;  // chi-square interval of nu2 at the confidence asked for
   std::size_t size() const noexcept { return tau.size(); }
 };
 

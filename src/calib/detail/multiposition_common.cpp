@@ -82,13 +82,6 @@ Residuals residual_stats(const VectorXd& r) {
   return s;
 }
 
-std::vector<std::vector<double>> to_rows(const MatrixXd& m) {
-  std::vector<std::vector<double>> rows(static_cast<std::size_t>(m.rows()));
-  for (Eigen::Index i = 0; i < m.rows(); ++i)
-    for (Eigen::Index j = 0; j < m.cols(); ++j) rows[static_cast<std::size_t>(i)].push_back(m(i, j));
-  return rows;
-}
-
 // ---------------------------------------------------------------------------
 // The accelerometer parameter vector.
 

@@ -32,8 +32,6 @@ void check_options(const Options& o);
 
 Residuals residual_stats(const Eigen::VectorXd& r);
 
-std::vector<std::vector<double>> to_rows(const Eigen::MatrixXd& m);
-
 // Parameters mis_yz, mis_zy, mis_zx, s_x, s_y, s_z, b_x, b_y, b_z.
 TriadCalibration acc_model(const Eigen::VectorXd& p);
 Eigen::VectorXd acc_params(const TriadCalibration& m);

@@ -58,15 +58,15 @@ TemperatureFit temperature_fit_from(const TemperatureSolution& s, double ymean, 
   // Back to (T - t_ref)^k: c_k = cu_k / half_span^k.
   f.coeff.resize(p);
   f.coeff_sigma.resize(p);
-  f.cov.assign(p, std::vector<double>(p));
+  f.cov = Matrix(p, p);
   for (std::size_t a = 0; a < p; ++a) {
     const double sa = std::pow(reg.half_span, -static_cast<double>(a));
     f.coeff[a] = (s.cu(static_cast<Eigen::Index>(a)) + (a == 0 ? ymean : 0.0)) * sa;
     for (std::size_t b = 0; b < p; ++b) {
       const double sb = std::pow(reg.half_span, -static_cast<double>(b));
-      f.cov[a][b] = cov_u(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b)) * sa * sb;
+      f.cov(a, b) = cov_u(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b)) * sa * sb;
     }
-    f.coeff_sigma[a] = std::sqrt(std::max(f.cov[a][a], 0.0));
+    f.coeff_sigma[a] = std::sqrt(std::max(f.cov(a, a), 0.0));
   }
   return f;
 }

@@ -14,8 +14,8 @@ nlohmann::json curve_json(const std::vector<StabilityPoint>& pts, bool intervals
     dev.push_back(p.dev);
     n.push_back(p.n);
     if (!intervals) continue;
-    lo.push_back(p.lo);
-    hi.push_back(p.hi);
+    lo.push_back(p.interval.lo);
+    hi.push_back(p.interval.hi);
     edf.push_back(p.edf);
     alpha.push_back(p.alpha);
   }
