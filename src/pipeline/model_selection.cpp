@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "cubecal/error.hpp"
+#include "cubecal/sim/wic_replicate.hpp"
 
 namespace cubecal::pipeline {
 

@@ -1,10 +1,11 @@
-// The JSON form of the runs commands (what `turnon --format json` and
-// `compare --format json` print), and back. A run: {file, samples, rate_hz,
-// channels [{name, unit, mean, arw, bias_instability, time_constant_s (in
-// display units, null when not read), adev {tau, dev, lo, hi, m, n, edf,
-// alpha}, stddev, unit_si, readoffs (the raw read-offs)}]}. Turn-on: {ci,
-// runs, channels [{name, unit, mean_bias, turn_on_bias, turn_on_bias_lo,
-// turn_on_bias_hi}]}. Compare: {runs}.
+/// @file
+/// The JSON form of the runs commands (what `turnon --format json` and
+/// `compare --format json` print), and back. A run: {file, samples, rate_hz,
+/// channels [{name, unit, mean, arw, bias_instability, time_constant_s (in
+/// display units, null when not read), adev {tau, dev, lo, hi, m, n, edf,
+/// alpha}, stddev, unit_si, readoffs (the raw read-offs)}]}. Turn-on: {ci,
+/// runs, channels [{name, unit, mean_bias, turn_on_bias, turn_on_bias_lo,
+/// turn_on_bias_hi}]}. Compare: {runs}.
 #pragma once
 #include <nlohmann/json.hpp>
 #include <vector>
@@ -13,12 +14,15 @@
 
 namespace cubecal::pipeline {
 
+/// One run's summary as JSON. Throws nothing beyond std::bad_alloc.
 nlohmann::json to_json(const RunSummary& r);
+/// `cubecal turnon --format json`: the result as JSON. Throws nothing beyond std::bad_alloc.
 nlohmann::json to_json(const TurnOnResult& t);
-nlohmann::json to_json(const std::vector<RunSummary>& compared);  // {"runs": [...]}
-// nlohmann's convention: j.get<RunSummary>(), j.get<TurnOnResult>() call them;
-// a compare document is j.at("runs").get<std::vector<RunSummary>>().
+nlohmann::json to_json(const std::vector<RunSummary>& compared);  ///< {"runs": [...]}
+/// nlohmann's convention: j.get<RunSummary>(), j.get<TurnOnResult>() call them;
+/// a compare document is j.at("runs").get<std::vector<RunSummary>>().
 void from_json(const nlohmann::json& j, RunSummary& r);
+/// Reads a turn-on result back. Throws nlohmann::json's exceptions for a document without a key it needs.
 void from_json(const nlohmann::json& j, TurnOnResult& t);
 
 }  // namespace cubecal::pipeline
