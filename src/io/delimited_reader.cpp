@@ -28,6 +28,7 @@
 
 #include "cubecal/error.hpp"
 #include "detail/file_buffer.hpp"
+#include "detail/file_table.hpp"
 #include "detail/binary_input.hpp"
 #include "detail/plain_decimal.hpp"
 #include "../detail/huge_pages.hpp"

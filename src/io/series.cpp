@@ -16,6 +16,7 @@
 
 #include "cubecal/error.hpp"
 #include "detail/file_buffer.hpp"
+#include "detail/file_table.hpp"
 #include "detail/hdf5_reader.hpp"
 #include "detail/npy_reader.hpp"
 #include "cubecal/io/mcap.hpp"

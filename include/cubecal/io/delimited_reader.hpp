@@ -64,12 +64,6 @@ Table read_table(const std::string& path, const TableOptions& opt = {});
 /// Same, from text already in memory (used by tests and by gzip input).
 Table parse_table(std::string_view text, const std::string& file_label, const TableOptions& opt = {});
 
-class FileBuffer;
-/// Same, from an open file (named by its path): a mapped file's pages are
-/// dropped behind the parse, so that the peak memory is the parsed columns
-/// and a few windows of text, not the whole file besides them.
-Table parse_table(const FileBuffer& buf, const TableOptions& opt = {});
-
 /// The layout of `text` without its data: delimiter, has_header, header,
 /// total_columns, first_data_line and bytes are filled; the selection and the
 /// data stay empty. Lets a caller choose columns by header name (e.g. find a
