@@ -11,7 +11,7 @@ TEST_FUZZ_SECONDS ?= 20
 # submission's CI is repeatable; `make fuzz` explores anew each time.
 TEST_FUZZ_SEED    ?= 1
 
-.PHONY: all deps configure build demo test fuzz bench clean
+.PHONY: all deps configure build demo test fuzz bench clean docs
 
 all: build
 
@@ -34,6 +34,11 @@ test: build
 # libFuzzer targets (fuzz/): clang, ASan + UBSan, in build-fuzz/.
 fuzz: deps
 	@FUZZ_SECONDS=$(FUZZ_SECONDS) JOBS=$(JOBS) bash fuzz/run.sh
+
+# The API reference of the installed headers (Doxygen; a warning fails it).
+docs: configure
+	@cmake --build $(BUILD) --target docs
+	@echo "API reference: $(abspath $(BUILD))/docs/html/index.html"
 
 bench: build
 	@bash bench/run.sh $(BUILD)

@@ -14,6 +14,7 @@
 #include "cubecal/stats/phase.hpp"
 #include "cubecal/stats/stability.hpp"
 #include "cubecal/stats/tau_grid.hpp"
+#include "../src/stats/detail/difference_energy.hpp"
 
 namespace {
 

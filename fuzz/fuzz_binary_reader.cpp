@@ -10,7 +10,7 @@
 #include <string>
 #include <string_view>
 
-#include "cubecal/io/npy_reader.hpp"
+#include "../src/io/detail/npy_reader.hpp"
 #include "cubecal/io/raw_binary_reader.hpp"
 #include "cubecal/io/series.hpp"
 #include "error_check.hpp"

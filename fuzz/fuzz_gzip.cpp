@@ -8,7 +8,7 @@
 #include <string_view>
 
 #include "cubecal/io/delimited_reader.hpp"
-#include "cubecal/io/file_buffer.hpp"
+#include "../src/io/detail/file_buffer.hpp"
 #include "error_check.hpp"
 #include "memory_file.hpp"
 

@@ -17,6 +17,7 @@ PACKAGES=(
   python3-matplotlib      # examples/python: the paper's gyro figure
   python3-dask python3-distributed   # examples/python/fleet.py: one analysis per log on a Dask cluster
   help2man                # the man page of the .deb, generated from --help
+  doxygen                 # the API reference (make docs) and its test
   clang libclang-rt-14-dev libomp-dev   # fuzzers (make fuzz): libFuzzer, ASan, UBSan
   gnuplot-nox             # plots (SVG/PNG) of the report
   clang-format universal-ctags   # the format and architecture tests (scripts/check-format.sh, check-architecture.py)

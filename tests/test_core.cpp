@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "cubecal/error.hpp"
-#include "cubecal/math/magnitude.hpp"
+#include "../src/detail/magnitude.hpp"
 #include "cubecal/noise/temperature.hpp"
 #include "cubecal/stats/confidence.hpp"
 #include "cubecal/stats/edf.hpp"

@@ -14,7 +14,7 @@
 #include "cubecal/noise/noise_terms.hpp"
 #include "cubecal/pipeline/welch_psd.hpp"
 #include "cubecal/spectral/allan_conversion.hpp"
-#include "cubecal/spectral/bin_covariance.hpp"
+#include "../src/spectral/detail/bin_covariance.hpp"
 #include "cubecal/spectral/log_bins.hpp"
 #include "cubecal/spectral/power_law_fit.hpp"
 #include "cubecal/stats/allan_curve.hpp"

@@ -17,7 +17,7 @@
 
 #include "cubecal/io/delimited_reader.hpp"
 #include "cubecal/error.hpp"
-#include "cubecal/io/file_buffer.hpp"
+#include "../src/io/detail/file_buffer.hpp"
 #include "cubecal/io/series.hpp"
 
 namespace fs = std::filesystem;

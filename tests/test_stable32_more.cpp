@@ -26,8 +26,8 @@
 #include "cubecal/stats/stability.hpp"
 #include "cubecal/stats/tau_grid.hpp"
 #include "cubecal/stats/theo.hpp"
-#include "cubecal/stats/time_error.hpp"
-#include "cubecal/stats/total_kernels.hpp"
+#include "../src/stats/detail/time_error.hpp"
+#include "../src/stats/detail/total_kernels.hpp"
 #include "stable32_table.hpp"
 
 namespace cubecal {

@@ -21,7 +21,7 @@
 
 #include "cubecal/error.hpp"
 #include "cubecal/noise/composite_model.hpp"
-#include "cubecal/noise/wavelet_variance_covariance.hpp"
+#include "../src/noise/detail/wavelet_variance_covariance.hpp"
 #include "cubecal/sim/composite_simulator.hpp"
 #include "cubecal/stats/wavelet_variance.hpp"
 

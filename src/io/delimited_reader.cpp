@@ -27,7 +27,8 @@
 #include <utility>
 
 #include "cubecal/error.hpp"
-#include "cubecal/io/file_buffer.hpp"
+#include "detail/file_buffer.hpp"
+#include "detail/file_table.hpp"
 #include "detail/binary_input.hpp"
 #include "detail/plain_decimal.hpp"
 #include "../detail/huge_pages.hpp"

@@ -2,7 +2,7 @@
 // read the page cache directly (no copy, no read() buffer management); gzip
 // files are recognised by their magic bytes and inflated into one heap block,
 // since the parser needs the whole text in memory anyway.
-#include "cubecal/io/file_buffer.hpp"
+#include "detail/file_buffer.hpp"
 
 #include <fcntl.h>
 #include <sys/mman.h>
@@ -21,7 +21,7 @@
 #include <vector>
 
 #include "cubecal/error.hpp"
-#include "cubecal/io/hdf5_reader.hpp"
+#include "detail/hdf5_reader.hpp"
 #include "cubecal/io/mcap.hpp"
 #include "cubecal/io/ros1_bag.hpp"
 #include "cubecal/io/ros2_bag.hpp"

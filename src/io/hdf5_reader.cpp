@@ -1,4 +1,4 @@
-#include "cubecal/io/hdf5_reader.hpp"
+#include "detail/hdf5_reader.hpp"
 
 #include "cubecal/error.hpp"
 

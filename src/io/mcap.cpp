@@ -15,7 +15,7 @@
 #include <optional>
 
 #include "cubecal/error.hpp"
-#include "cubecal/io/file_buffer.hpp"
+#include "detail/file_buffer.hpp"
 #include "detail/mcap_chunk.hpp"
 #include "detail/ros1_record.hpp"
 

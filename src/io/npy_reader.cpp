@@ -1,4 +1,4 @@
-#include "cubecal/io/npy_reader.hpp"
+#include "detail/npy_reader.hpp"
 
 #include <bit>
 #include <charconv>

@@ -19,9 +19,9 @@
 
 #include "cubecal/error.hpp"
 #include "cubecal/io/delimited_reader.hpp"
-#include "cubecal/io/file_buffer.hpp"
+#include "detail/file_buffer.hpp"
 #include "cubecal/io/recording_manifest.hpp"
-#include "cubecal/math/magnitude.hpp"
+#include "../detail/magnitude.hpp"
 #include "detail/series_timing.hpp"
 #include "detail/shortest_text.hpp"
 

@@ -8,7 +8,7 @@
 #include <algorithm>
 
 #include "cubecal/error.hpp"
-#include "cubecal/io/file_buffer.hpp"
+#include "detail/file_buffer.hpp"
 #include "detail/ros1_chunk.hpp"
 #include "detail/ros1_record.hpp"
 

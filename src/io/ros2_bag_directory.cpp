@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "cubecal/error.hpp"
-#include "cubecal/io/file_buffer.hpp"
+#include "detail/file_buffer.hpp"
 #include "cubecal/io/mcap.hpp"
 #include "cubecal/io/ros2_bag.hpp"
 

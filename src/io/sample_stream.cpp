@@ -21,7 +21,7 @@
 #include <zlib.h>
 
 #include "cubecal/error.hpp"
-#include "cubecal/io/file_buffer.hpp"
+#include "detail/file_buffer.hpp"
 #include "cubecal/io/recording.hpp"
 #include "cubecal/io/recording_manifest.hpp"
 #include "cubecal/stats/sampling.hpp"

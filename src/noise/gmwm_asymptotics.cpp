@@ -8,7 +8,7 @@
 #include <string>
 
 #include "cubecal/error.hpp"
-#include "cubecal/noise/wavelet_variance_covariance.hpp"
+#include "detail/wavelet_variance_covariance.hpp"
 #include "../math/detail/eigen_matrix.hpp"
 
 namespace cubecal {

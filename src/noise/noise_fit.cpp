@@ -11,7 +11,7 @@
 
 #include "cubecal/noise/noise_terms.hpp"
 #include "detail/avar_correlation.hpp"
-#include "detail/nnls.hpp"
+#include "../detail/nnls.hpp"
 
 namespace cubecal {
 

@@ -14,7 +14,7 @@
 // K1_j(v) = sum_p w_p K(v - p m_j), so that the outer one (step m_k >> m_j)
 // loses no digits; c_jk is then smooth between the nine lags
 // h = p m_j - q m_k where some argument crosses a kink of K.
-#include "cubecal/noise/wavelet_variance_covariance.hpp"
+#include "detail/wavelet_variance_covariance.hpp"
 
 #include <Eigen/Dense>
 #include <algorithm>

@@ -8,8 +8,6 @@
 
 #include "cubecal/error.hpp"
 #include "cubecal/noise/gmwm_asymptotics.hpp"
-#include "cubecal/sim/composite_simulator.hpp"
-#include "cubecal/stats/robust_wavelet_variance.hpp"
 
 namespace cubecal {
 
@@ -51,25 +49,6 @@ std::vector<CompositeModel> parse_candidate_models(const std::string& text) {
     from = comma + 1;
   }
   return out;
-}
-
-WicReplicate wic_replicate(const CompositeModel& structure, const GmwmFit& fit, std::size_t samples, std::size_t scales,
-                           std::uint64_t seed, const GmwmOptions& options, double robust_efficiency) {
-  WicReplicate r;
-  try {
-    const std::vector<double> y = simulate_composite(fit.model, samples, seed);
-    WaveletVariance w = robust_efficiency > 0.0 ? robust_wavelet_variance(y, 0.95, robust_efficiency, scales)
-                                                : wavelet_variance(y, 0.95, scales);
-    if (w.size() != scales) return r;
-    GmwmOptions opt = options;
-    opt.start = fit.model;
-    GmwmFit f = fit_gmwm(w, structure, opt);
-    r.nu2 = std::move(w.nu2);
-    r.model = std::move(f.nu2_model);
-  } catch (const std::exception&) {
-    // No fit for this replicate (a draw where the model is not finite).
-  }
-  return r;
 }
 
 std::vector<double> wic_weights(const WaveletVariance& wv, const std::vector<double>& reference) {

@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "cubecal/error.hpp"
+#include "cubecal/sim/wic_replicate.hpp"
 #include "../detail/for_channels.hpp"
 
 namespace cubecal::pipeline {

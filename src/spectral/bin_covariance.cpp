@@ -1,5 +1,5 @@
 // docs/formulas/spectral.md §3.
-#include "cubecal/spectral/bin_covariance.hpp"
+#include "detail/bin_covariance.hpp"
 
 #include <algorithm>
 #include <stdexcept>

@@ -5,7 +5,7 @@
 #include <stdexcept>
 
 #include "cubecal/error.hpp"
-#include "cubecal/spectral/bin_covariance.hpp"
+#include "detail/bin_covariance.hpp"
 
 namespace cubecal {
 

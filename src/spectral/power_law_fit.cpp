@@ -11,9 +11,9 @@
 #include <set>
 #include <string>
 
-#include "../noise/detail/nnls.hpp"
+#include "../detail/nnls.hpp"
 #include "cubecal/error.hpp"
-#include "cubecal/spectral/bin_covariance.hpp"
+#include "detail/bin_covariance.hpp"
 #include "cubecal/spectral/log_bins.hpp"
 
 namespace cubecal {

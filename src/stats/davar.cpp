@@ -38,6 +38,7 @@
 #include "cubecal/stats/kernels.hpp"
 #include "cubecal/stats/noise_id.hpp"
 #include "cubecal/stats/phase.hpp"
+#include "detail/difference_energy.hpp"
 
 namespace cubecal {
 

@@ -13,6 +13,7 @@
 #include <cstring>
 
 #include "../detail/simd.hpp"
+#include "detail/difference_energy.hpp"
 
 namespace cubecal {
 // ---------------------------------------------------------------------------

@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "cubecal/math/magnitude.hpp"
+#include "../detail/magnitude.hpp"
 #include "../detail/huge_pages.hpp"
 
 namespace cubecal {

@@ -9,8 +9,8 @@
 #include "cubecal/stats/noise_id.hpp"
 #include "cubecal/stats/phase.hpp"
 #include "cubecal/stats/theo.hpp"
-#include "cubecal/stats/time_error.hpp"
-#include "cubecal/stats/total_kernels.hpp"
+#include "detail/time_error.hpp"
+#include "detail/total_kernels.hpp"
 
 namespace cubecal {
 

@@ -14,6 +14,7 @@
 #include "cubecal/stats/kernels.hpp"
 #include "cubecal/stats/noise_id.hpp"
 #include "../detail/simd.hpp"
+#include "detail/difference_energy.hpp"
 
 namespace cubecal {
 

@@ -7,7 +7,7 @@
 // end (h); a window [i, i+w-1] covers the end of one block and the start of
 // the next, so its maximum is max(h[i], g[i+w-1]). Three comparisons per
 // point and no branches on the data, against O(N w) for the direct scan.
-#include "cubecal/stats/time_error.hpp"
+#include "detail/time_error.hpp"
 
 #include <algorithm>
 

@@ -23,7 +23,7 @@
 // differences, which loses every digit on random-walk phase. Each
 // subsequence is taken relative to its first point, so sums stay at the size
 // of the local excursion.
-#include "cubecal/stats/total_kernels.hpp"
+#include "detail/total_kernels.hpp"
 
 #include <algorithm>
 #include <vector>

@@ -1,11 +1,12 @@
-// A record read in bounded pieces, for analyses in constant memory: raw
-// interleaved binary (SeriesOptions::binary) or delimited text, from a file
-// or the standard input ("-"), with the same column selection, per-column
-// LSB, magnitude and timing checks as read_series. A recording directory
-// (recording.hpp) of one closed segment without breaks is its chunks read
-// in turn as one text, each checked against the manifest's size and CRC-32.
-// Compressed text, NumPy, ROS bags and other recordings are read whole by
-// read_series and refused here.
+/// @file
+/// A record read in bounded pieces, for analyses in constant memory: raw
+/// interleaved binary (SeriesOptions::binary) or delimited text, from a file
+/// or the standard input ("-"), with the same column selection, per-column
+/// LSB, magnitude and timing checks as read_series. A recording directory
+/// (recording.hpp) of one closed segment without breaks is its chunks read
+/// in turn as one text, each checked against the manifest's size and CRC-32.
+/// Compressed text, NumPy, ROS bags and other recordings are read whole by
+/// read_series and refused here.
 #pragma once
 #include <cstddef>
 #include <memory>
@@ -16,48 +17,72 @@
 
 namespace cubecal::io {
 
+/// One piece of a streamed record.
 struct SampleChunk {
-  std::vector<std::vector<double>> channels;  // channels[c][i], in units (value / lsb)
-  std::vector<std::vector<double>> extra;     // the extra columns asked for, as read
+  std::vector<std::vector<double>> channels;  ///< channels[c][i], in units (value / lsb)
+  std::vector<std::vector<double>> extra;     ///< the extra columns asked for, as read
+  /// Rows (samples per channel) in the piece.
   std::size_t rows() const noexcept { return channels.empty() ? 0 : channels[0].size(); }
 };
 
+/// A record read in bounded pieces (open, then next until it returns false).
 class SampleStream {
  public:
-  // Opens the record and reads its layout (the text header, the rate from
-  // the first time stamps). Throws InputError / UsageError as read_series;
-  // GapPolicy::split is a UsageError(Field::gaps) (a stream is not cut).
-  // chunk_bytes: about the bytes read per piece.
+  /// Opens the record and reads its layout (the text header, the rate from
+  /// the first time stamps). Throws InputError / UsageError as read_series;
+  /// GapPolicy::split is a UsageError(Field::gaps) (a stream is not cut).
+  /// chunk_bytes: about the bytes read per piece.
   static std::unique_ptr<SampleStream> open(const std::string& path, const SeriesOptions& opt,
                                             std::size_t chunk_bytes = std::size_t{8} << 20);
   virtual ~SampleStream() = default;
 
-  // The next piece (empty at the end: returns false). Checks every value
-  // (magnitude) and time stamp (monotonic, gaps, jitter) as it goes.
+  /// The next piece (empty at the end: returns false). Checks every value
+  /// (magnitude) and time stamp (monotonic, gaps, jitter) as it goes.
   virtual bool next(SampleChunk& out) = 0;
 
+  /// The path given, or "<stdin>".
   const std::string& file() const noexcept { return file_; }
+  /// The channels' names (header names, or "col3").
   const std::vector<std::string>& names() const noexcept { return names_; }
+  /// The extra columns' names.
   const std::vector<std::string>& extra_names() const noexcept { return extra_names_; }
+  /// Sampling rate (Hz), given or inferred from the first time stamps.
   double rate_hz() const noexcept { return rate_hz_; }
+  /// True when the rate was inferred from the time column.
   bool rate_from_time() const noexcept { return rate_from_time_; }
+  /// The time column's name; empty when none is used.
   const std::string& time_name() const noexcept { return time_name_; }
+  /// True when no columns were named and every other column was taken.
   bool default_columns() const noexcept { return default_columns_; }
+  /// The columns left out when default_columns() (time, extra and temperature columns).
   const std::vector<std::string>& left_out() const noexcept { return left_out_; }
-  // Size of the input when it is a regular file (0 otherwise), and the bytes
-  // read so far: the progress of a run.
+  /// Size of the input when it is a regular file (0 otherwise), and the bytes
+  /// read so far: the progress of a run.
   std::size_t total_bytes() const noexcept { return total_bytes_; }
+  /// Bytes read so far.
   std::size_t bytes_read() const noexcept { return bytes_read_; }
+  /// Rows read so far.
   std::size_t rows_read() const noexcept { return rows_read_; }
 
  protected:
+  /// See file().
   std::string file_;
+  /// See names(), extra_names(), left_out().
+  ///@{
   std::vector<std::string> names_, extra_names_, left_out_;
+  ///@}
+  /// See rate_hz().
   double rate_hz_ = 0.0;
+  /// See rate_from_time().
   bool rate_from_time_ = false;
+  /// See default_columns().
   bool default_columns_ = false;
+  /// See time_name().
   std::string time_name_;
+  /// See total_bytes(), bytes_read(), rows_read().
+  ///@{
   std::size_t total_bytes_ = 0, bytes_read_ = 0, rows_read_ = 0;
+  ///@}
 };
 
 }  // namespace cubecal::io

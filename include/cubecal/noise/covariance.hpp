@@ -1,5 +1,6 @@
-// Sample covariance matrix of several channels (the paper's eq. 12;
-// docs/formulas/drift-covariance-temperature.md §2).
+/// @file
+/// Sample covariance matrix of several channels (the paper's eq. 12;
+/// docs/formulas/drift-covariance-temperature.md §2).
 #pragma once
 #include <cstddef>
 #include <span>
@@ -9,8 +10,8 @@
 
 namespace cubecal {
 
-// channels[c] holds one channel; the first `count` samples of each are used
-// (0: all). Unbiased (n-1) normalization. k x k result.
+/// channels[c] holds one channel; the first `count` samples of each are used
+/// (0: all). Unbiased (n-1) normalization. k x k result.
 Matrix covariance_matrix(const std::vector<std::span<const double>>& channels, std::size_t count = 0);
 
 }  // namespace cubecal

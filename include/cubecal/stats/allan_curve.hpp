@@ -1,6 +1,7 @@
-// A measured Allan-deviation curve as the noise-term estimators take it:
-// parallel arrays, tau ascending, with the confidence interval and the
-// equivalent degrees of freedom of each point.
+/// @file
+/// A measured Allan-deviation curve as the noise-term estimators take it:
+/// parallel arrays, tau ascending, with the confidence interval and the
+/// equivalent degrees of freedom of each point.
 #pragma once
 #include <cstddef>
 #include <vector>
@@ -10,25 +11,28 @@
 
 namespace cubecal {
 
+/// A measured Allan deviation curve: tau (s), deviation and its interval (data unit), EDF; what the noise-term fits
+/// read.
 struct AllanCurve {
-  std::vector<double> tau;         // s, ascending
-  std::vector<double> dev;         // sigma(tau), data unit
-  std::vector<Interval> interval;  // confidence interval of dev
-  std::vector<double> edf;         // equivalent degrees of freedom (> 0)
+  std::vector<double> tau;         ///< s, ascending
+  std::vector<double> dev;         ///< sigma(tau), data unit
+  std::vector<Interval> interval;  ///< confidence interval of dev
+  std::vector<double> edf;         ///< equivalent degrees of freedom (> 0)
   std::size_t size() const noexcept { return tau.size(); }
 };
 
+/// The curve of a deviation's points (tau, dev, lo, hi, edf taken over). Throws nothing beyond std::bad_alloc.
 AllanCurve to_allan_curve(const std::vector<StabilityPoint>& points);
 
-// Relative 1-sigma uncertainty of point i: half the interval over dev, or
-// 1/sqrt(2 edf) without an interval, 0 when neither is known.
+/// Relative 1-sigma uncertainty of point i: half the interval over dev, or
+/// 1/sqrt(2 edf) without an interval, 0 when neither is known.
 double relative_uncertainty(const AllanCurve& c, std::size_t i) noexcept;
 
-// Of points first..last, those measured at most `factor` times less
-// precisely than the best of them. A line tangent to the curve from below is
-// found among these only (factor 3): the minimum over long-tau points, a few degrees of
-// freedom each, is a low fluctuation, not the tangent (it biased a 70 min
-// record's white noise 4 % low).
+/// Of points first..last, those measured at most `factor` times less
+/// precisely than the best of them. A line tangent to the curve from below is
+/// found among these only (factor 3): the minimum over long-tau points, a few degrees of
+/// freedom each, is a low fluctuation, not the tangent (it biased a 70 min
+/// record's white noise 4 % low).
 std::vector<std::size_t> well_measured(const AllanCurve& c, std::size_t first, std::size_t last, double factor = 3.0);
 
 }  // namespace cubecal

@@ -1,4 +1,5 @@
-// Equivalent degrees of freedom of stability variances.
+/// @file
+/// Equivalent degrees of freedom of stability variances.
 #pragma once
 #include <cstddef>
 
@@ -6,52 +7,53 @@
 
 namespace cubecal {
 
-// Greenhall & Riley (PTTI 2003) EDF for a variance built on d-th phase
-// differences. alpha: noise exponent; m: averaging factor; n_phase: phase
-// points; overlapping: stride m (else stride 1 in units of tau); modified:
-// MVAR/TVAR filter. Returns 0 when the algorithm has no answer (alpha+2d<=1).
+/// Greenhall & Riley (PTTI 2003) EDF for a variance built on d-th phase
+/// differences. alpha: noise exponent; m: averaging factor; n_phase: phase
+/// points; overlapping: stride m (else stride 1 in units of tau); modified:
+/// MVAR/TVAR filter. Returns 0 when the algorithm has no answer (alpha+2d<=1).
 double edf_greenhall(int alpha, int d, std::size_t m, std::size_t n_phase, bool overlapping, bool modified);
 
-// The same for terms taken every `stride` phase points (a divisor of m):
-// Greenhall & Riley's stride factor S = m / stride, so stride 1 is the
-// overlapping estimator above and stride m the non-overlapping one. The
-// streamed deviations (stats/streaming_deviation.hpp) use strides between.
-// Returns 0 for a stride that does not divide m.
+/// The same for terms taken every `stride` phase points (a divisor of m):
+/// Greenhall & Riley's stride factor S = m / stride, so stride 1 is the
+/// overlapping estimator above and stride m the non-overlapping one. The
+/// streamed deviations (stats/streaming_deviation.hpp) use strides between.
+/// Returns 0 for a stride that does not divide m.
 double edf_greenhall_stride(int alpha, int d, std::size_t m, std::size_t n_phase, std::size_t stride, bool modified);
 
-// NIST SP 1065 Table 5 simple approximations (overlapping AVAR).
+/// NIST SP 1065 Table 5 simple approximations (overlapping AVAR).
 double edf_simple(int alpha, std::size_t m, std::size_t n_phase);
 
-// NIST SP 1065 Table 11 for TOTVAR (b*T/tau - c), simple formula otherwise.
+/// NIST SP 1065 Table 11 for TOTVAR (b*T/tau - c), simple formula otherwise.
 double edf_totvar(int alpha, std::size_t m, std::size_t n_phase);
 
-// MTOT and TTOT: MDEV's Greenhall-Riley EDF below m = 10, NIST SP 1065
-// Table 8 from m = 10 on (b (N/m) - c), alpha 2 .. -2 (0 otherwise).
-// Stable32 takes MDEV's EDF at the same factors; from m = 10 on its
-// intervals follow other coefficients (docs/formulas/stability.md, 5.6).
+/// MTOT and TTOT: MDEV's Greenhall-Riley EDF below m = 10, NIST SP 1065
+/// Table 8 from m = 10 on (b (N/m) - c), alpha 2 .. -2 (0 otherwise).
+/// Stable32 takes MDEV's EDF at the same factors; from m = 10 on its
+/// intervals follow other coefficients (docs/formulas/stability.md, 5.6).
 double edf_mtotvar(int alpha, std::size_t m, std::size_t n_phase);
 
-// HTOT: from m = 16 on, for white FM to random-run FM (alpha 0 .. -4),
-// Howe et al.'s (T/tau) / (b0 + b1 tau/T) (PTTI 2000, Table 1); below m = 16, and for phase noise, the SP 1065 Table 5
-// approximation (Stable32's choice); the overlapping Hadamard EDF for
-// alpha -3 and -4 below m = 16.
+/// HTOT: from m = 16 on, for white FM to random-run FM (alpha 0 .. -4),
+/// Howe et al.'s (T/tau) / (b0 + b1 tau/T) (PTTI 2000, Table 1); below m = 16, and for phase noise, the SP 1065 Table 5
+/// approximation (Stable32's choice); the overlapping Hadamard EDF for
+/// alpha -3 and -4 below m = 16.
 double edf_htotvar(int alpha, std::size_t m, std::size_t n_phase);
 
-// Theo1 (and TheoBR) at even factor m on N phase points, r = 0.75 m: the
-// five forms of NIST SP 1065 sec. 5.2.15 (Howe & Peppler 2003, Howe &
-// Tasset 2004) for alpha 2 .. -2; 0 (no interval) for other alpha.
+/// Theo1 (and TheoBR) at even factor m on N phase points, r = 0.75 m: the
+/// five forms of NIST SP 1065 sec. 5.2.15 (Howe & Peppler 2003, Howe &
+/// Tasset 2004) for alpha 2 .. -2; 0 (no interval) for other alpha.
 double edf_theo1(int alpha, std::size_t m, std::size_t n_phase);
 
+/// How the EDF of a deviation is computed: Greenhall's algorithm, or Stable32's simple approximations.
 enum class EdfMethod { greenhall, simple };
 
-// EDF of a statistic as Stable32 computes it (MTOT, TTOT, HTOT and the
-// Theo family by the functions above whatever the method, TheoH by its
-// part at m; TIE rms and MTIE: 0, no interval).
+/// EDF of a statistic as Stable32 computes it (MTOT, TTOT, HTOT and the
+/// Theo family by the functions above whatever the method, TheoH by its
+/// part at m; TIE rms and MTIE: 0, no interval).
 double edf_for(Stat stat, int alpha, std::size_t m, std::size_t n_phase, EdfMethod method = EdfMethod::greenhall);
 
-// edf_for with the overlapping statistics' terms taken every `stride`
-// points (adev and hdev are non-overlapping whatever the stride; the simple
-// formulas know no stride and give edf_for's value).
+/// edf_for with the overlapping statistics' terms taken every `stride`
+/// points (adev and hdev are non-overlapping whatever the stride; the simple
+/// formulas know no stride and give edf_for's value).
 double edf_for_stride(Stat stat, int alpha, std::size_t m, std::size_t n_phase, std::size_t stride,
                       EdfMethod method = EdfMethod::greenhall);
 

@@ -1,6 +1,7 @@
-// Variance kernels on phase data x (N points, spacing tau0). Each returns the
-// variance at averaging factor m and the number of terms it averaged (the
-// "#" column of Stable32). A result with n == 0 means m is too large.
+/// @file
+/// Variance kernels on phase data x (N points, spacing tau0). Each returns the
+/// variance at averaging factor m and the number of terms it averaged (the
+/// "#" column of Stable32). A result with n == 0 means m is too large.
 #pragma once
 #include <cstddef>
 #include <span>
@@ -8,50 +9,51 @@
 
 namespace cubecal {
 
+/// A variance at one averaging factor and the number of terms it averaged.
 struct VarianceTerm {
+  /// The variance, in the phase's unit^2 over tau0's unit^2 (the frequency's unit^2).
   double var = 0.0;
+  /// Terms averaged; 0 when m is too large for the record.
   std::size_t n = 0;
 };
 
-// Normal (non-overlapping) Allan variance.
+/// Normal (non-overlapping) Allan variance.
 VarianceTerm avar(std::span<const double> x, std::size_t m, double tau0);
-// Overlapping Allan variance.
+/// Overlapping Allan variance.
 VarianceTerm oavar(std::span<const double> x, std::size_t m, double tau0);
-// Modified Allan variance (TVAR = tau^2/3 * MVAR).
+/// Modified Allan variance (TVAR = tau^2/3 * MVAR).
 VarianceTerm mvar(std::span<const double> x, std::size_t m, double tau0);
-// Normal (non-overlapping) Hadamard variance.
+/// Normal (non-overlapping) Hadamard variance.
 VarianceTerm hvar(std::span<const double> x, std::size_t m, double tau0);
-// Overlapping Hadamard variance.
+/// Overlapping Hadamard variance.
 VarianceTerm ohvar(std::span<const double> x, std::size_t m, double tau0);
 
-// Total variance works on the phase record extended by reflection at both
-// ends (SP 1065 eq. 25): build the extension once, then evaluate many m.
+/// Total variance works on the phase record extended by reflection at both
+/// ends (SP 1065 eq. 25): build the extension once, then evaluate many m.
 struct TotvarExtension {
-  std::vector<double> xs;  // x*[-(N-2) .. 2N-3]
-  std::size_t offset = 0;  // index of x[0] in xs
-  std::size_t n = 0;       // N
+  std::vector<double> xs;  ///< x*[-(N-2) .. 2N-3]
+  std::size_t offset = 0;  ///< index of x[0] in xs
+  std::size_t n = 0;       ///< N
 };
+/// The reflected extension of phase record x (N >= 2 points). Throws nothing beyond std::bad_alloc.
 TotvarExtension totvar_extend(std::span<const double> x);
+/// Total variance at factor m from the extension. Throws nothing.
 VarianceTerm totvar(const TotvarExtension& ext, std::size_t m, double tau0);
 
-// The overlapping kernels at several averaging factors at once, out[j] for
-// ms[j] (out.size() == ms.size()). Groups of eight consecutive factors
-// 8q+1 .. 8q+8 (the `all` grid) share their loads and run about twice as
-// fast as one call per factor; the results equal the single-factor calls up
-// to rounding, and do not depend on how a grid is cut into calls as long as
-// no cut falls inside a group.
+/// The overlapping kernels at several averaging factors at once, out[j] for
+/// ms[j] (out.size() == ms.size()). Groups of eight consecutive factors
+/// 8q+1 .. 8q+8 (the `all` grid) share their loads and run about twice as
+/// fast as one call per factor; the results equal the single-factor calls up
+/// to rounding, and do not depend on how a grid is cut into calls as long as
+/// no cut falls inside a group.
 inline constexpr std::size_t kKernelGroup = 8;
-// True when ms[j .. j+8) is one group: the factors 8q+1 .. 8q+8 in order.
+/// True when ms[j .. j+8) is one group: the factors 8q+1 .. 8q+8 in order.
 bool kernel_group_at(std::span<const std::size_t> ms, std::size_t j) noexcept;
+/// The overlapping Allan variance at every factor of ms (see above). Throws nothing.
 void oavar(std::span<const double> x, std::span<const std::size_t> ms, double tau0, std::span<VarianceTerm> out);
+/// The overlapping Hadamard variance at every factor of ms (see above). Throws nothing.
 void ohvar(std::span<const double> x, std::span<const std::size_t> ms, double tau0, std::span<VarianceTerm> out);
+/// The total variance at every factor of ms (see above). Throws nothing.
 void totvar(const TotvarExtension& ext, std::span<const std::size_t> ms, double tau0, std::span<VarianceTerm> out);
-
-// Sum over i of (x[i+2m] - 2x[i+m] + x[i])^2 for i in [0, count): the
-// overlapping Allan kernel, exposed for benchmarks.
-double second_difference_energy(const double* x, std::size_t count, std::size_t m) noexcept;
-// Sum over i of (x[i+3m] - 3x[i+2m] + 3x[i+m] - x[i])^2 for i in [0, count):
-// the overlapping Hadamard kernel.
-double third_difference_energy(const double* x, std::size_t count, std::size_t m) noexcept;
 
 }  // namespace cubecal

@@ -1,9 +1,9 @@
-#include "cubecal/math/magnitude.hpp"
+#include "magnitude.hpp"
 
 #include <cstddef>
 #include <cstring>
 
-#include "../detail/simd.hpp"
+#include "simd.hpp"
 
 namespace cubecal {
 
