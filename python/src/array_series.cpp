@@ -33,16 +33,16 @@ io::Series array_series(const std::vector<Doubles>& channels, const std::vector<
     s.channels.push_back(take(channels[c], names[c], c + 1));
     if (s.channels.back().size() != s.channels.front().size())
       throw ArgumentError("data", "every channel must have the same length (" + names[c] + " has " +
-                                   std::to_string(s.channels.back().size()) + " samples, " + names[0] + " " +
-                                   std::to_string(s.channels.front().size()) + ")");
+                                      std::to_string(s.channels.back().size()) + " samples, " + names[0] + " " +
+                                      std::to_string(s.channels.front().size()) + ")");
   }
   if (temperature) {
     s.extra_names.push_back(temp_name);
     s.extra.push_back(take(*temperature, temp_name, channels.size() + 1));
     if (s.extra[0].size() != s.channels[0].size())
       throw ArgumentError("temperature", "the temperature must have one value per sample (" +
-                                          std::to_string(s.extra[0].size()) + " for " +
-                                          std::to_string(s.channels[0].size()) + " samples)");
+                                             std::to_string(s.extra[0].size()) + " for " +
+                                             std::to_string(s.channels[0].size()) + " samples)");
   }
   const std::size_t n = s.channels[0].size();
   if (n < 3) throw ArgumentError("data", "a record needs at least 3 samples");

@@ -157,8 +157,8 @@ py::tuple simulate(const SimulateArgs& a) {
   if (composite_file) {
     if (!a.bias.empty() && a.bias != "composite" && a.bias != "twin")
       throw UsageError(Field::bias, a.model_file +
-                                   " is a cubecal model result, which holds composite models only "
-                                   "(bias=\"composite\", or leave bias out)");
+                                        " is a cubecal model result, which holds composite models only "
+                                        "(bias=\"composite\", or leave bias out)");
     for (auto& t : pipeline::models_from_composite(*composite_file, a.model_file, req.rate_hz))
       req.triads.push_back(std::move(t));
   }
@@ -166,7 +166,7 @@ py::tuple simulate(const SimulateArgs& a) {
   if (!a.flicker.empty()) {
     if (a.flicker.size() != 1 && a.flicker.size() != req.triads.size())
       throw UsageError(Field::flicker, "flicker: one bias instability B for all triads or one per triad (" +
-                                      std::to_string(req.triads.size()) + ")");
+                                           std::to_string(req.triads.size()) + ")");
     for (std::size_t k = 0; k < req.triads.size(); ++k) {
       const double b = a.flicker.size() == 1 ? a.flicker[0] : a.flicker[k];
       if (!(b >= 0.0) || !std::isfinite(b)) throw UsageError(Field::flicker, "flicker: B must be a finite number >= 0");
@@ -189,7 +189,8 @@ py::tuple simulate(const SimulateArgs& a) {
     }
   }
   const double samples = req.duration_s * req.rate_hz;
-  if (samples > 1e10) throw UsageError(Field::duration, "more than 1e10 samples asked for: shorten duration or lower rate");
+  if (samples > 1e10)
+    throw UsageError(Field::duration, "more than 1e10 samples asked for: shorten duration or lower rate");
   if (pipeline::sample_count(req) < 1) throw UsageError(Field::duration, "duration shorter than one sample period");
   pipeline::SimulatedRecord rec;
   {

@@ -61,7 +61,8 @@ TauGrid taus_arg(const py::object& taus) {
                      "taus must be \"octave\", \"decade\", \"all\", \"log:K\" or a 1-D sequence of taus in seconds");
   g.taus.assign(list.data(), list.data() + list.size());
   for (const double t : g.taus)
-    if (!(t > 0.0) || !std::isfinite(t)) throw UsageError(Field::taus, "every tau must be a positive number of seconds");
+    if (!(t > 0.0) || !std::isfinite(t))
+      throw UsageError(Field::taus, "every tau must be a positive number of seconds");
   return g;
 }
 
@@ -201,8 +202,8 @@ py::tuple dev(const std::vector<Doubles>& channels, const std::vector<std::strin
     views.push_back(view(channels[c], names[c]));
     if (views.back().size() != views.front().size())
       throw ArgumentError("data", "every channel must have the same length (" + names[c] + " has " +
-                                   std::to_string(views.back().size()) + ", " + names[0] + " " +
-                                   std::to_string(views.front().size()) + ")");
+                                      std::to_string(views.back().size()) + ", " + names[0] + " " +
+                                      std::to_string(views.front().size()) + ")");
   }
   pipeline::DevResult r;
   if (gaps == "skip") {

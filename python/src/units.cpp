@@ -14,7 +14,7 @@ std::vector<Unit> announced_units(const io::Series& s) {
       const auto u = parse_unit(s.units[i]);
       if (!u)
         throw UsageError(Field::unit, s.file + ": channel " + s.names[i] + " is in " + s.units[i] +
-                                     ", which is not a unit of noise terms: give unit= (" + known_units() + ")");
+                                          ", which is not a unit of noise terms: give unit= (" + known_units() + ")");
       units.push_back(*u);
     }
     return units;
@@ -24,8 +24,8 @@ std::vector<Unit> announced_units(const io::Series& s) {
     std::string cols;
     for (const auto& n : inferred.missing) cols += (cols.empty() ? "" : ", ") + n;
     throw UsageError(Field::unit, s.file + ": no unit in the name of " + cols + ": give unit= (" + known_units() +
-                                 "; one for all channels or one per channel) or end the names with a unit (" +
-                                 known_unit_suffixes() + ")");
+                                      "; one for all channels or one per channel) or end the names with a unit (" +
+                                      known_unit_suffixes() + ")");
   }
   return inferred.units;
 }

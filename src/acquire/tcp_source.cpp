@@ -63,8 +63,8 @@ class TcpSource final : public Source {
     std::string why;
     fd_ = connect_to(host_, port_, why);
     if (fd_ < 0)
-      throw UsageError(
-          Field::source, describe() + ": cannot connect (" + why + "); start the sender first, or check the host and port");
+      throw UsageError(Field::source, describe() + ": cannot connect (" + why +
+                                          "); start the sender first, or check the host and port");
   }
   ~TcpSource() override {
     if (fd_ >= 0) ::close(fd_);

@@ -73,7 +73,8 @@ void FrameEncoder::encode(std::span<const double> values, std::string& out) cons
     const double hi = is_signed ? std::ldexp(1.0, static_cast<int>(bits) - 1) : std::ldexp(1.0, static_cast<int>(bits));
     if (!(r >= lo && r < hi))
       throw UsageError(Field::frame, "value " + std::to_string(v) + " of field '" + f.name + "' does not fit " +
-                                    type_name(f.type) + ": use a wider type, or f32/f64 for values in physical units");
+                                         type_name(f.type) +
+                                         ": use a wider type, or f32/f64 for values in physical units");
     const std::uint64_t raw =
         is_signed ? static_cast<std::uint64_t>(static_cast<std::int64_t>(r)) : static_cast<std::uint64_t>(r);
     store(out, raw, n, spec_.big_endian);

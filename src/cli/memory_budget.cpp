@@ -50,8 +50,8 @@ std::size_t stream_window(const MemoryOptions& opt, std::size_t budget, std::siz
 std::size_t parse_memory_size(const std::string& text) {
   const auto bad = [&] {
     return UsageError(Field::memory, "'" + text +
-                                    "' is not a size: give a number of bytes with an optional k, M, G or T "
-                                    "(powers of 1024), e.g. 2G or 512M");
+                                         "' is not a size: give a number of bytes with an optional k, M, G or T "
+                                         "(powers of 1024), e.g. 2G or 512M");
   };
   if (text.empty()) throw bad();
   std::size_t pos = 0;

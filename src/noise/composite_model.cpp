@@ -176,7 +176,8 @@ double haar_wavelet_variance(const CompositeModel& model, double tau) noexcept {
 
 GaussMarkovTerm gauss_markov_term(const Process& gm, double dt) {
   if (gm.kind != ProcessKind::gm || !(gm.phi > 0.0 && gm.phi < 1.0) || !(gm.value >= 0.0) || !(dt > 0.0))
-    throw UsageError(Field::model, "a Gauss-Markov term needs 0 < phi < 1, a variance >= 0 and a positive sample period");
+    throw UsageError(Field::model,
+                     "a Gauss-Markov term needs 0 < phi < 1, a variance >= 0 and a positive sample period");
   return {-dt / std::log(gm.phi), std::sqrt(gm.value / -std::expm1(2.0 * std::log(gm.phi)))};
 }
 
@@ -207,7 +208,8 @@ SineTerm sine_term(const Process& sin, double dt) {
 }
 
 Process sin_process(double amplitude, double frequency_hz, double dt) {
-  if (!(dt > 0.0) || !std::isfinite(dt)) throw UsageError(Field::model, "a SIN term needs a positive, finite sample period");
+  if (!(dt > 0.0) || !std::isfinite(dt))
+    throw UsageError(Field::model, "a SIN term needs a positive, finite sample period");
   if (!(amplitude >= 0.0) || !std::isfinite(amplitude))
     throw UsageError(Field::model, "a SIN term needs a finite amplitude >= 0");
   const double nyquist = 0.5 / dt;
@@ -215,8 +217,8 @@ Process sin_process(double amplitude, double frequency_hz, double dt) {
     char b[96];
     std::snprintf(b, sizeof b, "a SIN line at %.6g Hz lies outside (0, %.6g) Hz", frequency_hz, nyquist);
     throw UsageError(Field::model, std::string(b) +
-                                  ", the band a record at this rate can hold (the Nyquist frequency is "
-                                  "half the rate)");
+                                       ", the band a record at this rate can hold (the Nyquist frequency is "
+                                       "half the rate)");
   }
   Process p{ProcessKind::sin, amplitude * amplitude, 0.0, 0.0, 2.0 * kPi * frequency_hz * dt};
   return p;

@@ -266,14 +266,14 @@ GmwmFit fit_gmwm(const WaveletVariance& wv, const CompositeModel& structure, con
   const std::size_t np = parameter_count(structure);
   if (wv.size() < np + 1)
     throw UsageError(Field::model, "model " + model_name(structure) + " has " + std::to_string(np) +
-                                  " parameters, more than the " + std::to_string(wv.size()) +
-                                  " scales of the wavelet variance allow (at least one more): a longer record or "
-                                  "a smaller model");
+                                       " parameters, more than the " + std::to_string(wv.size()) +
+                                       " scales of the wavelet variance allow (at least one more): a longer record or "
+                                       "a smaller model");
   for (std::size_t j = 0; j < wv.size(); ++j)
     if (!(wv.nu2[j] > 0.0) || !std::isfinite(wv.nu2[j]) || !(wv.edf[j] > 0.0))
       throw UsageError(Field::model, "the wavelet variance is zero or not finite at scale " +
-                                    std::to_string(static_cast<long long>(wv.tau[j])) +
-                                    ": a constant or damaged record");
+                                         std::to_string(static_cast<long long>(wv.tau[j])) +
+                                         ": a constant or damaged record");
 
   const std::size_t ng =
       static_cast<std::size_t>(std::count_if(structure.processes.begin(), structure.processes.end(),

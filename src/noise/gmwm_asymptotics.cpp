@@ -36,10 +36,11 @@ GmwmAsymptotics gmwm_asymptotics(const GmwmFit& fit, const WaveletVariance& wv, 
   const std::size_t J = wv.size();
   if (!(inflation >= 1.0) || !std::isfinite(inflation))
     throw UsageError(Field::model, "the wavelet variance's variance can only be inflated (a factor >= 1), not " +
-                                  std::to_string(inflation));
+                                       std::to_string(inflation));
   if (fit.sd.size() != J || fit.nu2_model.size() != J || fit.model.processes.empty())
-    throw UsageError(Field::model, "the GMWM fit has " + std::to_string(fit.sd.size()) + " scales, the wavelet variance " +
-                                  std::to_string(J) + ": they do not belong together");
+    throw UsageError(Field::model, "the GMWM fit has " + std::to_string(fit.sd.size()) +
+                                       " scales, the wavelet variance " + std::to_string(J) +
+                                       ": they do not belong together");
   const std::size_t p = parameter_count(fit.model);
 
   // A: every parameter but ln a and an MA1's z = atanh(theta) enters

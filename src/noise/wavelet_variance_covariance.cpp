@@ -109,8 +109,8 @@ struct Terms {
 
 [[noreturn]] void bad_parameter(const CompositeModel& model) {
   throw UsageError(Field::model, "model " + model_name(model) +
-                                ": every variance must be finite and >= 0, every drift finite, every "
-                                "Gauss-Markov phi in (0, 1) and every MA1 theta in (-1, 1)");
+                                     ": every variance must be finite and >= 0, every drift finite, every "
+                                     "Gauss-Markov phi in (0, 1) and every MA1 theta in (-1, 1)");
 }
 
 Terms terms_of(const CompositeModel& model) {
@@ -407,7 +407,7 @@ Matrix wavelet_variance_covariance(const CompositeModel& model, std::span<const 
     m[j] = half_scale(tau[j]);
     if (tau[j] > N)
       throw UsageError(Field::scales, "the scale " + std::to_string(tau[j]) + " is longer than the record (" +
-                                     std::to_string(samples) + " samples)");
+                                          std::to_string(samples) + " samples)");
   }
   Matrix cov(J, J);
   RuleCache cache;

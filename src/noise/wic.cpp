@@ -35,7 +35,8 @@ std::vector<CompositeModel> parse_candidate_models(const std::string& text) {
     const std::size_t comma = text.find(',', from);
     const std::string piece = trim(text.substr(from, comma == std::string::npos ? std::string::npos : comma - from));
     if (piece.empty())
-      throw UsageError(Field::model, "model list '" + text + "': an empty model between commas (give e.g. WN+RW,WN+GM)");
+      throw UsageError(Field::model,
+                       "model list '" + text + "': an empty model between commas (give e.g. WN+RW,WN+GM)");
     CompositeModel m = parse_composite_model(piece);
     // The same terms in another order are the same model.
     std::string key;
@@ -73,7 +74,7 @@ WicScore wic_score(const WaveletVariance& wv, const std::vector<double>& sd, con
   s.replicates = ok.size();
   if (ok.size() < 2)
     throw UsageError(Field::model, "the WIC's optimism needs at least 2 bootstrap replicates with a fit, not " +
-                                  std::to_string(ok.size()));
+                                       std::to_string(ok.size()));
   const double n = static_cast<double>(ok.size());
   double optimism = 0.0;
   for (std::size_t j = 0; j < J; ++j) {

@@ -29,8 +29,10 @@ std::vector<std::string> multiposition_gyro_units(std::size_t n) {
 
 MultipositionResult calibrate_multiposition_accelerometer(const TriadSamples& acc, const MultipositionRequest& req) {
   const bool stamped = !acc.t.empty();
-  if (stamped && req.rate_hz > 0.0) throw UsageError(Field::sampling, "give the time stamps or the sampling rate, not both");
-  if (!stamped && !(req.rate_hz > 0.0)) throw UsageError(Field::sampling, "the time stamps or the sampling rate are needed");
+  if (stamped && req.rate_hz > 0.0)
+    throw UsageError(Field::sampling, "give the time stamps or the sampling rate, not both");
+  if (!stamped && !(req.rate_hz > 0.0))
+    throw UsageError(Field::sampling, "the time stamps or the sampling rate are needed");
   MultipositionResult r;
   r.acc_file = acc.file;
   r.samples = acc.x.size();

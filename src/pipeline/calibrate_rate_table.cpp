@@ -52,8 +52,8 @@ namespace {
 
 void check_request(const io::Series& series, const RateTableRequest& req) {
   if (series.channels.size() != 3)
-    throw UsageError(Field::columns, "a rate table needs exactly 3 gyro columns, " + std::to_string(series.channels.size()) +
-                                    " selected");
+    throw UsageError(Field::columns, "a rate table needs exactly 3 gyro columns, " +
+                                         std::to_string(series.channels.size()) + " selected");
   if (req.source == PlateauSource::reference && series.extra.size() != 3)
     throw UsageError(Field::reference_columns,
                      "the 3 reference rate columns are needed, " + std::to_string(series.extra.size()) + " given");
@@ -61,8 +61,10 @@ void check_request(const io::Series& series, const RateTableRequest& req) {
     throw UsageError(Field::schedule, "the plateau schedule is empty");
   const PlateauOptions& p = req.plateaus;
   if (!(p.margin_s >= 0.0) || !(p.min_plateau_s >= 0.0) || !(p.ref_tolerance >= 0.0) || !(p.window_s > 0.0))
-    throw UsageError(Field::plateaus, "margin, shortest plateau and reference tolerance must be >= 0 and the window > 0 s");
-  if (req.unit != "deg/s" && req.unit != "rad/s") throw UsageError(Field::unit, "must be deg/s or rad/s, not " + req.unit);
+    throw UsageError(Field::plateaus,
+                     "margin, shortest plateau and reference tolerance must be >= 0 and the window > 0 s");
+  if (req.unit != "deg/s" && req.unit != "rad/s")
+    throw UsageError(Field::unit, "must be deg/s or rad/s, not " + req.unit);
 }
 
 PlateauDetection detect(const io::Series& series, const RateTableRequest& req) {

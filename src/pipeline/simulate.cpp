@@ -83,7 +83,7 @@ std::size_t sample_count(const SimulateRequest& r) {
     char count[32];
     std::snprintf(count, sizeof count, "%.3g", n);
     throw UsageError(Field::duration, std::string("duration x rate = ") + count +
-                                     " samples: more than any record can hold (at most 1e15); shorten it");
+                                          " samples: more than any record can hold (at most 1e15); shorten it");
   }
   return static_cast<std::size_t>(std::llround(n));
 }
@@ -203,7 +203,7 @@ std::vector<TriadModel> models_from_analysis(const AnalysisResult& r, const std:
     if (gm) {
       if (!model.gm_ok)
         throw UsageError(Field::bias, label + ": channel " + m.axis_names[a] +
-                                     " has no Gauss-Markov model (use the random-walk model, or re-run analyze)");
+                                          " has no Gauss-Markov model (use the random-walk model, or re-run analyze)");
       ax.white_sigma = model.gauss_markov.sigma_n;
       ax.bias = BiasProcess::gauss_markov;
       ax.bias_sigma = model.gauss_markov.sigma_b;
@@ -295,9 +295,10 @@ std::vector<TriadModel> models_from_composite(const AnalysisResult& r, const std
   std::vector<CompositeChannel> channels;
   for (const ChannelAnalysis& ch : r.channels) {
     if (!ch.model.composite)
-      throw UsageError(Field::bias, label + ": channel " + ch.name + " has no twin (composite model)" +
-                                   (r.composite_skipped.empty() ? std::string() : " (" + r.composite_skipped + ")") +
-                                   ": re-run analyze, or simulate the random-walk or Gauss-Markov model");
+      throw UsageError(Field::bias,
+                       label + ": channel " + ch.name + " has no twin (composite model)" +
+                           (r.composite_skipped.empty() ? std::string() : " (" + r.composite_skipped + ")") +
+                           ": re-run analyze, or simulate the random-walk or Gauss-Markov model");
     CompositeChannel cc{ch.name, ch.unit.name, ch.mean, ch.model.composite->fit.model};
     cc.lsb = ch.model.random_walk.lsb;
     // With a temperature analysis the twin of the compensated series and the

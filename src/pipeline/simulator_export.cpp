@@ -76,9 +76,9 @@ Axis axis_of(const ChannelAnalysis& c, double rate_hz, std::string_view target) 
     const double v = haar_wavelet_variance(m.fit.model, m.wv.tau[j]);
     if (!(v > 0.0) || !std::isfinite(v) || !(m.wv.edf[j] > 0.0))
       throw UsageError(Field::estimators, "channel " + c.name + ": its composite model " + model_name(m.fit.model) +
-                                         " has no positive, finite wavelet variance at tau = " +
-                                         std::to_string(static_cast<long long>(m.wv.tau[j])) +
-                                         " samples: nothing to export");
+                                              " has no positive, finite wavelet variance at tau = " +
+                                              std::to_string(static_cast<long long>(m.wv.tau[j])) +
+                                              " samples: nothing to export");
     a.nu2_twin.push_back(v);
     a.sd.push_back(v * std::sqrt(2.0 / m.wv.edf[j]));
     const double e = expressible ? haar_wavelet_variance(a.expressible, m.wv.tau[j]) : 0.0;

@@ -42,8 +42,8 @@ TurnOnResult run_turnon(const std::vector<io::Series>& runs, const AnalyzeReques
     throw UsageError("turn-on bias needs at least 2 runs (power cycles), got " + std::to_string(runs.size()));
   for (const auto& s : runs)
     if (s.names != runs.front().names)
-      throw UsageError(
-          Field::columns, s.file + ": columns differ from " + runs.front().file + " (choose the same columns in every run)");
+      throw UsageError(Field::columns, s.file + ": columns differ from " + runs.front().file +
+                                           " (choose the same columns in every run)");
   TurnOnResult t;
   t.ci = req.ci;
   t.runs = run_compare(runs, req);

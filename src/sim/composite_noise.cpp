@@ -139,8 +139,8 @@ CompositeModel composite_at_period(const CompositeModel& model, double from_dt, 
         p.omega *= r;
         if (!(p.omega > 0.0 && p.omega < kPi))
           throw UsageError(Field::rate, "a SIN line of the model at " + hz(p.omega / (2.0 * kPi * to_dt)) +
-                                       " Hz lies at or above the Nyquist frequency " + hz(0.5 / to_dt) +
-                                       " Hz of the simulated rate: simulate at a rate above twice the line");
+                                            " Hz lies at or above the Nyquist frequency " + hz(0.5 / to_dt) +
+                                            " Hz of the simulated rate: simulate at a rate above twice the line");
         break;
     }
   }

@@ -23,8 +23,8 @@ std::vector<double> simulate_composite(const CompositeModel& model, std::size_t 
                                                  (p.kind != ProcessKind::sin || (p.omega > 0.0 && p.omega < kPi)));
     if (!ok)
       throw UsageError(Field::model, "model " + model_name(model) +
-                                    ": every variance must be finite and >= 0, every Gauss-Markov phi in (0, 1), "
-                                    "every MA1 theta in (-1, 1) and every SIN omega in (0, pi)");
+                                         ": every variance must be finite and >= 0, every Gauss-Markov phi in (0, 1), "
+                                         "every MA1 theta in (-1, 1) and every SIN omega in (0, pi)");
   }
   std::vector<double> y(samples, 0.0);
   std::mt19937_64 engine(seed);

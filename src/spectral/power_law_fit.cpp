@@ -102,7 +102,8 @@ void check_exponents(const std::vector<int>& exps) {
   for (const int a : exps) {
     if (a < -4 || a > 4)
       throw UsageError(Field::exponents, "power-law exponents lie within -4..4 (" + std::to_string(a) + ")");
-    if (!seen.insert(a).second) throw UsageError(Field::exponents, "the exponent " + std::to_string(a) + " is given twice");
+    if (!seen.insert(a).second)
+      throw UsageError(Field::exponents, "the exponent " + std::to_string(a) + " is given twice");
   }
 }
 
@@ -236,8 +237,8 @@ PowerLawFit fit_power_law(const Psd& raw, const PowerLawFitOptions& options) {
   const auto g = static_cast<Index>(b.runs.size());
   if (g < p + 1)
     throw UsageError(Field::fit_range, "the band " + hz(lo) + ".." + hz(hi) + " Hz holds " + std::to_string(g) +
-                                      " log bands, fewer than the " + std::to_string(p + 1) + " a fit of " +
-                                      std::to_string(p) + " terms needs (widen the band or use longer segments)");
+                                           " log bands, fewer than the " + std::to_string(p + 1) + " a fit of " +
+                                           std::to_string(p) + " terms needs (widen the band or use longer segments)");
 
   PowerLawFit fit;
   fit.f_lo = b.f_lo;
@@ -302,7 +303,7 @@ SlopeFit fit_slope(const Psd& raw, double f_lo, double f_hi, std::size_t bins_pe
   const auto g = static_cast<Index>(b.runs.size());
   if (g < 3)
     throw UsageError(Field::fit_range, "the band " + hz(f_lo) + ".." + hz(f_hi) + " Hz holds " + std::to_string(g) +
-                                      " log bands; a slope needs at least 3");
+                                           " log bands; a slope needs at least 3");
   SlopeFit out;
   out.bands = static_cast<std::size_t>(g);
   double log_f = 0.0;
@@ -315,7 +316,7 @@ SlopeFit fit_slope(const Psd& raw, double f_lo, double f_hi, std::size_t bins_pe
   for (Index i = 0; i < g; ++i) {
     if (!(b.density(i) > 0.0))
       throw UsageError(Field::fit_range, "the spectrum is zero near " +
-                                        hz(raw.frequency[b.runs[static_cast<std::size_t>(i)].first]) + " Hz");
+                                             hz(raw.frequency[b.runs[static_cast<std::size_t>(i)].first]) + " Hz");
     const double half_nu = 1.0 / b.corr(i, i);  // nu / 2 = 1 / C_GG
     y(i) = std::log(b.density(i)) - (boost::math::digamma(half_nu) - std::log(half_nu));
     v(i, i) = boost::math::trigamma(half_nu);

@@ -53,8 +53,8 @@ WelchPlan plan_welch(const WelchOptions& o, std::size_t longest, double rate_hz)
       throw UsageError(Field::segment_length, "a segment needs at least " + count_text(kMinSegment) + " samples");
     if (o.segment_length > longest)
       throw UsageError(Field::segment_length, "segments of " + count_text(o.segment_length) +
-                                             " samples are longer than the record (" + count_text(longest) +
-                                             " samples" + " contiguous)");
+                                                  " samples are longer than the record (" + count_text(longest) +
+                                                  " samples" + " contiguous)");
     p.segment_length = o.segment_length;
   } else if (o.min_frequency_hz != 0.0) {
     if (!(o.min_frequency_hz > 0.0) || !std::isfinite(o.min_frequency_hz))
@@ -62,15 +62,15 @@ WelchPlan plan_welch(const WelchOptions& o, std::size_t longest, double rate_hz)
     const double need = std::ceil(std::log2(rate_hz / o.min_frequency_hz) - 1e-12);
     const double length = std::exp2(std::max(need, 2.0));
     if (length > static_cast<double>(longest))
-      throw UsageError(Field::min_frequency, "resolving " + hz_text(o.min_frequency_hz) + " Hz at " + hz_text(rate_hz) +
-                                            " Hz takes segments of " + std::to_string(static_cast<long long>(length)) +
-                                            " samples, longer than the record (" + count_text(longest) +
-                                            " samples contiguous)");
+      throw UsageError(Field::min_frequency,
+                       "resolving " + hz_text(o.min_frequency_hz) + " Hz at " + hz_text(rate_hz) +
+                           " Hz takes segments of " + std::to_string(static_cast<long long>(length)) +
+                           " samples, longer than the record (" + count_text(longest) + " samples contiguous)");
     p.segment_length = static_cast<std::size_t>(length);
   } else {
     if (longest < kMinDefaultSegment)
       throw UsageError(Field::samples, "a spectrum needs at least " + count_text(kMinDefaultSegment) +
-                                      " contiguous samples; the record has " + count_text(longest));
+                                           " contiguous samples; the record has " + count_text(longest));
     std::size_t l = kMinDefaultSegment;
     while (2 * l <= longest / kDefaultSegments) l *= 2;
     p.segment_length = l;

@@ -188,8 +188,8 @@ BiweightTuning biweight_tuning(double efficiency) {
   static const double top = biweight_moments(kMaxC).efficiency;
   if (efficiency > top)
     throw UsageError(Field::efficiency, "the efficiency of the robust wavelet variance can be at most " +
-                                       std::to_string(top).substr(0, 8) +
-                                       " (a higher one is the classical estimator: leave the robust option off)");
+                                            std::to_string(top).substr(0, 8) +
+                                            " (a higher one is the classical estimator: leave the robust option off)");
   double lo = lo0, hi = kMaxC;
   for (int i = 0; i < 200 && hi - lo > 1e-13 * hi; ++i) {
     const double mid = 0.5 * (lo + hi);
@@ -308,7 +308,8 @@ std::vector<double> haar_coefficients(std::span<const double> y, std::size_t tau
 WaveletVariance robust_wavelet_variance(std::span<const double> y, double ci, double efficiency,
                                         std::size_t max_scales) {
   const std::size_t N = y.size();
-  if (N < 4) throw UsageError(Field::samples, "the wavelet variance needs at least 4 samples, not " + std::to_string(N));
+  if (N < 4)
+    throw UsageError(Field::samples, "the wavelet variance needs at least 4 samples, not " + std::to_string(N));
   if (!(ci > 0.0 && ci < 1.0)) throw UsageError(Field::ci, "the confidence must lie between 0 and 1");
   const BiweightTuning tuning = biweight_tuning(efficiency);
   const Prefix p = compensated_prefix(y);  // once for all scales

@@ -13,7 +13,8 @@ namespace cubecal {
 
 WaveletVariance wavelet_variance(std::span<const double> y, double ci, std::size_t max_scales) {
   const std::size_t N = y.size();
-  if (N < 4) throw UsageError(Field::samples, "the wavelet variance needs at least 4 samples, not " + std::to_string(N));
+  if (N < 4)
+    throw UsageError(Field::samples, "the wavelet variance needs at least 4 samples, not " + std::to_string(N));
   std::vector<std::size_t> ms;
   for (std::size_t tau = 2; tau <= N / 2; tau *= 2) {
     if (max_scales > 0 && ms.size() == max_scales) break;
@@ -24,12 +25,13 @@ WaveletVariance wavelet_variance(std::span<const double> y, double ci, std::size
 
 WaveletVariance wavelet_variance_at(std::span<const double> y, std::span<const std::size_t> factors, double ci) {
   const std::size_t N = y.size();
-  if (N < 4) throw UsageError(Field::samples, "the wavelet variance needs at least 4 samples, not " + std::to_string(N));
+  if (N < 4)
+    throw UsageError(Field::samples, "the wavelet variance needs at least 4 samples, not " + std::to_string(N));
   if (!(ci > 0.0 && ci < 1.0)) throw UsageError(Field::ci, "the confidence must lie between 0 and 1");
   for (std::size_t j = 0; j < factors.size(); ++j)
     if (factors[j] < 1 || 4 * factors[j] > N || (j > 0 && factors[j] <= factors[j - 1]))
-      throw UsageError(
-          Field::scales, "the wavelet variance's averaging factors must ascend from 1 to N / 4 = " + std::to_string(N / 4));
+      throw UsageError(Field::scales, "the wavelet variance's averaging factors must ascend from 1 to N / 4 = " +
+                                          std::to_string(N / 4));
   // The phase (running sum) of the scaled samples, as the deviations take it:
   // its second differences at m are the differences of adjacent m-sums.
   const double scale = power_of_two_scale(y);
