@@ -23,9 +23,9 @@ import sys
 # Bottom to top. A folder may include its own and any folder in a lower row; the same row is not
 # enough (folders of one row are independent of each other).
 LAYERS = [
-    ["(root)"],  # error.hpp, printable_text.hpp, stage_times.hpp
-    ["detail"],  # src/detail: private to the library, shared by its folders (SIMD dispatch, solvers, loops)
-    ["math"],  # Vec3, Mat3, IndexRange; the magnitude of a record
+    ["(root)"],  # error.hpp, field.hpp, printable_text.hpp, stage_times.hpp
+    ["math"],  # Vec3, Mat3, Matrix, IndexRange
+    ["detail"],  # src/detail: private, shared by the library's folders (SIMD, solvers, Eigen views, the channel loop)
     ["stats"],
     ["noise"],
     ["spectral"],
@@ -40,6 +40,8 @@ UMBRELLA = "include/cubecal/cubecal.hpp"
 CORE = {"(root)", "math", "stats", "noise", "spectral", "sim", "calib"}
 LONG_LINES = 100
 MAX_LONG = 5
+# Flags of other programs that a written file quotes (Kalibr's kalibr_calibrate_imu_camera --imu).
+FOREIGN_FLAGS = {"--imu"}
 FLAG = re.compile(r'"(?:[^"\\\n]|\\.)*?(?<![A-Za-z0-9-])--[a-z][a-z0-9-]*(?:[^"\\\n]|\\.)*"')
 INCLUDE = re.compile(r'^\s*#\s*include\s*"([^"]+)"')
 
@@ -76,7 +78,7 @@ def folder_of(rel):
 def resolve(root, rel, inc):
     """The repository path an include names, or None (a system or third-party header)."""
     if inc.startswith("cubecal/"):
-        for base in ("include", "src"):
+        for base in ("include", "src", "src/acquire/include"):
             if os.path.exists(os.path.join(root, base, inc)):
                 return os.path.join(base, inc)
         return None
@@ -164,6 +166,8 @@ def library_literals_naming_flags(root):
         text = open(os.path.join(root, rel), encoding="utf-8", errors="replace").read()
         text = strip_comments(text)
         for m in FLAG.finditer(text):
+            if set(re.findall(r"--[a-z][a-z0-9-]*", m.group(0))) <= FOREIGN_FLAGS:
+                continue
             line = text.count("\n", 0, m.start()) + 1
             out.append(f"{rel}:{line}: {m.group(0)[:80]}")
     return out

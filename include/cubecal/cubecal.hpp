@@ -8,6 +8,9 @@
 #pragma once
 
 #include "cubecal/error.hpp"
+#include "cubecal/field.hpp"
+#include "cubecal/printable_text.hpp"
+#include "cubecal/stage_times.hpp"
 #include "cubecal/math/index_range.hpp"
 #include "cubecal/math/matrix.hpp"
 #include "cubecal/math/vec3.hpp"

@@ -1,3 +1,4 @@
+/// @file
 /// The errors cubecal reports to its users, as types, under one base,
 /// cubecal::Error. Every layer throws these for what a user can fix; each face
 /// maps them by type and reason (the CLI to one line and exit code 2 with a
@@ -41,6 +42,9 @@ class Error : public std::runtime_error {
   std::string text_;
 };
 
+/// What was asked cannot be done as asked: an option out of range,
+/// contradictory options, a record too short for the statistic. Names the
+/// request field at fault when there is one.
 class UsageError : public Error {
  public:
   /// Where the message names its field: `in_front`, a face puts the field's
@@ -48,12 +52,15 @@ class UsageError : public Error {
   /// itself by its marker (`{noise} must be positive`).
   enum class Named { in_front, in_text };
 
+  /// An error that names no field; `what` may hold field markers.
   explicit UsageError(const std::string& what) : Error(what) {}
   /// `field` is the request field at fault; each face names it in its own
   /// words (the CLI by its flag, Python as the exception's .option).
   UsageError(Field field, const std::string& what, Named named = Named::in_front)
       : Error(what), field_(field), named_(named) {}
+  /// The request field at fault; empty when the error names none.
   const std::optional<Field>& field() const noexcept { return field_; }
+  /// Where the message names its field (Named::in_front when it names none).
   Named named() const noexcept { return named_; }
 
  private:
@@ -61,6 +68,7 @@ class UsageError : public Error {
   Named named_ = Named::in_front;
 };
 
+/// The data are wrong at a place in a file: FILE:LINE:COL.
 class InputError : public Error {
  public:
   /// line and column are 1-based; 0 means "not applicable" and is omitted
@@ -109,7 +117,9 @@ std::string_view to_string(CalibrationReason r) noexcept;
 /// right, on data that do not allow it. Not a UsageError: no option is wrong.
 class CalibrationError : public Error {
  public:
+  /// `reason` says why; `what` may hold field markers.
   CalibrationError(CalibrationReason reason, const std::string& what) : Error(what), reason_(reason) {}
+  /// Why the data cannot determine what was asked.
   CalibrationReason reason() const noexcept { return reason_; }
 
  private:

@@ -13,7 +13,7 @@
 #include "cubecal/calib/ellipsoid_fit.hpp"
 #include "cubecal/calib/twostep.hpp"
 #include "cubecal/error.hpp"
-#include "../math/detail/eigen_matrix.hpp"
+#include "../detail/eigen_matrix.hpp"
 #include "detail/eigen_vec3.hpp"
 
 namespace cubecal::mag {

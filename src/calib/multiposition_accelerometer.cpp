@@ -13,7 +13,7 @@
 #include "cubecal/calib/static_detection.hpp"
 #include "cubecal/error.hpp"
 #include "../detail/levenberg_marquardt.hpp"
-#include "../math/detail/eigen_matrix.hpp"
+#include "../detail/eigen_matrix.hpp"
 #include "detail/multiposition_common.hpp"
 
 namespace cubecal::multipos {

@@ -15,7 +15,7 @@
 #include "cubecal/error.hpp"
 #include "cubecal/stats/sampling.hpp"
 #include "../detail/levenberg_marquardt.hpp"
-#include "../math/detail/eigen_matrix.hpp"
+#include "../detail/eigen_matrix.hpp"
 #include "detail/multiposition_common.hpp"
 #include "detail/quaternion_rk4.hpp"
 

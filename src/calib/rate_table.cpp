@@ -7,7 +7,7 @@
 #include <string>
 
 #include "cubecal/error.hpp"
-#include "../math/detail/eigen_matrix.hpp"
+#include "../detail/eigen_matrix.hpp"
 #include "detail/eigen_vec3.hpp"
 
 namespace cubecal {

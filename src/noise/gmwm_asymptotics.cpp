@@ -9,7 +9,7 @@
 
 #include "cubecal/error.hpp"
 #include "detail/wavelet_variance_covariance.hpp"
-#include "../math/detail/eigen_matrix.hpp"
+#include "../detail/eigen_matrix.hpp"
 
 namespace cubecal {
 

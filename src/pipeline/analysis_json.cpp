@@ -1,6 +1,7 @@
 #include "cubecal/pipeline/analysis_json.hpp"
 
 #include "cubecal/pipeline/psd_json.hpp"
+#include "detail/matrix_json.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -13,6 +14,7 @@
 #include "cubecal/error.hpp"
 #include "cubecal/noise/bias_verdict.hpp"
 #include "cubecal/pipeline/psd_json.hpp"
+#include "detail/matrix_json.hpp"
 #include "cubecal/pipeline/model_fit_json.hpp"
 #include "cubecal/pipeline/spectral_analysis.hpp"
 #include "cubecal/spectral/allan_conversion.hpp"
@@ -193,7 +195,7 @@ void temperature_fit_json(json& tj, const TemperatureFit& f) {
   if (!f.coeff_sigma.empty()) sig.assign(f.coeff_sigma.begin() + 1, f.coeff_sigma.end());
   tj["coeff"] = coeff;
   tj["coeff_sigma"] = sig;
-  tj["coeff_cov"] = f.cov;
+  tj["coeff_cov"] = detail::to_json(f.cov);
   tj["r2"] = f.r2;
   tj["residual_rms"] = f.residual_rms;
 }
@@ -781,8 +783,10 @@ json to_json(const AnalysisResult& r) {
   j["channels"] = std::move(chans);
   std::string cov_unit;
   if (!r.channels.empty()) cov_unit = "(" + r.channels[0].unit.name + ")^2";
-  j["covariance"] = {
-      {"channels", r.cov_names}, {"matrix", r.covariance}, {"samples", r.cov_samples}, {"unit", cov_unit}};
+  j["covariance"] = {{"channels", r.cov_names},
+                     {"matrix", detail::to_json(r.covariance)},
+                     {"samples", r.cov_samples},
+                     {"unit", cov_unit}};
   write_tau_list(j, r.tau_list);
   j["model_excluded_taus"] = excluded_json(r.model_excluded_taus);
   // A streamed run: overlapping terms exact up to the window bound, at the

@@ -1,3 +1,4 @@
+#include "detail/matrix_json.hpp"
 #include "cubecal/pipeline/calibrate_mag_json.hpp"
 
 #include <string>
@@ -55,7 +56,7 @@ nlohmann::json to_json(const MagResult& m) {
   j["coverage"] = {{"centre", r.coverage.centre},       {"centre_from_sphere_fit", r.coverage.centre_from_sphere_fit},
                    {"resultant", r.coverage.resultant}, {"lambda_min", r.coverage.lambda_min},
                    {"spread", r.coverage.spread},       {"octants", r.coverage.octants}};
-  j["covariance"] = {{"names", r.covariance_names}, {"matrix", r.covariance}};
+  j["covariance"] = {{"names", r.covariance_names}, {"matrix", detail::to_json(r.covariance)}};
   j["notes"] = r.notes;
   return j;
 }
@@ -100,7 +101,7 @@ MagResult mag_result_from_json(const nlohmann::json& j) {
   r.coverage.spread = c.at("spread").get<Vec3>();
   r.coverage.octants = c.at("octants").get<std::size_t>();
   r.covariance_names = j.at("covariance").at("names").get<std::vector<std::string>>();
-  r.covariance = j.at("covariance").at("matrix").get<Matrix>();
+  r.covariance = detail::matrix_from_json(j.at("covariance").at("matrix"));
   r.notes = j.at("notes").get<std::vector<std::string>>();
   return m;
 }

@@ -1,3 +1,4 @@
+#include "detail/matrix_json.hpp"
 #include "cubecal/pipeline/calibrate_multiposition_json.hpp"
 
 #include <string>
@@ -131,7 +132,7 @@ nlohmann::json to_json(const MultipositionResult& r) {
   j["trials"] = trials;
   nlohmann::json ja;
   ja["parameters"] = params_json(a.names, a.values, a.sigma, multiposition_acc_units());
-  ja["covariance"] = {{"names", a.names}, {"matrix", a.covariance}};
+  ja["covariance"] = {{"names", a.names}, {"matrix", detail::to_json(a.covariance)}};
   ja["model"] = model_json(a.model);
   ja["initial"] = model_json(a.initial);
   ja["init_samples"] = a.init_samples;
@@ -146,7 +147,7 @@ nlohmann::json to_json(const MultipositionResult& r) {
     nlohmann::json jg;
     jg["parameters"] = params_json(g->names, g->values, g->sigma, multiposition_gyro_units(g->names.size()));
     jg["sigma_fit"] = g->sigma_fit;
-    jg["covariance"] = {{"names", g->names}, {"matrix", g->covariance}};
+    jg["covariance"] = {{"names", g->names}, {"matrix", detail::to_json(g->covariance)}};
     jg["model"] = model_json(g->model);
     jg["initial"] = model_json(g->initial);
     jg["init_bias"] = g->init_bias;
@@ -191,7 +192,7 @@ MultipositionResult multiposition_result_from_json(const nlohmann::json& j) {
                         t.at("cost").is_null() ? 0.0 : t["cost"].get<double>()});
   const auto& ja = j.at("accelerometer");
   params_of(ja.at("parameters"), a.names, a.values, a.sigma);
-  a.covariance = ja.at("covariance").at("matrix").get<Matrix>();
+  a.covariance = detail::matrix_from_json(ja.at("covariance").at("matrix"));
   a.model = model_of(ja.at("model"));
   a.initial = model_of(ja.at("initial"));
   a.init_samples = ja.at("init_samples").get<std::size_t>();
@@ -205,7 +206,7 @@ MultipositionResult multiposition_result_from_json(const nlohmann::json& j) {
   mp::GyroResult g;
   params_of(jg.at("parameters"), g.names, g.values, g.sigma);
   g.sigma_fit = jg.at("sigma_fit").get<std::vector<double>>();
-  g.covariance = jg.at("covariance").at("matrix").get<Matrix>();
+  g.covariance = detail::matrix_from_json(jg.at("covariance").at("matrix"));
   g.model = model_of(jg.at("model"));
   g.initial = model_of(jg.at("initial"));
   g.init_bias = jg.at("init_bias").get<Vec3>();

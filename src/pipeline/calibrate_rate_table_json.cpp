@@ -1,6 +1,7 @@
 #include <numbers>
 #include <string>
 
+#include "detail/matrix_json.hpp"
 #include "cubecal/pipeline/calibrate_rate_table_json.hpp"
 
 namespace cubecal::pipeline {
@@ -55,7 +56,7 @@ nlohmann::json to_json(const RateTableResult& r) {
   j["A_sigma"] = c.A_sigma;
   j["beta"] = c.beta;
   j["beta_sigma"] = c.beta_sigma;
-  j["inverse_cov"] = c.inverse_cov;
+  j["inverse_cov"] = detail::to_json(c.inverse_cov);
   j["residual_before"] = {{"max", c.residual_before.max_abs}, {"rms", c.residual_before.rms}, {"unit", u}};
   j["residual_after"] = {{"max", c.residual_after.max_abs}, {"rms", c.residual_after.rms}, {"unit", u}};
   j["error_covariance"] = c.error_covariance;
@@ -64,7 +65,7 @@ nlohmann::json to_json(const RateTableResult& r) {
                   {"S_sigma", c.S_sigma},
                   {"bias", c.bias},
                   {"bias_sigma", c.bias_sigma},
-                  {"cov", c.forward_cov},
+                  {"cov", detail::to_json(c.forward_cov)},
                   {"scale_factor_error", c.scale_factor_error},
                   {"scale_factor_error_sigma", c.scale_factor_error_sigma},
                   {"scale_factor_ppm", scaled(c.scale_factor_error, 1e6)},
@@ -106,7 +107,7 @@ RateTableResult rate_table_result_from_json(const nlohmann::json& j) {
   c.A_sigma = j.at("A_sigma").get<Mat3>();
   c.beta = j.at("beta").get<std::array<double, 3>>();
   c.beta_sigma = j.at("beta_sigma").get<std::array<double, 3>>();
-  c.inverse_cov = j.at("inverse_cov").get<Matrix>();
+  c.inverse_cov = detail::matrix_from_json(j.at("inverse_cov"));
   c.residual_before = {j.at("residual_before").at("max").get<double>(),
                        j.at("residual_before").at("rms").get<double>()};
   c.residual_after = {j.at("residual_after").at("max").get<double>(), j.at("residual_after").at("rms").get<double>()};
@@ -116,7 +117,7 @@ RateTableResult rate_table_result_from_json(const nlohmann::json& j) {
   c.S_sigma = f.at("S_sigma").get<Mat3>();
   c.bias = f.at("bias").get<std::array<double, 3>>();
   c.bias_sigma = f.at("bias_sigma").get<std::array<double, 3>>();
-  c.forward_cov = f.at("cov").get<Matrix>();
+  c.forward_cov = detail::matrix_from_json(f.at("cov"));
   c.scale_factor_error = f.at("scale_factor_error").get<std::array<double, 3>>();
   c.scale_factor_error_sigma = f.at("scale_factor_error_sigma").get<std::array<double, 3>>();
   c.misalignment = f.at("misalignment").get<Mat3>();

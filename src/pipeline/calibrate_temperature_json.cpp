@@ -1,3 +1,4 @@
+#include "detail/matrix_json.hpp"
 #include "cubecal/pipeline/calibrate_temperature_json.hpp"
 
 #include <string>
@@ -18,7 +19,7 @@ nlohmann::json to_json(const TemperatureResult& r) {
                              {"coeff", c.fit.coeff},
                              {"coeff_sigma", c.fit.coeff_sigma},
                              {"coeff_units", c.coeff_units},
-                             {"covariance", c.fit.cov},
+                             {"covariance", detail::to_json(c.fit.cov)},
                              {"r2", c.fit.r2},
                              {"residual_rms", c.fit.residual_rms},
                              {"order", c.fit.order}});
@@ -40,7 +41,7 @@ TemperatureResult temperature_result_from_json(const nlohmann::json& j) {
     ch.fit.t_ref = c.at("t_ref").get<double>();
     ch.fit.coeff = c.at("coeff").get<std::vector<double>>();
     ch.fit.coeff_sigma = c.at("coeff_sigma").get<std::vector<double>>();
-    ch.fit.cov = c.at("covariance").get<Matrix>();
+    ch.fit.cov = detail::matrix_from_json(c.at("covariance"));
     ch.fit.r2 = c.at("r2").get<double>();
     ch.fit.residual_rms = c.at("residual_rms").get<double>();
     ch.fit.order = c.at("order").get<std::size_t>();

@@ -66,7 +66,7 @@ struct Coverage {
   std::size_t octants = 0;  ///< octants about the centre holding a direction (of 8)
 };
 
-/// Coverage thresholds (see check_coverage).
+// Coverage thresholds (see check_coverage).
 inline constexpr double kMinLambdaFull = 0.05;      ///< directions at most a +-22 deg band
 inline constexpr double kMaxResultantFull = 0.55;   ///< about a hemisphere (0.5) at least
 inline constexpr double kMinSpreadFull = 0.1;       ///< smallest spread / F
@@ -147,6 +147,8 @@ struct Result {
   /// Covariance of (b1, b2, b3) for bias-only, of (b1, b2, b3, W11, W22, W33,
   /// W12, W13, W23) with W = A^-1 otherwise; names in covariance_names.
   Matrix covariance;
+  /// The names of covariance's rows and columns: "b1", "b2", "b3" and, unless
+  /// bias-only, the W entries.
   std::vector<std::string> covariance_names;
   double field_norm = 0.0;          ///< F (the mean of |H_k| when given per point)
   bool field_norm_default = false;  ///< F was the mean raw |h|

@@ -140,7 +140,10 @@ struct AccResult {
   std::vector<double> values;
   /// The parameters' standard deviations (1 sigma), in the order of names.
   std::vector<double> sigma;
+  /// Covariance of the parameters (9 x 9, in the order of names):
+  /// sigma0^2 (J^T J)^-1.
   Matrix covariance;
+  /// Accelerometer samples in the initial static period (init_static_s).
   std::size_t init_samples = 0;
   /// Norm of the per-axis variances over the initial static period (raw unit squared).
   double init_variance_norm = 0.0;
@@ -178,7 +181,9 @@ struct GyroResult {
   std::vector<double> sigma;
   /// The fit's own standard deviations (1 sigma), without the propagated terms.
   std::vector<double> sigma_fit;
+  /// Covariance of the parameters, in the order of names (see sigma).
   Matrix covariance;
+  /// Gyroscope samples in the initial static period (init_static_s).
   std::size_t init_samples = 0;
   Vec3 init_bias{};        ///< mean over the initial static period
   Vec3 init_bias_sigma{};  ///< its standard error (white noise)

@@ -59,13 +59,13 @@ struct ResidualStats {
   double rms = 0.0;      ///< root mean square over all plateaus and axes, data unit
 };
 
+/// A gyro triad calibrated on a rate table (the paper's least squares): both forms of the model, their covariances and
+/// the residuals.
+///
 /// forward_cov and inverse_cov: 12 x 12 covariances of the parameters ordered
 /// per gyro output axis k = 0, 1, 2 as index 4k + m: m = 0..2 the row k of the
 /// matrix (S or A), m = 3 the k-th bias (b_g or beta). This is vec Theta,
 /// Theta's columns stacked.
-
-/// A gyro triad calibrated on a rate table (the paper's least squares): both forms of the model, their covariances and
-/// the residuals.
 struct RateTableCalibration {
   /// Plateaus fitted.
   std::size_t plateaus = 0;

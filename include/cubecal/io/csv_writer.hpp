@@ -1,3 +1,4 @@
+/// @file
 /// Delimited-text output that the readers take back: comma-separated, one
 /// header line, numbers in the shortest form that keeps 9 significant digits.
 /// A name ending in .gz is written gzip-compressed. Writes go through an

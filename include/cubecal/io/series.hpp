@@ -82,6 +82,7 @@ struct SeriesOptions {
   RawLayout binary;
 };
 
+/// A record as read: its channels, sampling rate, time column and gaps.
 struct Series {
   /// The path given, or "<stdin>".
   std::string file;
@@ -118,8 +119,8 @@ struct Series {
   std::vector<IndexRange> segments;     ///< contiguous pieces (rows); one when there are no gaps
   GapPolicy gaps = GapPolicy::error;    ///< the policy the record was read with
   std::size_t irregular_intervals = 0;  ///< gaps/jitter split on (policy split)
-  bool gzip = false;
-  std::size_t bytes = 0;  ///< bytes parsed (after decompression)
+  bool gzip = false;                    ///< the file was gzip-compressed
+  std::size_t bytes = 0;                ///< bytes parsed (after decompression)
   /// Samples per channel.
   std::size_t samples() const noexcept { return channels.empty() ? 0 : channels[0].size(); }
 };

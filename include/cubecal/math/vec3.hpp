@@ -1,3 +1,4 @@
+/// @file
 /// The small linear-algebra vocabulary every module shares: 3-vectors and 3x3
 /// matrices (row-major, m[row][col]) of a triad; matrices of any other size
 /// are a Matrix (matrix.hpp), index ranges an IndexRange (index_range.hpp).

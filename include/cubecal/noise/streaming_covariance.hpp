@@ -29,6 +29,8 @@ class StreamingCovariance {
   double mean(std::size_t channel) const { return mean_.at(channel); }
   /// Unbiased (n - 1) normalization; std::invalid_argument below 2 samples.
   double variance(std::size_t channel) const;
+  /// The covariance matrix of the channels (channels x channels, data unit
+  /// squared), unbiased (n - 1); std::invalid_argument below 2 samples.
   Matrix matrix() const;
 
  private:

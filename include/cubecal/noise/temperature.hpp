@@ -23,7 +23,7 @@ struct TemperatureFit {
   Matrix cov;
   double residual_rms = 0.0;  ///< data unit
   double r2 = 0.0;            ///< coefficient of determination
-  std::size_t order = 1;
+  std::size_t order = 1;      ///< polynomial order fitted (1 to 5)
 };
 
 /// Throws CalibrationError (cubecal/error.hpp): bad_option (order not 1 to 5);

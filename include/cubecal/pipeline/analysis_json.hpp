@@ -1,3 +1,4 @@
+/// @file
 /// The JSON form of the analysis results, beside their types: `analyze`'s
 /// AnalysisResult (analysis.json: stable keys, every number with its unit,
 /// the confidence level of the intervals) and `dev`'s DevResult
@@ -28,7 +29,7 @@ inline constexpr int kAnalysisFormatVersion = 2;
 /// are stored in their display units (display() of noise/units.hpp) with the
 /// tau range they were read from; densities are derived values, written for
 /// the user and not read back. The drift series are not stored (drift.csv
-/// holds them): analysis_result_from_json leaves DriftSeries::t and ::drift empty. A channel
+/// holds them): analysis_result_from_json leaves the times and the drift values of each DriftSeries empty. A channel
 /// with a spectral view (analyze --psd) has "spectral": "welch" (the plan),
 /// "spectrum" (the log bands), "fit" (as `psd --format json` writes it; null
 /// with "fit_error" when not made) and "terms" (each IEEE 952 term of the fit
@@ -69,6 +70,10 @@ AnalysisDocument parse_analysis_json(const std::string& text, const std::string&
 /// Allan curve the same way, and "model_excluded_taus" (listed taus on the
 /// curve but beyond the --max-samples head the model is fitted on).
 nlohmann::json to_json(const DevResult& r);
+/// The DevResult that to_json(const DevResult&) wrote; `where` (the file)
+/// starts every message. Throws UsageError for a document that lacks a key
+/// the result needs or holds a value it cannot use (an unknown statistic or
+/// data type, a rate that is not positive).
 DevResult dev_result_from_json(const nlohmann::json& j, const std::string& where);
 
 }  // namespace cubecal::pipeline

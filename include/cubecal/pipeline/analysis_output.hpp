@@ -26,7 +26,7 @@ struct OutputContext {
 /// analysis.json: to_json(AnalysisResult) of analysis_json.hpp, the command
 /// and "estimator_files": {"for": [names], "noise_factor": K (--inflate)}.
 nlohmann::json to_json(const AnalysisResult& r, const OutputContext& ctx);
-/// Its text, as the file holds it.
+/// The text of analysis.json (to_json(r, ctx) serialised), as the file holds it.
 std::string analysis_json(const AnalysisResult& r, const OutputContext& ctx);
 
 /// `cubecal dev --format json` (to_json(DevResult) of analysis_json.hpp) with

@@ -205,7 +205,10 @@ struct AnalysisResult {
   std::vector<ChannelAnalysis> channels;
   /// The covariance's channel names, in its order.
   std::vector<std::string> cov_names;
+  /// The covariance of the channels (channels x channels, in the data's units
+  /// squared), over the first cov_samples samples.
   Matrix covariance;
+  /// Samples per channel the covariance is taken over (the record's head).
   std::size_t cov_samples = 0;
   /// Listed taus (an explicit --taus list) the Allan curves leave out, with
   /// the reason, and listed taus merged on one averaging factor; and listed

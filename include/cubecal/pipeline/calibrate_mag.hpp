@@ -43,6 +43,7 @@ struct MagRequest {
 /// the 3 magnetometer columns.
 void check_mag_columns(const std::vector<std::string>& columns);
 
+/// `cubecal calibrate-mag`'s result: the points read and their calibration.
 struct MagResult {
   /// The input's path, as given.
   std::string file;

@@ -1,3 +1,4 @@
+/// @file
 /// The JSON form of a magnetometer calibration (what `calibrate mag --format
 /// json` prints, without the invocation), and back. Keys: file, method, model,
 /// unit, bias(_sigma), soft_iron(_sigma, _unit), field_norm(_source),
@@ -8,7 +9,7 @@
 /// (eta, field_norm_default, field_norm_per_point, first_data_line,
 /// coverage.centre_from_sphere_fit). The input points and per-point field
 /// norms are the input file's content and are not written: mag_result_from_json leaves
-/// MagResult::points and ::field_norms empty.
+/// the points and the field norms of a MagResult empty.
 #pragma once
 #include <nlohmann/json.hpp>
 

@@ -1,3 +1,4 @@
+/// @file
 /// The JSON form of a multi-position calibration (what `calibrate
 /// multiposition --format json` prints, without the invocation), and back.
 /// Keys: method, acc_file, gyro_file, model, samples, rate_hz, g,

@@ -1,3 +1,4 @@
+/// @file
 /// The JSON form of a rate-table calibration (what `calibrate rate-table
 /// --format json` prints, without the invocation), and back. Keys: file, unit,
 /// model, A, A_sigma, beta, beta_sigma, residual_before/after {max, rms,

@@ -17,7 +17,7 @@ namespace cubecal::pipeline {
 /// What `calibrate temperature` is asked to do (the record already read).
 struct TemperatureRequest {
   std::size_t order = 1;        ///< of the polynomial, 1 to 5
-  std::string unit = "counts";  // of the channels, for the coefficient units
+  std::string unit = "counts";  ///< of the channels, for the coefficient units
   std::size_t temp_index = 0;   ///< index into Series::extra of the temperature (degC)
 
   /// A UsageError naming the field at fault: an order outside 1 to 5, more

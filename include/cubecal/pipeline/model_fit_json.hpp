@@ -29,6 +29,9 @@ nlohmann::json to_json(const ModelChannel& c, double rate_hz, bool bootstrapped)
 /// (the file) and `path` (the place in the document) start every message;
 /// a document without a key it needs is a UsageError naming the key.
 ModelResult model_result_from_json(const nlohmann::json& j, const std::string& where);
+/// One channel, as to_json(const ModelChannel&, double, bool) wrote it;
+/// `path` is its place in the document ("channels[0]"). Throws UsageError as
+/// model_result_from_json does.
 ModelChannel model_channel_from_json(const nlohmann::json& j, const std::string& where, const std::string& path);
 
 }  // namespace cubecal::pipeline

@@ -47,7 +47,7 @@ struct TurnOnResult {
   std::vector<double> mean_bias;           ///< mean over runs of the run biases
   std::vector<double> turn_on;             ///< sample standard deviation of the run biases
   std::vector<Interval> turn_on_interval;  ///< its confidence interval (chi-squared, runs - 1 dof)
-  double ci = 0.683;
+  double ci = 0.683;                       ///< confidence of turn_on_interval (AnalyzeRequest::ci)
 };
 
 /// Every run is analysed as `analyze` does (same request); runs must have the

@@ -22,6 +22,9 @@ nlohmann::json to_json(const std::vector<RunSummary>& compared);  ///< {"runs": 
 /// The results that to_json wrote; a compare document's runs are
 /// run_summary_from_json of each element of j.at("runs").
 RunSummary run_summary_from_json(const nlohmann::json& j);
+/// The TurnOnResult that to_json(const TurnOnResult&) wrote. A missing key or
+/// a value of the wrong type throws the JSON library's exception
+/// (nlohmann::json::out_of_range, type_error), no cubecal::Error.
 TurnOnResult turn_on_result_from_json(const nlohmann::json& j);
 
 }  // namespace cubecal::pipeline

@@ -53,11 +53,11 @@ struct PowerLawTerm {
 struct PowerLawFit {
   std::vector<PowerLawTerm> terms;  ///< in the order of the options' exponents
   Matrix covariance;                ///< of the h, terms.size() square (zero rows for terms at the bound)
-  double f_lo = 0.0;                ///< the fitted band: first and last raw frequency used
-  double f_hi = 0.0;
-  std::size_t bands = 0;  ///< log bands fitted
-  double chi2 = 0.0;      ///< generalized residual sum of squares at the solution
-  std::size_t dof = 0;    ///< bands - free coefficients
+  double f_lo = 0.0;                ///< the fitted band: first raw frequency used (Hz)
+  double f_hi = 0.0;                ///< the fitted band: last raw frequency used (Hz)
+  std::size_t bands = 0;            ///< log bands fitted
+  double chi2 = 0.0;                ///< generalized residual sum of squares at the solution
+  std::size_t dof = 0;              ///< bands - free coefficients
   /// max(1, chi2 / dof): the covariance is scaled by it (a model that misses
   /// the data widens its own uncertainties).
   double scale = 1.0;

@@ -18,6 +18,7 @@ struct AllanCurve {
   std::vector<double> dev;         ///< sigma(tau), data unit
   std::vector<Interval> interval;  ///< confidence interval of dev
   std::vector<double> edf;         ///< equivalent degrees of freedom (> 0)
+  /// Points on the curve.
   std::size_t size() const noexcept { return tau.size(); }
 };
 

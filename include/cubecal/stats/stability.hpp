@@ -45,7 +45,7 @@ struct StabilityPoint {
   /// Terms averaged (Stable32's "#").
   std::size_t n = 0;
   Interval interval;  ///< of dev, at StabilityOptions::ci ({0, 0} without intervals)
-  double edf = 0.0;
+  double edf = 0.0;   ///< equivalent degrees of freedom behind interval (0 without intervals)
   /// The noise type: exponent of the frequency PSD (+2 WPM ... -2 RWFM).
   int alpha = 0;
   /// The noise type is the previous factor's in the run (carry_types), not

@@ -80,14 +80,15 @@ class StreamingDeviation {
 
   /// The points of every factor the record held (n > 0), as
   /// StabilityRecord::evaluate over the grid gives them (the run rule
-  /// applied); strides[j] is the stride of points[j]. Call once, at the end.
+  /// applied); strides[j] is the stride of points[j].
   struct Result {
     /// One point per factor the record held.
     std::vector<StabilityPoint> points;
     /// strides[j]: the stride of points[j] (input samples).
     std::vector<std::size_t> strides;
   };
-  /// The result at sample period tau0 (s), after the last push. Throws no cubecal error (nothing of its own).
+  /// The result at sample period tau0 (s), after the last push; call once,
+  /// at the end. Throws no cubecal error (nothing of its own).
   Result finish(double tau0, const StabilityOptions& opt);
 
  private:

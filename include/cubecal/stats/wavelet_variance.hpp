@@ -27,6 +27,7 @@ struct WaveletVariance {
   /// no noise type needed, which a composite process does not have.
   std::vector<double> edf;
   std::vector<Interval> interval;  ///< chi-square interval of nu2 at the confidence asked for
+  /// Scales (taus) estimated.
   std::size_t size() const noexcept { return tau.size(); }
 };
 
