@@ -257,3 +257,38 @@ TEST_F(CliHardening, NumericOptionsOutOfRangeAreRefusedWithTheirName) {
 }
 
 }  // namespace
+
+// --- Standard output that cannot take the output (issue 33, item 6) ------
+
+namespace {
+
+// A run whose standard output is `redirect` (a shell redirection).
+void expect_stdout_failure(const std::string& args, const std::string& redirect) {
+  const Result r = run(args + " " + redirect);
+  EXPECT_EQ(r.code, 1) << args << " " << redirect << "\n" << r.err;
+  EXPECT_NE(r.err.find("cubecal: error: cannot write to standard output"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("internal error"), std::string::npos) << r.err;
+}
+
+}  // namespace
+
+TEST_F(CliHardening, FullOrClosedStandardOutputFailsTheRun) {
+  std::string csv = "t,g_dps\n";
+  for (int i = 0; i < 64; ++i) csv += std::to_string(0.01 * i) + "," + std::to_string(1.0 + 0.01 * (i % 7)) + "\n";
+  const std::string f = write("a.csv", csv);
+  for (const std::string& args : {"dev " + f, "dev " + f + " --format json", "psd " + f, "analyze " + f}) {
+    expect_stdout_failure(args, "> /dev/full");
+    expect_stdout_failure(args, ">&-");
+    const Result ok = run(args + " > /dev/null");
+    EXPECT_EQ(ok.code, 0) << args << "\n" << ok.err;
+  }
+}
+
+TEST_F(CliHardening, ClosedStandardOutputIsNotTakenByAnOutputFile) {
+  // With descriptor 1 closed, the --out file must not become standard output.
+  const std::string out = path("s.csv");
+  const Result r = run("simulate --preset sport-gyro --duration 60 --rate 10 --out " + out + " >&-");
+  EXPECT_EQ(r.code, 0) << r.err;
+  const std::string text = read_file(out);
+  EXPECT_EQ(text.rfind("t,gx,gy,gz", 0), 0u) << text.substr(0, 80);
+}

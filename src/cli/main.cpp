@@ -1,8 +1,12 @@
 // cubecal — characterize, model, simulate and calibrate attitude sensors.
 #include <CLI/CLI.hpp>
+#include <fcntl.h>
 #include <malloc.h>
+#include <unistd.h>
 
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <exception>
 #include <iostream>
 #include <string>
@@ -36,6 +40,37 @@ int fail(const std::string& msg, int code) {
   return code;
 }
 
+// A closed standard output (`cubecal dev a.csv >&-`) gets a placeholder
+// that refuses writes, so that no file the command opens takes descriptor 1
+// and a write to standard output fails as it would have.
+void hold_closed_stdout() {
+  if (::fcntl(STDOUT_FILENO, F_GETFD) == -1 && errno == EBADF) {
+    const int fd = ::open("/dev/null", O_RDONLY | O_CLOEXEC);
+    if (fd >= 0 && fd != STDOUT_FILENO) {
+      ::dup2(fd, STDOUT_FILENO);
+      ::close(fd);
+    }
+  }
+}
+
+// What the command printed must have reached standard output: a full disk
+// (`> /dev/full`) or a closed one fails the run, exit 1, instead of exit 0
+// with the output lost.
+int check_stdout(int code) {
+  std::cout.flush();
+  const bool cout_failed = !std::cout.good();
+  errno = 0;
+  const bool stdio_failed = std::fflush(stdout) != 0 || std::ferror(stdout) != 0;
+  if (!cout_failed && !stdio_failed) return code;
+  const int err = errno;
+  std::string why = err != 0 ? std::string(" (") + std::strerror(err) + ")" : std::string();
+  const int rc = fail("cannot write to standard output" + why +
+                          ": what the command printed there is incomplete (redirect it to a file, or to a pipe "
+                          "that reads it all)",
+                      kExitInternal);
+  return code != 0 ? code : rc;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -45,6 +80,7 @@ int main(int argc, char** argv) {
   // a time by different threads are kept in per-thread arenas and the peak
   // memory holds several of them instead of one.
   mallopt(M_MMAP_THRESHOLD, 1 << 20);
+  hold_closed_stdout();
   CLI::App app{
       "cubecal: stability statistics, noise models and calibration for gyroscopes, "
       "magnetometers, accelerometers and clocks"};
@@ -95,7 +131,7 @@ int main(int argc, char** argv) {
   }
 
   try {
-    return run ? run() : 0;
+    return check_stdout(run ? run() : 0);
   } catch (const cubecal::Error& e) {
     // Usage, input and calibration errors: what the user can fix.
     return fail(cubecal::cli::cli_message(e), kExitBadInput);
