@@ -292,3 +292,33 @@ TEST_F(CliHardening, ClosedStandardOutputIsNotTakenByAnOutputFile) {
   const std::string text = read_file(out);
   EXPECT_EQ(text.rfind("t,gx,gy,gz", 0), 0u) << text.substr(0, 80);
 }
+
+// --- A noise type a statistic cannot take (issue 33, item 7) -------------
+
+TEST_F(CliHardening, NoiseTypeBeyondTheStatisticIsRefused) {
+  std::string csv = "t,g_dps\n";
+  for (int i = 0; i < 256; ++i) csv += std::to_string(0.01 * i) + "," + std::to_string(1.0 + 0.01 * (i % 7)) + "\n";
+  const std::string f = write("a.csv", csv) + " --columns g_dps";
+  // The Allan family converges down to -2 (RWFM): -3 and -4 gave EDF 0 and [0, 0] with exit 0.
+  for (const std::string stat : {"oadev", "mtotdev", "mdev", "totdev"})
+    for (const std::string alpha : {"-3", "-4"}) {
+      const Result r = run("dev " + f + " --stat " + stat + " --alpha " + alpha);
+      EXPECT_TRUE(one_error_line(r)) << stat << " " << alpha << "\n" << r.out << r.err;
+      EXPECT_NE(r.err.find("--alpha " + alpha + ": a noise type " + stat + " does not converge for (it takes -2 to +2"),
+                std::string::npos)
+          << r.err;
+    }
+  // Streamed, and with missing samples skipped, the same.
+  EXPECT_TRUE(one_error_line(run("dev " + f + " --alpha -3 --stream")));
+  const Result skipping = run("dev " + f + " --alpha -3 --gaps skip");  // a note on the missing samples first
+  EXPECT_EQ(skipping.code, 2);
+  EXPECT_NE(skipping.err.find("cubecal: error: --alpha -3: a noise type oadev does not converge"), std::string::npos)
+      << skipping.err;
+  // The Hadamard family takes them, with a positive EDF.
+  const Result h = run("dev " + f + " --stat hdev --alpha -4 --format json");
+  ASSERT_EQ(h.code, 0) << h.err;
+  const auto j = nlohmann::json::parse(h.out);
+  for (const auto& edf : j["columns"][0]["edf"]) EXPECT_GT(edf.get<double>(), 0.0) << j.dump();
+  // Deviations without intervals need no noise type.
+  EXPECT_EQ(run("dev " + f + " --alpha -3 --no-ci").code, 0);
+}

@@ -83,6 +83,7 @@ std::vector<GapNoiseType> noise_types_skipping_missing(std::span<const double> d
                                                        const StabilityOptions& options) {
   for (const double v : data)
     if (std::isinf(v)) throw std::invalid_argument("noise_types_skipping_missing: an infinite sample");
+  check_noise_type(Stat::oadev, options.alpha);
   // The noise type: fixed, or identified on the longest whole stretch.
   const auto [begin, end] = longest_whole_stretch(data);
   std::optional<StabilityRecord> stretch;

@@ -124,6 +124,7 @@ StabilityPoint StabilityRecord::evaluate(std::size_t m, const StabilityOptions& 
 
 std::vector<StabilityPoint> StabilityRecord::evaluate(std::span<const std::size_t> ms, const StabilityOptions& opt,
                                                       StageTimes* times) const {
+  if (needs_type(opt)) check_noise_type(stat_, opt.alpha);
   std::vector<StabilityPoint> out;
   out.reserve(ms.size());
   {

@@ -1,8 +1,11 @@
 #include <algorithm>
 #include <array>
+#include <string>
 #include <utility>
 
 #include "cubecal/stats/statistic.hpp"
+
+#include "cubecal/error.hpp"
 
 namespace cubecal {
 
@@ -75,6 +78,17 @@ int difference_order(Stat s) noexcept {
     case Stat::mtie: return 1;
     default: return 2;
   }
+}
+
+int lowest_alpha(Stat s) noexcept { return 2 - 2 * difference_order(s); }
+
+void check_noise_type(Stat s, std::optional<int> alpha) {
+  if (!alpha || (*alpha >= lowest_alpha(s) && *alpha <= 2)) return;
+  throw UsageError(Field::alpha,
+                   "{alpha} " + std::to_string(*alpha) + ": a noise type " + std::string(to_string(s)) +
+                       " does not converge for (it takes " + std::to_string(lowest_alpha(s)) +
+                       " to +2; -3 and -4 are for the Hadamard family: hdev, ohdev, htotdev)",
+                   UsageError::Named::in_text);
 }
 
 std::size_t theoh_switch_factor(std::size_t n_phase) noexcept { return n_phase < 2 ? 0 : (n_phase - 1) / 5; }

@@ -399,6 +399,7 @@ void StreamingDeviation::process(std::size_t level) {
 }
 
 StreamingDeviation::Result StreamingDeviation::finish(double tau0, const StabilityOptions& opt) {
+  if (opt.intervals && has_intervals(stat_)) check_noise_type(stat_, opt.alpha);
   for (std::size_t l = 0; l < levels_.size(); ++l) process(l);
   Result res;
   const std::size_t n_phase = samples_ + 1;

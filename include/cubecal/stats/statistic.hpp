@@ -83,6 +83,17 @@ double tau_per_factor(Stat s, std::size_t m, std::size_t n_phase) noexcept;
 /// Hadamard family (HVAR, OHVAR, HTOT), 1 for TIE rms and MTIE.
 int difference_order(Stat s) noexcept;
 
+/// The lowest power-law noise type (alpha of S_y(f) ~ f^alpha) a statistic
+/// converges for, and so has an EDF and an interval for: -2 (random-walk FM)
+/// for the Allan family and the total and Theo statistics, -4 (random-run FM)
+/// for the Hadamard family; 2 - 2 * difference_order(s).
+int lowest_alpha(Stat s) noexcept;
+
+/// Refuses a given noise type (`--alpha`) that the statistic cannot take:
+/// below lowest_alpha(s) or above +2 (white PM). Throws UsageError naming
+/// Field::alpha; nothing when `alpha` is empty.
+void check_noise_type(Stat s, std::optional<int> alpha);
+
 /// Largest averaging factor Stable32 evaluates for a statistic on N phase
 /// points (N-1 frequency points): (N-1)/5 for ADEV and HDEV, (N-1)/4 for the
 /// overlapping and modified statistics and TIE rms, (N-1)/3 for MTOT, TTOT and
