@@ -244,7 +244,7 @@ struct IntervalFactors {
   bool ready = false;
 };
 
-constexpr int kLowestAlpha = -2;  // the Allan family (docs/formulas/stability.md §4.1)
+constexpr int kLowestAlpha = -2;  // lowest_alpha(Stat::oadev): the Allan family (docs/formulas/stability.md §4.1)
 constexpr int kHighestAlpha = 2;
 
 // The window, step and intervals asked for, checked against the record of N samples.
@@ -262,11 +262,7 @@ void check_davar_options(std::size_t N, DataType type, const DavarOptions& optio
   const DavarIntervals& iv = options.intervals;
   if (iv.enabled && !(iv.ci > 0.0 && iv.ci < 1.0))
     throw UsageError(Field::ci, "the confidence must be between 0 and 1 (e.g. 0.683 or 0.95)");
-  if (iv.enabled && iv.alpha && (*iv.alpha < kLowestAlpha || *iv.alpha > kHighestAlpha))
-    throw UsageError(Field::alpha,
-                     "the noise type of an Allan deviation is one of +2 (WPM), +1 (FPM), 0 (WFM), "
-                     "-1 (FFM), -2 (RWFM); got " +
-                         std::to_string(*iv.alpha));
+  if (iv.enabled) check_noise_type(Stat::oadev, iv.alpha);  // the one rule of every statistic
 }
 
 // The matrix's axes: the windows' start and centre times, the factors'
