@@ -1,10 +1,16 @@
 // io::AtomicFile: a file is written whole or not at all, through PATH.partial;
-// no symlink is followed into another file and nothing but the writer's own
-// temporary is ever removed.
+// no symlink is followed into another file, nothing but a regular file is
+// replaced (a FIFO or a device is written into, a link refused) and nothing
+// but the writer's own temporary is ever removed.
 #include "cubecal/io/atomic_file.hpp"
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <unistd.h>
+
+#include <cerrno>
+#include <thread>
 
 #include <filesystem>
 #include <fstream>
@@ -18,6 +24,30 @@ namespace {
 
 namespace fs = std::filesystem;
 using cubecal::io::AtomicFile;
+
+// What a writer puts into the FIFO `p`, read without ever blocking: ends at
+// the writer's close, or after 20 s when no writer comes (a test that fails
+// rather than hangs).
+std::string drain_fifo(const std::string& p) {
+  const int fd = ::open(p.c_str(), O_RDONLY | O_NONBLOCK);
+  if (fd < 0) return "(cannot open the FIFO)";
+  std::string got;
+  bool writer = false;
+  char buf[4096];
+  for (int i = 0; i < 2000; ++i) {
+    const ssize_t n = ::read(fd, buf, sizeof buf);
+    if (n > 0) {
+      got.append(buf, static_cast<std::size_t>(n));
+      writer = true;
+      continue;
+    }
+    if (n < 0) writer = true;  // EAGAIN: a writer, no data yet
+    if (n == 0 && writer) break;
+    ::usleep(10000);
+  }
+  ::close(fd);
+  return got;
+}
 
 class AtomicFileTest : public ::testing::Test {
  protected:
@@ -95,18 +125,59 @@ TEST_F(AtomicFileTest, ASymlinkInPlaceOfTheTemporaryIsNeitherFollowedNorRemoved)
   EXPECT_FALSE(fs::exists(p));
 }
 
-TEST_F(AtomicFileTest, ASymlinkAtTheTargetIsReplacedNotWrittenThrough) {
+// Issue 33, item 5: only a regular file is ever replaced. A symbolic link at
+// the target (to a file, or dangling) is refused: neither replaced nor
+// followed.
+TEST_F(AtomicFileTest, ASymlinkAtTheTargetIsRefusedNeitherReplacedNorFollowed) {
   const std::string p = path("out.txt");
   const std::string victim = path("victim.txt");
   write(victim, "keep me");
   fs::create_symlink(victim, p);
-  AtomicFile f(p);
-  ASSERT_TRUE(f.is_open());
-  EXPECT_TRUE(f.write("new"));
-  EXPECT_TRUE(f.commit());
-  EXPECT_FALSE(fs::is_symlink(p));
-  EXPECT_EQ(read(p), "new");
+  fs::create_symlink(path("nowhere"), path("dangling"));
+  for (const std::string& target : {p, path("dangling")}) {
+    AtomicFile f(target);
+    EXPECT_FALSE(f.is_open()) << target;
+    EXPECT_EQ(f.error(), EEXIST) << target;
+    EXPECT_TRUE(fs::is_symlink(target)) << target;
+    std::string why;
+    EXPECT_EQ(cubecal::io::classify_output(target, &why), cubecal::io::OutputTarget::refused);
+    EXPECT_NE(why.find(target + " is a symbolic link to "), std::string::npos) << why;
+    EXPECT_THROW(cubecal::io::write_file(target, "new"), cubecal::UsageError);
+  }
   EXPECT_EQ(read(victim), "keep me");
+  EXPECT_FALSE(fs::exists(path("nowhere")));
+  EXPECT_THROW(cubecal::io::replace_file_atomically(p, "new"), std::system_error);
+  EXPECT_TRUE(fs::is_symlink(p));
+}
+
+// A FIFO, and a character device through a link (/dev/null), are written
+// into: what a user naming them means; neither is replaced by a file.
+TEST_F(AtomicFileTest, AFifoOrADeviceIsWrittenIntoNotReplaced) {
+  const std::string fifo = path("fifo");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  std::string got;
+  std::thread reader([&] { got = drain_fifo(fifo); });
+  {
+    AtomicFile f(fifo);
+    ASSERT_TRUE(f.is_open());
+    EXPECT_TRUE(f.into_stream());
+    EXPECT_TRUE(f.write("through the pipe"));
+    EXPECT_TRUE(f.commit());
+  }
+  reader.join();
+  EXPECT_EQ(got, "through the pipe");
+  struct stat st {};
+  ASSERT_EQ(::lstat(fifo.c_str(), &st), 0);
+  EXPECT_TRUE(S_ISFIFO(st.st_mode));
+  const std::string null = path("null");
+  fs::create_symlink("/dev/null", null);
+  cubecal::io::write_file(null, "gone");
+  EXPECT_TRUE(fs::is_symlink(null));
+  EXPECT_FALSE(fs::exists(null + ".partial"));
+  // Not for a recording's manifest: a FIFO there is refused, left as it is.
+  EXPECT_THROW(cubecal::io::replace_file_atomically(fifo, "{}"), std::system_error);
+  ASSERT_EQ(::lstat(fifo.c_str(), &st), 0);
+  EXPECT_TRUE(S_ISFIFO(st.st_mode));
 }
 
 TEST_F(AtomicFileTest, WhatTookTheTemporarysPlaceIsNotRemoved) {

@@ -4,13 +4,16 @@
 //
 // The inputs are broken at their last row: a command that read its input
 // before checking its outputs would report the input instead.
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "cli_runner.hpp"
@@ -22,6 +25,30 @@ namespace {
 namespace fs = std::filesystem;
 using cubecal::test::CliRun;
 using cubecal::test::one_error_line;
+
+// What a writer puts into the FIFO `p`, read without ever blocking: ends at
+// the writer's close, or after 20 s when no writer comes (a test that fails
+// rather than hangs).
+std::string drain_fifo(const std::string& p) {
+  const int fd = ::open(p.c_str(), O_RDONLY | O_NONBLOCK);
+  if (fd < 0) return "(cannot open the FIFO)";
+  std::string got;
+  bool writer = false;
+  char buf[4096];
+  for (int i = 0; i < 2000; ++i) {
+    const ssize_t n = ::read(fd, buf, sizeof buf);
+    if (n > 0) {
+      got.append(buf, static_cast<std::size_t>(n));
+      writer = true;
+      continue;
+    }
+    if (n < 0) writer = true;  // EAGAIN: a writer, no data yet
+    if (n == 0 && writer) break;
+    ::usleep(10000);
+  }
+  ::close(fd);
+  return got;
+}
 
 class OutputChecks : public cubecal::test::TempDirTest {
  protected:
@@ -139,6 +166,57 @@ TEST_F(OutputChecks, TheProbeLeavesAnExistingFileOfItsNameAlone) {
   std::getline(in, kept);
   EXPECT_EQ(kept, "the user's");
   EXPECT_THROW(cubecal::io::check_output_file(mine, false), cubecal::UsageError);
+}
+
+// Issue 33, item 5: --force replaces regular files only. A symbolic link (to
+// a file, to a directory, dangling) is refused naming it and left as it is,
+// the file it points to untouched; a device or FIFO is written into.
+TEST_F(OutputChecks, LinksAreRefusedDevicesAndFifosWrittenInto) {
+  write("victim.txt", "the user's file\n");
+  fs::create_symlink(path("victim.txt"), path("link"));
+  fs::create_symlink(path("nowhere"), path("dangling"));
+  fs::create_symlink(path("a_dir"), path("dir_link"));
+  for (const std::string& c : file_commands())
+    for (const std::string& opt : {"--out " + path("link") + " --force", "--out " + path("dangling"),
+                                   "--out " + path("dir_link") + " --force"}) {
+      const std::string cmd = with(c, opt);
+      expect_refused(run(cmd), cmd, "--out", " is a symbolic link to ");
+    }
+  for (const std::string& c : report_commands()) {
+    const std::string cmd = with(c, "--report " + path("dangling"));
+    expect_refused(run(cmd), cmd, "--report", "dangling is a symbolic link to");
+  }
+  // A file inside an output directory, and the directory itself.
+  fs::create_directories(path("res"));
+  fs::create_symlink(path("victim.txt"), path("res/analysis.json"));
+  const std::string an = "analyze " + bad_ + " --unit deg/s --force --out " + path("res");
+  expect_refused(run(an), an, "--out", "res/analysis.json is a symbolic link to");
+  const std::string dn = "analyze " + bad_ + " --unit deg/s --out " + path("dangling");
+  expect_refused(run(dn), dn, "--out", "dangling is a symbolic link to");
+  EXPECT_TRUE(fs::is_symlink(path("link")));
+  EXPECT_TRUE(fs::is_symlink(path("dangling")));
+  EXPECT_TRUE(fs::is_symlink(path("res/analysis.json")));
+  EXPECT_FALSE(fs::exists(path("nowhere")));
+  std::ifstream in(path("victim.txt"));
+  std::string kept;
+  std::getline(in, kept);
+  EXPECT_EQ(kept, "the user's file");
+
+  // Written into: a device through a link, and a FIFO with its reader.
+  const std::string rec = path("ok.csv");
+  ASSERT_EQ(run("simulate --preset sport-gyro --duration 20m --out " + rec).code, 0);
+  fs::create_symlink("/dev/null", path("null"));
+  const CliRun n = run("dev " + rec + " --out " + path("null") + " --force");
+  EXPECT_EQ(n.code, 0) << n.err;
+  EXPECT_TRUE(fs::is_symlink(path("null")));
+  ASSERT_EQ(::mkfifo(path("fifo").c_str(), 0600), 0);
+  std::string got;
+  std::thread reader([&] { got = drain_fifo(path("fifo")); });
+  const CliRun f = run("dev " + rec + " --format csv --out " + path("fifo"));
+  reader.join();
+  EXPECT_EQ(f.code, 0) << f.err;
+  EXPECT_EQ(got.rfind("column,af,tau", 0), 0u) << got;
+  EXPECT_TRUE(fs::is_fifo(path("fifo")));
 }
 
 // The whole analysis no longer runs before an unusable --out is noticed: the

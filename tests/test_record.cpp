@@ -18,11 +18,13 @@
 #include "cubecal/acquire/frame_decoder.hpp"
 #include "cubecal/acquire/frame_spec.hpp"
 #include "cubecal/acquire/line_framer.hpp"
+#include "cubecal/acquire/rejects_writer.hpp"
 #include "cubecal/error.hpp"
 #include "cubecal/io/recording_manifest.hpp"
 
 using namespace cubecal;
 using namespace cubecal::acquire;
+using namespace std::string_literals;
 
 namespace {
 
@@ -97,6 +99,75 @@ TEST(LineFramer, CarriageReturnLinesAndGivenColumns) {
   EXPECT_EQ(c.samples, (std::vector<std::string>{"1,2", "3,4"}));
   ASSERT_EQ(c.rejects.size(), 1u);
   EXPECT_EQ(c.rejects[0].first, "field 2 is not finite");
+}
+
+// Issue 33, item 2: serial noise at power-up (bytes that are not UTF-8, a
+// NUL) before the header is a reject each, never the header.
+TEST(LineFramer, NoiseThatIsNotTextBeforeTheHeaderIsARejectNotTheHeader) {
+  LineFramer f;
+  Collect c;
+  f.feed("\xff\xfe\x00gar\xe9\n\xe9\xff\nt,gx\n0,1\n"s, c);
+  f.feed("0.01,2\n", c);
+  EXPECT_EQ(c.names, (std::vector<std::string>{"t", "gx"}));
+  EXPECT_EQ(c.samples, (std::vector<std::string>{"0,1", "0.01,2"}));
+  ASSERT_EQ(c.rejects.size(), 2u);
+  EXPECT_EQ(c.rejects[0].second, "\xff\xfe\x00gar\xe9"s);
+  EXPECT_EQ(c.rejects[1].second, "\xe9\xff");
+  EXPECT_EQ(c.rejects[0].first.rfind("not text", 0), 0u) << c.rejects[0].first;
+  // A tab-delimited header is text.
+  LineFramer tabs;
+  Collect t;
+  tabs.feed("t\tgx\n0\t1\n", t);
+  EXPECT_EQ(t.names, (std::vector<std::string>{"t", "gx"}));
+  EXPECT_TRUE(t.rejects.empty());
+  LineFramerOptions o;
+  o.columns = {"t", "g\xe9"};
+  EXPECT_THROW(LineFramer{o}, UsageError);
+}
+
+// Issue 33, item 8: the end of a datagram ends a line.
+TEST(LineFramer, TheEndOfARecordEndsTheLine) {
+  LineFramer f;
+  Collect c;
+  for (const std::string_view d : {"t,gx", "0,1", "0.01,2\n0.02,3", "0.03,4\r", "0.04,5\r\n"}) {
+    f.feed(d, c);
+    f.end_record(c);
+  }
+  f.finish(c);
+  EXPECT_EQ(c.names, (std::vector<std::string>{"t", "gx"}));
+  EXPECT_EQ(c.samples, (std::vector<std::string>{"0,1", "0.01,2", "0.02,3", "0.03,4", "0.04,5"}));
+  EXPECT_TRUE(c.rejects.empty());
+}
+
+// rejects.csv stays valid UTF-8 text, one line per reject, and gives the
+// bytes back: control bytes, malformed UTF-8 and the backslash as \xNN.
+TEST(RejectsWriter, TextIsEscapedToOneLineOfUtf8) {
+  EXPECT_EQ(escaped_text("a\xff\x00"s + "b\\x41\r\n\xc3\xa9\t"), "a\\xff\\x00b\\x5cx41\\x0d\\x0a\xc3\xa9\\x09");
+  const std::string d = temp_dir();
+  {
+    RejectsWriter w(d);
+    w.add(",,", "comment line", "# \xe9\n\"q\"", false);
+    w.close();
+  }
+  EXPECT_EQ(slurp(d + "/rejects.csv"),
+            "host_mono_s,host_utc_s,reason,data\n,,\"comment line\",\"# \\xe9\\x0a\"\"q\"\"\"\n");
+  EXPECT_EQ(std::system(("rm -rf " + d).c_str()), 0);
+}
+
+// Issue 33, item 8: recovery reads, cuts and syncs the chunk itself, never
+// a file a symbolic link in its place points to.
+TEST(ChunkWriter, RecoveryNeverFollowsASymbolicLink) {
+  const std::string d = temp_dir();
+  const std::string victim = d + "/outside.txt";
+  const std::string text = "host_mono_s,host_utc_s,t,gx\n1.0,100.0,0.0,1\npartial";
+  { std::ofstream(victim, std::ios::binary) << text; }
+  ASSERT_EQ(::symlink(victim.c_str(), (d + "/chunk-000001.csv").c_str()), 0);
+  io::RecordingChunk as_manifest;
+  as_manifest.file = "chunk-000001.csv";
+  as_manifest.open = true;
+  EXPECT_THROW(recover_chunk(d, as_manifest, 2), InputError);
+  EXPECT_EQ(slurp(victim), text);
+  EXPECT_EQ(std::system(("rm -rf " + d).c_str()), 0);
 }
 
 TEST(FrameSpec, ParsesAndRefuses) {

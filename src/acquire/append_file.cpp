@@ -22,8 +22,21 @@ std::string parent_of(const std::string& path) {
 
 }  // namespace
 
-void sync_directory(const std::string& dir) {
-  const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+int open_regular(const std::string& path, int flags, int mode) {
+  const int fd = ::open(path.c_str(), flags | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC, mode);
+  if (fd < 0) return -1;
+  struct stat st {};
+  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+    ::close(fd);
+    errno = EINVAL;
+    return -1;
+  }
+  ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);
+  return fd;
+}
+
+void sync_directory(const std::string& dir, bool follow_link) {
+  const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC | (follow_link ? 0 : O_NOFOLLOW));
   if (fd < 0) throw WriteFailure(dir, errno);
   if (::fsync(fd) != 0) {
     const int err = errno;
@@ -34,8 +47,7 @@ void sync_directory(const std::string& dir) {
 }
 
 AppendFile::AppendFile(std::string path, bool existing, std::size_t buffer) : path_(std::move(path)), limit_(buffer) {
-  const int flags = O_WRONLY | O_APPEND | O_CLOEXEC | (existing ? 0 : O_CREAT | O_EXCL);
-  fd_ = ::open(path_.c_str(), flags, 0644);
+  fd_ = open_regular(path_, O_WRONLY | O_APPEND | (existing ? 0 : O_CREAT | O_EXCL));
   if (fd_ < 0) throw WriteFailure(path_, errno);
   if (existing) {
     struct stat st {};

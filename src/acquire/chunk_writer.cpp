@@ -100,13 +100,29 @@ double host_utc_of(std::string_view line) {
 
 RecoveredChunk recover_chunk(const std::string& dir, const io::RecordingChunk& as_manifest, std::size_t columns) {
   const std::string path = dir + "/" + as_manifest.file;
+  // Read, cut and fsync'd through one descriptor of the regular file itself:
+  // a symbolic link (to a file outside the recording) is never followed.
+  const int fd = detail::open_regular(path, O_RDWR);
+  if (fd < 0)
+    throw InputError(path, 0, 0,
+                     errno == ELOOP || errno == EINVAL
+                         ? "the chunk the manifest names is not a regular file (a symbolic link?); a recording holds "
+                           "regular files only: put the file itself there or record into a new directory"
+                         : "the chunk the manifest names cannot be read (" + std::string(std::strerror(errno)) + ")");
   std::string text;
   {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw InputError(path, 0, 0, "the chunk the manifest names cannot be read");
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    text = std::move(ss).str();
+    char buf[1 << 16];
+    for (;;) {
+      const ssize_t n = ::read(fd, buf, sizeof buf);
+      if (n < 0 && errno == EINTR) continue;
+      if (n < 0) {
+        const int err = errno;
+        ::close(fd);
+        throw InputError(path, 0, 0, std::string("the chunk cannot be read (") + std::strerror(err) + ")");
+      }
+      if (n == 0) break;
+      text.append(buf, static_cast<std::size_t>(n));
+    }
   }
   const std::size_t commas = columns + 1;  // host_mono_s,host_utc_s,<columns>
   // The header line, then every complete line; past the vouched-for part a
@@ -135,15 +151,11 @@ RecoveredChunk recover_chunk(const std::string& dir, const io::RecordingChunk& a
   }
   RecoveredChunk r;
   r.tail = text.substr(cut);
-  if (cut < text.size()) {
-    if (::truncate(path.c_str(), static_cast<off_t>(cut)) != 0) throw WriteFailure(path, errno);
-  }
-  const int fd = ::open(path.c_str(), O_WRONLY | O_CLOEXEC);
-  if (fd < 0) throw WriteFailure(path, errno);
-  const int rc = ::fsync(fd);
+  const int rc = cut < text.size() ? ::ftruncate(fd, static_cast<off_t>(cut)) : 0;
+  const int rc2 = rc == 0 ? ::fsync(fd) : -1;
   const int err = errno;
   ::close(fd);
-  if (rc != 0) throw WriteFailure(path, err);
+  if (rc != 0 || rc2 != 0) throw WriteFailure(path, err);
   r.chunk = as_manifest;
   r.chunk.samples = samples;
   r.chunk.bytes = cut;

@@ -5,6 +5,7 @@
 
 #include <fast_float/fast_float.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <string>
@@ -44,6 +45,17 @@ std::string_view trim(std::string_view s) {
   return s;
 }
 
+// Well-formed UTF-8 without control bytes, tab aside: text a header can be.
+bool is_text(std::string_view s) {
+  for (std::size_t b = 0; b <= s.size();) {
+    const std::size_t tab = std::min(s.find('\t', b), s.size());
+    const std::string_view piece = s.substr(b, tab - b);
+    if (printable_text(piece) != piece) return false;
+    b = tab + 1;
+  }
+  return true;
+}
+
 std::string header_name(std::string_view f) {
   if (f.size() >= 2 && f.front() == '"' && f.back() == '"') f = f.substr(1, f.size() - 2);
   return std::string(f);
@@ -55,6 +67,9 @@ LineFramer::LineFramer(LineFramerOptions opt) : opt_(std::move(opt)) {
   if (opt_.delimiter && *opt_.delimiter != ',' && *opt_.delimiter != '\t' && *opt_.delimiter != ';' &&
       *opt_.delimiter != ' ')
     throw UsageError(Field::delimiter, "the delimiter is one of , ; tab or space");
+  for (const auto& c : opt_.columns)
+    if (c.empty() || !is_text(c) || c.find('\t') != std::string::npos)
+      throw UsageError(Field::columns, "{columns}: '" + printable_text(c) + "' is not a column name (text, not empty)");
   values_.reserve(64);
   fields_.reserve(64);
 }
@@ -162,6 +177,14 @@ void LineFramer::finish(SampleHandler& h) {
   drop_partial("partial line at end of stream", h);
 }
 
+void LineFramer::end_record(SampleHandler& h) {
+  if (carry_.empty()) return;
+  std::string l = std::move(carry_);
+  carry_.clear();
+  if (l.back() == '\r') l.pop_back();  // a CR at the end of the datagram, its ending still unknown
+  line(l, h);
+}
+
 void LineFramer::line(std::string_view raw, SampleHandler& h) {
   const std::string_view text = trim(raw);
   if (text.empty()) {
@@ -170,6 +193,10 @@ void LineFramer::line(std::string_view raw, SampleHandler& h) {
   }
   if (text.front() == '#') {
     h.on_reject("comment line", text, false);
+    return;
+  }
+  if (!have_layout_ && !is_text(text)) {
+    h.on_reject("not text (bytes that are not UTF-8, or control bytes) before the first line of data", text, false);
     return;
   }
   if (!have_layout_) {

@@ -2,6 +2,7 @@
 #include "cubecal/acquire/recorder.hpp"
 
 #include <dirent.h>
+#include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -21,6 +22,7 @@
 #include "cubecal/acquire/write_failure.hpp"
 #include "cubecal/error.hpp"
 #include "cubecal/io/series.hpp"
+#include "cubecal/printable_text.hpp"
 #include "detail/append_file.hpp"
 
 namespace cubecal::acquire {
@@ -49,9 +51,60 @@ bool is_dir(const std::string& p) {
   return ::stat(p.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
 }
 
+std::vector<std::string> dir_entries(const std::string& dir);
+
+// Whether anything (a dangling symbolic link included) has this name.
 bool exists(const std::string& p) {
   struct stat st {};
-  return ::stat(p.c_str(), &st) == 0;
+  return ::lstat(p.c_str(), &st) == 0;
+}
+
+// What a recording may hold at `p`: nothing, or an entry of the kind
+// expected (a directory, a regular file), never a symbolic link.
+void check_entry(const std::string& p, bool directory) {
+  struct stat st {};
+  if (::lstat(p.c_str(), &st) != 0) return;
+  const bool ok = directory ? S_ISDIR(st.st_mode) : S_ISREG(st.st_mode);
+  if (ok) return;
+  const std::string what = S_ISLNK(st.st_mode) ? "a symbolic link"
+                           : directory         ? "not a directory"
+                                               : "not a regular file";
+  throw UsageError(Field::out, printable_text(p) + " is " + what + ": a recording holds " +
+                                   (directory ? "its segment directories" : "regular files") +
+                                   " only and record never writes through a link; put the " +
+                                   (directory ? "directory" : "file") + " itself there or record into a new directory");
+}
+
+// A name from the manifest: PREFIX, digits, SUFFIX; nothing else (no '/',
+// no "..": never a path outside the directory).
+bool well_formed(const std::string& name, std::string_view prefix, std::string_view suffix) {
+  if (name.size() <= prefix.size() + suffix.size() || name.rfind(prefix, 0) != 0 ||
+      name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0)
+    return false;
+  const std::string digits = name.substr(prefix.size(), name.size() - prefix.size() - suffix.size());
+  return digits.find_first_not_of("0123456789") == std::string::npos;
+}
+
+// A recording about to be continued: every name the manifest gives is a
+// segment directory or a chunk file inside DIR, and what recovery will open
+// (the open segments' directories, chunks and rejects) is what it should be.
+void check_recording(const std::string& dir, const io::RecordingManifest& m) {
+  for (const auto& seg : m.segments) {
+    if (!well_formed(seg.dir, "seg-", ""))
+      throw UsageError(Field::out, dir + "/manifest.json names a segment directory '" + printable_text(seg.dir) +
+                                       "', not seg-NNN: record into a new directory");
+    for (const auto& c : seg.chunks)
+      if (!well_formed(c.file, "chunk-", ".csv"))
+        throw UsageError(Field::out, dir + "/manifest.json names a chunk '" + printable_text(c.file) + "' in " +
+                                         seg.dir + ", not chunk-NNNNNN.csv: record into a new directory");
+    if (seg.end != io::SegmentEnd::open) continue;
+    const std::string sdir = dir + "/" + seg.dir;
+    check_entry(sdir, true);
+    check_entry(sdir + "/" + std::string(io::kRejectsName), false);
+    for (const auto& c : seg.chunks) check_entry(sdir + "/" + c.file, false);
+    for (const auto& name : dir_entries(sdir))
+      if (well_formed(name, "chunk-", ".csv")) check_entry(sdir + "/" + name, false);
+  }
 }
 
 std::vector<std::string> dir_entries(const std::string& dir) {
@@ -84,17 +137,28 @@ void make_dirs(const std::string& dir) {
 // crash while it was written) is cut off and its bytes added to `partial`.
 std::size_t count_rejects(const std::string& dir, std::size_t& partial) {
   const std::string path = dir + "/" + std::string(io::kRejectsName);
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return 0;
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  const std::string text = std::move(ss).str();
+  if (!exists(path)) return 0;
+  const int fd = detail::open_regular(path, O_RDWR);  // never through a link
+  if (fd < 0) throw WriteFailure(path, errno);
+  std::string text;
+  char buf[1 << 16];
+  for (;;) {
+    const ssize_t n = ::read(fd, buf, sizeof buf);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;
+    text.append(buf, static_cast<std::size_t>(n));
+  }
   const auto last_nl = text.rfind('\n');
   const std::size_t keep = last_nl == std::string::npos ? 0 : last_nl + 1;
   if (keep < text.size()) {
     partial += text.size() - keep;
-    if (::truncate(path.c_str(), static_cast<off_t>(keep)) != 0) throw WriteFailure(path, errno);
+    if (::ftruncate(fd, static_cast<off_t>(keep)) != 0) {
+      const int err = errno;
+      ::close(fd);
+      throw WriteFailure(path, err);
+    }
   }
+  ::close(fd);
   const auto lines =
       static_cast<std::size_t>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(keep), '\n'));
   return lines > 0 ? lines - 1 : 0;  // less the header line
@@ -121,6 +185,14 @@ std::string delimiter_name(char d) {
 
 std::vector<std::string> recover_recording(const std::string& dir, io::RecordingManifest& m) {
   std::vector<std::string> notices;
+  check_recording(dir, m);
+  // A segment the manifest names before its directory is made (a crash
+  // right then) held nothing: it is dropped.
+  std::erase_if(m.segments, [&](const io::RecordingSegment& seg) {
+    if (seg.end != io::SegmentEnd::open || exists(dir + "/" + seg.dir)) return false;
+    notices.push_back(dir + "/" + seg.dir + ": dropped from the manifest (a crash before it held anything)");
+    return true;
+  });
   for (auto& seg : m.segments) {
     if (seg.end != io::SegmentEnd::open) continue;
     const std::string sdir = dir + "/" + seg.dir;
@@ -190,7 +262,8 @@ std::vector<std::string> recover_recording(const std::string& dir, io::Recording
 class Recorder::Impl final : public SampleHandler {
  public:
   Impl(Source& src, RecorderOptions opt, io::RecordingManifest& m) : src_(src), opt_(std::move(opt)), m_(m) {
-    if (opt_.chunk_seconds <= 0) throw UsageError(Field::chunk_seconds, "{chunk_seconds} must be positive");
+    if (!(opt_.chunk_seconds > 0 && std::isfinite(opt_.chunk_seconds)))
+      throw UsageError(Field::chunk_seconds, "{chunk_seconds} must be a positive number of seconds");
     if (opt_.chunk_bytes < 4096) throw UsageError(Field::chunk_bytes, "{chunk_bytes} must be at least 4096");
     if (opt_.sync_interval_s <= 0 || opt_.sync_interval_s > 1.0)
       throw UsageError(Field::sync, "the sync interval is between 0 and 1 s");
@@ -200,6 +273,7 @@ class Recorder::Impl final : public SampleHandler {
     if (dir.empty()) throw UsageError(Field::out, "{out} DIR is required: the recording directory");
     if (exists(dir) && !is_dir(dir)) throw UsageError(Field::out, dir + " is a file; {out} names a directory");
     if (is_dir(dir) && exists(dir + "/" + std::string(io::kManifestName))) {
+      check_entry(dir + "/" + std::string(io::kManifestName), false);
       m_ = io::read_manifest(dir);
       existing_ = true;
       for (const auto& n : recover_recording(dir, m_)) notice(n);
@@ -219,6 +293,10 @@ class Recorder::Impl final : public SampleHandler {
       throw UsageError(Field::out, dir + ": cannot write there (" + std::strerror(errno) + ")");
     segment_index_ = 1;
     for (const auto& s : m_.segments) segment_index_ = std::max(segment_index_, s.index + 1);
+    if (exists(segment_path_of(segment_index_)))
+      throw UsageError(Field::out, printable_text(segment_path_of(segment_index_)) +
+                                       " exists but the manifest does not name it: move it away, or record into a "
+                                       "new directory");
     if (opt_.frame) {
       bin_.emplace(*opt_.frame);
       check_framing(names_of(*opt_.frame));
@@ -284,11 +362,13 @@ class Recorder::Impl final : public SampleHandler {
       m_.source = src_.describe();
     }
     if (opt_.rate_hz) expected_dt_ = 1.0 / *opt_.rate_hz;
-    start_segment();
   }
 
   void on_sample(std::string_view fields, std::span<const double> values) override {
-    if (chunk_->bytes() >= opt_.chunk_bytes) rotate();
+    if (!chunk_)
+      start_segment();  // at the first sample: a run without one records nothing
+    else if (chunk_->bytes() >= opt_.chunk_bytes)
+      rotate();
     chunk_->add(prefix_, fields, batch_utc_);
     if (time_idx_ >= 0) check_time(values[static_cast<std::size_t>(time_idx_)]);
     ++samples_;
@@ -298,9 +378,15 @@ class Recorder::Impl final : public SampleHandler {
 
   void on_reject(std::string_view reason, std::string_view data, bool binary) override {
     if (!rejects_) {
-      // Before the layout is known (a comment, a partial first line): kept
-      // until the segment exists.
-      pending_.push_back({prefix_, std::string(reason), std::string(data), binary});
+      // Before the first sample (a comment, a partial first line, noise):
+      // kept until the segment exists, up to a bound; past it only counted.
+      if (pending_.size() < kMaxPending && pending_bytes_ + data.size() <= kMaxPendingBytes) {
+        pending_.push_back({prefix_, std::string(reason), std::string(data), binary});
+        pending_bytes_ += data.size();
+      } else {
+        ++pending_over_;
+        pending_over_bytes_ += data.size();
+      }
       return;
     }
     rejects_->add(prefix_, reason, data, binary);
@@ -346,6 +432,7 @@ class Recorder::Impl final : public SampleHandler {
   }
 
   std::string segment_path() const { return opt_.out_dir + "/" + seg_.dir; }
+  std::string segment_path_of(int index) const { return opt_.out_dir + "/" + segment_dir_name(index); }
 
   void start_segment() {
     seg_ = io::RecordingSegment{};
@@ -355,8 +442,13 @@ class Recorder::Impl final : public SampleHandler {
     seg_.start_mono_s = batch_.mono_s();
     seg_.end = io::SegmentEnd::open;
     const std::string sdir = segment_path();
-    if (::mkdir(sdir.c_str(), 0755) != 0 && errno != EEXIST) throw WriteFailure(sdir, errno);
-    detail::sync_directory(opt_.out_dir);
+    // The manifest names the segment before its directory exists, so that
+    // a crash at any point leaves a recording a restart takes up.
+    m_.segments.push_back(seg_);
+    io::write_manifest(opt_.out_dir, m_);
+    m_.segments.pop_back();
+    if (::mkdir(sdir.c_str(), 0755) != 0) throw WriteFailure(sdir, errno);  // a new one, never one found there
+    detail::sync_directory(opt_.out_dir, true);
     chunk_index_ = 1;
     chunk_ = std::make_unique<ChunkWriter>(sdir, chunk_file_name(chunk_index_), names_);
     chunk_start_mono_ = batch_.mono_s();
@@ -370,6 +462,11 @@ class Recorder::Impl final : public SampleHandler {
     }
     m_.segments.push_back(seg_);
     for (const auto& p : pending_) rejects_->add(p.prefix, p.reason, p.data, p.binary);
+    if (pending_over_ > 0) {
+      rejects_->add(prefix_, std::to_string(pending_over_) + " more pieces of input before the first sample, not kept",
+                    std::to_string(pending_over_bytes_) + " bytes (counted in partial_bytes)", false);
+      seg_.partial_bytes += pending_over_bytes_;
+    }
     pending_.clear();
     sync_all();
   }
@@ -446,7 +543,7 @@ class Recorder::Impl final : public SampleHandler {
     RecorderStatus st;
     st.elapsed_s = now_mono - start_mono_;
     st.samples = samples_;
-    st.rejects = rejects_ ? rejects_->count() : pending_.size();
+    st.rejects = rejects_ ? rejects_->count() : pending_.size() + pending_over_;
     st.gaps = gaps_;
     st.resets = resets_;
     st.reconnects = reconnects_;
@@ -478,7 +575,9 @@ class Recorder::Impl final : public SampleHandler {
   std::size_t chunk_index_ = 0;
   double chunk_start_mono_ = 0.0;
   std::unique_ptr<RejectsWriter> rejects_;
+  static constexpr std::size_t kMaxPending = 1000, kMaxPendingBytes = std::size_t{1} << 20;
   std::vector<Pending> pending_;
+  std::size_t pending_bytes_ = 0, pending_over_ = 0, pending_over_bytes_ = 0;
   HostStamp batch_ = host_now();
   double batch_utc_ = 0.0;
   std::string prefix_ = ",,";
@@ -535,10 +634,26 @@ bool Recorder::Impl::take(const ReadResult& r, const std::vector<char>& buf, dou
     now = stamp_batch();
     if (chunk_ && now - chunk_start_mono_ >= opt_.chunk_seconds && chunk_->samples() > 0) rotate();
     const std::string_view bytes(buf.data(), r.bytes);
-    if (bin_)
-      bin_->feed(bytes, *this);
-    else
-      text_->feed(bytes, *this);
+    const auto ends = src_.record_ends();
+    if (ends.empty()) {
+      if (bin_)
+        bin_->feed(bytes, *this);
+      else
+        text_->feed(bytes, *this);
+      return false;
+    }
+    // Each record of the source (a datagram) ends a line, or a frame.
+    std::size_t from = 0;
+    for (const std::size_t to : ends) {
+      if (bin_) {
+        bin_->feed(bytes.substr(from, to - from), *this);
+        bin_->drop_partial("partial frame at end of datagram", *this);
+      } else {
+        text_->feed(bytes.substr(from, to - from), *this);
+        text_->end_record(*this);
+      }
+      from = to;
+    }
   } else {
     now = stamp_batch();
     switch (r.status) {
@@ -612,8 +727,9 @@ RecorderSummary Recorder::Impl::finish(RecordEnd end, double now) {
   sum.status = status(now);
   sum.status.samples_per_s = now > start_mono_ ? static_cast<double>(samples_) / (now - start_mono_) : 0.0;
   sum.blank_lines = text_ ? text_->blank_lines() : 0;
+  sum.layout_known = !names_.empty();
   if (!chunk_ && !pending_.empty()) {
-    sum.unrecorded_rejects = pending_.size();
+    sum.unrecorded_rejects = pending_.size() + pending_over_;
     sum.first_unrecorded_reason = pending_.front().reason;
     sum.first_unrecorded_data = pending_.front().data;
   }

@@ -3,7 +3,10 @@
 
 #include <sys/stat.h>
 
+#include <algorithm>
+
 #include "cubecal/io/recording_manifest.hpp"
+#include "cubecal/printable_text.hpp"
 #include "detail/append_file.hpp"
 
 namespace cubecal::acquire {
@@ -26,6 +29,19 @@ void append_hex(std::string& out, std::string_view bytes) {
   }
 }
 
+std::string escaped_text(std::string_view s) {
+  // printable_text's \xNN, and the backslash itself as \x5c so that the
+  // field decodes back to the exact bytes.
+  std::string out;
+  for (std::size_t b = 0; b <= s.size();) {
+    const std::size_t slash = std::min(s.find('\\', b), s.size());
+    out += printable_text(s.substr(b, slash - b));
+    if (slash < s.size()) out += "\\x5c";
+    b = slash + 1;
+  }
+  return out;
+}
+
 RejectsWriter::RejectsWriter(std::string dir) : dir_(std::move(dir)) {}
 RejectsWriter::~RejectsWriter() = default;
 
@@ -33,7 +49,7 @@ void RejectsWriter::add(std::string_view prefix, std::string_view reason, std::s
   if (!file_) {
     const std::string path = dir_ + "/" + std::string(io::kRejectsName);
     struct stat st {};
-    const bool exists = ::stat(path.c_str(), &st) == 0;
+    const bool exists = ::lstat(path.c_str(), &st) == 0;  // a link is then refused by AppendFile
     file_ = std::make_unique<detail::AppendFile>(path, exists, 64 << 10);
     if (!exists) file_->append("host_mono_s,host_utc_s,reason,data\n");
   }
@@ -44,7 +60,7 @@ void RejectsWriter::add(std::string_view prefix, std::string_view reason, std::s
   if (binary)
     append_hex(b, data);
   else
-    append_csv_quoted(b, data);
+    append_csv_quoted(b, escaped_text(data));
   b.push_back('\n');
   ++count_;
   file_->maybe_flush();

@@ -17,6 +17,7 @@
 
 #include "commands.hpp"
 #include "common_options.hpp"
+#include "cubecal/io/atomic_file.hpp"
 #include "cubecal/io/csv_writer.hpp"
 #include "cubecal/io/output_path.hpp"
 #include "cubecal/sim/presets.hpp"
@@ -176,7 +177,7 @@ int run_demo(const DemoOptions& o) {
   files.insert(files.end(), {"sport_static.csv.gz", "report.html", "plots"});
   std::error_code ec;
   io::prepare_output_dir(o.out, o.force || fs::exists(marker, ec), files);
-  std::ofstream(marker) << "written by cubecal demo; files here are replaced by the next run\n";
+  io::write_file(marker.string(), "written by cubecal demo; files here are replaced by the next run\n", Field::out);
 
   pipeline::SimulatedRecord rec = simulate_demo_record(o, record);
   io::Series s = demo_series(rec, record);

@@ -221,9 +221,13 @@ int report_record_end(const acquire::RecorderSummary& sum, const std::string& ou
     return 2;
   }
   if (sum.segment_dir.empty()) {
-    std::fprintf(stderr, "cubecal: record: %s after %.1f s: no data received, nothing recorded in %s\n", why,
-                 sum.status.elapsed_s, out_dir.c_str());
-    return 0;
+    // No sample, nothing recorded: an error, as when only non-data arrived.
+    std::fprintf(stderr,
+                 "cubecal: error: record: %s after %.1f s: %s, so nothing was recorded in %s; check the source\n", why,
+                 sum.status.elapsed_s,
+                 sum.layout_known ? "the layout (a header line) arrived but no data line or frame" : "no input arrived",
+                 printable_text(out_dir).c_str());
+    return 2;
   }
   std::fprintf(stderr,
                "cubecal: record: %s after %s: %zu samples (%.1f/s) in %zu chunk(s) of %s, %s; %zu rejected, "
@@ -289,7 +293,8 @@ CLI::App* add_record_command(CLI::App& app, Command& run) {
       "Record a sensor's stream (serial device, TCP, UDP or a pipe) into a crash-safe recording directory: "
       "CSV chunks fsync'd every half second, a manifest replaced atomically; a restart appends a segment");
   cmd->add_option("source", opt->source,
-                  "- (standard input), tcp:HOST:PORT (connect to a server), udp:PORT (listen) or a serial "
+                  "- (standard input), tcp:HOST:PORT (connect to a server), udp:PORT (listen on 127.0.0.1), "
+                  "udp:ADDRESS:PORT (listen on a local address; udp:0.0.0.0:PORT on every interface) or a serial "
                   "device (/dev/ttyUSB0)")
       ->required();
   cmd->add_option("--out", opt->out, "The recording directory (created; an existing recording gets a new segment)")
@@ -309,7 +314,17 @@ CLI::App* add_record_command(CLI::App& app, Command& run) {
   cmd->add_option("--duration", opt->duration,
                   "Stop after this long: 72h, 90m, 10s (default: until the source ends or Ctrl-C)");
   cmd->add_option("--chunk-seconds", opt->chunk_seconds, "Start a new chunk file after this many seconds")
-      ->check(CLI::PositiveNumber)
+      ->check(CLI::Validator(
+          [](const std::string& v) -> std::string {
+            double x = 0;
+            try {
+              x = std::stod(v);
+            } catch (const std::exception&) {
+              return "not a number of seconds: " + printable_text(v);
+            }
+            return x > 0 && std::isfinite(x) ? std::string() : "a positive number of seconds, not " + printable_text(v);
+          },
+          "SECONDS > 0"))
       ->capture_default_str();
   cmd->add_option("--chunk-bytes", opt->chunk_bytes, "Start a new chunk file after this many bytes")
       ->check(CLI::Range(std::size_t{4096}, std::size_t{1} << 40))

@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "cubecal/error.hpp"
+#include "cubecal/io/atomic_file.hpp"
 
 namespace cubecal::io {
 
@@ -46,8 +47,12 @@ void check_output_file(const std::string& path, bool force, Field option) {
   std::error_code ec;
   const fs::path p(path);
   if (path.empty()) throw UsageError(option, "the output file name is empty");
-  const fs::file_status st = fs::status(p, ec);
+  const fs::file_status st = fs::symlink_status(p, ec);
   if (fs::is_directory(st)) throw UsageError(option, path + " is a directory: give a file name for the result");
+  std::string why;
+  const OutputTarget target = classify_output(path, &why);
+  if (target == OutputTarget::refused) throw UsageError(option, why);
+  if (target == OutputTarget::stream) return;  // a device or FIFO: written into, nothing replaced
   if (fs::exists(st) && !force)
     throw UsageError(option, path + " already exists (choose another name or add {force} to replace it)");
   const fs::path parent = p.parent_path();
@@ -66,6 +71,12 @@ void prepare_output_dir(const std::string& dir, bool force, const std::vector<st
   const fs::path d(dir);
   if (dir.empty()) throw UsageError(option, "the output directory name is empty");
   const fs::file_status st = fs::status(d, ec);
+  // A symbolic link to a directory is used as that directory; one to
+  // anything else, or to nothing, is not replaced by one.
+  if (fs::is_symlink(fs::symlink_status(d, ec)) && !fs::is_directory(st))
+    throw UsageError(option, dir + " is a symbolic link to " + fs::read_symlink(d, ec).string() +
+                                 (fs::exists(st) ? ", not a directory" : ", which does not exist") +
+                                 ": give a directory for the results");
   if (fs::exists(st) && !fs::is_directory(st))
     throw UsageError(option, dir + " is a file: give a directory for the results");
   if (!fs::exists(st)) {
@@ -79,11 +90,16 @@ void prepare_output_dir(const std::string& dir, bool force, const std::vector<st
     fs::create_directories(d, ec);
     if (ec) throw UsageError(option, "cannot create " + dir + " (" + ec.message() + "): choose a writable place");
   }
-  if (!force)
-    for (const std::string& f : files)
-      if (fs::exists(d / f, ec))
-        throw UsageError(option,
-                         (d / f).string() + " already exists (choose another directory or add {force} to replace it)");
+  for (const std::string& f : files) {
+    // A directory of results (plots/) is replaced with {force}; a file only
+    // when it is a regular file (or written into: a device, a FIFO).
+    const fs::path p = d / f;
+    std::string why;
+    const OutputTarget target = classify_output(p.string(), &why);
+    if (target == OutputTarget::refused && !fs::is_directory(fs::symlink_status(p, ec))) throw UsageError(option, why);
+    if (!force && target != OutputTarget::absent && target != OutputTarget::stream)
+      throw UsageError(option, p.string() + " already exists (choose another directory or add {force} to replace it)");
+  }
   probe_writable(d, option, dir);
 }
 

@@ -61,7 +61,9 @@ void remove_stale_plots(const fs::path& dir, const std::vector<std::string>& pre
     const bool ours = ext == ".dat" || ext == ".gp" || ext == ".svg" || ext == ".png" || ext == ".log";
     const bool named = std::any_of(prefixes.begin(), prefixes.end(),
                                    [&](const std::string& pre) { return !pre.empty() && stem.rfind(pre, 0) == 0; });
-    if (ours && named && std::find(current.begin(), current.end(), stem) == current.end()) stale.push_back(p);
+    const bool regular = fs::is_regular_file(e.symlink_status(ec));  // nothing else is ever removed
+    if (ours && named && regular && std::find(current.begin(), current.end(), stem) == current.end())
+      stale.push_back(p);
   }
   for (const auto& p : stale) fs::remove(p, ec);
 }

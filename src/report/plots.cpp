@@ -18,6 +18,7 @@
 #include <thread>
 
 #include "cubecal/error.hpp"
+#include "cubecal/io/atomic_file.hpp"
 #include "cubecal/report/plot.hpp"
 
 extern char** environ;
@@ -323,11 +324,16 @@ void decimate_minmax(std::vector<double>& x, std::vector<double>& y, std::size_t
 
 namespace {
 
-void write_text(const fs::path& p, const std::string& text) {
-  std::ofstream f(p, std::ios::binary | std::ios::trunc);
-  f << text;
-  f.close();
-  if (!f) throw UsageError("cannot write " + p.string() + " (check the directory is writable)");
+void write_text(const fs::path& p, const std::string& text) { io::write_file(p.string(), text); }
+
+// A plot's files are replaced only when they are regular files: a link, a
+// FIFO or a device of one of their names is refused, never removed.
+void check_plot_file(const fs::path& p) {
+  std::string why;
+  const io::OutputTarget t = io::classify_output(p.string(), &why);
+  if (t == io::OutputTarget::stream)
+    why = p.string() + " is not a regular file: a plot's files are replaced only when they are; remove it";
+  if (t == io::OutputTarget::refused || t == io::OutputTarget::stream) throw UsageError(why);
 }
 
 std::string read_text(const fs::path& p) {
@@ -363,7 +369,7 @@ pid_t spawn_gnuplot(const std::string& gnuplot, const fs::path& dir, const std::
   posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
   posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
   const std::string log = (dir / (name + ".log")).string();
-  posix_spawn_file_actions_addopen(&fa, 2, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_addopen(&fa, 2, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW, 0644);
   // cd first: the script names its files relative to its own directory, so
   // that `gnuplot NAME.gp` run there by a user does the same.
   const std::string cd = "cd " + gp_quote(dir.string());
@@ -405,8 +411,11 @@ std::vector<RenderedPlot> render_plots(const std::vector<Plot>& plots, const fs:
     r.png = dir / (p.name + ".png");
     r.width = p.width;
     r.height = p.height;
+    const bool keep_gp = options.keep_scripts && fs::exists(r.gp);
+    for (const fs::path& f : {r.dat, r.svg, r.png, dir / (p.name + ".log")}) check_plot_file(f);
+    if (!keep_gp) check_plot_file(r.gp);
     write_text(r.dat, plot_data(p));
-    if (!(options.keep_scripts && fs::exists(r.gp))) write_text(r.gp, gnuplot_script(p));
+    if (!keep_gp) write_text(r.gp, gnuplot_script(p));
     fs::remove(r.svg, ec);
     fs::remove(r.png, ec);
     out.push_back(std::move(r));

@@ -79,10 +79,13 @@ class RecordProcess(unittest.TestCase):
                 p.stdin.close()
             except BrokenPipeError:
                 pass
-            # A restart recovers the open chunk (no data: no new segment).
+            # A restart recovers the open chunk (no data: no new segment, and
+            # exit 2 for a run that recorded nothing).
             r = subprocess.run([BINARY, "record", "-", "--out", d], stdin=subprocess.DEVNULL,
                                capture_output=True, text=True, timeout=30)
-            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertEqual(r.returncode, 2, r.stderr)
+            self.assertIn("recovered after a crash", r.stderr)
+            self.assertIn("no input arrived, so nothing was recorded", r.stderr)
             m = manifest(d)
             self.assertEqual(len(m["segments"]), 1)
             self.assertEqual(m["segments"][0]["end"], "recovered")
@@ -145,10 +148,12 @@ class RecordProcess(unittest.TestCase):
                 data = f.read()
             self.assertEqual(len(data), c["bytes"])
             self.assertEqual("%08x" % zlib.crc32(data), c["crc32"])
-        # A restart (no limit) recovers the chunk that hit the limit.
+        # A restart (no limit) recovers the chunk that hit the limit (and,
+        # receiving nothing, records nothing: exit 2).
         r = subprocess.run([BINARY, "record", "-", "--out", d], stdin=subprocess.DEVNULL,
                            capture_output=True, text=True, timeout=30)
-        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertEqual(r.returncode, 2, r.stderr)
+        self.assertIn("recovered after a crash", r.stderr)
         kept = chunk_lines(d)
         for k, line in enumerate(kept):
             self.assertEqual(line, sensor_line(k))

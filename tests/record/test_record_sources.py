@@ -54,6 +54,22 @@ def port_bound_udp(port):
     return False
 
 
+def udp_local_addresses(port):
+    """The local addresses (hex, as /proc/net/udp* write them) bound to UDP `port`."""
+    found = []
+    for table in ("/proc/net/udp", "/proc/net/udp6"):
+        try:
+            with open(table) as f:
+                next(f)
+                for row in f:
+                    addr, p = row.split()[1].rsplit(":", 1)
+                    if int(p, 16) == port:
+                        found.append(addr)
+        except OSError:
+            pass
+    return found
+
+
 def free_udp_port():
     s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
     s.bind(("127.0.0.1", 0))
@@ -117,6 +133,63 @@ class RecordSources(unittest.TestCase):
         self.assertEqual(seg["samples"], 300)
         self.assertEqual(seg["rejects"], 0)
         self.assertEqual(chunk_lines(d), [sensor_line(i) for i in range(300)])
+
+    def start_udp(self, source, port, d):
+        p = subprocess.Popen([BINARY, "record", source, "--out", d], stderr=subprocess.PIPE)
+        self.addCleanup(lambda: p.poll() is None and (p.kill(), p.wait()))  # a failed test leaves no recorder
+        deadline = time.monotonic() + 10
+        while not port_bound_udp(port):
+            self.assertIsNone(p.poll(), "the recorder ended before listening")
+            self.assertLess(time.monotonic(), deadline, "%s never bound" % source)
+            time.sleep(0.02)
+        return p
+
+    def stop(self, p):
+        time.sleep(0.5)
+        p.send_signal(signal.SIGTERM)
+        err = p.stderr.read().decode()
+        p.stderr.close()
+        self.assertEqual(p.wait(timeout=20), 0, err)
+
+    def test_udp_port_binds_loopback(self):
+        # Issue 33, item 8: udp:PORT listens on 127.0.0.1 only (the docs say
+        # a local port; every interface is udp:0.0.0.0:PORT).
+        port = free_udp_port()
+        p = self.start_udp("udp:%d" % port, port, self.out("udp_lo"))
+        self.assertEqual(udp_local_addresses(port), ["0100007F"])
+        s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+        s.sendto(b"t,gx\n0,1\n", ("127.0.0.1", port))
+        s.close()
+        self.stop(p)
+
+    def test_udp_datagram_ends_a_line(self):
+        # Issue 33, item 8: a datagram without a trailing newline is a line of
+        # its own rather than glued to the next datagram.
+        port = free_udp_port()
+        d = self.out("udp_lines")
+        p = self.start_udp("udp:%d" % port, port, d)
+        s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+        for datagram in (b"t,gx,n", b"0.00,1,0", b"0.01,2,1\n0.02,3,2", b"0.03,4,3\r\n", b"0.04,5,4"):
+            s.sendto(datagram, ("127.0.0.1", port))
+            time.sleep(0.01)
+        s.close()
+        self.stop(p)
+        m = manifest(d)
+        self.assertEqual(m["columns"], ["t", "gx", "n"])
+        self.assertEqual(m["segments"][0]["rejects"], 0)
+        self.assertEqual(chunk_lines(d), ["0.00,1,0", "0.01,2,1", "0.02,3,2", "0.03,4,3", "0.04,5,4"])
+
+    def test_udp_on_every_interface_when_asked(self):
+        port = free_udp_port()
+        d = self.out("udp_all")
+        p = self.start_udp("udp:0.0.0.0:%d" % port, port, d)
+        self.assertEqual(udp_local_addresses(port), ["00000000"])
+        s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+        s.sendto(b"t,gx\n0,1\n", ("127.0.0.1", port))
+        s.close()
+        self.stop(p)
+        self.assertEqual(manifest(d)["source"], "udp:0.0.0.0:%d" % port)
+        self.assertEqual(chunk_lines(d), ["0,1"])
 
     def test_binary_frames_with_bad_checksums_and_garbage(self):
         spec = "sync=A55A;fields=t:u32,gx:i16,gy:i16,gz:i16;checksum=crc16;endian=le"

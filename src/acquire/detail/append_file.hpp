@@ -13,7 +13,9 @@ class AppendFile {
  public:
   // Creates `path` (refused when it exists: exclusive) and fsyncs its
   // directory so that the name survives a power loss; with `existing`,
-  // opens the file that is there for appending (its CRC is then not kept).
+  // opens the file that is there for appending (its CRC is then not kept),
+  // which must be a regular file. A symbolic link is never followed
+  // (O_NOFOLLOW): ELOOP.
   AppendFile(std::string path, bool existing = false, std::size_t buffer = 1 << 20);
   ~AppendFile();
   AppendFile(const AppendFile&) = delete;
@@ -46,6 +48,13 @@ class AppendFile {
 };
 
 // fsync of a directory (its entries); a WriteFailure naming it on failure.
-void sync_directory(const std::string& dir);
+// A symbolic link at `dir` is followed only with `follow_link` (the
+// recording directory the user named; never a segment's).
+void sync_directory(const std::string& dir, bool follow_link = false);
+
+// Opens `path` with `flags` | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC and checks
+// it is a regular file (a FIFO or a device is closed unread); -1 with errno
+// set (ELOOP for a symbolic link, EINVAL for anything but a regular file).
+int open_regular(const std::string& path, int flags, int mode = 0644);
 
 }  // namespace cubecal::acquire::detail

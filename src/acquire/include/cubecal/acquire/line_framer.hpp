@@ -11,6 +11,10 @@
 // line. With neither --columns nor a header, the first data line is held
 // until the second: when their field counts differ the first is a reject
 // ("partial line at start of stream") and the second sets the layout.
+//
+// Before the layout is known, a line that is not text (bytes that are not
+// UTF-8, control bytes other than tab: the noise of a serial line at power-up
+// or at a wrong baud rate) is a reject and cannot become the header.
 #pragma once
 #include <cstddef>
 #include <optional>
@@ -41,6 +45,9 @@ class LineFramer {
   // The source ended: a first line still held sets the layout and is a
   // sample; then drop_partial("partial line at end of stream").
   void finish(SampleHandler& h);
+  // A record boundary of the source (the end of a UDP datagram): the bytes
+  // held since the last line end are a complete line.
+  void end_record(SampleHandler& h);
 
   bool has_layout() const noexcept { return have_layout_; }
   const std::vector<std::string>& names() const noexcept { return names_; }

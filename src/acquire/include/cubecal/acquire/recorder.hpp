@@ -56,6 +56,9 @@ struct RecorderSummary {
   // (as received), so that they are reported rather than dropped.
   std::size_t unrecorded_rejects = 0;
   std::string first_unrecorded_reason, first_unrecorded_data;
+  // The layout was found (a header line, --columns, --frame) though no
+  // sample arrived.
+  bool layout_known = false;
 };
 
 struct RecorderOptions {

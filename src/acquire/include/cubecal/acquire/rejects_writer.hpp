@@ -1,7 +1,8 @@
 // The rejects file of a segment (rejects.csv): every malformed line or
 // frame, bytes skipped while hunting for a frame's sync, and a partial line
 // cut off a crashed chunk, with the host time it was received, why it was
-// rejected and its bytes (the line CSV-quoted, a frame in hex):
+// rejected and its bytes (the line CSV-quoted, its control bytes, bytes that
+// are not UTF-8 and backslashes written as \xNN; a frame in hex):
 //   host_mono_s,host_utc_s,reason,data
 // Created at the first reject; flushed and synced with the chunks.
 #pragma once
@@ -40,5 +41,9 @@ class RejectsWriter {
 // `s` as one CSV field: quoted, its quotes doubled.
 void append_csv_quoted(std::string& out, std::string_view s);
 void append_hex(std::string& out, std::string_view bytes);
+// `s` as valid UTF-8 text of one line that decodes back to the same bytes:
+// printable_text (control bytes and malformed UTF-8 as \xNN) with each
+// backslash written as \x5c.
+std::string escaped_text(std::string_view s);
 
 }  // namespace cubecal::acquire

@@ -6,6 +6,7 @@
 #pragma once
 #include <cstddef>
 #include <memory>
+#include <span>
 #include <string>
 
 namespace cubecal::acquire {
@@ -32,6 +33,10 @@ class Source {
   virtual ReadResult read(char* buffer, std::size_t capacity, int timeout_ms) = 0;
   // "stdin", "tcp:127.0.0.1:5000", "udp:5000", "/dev/ttyUSB0 at 115200 baud".
   virtual std::string describe() const = 0;
+  // The offsets in the last read's bytes where a record of the source ends
+  // (each UDP datagram ends one: the end of a line, or of a frame); empty for
+  // a byte stream.
+  virtual std::span<const std::size_t> record_ends() const { return {}; }
 };
 
 struct SourceOptions {
@@ -41,7 +46,9 @@ struct SourceOptions {
 };
 
 // SOURCE as the command line gives it: "-" (the standard input),
-// "tcp:HOST:PORT", "udp:PORT" or a serial device path. Opened (connected,
+// "tcp:HOST:PORT", "udp:PORT" (the loopback address 127.0.0.1),
+// "udp:ADDRESS:PORT" (a local address; 0.0.0.0 or [::] for every interface)
+// or a serial device path. A port is a number from 1 to 65535. Opened (connected,
 // bound) here, so that an unusable source is a UsageError before anything
 // is recorded.
 std::unique_ptr<Source> open_source(const std::string& spec, const SourceOptions& opt = {});
@@ -49,7 +56,7 @@ std::unique_ptr<Source> open_source(const std::string& spec, const SourceOptions
 // The sources themselves.
 std::unique_ptr<Source> open_fd_source(int fd, std::string label);  // a pipe or file descriptor; not closed
 std::unique_ptr<Source> open_tcp_source(const std::string& host, const std::string& port, const SourceOptions& opt);
-std::unique_ptr<Source> open_udp_source(const std::string& port);
+std::unique_ptr<Source> open_udp_source(const std::string& address, const std::string& port);
 std::unique_ptr<Source> open_serial_source(const std::string& device, const SourceOptions& opt);
 
 }  // namespace cubecal::acquire
