@@ -17,6 +17,7 @@
 #include "cubecal/pipeline/dev_pipeline.hpp"
 #include "cubecal/pipeline/dev_stream.hpp"
 #include "cubecal/pipeline/dev_missing.hpp"
+#include "cubecal/pipeline/json_text.hpp"
 #include "memory_budget.hpp"
 #include "output.hpp"
 #include "progress.hpp"
@@ -52,7 +53,7 @@ void write_dev(const DevOptions& o, const pipeline::DevResult& res, ResultOutput
   DevContext ctx{o.input.file, o.ci, o.edf, !o.no_ci};
   std::ostream& out = result.stream();
   if (o.format == "json")
-    out << pipeline::to_json(res).dump(1) << '\n';
+    out << pipeline::json_text(pipeline::to_json(res), 1) << '\n';
   else if (o.format == "csv")
     write_dev_csv(out, res, ctx);
   else
@@ -185,7 +186,8 @@ void write_dev_result(DevOptions& o, const pipeline::DevResult& res, const io::S
         "contiguous segment ({} segments) and combined\n",
         series.irregular_intervals, res.segments);
   if (o.format == "json")
-    out << pipeline::to_json(res).dump(1) << '\n';  // run_dev recorded the file and the interval options
+    out << pipeline::json_text(pipeline::to_json(res), 1)
+        << '\n';  // run_dev recorded the file and the interval options
   else if (o.format == "csv")
     write_dev_csv(out, res, ctx);
   else

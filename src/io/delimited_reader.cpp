@@ -27,6 +27,7 @@
 #include <utility>
 
 #include "cubecal/error.hpp"
+#include "cubecal/printable_text.hpp"
 #include "detail/file_buffer.hpp"
 #include "detail/file_table.hpp"
 #include "detail/binary_input.hpp"
@@ -188,10 +189,13 @@ std::string_view strip_bom(std::string_view text) {
   return text;
 }
 
+// A column name as every face shows it: control bytes and bytes that are not
+// UTF-8 written as \xNN (printable_text), so that no writer (JSON, CSV, a
+// table, a Python str) meets them.
 std::string header_name(const FieldSpan& f) {
   std::string_view s(f.begin, static_cast<std::size_t>(f.end - f.begin));
   if (s.size() >= 2 && s.front() == '"' && s.back() == '"') s = s.substr(1, s.size() - 2);
-  return std::string(s);
+  return printable_text(s);
 }
 
 Delimiter detect_delimiter(const Line& line) {
@@ -285,8 +289,11 @@ std::string column_list(const std::vector<std::string>& header) {
 }
 
 // Name (exact, then ignoring case) or 1-based index -> 0-based field index.
-std::size_t resolve_column(const std::string& spec, const Layout& lay, const std::string& file) {
+// A name is compared as the header shows it (header_name): with the raw
+// bytes of a malformed name or with their \xNN escapes.
+std::size_t resolve_column(const std::string& raw_spec, const Layout& lay, const std::string& file) {
   const std::vector<std::string>& h = lay.header;
+  const std::string spec = printable_text(raw_spec);
   if (auto it = std::find(h.begin(), h.end(), spec); it != h.end()) {
     return static_cast<std::size_t>(it - h.begin());
   }
