@@ -31,6 +31,7 @@
 #include "detail/file_buffer.hpp"
 #include "detail/file_table.hpp"
 #include "detail/binary_input.hpp"
+#include "detail/npy_reader.hpp"
 #include "detail/plain_decimal.hpp"
 #include "../detail/huge_pages.hpp"
 #include "../detail/for_channels.hpp"
@@ -903,7 +904,10 @@ Table select_columns(Table all, const TableOptions& opt) {
 }
 
 Table read_table(const std::string& path, const TableOptions& opt) {
-  const FileBuffer buf = FileBuffer::open(path);
+  // A .npy is read as the error for the other binary formats says it is
+  // (calibrate's logs included); those are refused by parse_table's check.
+  const FileBuffer buf = FileBuffer::open(path, Content::series);
+  if (is_npy(buf.view())) return select_columns(read_npy(buf.view(), buf.path(), opt.missing_as_nan), opt);
   return parse_table(buf, opt);
 }
 
