@@ -431,7 +431,14 @@ void finish_series(Series& s, std::vector<double> time, const std::string& time_
     for (std::string& n : *names) n = printable_text(n);
   // (A time column named explicitly is checked stamp by stamp against the
   // given rate in check_timing.)
-  if (!timing && !time.empty()) check_rate_agrees(s.file, time_name, time, opt);
+  if (!timing && !time.empty()) {
+    // With the rate given, stamps may repeat (coarse clocks) but not go back.
+    for (std::size_t i = 1; i < time.size(); ++i)
+      if (time[i] < time[i - 1])
+        throw at(i, "time stamp " + stamp(time[i]) + " s is before the previous one " + stamp(time[i - 1]) + " s",
+                 "sort the file or fix the logger clock");
+    check_rate_agrees(s.file, time_name, time, opt);
+  }
   const std::size_t n = s.samples();
   if (n < opt.min_samples) throw_too_short(s.file, n, opt.min_samples, "a longer record is needed");
 
