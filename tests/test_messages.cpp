@@ -142,4 +142,165 @@ TEST_F(Messages, TablesCsvFilesAndNotesEscapeNonUtf8Names) {
   }
 }
 
+// --- item 12: each message names the real problem ----------------------------
+
+const std::string kData = CUBECAL_SHARED_DATA;
+
+bool has(const Result& r, const std::string& text) { return r.err.find(text) != std::string::npos; }
+
+// A regular file whose size is 0 but that has content is read (was "the file is empty").
+TEST_F(Messages, ProcFileOfSizeZeroIsRead) {
+  const Result r = run("dev /proc/self/status --rate 1");
+  EXPECT_TRUE(one_error_line(r)) << r.err;
+  EXPECT_FALSE(has(r, "empty")) << r.err;
+  EXPECT_TRUE(has(r, "/proc/self/status:2:1: non-numeric field")) << r.err;
+  const Result empty = run("dev " + write("empty.csv", ""));
+  EXPECT_TRUE(has(empty, "the file is empty")) << empty.err;
+}
+
+// Was "A subcommand is required".
+TEST_F(Messages, UnknownCommandIsNamedWithTheCommands) {
+  const Result top = run("frobnicate");
+  EXPECT_TRUE(one_error_line(top)) << top.err;
+  EXPECT_TRUE(has(top, "unknown command 'frobnicate' (cubecal commands: dev, analyze, ")) << top.err;
+  const Result sub = run("calibrate frob");
+  EXPECT_TRUE(has(sub, "unknown command 'frob' (cubecal calibrate commands: rate-table, mag, ")) << sub.err;
+  EXPECT_TRUE(has(run(""), "A subcommand is required")) << "no command at all";
+}
+
+// The refusal of a .npy said "cubecal reads ... NumPy .npy": calibrate now does.
+TEST_F(Messages, CalibrateReadsNpyAsItsMessageSays) {
+  const std::size_t n = 400;
+  std::string header = "{'descr': '<f8', 'fortran_order': False, 'shape': (" + std::to_string(n) + ", 3), }";
+  header.append(64 - (10 + header.size() + 1) % 64, ' ');
+  header += '\n';
+  std::string bytes = std::string("\x93NUMPY\x01\x00", 8);
+  bytes += static_cast<char>(header.size() & 0xff);
+  bytes += static_cast<char>(header.size() >> 8);
+  bytes += header;
+  for (std::size_t i = 0; i < n; ++i) {  // points on an offset, stretched sphere
+    const double z = 1.0 - 2.0 * (static_cast<double>(i) + 0.5) / static_cast<double>(n);
+    const double r = std::sqrt(1.0 - z * z), phi = 2.39996323 * static_cast<double>(i);
+    const double p[3] = {0.3 + 1.2 * r * std::cos(phi), -0.1 + 0.9 * r * std::sin(phi), 0.2 + z};
+    bytes.append(reinterpret_cast<const char*>(p), sizeof p);
+  }
+  const fs::path npy = dir_ / "mag.npy";
+  std::ofstream(npy, std::ios::binary) << bytes;
+  const Result r = run("calibrate mag " + npy.string());
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("400 points used of 400"), std::string::npos) << r.out;
+}
+
+// Was "give the time column (--time-col) or the sampling rate (--rate)".
+TEST_F(Messages, MultipositionNegativeRateIsNamed) {
+  const Result r = run("calibrate multiposition " + kData +
+                       "/imu/xsens-multiposition/xsens_acc.txt --acc-columns 2,3,4 --rate -100");
+  EXPECT_TRUE(one_error_line(r)) << r.err;
+  EXPECT_TRUE(has(r, "--rate: '-100' is not a positive number")) << r.err;
+}
+
+// Was "--model: model 'WN+FOO': unknown term 'FOO'".
+TEST_F(Messages, CompositeTermIsNamedAsComposite) {
+  const Result r = run("analyze " + latin1_record("a.csv", 1, 2000) + " --composite WN+FOO");
+  EXPECT_TRUE(one_error_line(r)) << r.err;
+  EXPECT_TRUE(has(r, "--composite: model 'WN+FOO': unknown term 'FOO'")) << r.err;
+  EXPECT_FALSE(has(r, "--model")) << r.err;
+}
+
+// Was "--out: DIR/report.html already exists".
+TEST_F(Messages, ReportWrittenTwiceNamesTheReport) {
+  const fs::path dir = dir_ / "an";
+  ASSERT_EQ(run("analyze " + latin1_record("a.csv", 1, 2000) + " --unit deg/s --out " + dir.string()).code, 0);
+  ASSERT_EQ(run("report " + dir.string()).code, 0);
+  const Result again = run("report " + dir.string());
+  EXPECT_TRUE(one_error_line(again)) << again.err;
+  EXPECT_TRUE(has(again, "report.html already exists: " + dir.string() + " has a report already (add --force"))
+      << again.err;
+  EXPECT_FALSE(has(again, "--out")) << again.err;
+}
+
+// A recording of `lines` (a shell command printing CSV) made by cubecal record.
+std::string record(const fs::path& dir, const std::string& producer) {
+  const Result r = cubecal::test::run_cubecal_piped(producer, "record - --out " + dir.string());
+  EXPECT_EQ(r.code, 0) << r.err;
+  return dir.string();
+}
+
+// Was "NUL byte at byte offset 200 (a binary log, ...)".
+TEST_F(Messages, DamagedRecordingChunkIsACrcMismatch) {
+  const std::string rec =
+      record(dir_ / "rec", "awk 'BEGIN{print \"t,gx\"; for(i=0;i<3000;i++) printf \"%.2f,%d\\n\", i*0.01, i%7}'");
+  {
+    std::fstream chunk(dir_ / "rec/seg-001/chunk-000001.csv", std::ios::in | std::ios::out | std::ios::binary);
+    chunk.seekp(200);
+    chunk.put('\0');
+  }
+  const Result r = run("dev " + rec);
+  EXPECT_TRUE(one_error_line(r)) << r.err;
+  EXPECT_TRUE(has(r, "chunk-000001.csv: CRC-32 ")) << r.err;
+  EXPECT_FALSE(has(r, "NUL")) << r.err;
+}
+
+// Was "time stamp 29.99 s is not after the previous one 29.99 s": the file holds 5.
+TEST_F(Messages, DeviceClockThatWentBackIsNamedByItsStamps) {
+  const std::string rec = record(dir_ / "rec",
+                                 "awk 'BEGIN{print \"t,gx\"; for(i=0;i<3000;i++) printf \"%.2f,%d\\n\", i*0.01, i%7; "
+                                 "for(i=0;i<3000;i++) printf \"%.2f,%d\\n\", 5+i*0.01, i%5}'");
+  const Result r = run("dev " + rec);
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_TRUE(has(r, ":3002: ")) << r.err;
+  EXPECT_TRUE(has(r, "the device clock went back")) << r.err;
+  EXPECT_TRUE(has(r, "from 29.99 s to 5 s")) << r.err;
+}
+
+// Was "after t = 20.326715999999998 s" and "m = inf".
+TEST_F(Messages, NumbersInMessagesCarryNoConversionNoise) {
+  const Result ulog = run("dev " + kData + "/px4/sample_log_small.ulg");
+  EXPECT_TRUE(has(ulog, "after t = 20.326716 s ")) << ulog.err;
+  const Result bag = run("dev " + kData + "/rosbag/ros1/ardrone_imu.bag");
+  EXPECT_TRUE(has(bag, "after t = 1352907204.5937724 s ")) << bag.err << "a real digit is kept";
+  const Result huge = run("dev " + latin1_record("a.csv", 1, 2000) + " --columns 2 --taus 1,1e308");
+  EXPECT_EQ(huge.code, 0) << huge.err;
+  EXPECT_TRUE(has(huge, "1e+308 s (oadev at 1e+308 s: more sample periods of 0.01 s than a number holds")) << huge.err;
+  EXPECT_FALSE(has(huge, "inf")) << huge.err;
+}
+
+// Was silent: with jittery stamps, AF 1 pooled 37 segments and AF 4 one.
+TEST_F(Messages, GapsSplitWarnsWhenTausPoolDifferentSegments) {
+  const Result r = run("dev " + kData + "/rosbag/ros1/ardrone_imu.bag --gaps split");
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(has(r, "cubecal: warning: ")) << r.err;
+  EXPECT_TRUE(has(r,
+                  "irregular intervals cut the record into 3315 segments of 1 to 16 samples: tau 0.0200036 s pools "
+                  "37 of them, tau 0.0800142 s only 1, so each tau averages a different part of the record"))
+      << r.err;
+  // Two long pieces, each long enough for every tau: nothing to warn about.
+  std::string text = "t,g\n";
+  for (int i = 0; i < 4000; ++i) text += std::to_string(i < 2000 ? i : i + 500) + "," + std::to_string(i % 7) + "\n";
+  const Result two = run("dev " + write("two.csv", text) + " --gaps split");
+  EXPECT_EQ(two.code, 0) << two.err;
+  EXPECT_FALSE(has(two, "warning")) << two.err;
+}
+
+// Was exit 0: the rate given, the time column was never checked.
+TEST_F(Messages, RateGivenStillRefusesATimeColumnThatGoesBack) {
+  std::string text = "t,g\n";
+  char line[64];
+  for (int i = 0; i < 3000; ++i) {
+    std::snprintf(line, sizeof line, "%.2f,%d\n", (i < 1500 ? i : 3000 - i) * 0.01, i % 7);
+    text += line;
+  }
+  const std::string f = write("back.csv", text);
+  for (const std::string extra : {"", " --stream"}) {
+    const Result r = run("dev " + f + " --rate 100" + extra);
+    EXPECT_TRUE(one_error_line(r)) << extra << r.err;
+    EXPECT_TRUE(has(r, "back.csv:1503")) << extra << r.err;
+    EXPECT_TRUE(has(r, "time stamp 14.99 s is before the previous one 15 s")) << extra << r.err;
+  }
+  // Repeated stamps (a coarse clock) are what --rate is for.
+  std::string coarse = "t,g\n";
+  for (int i = 0; i < 3000; ++i) coarse += std::to_string(i / 10) + "," + std::to_string(i % 7) + "\n";
+  EXPECT_EQ(run("dev " + write("coarse.csv", coarse) + " --rate 10").code, 0);
+}
+
 }  // namespace
