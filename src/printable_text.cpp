@@ -24,14 +24,15 @@ std::size_t utf8_sequence(std::string_view s, std::size_t i) {
 
 bool is_control(unsigned char c) { return c < 0x20 || c == 0x7f; }
 
-}  // namespace
-
-std::string printable_text(std::string_view text) {
+// `text` with the bytes that `keep` refuses written as \xNN: the bytes of a
+// malformed UTF-8 sequence always, ASCII bytes when keep(c) is false.
+template <class Keep>
+std::string escaped(std::string_view text, Keep keep) {
   std::string out;
   std::size_t clean = 0;  // text[0, clean) is known to need no escape
   for (std::size_t i = 0; i < text.size();) {
     const auto c = static_cast<unsigned char>(text[i]);
-    if (c < 0x80 && !is_control(c)) {
+    if (c < 0x80 && keep(c)) {
       ++i;
       continue;
     }
@@ -50,6 +51,16 @@ std::string printable_text(std::string_view text) {
   if (clean == 0) return std::string(text);
   out.append(text.data() + clean, text.size() - clean);
   return out;
+}
+
+}  // namespace
+
+std::string printable_text(std::string_view text) {
+  return escaped(text, [](unsigned char c) { return !is_control(c); });
+}
+
+std::string utf8_text(std::string_view text) {
+  return escaped(text, [](unsigned char) { return true; });
 }
 
 }  // namespace cubecal

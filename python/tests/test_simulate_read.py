@@ -44,6 +44,19 @@ class SimulateRead(unittest.TestCase):
         self.assertEqual(a.rate_hz, 10.0)
         self.assertFalse(np.array_equal(a["gx"], b["gx"]))
 
+    def test_read_names_that_are_not_utf8(self):
+        # A Latin-1 header (issue 33, item 1): the name comes back with the
+        # bad byte as \xNN, as every CLI writer shows it, instead of a
+        # UnicodeDecodeError; columns= takes either form.
+        with tempfile.TemporaryDirectory() as d:
+            csv = os.path.join(d, "l.csv")
+            with open(csv, "wb") as f:
+                f.write(b"t,g\xe9x,gy\n" + b"".join(b"%g,%g,%g\n" % (k / 100, k % 7, k % 5) for k in range(400)))
+            rec = cubecal.read(csv)
+            self.assertEqual(list(rec), ["t", "g\\xe9x", "gy"])
+            self.assertEqual(rec.channels, ["g\\xe9x", "gy"])
+            np.testing.assert_array_equal(cubecal.read(csv, columns=["g\\xe9x"])["g\\xe9x"], np.arange(400) % 7)
+
     def test_read_text_and_npy(self):
         rng = np.random.default_rng(4)
         data = rng.normal(size=(500, 3))

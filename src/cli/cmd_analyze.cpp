@@ -410,7 +410,13 @@ pipeline::AnalyzeRequest analyze_request(const AnalyzeOptions& o) {
     // seconds, where the bootstrap's takes a minute per channel of a 72 h
     // record (`cubecal model --wic-replicates` has the bootstrap).
     m.selection_replicates = 0;
-    if (!pipeline::is_twin(m.model)) (void)parse_candidate_models(m.model);  // a typo fails before the reading
+    // A typo fails before the reading, named as the option it came from.
+    try {
+      if (!pipeline::is_twin(m.model)) (void)parse_candidate_models(m.model);
+    } catch (const UsageError& e) {
+      if (e.field() != Field::model) throw;
+      throw UsageError(Field::composite, marker(Field::composite) + ": " + e.text(), UsageError::Named::in_text);
+    }
     if (o.composite_bootstrap == 1) throw UsageError("--composite-bootstrap: give 0 (none) or at least 2 replicates");
     m.bootstrap = o.composite_bootstrap;
     req.composite = std::move(m);

@@ -243,7 +243,8 @@ CLI::App* add_calibrate_multiposition_command(CLI::App& calibrate, Command& run)
                   "The 3 gyroscope columns (default with GYRO_FILE: those of --acc-columns); without GYRO_FILE, "
                   "read from ACC_FILE");
   cmd->add_option("--time-col", opt->time_col, "Time column (s), by name or index");
-  cmd->add_option("--rate", opt->rate_hz, "Sampling rate in Hz (when there is no time column)");
+  cmd->add_option("--rate", opt->rate_hz, "Sampling rate in Hz (when there is no time column)")
+      ->check(positive_number());
   cmd->add_option("--skip-rows", opt->skip_rows, "Lines to skip before the header/data (preamble), in each file");
   cmd->add_option("--g", opt->g, "Local gravity magnitude: |a'| after calibration (sets the unit of a')")
       ->capture_default_str();

@@ -12,6 +12,7 @@
 #include "calibration_hints.hpp"
 #include "cubecal/pipeline/calibrate_temperature.hpp"
 #include "cubecal/pipeline/calibrate_temperature_json.hpp"
+#include "cubecal/pipeline/json_text.hpp"
 #include "cubecal/report/command_reports.hpp"
 #include "cubecal/error.hpp"
 #include "cubecal/io/series.hpp"
@@ -59,7 +60,7 @@ int run_calibrate_temperature(const TemperatureOptions& o) {
   const io::Series s = io::read_series(o.input.file, so);
   const pipeline::TemperatureResult r = with_calibration_hints(o.input.file, {CalibrationCommand::temperature},
                                                                [&] { return pipeline::calibrate_temperature(s, req); });
-  result.stream() << (o.format == "json" ? pipeline::to_json(r).dump(1) + "\n" : table_text(r));
+  result.stream() << (o.format == "json" ? pipeline::json_text(pipeline::to_json(r), 1) + "\n" : table_text(r));
   result.finish();
   if (!o.report.dir.empty()) write_report_option(report::temperature_report(r, invocation()), o.report);
   return 0;

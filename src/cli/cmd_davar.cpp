@@ -13,6 +13,7 @@
 #include "common_options.hpp"
 #include "cubecal/error.hpp"
 #include "cubecal/pipeline/davar_pipeline.hpp"
+#include "cubecal/pipeline/json_text.hpp"
 #include "cubecal/report/command_reports.hpp"
 #include "output.hpp"
 #include "report_option.hpp"
@@ -146,7 +147,7 @@ int run_davar_command(const DavarCliOptions& o) {
   if (o.format == "json") {
     nlohmann::json j = pipeline::to_json(res);
     j["invocation"] = invocation();
-    out << j.dump() << '\n';
+    out << pipeline::json_text(j) << '\n';
   } else if (o.format == "csv") {
     write_csv(out, res);
   } else {

@@ -1,6 +1,8 @@
 // cubecal dev: the Allan family of deviations with confidence intervals.
 #include <fmt/format.h>
 
+#include <algorithm>
+
 #include <iostream>
 #include <optional>
 #include <stdexcept>
@@ -17,6 +19,9 @@
 #include "cubecal/pipeline/dev_pipeline.hpp"
 #include "cubecal/pipeline/dev_stream.hpp"
 #include "cubecal/pipeline/dev_missing.hpp"
+#include "cubecal/pipeline/json_text.hpp"
+#include "cubecal/printable_text.hpp"
+#include "cubecal/stats/statistic.hpp"
 #include "memory_budget.hpp"
 #include "output.hpp"
 #include "progress.hpp"
@@ -52,7 +57,7 @@ void write_dev(const DevOptions& o, const pipeline::DevResult& res, ResultOutput
   DevContext ctx{o.input.file, o.ci, o.edf, !o.no_ci};
   std::ostream& out = result.stream();
   if (o.format == "json")
-    out << pipeline::to_json(res).dump(1) << '\n';
+    out << pipeline::json_text(pipeline::to_json(res), 1) << '\n';
   else if (o.format == "csv")
     write_dev_csv(out, res, ctx);
   else
@@ -174,6 +179,36 @@ pipeline::DevWorkEstimate announce_dev_work(const io::Series& series, const pipe
   return work;
 }
 
+// --gaps split: each tau pools the segments long enough for it, so when the
+// segments differ in length the short taus and the long ones average
+// different parts of the record (jittery stamps cut a bag into thousands of
+// pieces of a few samples). Said on stderr, with the cause.
+void warn_pooled_segments(const pipeline::DevResult& res, const io::Series& series) {
+  if (series.segments.size() < 2 || res.channels.empty() || res.channels[0].points.empty()) return;
+  const auto pooled = [&](std::size_t m) {
+    std::size_t k = 0;
+    for (const IndexRange& seg : series.segments) {
+      const std::size_t n_phase = res.type == DataType::freq ? seg.size() + 1 : seg.size();
+      k += max_averaging_factor(res.stat, n_phase) >= m;
+    }
+    return k;
+  };
+  const StabilityPoint& first = res.channels[0].points.front();
+  const StabilityPoint& last = res.channels[0].points.back();
+  const std::size_t a = pooled(first.m), b = pooled(last.m);
+  if (a == b) return;
+  std::size_t shortest = series.samples(), longest = 0;
+  for (const IndexRange& seg : series.segments) {
+    shortest = std::min(shortest, seg.size());
+    longest = std::max(longest, seg.size());
+  }
+  std::cerr << fmt::format(
+      "cubecal: warning: {}: {} irregular intervals cut the record into {} segments of {} to {} samples: tau {:.6g} s "
+      "pools {} of them, tau {:.6g} s only {}, so each tau averages a different part of the record{}\n",
+      printable_text(series.file), series.irregular_intervals, series.segments.size(), shortest, longest, first.tau, a,
+      last.tau, b, series.rate_from_time ? " (jittery time stamps? --rate HZ takes the samples as evenly spaced)" : "");
+}
+
 // The result in the format asked for.
 void write_dev_result(DevOptions& o, const pipeline::DevResult& res, const io::Series& series, ResultOutput& result) {
   StageTimer writing(o.timings.sink(), Stage::output);
@@ -184,8 +219,10 @@ void write_dev_result(DevOptions& o, const pipeline::DevResult& res, const io::S
         "cubecal: note: {} gaps/jitter found; statistics computed per "
         "contiguous segment ({} segments) and combined\n",
         series.irregular_intervals, res.segments);
+  warn_pooled_segments(res, series);
   if (o.format == "json")
-    out << pipeline::to_json(res).dump(1) << '\n';  // run_dev recorded the file and the interval options
+    out << pipeline::json_text(pipeline::to_json(res), 1)
+        << '\n';  // run_dev recorded the file and the interval options
   else if (o.format == "csv")
     write_dev_csv(out, res, ctx);
   else

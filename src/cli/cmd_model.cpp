@@ -13,6 +13,7 @@
 #include "cubecal/io/series.hpp"
 #include "cubecal/pipeline/model_fit.hpp"
 #include "cubecal/pipeline/model_fit_json.hpp"
+#include "cubecal/pipeline/json_text.hpp"
 #include "output.hpp"
 
 namespace cubecal::cli {
@@ -133,7 +134,7 @@ int run_model_command(const ModelOptions& o) {
   if (!unit_note.empty()) std::cerr << unit_note << '\n';
   std::ostream& out = result.stream();
   if (o.format == "json")
-    out << pipeline::to_json(res).dump(1) << '\n';
+    out << pipeline::json_text(pipeline::to_json(res), 1) << '\n';
   else
     write_table(out, res);
   result.finish();

@@ -15,6 +15,7 @@
 #include "cubecal/io/series.hpp"
 #include "cubecal/pipeline/psd.hpp"
 #include "cubecal/pipeline/psd_json.hpp"
+#include "cubecal/pipeline/json_text.hpp"
 #include "cubecal/spectral/density_unit.hpp"
 #include "output.hpp"
 
@@ -168,7 +169,7 @@ int run_psd_command(const PsdOptions& o) {
 
   std::ostream& out = result.stream();
   if (o.format == "json")
-    out << pipeline::to_json(res).dump(1) << '\n';
+    out << pipeline::json_text(pipeline::to_json(res), 1) << '\n';
   else if (o.format == "csv")
     write_csv(out, res);
   else

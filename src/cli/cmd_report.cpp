@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "commands.hpp"
+#include "cubecal/error.hpp"
 #include "cubecal/io/output_path.hpp"
 #include "cubecal/report/report.hpp"
 
@@ -30,7 +31,14 @@ int run_report(const ReportCmdOptions& o) {
   // The page goes beside the analysis it shows: DIR must be writable before
   // the plots are drawn (a missing DIR is the reader's to report).
   std::error_code ec;
-  if (std::filesystem::is_directory(o.dir, ec)) io::prepare_output_dir(o.dir, o.force, {"report.html", "plots"});
+  if (std::filesystem::is_directory(o.dir, ec)) {
+    // A report written before is in DIR, which is no --out: say so.
+    for (const char* f : {"report.html", "plots"})
+      if (!o.force && std::filesystem::exists(std::filesystem::path(o.dir) / f, ec))
+        throw UsageError((std::filesystem::path(o.dir) / f).string() + " already exists: " + o.dir +
+                         " has a report already (add {force} to replace it)");
+    io::prepare_output_dir(o.dir, o.force, {"report.html", "plots"});
+  }
   const report::ReportResult r = report::write_report(o.dir, ro);
   std::cerr << fmt::format("cubecal: wrote {} ({:.0f} kB, {} plots in {}) in {:.1f} s\n", r.html_path,
                            static_cast<double>(r.html_bytes) / 1024.0, r.plots.size(),

@@ -14,6 +14,7 @@
 #include "cubecal/noise/unit_from_name.hpp"
 #include "cubecal/pipeline/turnon.hpp"
 #include "cubecal/pipeline/turnon_json.hpp"
+#include "cubecal/pipeline/json_text.hpp"
 #include "cubecal/report/command_reports.hpp"
 #include "output.hpp"
 #include "report_option.hpp"
@@ -110,7 +111,7 @@ std::string term(const TermEstimate& t, Term which, const Unit& u) {
 report::RunsReportContext report_context(const RunsOptions& o) { return {invocation(), o.ci, o.taus}; }
 
 std::string turnon_text(const RunsOptions& o, const pipeline::TurnOnResult& t) {
-  if (o.format == "json") return pipeline::to_json(t).dump(1) + "\n";
+  if (o.format == "json") return pipeline::json_text(pipeline::to_json(t), 1) + "\n";
   std::string s = fmt::format("Turn-on bias over {} runs ({:.1f} % interval of the standard deviation, {} dof)\n\n",
                               t.runs.size(), 100 * t.ci, t.runs.size() - 1);
   s += fmt::format("{:<28}", "run");
@@ -129,7 +130,7 @@ std::string turnon_text(const RunsOptions& o, const pipeline::TurnOnResult& t) {
 }
 
 std::string compare_text(const RunsOptions& o, const std::vector<pipeline::RunSummary>& runs) {
-  if (o.format == "json") return pipeline::to_json(runs).dump(1) + "\n";
+  if (o.format == "json") return pipeline::json_text(pipeline::to_json(runs), 1) + "\n";
   std::string s = fmt::format("{:<28} {:>8} {:>10} {:<8} {:>22} {:>22} {:>10}\n", "run", "rate Hz", "samples", "axis",
                               "N", "B", "T [s]");
   for (const auto& r : runs)

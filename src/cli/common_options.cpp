@@ -10,6 +10,7 @@
 
 #include "cubecal/error.hpp"
 #include "cubecal/noise/unit_from_name.hpp"
+#include "cubecal/printable_text.hpp"
 
 namespace cubecal::cli {
 
@@ -78,15 +79,16 @@ CLI::Validator whole_number(double lo, double hi) {
 
 void note_default_columns(const io::Series& s) {
   if (s.default_topic && !s.topics.empty())
-    std::cerr << "cubecal: note: " << s.file << ": topic " << s.topics.front() << " (--topic chooses others)\n";
+    std::cerr << "cubecal: note: " << printable_text(s.file) << ": topic " << s.topics.front()
+              << " (--topic chooses others)\n";
   if (!s.default_columns || s.left_out.empty()) return;
   const auto join = [](const std::vector<std::string>& v) {
     std::string r;
     for (const auto& x : v) r += (r.empty() ? "" : ",") + x;
     return r;
   };
-  std::cerr << "cubecal: note: " << s.file << ": columns " << join(s.names) << " (left out: " << join(s.left_out)
-            << "; --columns chooses others)\n";
+  std::cerr << "cubecal: note: " << printable_text(s.file) << ": columns " << join(s.names)
+            << " (left out: " << join(s.left_out) << "; --columns chooses others)\n";
 }
 
 void add_input_options(CLI::App& app, InputOptions& opt, bool several) {
@@ -182,7 +184,7 @@ ChannelUnits units_for(const std::string& unit_option, const io::Series& s) {
       said += (run ? "," : said.empty() ? "" : "; ") + s.names[i];
       if (i + 1 == s.units.size() || s.units[i + 1] != s.units[i]) said += " " + s.units[i];
     }
-    r.note = "cubecal: note: " + s.file + ": units from " +
+    r.note = "cubecal: note: " + printable_text(s.file) + ": units from " +
              (s.units_from.empty() ? "the message types" : s.units_from) + ": " + said + " (--unit overrides)";
     return r;
   }
@@ -206,8 +208,8 @@ ChannelUnits units_for(const std::string& unit_option, const io::Series& s) {
     said += (said.empty() ? "" : "; ") + cols + " " + inferred.units[i].name;
     i = j;
   }
-  return {inferred.units,
-          "cubecal: note: " + s.file + ": units from the column names: " + said + " (--unit overrides)"};
+  return {inferred.units, "cubecal: note: " + printable_text(s.file) + ": units from the column names: " + said +
+                              " (--unit overrides)"};
 }
 
 TauGrid parse_taus(const std::string& spec) {

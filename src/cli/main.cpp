@@ -10,6 +10,7 @@
 #include <exception>
 #include <iostream>
 #include <string>
+#include <vector>
 
 #include "commands.hpp"
 #include "field_flags.hpp"
@@ -71,6 +72,22 @@ int check_stdout(int code) {
   return code != 0 ? code : rc;
 }
 
+// `cubecal frobnicate`, `cubecal calibrate frob`: CLI11 says only "A
+// subcommand is required"; name the word that is not a command and list them.
+// Empty when the parse did not stop at an unknown command.
+std::string unknown_command(const CLI::App& top) {
+  const CLI::App* at = &top;
+  while (!at->get_subcommands().empty()) at = at->get_subcommands().front();
+  std::vector<std::string> rest = at->remaining();
+  if (rest.empty()) rest = top.remaining();
+  const auto commands = at->get_subcommands([](const CLI::App*) { return true; });
+  if (commands.empty() || rest.empty() || rest.front().empty() || rest.front().front() == '-') return {};
+  std::string names;
+  for (const CLI::App* c : commands) names += (names.empty() ? "" : ", ") + c->get_name();
+  const std::string path = at == &top ? std::string("cubecal") : "cubecal " + at->get_name();
+  return "unknown command '" + rest.front() + "' (" + path + " commands: " + names + "; see " + path + " --help)";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -124,6 +141,7 @@ int main(int argc, char** argv) {
     return fail(config_message(e, config->count() ? config->as<std::string>() : std::string("--config")),
                 kExitBadInput);
   } catch (const CLI::ParseError& e) {
+    if (const std::string unknown = unknown_command(app); !unknown.empty()) return fail(unknown, kExitBadInput);
     std::string where = app.get_subcommands().empty()
                             ? std::string("cubecal --help")
                             : "cubecal " + app.get_subcommands().front()->get_name() + " --help";

@@ -9,6 +9,7 @@
 
 #include "cubecal/pipeline/analysis_output.hpp"
 #include "cubecal/pipeline/dev_pipeline.hpp"
+#include "cubecal/pipeline/json_text.hpp"
 
 namespace cubecal::cli {
 
@@ -78,7 +79,7 @@ void write_result(ResultOutput& out, bool json, const Result& r, const std::stri
   if (json) {
     nlohmann::json j = to_json(r);
     j["invocation"] = invocation;
-    os << j.dump(2) << '\n';
+    os << pipeline::json_text(j, 2) << '\n';
   } else {
     print_table(os, r);
   }

@@ -27,9 +27,11 @@
 #include <utility>
 
 #include "cubecal/error.hpp"
+#include "cubecal/printable_text.hpp"
 #include "detail/file_buffer.hpp"
 #include "detail/file_table.hpp"
 #include "detail/binary_input.hpp"
+#include "detail/npy_reader.hpp"
 #include "detail/plain_decimal.hpp"
 #include "../detail/huge_pages.hpp"
 #include "../detail/for_channels.hpp"
@@ -188,10 +190,13 @@ std::string_view strip_bom(std::string_view text) {
   return text;
 }
 
+// A column name as every face shows it: control bytes and bytes that are not
+// UTF-8 written as \xNN (printable_text), so that no writer (JSON, CSV, a
+// table, a Python str) meets them.
 std::string header_name(const FieldSpan& f) {
   std::string_view s(f.begin, static_cast<std::size_t>(f.end - f.begin));
   if (s.size() >= 2 && s.front() == '"' && s.back() == '"') s = s.substr(1, s.size() - 2);
-  return std::string(s);
+  return printable_text(s);
 }
 
 Delimiter detect_delimiter(const Line& line) {
@@ -285,8 +290,11 @@ std::string column_list(const std::vector<std::string>& header) {
 }
 
 // Name (exact, then ignoring case) or 1-based index -> 0-based field index.
-std::size_t resolve_column(const std::string& spec, const Layout& lay, const std::string& file) {
+// A name is compared as the header shows it (header_name): with the raw
+// bytes of a malformed name or with their \xNN escapes.
+std::size_t resolve_column(const std::string& raw_spec, const Layout& lay, const std::string& file) {
   const std::vector<std::string>& h = lay.header;
+  const std::string spec = printable_text(raw_spec);
   if (auto it = std::find(h.begin(), h.end(), spec); it != h.end()) {
     return static_cast<std::size_t>(it - h.begin());
   }
@@ -896,7 +904,10 @@ Table select_columns(Table all, const TableOptions& opt) {
 }
 
 Table read_table(const std::string& path, const TableOptions& opt) {
-  const FileBuffer buf = FileBuffer::open(path);
+  // A .npy is read as the error for the other binary formats says it is
+  // (calibrate's logs included); those are refused by parse_table's check.
+  const FileBuffer buf = FileBuffer::open(path, Content::series);
+  if (is_npy(buf.view())) return select_columns(read_npy(buf.view(), buf.path(), opt.missing_as_nan), opt);
   return parse_table(buf, opt);
 }
 

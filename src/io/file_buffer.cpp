@@ -264,21 +264,20 @@ FileBuffer FileBuffer::open(const std::string& path_arg, Content content) {
   if (S_ISDIR(st.st_mode)) throw_os_error(path, "cannot open file", EISDIR);
 
   std::string_view raw;
-  if (S_ISREG(st.st_mode)) {
-    if (st.st_size > 0) {
-      check_plain_start(path, fd.get(), static_cast<std::size_t>(st.st_size), content);
-      impl.map_size = static_cast<std::size_t>(st.st_size);
-      // Not MAP_POPULATE: the parser maps a window at a time (populate) and
-      // drops it behind (release), so that a large file never sits in this
-      // process's memory at once.
-      impl.map = ::mmap(nullptr, impl.map_size, PROT_READ, MAP_PRIVATE, fd.get(), 0);
-      if (impl.map == MAP_FAILED) {
-        impl.map = nullptr;
-        throw_os_error(path, "cannot read file", errno);
-      }
-      raw = std::string_view(static_cast<const char*>(impl.map), impl.map_size);
-      impl.fd = ::dup(fd.get());  // copy() reads through it; -1 (no copies) is only slower
+  // A regular file of size 0 may still have content (/proc, /sys): read to its end.
+  if (S_ISREG(st.st_mode) && st.st_size > 0) {
+    check_plain_start(path, fd.get(), static_cast<std::size_t>(st.st_size), content);
+    impl.map_size = static_cast<std::size_t>(st.st_size);
+    // Not MAP_POPULATE: the parser maps a window at a time (populate) and
+    // drops it behind (release), so that a large file never sits in this
+    // process's memory at once.
+    impl.map = ::mmap(nullptr, impl.map_size, PROT_READ, MAP_PRIVATE, fd.get(), 0);
+    if (impl.map == MAP_FAILED) {
+      impl.map = nullptr;
+      throw_os_error(path, "cannot read file", errno);
     }
+    raw = std::string_view(static_cast<const char*>(impl.map), impl.map_size);
+    impl.fd = ::dup(fd.get());  // copy() reads through it; -1 (no copies) is only slower
   } else {
     read_all(path, fd.get(), impl.heap, content);
     raw = std::string_view(impl.heap.data, impl.heap.size);

@@ -259,7 +259,9 @@ SegmentData read_segment(const std::string& dir, const RecordingSegment& seg, co
   for (const auto& c : seg.chunks) {
     const std::string path = dir + "/" + seg.dir + "/" + c.file;
     if (c.open && !std::filesystem::exists(path)) continue;  // created after the manifest's last rewrite
-    const FileBuffer buf = FileBuffer::open(path, Content::text);
+    // The size and CRC first: a damaged closed chunk is named as such, not by
+    // the NUL or binary bytes the damage left (parse_layout checks the text).
+    const FileBuffer buf = FileBuffer::open(path, Content::raw);
     const std::string_view text = checked_bytes(buf, c, path);
     const std::size_t header_end = text.find('\n');
     if (header_end == std::string_view::npos || header_end + 1 == text.size()) continue;  // no sample yet
@@ -301,6 +303,12 @@ struct Reader {
   const Plan& p;
   const SeriesOptions& opt;
   std::vector<ChunkPlace> places;
+  // The device clock resets placed so far: the record's row, the stamps as read.
+  struct ResetNote {
+    std::size_t row;
+    double before, after;
+  };
+  mutable std::vector<ResetNote> reset_notes;
 
   InputError at(std::size_t row, std::string problem, std::string hint) const {
     auto it = std::upper_bound(places.begin(), places.end(), row,
@@ -340,7 +348,9 @@ struct Reader {
 
   // The time stamps of segment d (n rows, its first receive stamp
   // host_first on the first segment's clock) placed on the record's axis.
-  void place_segment(SegmentData& d, std::size_t n, double to_origin, double host_first, Placement& placed) const {
+  // row0: the segment's first row in the record, for the errors.
+  void place_segment(SegmentData& d, std::size_t n, std::size_t row0, double to_origin, double host_first,
+                     Placement& placed) const {
     double& offset = placed.offset;
     double& last_stamp = placed.last_stamp;
     const double last_host = placed.last_host;
@@ -375,8 +385,16 @@ struct Reader {
       // receive stamps put them, as a new segment would be.
       std::size_t from_row = 0;
       for (const auto& r : d.resets) {
+        const double before = d.time[r.row - 1];  // as read
         for (std::size_t i = from_row; i < r.row; ++i) d.time[i] += offset;
         const double last = d.time[r.row - 1];  // placed
+        if (!(r.host_at > r.host_before))
+          throw at(row0 + r.row,
+                   "the device clock went back from " + number(before) + " s to " + number(d.time[r.row]) +
+                       " s, and the sample after it was received with the one before (same receive stamp): "
+                       "nothing places it in time",
+                   "read the recording up to the reset, or fix the device's clock");
+        reset_notes.push_back({row0 + r.row, before, d.time[r.row]});
         offset = (last + (r.host_at - r.host_before)) - d.time[r.row];
         from_row = r.row;
       }
@@ -403,6 +421,7 @@ struct Reader {
   // none when they hold no sample and `skip_empty`.
   std::optional<Series> read(std::size_t from, std::size_t to, const std::string& label, bool skip_empty) {
     places.clear();
+    reset_notes.clear();
     const UtcTime origin = parse_utc(m.segments.at(0).start_utc, p.manifest, m.segments[0].index);
     const double origin_mono = m.segments[0].start_mono_s;
     Series s = empty_series(label);
@@ -421,7 +440,7 @@ struct Reader {
       const double host_first = d.host_first + to_origin;
       const double host_last = d.host_last + to_origin;
       if (!placed.any) placed.first_host = host_first;
-      place_segment(d, n, to_origin, host_first, placed);
+      place_segment(d, n, s.samples(), to_origin, host_first, placed);
       placed.last_host = host_last;
       placed.any = true;
       for (std::size_t c = 0; c < s.channels.size(); ++c) append(s.channels[c], d.channels[c]);
@@ -437,8 +456,13 @@ struct Reader {
     if (p.timing == Timing::rate) so.rate_hz = p.rate_hz;
     const std::string time_name =
         p.timing == Timing::rate ? std::string("(rate ") + number(p.rate_hz) + " Hz)" : p.time;
+    // The time axis names placed stamps: at a reset, say which the file holds.
     detail::finish_series(s, std::move(time), time_name, true, so,
                           [this](std::size_t row, std::string problem, std::string hint) {
+                            for (const ResetNote& r : reset_notes)
+                              if (r.row == row)
+                                problem += " (the device clock went back there from " + number(r.before) + " s to " +
+                                           number(r.after) + " s: the times after it are placed by the receive stamps)";
                             return at(row, std::move(problem), std::move(hint));
                           });
     return s;
@@ -495,7 +519,7 @@ Series read_recording(const std::string& dir, const SeriesOptions& opt) {
     throw InputError(dir + "/" + std::string(kManifestName), 0, 0, "the recording has no segment yet",
                      "wait for the recorder to write its first samples");
   const Plan p = plan_of(m, dir, opt);
-  Reader r{dir, m, p, opt, {}};
+  Reader r{dir, m, p, opt, {}, {}};
   return *r.read(0, m.segments.size(), dir, false);
 }
 
@@ -503,7 +527,7 @@ std::vector<Series> read_recording_segments(const std::string& dir, const Series
   check_options(opt, dir);
   const RecordingManifest m = read_manifest(dir);
   const Plan p = plan_of(m, dir, opt);
-  Reader r{dir, m, p, opt, {}};
+  Reader r{dir, m, p, opt, {}, {}};
   std::vector<Series> runs;
   for (std::size_t k = 0; k < m.segments.size(); ++k)
     if (auto s = r.read(k, k + 1, dir + "/" + m.segments[k].dir, true)) runs.push_back(std::move(*s));

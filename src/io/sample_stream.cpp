@@ -560,8 +560,18 @@ class TextStream final : public SampleStream {
                 "rescale the column, e.g. to other units");
       }
     }
-    if (!timing_ || t.extra.size() <= extra_count_) return;
+    if (!has_time_ || t.extra.size() <= extra_count_) return;
     const std::vector<double>& time = t.extra[extra_count_];
+    if (!timing_) {  // the rate given: stamps may repeat (coarse clocks) but not go back
+      for (std::size_t i = 0; i < time.size(); ++i) {
+        if (have_last_ && time[i] < last_)
+          fail_at(i, "time stamp " + stamp(time[i]) + " s is before the previous one " + stamp(last_) + " s",
+                  "sort the file or fix the logger clock");
+        last_ = time[i];
+        have_last_ = true;
+      }
+      return;
+    }
     const double period = 1.0 / rate_hz_;
     const std::string ignore = opt_.time_col.empty() ? ", or give {rate} HZ to ignore the time stamps" : "";
     for (std::size_t i = 0; i < time.size(); ++i) {

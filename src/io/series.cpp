@@ -15,6 +15,7 @@
 #include <utility>
 
 #include "cubecal/error.hpp"
+#include "cubecal/printable_text.hpp"
 #include "detail/file_buffer.hpp"
 #include "detail/file_table.hpp"
 #include "detail/hdf5_reader.hpp"
@@ -424,9 +425,20 @@ namespace detail {
 
 void finish_series(Series& s, std::vector<double> time, const std::string& time_name, bool timing,
                    const SeriesOptions& opt, const PlaceError& at) {
+  // The names of every format (a bag's topics and fields, ULog fields, HDF5
+  // datasets) shown as printable_text shows them, as header_name does for text.
+  for (auto* names : {&s.names, &s.extra_names, &s.left_out, &s.topics})
+    for (std::string& n : *names) n = printable_text(n);
   // (A time column named explicitly is checked stamp by stamp against the
   // given rate in check_timing.)
-  if (!timing && !time.empty()) check_rate_agrees(s.file, time_name, time, opt);
+  if (!timing && !time.empty()) {
+    // With the rate given, stamps may repeat (coarse clocks) but not go back.
+    for (std::size_t i = 1; i < time.size(); ++i)
+      if (time[i] < time[i - 1])
+        throw at(i, "time stamp " + stamp(time[i]) + " s is before the previous one " + stamp(time[i - 1]) + " s",
+                 "sort the file or fix the logger clock");
+    check_rate_agrees(s.file, time_name, time, opt);
+  }
   const std::size_t n = s.samples();
   if (n < opt.min_samples) throw_too_short(s.file, n, opt.min_samples, "a longer record is needed");
 
@@ -437,7 +449,7 @@ void finish_series(Series& s, std::vector<double> time, const std::string& time_
     return;
   }
 
-  s.time_name = time_name;
+  s.time_name = printable_text(time_name);
   s.time = std::move(time);
   check_timing(s, at, opt);
   const auto longest = std::max_element(s.segments.begin(), s.segments.end(),

@@ -10,6 +10,7 @@
 #include "cubecal/io/delimited_reader.hpp"
 #include "cubecal/pipeline/analysis_json.hpp"
 #include "cubecal/pipeline/simulator_export.hpp"
+#include "cubecal/pipeline/json_text.hpp"
 
 namespace cubecal::pipeline {
 
@@ -49,7 +50,9 @@ json to_json(const AnalysisResult& r, const OutputContext& ctx) {
   return j;
 }
 
-std::string analysis_json(const AnalysisResult& r, const OutputContext& ctx) { return to_json(r, ctx).dump(1) + "\n"; }
+std::string analysis_json(const AnalysisResult& r, const OutputContext& ctx) {
+  return json_text(to_json(r, ctx), 1) + "\n";
+}
 
 std::string dev_json(const DevResult& r, const DevJsonContext& ctx) {
   DevResult d = r;
@@ -58,7 +61,7 @@ std::string dev_json(const DevResult& r, const DevJsonContext& ctx) {
   d.options.edf = ctx.edf_method == "simple" ? EdfMethod::simple : EdfMethod::greenhall;
   d.options.intervals = ctx.intervals;
   const json j = to_json(d);
-  return j.dump(1) + "\n";
+  return json_text(j, 1) + "\n";
 }
 
 std::string adev_csv(const AnalysisResult& r) {

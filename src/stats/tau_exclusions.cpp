@@ -1,5 +1,6 @@
 #include "cubecal/stats/tau_exclusions.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <map>
 
@@ -38,9 +39,13 @@ TauListOutcome tau_list_outcome(const TauGrid& grid, Stat stat, DataType type, s
       e.m = m;
       e.needs = per * m + (freq ? 0.0 : 1.0);
       e.has = samples;
-      e.reason = std::string(to_string(stat)) + " needs at least " + number(per) + "m" + (freq ? "" : "+1") + " = " +
-                 number(e.needs) + (freq ? " samples" : " phase samples") + " for m = " + number(m) + ", " + record +
-                 " has " + std::to_string(samples);
+      e.reason = std::isfinite(e.needs)
+                     ? std::string(to_string(stat)) + " needs at least " + number(per) + "m" + (freq ? "" : "+1") +
+                           " = " + number(e.needs) + (freq ? " samples" : " phase samples") + " for m = " + number(m) +
+                           ", " + record + " has " + std::to_string(samples)
+                     // A tau so long that its factor overflows: no "m = inf".
+                     : std::string(to_string(stat)) + " at " + number(tau) + " s: more sample periods of " +
+                           number(tau0) + " s than a number holds, " + record + " has " + std::to_string(samples);
       out.excluded.push_back(std::move(e));
       continue;
     }
