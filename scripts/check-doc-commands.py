@@ -21,13 +21,16 @@ fenced block:
 
 Marker options, before any "$": `stderr` (the expected output is standard
 error followed by standard output; default: standard output only), `exit=N`
-(the expected exit code; default 0), `skip=REASON` (too slow or needs what a
-test run has not: the block is listed and counted, not run).
+(the expected exit code; default 0), `slow=REASON` (run only with --slow: the
+ctest run stays within a minute or two), `skip=REASON` (too slow to run at all,
+e.g. CPU minutes of bootstrap: the block is listed and counted, not run).
 
 Commands run with bash in a scratch directory whose ../shared/data is the
 reference data (--data, CUBECAL_SHARED_DATA in ctest), with `cubecal` on PATH
 meaning the binary under test (--cubecal) and `scripts/` the repository's, so a
-command runs as the docs write it and paths it prints read as in the docs.
+command runs as the docs write it and paths it prints read as in the docs. The
+commands of one block run in order in one scratch directory (a block may
+simulate a file and analyze it); blocks run in parallel (--jobs).
 
 Comparison, line by line: a line of the expected output that is exactly
 "..." stands for any number of lines of the program's output. Otherwise each
@@ -46,7 +49,7 @@ keeps its layout and gets the new numbers at the digits it quoted; any other
 line is replaced by the program's line; "..." lines are kept.
 
 Usage: scripts/check-doc-commands.py [--cubecal BIN] [--data DIR] [--jobs N]
-       [--update] [--list] [--only SUBSTRING] [REPO_ROOT]
+       [--slow] [--update] [--list] [--only SUBSTRING] [REPO_ROOT]
 """
 from __future__ import annotations
 
@@ -97,7 +100,7 @@ def parse_options(text: str) -> tuple[dict[str, str], str | None]:
     for word in shlex.split(text):
         key, _, value = word.partition("=")
         options[key] = value
-    unknown = set(options) - {"stderr", "exit", "skip"}
+    unknown = set(options) - {"stderr", "exit", "skip", "slow"}
     if unknown:
         raise ValueError(f"unknown doc-test option(s) {', '.join(sorted(unknown))}")
     return options, command
@@ -280,9 +283,14 @@ def compare(cmd: Command, output: list[str]) -> tuple[list[LineResult], list[str
             if nxt is None:
                 j = len(out)
             else:
+                # The next quoted line's text, searched from here; not found:
+                # the lines compare in order (and --update takes the program's).
                 want = skeleton(nxt)
-                while j < len(out) and skeleton(out[j]) != want:
-                    j += 1
+                k2 = j
+                while k2 < len(out) and skeleton(out[k2]) != want:
+                    k2 += 1
+                if k2 < len(out):
+                    j = k2
             continue
         if j >= len(out):
             bad.append(LineResult(lines[k], e, None, ["the program printed no more lines"]))
@@ -305,31 +313,45 @@ def compare(cmd: Command, output: list[str]) -> tuple[list[LineResult], list[str
     return bad, new
 
 
+class Scratch:
+    """A scratch directory: TMP/work to run in, TMP/shared/data the reference
+    data, TMP/bin/cubecal the binary under test, work/scripts the repository's."""
+
+    def __init__(self, cubecal: str, data: str, root: str):
+        self.tmp = tempfile.TemporaryDirectory(prefix="cubecal-doc-")
+        tmp = self.tmp.name
+        os.makedirs(os.path.join(tmp, "shared"))
+        os.symlink(data, os.path.join(tmp, "shared", "data"))
+        bindir = os.path.join(tmp, "bin")
+        os.makedirs(bindir)
+        os.symlink(cubecal, os.path.join(bindir, "cubecal"))
+        self.work = os.path.join(tmp, "work")
+        os.makedirs(self.work)
+        os.symlink(os.path.join(root, "scripts"), os.path.join(self.work, "scripts"))
+        self.env = dict(os.environ)
+        self.env["PATH"] = bindir + os.pathsep + self.env.get("PATH", "")
+        self.env["CUBECAL_SHARED_DATA"] = data
+        self.env["LC_ALL"] = "C.UTF-8"
+
+    def close(self) -> None:
+        self.tmp.cleanup()
+
+
 class Runner:
     def __init__(self, cubecal: str, data: str, root: str):
         self.cubecal = os.path.abspath(cubecal)
         self.data = os.path.abspath(data)
         self.root = os.path.abspath(root)
 
-    def run(self, block: Block, cmd: Command) -> tuple[int, list[str], float, str]:
+    def scratch(self) -> Scratch:
+        return Scratch(self.cubecal, self.data, self.root)
+
+    def run(self, block: Block, cmd: Command, where: Scratch) -> tuple[int, list[str], float, str]:
         """Exit code, output lines (stderr first with the stderr option), seconds, stderr."""
-        with tempfile.TemporaryDirectory(prefix="cubecal-doc-") as tmp:
-            os.makedirs(os.path.join(tmp, "shared"))
-            os.symlink(self.data, os.path.join(tmp, "shared", "data"))
-            bindir = os.path.join(tmp, "bin")
-            os.makedirs(bindir)
-            os.symlink(self.cubecal, os.path.join(bindir, "cubecal"))
-            work = os.path.join(tmp, "work")
-            os.makedirs(work)
-            os.symlink(os.path.join(self.root, "scripts"), os.path.join(work, "scripts"))
-            env = dict(os.environ)
-            env["PATH"] = bindir + os.pathsep + env.get("PATH", "")
-            env["CUBECAL_SHARED_DATA"] = self.data
-            env["LC_ALL"] = "C.UTF-8"
-            t0 = time.monotonic()
-            p = subprocess.run(["bash", "-c", "set -o pipefail; " + cmd.text], cwd=work, env=env,
-                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, timeout=TIMEOUT_S)
-            seconds = time.monotonic() - t0
+        t0 = time.monotonic()
+        p = subprocess.run(["bash", "-c", "set -o pipefail; " + cmd.text], cwd=where.work, env=where.env,
+                           stdout=subprocess.PIPE, stderr=subprocess.PIPE, timeout=TIMEOUT_S)
+        seconds = time.monotonic() - t0
         text = p.stdout.decode("utf-8", "replace")
         if "stderr" in block.options:
             text = p.stderr.decode("utf-8", "replace") + text
@@ -340,18 +362,28 @@ def rel(path: str, root: str) -> str:
     return os.path.relpath(path, root)
 
 
-def check_command(runner: Runner, block: Block, cmd: Command, root: str) -> tuple[list[str], list[str] | None, float]:
+def check_block(runner: Runner, block: Block, commands: list[Command], root: str) -> list[tuple]:
+    """check_command's result for each command, run in order in one scratch directory."""
+    scratch = runner.scratch()
+    try:
+        return [check_command(runner, block, c, root, scratch) for c in commands]
+    finally:
+        scratch.close()
+
+
+def check_command(runner: Runner, block: Block, cmd: Command, root: str,
+                  scratch: Scratch) -> tuple[list[str], list[str] | None, float]:
     """The report lines of one command and its updated output (None: unchanged)."""
     where = f"{rel(block.path, root)}:{cmd.line}"
     try:
-        code, output, seconds, stderr = runner.run(block, cmd)
+        code, output, seconds, stderr = runner.run(block, cmd, scratch)
     except subprocess.TimeoutExpired:
         return [f"{where}: FAIL: `{cmd.text}` ran over {TIMEOUT_S} s"], None, TIMEOUT_S
     report: list[str] = []
     want_code = int(block.options.get("exit", "0") or 0)
     if code != want_code:
         report.append(f"{where}: FAIL: `{cmd.text}` exited {code}, the docs expect {want_code}")
-        for s in stderr.strip().split("\n")[-3:]:
+        for s in [x for x in stderr.strip().split("\n") if x][-3:]:
             report.append(f"    stderr: {s}")
     bad, new = compare(cmd, output)
     for r in bad:
@@ -389,6 +421,7 @@ def main() -> int:
     ap.add_argument("--data", default=os.environ.get("CUBECAL_SHARED_DATA"),
                     help="the reference data (default $CUBECAL_SHARED_DATA, else ROOT/../shared/data)")
     ap.add_argument("--jobs", type=int, default=2, help="commands run at once (default 2)")
+    ap.add_argument("--slow", action="store_true", help="also run the blocks marked slow=")
     ap.add_argument("--update", action="store_true", help="rewrite the quoted output of failing blocks in place")
     ap.add_argument("--list", action="store_true", help="list the marked commands, run nothing")
     ap.add_argument("--only", default="", help="run only the commands whose file:line or text contains this")
@@ -415,6 +448,9 @@ def main() -> int:
                 continue
             if "skip" in b.options:
                 skipped.append(f"{where}: skipped ({b.options['skip'] or 'no reason given'}): `{c.text}`")
+            elif "slow" in b.options and not a.slow:
+                skipped.append(f"{where}: slow, run with --slow ({b.options['slow'] or 'no reason given'}): "
+                               f"`{c.text}`")
             else:
                 jobs.append((b, c))
     numbers = sum(len(split_numbers(e)[1]) for b, c in jobs for e in c.expected)
@@ -434,10 +470,13 @@ def main() -> int:
     failed = 0
     edits: dict[str, list[tuple[Command, list[str]]]] = {}
     t0 = time.monotonic()
+    by_block: dict[int, tuple[Block, list[Command]]] = {}
+    for b, c in jobs:
+        by_block.setdefault(id(b), (b, []))[1].append(c)
     with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, a.jobs)) as pool:
-        futures = [pool.submit(check_command, runner, b, c, root) for b, c in jobs]
-        for (b, c), fut in zip(jobs, futures):
-            report, new, seconds = fut.result()
+        futures = [(b, cs, pool.submit(check_block, runner, b, cs, root)) for b, cs in by_block.values()]
+        results = [(b, c, r) for b, cs, fut in futures for c, r in zip(cs, fut.result())]
+        for b, c, (report, new, seconds) in results:
             where = f"{rel(b.path, root)}:{c.line}"
             if report:
                 failed += 1
