@@ -27,8 +27,10 @@ e.g. CPU minutes of bootstrap: the block is listed and counted, not run).
 
 Commands run with bash in a scratch directory whose ../shared/data is the
 reference data (--data, CUBECAL_SHARED_DATA in ctest), with `cubecal` on PATH
-meaning the binary under test (--cubecal) and `scripts/` the repository's, so a
-command runs as the docs write it and paths it prints read as in the docs. The
+meaning the binary under test (--cubecal), `build/` the build tree it is in
+(BUILD/bin/cubecal: ./build/bin/test_x runs that tree's test program) and
+`scripts/` the repository's, so a command runs as the docs write it and paths
+it prints read as in the docs. The
 commands of one block run in order in one scratch directory (a block may
 simulate a file and analyze it); blocks run in parallel (--jobs).
 
@@ -328,6 +330,10 @@ class Scratch:
         self.work = os.path.join(tmp, "work")
         os.makedirs(self.work)
         os.symlink(os.path.join(root, "scripts"), os.path.join(self.work, "scripts"))
+        # build/bin/... as the docs write it: the build tree of the binary under test.
+        build = os.path.dirname(os.path.dirname(cubecal))
+        if os.path.basename(os.path.dirname(cubecal)) == "bin":
+            os.symlink(build, os.path.join(self.work, "build"))
         self.env = dict(os.environ)
         self.env["PATH"] = bindir + os.pathsep + self.env.get("PATH", "")
         self.env["CUBECAL_SHARED_DATA"] = data
