@@ -79,9 +79,10 @@ TIMEOUT_S = 300
 @dataclasses.dataclass
 class Command:
     text: str  # as written (continuations joined)
-    line: int  # 1-based line of the "$ " line, 0 for a marker's hidden command
+    line: int  # 1-based line of the "$ " line, or of the marker holding the command
     expected: list[str]
     expected_lines: list[int]  # 1-based file line of each expected line
+    end_line: int = 0  # 1-based last line of a "$ " command (its continuations)
 
 
 @dataclasses.dataclass
@@ -120,7 +121,7 @@ def console_commands(lines: list[str], first: int) -> list[Command]:
             while text.endswith("\\") and i + 1 < len(lines):
                 i += 1
                 text = text[:-1] + " " + lines[i].strip()
-            commands.append(Command(text.strip(), first + start, [], []))
+            commands.append(Command(text.strip(), first + start, [], [], first + i))
         elif commands:
             commands[-1].expected.append(line)
             commands[-1].expected_lines.append(first + i)
@@ -285,14 +286,15 @@ def compare(cmd: Command, output: list[str]) -> tuple[list[LineResult], list[str
             if nxt is None:
                 j = len(out)
             else:
-                # The next quoted line's text, searched from here; not found:
-                # the lines compare in order (and --update takes the program's).
+                # The next quoted line, searched from here: the first line of its
+                # text and numbers, else of its text alone (table rows share a
+                # text); not found, the lines compare in order (and --update
+                # takes the program's).
                 want = skeleton(nxt)
-                k2 = j
-                while k2 < len(out) and skeleton(out[k2]) != want:
-                    k2 += 1
-                if k2 < len(out):
-                    j = k2
+                same_text = [k2 for k2 in range(j, len(out)) if skeleton(out[k2]) == want]
+                same = [k2 for k2 in same_text if not line_problems(nxt, out[k2])]
+                if same or same_text:
+                    j = (same or same_text)[0]
             continue
         if j >= len(out):
             bad.append(LineResult(lines[k], e, None, ["the program printed no more lines"]))
@@ -405,17 +407,20 @@ def update_file(path: str, edits: list[tuple[Command, list[str]]]) -> None:
     with open(path, encoding="utf-8") as f:
         lines = f.read().split("\n")
     # From the bottom up, so earlier line numbers stay valid.
-    for cmd, new in sorted(edits, key=lambda e: -e[0].expected_lines[0] if e[0].expected_lines else 0):
+    for cmd, new in sorted(edits, key=lambda e: -(e[0].end_line or e[0].line)):
         exp_lines = list(cmd.expected_lines)
         exp = list(cmd.expected)
         while exp and not exp[-1].strip():
             exp.pop()
             exp_lines.pop()
-        if not exp_lines:
-            continue
-        first, last = exp_lines[0] - 1, exp_lines[-1] - 1
-        indent = re.match(r"\s*", lines[first]).group() if lines[first].strip() else ""
-        lines[first:last + 1] = [indent + n if n.strip() else n for n in new]
+        if exp_lines:
+            first, last = exp_lines[0] - 1, exp_lines[-1] - 1
+            indent = re.match(r"\s*", lines[first]).group() if lines[first].strip() else ""
+            lines[first:last + 1] = [indent + n if n.strip() else n for n in new]
+        else:  # nothing quoted yet: the program's lines go after the command
+            at = cmd.end_line or cmd.line
+            indent = re.match(r"\s*", lines[cmd.line - 1]).group()
+            lines[at:at] = [indent + n if n.strip() else n for n in new]
     with open(path, "w", encoding="utf-8") as f:
         f.write("\n".join(lines))
 
