@@ -15,7 +15,7 @@ B=${3:-100}
 shift $(( $# < 3 ? $# : 3 ))
 MODELS=("$@")
 [ ${#MODELS[@]} -gt 0 ] || MODELS=("WN+RW+2*GM" "WN+RW+3*GM" "3*GM" "MA1+RW+2*GM")
-DATA=$(cd "$(dirname "$0")/../../shared/data/imu/adis16405" && pwd)
+DATA=$(cd "${CUBECAL_SHARED_DATA:-$(dirname "$0")/../../shared/data}/imu/adis16405" && pwd)
 PY=/usr/bin/python3
 mkdir -p "$OUT"
 for model in "${MODELS[@]}"; do

@@ -15,7 +15,7 @@ set -euo pipefail
 CUBECAL=${1:-build/bin/cubecal}
 OUT=${2:-twins-validation-out}
 K=${3:-4}
-DATA=$(cd "$(dirname "$0")/../../shared/data" && pwd)
+DATA=$(cd "${CUBECAL_SHARED_DATA:-$(dirname "$0")/../../shared/data}" && pwd)
 PY=/usr/bin/python3
 mkdir -p "$OUT"
 run() {  # name, then analyze's arguments

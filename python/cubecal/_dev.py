@@ -71,7 +71,8 @@ def dev(data, rate=None, stat="oadev", data_type="freq", taus="octave", ci=0.683
     data: a 1-D array, a 2-D array (one channel per column), a list of arrays
     or a dict / DataFrame of columns. taus: "octave", "decade", "all", "log:K"
     or taus in seconds. rate: Hz (default: a Record's rate, else 1). ci: the confidence factor of the intervals; alpha: a
-    fixed noise type instead of identification; conservative: below 30
+    fixed noise type instead of identification (-2 to +2; -3 and -4 for
+    hdev, ohdev and htotdev only); conservative: below 30
     averages, the widest interval of the identified type and its neighbours.
     gaps: "skip" takes NaN as a missing sample, left out of the OADEV terms
     as `cubecal dev --gaps skip` (OADEV only); "error" refuses it. Default: a

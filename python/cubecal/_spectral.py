@@ -75,7 +75,7 @@ def davar(data, rate=None, window=None, step=None, taus="log:10", data_type="fre
 
     window, step: a duration ("1h", "60s") or a number of samples (default: a
     tenth of the record, a tenth of the window); taus: a grid or taus in
-    seconds; alpha: a fixed noise type for the intervals (default:
+    seconds; alpha: a fixed noise type for the intervals, -2 to +2 (default:
     identified in each cell). Returns a DynamicAllan.
     """
     a = _cubecal._DavarArgs()

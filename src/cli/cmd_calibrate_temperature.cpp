@@ -27,7 +27,7 @@ struct TemperatureOptions {
   InputOptions input;
   std::string temp_col;
   std::size_t order = 1;
-  std::string unit = "counts";
+  std::string unit;  // empty: from the column names (units_for), as analyze
   std::string format = "table";
   std::string out;
   bool force = false;
@@ -48,16 +48,33 @@ std::string table_text(const pipeline::TemperatureResult& r) {
   return table;
 }
 
+// The channels' one unit: --unit as given, else the unit the column names
+// (or the format) announce, the same for every channel; a name without one
+// stops the run as in analyze, rather than labelling the coefficients counts.
+std::string channel_unit(const TemperatureOptions& o, const io::Series& s) {
+  if (!o.unit.empty()) return o.unit;
+  const ChannelUnits u = units_for({}, s);
+  for (std::size_t c = 1; c < u.units.size(); ++c)
+    if (u.units[c].name != u.units[0].name)
+      throw UsageError(s.file + ": channel " + s.names[0] + " is in " + u.units[0].name + " and " + s.names[c] +
+                       " in " + u.units[c].name +
+                       ": the coefficients of one run share one unit: calibrate the channels of each unit in their "
+                       "own run (--columns)");
+  if (!u.note.empty()) std::cerr << u.note << '\n';
+  return u.units.empty() ? std::string("counts") : u.units[0].name;
+}
+
 int run_calibrate_temperature(const TemperatureOptions& o) {
   pipeline::TemperatureRequest req;
   req.order = o.order;
-  req.unit = o.unit;
+  if (!o.unit.empty()) req.unit = o.unit;
   req.validate();
   ResultOutput result(o.out, o.force);  // refuses an existing file before the work
   check_report_option(o.report, o.force);
   io::SeriesOptions so = to_series_options(o.input);
   so.table.extra_columns = {o.temp_col};
   const io::Series s = io::read_series(o.input.file, so);
+  req.unit = channel_unit(o, s);
   const pipeline::TemperatureResult r = with_calibration_hints(o.input.file, {CalibrationCommand::temperature},
                                                                [&] { return pipeline::calibrate_temperature(s, req); });
   result.stream() << (o.format == "json" ? pipeline::json_text(pipeline::to_json(r), 1) + "\n" : table_text(r));
@@ -75,7 +92,10 @@ CLI::App* add_calibrate_temperature_command(CLI::App& calibrate, Command& run) {
   add_input_options(*cmd, opt->input);
   cmd->add_option("--temp-col", opt->temp_col, "Temperature column (degC)")->required();
   cmd->add_option("--order", opt->order, "Polynomial order")->check(CLI::Range(1, 5))->capture_default_str();
-  cmd->add_option("--unit", opt->unit, "Unit of the channels (for the coefficient units)")->capture_default_str();
+  cmd->add_option("--unit", opt->unit,
+                  "Unit of the values (after --lsb), one for every channel: the coefficients are in it, per degC^p. "
+                  "Default: from the column names' suffixes (_dps, _rads, _dph, _g, _mps2, _uT, _mG, _nT, "
+                  "gx[deg/s]...), said on stderr; an error when a name has none (--unit counts for raw values)");
   cmd->add_option("--format", opt->format, "table or json")
       ->check(CLI::IsMember({"table", "json"}))
       ->capture_default_str();

@@ -122,8 +122,13 @@ pipeline::AnalyzeRequest demo_request() {
 // The gyro rows: the paper's adjusted model row vs the recovered one.
 void print_gyro_rows(const pipeline::AnalysisResult& r) {
   auto term = [](const TermEstimate& t, Term which, const Unit& u) { return display(t, which, u); };
-  std::cout << "\nGyro (deg/s): the paper's adjusted model row vs the model fitted here on 42000 samples,\n"
-               "and N, B, T read off the full record (OADEV, 68.3 % intervals)\n";
+  const auto& x = r.channels[0];
+  std::cout << fmt::format(
+      "\nGyro: the paper's adjusted model row vs the model fitted here on 42000 samples,\n"
+      "and N, B, T read off the full record (OADEV, 68.3 % intervals);\n"
+      "N in {}, B in {}, T in s, sigma_n (sn) in {}, sigma_mu (smu) in {}/s\n",
+      term(x.noise.readoffs.N, Term::N, x.unit).unit, term(x.noise.readoffs.B, Term::B, x.unit).unit, x.unit.name,
+      x.unit.name);
   std::cout << fmt::format("{:<4} {:>9} {:>17} {:>9} {:>16} {:>7} {:>12} {:>9} {:>10} {:>9} {:>10}\n", "axis",
                            "N paper", "N here", "B paper", "B here", "T paper", "T here", "sn paper", "sn fit",
                            "smu paper", "smu fit");
@@ -145,8 +150,12 @@ void print_gyro_rows(const pipeline::AnalysisResult& r) {
 // and after the temperature compensation.
 void print_magnetometer_rows(const pipeline::AnalysisResult& r) {
   auto term = [](const TermEstimate& t, Term which, const Unit& u) { return display(t, which, u); };
-  std::cout << "\nMagnetometer (mGauss): the paper's measured row vs this record, before and after the\n"
-               "temperature compensation (the simulated field drifts 0.7 mGauss/degC)\n";
+  const auto& x = r.channels[3];
+  std::cout << fmt::format(
+      "\nMagnetometer: the paper's measured row vs this record, before and after the\n"
+      "temperature compensation (the simulated field drifts 0.7 mGauss/degC);\n"
+      "N in {}, B in {}, sigma_n (sn) in {}\n",
+      term(x.noise.readoffs.N, Term::N, x.unit).unit, term(x.noise.readoffs.B, Term::B, x.unit).unit, x.unit.name);
   std::cout << fmt::format("{:<4} {:>9} {:>19} {:>9} {:>17} {:>17} {:>17} {:>8} {:>9}\n", "axis", "N paper", "N here",
                            "B paper", "B here", "B compensated", "coeff [mG/degC]", "sn paper", "sn fit");
   for (std::size_t a = 3; a < 6; ++a) {

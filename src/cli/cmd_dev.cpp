@@ -298,7 +298,7 @@ CLI::App* add_dev_command(CLI::App& app, Command& run) {
       ->capture_default_str();
   cmd->add_option("--alpha", opt->alpha,
                   "Use this noise type (+2 WPM, +1 FPM, 0 WFM, -1 FFM, -2 RWFM; -3 FWFM and -4 RRFM "
-                  "for the Hadamard family) instead of identifying it")
+                  "for the Hadamard family only: hdev, ohdev, htotdev) instead of identifying it")
       ->check(CLI::Range(-4, 2));
   cmd->add_flag("--no-ci", opt->no_ci, "Deviations only: skip noise identification and intervals");
   cmd->add_flag("--bias-correction", opt->bias_correction,

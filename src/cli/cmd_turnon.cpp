@@ -102,10 +102,12 @@ std::vector<pipeline::AnalyzeRequest> requests_for(const RunsOptions& o, const s
   return reqs;
 }
 
+// "value ± sigma unit" in the term's display unit (N in deg/sqrt(h), B in
+// deg/h for a gyro), "—" when the term is not read.
 std::string term(const TermEstimate& t, Term which, const Unit& u) {
   if (!t.valid) return "—";
   const Quantity q = display(t, which, u);
-  return fmt::format("{:.4g} ± {:.2g}", q.value, q.sigma);
+  return fmt::format("{:.4g} ± {:.2g} {}", q.value, q.sigma, q.unit);
 }
 
 report::RunsReportContext report_context(const RunsOptions& o) { return {invocation(), o.ci, o.taus}; }
@@ -115,11 +117,11 @@ std::string turnon_text(const RunsOptions& o, const pipeline::TurnOnResult& t) {
   std::string s = fmt::format("Turn-on bias over {} runs ({:.1f} % interval of the standard deviation, {} dof)\n\n",
                               t.runs.size(), 100 * t.ci, t.runs.size() - 1);
   s += fmt::format("{:<28}", "run");
-  for (const auto& n : t.names) s += fmt::format(" {:>16} {:>18}", n + " bias", "B");
+  for (const auto& n : t.names) s += fmt::format(" {:>16} {:>24}", n + " bias", "B");
   s += '\n';
   for (const auto& r : t.runs) {
     s += fmt::format("{:<28}", r.file.size() > 28 ? "…" + r.file.substr(r.file.size() - 27) : r.file);
-    for (const auto& c : r.channels) s += fmt::format(" {:>16.6g} {:>18}", c.mean, term(c.readoffs.B, Term::B, c.unit));
+    for (const auto& c : r.channels) s += fmt::format(" {:>16.6g} {:>24}", c.mean, term(c.readoffs.B, Term::B, c.unit));
     s += '\n';
   }
   s += fmt::format("\n{:<10} {:>14} {:>14} {:>26}\n", "channel", "mean bias", "turn-on (std)", "interval");
@@ -131,15 +133,15 @@ std::string turnon_text(const RunsOptions& o, const pipeline::TurnOnResult& t) {
 
 std::string compare_text(const RunsOptions& o, const std::vector<pipeline::RunSummary>& runs) {
   if (o.format == "json") return pipeline::json_text(pipeline::to_json(runs), 1) + "\n";
-  std::string s = fmt::format("{:<28} {:>8} {:>10} {:<8} {:>22} {:>22} {:>10}\n", "run", "rate Hz", "samples", "axis",
+  std::string s = fmt::format("{:<28} {:>8} {:>10} {:<8} {:>28} {:>24} {:>10}\n", "run", "rate Hz", "samples", "axis",
                               "N", "B", "T [s]");
   for (const auto& r : runs)
     for (const auto& c : r.channels) {
       const auto& ro = c.readoffs;
-      s += fmt::format("{:<28} {:>8.4g} {:>10} {:<8} {:>22} {:>22} {:>10}\n",
+      s += fmt::format("{:<28} {:>8.4g} {:>10} {:<8} {:>28} {:>24} {:>10}\n",
                        r.file.size() > 28 ? "…" + r.file.substr(r.file.size() - 27) : r.file, r.rate_hz, r.samples,
-                       c.name, term(ro.N, Term::N, c.unit) + " " + display(ro.N, Term::N, c.unit).unit,
-                       term(ro.B, Term::B, c.unit), ro.B.valid ? fmt::format("{:.3g}", ro.tau_min) : "—");
+                       c.name, term(ro.N, Term::N, c.unit), term(ro.B, Term::B, c.unit),
+                       ro.B.valid ? fmt::format("{:.3g}", ro.tau_min) : "—");
     }
   return s;
 }
@@ -184,7 +186,9 @@ int run_compare_command(const RunsOptions& o) {
 void add_runs_options(CLI::App& cmd, RunsOptions& o) {
   add_input_options(cmd, o.input, true);
   cmd.get_option("files")->description(
-      "Input files (one record each): delimited text, optionally gzip. FILE:key=value,... reads one file with its "
+      "Input files (one record each): delimited text, optionally gzip, NumPy .npy, HDF5, raw binary (--binary), "
+      "ROS bags (ROS 1 .bag, MCAP, .db3 or a ROS 2 bag directory), PX4 ULog or a recording directory of cubecal "
+      "record. FILE:key=value,... reads one file with its "
       "own options in place of the command's (keys " +
       file_option_keys() +
       "; a list value such as "
