@@ -30,6 +30,17 @@ class Analysis(Result):
         return self._handle.write(_args.path(directory, "directory"), _args.flag(force, "force"), self._command)
 
 
+def _composite_named(call, *arguments):
+    """The call; the library's errors on the composite model (its field is
+    cubecal model's `model`) name analyze's keyword, composite."""
+    try:
+        return call(*arguments)
+    except _cubecal.UsageError as e:
+        if e.option != "model":
+            raise
+        raise usage("composite", f"composite: {e}") from None
+
+
 def _call_text(first, kwargs):
     given = ", ".join(f"{k}={v!r}" for k, v in kwargs.items() if v is not None)
     return f"cubecal.analyze({first}{', ' + given if given else ''})"
@@ -107,7 +118,7 @@ def analyze(data, rate=None, unit=None, temperature=None, taus="log:10", ci=0.68
         ro = dict(read_options)
         if rate is not None:
             ro["rate"] = rate
-        handle = _cubecal._analyze_file(path, read_args(**ro), args, temperature or "")
+        handle = _composite_named(_cubecal._analyze_file, path, read_args(**ro), args, temperature or "")
         return Analysis(handle, _call_text(repr(path), {**shown, **ro}))
     if read_options:
         raise usage(next(iter(read_options)), f"{', '.join(read_options)}: options of a file; data are arrays here")
@@ -126,7 +137,8 @@ def analyze(data, rate=None, unit=None, temperature=None, taus="log:10", ci=0.68
         if not rate:
             raise usage("rate", "rate: give the sampling rate of the arrays in Hz")
     label = getattr(data, "file", None) or "<arrays>"
-    handle = _cubecal._analyze_arrays(arrays, names, _args.rate(rate), args, temp_values, temp_name, label)
+    handle = _composite_named(_cubecal._analyze_arrays, arrays, names, _args.rate(rate), args, temp_values, temp_name,
+                              label)
     if temperature is not None and not isinstance(temperature, str):
         shown["temperature"] = "<array>"
     return Analysis(handle, _call_text("<arrays>", shown))

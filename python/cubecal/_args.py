@@ -25,14 +25,16 @@ INT_MAX = 2 ** 31 - 1
 
 
 def usage(option, message):
-    """A cubecal.UsageError naming `option`; the message starts with it."""
-    e = _cubecal.UsageError(message if message.startswith(option) else f"{option}: {message}")
+    """A cubecal.UsageError naming `option`, in one line that names it first
+    ("option: ..." unless it is named before the message's first colon)."""
+    message = " ".join(message.split())
+    e = _cubecal.UsageError(message if option in message.split(":", 1)[0] else f"{option}: {message}")
     e.option = option
     return e
 
 
 def _shown(value):
-    text = repr(value)
+    text = " ".join(repr(value).split())
     return text if len(text) <= 40 else text[:37] + "..."
 
 

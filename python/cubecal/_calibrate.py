@@ -124,7 +124,7 @@ def _check_one_segment(data, remedy="give one contiguous piece"):
         raise _usage("data", f"data: the record was split at {len(segments) - 1} gaps: {remedy}")
 
 
-def _channels(data, columns, names, exclude=()):
+def _channels(data, columns, names, exclude=(), option="data"):
     """(names, arrays) of the channels: the named columns of a table, else
     every column but `exclude` (and a Record's time), or the arrays given."""
     if columns is not None:
@@ -136,7 +136,7 @@ def _channels(data, columns, names, exclude=()):
                 raise _usage("names", f"names: {len(names)} names for {len(arrays)} columns")
             cols = names
         return cols, arrays
-    return channels_of(data, names, exclude)
+    return channels_of(data, names, exclude, option)
 
 
 def _triad(value, option, label_names=("x", "y", "z")):
@@ -343,7 +343,7 @@ def calibrate_mag(points, method="ellipsoid", field_norm=None, field_column=None
     elif field_column is not None:
         field_values = _vector(field_column, "field_column")
     if _is_table(points):
-        names, arrays = _channels(points, columns, None, tuple(exclude))
+        names, arrays = _channels(points, columns, None, tuple(exclude), "points")
         if len(arrays) != 3:
             raise _usage("columns", f"columns: {len(arrays)} columns ({', '.join(names)}): name the 3 "
                                     "magnetometer columns with columns=")
@@ -418,7 +418,7 @@ def calibrate_temperature(data, temperature, rate=None, order=1, unit="counts", 
 def _triad_of_data(data, columns, exclude, option):
     """(names, 3 arrays) of a triad given as arrays or named columns."""
     if _is_table(data):
-        names, arrays = _channels(data, columns, None, exclude)
+        names, arrays = _channels(data, columns, None, exclude, option.split("_")[0])
         if len(arrays) != 3:
             raise _usage(option, f"{option}: {len(arrays)} columns ({', '.join(names)}): name the 3 columns "
                                  f"with {option}=")
@@ -578,7 +578,7 @@ def _run_inputs(runs, rate, columns, names, threads, read_options, per_run_unit,
             if file_keys:
                 raise _usage(file_keys[0], f"run {k + 1}: {', '.join(file_keys)}: options of a file; the run is arrays")
             _check_one_segment(item, "give its file, read with gaps=\"split\", or one contiguous piece")
-            run_names, arrays = _channels(item, own.get("columns", columns), own.get("names", names))
+            run_names, arrays = _channels(item, own.get("columns", columns), own.get("names", names), (), "runs")
             r = _rate_of(own.get("rate", rate), item)
             if r is None:
                 raise _usage("rate", f"rate: run {k + 1}: give the sampling rate of the arrays in Hz")

@@ -66,6 +66,7 @@ def read(path, columns=None, time=None, rate=None, skip_rows=0, lsb=None, gaps="
     """
     args = read_args(columns, time, rate, skip_rows, lsb, gaps, topics, dataset, binary, header_bytes, extra,
                      threads)
+    frame = _args.flag(frame, "frame")
     columns_read, meta = _cubecal._read(_args.path(path), args)
     record = Record(columns_read, meta)
     if not frame:

@@ -75,6 +75,8 @@ def simulate(model, rate=None, duration=3600.0, seed=1, temperature="sine:25,5",
         a.true_w = [_args.samples(x, "true_input") for x in w]
     if flicker is not None:
         a.flicker = number_list(flicker, "flicker")
+        if any(not 0.0 <= b <= 1e100 for b in a.flicker):
+            raise _args.usage("flicker", f"flicker: a bias instability from 0 to 1e100 is expected, not {flicker!r}")
     names, arrays, rate_hz = _cubecal._simulate(a)
     n = len(arrays[0]) if arrays else 0
     columns = {"t": np.arange(n, dtype=np.float64) / rate_hz}

@@ -73,7 +73,14 @@ def psd(data, rate=None, unit=None, window="hann", segment=0, fmin=0.0, overlap=
     a.units = string_list(unit, "unit")
     a.threads = _args.threads(threads)
     path, ra, arrays, names, rate = _source(data, rate, names, read_options)
-    d, spectra = _cubecal._psd(path, ra, arrays, names, rate, a)
+    try:
+        d, spectra = _cubecal._psd(path, ra, arrays, names, rate, a)
+    except _cubecal.UsageError as e:
+        if e.option != "fit_range":
+            raise
+        # The band is the CLI's --fit-range; here it is fit_min and fit_max.
+        keyword = "fit_max" if fit_max and not fit_min else "fit_min"
+        raise _args.usage(keyword, "fit_min, fit_max: " + str(e).split(": ", 1)[-1]) from None
     for channel, arrays_of in zip(d["channels"], spectra):
         channel.update(arrays_of)  # the long arrays come as NumPy arrays, not as lists
     return Spectrum(d)

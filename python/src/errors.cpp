@@ -37,6 +37,7 @@ std::string_view python_keyword(Field f) noexcept {
     case Field::counts_per_unit: return "lsb";
     case Field::reject_sigma: return "reject";
     case Field::mag_columns: return "columns";
+    case Field::min_frequency: return "fmin";
     default: return field_name(f);
   }
 }

@@ -17,6 +17,9 @@ RNG = np.random.default_rng(3)
 Y = RNG.normal(size=600)
 XYZ = RNG.normal(size=(200, 3))
 TEMP = np.linspace(20.0, 30.0, 600)
+FILES = tempfile.TemporaryDirectory()
+CSV = os.path.join(FILES.name, "y.csv")
+np.savetxt(CSV, Y, header="g", comments="")
 
 STATISTICS = ("adev", "oadev", "mdev", "tdev", "hdev", "ohdev", "totdev", "mtotdev", "ttotdev", "htotdev", "tierms",
               "mtie", "gradev")
@@ -41,6 +44,7 @@ CALLS.update({
     "calibrate_rate_table": lambda **kw: cubecal.calibrate_rate_table(
         **{"data": np.ones((600, 3)), "rate": 100.0, "reference": np.ones((600, 3)), **kw}),
     "calibrate_multiposition": lambda **kw: cubecal.calibrate_multiposition(**{"acc": XYZ, "rate": 100.0, **kw}),
+    "read": lambda **kw: cubecal.read(**{"path": CSV, "rate": 100.0, **kw}),
     "turnon": lambda **kw: cubecal.turnon(**{"runs": [Y, Y + 1.0], "rate": 100.0, "unit": "deg/s", **kw}),
     "compare": lambda **kw: cubecal.compare(**{"runs": [Y, Y + 1.0], "rate": 100.0, "unit": "deg/s", **kw}),
 })
@@ -65,7 +69,7 @@ def _cases():
     """(call, keyword, value) of every bad argument."""
     cases = []
     for name in CALLS:
-        if name not in ("simulate", "turnon", "compare"):
+        if name not in ("simulate", "turnon", "compare", "read"):
             first = "points" if name == "calibrate_mag" else "acc" if name == "calibrate_multiposition" else "data"
             # A string is a path where the call reads files.
             cases += [(name, first, v) for v in BAD_DATA if not (isinstance(v, str) and name in PATH_CALLS)]
@@ -81,7 +85,7 @@ def _cases():
         "model": ("threads", "bootstrap", "seed", "starts", "wic_replicates"), "simulate": ("seed",),
         "calibrate_mag": ("threads", "skip_rows"), "calibrate_temperature": ("order",),
         "calibrate_multiposition": ("threads", "skip_rows", "window", "interval_samples", "min_intervals"),
-        "turnon": ("threads",), "compare": ("threads",),
+        "turnon": ("threads",), "compare": ("threads",), "read": ("threads", "skip_rows", "header_bytes"),
     }
     for name, keywords in counts.items():
         for k in keywords:
@@ -114,6 +118,13 @@ def _cases():
               ("calibrate_rate_table", "schedule", ["a", "b", "c", "d", "e"])]
     cases += [("calibrate_multiposition", "acc_bias", "x"), ("calibrate_multiposition", "use_means", "x")]
     cases += [(name, "runs", v) for name in ("turnon", "compare") for v in ("x", None, 3)]
+    cases += [(name, "runs", [["a"] * 600, Y]) for name in ("turnon", "compare")]
+    cases += [("read", "path", v) for v in (None, 3, ["a"])] + [("read", "lsb", v) for v in ("x", math.nan, [[1.0]])]
+    cases += [("read", "gaps", 3), ("read", "time", 1.5), ("read", "columns", 1.5), ("read", "frame", "x"),
+              ("read", "columns", {"a": 1})]
+    cases += [("psd", "fit_max", 1.5), ("psd", "fmin", 1e-300), ("analyze", "composite", "WN+FOO"),
+              ("analyze", "model_lsb", -1.0), ("simulate", "flicker", 1e300), ("calibrate_mag", "noise", 1e-300),
+              ("calibrate_mag", "points", {"a": 1}), ("dev", "names", 3.5), ("dev", "names", ["a", "b"])]
     return cases
 
 
@@ -216,6 +227,23 @@ class BadArguments(unittest.TestCase):
             with self.assertRaises(cubecal.UsageError) as cm:
                 cubecal.dev(Y, rate=1e300)
             self.assertIn(str(cm.exception).split(": ", 1)[1], p.stderr)
+
+    def test_messages_are_one_line_without_overflowed_numbers(self):
+        with self.assertRaises(cubecal.UsageError) as cm:
+            cubecal.oadev(Y, rate=np.ones((2, 2)))
+        self.assertNotIn("\n", str(cm.exception))
+        with self.assertRaises(cubecal.UsageError) as cm:
+            cubecal.psd(Y, rate=100.0, fmin=1e-300)
+        self.assertNotIn("-9223372036854775808", str(cm.exception))
+        self.assertEqual(cm.exception.option, "fmin")
+
+    def test_result_of_an_analysis_writes_only_to_a_path(self):
+        a = cubecal.analyze(Y, rate=100.0, unit="deg/s", composite=False)
+        for v in (None, 3, ["a"]):
+            with self.subTest(directory=v):
+                with self.assertRaises(cubecal.UsageError) as cm:
+                    a.write(v)
+                self.assertEqual(cm.exception.option, "directory")
 
     def test_valid_calls_still_work(self):
         # The checks take what they should: NumPy scalars, ints for floats, float taus.
