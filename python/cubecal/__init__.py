@@ -12,8 +12,9 @@ The C++ library's calls on NumPy arrays:
     s = cubecal.psd(rec, unit="deg/s"); d = cubecal.davar(rec, window="1h", step="60s")
     m = cubecal.model(rec, "WN+RW+2*GM", unit="deg/s", bootstrap=200)   # GMWM
 
-Errors the data or the caller can fix raise cubecal.Error subclasses:
-InputError (.file, .line, .column), UsageError (.option), CalibrationError (.reason).
+Errors in the data or the arguments raise cubecal.Error subclasses (ValueErrors): InputError
+(.file, .line, .column; arrays are checked as the readers check a file),
+UsageError (.option, the keyword at fault), CalibrationError (.reason).
 Long computations release the GIL.
 """
 from ._cubecal import CalibrationError, Error, InputError, UsageError, __version__

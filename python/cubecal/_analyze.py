@@ -3,7 +3,8 @@ import os
 
 import numpy as np
 
-from . import _cubecal
+from . import _args, _cubecal
+from ._args import usage
 from ._data import channels_of, number_list, string_list
 from ._read import read_args
 from ._result import Result
@@ -26,7 +27,18 @@ class Analysis(Result):
         """Writes analysis.json, adev.csv, drift.csv and imu.yaml into
         `directory` (created if missing); an existing file is refused unless
         force. Returns the paths written."""
-        return self._handle.write(os.fspath(directory), bool(force), self._command)
+        return self._handle.write(_args.path(directory, "directory"), _args.flag(force, "force"), self._command)
+
+
+def _composite_named(call, *arguments):
+    """The call; the library's errors on the composite model (its field is
+    cubecal model's `model`) name analyze's keyword, composite."""
+    try:
+        return call(*arguments)
+    except _cubecal.UsageError as e:
+        if e.option != "model":
+            raise
+        raise usage("composite", f"composite: {e}") from None
 
 
 def _call_text(first, kwargs):
@@ -34,6 +46,7 @@ def _call_text(first, kwargs):
     return f"cubecal.analyze({first}{', ' + given if given else ''})"
 
 
+@_args.public
 def analyze(data, rate=None, unit=None, temperature=None, taus="log:10", ci=0.683, temp_order=1, drift_window=0.0,
             cov_samples=0, max_samples=0, model_lsb=None, names=None, threads=0, psd=False, composite=None,
             composite_bootstrap=0, **read_options):
@@ -67,26 +80,26 @@ def analyze(data, rate=None, unit=None, temperature=None, taus="log:10", ci=0.68
     Returns an Analysis.
     """
     args = _cubecal._AnalyzeArgs()
-    args.units = string_list(unit)
-    args.taus = taus
-    args.ci = float(ci)
-    args.temp_order = int(temp_order)
-    args.drift_window = float(drift_window)
-    args.cov_samples = int(cov_samples)
-    args.max_samples = int(max_samples)
-    args.model_lsb = number_list(model_lsb)
-    args.threads = int(threads)
-    args.psd = bool(psd)
+    args.units = string_list(unit, "unit")
+    args.taus = _args.taus(taus)
+    args.ci = _args.number(ci, "ci")
+    args.temp_order = _args.count(temp_order, "temp_order")
+    args.drift_window = _args.number(drift_window, "drift_window")
+    args.cov_samples = _args.count(cov_samples, "cov_samples")
+    args.max_samples = _args.count(max_samples, "max_samples")
+    args.model_lsb = number_list(model_lsb, "model_lsb")
+    args.threads = _args.threads(threads)
+    args.psd = _args.flag(psd, "psd")
     if composite is True:
         composite = "auto"
     if composite is False:
         composite = "none"
     if composite is not None:
         if not isinstance(composite, str):
-            raise _cubecal.UsageError("composite: None (the twin), False or \"none\", True or \"auto\", \"twin\", a model "
-                                      "such as \"WN+GM+RW\" or candidates")
+            raise usage("composite", "composite: None (the twin), False or \"none\", True or \"auto\", \"twin\", a "
+                                     "model such as \"WN+GM+RW\" or candidates")
         args.composite = composite
-    args.composite_bootstrap = int(composite_bootstrap)
+    args.composite_bootstrap = _args.count(composite_bootstrap, "composite_bootstrap")
     # The call as the result's "command": every argument that changes the
     # analysis, so that it reproduces it (arrays are shown as <arrays>).
     shown = {"rate": rate, "unit": unit, "temperature": temperature if isinstance(temperature, str) else None,
@@ -98,31 +111,34 @@ def analyze(data, rate=None, unit=None, temperature=None, taus="log:10", ci=0.68
              "composite_bootstrap": composite_bootstrap or None}
     if isinstance(data, (str, os.PathLike)):
         if names is not None:
-            raise _cubecal.UsageError("names: give columns= to choose the columns of a file")
-        path = os.fspath(data)
+            raise usage("names", "names: give columns= to choose the columns of a file")
+        path = _args.path(data, "data")
         if temperature is not None and not isinstance(temperature, str):
-            raise _cubecal.UsageError("temperature: a column name of the file")
+            raise usage("temperature", "temperature: a column name of the file")
         ro = dict(read_options)
         if rate is not None:
             ro["rate"] = rate
-        handle = _cubecal._analyze_file(path, read_args(**ro), args, temperature or "")
+        handle = _composite_named(_cubecal._analyze_file, path, read_args(**ro), args, temperature or "")
         return Analysis(handle, _call_text(repr(path), {**shown, **ro}))
     if read_options:
-        raise _cubecal.UsageError(f"{', '.join(read_options)}: options of a file; data are arrays here")
+        raise usage(next(iter(read_options)), f"{', '.join(read_options)}: options of a file; data are arrays here")
     temp_name, temp_values, exclude = "temp", None, ()
     if isinstance(temperature, str):
         if not (isinstance(data, dict) or hasattr(data, "columns")):
-            raise _cubecal.UsageError("temperature: a column name needs data with named columns (a dict or DataFrame)")
-        temp_name, temp_values, exclude = temperature, np.asarray(data[temperature]), (temperature,)
+            raise usage("temperature", "temperature: a column name needs data with named columns (a dict or DataFrame)")
+        if temperature not in data:
+            raise usage("temperature", f"temperature: no column {temperature!r} in the data")
+        temp_name, temp_values, exclude = temperature, _args.samples(data[temperature], "temperature"), (temperature,)
     elif temperature is not None:
-        temp_values = np.asarray(temperature)
+        temp_values = _args.samples(temperature, "temperature")
     names, arrays = channels_of(data, names, exclude)
     if rate is None:
         rate = getattr(data, "rate_hz", None)
         if not rate:
-            raise _cubecal.UsageError("rate: give the sampling rate of the arrays in Hz")
+            raise usage("rate", "rate: give the sampling rate of the arrays in Hz")
     label = getattr(data, "file", None) or "<arrays>"
-    handle = _cubecal._analyze_arrays(arrays, names, float(rate), args, temp_values, temp_name, label)
+    handle = _composite_named(_cubecal._analyze_arrays, arrays, names, _args.rate(rate), args, temp_values, temp_name,
+                              label)
     if temperature is not None and not isinstance(temperature, str):
         shown["temperature"] = "<array>"
     return Analysis(handle, _call_text("<arrays>", shown))

@@ -10,7 +10,7 @@ import os
 
 import numpy as np
 
-from . import _cubecal
+from . import _args, _cubecal
 from ._data import channels_of, number_list, string_list
 from ._read import read_args
 from ._result import Result
@@ -76,10 +76,7 @@ class Comparison(Result):
 # Shared helpers
 
 
-def _usage(option, message):
-    e = _cubecal.UsageError(message)
-    e.option = option
-    return e
+_usage = _args.usage
 
 
 def _is_path(x):
@@ -102,12 +99,12 @@ def _column(data, name, option):
                              "(a dict, cubecal.Record or DataFrame)")
     if name not in _column_names(data):
         raise _usage(option, f"{option}: no column '{name}' (columns: {', '.join(_column_names(data))})")
-    return np.asarray(data[name], dtype=np.float64)
+    return _args.samples(data[name], option)
 
 
 def _vector(value, option):
     """A 1-D float64 array of the values given for `option`."""
-    a = np.asarray(value, dtype=np.float64)
+    a = _args.samples(value, option, dimensions=(0, 1, 2))
     if a.ndim != 1:
         raise _usage(option, f"{option}: one value per sample (a 1-D array) is expected, got shape {a.shape}")
     return a
@@ -127,26 +124,26 @@ def _check_one_segment(data, remedy="give one contiguous piece"):
         raise _usage("data", f"data: the record was split at {len(segments) - 1} gaps: {remedy}")
 
 
-def _channels(data, columns, names, exclude=()):
+def _channels(data, columns, names, exclude=(), option="data"):
     """(names, arrays) of the channels: the named columns of a table, else
     every column but `exclude` (and a Record's time), or the arrays given."""
     if columns is not None:
-        cols = string_list(columns)
+        cols = string_list(columns, "columns")
         arrays = [_column(data, c, "columns") for c in cols]
         if names is not None:
-            names = string_list(names)
+            names = string_list(names, "names")
             if len(names) != len(arrays):
                 raise _usage("names", f"names: {len(names)} names for {len(arrays)} columns")
             cols = names
         return cols, arrays
-    return channels_of(data, names, exclude)
+    return channels_of(data, names, exclude, option)
 
 
 def _triad(value, option, label_names=("x", "y", "z")):
     """Three 1-D arrays out of an (n, 3) array or a sequence of 3 arrays."""
     if isinstance(value, (list, tuple)) and len(value) == 3 and all(np.ndim(v) == 1 for v in value):
-        return list(label_names), [np.asarray(v, dtype=np.float64) for v in value]
-    a = np.asarray(value, dtype=np.float64)
+        return list(label_names), [_args.samples(v, option) for v in value]
+    a = _args.samples(value, option, dimensions=(0, 1, 2))
     if a.ndim == 2 and a.shape[1] == 3:
         return list(label_names), [a[:, j] for j in range(3)]
     raise _usage(option, f"{option}: three axes x, y, z are expected: an array of shape (n, 3) or 3 arrays, "
@@ -155,9 +152,9 @@ def _triad(value, option, label_names=("x", "y", "z")):
 
 def _rate_of(rate, data):
     if rate is not None:
-        return float(rate)
+        return _args.rate(rate)
     r = getattr(data, "rate_hz", None)
-    return float(r) if r else None
+    return _args.rate(r) if r else None
 
 
 def _call_text(function, first, kwargs):
@@ -179,6 +176,7 @@ def _no_read_options(read_options):
 # calibrate rate-table
 
 
+@_args.public
 def calibrate_rate_table(data, rate=None, reference=None, schedule=None, from_signal=False, margin=10.0,
                          min_plateau=30.0, ref_tolerance=1e-6, window=10.0, earth_axis=None, unit="deg/s",
                          columns=None, time=None, names=None, **read_options):
@@ -216,18 +214,18 @@ def calibrate_rate_table(data, rate=None, reference=None, schedule=None, from_si
     bad data in a file or array.
     """
     args = _cubecal._RateTableArgs()
-    args.from_signal = bool(from_signal)
-    args.margin = float(margin)
-    args.min_plateau = float(min_plateau)
-    args.ref_tolerance = float(ref_tolerance)
-    args.window = float(window)
-    args.earth_axis = number_list(earth_axis)
-    args.unit = str(unit)
+    args.from_signal = _args.flag(from_signal, "from_signal")
+    args.margin = _args.number(margin, "margin")
+    args.min_plateau = _args.number(min_plateau, "min_plateau")
+    args.ref_tolerance = _args.number(ref_tolerance, "ref_tolerance")
+    args.window = _args.number(window, "window")
+    args.earth_axis = number_list(earth_axis, "earth_axis")
+    args.unit = _args.text(unit, "unit")
     if schedule is not None:
         if _is_path(schedule):
-            args.schedule_file = os.fspath(schedule)
+            args.schedule_file = _args.path(schedule, "schedule")
         else:
-            rows = np.asarray(schedule, dtype=np.float64)
+            rows = _args.samples(schedule, "schedule", dimensions=(1, 2))
             if rows.ndim == 1 and rows.size == 5:
                 rows = rows.reshape(1, 5)
             args.schedule = np.ascontiguousarray(rows)
@@ -242,7 +240,7 @@ def calibrate_rate_table(data, rate=None, reference=None, schedule=None, from_si
         if reference is not None and not (isinstance(reference, str) or _names_only(reference)):
             raise _usage("reference", "reference: the reference of a file: the names (or 1-based indices) of its "
                                       "3 columns")
-        args.reference = string_list(reference)
+        args.reference = string_list(reference, "reference")
         ro = dict(read_options, columns=columns, time=time, rate=rate)
         doc = _cubecal._rate_table_file(path, read_args(**ro), args,
                                         _call_text("calibrate_rate_table", repr(path), {**shown, **read_options}))
@@ -253,7 +251,7 @@ def calibrate_rate_table(data, rate=None, reference=None, schedule=None, from_si
     ref_names, ref_arrays = [], []
     if reference is not None:
         if isinstance(reference, str) or _names_only(reference):
-            ref_names = string_list(reference)
+            ref_names = string_list(reference, "reference")
             if len(ref_names) != 3:
                 raise _usage("reference", "reference: the 3 reference rate columns x, y, z")
             ref_arrays = [_column(data, n, "reference") for n in ref_names]
@@ -286,6 +284,7 @@ def _names_only(value):
 # calibrate mag
 
 
+@_args.public
 def calibrate_mag(points, method="ellipsoid", field_norm=None, field_column=None, noise=None, reject=0.0,
                   allow_partial=False, unit=None, lsb=1.0, columns=None, skip_rows=0, threads=0):
     """Magnetometer hard- and soft-iron calibration from points measured over
@@ -315,13 +314,14 @@ def calibrate_mag(points, method="ellipsoid", field_norm=None, field_column=None
     bad data.
     """
     args = _cubecal._MagArgs()
-    args.method = str(method)
-    args.lsb = float(lsb)
-    args.field_norm = None if field_norm is None else float(field_norm)
-    args.noise = None if noise is None else float(noise)
-    args.reject = float(reject)
-    args.allow_partial = bool(allow_partial)
-    args.unit = "" if unit is None else str(unit)
+    args.method = _args.text(method, "method")
+    args.lsb = _args.number(lsb, "lsb")
+    args.field_norm = _args.optional_number(field_norm, "field_norm")
+    args.noise = _args.optional_number(noise, "noise")
+    args.reject = _args.number(reject, "reject")
+    args.allow_partial = _args.flag(allow_partial, "allow_partial")
+    args.unit = _args.optional_text(unit, "unit") or ""
+    skip_rows, threads = _args.count(skip_rows, "skip_rows"), _args.threads(threads)
     shown = {"method": method if method != "ellipsoid" else None, "field_norm": field_norm,
              "field_column": field_column if isinstance(field_column, str) else None, "noise": noise,
              "reject": reject or None, "allow_partial": allow_partial or None, "unit": unit,
@@ -330,7 +330,7 @@ def calibrate_mag(points, method="ellipsoid", field_norm=None, field_column=None
         path = os.fspath(points)
         if field_column is not None and not isinstance(field_column, str):
             raise _usage("field_column", "field_column: the field column of a file: its name or 1-based index")
-        doc = _cubecal._mag_file(path, string_list(columns), int(skip_rows), int(threads), field_column or "", args,
+        doc = _cubecal._mag_file(path, string_list(columns, "columns"), skip_rows, threads, field_column or "", args,
                                  _call_text("calibrate_mag", repr(path), shown))
         return MagCalibration(doc)
     if skip_rows:
@@ -343,7 +343,7 @@ def calibrate_mag(points, method="ellipsoid", field_norm=None, field_column=None
     elif field_column is not None:
         field_values = _vector(field_column, "field_column")
     if _is_table(points):
-        names, arrays = _channels(points, columns, None, tuple(exclude))
+        names, arrays = _channels(points, columns, None, tuple(exclude), "points")
         if len(arrays) != 3:
             raise _usage("columns", f"columns: {len(arrays)} columns ({', '.join(names)}): name the 3 "
                                     "magnetometer columns with columns=")
@@ -360,6 +360,7 @@ def calibrate_mag(points, method="ellipsoid", field_norm=None, field_column=None
 # calibrate temperature
 
 
+@_args.public
 def calibrate_temperature(data, temperature, rate=None, order=1, unit="counts", columns=None, names=None,
                           **read_options):
     """Polynomial bias(T) of every channel with the covariance of its
@@ -382,12 +383,11 @@ def calibrate_temperature(data, temperature, rate=None, order=1, unit="counts", 
     arguments, InputError for bad data.
     """
     args = _cubecal._TemperatureArgs()
-    if isinstance(order, bool) or int(order) != order:
-        raise _usage("order", "order: the polynomial order is a whole number, 1 to 5")
-    if int(order) < 1 or int(order) > 5:
+    order = _args.count(order, "order")
+    if order < 1 or order > 5:
         raise _usage("order", "order: the polynomial order is 1 to 5")
-    args.order = int(order)
-    args.unit = str(unit)
+    args.order = order
+    args.unit = _args.text(unit, "unit")
     if _is_path(data):
         path = os.fspath(data)
         if names is not None:
@@ -418,7 +418,7 @@ def calibrate_temperature(data, temperature, rate=None, order=1, unit="counts", 
 def _triad_of_data(data, columns, exclude, option):
     """(names, 3 arrays) of a triad given as arrays or named columns."""
     if _is_table(data):
-        names, arrays = _channels(data, columns, None, exclude)
+        names, arrays = _channels(data, columns, None, exclude, option.split("_")[0])
         if len(arrays) != 3:
             raise _usage(option, f"{option}: {len(arrays)} columns ({', '.join(names)}): name the 3 columns "
                                  f"with {option}=")
@@ -429,6 +429,7 @@ def _triad_of_data(data, columns, exclude, option):
     return _triad(data, option.split("_")[0])
 
 
+@_args.public
 def calibrate_multiposition(acc, gyro=None, rate=None, time=None, gyro_time=None, acc_columns=None,
                             gyro_columns=None, g=9.80665, init_static=50.0, window=101, interval_samples=100,
                             min_intervals=12, acc_bias=0.0, acc_scale=0.0, gyro_scale=1.0, refine_gyro_bias=False,
@@ -466,20 +467,17 @@ def calibrate_multiposition(acc, gyro=None, rate=None, time=None, gyro_time=None
     InputError for bad data.
     """
     args = _cubecal._MultipositionArgs()
-    args.g = float(g)
-    args.init_static = float(init_static)
-    for key, value in (("window", window), ("interval_samples", interval_samples),
-                       ("min_intervals", min_intervals)):
-        if isinstance(value, bool) or int(value) != value or int(value) < 0:
-            raise _usage(key, f"{key}: a whole number of samples or intervals")
-    args.window = int(window)
-    args.interval_samples = int(interval_samples)
-    args.min_intervals = int(min_intervals)
-    args.acc_bias = number_list(acc_bias)
-    args.acc_scale = float(acc_scale)
-    args.gyro_scale = float(gyro_scale)
-    args.refine_gyro_bias = bool(refine_gyro_bias)
-    args.use_means = bool(use_means)
+    args.g = _args.number(g, "g")
+    args.init_static = _args.number(init_static, "init_static")
+    args.window = _args.count(window, "window")
+    args.interval_samples = _args.count(interval_samples, "interval_samples")
+    args.min_intervals = _args.count(min_intervals, "min_intervals")
+    args.acc_bias = number_list(acc_bias, "acc_bias")
+    args.acc_scale = _args.number(acc_scale, "acc_scale")
+    args.gyro_scale = _args.number(gyro_scale, "gyro_scale")
+    args.refine_gyro_bias = _args.flag(refine_gyro_bias, "refine_gyro_bias")
+    args.use_means = _args.flag(use_means, "use_means")
+    skip_rows, threads = _args.count(skip_rows, "skip_rows"), _args.threads(threads)
     shown = {"rate": rate, "time": time if isinstance(time, str) else None, "acc_columns": acc_columns,
              "gyro_columns": gyro_columns, "g": g if g != 9.80665 else None,
              "init_static": init_static if init_static != 50.0 else None,
@@ -495,8 +493,10 @@ def calibrate_multiposition(acc, gyro=None, rate=None, time=None, gyro_time=None
         acc_path = os.fspath(acc)
         gyro_path = os.fspath(gyro) if gyro is not None else ""
         first = repr(acc_path) + (", " + repr(gyro_path) if gyro_path else "")
-        doc = _cubecal._multiposition_file(acc_path, gyro_path, string_list(acc_columns), string_list(gyro_columns),
-                                           time or "", float(rate or 0.0), int(skip_rows), int(threads), args,
+        doc = _cubecal._multiposition_file(acc_path, gyro_path, string_list(acc_columns, "acc_columns"),
+                                           string_list(gyro_columns, "gyro_columns"),
+                                           str(time or ""), _args.rate(rate) if rate is not None else 0.0, skip_rows,
+                                           threads, args,
                                            _call_text("calibrate_multiposition", first, shown))
         return MultipositionCalibration(doc)
     if _is_path(gyro):
@@ -534,7 +534,7 @@ def calibrate_multiposition(acc, gyro=None, rate=None, time=None, gyro_time=None
         _, gyro_arrays = _triad_of_data(acc, gyro_columns, (), "gyro_columns")
         gyro_label = _label(acc)
     _, acc_arrays = _triad_of_data(acc, acc_columns, tuple(exclude), "acc_columns")
-    r = _rate_of(rate, acc) if time_values is None else (float(rate) if rate is not None else 0.0)
+    r = _rate_of(rate, acc) if time_values is None else (_args.rate(rate) if rate is not None else 0.0)
     doc = _cubecal._multiposition_arrays(acc_arrays, gyro_arrays, time_values, gyro_time_values, r or 0.0, args,
                                          _label(acc), gyro_label,
                                          _call_text("calibrate_multiposition", "<arrays>", shown))
@@ -564,7 +564,7 @@ def _run_inputs(runs, rate, columns, names, threads, read_options, per_run_unit,
             raise _usage("unit", f"unit: run {k + 1}: {command} averages the runs' biases, so every run is in the same "
                                  "unit: give unit= to turnon (or scale a run with lsb=), not a unit per run")
         run = _cubecal._RunInput()
-        run.units = string_list(own.get("unit"))
+        run.units = string_list(own.get("unit"), "unit")
         if _is_path(item):
             if "names" in own or names is not None:
                 raise _usage("names", "names: give columns= to choose the columns of a file")
@@ -578,7 +578,7 @@ def _run_inputs(runs, rate, columns, names, threads, read_options, per_run_unit,
             if file_keys:
                 raise _usage(file_keys[0], f"run {k + 1}: {', '.join(file_keys)}: options of a file; the run is arrays")
             _check_one_segment(item, "give its file, read with gaps=\"split\", or one contiguous piece")
-            run_names, arrays = _channels(item, own.get("columns", columns), own.get("names", names))
+            run_names, arrays = _channels(item, own.get("columns", columns), own.get("names", names), (), "runs")
             r = _rate_of(own.get("rate", rate), item)
             if r is None:
                 raise _usage("rate", f"rate: run {k + 1}: give the sampling rate of the arrays in Hz")
@@ -592,13 +592,14 @@ def _run_inputs(runs, rate, columns, names, threads, read_options, per_run_unit,
 
 def _runs_args(unit, taus, ci, threads):
     a = _cubecal._RunsArgs()
-    a.units = string_list(unit)
-    a.taus = taus
-    a.ci = float(ci)
-    a.threads = int(threads)
+    a.units = string_list(unit, "unit")
+    a.taus = _args.taus(taus)
+    a.ci = _args.number(ci, "ci")
+    a.threads = _args.threads(threads)
     return a
 
 
+@_args.public
 def turnon(runs, rate=None, unit=None, taus="log:10", ci=0.683, columns=None, names=None, threads=0,
            **read_options):
     """Turn-on bias over power-cycled runs of the same sensor, as `cubecal
@@ -627,6 +628,7 @@ def turnon(runs, rate=None, unit=None, taus="log:10", ci=0.683, columns=None, na
     return TurnOn(_cubecal._turnon(inputs, _runs_args(unit, taus, ci, threads)))
 
 
+@_args.public
 def compare(runs, rate=None, unit=None, taus="log:10", ci=0.683, columns=None, names=None, threads=0,
             **read_options):
     """Several runs side by side, as `cubecal compare`: each analysed on its

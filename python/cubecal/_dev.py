@@ -3,7 +3,7 @@ limits, with noise identification, EDF and confidence intervals per tau."""
 
 import numpy as np
 
-from . import _cubecal
+from . import _args, _cubecal
 from ._data import channels_of
 from ._read import Record
 from ._result import Result
@@ -64,6 +64,7 @@ class DevResult(Result):
         return d
 
 
+@_args.public
 def dev(data, rate=None, stat="oadev", data_type="freq", taus="octave", ci=0.683, alpha=None, edf="greenhall",
         conservative=False, intervals=True, names=None, threads=0, gaps=None):
     """One statistic of each channel over a tau grid, as `cubecal dev`.
@@ -83,6 +84,9 @@ def dev(data, rate=None, stat="oadev", data_type="freq", taus="octave", ci=0.683
     names, arrays = channels_of(data, names)
     if rate is None:
         rate = getattr(data, "rate_hz", None) or 1.0
-    meta, columns = _cubecal._dev(arrays, names, float(rate), stat, data_type, taus, float(ci), alpha, edf,
-                                  bool(conservative), bool(intervals), int(threads), gaps)
+    meta, columns = _cubecal._dev(arrays, names, _args.rate(rate), _args.text(stat, "stat"),
+                                  _args.text(data_type, "data_type"), _args.taus(taus), _args.number(ci, "ci"),
+                                  _args.optional_count(alpha, "alpha", minimum=-_args.INT_MAX, maximum=_args.INT_MAX),
+                                  _args.text(edf, "edf"), _args.flag(conservative, "conservative"),
+                                  _args.flag(intervals, "intervals"), _args.threads(threads), _args.text(gaps, "gaps"))
     return DevResult(meta, columns)

@@ -1,7 +1,7 @@
 """cubecal.model: `cubecal model` on a file or on arrays; the result's
 to_dict() is the command's JSON."""
 
-from . import _cubecal
+from . import _args, _cubecal
 from ._data import string_list
 from ._result import Result
 from ._spectral import _source
@@ -22,6 +22,7 @@ class NoiseModel(Result):
     wavelet_variance {tau_samples, tau_s, nu2, lo, hi, edf, n, model}}]."""
 
 
+@_args.public
 def model(data, model, rate=None, unit=None, bootstrap=0, seed=1, ci=0.95, starts=32, names=None, threads=0,
           wic_replicates=50, robust=False, efficiency=0.6, **read_options):
     """A composite noise model fitted to each channel's Haar wavelet variance
@@ -40,10 +41,11 @@ def model(data, model, rate=None, unit=None, bootstrap=0, seed=1, ci=0.95, start
     Gaussian `efficiency`, for records with spikes. Returns a NoiseModel.
     """
     a = _cubecal._ModelArgs()
-    a.model = str(model)
-    a.units = string_list(unit)
-    a.bootstrap, a.seed, a.ci, a.starts, a.threads = int(bootstrap), int(seed), float(ci), int(starts), int(threads)
-    a.wic_replicates = int(wic_replicates)
-    a.robust, a.efficiency = bool(robust), float(efficiency)
+    a.model = _args.text(model, "model")
+    a.units = string_list(unit, "unit")
+    a.bootstrap, a.seed = _args.count(bootstrap, "bootstrap"), _args.seed(seed)
+    a.ci, a.starts, a.threads = _args.number(ci, "ci"), _args.count(starts, "starts"), _args.threads(threads)
+    a.wic_replicates = _args.count(wic_replicates, "wic_replicates")
+    a.robust, a.efficiency = _args.flag(robust, "robust"), _args.number(efficiency, "efficiency")
     path, ra, arrays, names, rate = _source(data, rate, names, read_options)
     return NoiseModel(_cubecal._model(path, ra, arrays, names, rate, a))

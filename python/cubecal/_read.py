@@ -1,7 +1,7 @@
 """cubecal.read: every format the CLI reads, into NumPy arrays."""
 import os
 
-from . import _cubecal
+from . import _args, _cubecal
 from ._data import number_list, string_list
 
 
@@ -28,21 +28,24 @@ class Record(dict):
 def read_args(columns=None, time=None, rate=None, skip_rows=0, lsb=None, gaps="error", topics=None, dataset=None,
               binary=None, header_bytes=0, extra=None, threads=0):
     a = _cubecal._ReadArgs()
-    a.columns = string_list(columns)
+    a.columns = string_list(columns, "columns")
+    if time is not None and (isinstance(time, bool) or not isinstance(time, (str, int))):
+        raise _args.usage("time", f"time: the name or 1-based index of the time column, not {time!r}")
     a.time = str(time) if time is not None else ""
-    a.rate = float(rate) if rate is not None else 0.0
-    a.skip_rows = int(skip_rows)
-    a.lsb = number_list(lsb)
-    a.gaps = gaps
-    a.topics = string_list(topics)
-    a.dataset = dataset or ""
-    a.binary = binary or ""
-    a.header_bytes = int(header_bytes)
-    a.extra = string_list(extra)
-    a.threads = int(threads)
+    a.rate = _args.rate(rate) if rate is not None else 0.0
+    a.skip_rows = _args.count(skip_rows, "skip_rows")
+    a.lsb = number_list(lsb, "lsb")
+    a.gaps = _args.text(gaps, "gaps")
+    a.topics = string_list(topics, "topics")
+    a.dataset = _args.optional_text(dataset, "dataset") or ""
+    a.binary = _args.optional_text(binary, "binary") or ""
+    a.header_bytes = _args.count(header_bytes, "header_bytes")
+    a.extra = string_list(extra, "extra")
+    a.threads = _args.threads(threads)
     return a
 
 
+@_args.public
 def read(path, columns=None, time=None, rate=None, skip_rows=0, lsb=None, gaps="error", topics=None, dataset=None,
          binary=None, header_bytes=0, extra=None, frame=False, threads=0):
     """Reads and checks a record as the CLI does: delimited text (.csv, .gz),
@@ -63,7 +66,8 @@ def read(path, columns=None, time=None, rate=None, skip_rows=0, lsb=None, gaps="
     """
     args = read_args(columns, time, rate, skip_rows, lsb, gaps, topics, dataset, binary, header_bytes, extra,
                      threads)
-    columns_read, meta = _cubecal._read(os.fspath(path), args)
+    frame = _args.flag(frame, "frame")
+    columns_read, meta = _cubecal._read(_args.path(path), args)
     record = Record(columns_read, meta)
     if not frame:
         return record

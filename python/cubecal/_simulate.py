@@ -3,17 +3,19 @@ import os
 
 import numpy as np
 
-from . import _cubecal
+from . import _args, _cubecal
 from ._analyze import Analysis
 from ._data import number_list, string_list
 from ._read import Record
 
 
+@_args.public
 def presets():
     """The names of the built-in sensor models (the paper's gyro and magnetometer, ...)."""
     return list(_cubecal._preset_names())
 
 
+@_args.public
 def simulate(model, rate=None, duration=3600.0, seed=1, temperature="sine:25,5", bias=None,
              true_input=None, flicker=None):
     """A simulated record as a cubecal.Record (name -> NumPy array: t, the
@@ -40,30 +42,41 @@ def simulate(model, rate=None, duration=3600.0, seed=1, temperature="sine:25,5",
     for m in models:
         if isinstance(m, Analysis):
             if a.analysis is not None:
-                raise _cubecal.UsageError("model: one analysis at a time")
+                raise _args.usage("model", "model: one analysis at a time")
             a.analysis = m._handle
         elif isinstance(m, os.PathLike) or (isinstance(m, str) and m.endswith(".json")):
             a.model_file = os.fspath(m)
         elif isinstance(m, str):
-            a.presets = a.presets + string_list(m)
+            a.presets = a.presets + string_list(m, "model")
         else:
-            raise _cubecal.UsageError(f"model: a preset name, an Analysis or an analysis.json path, not {type(m).__name__}")
+            raise _args.usage("model",
+                              f"model: a preset name, an Analysis or an analysis.json path, not {type(m).__name__}")
     if rate is not None:
-        a.rate = float(rate)
-    a.duration = _cubecal._parse_duration(duration) if isinstance(duration, str) else float(duration)
-    a.seed = int(seed)
+        a.rate = _args.rate(rate)
+    if isinstance(duration, str):
+        try:
+            a.duration = _cubecal._parse_duration(duration)
+        except _cubecal.UsageError as e:
+            raise _args.usage("duration", str(e)) from None
+    else:
+        a.duration = _args.number(duration, "duration", positive=True)
+    a.seed = _args.seed(seed)
     if bias is not None:
-        a.bias = bias
+        a.bias = _args.text(bias, "bias")
     if isinstance(temperature, str):
         a.temperature = temperature
     else:
-        a.temperature_values = np.asarray(temperature, dtype=np.float64)
+        a.temperature_values = _args.samples(temperature, "temperature")
     if true_input is not None:
+        if isinstance(true_input, (str, bytes)) or not hasattr(true_input, "__len__") or len(true_input) != 4:
+            raise _args.usage("true_input", "true_input: (t, wx, wy, wz), four arrays")
         t, *w = true_input
-        a.true_t = np.asarray(t, dtype=np.float64)
-        a.true_w = [np.asarray(x, dtype=np.float64) for x in w]
+        a.true_t = _args.samples(t, "true_input")
+        a.true_w = [_args.samples(x, "true_input") for x in w]
     if flicker is not None:
-        a.flicker = number_list(flicker)
+        a.flicker = number_list(flicker, "flicker")
+        if any(not 0.0 <= b <= 1e100 for b in a.flicker):
+            raise _args.usage("flicker", f"flicker: a bias instability from 0 to 1e100 is expected, not {flicker!r}")
     names, arrays, rate_hz = _cubecal._simulate(a)
     n = len(arrays[0]) if arrays else 0
     columns = {"t": np.arange(n, dtype=np.float64) / rate_hz}

@@ -75,7 +75,7 @@ pipeline::AnalyzeRequest request(const AnalyzeArgs& a) {
   req.cov_samples = a.cov_samples;
   req.max_samples = a.max_samples;
   for (const double x : a.model_lsb)
-    if (!(x >= 0.0) || !std::isfinite(x)) throw UsageError(Field::lsb, "model_lsb: counts per unit, 0 or more");
+    if (!(x >= 0.0) || !std::isfinite(x)) throw ArgumentError("model_lsb", "model_lsb: counts per unit, 0 or more");
   req.lsb = a.model_lsb;
   req.threads = a.threads;
   req.psd = a.psd;

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "cubecal/error.hpp"
+#include "cubecal/io/sample_checks.hpp"
 #include "errors.hpp"
 
 namespace cubecal::python {
@@ -12,8 +13,7 @@ namespace cubecal::python {
 io::Series array_series(const std::vector<Doubles>& channels, const std::vector<std::string>& names, double rate,
                         const std::optional<Doubles>& temperature, const std::string& temp_name,
                         const std::string& label) {
-  if (!(rate > 0.0) || !std::isfinite(rate) || rate < io::kMinRateHz || rate > io::kMaxRateHz)
-    throw UsageError(Field::rate, "rate must be a positive number of Hz (1e-9 to 1e9)");
+  io::check_rate(rate);
   if (channels.empty()) throw ArgumentError("data", "no channel to analyze");
   if (names.size() != channels.size()) throw std::invalid_argument("names: one name per channel");
   io::Series s;
@@ -21,16 +21,13 @@ io::Series array_series(const std::vector<Doubles>& channels, const std::vector<
   s.rate_hz = rate;
   s.tau0 = 1.0 / rate;
   s.names = names;
-  const auto take = [&](const Doubles& a, const std::string& name, std::size_t column) {
-    const std::span<const double> v = view(a, name);
-    for (std::size_t i = 0; i < v.size(); ++i)
-      if (!std::isfinite(v[i]))
-        throw InputError(label, i + 1, column, "non-finite value in " + name + " at sample " + std::to_string(i),
-                         "remove the sample or split the record there");
+  const auto take = [&](const Doubles& a, const std::string& keyword, const std::string& name, std::size_t column) {
+    const std::span<const double> v = view(a, keyword);
+    io::check_samples(v, label, column, name);
     return std::vector<double>(v.begin(), v.end());
   };
   for (std::size_t c = 0; c < channels.size(); ++c) {
-    s.channels.push_back(take(channels[c], names[c], c + 1));
+    s.channels.push_back(take(channels[c], "data", names[c], c + 1));
     if (s.channels.back().size() != s.channels.front().size())
       throw ArgumentError("data", "every channel must have the same length (" + names[c] + " has " +
                                       std::to_string(s.channels.back().size()) + " samples, " + names[0] + " " +
@@ -38,7 +35,7 @@ io::Series array_series(const std::vector<Doubles>& channels, const std::vector<
   }
   if (temperature) {
     s.extra_names.push_back(temp_name);
-    s.extra.push_back(take(*temperature, temp_name, channels.size() + 1));
+    s.extra.push_back(take(*temperature, "temperature", temp_name, channels.size() + 1));
     if (s.extra[0].size() != s.channels[0].size())
       throw ArgumentError("temperature", "the temperature must have one value per sample (" +
                                              std::to_string(s.extra[0].size()) + " for " +

@@ -12,6 +12,8 @@
 #include <utility>
 #include <vector>
 
+#include "errors.hpp"
+
 namespace cubecal::python {
 
 namespace py = pybind11;
@@ -20,10 +22,12 @@ namespace py = pybind11;
 // float64 array passes through untouched.
 using Doubles = py::array_t<double, py::array::c_style | py::array::forcecast>;
 
-// A 1-D view; std::invalid_argument (ValueError) for another shape.
-inline std::span<const double> view(const Doubles& a, const std::string& what) {
+// A 1-D view of the array given for the argument `keyword`; an
+// ArgumentError (cubecal.UsageError naming it) for another shape.
+inline std::span<const double> view(const Doubles& a, const std::string& keyword) {
   if (a.ndim() != 1)
-    throw std::invalid_argument(what + ": a 1-D array is expected, got " + std::to_string(a.ndim()) + " dimensions");
+    throw ArgumentError(keyword,
+                        keyword + ": a 1-D array is expected, got " + std::to_string(a.ndim()) + " dimensions");
   return {a.data(), static_cast<std::size_t>(a.shape(0))};
 }
 

@@ -39,6 +39,7 @@
 #include "cubecal/calib/static_detection.hpp"
 #include "cubecal/error.hpp"
 #include "cubecal/io/delimited_reader.hpp"
+#include "cubecal/io/sample_checks.hpp"
 #include "cubecal/io/series.hpp"
 #include "cubecal/noise/unit_from_name.hpp"
 #include "cubecal/noise/units.hpp"
@@ -84,15 +85,13 @@ decltype(auto) on_record(const std::string& label, F&& f) {
   }
 }
 
-// The values of a 1-D array, every one finite: a NaN or infinity is an
-// InputError at line = sample + 1, column = `column` of the record `label`.
+// The values of a 1-D array, checked as a reader checks a column (finite,
+// magnitudes a variance can hold: io/sample_checks.hpp): an InputError at
+// line = sample + 1, column = `column` of the record `label`.
 std::vector<double> finite_values(const Doubles& a, const std::string& what, const std::string& label,
                                   std::size_t column) {
   const std::span<const double> v = view(a, what);
-  for (std::size_t i = 0; i < v.size(); ++i)
-    if (!std::isfinite(v[i]))
-      throw InputError(label, i + 1, column, "non-finite value in " + what + " at sample " + std::to_string(i),
-                       "remove the sample or split the record there");
+  io::check_samples(v, label, column, what);
   return {v.begin(), v.end()};
 }
 
@@ -459,6 +458,7 @@ pipeline::MultipositionRequest multiposition_request(const MultipositionArgs& a,
 
 void check_sampling_choice(bool stamped, double rate) {
   if (rate < 0.0 || !std::isfinite(rate)) throw UsageError(Field::rate, "rate must be a positive number of Hz");
+  if (rate > 0.0) io::check_rate(rate);
   if (stamped && rate > 0.0) throw UsageError(Field::rate, "give the time stamps or the rate, not both");
   if (!stamped && !(rate > 0.0))
     throw UsageError(Field::rate, "give the time stamps (time=) or the sampling rate (rate=)");

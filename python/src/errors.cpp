@@ -19,6 +19,17 @@ void raise(PyObject* type, const std::string& message, const py::dict& attribute
   PyErr_SetObject(type, instance.ptr());
 }
 
+// The message of a UsageError in Python's words; one that leaves its field
+// for the face to name (Named::in_front, as the CLI's "--rate: ...") starts
+// with the keyword, "rate: the sampling rate ...", unless it names it first.
+std::string usage_message(const UsageError& e, const std::string& keyword) {
+  std::string text = python_words(e.text());
+  if (keyword.empty() || e.named() != UsageError::Named::in_front) return text;
+  const bool names_it = text.starts_with(keyword) && (text.size() == keyword.size() || text[keyword.size()] == ' ' ||
+                                                      text[keyword.size()] == ':' || text[keyword.size()] == '=');
+  return names_it ? text : keyword + ": " + text;
+}
+
 }  // namespace
 
 std::string_view python_keyword(Field f) noexcept {
@@ -26,6 +37,7 @@ std::string_view python_keyword(Field f) noexcept {
     case Field::counts_per_unit: return "lsb";
     case Field::reject_sigma: return "reject";
     case Field::mag_columns: return "columns";
+    case Field::min_frequency: return "fmin";
     default: return field_name(f);
   }
 }
@@ -77,12 +89,15 @@ void bind_errors(py::module_& m) {
       raise(usage_error.ptr(), python_words(e.text()), a);
     } catch (const UsageError& e) {
       py::dict a;
-      a["option"] = e.field() ? std::string(python_keyword(*e.field())) : std::string();
-      raise(usage_error.ptr(), python_words(e.text()), a);
+      const std::string keyword = e.field() ? std::string(python_keyword(*e.field())) : std::string();
+      a["option"] = keyword;
+      raise(usage_error.ptr(), usage_message(e, keyword), a);
     } catch (const CalibrationError& e) {
       py::dict a;
       a["reason"] = std::string(to_string(e.reason()));
       raise(calibration_error.ptr(), python_words(e.text()), a);
+    } catch (const Error& e) {
+      raise(error.ptr(), python_words(e.text()), py::dict());
     }
   });
 }

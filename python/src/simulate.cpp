@@ -19,6 +19,7 @@
 #include "arrays.hpp"
 #include "cubecal/error.hpp"
 #include "errors.hpp"
+#include "cubecal/io/sample_checks.hpp"
 #include "cubecal/io/series.hpp"
 #include "cubecal/pipeline/analysis_json.hpp"
 #include "cubecal/pipeline/model_fit_json.hpp"
@@ -119,8 +120,7 @@ void read_model_file(const std::string& path, std::optional<pipeline::AnalysisRe
 
 py::tuple simulate(const SimulateArgs& a) {
   pipeline::SimulateRequest req;
-  if (a.rate != 0.0 && (!(a.rate >= io::kMinRateHz && a.rate <= io::kMaxRateHz) || !std::isfinite(a.rate)))
-    throw UsageError(Field::rate, "rate must be a positive number of Hz (1e-9 to 1e9)");
+  if (a.rate != 0.0) io::check_rate(a.rate);
   const bool rate_given = a.rate != 0.0;
   req.rate_hz = rate_given ? a.rate : 10.0;
   // The model's sigma_n and sigma_mu hold per sample at the rate it was
@@ -180,10 +180,10 @@ py::tuple simulate(const SimulateArgs& a) {
   req.temperature = temperature(a);
   if (a.true_t) {
     if (a.true_w.size() != 3) throw ArgumentError("true_input", "a true-input profile is (t, wx, wy, wz)");
-    const auto t = view(*a.true_t, "true_input t");
+    const auto t = view(*a.true_t, "true_input");
     req.true_input.t.assign(t.begin(), t.end());
     for (int k = 0; k < 3; ++k) {
-      const auto w = view(a.true_w[static_cast<std::size_t>(k)], "true_input w");
+      const auto w = view(a.true_w[static_cast<std::size_t>(k)], "true_input");
       if (w.size() != t.size()) throw ArgumentError("true_input", "t and each rate must have the same length");
       req.true_input.w[static_cast<std::size_t>(k)].assign(w.begin(), w.end());
     }

@@ -21,6 +21,7 @@
 #include "cubecal/error.hpp"
 #include "errors.hpp"
 #include "cubecal/pipeline/analysis_json.hpp"
+#include "cubecal/io/sample_checks.hpp"
 #include "cubecal/io/series.hpp"
 #include "cubecal/pipeline/dev_pipeline.hpp"
 #include "cubecal/stats/gap_deviation.hpp"
@@ -68,9 +69,9 @@ TauGrid taus_arg(const py::object& taus) {
 
 namespace {
 
-void check_rate(double rate) {
-  if (!(rate > 0.0) || !std::isfinite(rate)) throw UsageError(Field::rate, "rate must be a positive number of Hz");
-}
+// The readers' rule (io/sample_checks.hpp): a rate that makes every tau or
+// deviation overflow or underflow is refused, as the CLI refuses it.
+void check_rate(double rate) { io::check_rate(rate); }
 
 // (m, dev, n) at the given averaging factors; n == 0 where the record is too
 // short for m. No intervals: the AllanTools-shaped calls return dev/sqrt(n).
@@ -80,6 +81,7 @@ py::tuple deviation(const std::string& stat_name, const Doubles& data, double ra
   const DataType type = data_type_arg(type_name);
   check_rate(rate);
   const std::span<const double> x = view(data, "data");
+  io::check_samples(x, "<arrays>", 1, "data");
   if (factors.ndim() != 1) throw std::invalid_argument("factors: a 1-D array is expected");
   std::vector<std::size_t> ms;
   ms.reserve(static_cast<std::size_t>(factors.size()));
@@ -115,6 +117,7 @@ py::tuple deviation_missing(const Doubles& data, double rate, const std::string&
   check_rate(rate);
   if (!(ci > 0.0 && ci < 1.0)) throw UsageError(Field::ci, "ci must be between 0 and 1");
   const std::span<const double> x = view(data, "data");
+  io::check_samples(x, "<arrays>", 1, "data", true);
   std::vector<std::size_t> ms;
   for (py::ssize_t i = 0; i < factors.size(); ++i) {
     if (factors.data()[i] < 1) throw UsageError(Field::taus, "every averaging factor must be at least 1");
@@ -199,7 +202,8 @@ py::tuple dev(const std::vector<Doubles>& channels, const std::vector<std::strin
   if (names.size() != channels.size()) throw std::invalid_argument("names: one name per channel");
   std::vector<std::span<const double>> views;
   for (std::size_t c = 0; c < channels.size(); ++c) {
-    views.push_back(view(channels[c], names[c]));
+    views.push_back(view(channels[c], "data"));
+    io::check_samples(views.back(), "<arrays>", c + 1, names[c], gaps == "skip");
     if (views.back().size() != views.front().size())
       throw ArgumentError("data", "every channel must have the same length (" + names[c] + " has " +
                                       std::to_string(views.back().size()) + ", " + names[0] + " " +
@@ -231,6 +235,8 @@ py::tuple dev(const std::vector<Doubles>& channels, const std::vector<std::strin
 }  // namespace
 
 void bind_stats(py::module_& m) {
+  m.def("_check_rate", &io::check_rate, py::arg("rate"),
+        "Refuses a sampling rate outside the readers' range (cubecal.UsageError naming rate).");
   m.def("_deviation", &deviation, py::arg("stat"), py::arg("data"), py::arg("rate"), py::arg("data_type"),
         py::arg("factors"),
         "Deviation and term count of `stat` at each averaging factor (n == 0: record too short for it).");

@@ -61,8 +61,9 @@ class Errors(unittest.TestCase):
         with self.assertRaises(cubecal.InputError) as cm:
             cubecal.analyze(y, rate=10.0, unit="deg/s")
         self.assertEqual((cm.exception.line, cm.exception.column), (18, 1))
-        with self.assertRaises(ValueError):
+        with self.assertRaises(cubecal.InputError) as cm:
             cubecal.oadev(y)
+        self.assertEqual((cm.exception.line, cm.exception.column), (18, 1))
 
     def test_units_from_names_or_asked(self):
         y = np.random.default_rng(0).normal(size=2000)

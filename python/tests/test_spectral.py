@@ -130,9 +130,9 @@ class GapsSkip(unittest.TestCase):
         got["file"] = want["file"]
         self.assertEqual(got, want)
         self.assertLess(len(got["columns"][0]["af"]), len(got["columns"][1]["af"]))  # gx's long taus have no term
-        # As arrays the NaN is refused unless asked for.
+        # As arrays the NaN is refused (at its place) unless asked for.
         arrays = {"gx_dps": np.asarray(rec["gx_dps"]), "gy_dps": np.asarray(rec["gy_dps"])}
-        with self.assertRaises(cubecal.UsageError):
+        with self.assertRaises(cubecal.InputError):
             cubecal.dev(arrays, rate=10.0, taus="all")
         self.assertEqual(cubecal.dev(arrays, rate=10.0, taus="all", gaps="skip").to_dict()["columns"],
                          want["columns"])

@@ -22,6 +22,7 @@
 #include "detail/npy_reader.hpp"
 #include "cubecal/io/mcap.hpp"
 #include "cubecal/io/recording.hpp"
+#include "cubecal/io/sample_checks.hpp"
 #include "cubecal/io/message_log.hpp"
 #include "cubecal/io/ros1_bag.hpp"
 #include "cubecal/io/ros2_bag.hpp"
@@ -104,10 +105,7 @@ void check_options(const SeriesOptions& opt) {
   if (!(opt.rate_hz >= 0.0) || !std::isfinite(opt.rate_hz)) {
     throw UsageError("the sampling rate must be a positive finite number of Hz, got " + stamp(opt.rate_hz));
   }
-  if (opt.rate_hz != 0.0 && !(opt.rate_hz >= kMinRateHz && opt.rate_hz <= kMaxRateHz)) {
-    throw UsageError(Field::rate, "the sampling rate " + stamp(opt.rate_hz) + " Hz is outside the range " +
-                                      stamp(kMinRateHz) + " to " + stamp(kMaxRateHz) + " Hz");
-  }
+  if (opt.rate_hz != 0.0) check_rate(opt.rate_hz);
   if (!(opt.tolerance >= 0.0) || !std::isfinite(opt.tolerance)) {
     throw UsageError("the interval tolerance must be a non-negative fraction, got " + stamp(opt.tolerance));
   }

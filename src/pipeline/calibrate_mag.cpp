@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "cubecal/error.hpp"
+#include "cubecal/io/series.hpp"
 
 namespace cubecal::pipeline {
 
@@ -25,6 +26,10 @@ namespace {
 
 bool positive(double v) { return v > 0.0 && std::isfinite(v); }
 
+// A magnitude whose square (a variance, a chi-squared weight) a double holds,
+// as the readers take values (io/series.hpp).
+bool holdable(double v) { return v >= io::kMinMagnitude && v <= io::kMaxMagnitude; }
+
 void check_request(const io::Table& t, const MagRequest& req) {
   if (t.data.size() != 3)
     throw UsageError(Field::mag_columns, t.file + " has " + std::to_string(t.data.size()) +
@@ -39,14 +44,16 @@ void MagRequest::validate() const {
   constexpr auto in_text = UsageError::Named::in_text;
   if (!positive(counts_per_unit))
     throw UsageError(Field::counts_per_unit, "{counts_per_unit} must be a positive number of counts per unit", in_text);
-  if (field_norm && !positive(*field_norm))
+  if (field_norm && !(positive(*field_norm) && holdable(*field_norm)))
     throw UsageError(Field::field_norm,
-                     "{field_norm} must be a positive field magnitude (in the units of the values after "
-                     "{counts_per_unit})",
+                     "{field_norm} must be a positive field magnitude, 1e-100 to 1e100 (in the units of the values "
+                     "after {counts_per_unit})",
                      in_text);
-  if (noise && !positive(*noise))
+  if (noise && !(positive(*noise) && holdable(*noise)))
     throw UsageError(Field::noise,
-                     "{noise} must be a positive standard deviation per axis (leave it out to estimate it)", in_text);
+                     "{noise} must be a positive standard deviation per axis, 1e-100 to 1e100 (leave it out to "
+                     "estimate it)",
+                     in_text);
   if (!(reject_sigma >= 0.0) || !std::isfinite(reject_sigma))
     throw UsageError(Field::reject_sigma,
                      "{reject_sigma} must be a positive number of standard deviations (0: no rejection)", in_text);

@@ -62,10 +62,12 @@ WelchPlan plan_welch(const WelchOptions& o, std::size_t longest, double rate_hz)
     const double need = std::ceil(std::log2(rate_hz / o.min_frequency_hz) - 1e-12);
     const double length = std::exp2(std::max(need, 2.0));
     if (length > static_cast<double>(longest))
-      throw UsageError(Field::min_frequency,
-                       "resolving " + hz_text(o.min_frequency_hz) + " Hz at " + hz_text(rate_hz) +
-                           " Hz takes segments of " + std::to_string(static_cast<long long>(length)) +
-                           " samples, longer than the record (" + count_text(longest) + " samples contiguous)");
+      throw UsageError(Field::min_frequency, "resolving " + hz_text(o.min_frequency_hz) + " Hz at " + hz_text(rate_hz) +
+                                                 " Hz takes segments of " +
+                                                 (need < 62.0 ? std::to_string(static_cast<long long>(length))
+                                                              : "2^" + std::to_string(static_cast<long long>(need))) +
+                                                 " samples, longer than the record (" + count_text(longest) +
+                                                 " samples contiguous)");
     p.segment_length = static_cast<std::size_t>(length);
   } else {
     if (longest < kMinDefaultSegment)
