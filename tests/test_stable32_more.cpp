@@ -747,6 +747,10 @@ TEST_F(Stable32Dat, ContradictionsAndBadHeadersAreRefused) {
     EXPECT_TRUE(test::one_error_line(r)) << flags << ": " << r.err;
     EXPECT_NE(r.err.find("header"), std::string::npos) << r.err;
   }
+  // Its header is read whole: --stream says so (not "no sampling rate").
+  const auto streamed = test::run_cubecal("dev " + file + " --stream");
+  EXPECT_TRUE(test::one_error_line(streamed)) << streamed.err;
+  EXPECT_NE(streamed.err.find("Stable32"), std::string::npos) << streamed.err;
   // The same rate and type as the header's are accepted.
   EXPECT_EQ(test::run_cubecal("dev " + file + " --rate 1 --type phase").code, 0);
   const std::string bad_type = write("TYPE.DAT", stable32_header("Voltage", "1.000000e+00", x.size()) + values_text(x));
