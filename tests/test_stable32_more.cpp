@@ -49,14 +49,19 @@ struct Row {
   double lo = 0, dev = 0, hi = 0;
 };
 
+// Rows commented out with '#' (AllanTools' test suite left out the rows it
+// did not reproduce) are rows of the table too: every one is compared.
 std::vector<Row> read_rows(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error("cannot open " + path);
   std::vector<Row> rows;
   std::string line;
   while (std::getline(in, line)) {
-    if (line.find('#') != std::string::npos) continue;
-    std::istringstream ss(line);
+    const std::size_t first = line.find_first_not_of(" \t");
+    const bool commented = first != std::string::npos && line[first] == '#';
+    const std::string body = commented ? line.substr(first + 1) : line;
+    if (body.find_first_of("#:") != std::string::npos) continue;  // a header line
+    std::istringstream ss(body);
     std::vector<double> v;
     double d = 0;
     while (ss >> d) v.push_back(d);
@@ -92,7 +97,9 @@ struct Case {
   bool cs5071a;  // else PHASE.DAT
   Stat stat;
   std::optional<int> fixed_alpha = std::nullopt;  // the table was made with this type
-  bool bias_correction = false;                   // the table is bias-corrected
+  // As Stable32 made the table: corrected (on), plain (off), or its default
+  // (stable32: TOTDEV and HTOT corrected, MTOT and TTOT not).
+  BiasCorrection bias_correction = BiasCorrection::stable32;
   NTerms n_terms = NTerms::exact;
   // From this factor on Stable32's intervals follow coefficients of its own
   // (MTOT and TTOT from m = 10: docs/formulas/stability.md 5.6): ours, from
@@ -189,18 +196,23 @@ const Case kCases[] = {
     {"stable32/cs5071a/mtie_all.txt", true, Stat::mtie},
     {"stable32/cs5071a/mtie_fast.txt", true, Stat::mtie},
     // Stable32's MTIE outside its fast mode prints the record length as "#".
-    {"stable32/cs5071a/mtie_decade.txt", true, Stat::mtie, std::nullopt, false, NTerms::record},
-    {"stable32/phasedat/phase_dat_mtotdev_octave.txt", false, Stat::mtotdev, std::nullopt, false, NTerms::exact, 10},
-    {"stable32/phasedat/phase_dat_mtotdev_decade.txt", false, Stat::mtotdev, std::nullopt, false, NTerms::exact, 10},
-    {"stable32/phasedat/phase_dat_mtotdev_octave_alpha0.txt", false, Stat::mtotdev, 0, false, NTerms::exact, 10},
+    {"stable32/cs5071a/mtie_decade.txt", true, Stat::mtie, std::nullopt, BiasCorrection::off, NTerms::record},
+    {"stable32/phasedat/phase_dat_mtotdev_octave.txt", false, Stat::mtotdev, std::nullopt, BiasCorrection::stable32,
+     NTerms::exact, 10},
+    {"stable32/phasedat/phase_dat_mtotdev_decade.txt", false, Stat::mtotdev, std::nullopt, BiasCorrection::stable32,
+     NTerms::exact, 10},
+    {"stable32/phasedat/phase_dat_mtotdev_octave_alpha0.txt", false, Stat::mtotdev, 0, BiasCorrection::stable32,
+     NTerms::exact, 10},
     // Stable32 1.53's all-tau run: bias-corrected by the noise type it gives.
-    {"stable32/phasedat/phase_dat_mtotdev.txt", false, Stat::mtotdev, std::nullopt, true},
-    {"stable32/phasedat/phase_dat_ttotdev_octave.txt", false, Stat::ttotdev, std::nullopt, false, NTerms::exact, 10},
-    {"stable32/phasedat/phase_dat_ttotdev_decade.txt", false, Stat::ttotdev, std::nullopt, false, NTerms::exact, 10},
-    {"stable32/phasedat/phase_dat_ttotdev_all.txt", false, Stat::ttotdev, std::nullopt, true},
-    {"stable32/phasedat/phase_dat_htotdev_octave.txt", false, Stat::htotdev, std::nullopt, true},
+    {"stable32/phasedat/phase_dat_mtotdev.txt", false, Stat::mtotdev, std::nullopt, BiasCorrection::on},
+    {"stable32/phasedat/phase_dat_ttotdev_octave.txt", false, Stat::ttotdev, std::nullopt, BiasCorrection::stable32,
+     NTerms::exact, 10},
+    {"stable32/phasedat/phase_dat_ttotdev_decade.txt", false, Stat::ttotdev, std::nullopt, BiasCorrection::stable32,
+     NTerms::exact, 10},
+    {"stable32/phasedat/phase_dat_ttotdev_all.txt", false, Stat::ttotdev, std::nullopt, BiasCorrection::on},
+    {"stable32/phasedat/phase_dat_htotdev_octave.txt", false, Stat::htotdev},
     // Made without bias correction; Stable32 says alpha 2 on every row.
-    {"stable32/phasedat/phase_dat_htotdev_octave_nobias.txt", false, Stat::htotdev, 2},
+    {"stable32/phasedat/phase_dat_htotdev_octave_nobias.txt", false, Stat::htotdev, 2, BiasCorrection::off},
     // Theo1 with the type fixed at white FM (Theo1's bias is 1 there).
     {"stable32/phasedat/phase_dat_theo1_alpha0.txt", false, Stat::theo1, 0},
     {"stable32/phasedat/phase_dat_theo1_alpha0_decade.txt", false, Stat::theo1, 0},
@@ -530,8 +542,10 @@ TEST(TheoBr, RatioIsTheMeanAvarOverTheo1) {
 // the printed deviation with our EDF at N = 1253, the type Stable32 printed,
 // within 1e-3 of its Min/Max: MTOT below m = 10 (MDEV's EDF), HTOT below
 // m = 16 (SP 1065 Table 5) and from m = 16 on (the rows alpha 0 and -1 of
-// Howe et al.'s table). Left out: MTOT from m = 10 on (Stable32's own
-// coefficients) and HTOT's flicker-PM row (m = 100; 1.0e-3 apart).
+// Howe et al.'s table, and flicker PM: Table 5 + 2, as TOTDEV's); TOTDEV
+// (phase/{octave,decade}/totdev.txt: SP 1065 Table 11 for white, flicker and
+// random-walk FM, Table 5 + 2 for flicker PM at m = 100). Left out: MTOT from
+// m = 10 on (Stable32's own coefficients).
 TEST(Stable32Intervals, SecondRecordMtotAndHtot) {
   struct RefRow {
     Stat stat;
@@ -559,6 +573,16 @@ TEST(Stable32Intervals, SecondRecordMtotAndHtot) {
       {Stat::htotdev, 200, -1, 2.2752e-17, 2.8300e-17, 4.1983e-17},
       {Stat::htotdev, 256, 0, 1.8034e-17, 2.2308e-17, 3.2500e-17},
       {Stat::htotdev, 400, -1, 1.1419e-17, 1.5213e-17, 3.1436e-17},
+      {Stat::htotdev, 100, 1, 4.4525e-17, 4.7680e-17, 5.1617e-17},
+      {Stat::totdev, 1, -1, 8.8689e-17, 9.0304e-17, 9.2011e-17},
+      {Stat::totdev, 2, -2, 8.6445e-17, 8.8930e-17, 9.1644e-17},
+      {Stat::totdev, 4, -1, 1.0156e-16, 1.0523e-16, 1.0932e-16},
+      {Stat::totdev, 8, 0, 9.7585e-17, 1.0195e-16, 1.0697e-16},
+      {Stat::totdev, 100, 1, 4.2698e-17, 4.5724e-17, 4.9499e-17},
+      {Stat::totdev, 200, -1, 2.0582e-17, 2.5261e-17, 3.5911e-17},
+      {Stat::totdev, 256, 0, 1.7362e-17, 2.1255e-17, 2.9986e-17},
+      {Stat::totdev, 400, -1, 1.5759e-17, 2.0492e-17, 3.6551e-17},
+      {Stat::totdev, 512, 0, 1.4893e-17, 1.9264e-17, 3.3449e-17},
   };
   double worst = 0;
   for (const RefRow& r : rows) {
@@ -567,8 +591,8 @@ TEST(Stable32Intervals, SecondRecordMtotAndHtot) {
     EXPECT_LE(e, 1e-3) << to_string(r.stat) << " m " << r.m << ": [" << ci.lo << ", " << ci.hi << "]";
     worst = std::max(worst, e);
   }
-  std::printf("  Stable32's MTOT and HTOT intervals of the Sr87 record (%zu rows): worst %.2e\n", std::size(rows),
-              worst);
+  std::printf("  Stable32's MTOT, HTOT and TOTDEV intervals of the Sr87 record (%zu rows): worst %.2e\n",
+              std::size(rows), worst);
 }
 
 // ---------------------------------------------------------------------------
@@ -583,9 +607,10 @@ TEST(Cli, EveryNewStatisticThroughDevJson) {
     double af, tau, dev;  // a row of a Stable32 table
     bool intervals;
   };
+  // HTOT: bias-corrected by default, as Stable32 (phase_dat_htotdev_octave.txt).
   const Want wants[] = {
       {"tierms", 4, 4, 5.7044e-01, false},  {"mtie", 1, 1, 5.0597e-01, false},   {"mtotdev", 4, 4, 9.4613e-02, true},
-      {"ttotdev", 4, 4, 2.1850e-01, true},  {"htotdev", 4, 4, 1.4216e-01, true}, {"theo1", 16, 12, 8.5040e-02, true},
+      {"ttotdev", 4, 4, 2.1850e-01, true},  {"htotdev", 4, 4, 1.4252e-01, true}, {"theo1", 16, 12, 8.5040e-02, true},
       {"theobr", 16, 12, 6.6025e-02, true},
   };
   for (const Want& w : wants) {
@@ -607,6 +632,31 @@ TEST(Cli, EveryNewStatisticThroughDevJson) {
     EXPECT_NE(help.out.find(name), std::string::npos) << name;
 }
 
+// TOTDEV's bias correction (SP 1065: TOTVAR / AVAR = 1 - a tau/T, a = 0.750
+// for random-walk FM, T = 1000 s): on by default with intervals, as Stable32;
+// --no-bias-correction and a run without noise type (--no-ci) give the plain
+// estimator, Stable32's all-tau value of PHASE.DAT at AF 256 (8.2053e-03 is
+// its AF 499; the AF 256 row of the octave table: 1.3369e-02).
+TEST(Cli, TotdevBiasCorrection) {
+  auto dev_at_256 = [](const std::string& flags) {
+    const auto r = test::run_cubecal("dev " + kPhaseDat + " --type phase --rate 1 --stat totdev --taus 256 " + flags +
+                                     " --format json");
+    EXPECT_EQ(r.code, 0) << flags << ": " << r.err;
+    return r.code == 0 ? nlohmann::json::parse(r.out)["columns"][0]["dev"][0].get<double>() : 0.0;
+  };
+  const double plain = dev_at_256("--alpha -2 --no-bias-correction");
+  EXPECT_LE(rel(plain, 1.3369e-02), 1e-4);
+  const double factor = 1.0 / std::sqrt(1.0 - 0.75 * 256.0 / 1000.0);
+  EXPECT_NEAR(dev_at_256("--alpha -2"), plain * factor, plain * 1e-12);
+  EXPECT_NEAR(dev_at_256("--alpha -2 --bias-correction"), plain * factor, plain * 1e-12);
+  EXPECT_NEAR(dev_at_256("--alpha -1"), plain / std::sqrt(1.0 - 256.0 / (3.0 * std::log(2.0)) / 1000.0), plain * 1e-12);
+  EXPECT_EQ(dev_at_256("--alpha -2 --no-ci"), plain);
+  EXPECT_EQ(dev_at_256("--alpha 0"), plain);  // white FM: no bias
+  const auto both = test::run_cubecal("dev " + kPhaseDat +
+                                      " --type phase --rate 1 --stat totdev --bias-correction --no-bias-correction");
+  EXPECT_TRUE(test::one_error_line(both)) << both.err;
+}
+
 TEST(Cli, BiasCorrectionOption) {
   // Stable32 1.53's bias-corrected MTOT of PHASE.DAT at AF 4 (white FM).
   const auto r = test::run_cubecal("dev " + kPhaseDat +
@@ -614,6 +664,108 @@ TEST(Cli, BiasCorrectionOption) {
   ASSERT_EQ(r.code, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_LE(rel(j["columns"][0]["dev"][0].get<double>(), 1.1074e-01), 1e-4);
+}
+
+// ---------------------------------------------------------------------------
+// Stable32's own data files: the header says the type, tau and scaling.
+
+std::string stable32_header(const std::string& type, const std::string& tau, std::size_t points,
+                            const std::string& addend = "0.000000e+00",
+                            const std::string& multiplier = "1.000000e+00") {
+  return "File: C:\\Data\\RECORD.DAT\nDate: 12/17/20 10:48:15\nType: " + type + "\nPoints: " + std::to_string(points) +
+         "\nTau: " + tau + "\nAddend: " + addend + "\nMultiplier: " + multiplier +
+         "\nTag Scale: 8.640000e+04\nTag Offset: 0.000000e+00\n# Header End\n";
+}
+
+std::string values_text(const std::vector<double>& v) {
+  std::string out;
+  char buf[40];
+  for (const double x : v) {
+    std::snprintf(buf, sizeof buf, "%.17g\n", x);
+    out += buf;
+  }
+  return out;
+}
+
+// Every row of a Stable32 table against `dev FILE --stat STAT --taus TAUS`.
+void expect_table(const std::string& file, const std::string& stat, const std::string& table, double tau0) {
+  const auto rows = read_rows(shared_data(table));
+  ASSERT_FALSE(rows.empty());
+  std::string taus;
+  for (const Row& r : rows) {
+    if (!taus.empty()) taus += ',';
+    taus += std::to_string(static_cast<double>(r.af) * tau0);
+  }
+  const auto r = test::run_cubecal("dev " + file + " --stat " + stat + " --taus " + taus + " --format json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto c = nlohmann::json::parse(r.out)["columns"][0];
+  ASSERT_EQ(c["af"].size(), rows.size());
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    SCOPED_TRACE(table + " AF " + std::to_string(rows[k].af));
+    EXPECT_EQ(c["af"][k].get<double>(), static_cast<double>(rows[k].af));
+    EXPECT_LE(rel(c["tau"][k].get<double>(), rows[k].tau), 5e-5);
+    EXPECT_EQ(c["n"][k].get<double>(), rows[k].n);
+    EXPECT_LE(rel(c["dev"][k].get<double>(), rows[k].dev), 1e-4);
+    if (rows[k].lo > 0) {
+      EXPECT_LE(rel(c["lo"][k].get<double>(), rows[k].lo), 1e-3);
+      EXPECT_LE(rel(c["hi"][k].get<double>(), rows[k].hi), 1e-3);
+    }
+  }
+}
+
+class Stable32Dat : public test::TempDirTest {};
+
+// PHASE.DAT as Stable32 writes it: read without --type or --rate, the
+// octave OADEV table of Stable32 (values, intervals) reproduced.
+TEST_F(Stable32Dat, PhaseFromTheHeader) {
+  const std::vector<double>& x = phase_dat();
+  const std::string file = write("PHASE.DAT", stable32_header("Phase", "1.000000e+00", x.size()) + values_text(x));
+  expect_table(file, "oadev", "stable32/phasedat/phase_dat_oadev_octave.txt", 1.0);
+  expect_table(file, "totdev", "stable32/phasedat/phase_dat_totdev.txt", 1.0);
+}
+
+// Frequency with tau 42 s, stored as (y - Addend) / Multiplier: the header's
+// scaling restores y (value * Multiplier + Addend), its Tau gives the taus.
+TEST_F(Stable32Dat, FrequencyScaledByTheHeader) {
+  const std::vector<double> y = read_column(shared_data("stable32/pink_frequency/pink_frequency.txt"));
+  std::vector<double> stored(y.size());
+  for (std::size_t i = 0; i < y.size(); ++i) stored[i] = (y[i] - 3.0e-6) / 1.0e-9;
+  const std::string file =
+      write("PINK.DAT", stable32_header("Frequency", "4.200000e+01", y.size(), "3.000000e-06", "1.000000e-09") +
+                            values_text(stored));
+  expect_table(file, "oadev", "stable32/pink_frequency/oadev.txt", 42.0);
+  expect_table(file, "mdev", "stable32/pink_frequency/mdev.txt", 42.0);
+}
+
+// What the header says is not overridden silently, and a header that cannot
+// be read is an error at its line.
+TEST_F(Stable32Dat, ContradictionsAndBadHeadersAreRefused) {
+  const std::vector<double>& x = phase_dat();
+  const std::string file = write("PHASE.DAT", stable32_header("Phase", "1.000000e+00", x.size()) + values_text(x));
+  for (const char* flags : {"--rate 2", "--type freq"}) {
+    const auto r = test::run_cubecal("dev " + file + " " + flags);
+    EXPECT_TRUE(test::one_error_line(r)) << flags << ": " << r.err;
+    EXPECT_NE(r.err.find("header"), std::string::npos) << r.err;
+  }
+  // Its header is read whole: --stream says so (not "no sampling rate").
+  const auto streamed = test::run_cubecal("dev " + file + " --stream");
+  EXPECT_TRUE(test::one_error_line(streamed)) << streamed.err;
+  EXPECT_NE(streamed.err.find("Stable32"), std::string::npos) << streamed.err;
+  // The same rate and type as the header's are accepted.
+  EXPECT_EQ(test::run_cubecal("dev " + file + " --rate 1 --type phase").code, 0);
+  const std::string bad_type = write("TYPE.DAT", stable32_header("Voltage", "1.000000e+00", x.size()) + values_text(x));
+  const auto t = test::run_cubecal("dev " + bad_type);
+  EXPECT_TRUE(test::one_error_line(t)) << t.err;
+  EXPECT_NE(t.err.find("TYPE.DAT:3:"), std::string::npos) << t.err;
+  const std::string short_file =
+      write("SHORT.DAT", stable32_header("Phase", "1.000000e+00", x.size() + 5) + values_text(x));
+  const auto p = test::run_cubecal("dev " + short_file);
+  EXPECT_TRUE(test::one_error_line(p)) << p.err;
+  EXPECT_NE(p.err.find("Points"), std::string::npos) << p.err;
+  const std::string no_end = write("NOEND.DAT", "File: x\nType: Phase\n1.0\n2.0\n3.0\n");
+  const auto e = test::run_cubecal("dev " + no_end);
+  EXPECT_TRUE(test::one_error_line(e)) << e.err;
+  EXPECT_NE(e.err.find("Header End"), std::string::npos) << e.err;
 }
 
 }  // namespace

@@ -34,13 +34,14 @@ namespace {
 struct DevOptions {
   InputOptions input;
   std::string stat = "oadev";
-  std::string type = "freq";
+  std::string type;  // empty: what the file says (a Stable32 .DAT header), else freq
   std::string taus = "octave";
   double ci = 0.683;
   std::string edf = "greenhall";
   std::optional<int> alpha;
   bool no_ci = false;
   bool bias_correction = false;
+  bool no_bias_correction = false;
   std::string short_ci = "stable32";
   std::string format = "table";
   std::string out;
@@ -92,7 +93,7 @@ int run_dev_stream_command(const DevOptions& o, pipeline::DevRequest req, const 
 pipeline::DevRequest dev_request(DevOptions& o) {
   pipeline::DevRequest req;
   req.stat = *parse_stat(o.stat);
-  req.type = *parse_data_type(o.type);
+  req.type = *parse_data_type(o.type.empty() ? "freq" : o.type);
   req.grid = parse_taus(o.taus);
   if (!(o.ci > 0.0 && o.ci < 1.0)) throw UsageError("--ci must be between 0 and 1 (e.g. 0.683 or 0.95)");
   req.options.ci = o.ci;
@@ -100,7 +101,9 @@ pipeline::DevRequest dev_request(DevOptions& o) {
   req.options.alpha = o.alpha;
   req.options.intervals = !o.no_ci;
   req.options.conservative_short = o.short_ci == "widest";
-  req.options.bias_correction = o.bias_correction;
+  req.options.bias_correction = o.bias_correction      ? BiasCorrection::on
+                                : o.no_bias_correction ? BiasCorrection::off
+                                                       : BiasCorrection::stable32;
   if (!has_intervals(req.stat)) o.no_ci = true;  // TIE rms and MTIE have no noise type or interval
   req.threads = o.input.threads;
 
@@ -158,6 +161,21 @@ io::Series read_dev_series(DevOptions& o) {
   }
 
   return series;
+}
+
+// The data type a Stable32 .DAT header gives, unless --type says otherwise
+// (then the header is contradicted: refused).
+void take_file_type(const DevOptions& o, const io::Series& series, pipeline::DevRequest& req) {
+  if (!series.data_type) return;
+  const DataType file_type = *series.data_type;
+  if (o.type.empty()) {
+    req.type = file_type;
+    return;
+  }
+  if (req.type != file_type)
+    throw UsageError(series.file + ": --type " + o.type + " contradicts the Stable32 header's Type: " +
+                     (file_type == DataType::phase ? "Phase" : "Frequency") +
+                     " (leave out --type, or correct the header)");
 }
 
 // The work estimated and, when long, announced before it starts with what
@@ -248,6 +266,7 @@ int run_dev_command(DevOptions& o) {
     return rc;
   }
   const io::Series series = read_dev_series(o);
+  take_file_type(o, series, req);
   const pipeline::DevWorkEstimate work = announce_dev_work(series, req);
   const bool long_work = work.seconds > long_work_seconds();
   Progress progress(work.seconds > 2.0, long_work);
@@ -283,9 +302,9 @@ CLI::App* add_dev_command(CLI::App& app, Command& run) {
       ->capture_default_str();
   cmd->add_option("--type", opt->type,
                   "freq: rate-like samples (deg/s, fractional frequency); phase: their "
-                  "integral (angle, time error in s)")
-      ->check(CLI::IsMember({"freq", "phase"}))
-      ->capture_default_str();
+                  "integral (angle, time error in s). Default: the type a Stable32 .DAT header gives "
+                  "(Type: Phase or Frequency), else freq")
+      ->check(CLI::IsMember({"freq", "phase"}));
   cmd->add_option("--taus", opt->taus,
                   "Tau grid: octave, decade, all, log:K (K per decade) or a list of seconds "
                   "(1,10,100)")
@@ -301,9 +320,13 @@ CLI::App* add_dev_command(CLI::App& app, Command& run) {
                   "for the Hadamard family only: hdev, ohdev, htotdev) instead of identifying it")
       ->check(CLI::Range(-4, 2));
   cmd->add_flag("--no-ci", opt->no_ci, "Deviations only: skip noise identification and intervals");
-  cmd->add_flag("--bias-correction", opt->bias_correction,
-                "mtotdev, ttotdev, htotdev: divide the variance by its bias for the noise type (identified, or "
-                "--alpha), as Stable32's bias correction");
+  auto* bias = cmd->add_flag("--bias-correction", opt->bias_correction,
+                             "totdev, mtotdev, ttotdev, htotdev: divide the variance by its bias for the noise type "
+                             "(identified, or --alpha). Default: as Stable32, totdev and htotdev corrected where "
+                             "the noise type is identified (not with --no-ci), mtotdev and ttotdev not");
+  cmd->add_flag("--no-bias-correction", opt->no_bias_correction,
+                "No bias correction: the plain totdev and htotdev estimators (as AllanTools)")
+      ->excludes(bias);
   cmd->add_option("--short-ci", opt->short_ci,
                   "Intervals where fewer than 30 averages remain (the noise type comes from the B1 "
                   "ratio): stable32 (the identified type's EDF, as Stable32) or widest (the smallest "

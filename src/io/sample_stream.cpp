@@ -344,6 +344,8 @@ class TextStream final : public SampleStream {
       refuse_format(file_, "gzip-compressed text", "decompress into a pipe: zcat FILE | cubecal ... - {stream}");
     if (is_known_binary_format(head))
       refuse_format(file_, "a NumPy or ROS bag file", "leave out {stream} (it is read into memory)");
+    if (head.starts_with("File:"))  // its header gives the rate, type and scaling: read whole
+      refuse_format(file_, "a Stable32 .DAT file", "leave out {stream} (it is read into memory)");
     const Table layout = parse_layout(text_, file_, opt.table);
     // The time column, as read_series chooses it.
     std::string time_spec;

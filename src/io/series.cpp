@@ -20,6 +20,7 @@
 #include "detail/file_table.hpp"
 #include "detail/hdf5_reader.hpp"
 #include "detail/npy_reader.hpp"
+#include "detail/stable32_dat.hpp"
 #include "cubecal/io/mcap.hpp"
 #include "cubecal/io/recording.hpp"
 #include "cubecal/io/sample_checks.hpp"
@@ -323,6 +324,37 @@ std::optional<Table> binary_table(std::string_view bytes, const std::string& fil
   return std::nullopt;
 }
 
+// A Stable32 .DAT header: its lines skipped, the rate from its Tau (a
+// --rate that disagrees is refused). None for other files.
+std::optional<detail::Stable32Header> stable32_options(std::string_view text, const std::string& file,
+                                                       SeriesOptions& opt) {
+  std::optional<detail::Stable32Header> h = detail::stable32_header(text, file);
+  if (!h) return h;
+  opt.table.skip_rows += h->lines;
+  if (h->tau) {
+    const double rate = 1.0 / *h->tau;
+    if (opt.rate_hz > 0.0 && std::fabs(opt.rate_hz * *h->tau - 1.0) > 1e-9)
+      throw UsageError(Field::rate, file + ": the rate " + period_text(opt.rate_hz) +
+                                        " Hz contradicts the Stable32 header's Tau " + stamp(*h->tau) +
+                                        " s: leave out {rate}, or correct the header");
+    opt.rate_hz = rate;
+  }
+  return h;
+}
+
+// The header's scaling (Stable32's Scale: value * Multiplier + Addend) and
+// its point count, checked against the rows read.
+void apply_stable32(Series& s, const detail::Stable32Header& h, std::size_t first_data_line) {
+  if (h.points && *h.points != s.samples())
+    throw InputError(s.file, first_data_line, 1,
+                     "the Stable32 header says Points: " + std::to_string(*h.points) + ", the file has " +
+                         std::to_string(s.samples()) + " data lines",
+                     "correct the Points: line of the header or restore the missing lines");
+  for (auto& c : s.channels)
+    for (double& v : c) v = v * h.multiplier + h.addend;
+  s.data_type = h.type;
+}
+
 }  // namespace
 
 bool looks_like_temperature_column(const std::string& name) {
@@ -335,8 +367,9 @@ bool looks_like_time_column(const std::string& name) {
   return std::find(std::begin(kNames), std::end(kNames), lower_case(name)) != std::end(kNames);
 }
 
-Series read_series(const std::string& path_arg, const SeriesOptions& opt) {
-  check_options(opt);
+Series read_series(const std::string& path_arg, const SeriesOptions& options) {
+  check_options(options);
+  SeriesOptions opt = options;  // a Stable32 header adds its rate and lines to skip
   // ROS 2 bags read from their files: a bag directory, or an SQLite .db3.
   if (opt.binary.channels.empty() && path_arg != kStdinPath) {
     std::error_code ec;
@@ -361,6 +394,7 @@ Series read_series(const std::string& path_arg, const SeriesOptions& opt) {
     return detail::read_ulog_series(parse_ulog(buf.view(), path), buf.view(), buf.was_gzip(), opt);
   const std::string open_path = path_arg == kStdinPath || buf.was_gzip() ? std::string() : path_arg;
   std::optional<Table> all = binary_table(buf.view(), path, open_path, opt);
+  const auto stable32 = all ? std::nullopt : stable32_options(buf.view(), path, opt);
   if (!opt.dataset.empty() && !looks_like_hdf5(buf.view()))
     throw UsageError(Field::dataset, path + " is not an HDF5 file: {dataset} chooses a dataset of an HDF5 file");
   const Table layout = all ? Table{} : parse_layout(buf.view(), path, opt.table);
@@ -397,6 +431,7 @@ Series read_series(const std::string& path_arg, const SeriesOptions& opt) {
     if (lsb != 1.0)
       for (double& v : s.channels[c]) v /= lsb;
   }
+  if (stable32) apply_stable32(s, *stable32, t.first_data_line);
   std::vector<double> stamps;
   std::string time_name;
   if (!time.spec.empty()) {

@@ -196,6 +196,16 @@ double edf_simple(int alpha, std::size_t m_, std::size_t n_phase) {
   }
 }
 
+// Stable32's EDF of TOTDEV and of HTOT (from m = 16) for flicker PM, which
+// neither SP 1065 Table 11 nor Howe et al.'s HTOT table covers: SP 1065
+// Table 5's plus 2. Inverted from Stable32's bounds (TOTDEV m = 100 of the
+// 1253-point Sr87 record, HTOT m = 100 of it and m = 128, 256 of PHASE.DAT:
+// Table 5 + 2.07, 2.03, 2.15, 2.14), the bounds agree to 1.6e-4; no
+// published form was found (docs/formulas/stability.md 5.4).
+namespace {
+double edf_flicker_pm_total(std::size_t m, std::size_t n_phase) { return edf_simple(1, m, n_phase) + 2.0; }
+}  // namespace
+
 double edf_totvar(int alpha, std::size_t m, std::size_t n_phase) {
   // SP 1065 Table 11: edf = b (T/tau) - c, T the record length.
   const double ratio = static_cast<double>(n_phase) / static_cast<double>(m);
@@ -203,6 +213,7 @@ double edf_totvar(int alpha, std::size_t m, std::size_t n_phase) {
     case 0: return 1.50 * ratio;
     case -1: return 1.17 * ratio - 0.22;
     case -2: return 0.93 * ratio - 0.36;
+    case 1: return edf_flicker_pm_total(m, n_phase);
     default: return edf_simple(alpha, m, n_phase);
   }
 }
@@ -241,7 +252,9 @@ double edf_htotvar(int alpha, std::size_t m, std::size_t n_phase) {
     const B01 b = kTable[-alpha];
     return (N / md) / (b.b0 + b.b1 * md / N);
   }
-  // Below m = 16 (and for phase noise, which the table does not cover):
+  // Flicker PM from m = 16: Stable32's rule, as TOTDEV's.
+  if (m >= kHtotTableFrom && alpha == 1) return edf_flicker_pm_total(m, n_phase);
+  // Below m = 16 (and for white PM, which the table does not cover):
   // SP 1065 Table 5, as Stable32; beyond its types the overlapping
   // Hadamard EDF.
   if (alpha <= 2 && alpha >= -2) return edf_simple(alpha, m, n_phase);

@@ -41,10 +41,23 @@ StabilityRecord::StabilityRecord(std::span<const double> data, DataType type, do
 
 namespace {
 
-// Variance bias of MTOT (and TTOT) and of HTOT per noise type: the expected
-// total variance over the variance it estimates (MVAR, HVAR). SP 1065
-// sec. 5.2.12 and 5.2.14; 1 where none is given.
-double total_bias(Stat s, int alpha) {
+// TOTVAR's bias (SP 1065 sec. 5.2.11; Howe, "Total variance explained",
+// 1999, Table 1): E[TOTVAR] / AVAR = 1 - a tau / T, T the record length
+// ((N - 1) tau0 for N phase points), a = 1 / (3 ln 2) = 0.481 for flicker FM,
+// 0.750 for random-walk FM, 0 for white FM and phase noise. Stable32's TOTDEV
+// divides by it (the ocxo octave table: docs/validation.md).
+double totvar_bias(int alpha, std::size_t m, std::size_t n_phase) {
+  const double a = alpha == -1 ? 1.0 / (3.0 * std::log(2.0)) : alpha == -2 ? 0.750 : 0.0;
+  if (a == 0.0 || n_phase < 2) return 1.0;
+  const double b = 1.0 - a * static_cast<double>(m) / static_cast<double>(n_phase - 1);
+  return b > 0.0 ? b : 1.0;
+}
+
+// Variance bias of TOTDEV, MTOT (and TTOT) and of HTOT per noise type: the
+// expected total variance over the variance it estimates (AVAR, MVAR, HVAR).
+// SP 1065 sec. 5.2.11, 5.2.12 and 5.2.14; 1 where none is given.
+double total_bias(Stat s, int alpha, std::size_t m, std::size_t n_phase) {
+  if (s == Stat::totdev) return totvar_bias(alpha, m, n_phase);
   if (s == Stat::mtotdev || s == Stat::ttotdev) {
     switch (alpha) {
       case 2: return 0.94;
@@ -68,7 +81,19 @@ double total_bias(Stat s, int alpha) {
   return 1.0;
 }
 
-bool has_bias(Stat s) { return s == Stat::mtotdev || s == Stat::ttotdev || s == Stat::htotdev; }
+bool has_bias(Stat s) { return s == Stat::totdev || s == Stat::mtotdev || s == Stat::ttotdev || s == Stat::htotdev; }
+
+// Whether the statistic's points are corrected: Stable32 corrects TOTDEV and
+// HTOTDEV (its octave tables of the ocxo record, PHASE.DAT and the Sr87
+// record), not MTOT and TTOT (PHASE.DAT's and Sr87's octave tables).
+bool corrected(Stat s, BiasCorrection b) {
+  switch (b) {
+    case BiasCorrection::on: return has_bias(s);
+    case BiasCorrection::off: return false;
+    case BiasCorrection::stable32: return s == Stat::totdev || s == Stat::htotdev;
+  }
+  return false;
+}
 
 // HTOT at m = 1 is the overlapping Hadamard variance, which has no bias.
 bool biased_at(Stat s, std::size_t m) { return has_bias(s) && !(s == Stat::htotdev && m == 1); }
@@ -106,11 +131,13 @@ VarianceTerm StabilityRecord::variance(std::size_t m) const {
 
 bool StabilityRecord::needs_type(const StabilityOptions& opt) const noexcept {
   if (!has_intervals(stat_)) return false;
-  return opt.intervals || (opt.bias_correction && has_bias(stat_));
+  // A correction asked for outright needs the type even without intervals.
+  return opt.intervals || (opt.bias_correction == BiasCorrection::on && has_bias(stat_));
 }
 
 void StabilityRecord::describe(StabilityPoint& p, const StabilityOptions& opt) const {
-  if (opt.bias_correction && biased_at(stat_, p.m)) p.dev /= std::sqrt(total_bias(stat_, p.alpha));
+  if (corrected(stat_, opt.bias_correction) && biased_at(stat_, p.m))
+    p.dev /= std::sqrt(total_bias(stat_, p.alpha, p.m, x_.size()));
   if (opt.intervals) set_interval(p, opt);
 }
 
@@ -203,8 +230,8 @@ void StabilityRecord::carry_types(std::span<StabilityPoint> run, const Stability
     StabilityPoint& p = run[i];
     const StabilityPoint& prev = run[i - 1];
     if (p.n == 0 || prev.n == 0 || 2 * p.m <= top) continue;
-    if (opt.bias_correction && biased_at(stat_, p.m))  // the bias of the type it had
-      p.dev *= std::sqrt(total_bias(stat_, p.alpha));
+    if (corrected(stat_, opt.bias_correction) && biased_at(stat_, p.m))  // the bias of the type it had
+      p.dev *= std::sqrt(total_bias(stat_, p.alpha, p.m, x_.size()));
     p.alpha = prev.alpha;
     p.type_carried = true;
     describe(p, opt);

@@ -4,12 +4,14 @@
 /// and non-monotonic time stamps.
 #pragma once
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "cubecal/io/delimited_reader.hpp"
 #include "cubecal/io/raw_binary_reader.hpp"
 #include "cubecal/math/index_range.hpp"
+#include "cubecal/stats/statistic.hpp"
 
 namespace cubecal::io {
 
@@ -120,7 +122,10 @@ struct Series {
   GapPolicy gaps = GapPolicy::error;    ///< the policy the record was read with
   std::size_t irregular_intervals = 0;  ///< gaps/jitter split on (policy split)
   bool gzip = false;                    ///< the file was gzip-compressed
-  std::size_t bytes = 0;                ///< bytes parsed (after decompression)
+  /// The data type the file says (a Stable32 .DAT header's "Type:"); none
+  /// when it says nothing, as text and binary formats.
+  std::optional<DataType> data_type;
+  std::size_t bytes = 0;  ///< bytes parsed (after decompression)
   /// Samples per channel.
   std::size_t samples() const noexcept { return channels.empty() ? 0 : channels[0].size(); }
 };

@@ -23,7 +23,9 @@ double edf_greenhall_stride(int alpha, int d, std::size_t m, std::size_t n_phase
 /// NIST SP 1065 Table 5 simple approximations (overlapping AVAR).
 double edf_simple(int alpha, std::size_t m, std::size_t n_phase);
 
-/// NIST SP 1065 Table 11 for TOTVAR (b*T/tau - c), simple formula otherwise.
+/// NIST SP 1065 Table 11 for TOTVAR (b*T/tau - c) for white, flicker and
+/// random-walk FM; for flicker PM Stable32's rule (SP 1065 Table 5 plus 2),
+/// for white PM Table 5.
 double edf_totvar(int alpha, std::size_t m, std::size_t n_phase);
 
 /// MTOT and TTOT: MDEV's Greenhall-Riley EDF below m = 10, NIST SP 1065
@@ -33,9 +35,10 @@ double edf_totvar(int alpha, std::size_t m, std::size_t n_phase);
 double edf_mtotvar(int alpha, std::size_t m, std::size_t n_phase);
 
 /// HTOT: from m = 16 on, for white FM to random-run FM (alpha 0 .. -4),
-/// Howe et al.'s (T/tau) / (b0 + b1 tau/T) (PTTI 2000, Table 1); below m = 16, and for phase noise, the SP 1065 Table 5
-/// approximation (Stable32's choice); the overlapping Hadamard EDF for
-/// alpha -3 and -4 below m = 16.
+/// Howe et al.'s (T/tau) / (b0 + b1 tau/T) (PTTI 2000, Table 1), and for
+/// flicker PM Stable32's rule (SP 1065 Table 5 plus 2, as edf_totvar); below
+/// m = 16, and for white PM, the SP 1065 Table 5 approximation (Stable32's
+/// choice); the overlapping Hadamard EDF for alpha -3 and -4 below m = 16.
 double edf_htotvar(int alpha, std::size_t m, std::size_t n_phase);
 
 /// Theo1 (and TheoBR) at even factor m on N phase points, r = 0.75 m: the

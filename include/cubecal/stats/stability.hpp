@@ -15,6 +15,16 @@
 
 namespace cubecal {
 
+/// Which total deviations are divided by their bias for the noise type.
+enum class BiasCorrection {
+  /// As Stable32 runs them: TOTDEV and HTOTDEV corrected, MTOT and TTOT not
+  /// (docs/formulas/stability.md, "Bias"). A point without a noise type (no
+  /// intervals and no fixed alpha) is not corrected.
+  stable32,
+  on,   ///< TOTDEV, MTOT, TTOT and HTOT corrected
+  off,  ///< none corrected: the plain estimators (as AllanTools computes them)
+};
+
 /// How the noise type, EDF and confidence interval of each point are obtained.
 struct StabilityOptions {
   double ci = 0.683;  ///< confidence factor, as Stable32's default
@@ -28,10 +38,11 @@ struct StabilityOptions {
   /// misidentification cannot make the interval falsely narrow. false (the
   /// default) keeps the identified type's EDF, as Stable32 does.
   bool conservative_short = false;
-  /// MTOT, TTOT and HTOT are biased low for most noise types; true divides
-  /// their variance by the bias of the noise type (identified, or `alpha`),
-  /// as Stable32's bias-correction option does (docs/formulas/stability.md).
-  bool bias_correction = false;
+  /// TOTDEV (flicker and random-walk FM, by tau over the record length),
+  /// MTOT, TTOT and HTOT are biased low for most noise types: the variance of
+  /// the statistics this selects is divided by the bias of the noise type
+  /// (identified, or `alpha`), as Stable32 does (docs/formulas/stability.md).
+  BiasCorrection bias_correction = BiasCorrection::stable32;
 };
 
 /// One point of a stability curve.
