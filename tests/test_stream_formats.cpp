@@ -189,12 +189,28 @@ TEST_F(StreamFormats, DamagedNpyStreamedSaysWhatInMemorySays) {
         std::string::npos)
         << st.err;
   }
-  // Fortran order, 2-D: read whole; streamed, refused in one line saying how.
-  const std::string f = put("fortran.npy", npy(walk(rows, 2, 6), rows, 2, "<f8", true, true));
+  // Fortran order, 2-D, gzip-compressed: not streamed (its columns lie
+  // apart), refused in one line saying what to do.
+  const std::string f = put("fortran.npy.gz", gzip(npy(walk(rows, 2, 6), rows, 2, "<f8", true, true)));
   EXPECT_EQ(run_cubecal("dev " + f + " --rate 100").code, 0);
   const CliRun st = run_cubecal("dev " + f + " --rate 100 --stream");
   EXPECT_TRUE(one_error_line(st)) << st.err;
   EXPECT_NE(st.err.find("numpy.ascontiguousarray"), std::string::npos) << st.err;
+}
+
+// A 2-D array in Fortran order streams from its file, each column read
+// where it lies.
+TEST_F(StreamFormats, FortranOrderNpyStreamEqualsInMemory) {
+  const std::size_t rows = 30000;
+  const std::vector<double> three = walk(rows, 3, 8);
+  expect_streamed_equal(put("f8f.npy", npy(three, rows, 3, "<f8", true, true)), "--rate 100");
+  expect_streamed_equal(put("i2f.npy", npy(three, rows, 3, "<i2", true, true)), "--rate 100 --columns 3,1");
+  const std::string whole = npy(three, rows, 3, "<f4", true, true);
+  const std::string f = put("short.npy", whole.substr(0, whole.size() - 8));
+  const CliRun mem = run_cubecal("dev " + f + " --rate 100");
+  const CliRun st = run_cubecal("dev " + f + " --rate 100 --stream");
+  EXPECT_TRUE(one_error_line(st)) << st.err;
+  EXPECT_EQ(st.err, mem.err);
 }
 
 TEST_F(StreamFormats, GzipTextStreamEqualsInMemory) {

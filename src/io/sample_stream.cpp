@@ -90,6 +90,23 @@ class ByteSource {
   // progress against total().
   std::size_t consumed() const noexcept { return consumed_; }
   bool gzip() const noexcept { return zs_ != nullptr; }
+  // A regular file, not gzip: read_at() can read anywhere in it.
+  bool seekable() const noexcept { return chunks_.empty() && !zs_ && total_ > 0 && fd_ >= 0 && own_; }
+  // n bytes at byte offset `at` of a seekable() file, whatever was read
+  // before; false (errno set) on an error or a short read.
+  bool read_at(std::size_t at, char* dst, std::size_t n) {
+    std::size_t got = 0;
+    while (got < n) {
+      const ssize_t r = ::pread(fd_, dst + got, n - got, static_cast<off_t>(at + got));
+      if (r < 0 && errno == EINTR) continue;
+      if (r <= 0) {
+        if (r == 0) errno = EIO;
+        return false;
+      }
+      got += static_cast<std::size_t>(r);
+    }
+    return true;
+  }
   // Compressed bytes inflated so far (gzip only).
   std::size_t compressed_used() const noexcept { return zs_ ? consumed_ - zs_->avail_in : consumed_; }
 
@@ -367,11 +384,16 @@ class BinaryStream final : public SampleStream {
     // consumer (a binary frame needs no look-ahead): at most kBinaryChunk.
     frames_per_chunk_ = std::max<std::size_t>(1, std::min(chunk_bytes, kBinaryChunk) / frame_);
     buf_.resize(frames_per_chunk_ * frame_);
+    if (npy_ && npy_->fortran_order) {
+      start_column_major();
+      return;
+    }
     skip_header();
     if (npy_) data_left_ = npy_->data_bytes();
   }
 
   bool next(SampleChunk& out) override {
+    if (column_major_) return next_rows(out);
     const std::size_t want = npy_ ? std::min(buf_.size(), data_left_) : buf_.size();
     const std::size_t got = src_->read(buf_.data(), want);
     bytes_read_ = src_->consumed();
@@ -395,6 +417,28 @@ class BinaryStream final : public SampleStream {
   }
 
  private:
+  // A Fortran-order array: the next rows of each column read where the
+  // column lies in the file.
+  bool next_rows(SampleChunk& out) {
+    const std::size_t rows = std::min(frames_per_chunk_, npy_->rows - rows_read_);
+    out.channels.resize(columns_.size());
+    out.extra.resize(extras_.size());
+    for (std::size_t c = 0; c < columns_.size(); ++c) decode(columns_[c], rows, scale_[c], out.channels[c]);
+    for (std::size_t c = 0; c < extras_.size(); ++c) decode(extras_[c], rows, 1.0, out.extra[c]);
+    rows_read_ += rows;
+    bytes_read_ = npy_->data_at + rows_read_ * frame_;  // the share of the file
+    return rows > 0;
+  }
+  std::size_t column_offset(std::size_t col) const {
+    const std::size_t b = layout_.channels[col].bytes;
+    return npy_->data_at + col * npy_->rows * b + rows_read_ * b;
+  }
+  void read_column(std::size_t col, std::size_t rows) {
+    const std::size_t n = rows * layout_.channels[col].bytes;
+    if (!src_->read_at(column_offset(col), buf_.data(), n))
+      throw InputError(file_, 0, 0, std::string("read error: ") + std::strerror(errno));
+  }
+
   void skip_header() {
     std::size_t left = layout_.header_bytes;
     while (left > 0) {
@@ -408,6 +452,24 @@ class BinaryStream final : public SampleStream {
       offset_ += got;
     }
     bytes_read_ = src_->consumed();
+  }
+
+  // A Fortran-order array read column by column from a file (the size
+  // checked first, as read_npy checks it).
+  void start_column_major() {
+    const NpyHeader& h = *npy_;
+    if (!src_->seekable())
+      throw InputError(file_, 0, 0,
+                       "a 2-D NumPy array in Fortran order (column after column) is streamed from a file, not from "
+                       "gzip or a pipe",
+                       "give the .npy file itself, or save it in C order: numpy.save(f, numpy.ascontiguousarray(a))");
+    const std::size_t size = total_bytes_, need = h.data_at + h.data_bytes();
+    const auto fail = [&](std::size_t offset, const std::string& what, const char* hint) {
+      throw InputError(file_, 0, 0, "NumPy file, byte offset " + std::to_string(offset) + ": " + what, hint);
+    };
+    if (size < need) fail(size, npy_short_data(h, size - h.data_at), kNpyShortHint);
+    if (size > need) fail(need, npy_extra_data(h, size - need), kNpyExtraHint);
+    column_major_ = true;
   }
 
   // A NumPy array's data: as many bytes as its header declares, no fewer
@@ -428,18 +490,26 @@ class BinaryStream final : public SampleStream {
     if (extra > 0) fail(h.data_at + h.data_bytes(), npy_extra_data(h, extra), kNpyExtraHint);
   }
 
+  // Column `col` of the piece: its samples from buf_ + first, `stride`
+  // bytes apart; `at` is the input's byte offset of the first (messages).
   void decode(std::size_t col, std::size_t rows, double lsb, std::vector<double>& v) {
+    if (column_major_) return decode(col, rows, lsb, v, 0, layout_.channels[col].bytes, column_offset(col));
+    decode(col, rows, lsb, v, offsets_[col], frame_, offset_ + offsets_[col]);
+  }
+  void decode(std::size_t col, std::size_t rows, double lsb, std::vector<double>& v, std::size_t first,
+              std::size_t stride, std::size_t at) {
+    if (column_major_) read_column(col, rows);
     v.resize(rows);
     const SampleType t = layout_.channels[col];
-    const char* p = buf_.data() + offsets_[col];
+    const char* p = buf_.data() + first;
     if (t == SampleType{SampleKind::floating, 8, false} && std::endian::native == std::endian::little) {
-      if (frame_ == 8) {
-        if (rows > 0) std::memcpy(v.data(), p, rows * 8);  // one channel: the frames are the values
+      if (stride == 8) {
+        if (rows > 0) std::memcpy(v.data(), p, rows * 8);  // the samples are the values
       } else {
-        for (std::size_t r = 0; r < rows; ++r, p += frame_) std::memcpy(&v[r], p, 8);
+        for (std::size_t r = 0; r < rows; ++r, p += stride) std::memcpy(&v[r], p, 8);
       }
     } else {
-      for (std::size_t r = 0; r < rows; ++r, p += frame_) v[r] = decode_sample(t, p);
+      for (std::size_t r = 0; r < rows; ++r, p += stride) v[r] = decode_sample(t, p);
     }
     bool ok = true;
     const double top = kMaxMagnitude * lsb;
@@ -447,7 +517,7 @@ class BinaryStream final : public SampleStream {
     if (!ok) {
       std::size_t r = 0;
       while (std::abs(v[r]) <= top) ++r;
-      const std::size_t offset = offset_ + r * frame_ + offsets_[col];
+      const std::size_t offset = at + r * stride;
       const bool finite = std::isfinite(v[r]);
       throw InputError(file_, 0, 0,
                        (finite ? "value " + stamp(v[r]) + " exceeds the magnitude " + stamp(kMaxMagnitude)
@@ -466,6 +536,7 @@ class BinaryStream final : public SampleStream {
   std::optional<NpyHeader> npy_;
   std::size_t offset_ = 0;     // of the next byte in the (inflated) input
   std::size_t data_left_ = 0;  // bytes of a NumPy array's data still to come
+  bool column_major_ = false;  // a Fortran-order array, read column by column
   std::size_t frame_ = 0, frames_per_chunk_ = 0;
   std::vector<std::size_t> offsets_, columns_, extras_;
   std::vector<double> scale_;
@@ -822,10 +893,6 @@ std::unique_ptr<SampleStream> open_npy_stream(std::unique_ptr<ByteSource> src, c
   constexpr std::size_t kMaxNpyHeader = std::size_t{1} << 20;
   const std::size_t data_at = std::min(npy_data_offset(src->peek(12), src->label()), kMaxNpyHeader);
   const NpyHeader h = read_npy_header(src->peek(data_at), src->label());
-  if (h.fortran_order)
-    throw InputError(src->label(), 0, 0,
-                     "a 2-D NumPy array in Fortran order (column after column) is read whole, not in pieces",
-                     "leave out {stream}, or save it in C order: numpy.save(f, numpy.ascontiguousarray(a))");
   RawLayout layout;
   layout.channels.assign(h.cols, h.type);
   layout.header_bytes = h.data_at;

@@ -6,7 +6,8 @@
 /// (recording.hpp) of one closed segment without breaks is its chunks read
 /// in turn as one text, each checked against the manifest's size and CRC-32.
 /// Gzip-compressed input is inflated piece by piece (every member in turn);
-/// a NumPy .npy in C order is its header, then rows of raw samples. ROS bags
+/// a NumPy .npy is its header, then rows of raw samples (a 2-D array in
+/// Fortran order read column by column from its file). ROS bags
 /// and other recordings are read whole by read_series and refused here.
 #pragma once
 #include <cstddef>
