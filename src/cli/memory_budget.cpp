@@ -121,6 +121,7 @@ std::size_t in_memory_bytes(const std::string& file, const io::SeriesOptions& op
   }
   // A NumPy .npy: the mapped file (inflated, if gzip) plus 8 bytes per value.
   const io::InputEstimate e = io::estimate_input(file);
+  if (e.content_bytes == 0) return bytes;  // a recording directory: its chunks' size
   if (e.npy_values > 0) return e.content_bytes + e.npy_values * 8;
   // Text: the parsed doubles, 8 bytes for a number of about 10 characters
   // ("0.0123456,"), and the phase records beside them, about 1.2x the

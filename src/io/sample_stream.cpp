@@ -627,6 +627,13 @@ class TextStream final : public SampleStream {
     for (std::size_t k = 0; k < extra_count_; ++k) extra_names_.push_back(pending_.extra_names[k]);
     if (has_time_) time_name_ = pending_.extra_names[extra_count_];
     set_rate();
+    // Short fields ("0\n") parse to more doubles than the text has bytes:
+    // later pieces hold no more doubles than chunk_bytes bytes.
+    const std::size_t values = pending_.rows() * (pending_.data.size() + pending_.extra.size());
+    if (values * 8 > chunk_bytes_)
+      chunk_bytes_ = std::max<std::size_t>(
+          4096, static_cast<std::size_t>(static_cast<double>(chunk_bytes_) * static_cast<double>(chunk_bytes_) /
+                                         (8.0 * static_cast<double>(values))));
   }
 
  public:

@@ -94,9 +94,10 @@ struct InputEstimate {
   /// size (estimated from the inflation of its first MiBs when it is larger);
   /// 0 for the standard input, a pipe or a file that cannot be opened.
   std::size_t content_bytes = 0;
-  /// The values (rows x columns) and the rows a NumPy .npy's header declares
-  /// (0: not a .npy).
-  std::size_t npy_values = 0, npy_rows = 0;
+  /// The values (rows x columns) a NumPy .npy's header declares (0: not a .npy).
+  std::size_t npy_values = 0;
+  /// The rows a NumPy .npy's header declares (0: not a .npy).
+  std::size_t npy_rows = 0;
   bool gzip = false;  ///< the file is gzip-compressed
   std::string head;   ///< the first MiB (at most) of the content
 };
