@@ -74,6 +74,7 @@ echo "== GMWM: WN+2*GM+RW on 1e6 samples, the fit (target < 2 s) and 200 bootstr
   --benchmark_display_aggregates_only=true | grep -E "_min|_median|_max|Benchmark|---"
 
 bash "$(dirname "$0")/stream.sh" "$BUILD"
+bash "$(dirname "$0")/stream_formats.sh" "$BUILD"
 
 BENCH_OUT="$OUT" bash "$(dirname "$0")/twin.sh" "$BUILD"
 

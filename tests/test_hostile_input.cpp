@@ -11,6 +11,7 @@
 #include <unistd.h>
 #include <zlib.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
@@ -213,6 +214,72 @@ TEST_F(HostileInput, CorruptGzipMemberIsLocated) {
   const std::string f = write_bytes("imu.csv.gz", first + second);
   expect_refused(f, {"corrupt gzip data at byte offset " + std::to_string(first.size() + 11), "gzip member 2",
                      "invalid block type"});
+}
+
+// `total` bytes of `pattern` repeated, gzip-compressed piece by piece (a
+// gzip bomb: its text is never held whole here either).
+std::string gzip_repeated(const std::string& pattern, std::size_t total) {
+  z_stream zs{};
+  if (deflateInit2(&zs, 9, Z_DEFLATED, 16 + MAX_WBITS, 8, Z_DEFAULT_STRATEGY) != Z_OK) return {};
+  std::string piece;
+  while (piece.size() < (std::size_t{1} << 20)) piece += pattern;
+  piece.resize((std::size_t{1} << 20) / pattern.size() * pattern.size());
+  std::string out;
+  std::vector<char> buf(std::size_t{1} << 16);
+  for (std::size_t done = 0; done < total;) {
+    const std::size_t n = std::min(piece.size(), total - done);
+    done += n;
+    zs.next_in = reinterpret_cast<Bytef*>(piece.data());
+    zs.avail_in = static_cast<uInt>(n);
+    const int flush = done == total ? Z_FINISH : Z_NO_FLUSH;
+    do {
+      zs.next_out = reinterpret_cast<Bytef*>(buf.data());
+      zs.avail_out = static_cast<uInt>(buf.size());
+      deflate(&zs, flush);
+      out.append(buf.data(), buf.size() - zs.avail_out);
+    } while (zs.avail_out == 0);
+  }
+  deflateEnd(&zs);
+  return out;
+}
+
+// A gzip bomb of text (issue 33, item 3): 600 MB of "0\n1\n" in a few
+// hundred kB was inflated into memory whatever --memory said (here: past
+// the address-space limit). A request that cannot be streamed is refused
+// once the text passes --memory, naming --memory and --stream; one that can
+// is streamed within the budget; zeros are refused as binary data from
+// their start, --stream or not.
+TEST_F(HostileInput, GzipBombIsRefusedOrStreamedWithinTheBudget) {
+  const std::string bomb = write_bytes("bomb.csv.gz", gzip_repeated("0\n1\n", std::size_t{600} << 20));
+  const LimitedRun refused =
+      run_limited({"dev", bomb, "--rate", "100", "--stat", "mdev", "--memory", "8M"}, path("stderr.txt"));
+  EXPECT_EQ(refused.code, 2) << refused.err;
+  EXPECT_NE(refused.err.find("cubecal: error: " + bomb +
+                             ": gzip-compressed text that inflates to more than the "
+                             "memory budget"),
+            std::string::npos)
+      << refused.err;
+  EXPECT_NE(refused.err.find("--stream"), std::string::npos) << refused.err;
+  EXPECT_NE(refused.err.find("--memory"), std::string::npos) << refused.err;
+
+  const std::string small = write_bytes("small.csv.gz", gzip_repeated("0\n1\n", std::size_t{40} << 20));
+  const LimitedRun streamed = run_limited({"dev", small, "--rate", "100", "--memory", "8M"}, path("stderr.txt"));
+  EXPECT_EQ(streamed.code, 0) << streamed.err;
+  EXPECT_NE(streamed.err.find("streaming it in one pass"), std::string::npos) << streamed.err;
+
+  const std::string zeros = write_bytes("zeros.csv.gz", gzip_repeated(std::string(1, '\0'), std::size_t{64} << 20));
+  for (const bool stream : {false, true}) {
+    std::vector<std::string> cmd{"dev", zeros, "--rate", "100", "--memory", "8M"};
+    if (stream) cmd.push_back("--stream");
+    const LimitedRun r = run_limited(cmd, path("stderr.txt"));
+    SCOPED_TRACE(cubecal::printable_text(r.err));
+    EXPECT_EQ(r.code, 2);
+    const std::size_t error = r.err.find("cubecal: error: ");
+    ASSERT_NE(error, std::string::npos);
+    EXPECT_TRUE(printable_one_line(r.err.substr(error)));  // after a note that it is streamed
+    EXPECT_EQ(r.err.find(zeros + ":1:1: not a text or known binary format: its first 65536 bytes are all NUL"),
+              error + 16);
+  }
 }
 
 // Library callers get the same printable message from text in memory.

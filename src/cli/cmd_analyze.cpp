@@ -329,6 +329,7 @@ pipeline::AnalysisResult analyze_in_memory(AnalyzeOptions& o, io::SeriesOptions 
   Progress progress(bytes > 50'000'000);
   progress.stage(fmt::format("reading {} ({:.0f} MB)", o.input.file, static_cast<double>(bytes) / 1e6));
   so.keep_time = false;  // one segment's stamps carry nothing the analysis uses beyond the rate
+  so.max_inflated_bytes = memory_budget(o.memory);  // a gzip file's text within --memory
   StageTimer reading(o.timings.sink(), Stage::read);
   const io::Series series = io::read_series(o.input.file, so);
   reading.stop();

@@ -145,7 +145,8 @@ io::Series read_dev_series(DevOptions& o) {
     Progress reading(bytes > 50'000'000);
     reading.stage(fmt::format("reading {} ({:.0f} MB)", o.input.file, static_cast<double>(bytes) / 1e6));
     io::SeriesOptions so = to_series_options(o.input);
-    so.keep_time = false;  // the deviations need the rate and the segments, not the stamps
+    so.max_inflated_bytes = memory_budget(o.memory);  // a gzip file's text within --memory
+    so.keep_time = false;                             // the deviations need the rate and the segments, not the stamps
     return io::read_series(o.input.file, so);
   }();
   reading_time.stop();

@@ -10,12 +10,12 @@
 #include <bit>
 #include <cctype>
 #include <exception>
-#include <fstream>
 #include <cmath>
 
 #include "cubecal/error.hpp"
 #include "cubecal/io/recording.hpp"
 #include "cubecal/io/recording_manifest.hpp"
+#include "cubecal/io/sample_stream.hpp"
 #include "progress.hpp"
 
 namespace cubecal::cli {
@@ -102,13 +102,13 @@ std::size_t estimated_samples(const std::string& file, const io::SeriesOptions& 
     const std::size_t frame = opt.binary.frame_bytes();
     return frame > 0 && bytes > opt.binary.header_bytes ? (bytes - opt.binary.header_bytes) / frame : 0;
   }
-  std::ifstream in(file, std::ios::binary);
-  std::string head(std::min<std::size_t>(bytes, std::size_t{1} << 20), '\0');
-  in.read(head.data(), static_cast<std::streamsize>(head.size()));
-  const auto lines = static_cast<std::size_t>(std::count(head.begin(), head.begin() + in.gcount(), '\n'));
-  if (lines == 0 || in.gcount() <= 0) return 0;
-  const double per_line = static_cast<double>(in.gcount()) / static_cast<double>(lines);
-  return static_cast<std::size_t>(1.25 * static_cast<double>(bytes) / per_line) + 1;
+  // Text (a gzip file's inflated text): from the lines of its first MiB.
+  const io::InputEstimate e = io::estimate_input(file);
+  if (e.npy_values > 0) return e.npy_rows;
+  const auto lines = static_cast<std::size_t>(std::count(e.head.begin(), e.head.end(), '\n'));
+  if (lines == 0) return 0;
+  const double per_line = static_cast<double>(e.head.size()) / static_cast<double>(lines);
+  return static_cast<std::size_t>(1.25 * static_cast<double>(e.content_bytes) / per_line) + 1;
 }
 
 std::size_t in_memory_bytes(const std::string& file, const io::SeriesOptions& opt) {
@@ -119,11 +119,21 @@ std::size_t in_memory_bytes(const std::string& file, const io::SeriesOptions& op
     const std::size_t frame = opt.binary.frame_bytes();
     return bytes + (frame > 0 ? bytes / frame * opt.binary.channels.size() * 8 : 0);
   }
+  // A NumPy .npy: the mapped file (inflated, if gzip) plus 8 bytes per value.
+  const io::InputEstimate e = io::estimate_input(file);
+  if (e.content_bytes == 0) return bytes;  // a recording directory: its chunks' size
+  if (e.npy_values > 0) return e.content_bytes + e.npy_values * 8;
   // Text: the parsed doubles, 8 bytes for a number of about 10 characters
   // ("0.0123456,"), and the phase records beside them, about 1.2x the
   // doubles (bench/memory.sh); the pages of the text are dropped behind the
-  // parse. Rounded up to the file's size.
-  return bytes;
+  // parse. Rounded up to the text's size, or to 8 bytes per field when the
+  // fields are shorter ("0\n": 4x the text). A gzip file's text (its
+  // inflated size, not its compressed size) is held in memory besides.
+  const auto fields = static_cast<std::size_t>(std::count_if(
+      e.head.begin(), e.head.end(), [](char c) { return c == '\n' || c == ',' || c == ';' || c == '\t'; }));
+  const double per_byte = e.head.empty() ? 0.0 : static_cast<double>(fields) / static_cast<double>(e.head.size());
+  const auto doubles = static_cast<std::size_t>(8.0 * per_byte * static_cast<double>(e.content_bytes));
+  return std::max(e.content_bytes, doubles) + (e.gzip ? e.content_bytes : 0);
 }
 
 std::string recording_beyond_budget(const std::string& file, std::size_t need, std::size_t budget) {

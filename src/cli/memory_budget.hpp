@@ -30,7 +30,7 @@ std::size_t parse_memory_size(const std::string& text);
 std::size_t stream_window(const MemoryOptions& opt, std::size_t budget, std::size_t channels,
                           std::size_t samples_hint = 0);
 
-// About the samples of `file` (raw frames: exactly; text: from the lines in
+// About the samples of `file` (raw frames, .npy: exactly; text, inflated gzip text: from the lines in
 // its first MiB, a quarter more for a margin); 0 when unknown (a pipe).
 std::size_t estimated_samples(const std::string& file, const io::SeriesOptions& opt);
 
@@ -38,7 +38,8 @@ std::size_t estimated_samples(const std::string& file, const io::SeriesOptions& 
 std::size_t memory_budget(const MemoryOptions& opt);
 
 // The bytes reading `file` whole would take (the mapped text or binary plus
-// the parsed doubles); 0 when unknown (a pipe, the standard input).
+// the parsed doubles; a gzip file by its inflated size); 0 when unknown (a
+// pipe, the standard input).
 std::size_t in_memory_bytes(const std::string& file, const io::SeriesOptions& opt);
 
 // A recording directory (cubecal record) that needs more than the budget is

@@ -99,7 +99,16 @@ void check_start(std::string_view head, const std::string& label, bool decompres
   detail::check_text_start(head, label, decompressed);
 }
 
-void inflate_gzip(const std::string& path, std::string_view in, HeapBlock& out, Content content) {
+// More text than the budget: refused before it is taken.
+[[noreturn]] void refuse_inflated(const std::string& path, std::size_t limit, std::size_t consumed) {
+  throw InputError(path, 0, 0,
+                   "gzip-compressed text that inflates to more than the memory budget of " +
+                       std::to_string((limit + 999'999) / 1'000'000) + " MB ({memory}), " + std::to_string(consumed) +
+                       " compressed bytes in",
+                   "stream it with {stream}, or give a larger {memory}");
+}
+
+void inflate_gzip(const std::string& path, std::string_view in, HeapBlock& out, Content content, std::size_t limit) {
   z_stream zs{};
   // 16 + MAX_WBITS: gzip wrapper only; zlib checks the CRC-32 and length
   // trailer of each member itself.
@@ -115,7 +124,11 @@ void inflate_gzip(const std::string& path, std::string_view in, HeapBlock& out, 
   // cap cost 13 % more user time reading a 86 MB .gz of 212 MB.)
   constexpr std::size_t kMinFirstReserve = std::size_t{1} << 16;
   constexpr std::size_t kMaxFirstReserve = std::size_t{1} << 30;
-  out.reserve(std::clamp(in.size() * 4, kMinFirstReserve, kMaxFirstReserve));
+  // With a limit, never more than one byte past it (that byte says the text
+  // is larger).
+  const std::size_t cap =
+      limit == 0 ? std::numeric_limits<std::size_t>::max() : std::max(limit + 1, detail::kTextProbeBytes);
+  out.reserve(std::min(std::clamp(in.size() * 4, kMinFirstReserve, kMaxFirstReserve), cap));
   static_assert(kMinFirstReserve >= detail::kTextProbeBytes);
 
   // zlib counts in uInt: feed and drain at most 1 GiB per call.
@@ -139,7 +152,8 @@ void inflate_gzip(const std::string& path, std::string_view in, HeapBlock& out, 
       zs.avail_in = static_cast<uInt>(n);
       consumed += n;
     }
-    if (out.size == out.capacity) out.reserve(out.capacity * 2);
+    if (out.size >= cap) refuse_inflated(path, limit, consumed - zs.avail_in);
+    if (out.size == out.capacity) out.reserve(std::min(out.capacity * 2, cap));
     std::size_t room = std::min(kStep, out.capacity - out.size);
     // Until the start of the text is checked, inflate no more than that.
     if (!head_checked) room = std::min(room, detail::kTextProbeBytes - out.size);
@@ -149,6 +163,7 @@ void inflate_gzip(const std::string& path, std::string_view in, HeapBlock& out, 
     const int rc = inflate(&zs, Z_NO_FLUSH);
     out.size += room - zs.avail_out;
     if (!head_checked && out.size == detail::kTextProbeBytes) check_head();
+    if (limit != 0 && out.size > limit) refuse_inflated(path, limit, consumed - zs.avail_in);
 
     if (rc == Z_STREAM_END) {
       if (zs.avail_in == 0 && consumed == in.size()) {
@@ -248,7 +263,7 @@ struct FileBuffer::Impl {
   }
 };
 
-FileBuffer FileBuffer::open(const std::string& path_arg, Content content) {
+FileBuffer FileBuffer::open(const std::string& path_arg, Content content, std::size_t max_inflated) {
   FileBuffer fb;
   const bool stdin_input = path_arg == kStdinPath;
   const std::string path = stdin_input ? std::string(kStdinLabel) : path_arg;
@@ -294,7 +309,7 @@ FileBuffer FileBuffer::open(const std::string& path_arg, Content content) {
   fb.gzip_ = true;
   HeapBlock inflated;
   if (impl.map != nullptr) ::madvise(impl.map, impl.map_size, MADV_SEQUENTIAL);
-  inflate_gzip(path, raw, inflated, content);
+  inflate_gzip(path, raw, inflated, content, max_inflated);
   inflated.shrink_to_fit();
   impl.unmap();
   impl.heap.swap(inflated);

@@ -168,9 +168,9 @@ std::string shape_text(const std::vector<std::size_t>& shape) {
 
 bool is_npy(std::string_view bytes) noexcept { return bytes.substr(0, kMagic.size()) == kMagic; }
 
-Table read_npy(std::string_view bytes, const std::string& file, bool missing_as_nan) {
-  const auto fail = [&](std::size_t offset, const std::string& what, const std::string& hint = kWrite) {
-    throw InputError(file, 0, 0, "NumPy file, byte offset " + std::to_string(offset) + ": " + what, hint);
+std::size_t npy_data_offset(std::string_view bytes, const std::string& file) {
+  const auto fail = [&](std::size_t offset, const std::string& what) {
+    throw InputError(file, 0, 0, "NumPy file, byte offset " + std::to_string(offset) + ": " + what, kWrite);
   };
   if (bytes.size() < 10) fail(bytes.size(), "the file ends inside the NumPy preamble");
   const auto major = static_cast<unsigned char>(bytes[6]);
@@ -179,23 +179,24 @@ Table read_npy(std::string_view bytes, const std::string& file, bool missing_as_
                 " is not supported (1.0, 2.0 and 3.0 are)");
   }
   const auto byte = [&](std::size_t i) { return static_cast<std::size_t>(static_cast<unsigned char>(bytes[i])); };
-  std::size_t header_len = 0;
-  std::size_t header_at = 10;
-  if (major == 1) {
-    header_len = byte(8) | byte(9) << 8;
-  } else {
-    if (bytes.size() < 12) fail(bytes.size(), "the file ends inside the NumPy preamble");
-    header_len = byte(8) | byte(9) << 8 | byte(10) << 16 | byte(11) << 24;
-    header_at = 12;
-  }
+  if (major == 1) return 10 + (byte(8) | byte(9) << 8);
+  if (bytes.size() < 12) fail(bytes.size(), "the file ends inside the NumPy preamble");
+  return 12 + (byte(8) | byte(9) << 8 | byte(10) << 16 | byte(11) << 24);
+}
+
+NpyHeader read_npy_header(std::string_view bytes, const std::string& file) {
+  const std::size_t data_at = npy_data_offset(bytes, file);
+  const std::size_t header_at = static_cast<unsigned char>(bytes[6]) == 1 ? 10 : 12;
+  const std::size_t header_len = data_at - header_at;
   if (header_len > bytes.size() - header_at) {
-    fail(bytes.size(), "the file ends inside the header (" + std::to_string(header_len) +
-                           " bytes declared at byte offset " + std::to_string(header_at) + ")");
+    throw InputError(file, 0, 0,
+                     "NumPy file, byte offset " + std::to_string(bytes.size()) + ": the file ends inside the header (" +
+                         std::to_string(header_len) + " bytes declared at byte offset " + std::to_string(header_at) +
+                         ")",
+                     kWrite);
   }
   HeaderParser parser(bytes.substr(header_at, header_len), header_at, file);
   const HeaderParser::Header h = parser.parse();
-  const std::size_t data_at = header_at + header_len;
-
   const auto type = npy_type(h.descr);
   if (!type) {
     parser.fail(0, "data type '" + h.descr +
@@ -207,29 +208,48 @@ Table read_npy(std::string_view bytes, const std::string& file, bool missing_as_
                        " is not supported: a 1-D array (one channel) or a 2-D array (rows of samples, a column per "
                        "channel) is");
   }
-  const std::size_t rows = shape[0];
-  const std::size_t cols = shape.size() == 2 ? shape[1] : 1;
-  if (cols == 0) parser.fail(0, "shape " + shape_text(shape) + " has no columns");
+  NpyHeader out;
+  out.type = *type;
+  out.descr = h.descr;
+  out.shape = shape_text(shape);
+  out.rows = shape[0];
+  out.cols = shape.size() == 2 ? shape[1] : 1;
+  out.data_at = data_at;
+  // A 1-D array is the same bytes in either order.
+  out.fortran_order = *h.fortran_order && shape.size() == 2;
+  if (out.cols == 0) parser.fail(0, "shape " + out.shape + " has no columns");
   constexpr std::size_t kMax = std::numeric_limits<std::size_t>::max();
-  if (rows > kMax / cols || rows * cols > kMax / type->bytes)
-    parser.fail(0, "shape " + shape_text(shape) + " is too large");
-  const std::size_t need = rows * cols * type->bytes;
+  if (out.rows > kMax / out.cols || out.rows * out.cols > kMax / type->bytes)
+    parser.fail(0, "shape " + out.shape + " is too large");
+  return out;
+}
+
+std::string npy_short_data(const NpyHeader& h, std::size_t have) {
+  return "the data end " + std::to_string(h.data_bytes() - have) + " bytes short of the shape " + h.shape + " of " +
+         h.descr + " declared in the header (data from byte offset " + std::to_string(h.data_at) + ")";
+}
+
+std::string npy_extra_data(const NpyHeader& h, std::size_t extra) {
+  return std::to_string(extra) + " bytes after the data of shape " + h.shape + " of " + h.descr;
+}
+
+Table read_npy(std::string_view bytes, const std::string& file, bool missing_as_nan) {
+  const NpyHeader h = read_npy_header(bytes, file);
+  const std::size_t data_at = h.data_at;
+  const std::size_t rows = h.rows;
+  const std::size_t cols = h.cols;
+  const SampleType* type = &h.type;
+  const std::size_t need = h.data_bytes();
   const std::size_t have = bytes.size() - data_at;
-  if (have < need) {
-    fail(bytes.size(),
-         "the data end " + std::to_string(need - have) + " bytes short of the shape " + shape_text(shape) + " of " +
-             h.descr + " declared in the header (data from byte offset " + std::to_string(data_at) + ")",
-         "the file is incomplete; copy it again, or save it again");
-  }
-  if (have > need) {
-    fail(data_at + need,
-         std::to_string(have - need) + " bytes after the data of shape " + shape_text(shape) + " of " + h.descr,
-         "the file is damaged or not one array (numpy.savez writes a .npz archive); save it again with numpy.save");
-  }
+  const auto fail = [&](std::size_t offset, const std::string& what, const std::string& hint) {
+    throw InputError(file, 0, 0, "NumPy file, byte offset " + std::to_string(offset) + ": " + what, hint);
+  };
+  if (have < need) fail(bytes.size(), npy_short_data(h, have), kNpyShortHint);
+  if (have > need) fail(data_at + need, npy_extra_data(h, have - need), kNpyExtraHint);
   detail::BinaryLayout bl;
   bl.rows = rows;
   bl.types.assign(cols, *type);
-  if (*h.fortran_order) {
+  if (h.fortran_order) {
     bl.row_stride = type->bytes;
     for (std::size_t c = 0; c < cols; ++c) bl.column_offsets.push_back(data_at + c * rows * type->bytes);
   } else {

@@ -14,6 +14,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstring>
+#include <optional>
 #include <string_view>
 #include <utility>
 #include <vector>
@@ -21,7 +22,9 @@
 #include <zlib.h>
 
 #include "cubecal/error.hpp"
+#include "detail/binary_input.hpp"
 #include "detail/file_buffer.hpp"
+#include "detail/npy_reader.hpp"
 #include "cubecal/io/recording.hpp"
 #include "cubecal/io/recording_manifest.hpp"
 #include "cubecal/stats/sampling.hpp"
@@ -34,24 +37,32 @@ namespace {
 using detail::lower_case;
 const auto& stamp = detail::shortest_text;
 
-// The file descriptor of the input, read in pieces.
+// The file descriptor of the input, read in pieces; a gzip file (told by its
+// magic bytes) inflated on the way, member after member, a piece at a time.
 class ByteSource {
  public:
-  ByteSource(const std::string& path, std::string& label, std::size_t& total) {
+  explicit ByteSource(const std::string& path) {
     const bool stdin_input = path == kStdinPath;
-    label = stdin_input ? std::string(kStdinLabel) : path;
+    label_ = stdin_input ? std::string(kStdinLabel) : path;
     fd_ = stdin_input ? STDIN_FILENO : ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
     own_ = !stdin_input;
-    if (fd_ < 0) throw InputError(label, 0, 0, std::string("cannot open: ") + std::strerror(errno), "check the path");
+    if (fd_ < 0) throw InputError(label_, 0, 0, std::string("cannot open: ") + std::strerror(errno), "check the path");
     struct stat st {};
-    if (::fstat(fd_, &st) == 0 && S_ISREG(st.st_mode)) total = static_cast<std::size_t>(st.st_size);
+    if (::fstat(fd_, &st) == 0 && S_ISREG(st.st_mode)) total_ = static_cast<std::size_t>(st.st_size);
 #ifdef F_SETPIPE_SZ
     // A pipe of 1 MiB rather than 64 KiB: a fast producer and this reader
     // then trade pieces in a few system calls instead of many (best effort:
     // the system's pipe-max-size may refuse it).
     if (S_ISFIFO(st.st_mode)) (void)::fcntl(fd_, F_SETPIPE_SZ, 1 << 20);
 #endif
-    label_ = label;
+    char magic[2];
+    const std::size_t got = read_fd(magic, 2);
+    consumed_ = got;
+    if (got == 2 && static_cast<unsigned char>(magic[0]) == 0x1f && static_cast<unsigned char>(magic[1]) == 0x8b) {
+      start_gzip(magic);
+    } else {
+      head_.assign(magic, got);
+    }
   }
   // The chunks of a recording (cubecal record) as one text: the header line
   // of every chunk after the first left out, and each chunk's bytes checked
@@ -61,20 +72,79 @@ class ByteSource {
     std::size_t bytes = 0;
     std::uint32_t crc = 0;
   };
-  ByteSource(std::vector<Chunk> chunks, const std::string& dir, std::string& label, std::size_t& total)
-      : own_(true), label_(dir), chunks_(std::move(chunks)) {
-    label = dir;
-    total = 0;
-    for (const Chunk& c : chunks_) total += c.bytes;
+  ByteSource(std::vector<Chunk> chunks, const std::string& dir) : own_(true), label_(dir), chunks_(std::move(chunks)) {
+    for (const Chunk& c : chunks_) total_ += c.bytes;
   }
   ~ByteSource() {
     if (own_ && fd_ >= 0) ::close(fd_);
+    if (zs_) inflateEnd(zs_.get());
   }
   ByteSource(const ByteSource&) = delete;
   ByteSource& operator=(const ByteSource&) = delete;
+
+  // How errors name the input: the path, "<stdin>" or the recording.
+  const std::string& label() const noexcept { return label_; }
+  // The size of a regular file or of a recording's chunks (0: unknown).
+  std::size_t total() const noexcept { return total_; }
+  // Bytes taken from the file(s) so far (compressed bytes for gzip): the
+  // progress against total().
+  std::size_t consumed() const noexcept { return consumed_; }
+  bool gzip() const noexcept { return zs_ != nullptr; }
+  // A regular file, not gzip: read_at() can read anywhere in it.
+  bool seekable() const noexcept { return chunks_.empty() && !zs_ && total_ > 0 && fd_ >= 0 && own_; }
+  // n bytes at byte offset `at` of a seekable() file, whatever was read
+  // before; false (errno set) on an error or a short read.
+  bool read_at(std::size_t at, char* dst, std::size_t n) {
+    std::size_t got = 0;
+    while (got < n) {
+      const ssize_t r = ::pread(fd_, dst + got, n - got, static_cast<off_t>(at + got));
+      if (r < 0 && errno == EINTR) continue;
+      if (r <= 0) {
+        if (r == 0) errno = EIO;
+        return false;
+      }
+      got += static_cast<std::size_t>(r);
+    }
+    return true;
+  }
+  // Compressed bytes inflated so far (gzip only).
+  std::size_t compressed_used() const noexcept { return zs_ ? consumed_ - zs_->avail_in : consumed_; }
+
+  // The first n bytes of the (inflated) input, or all of a shorter one,
+  // without taking them: read() gives them again.
+  std::string_view peek(std::size_t n) {
+    if (head_.size() < n) {
+      const std::size_t at = head_.size();
+      head_.resize(n);
+      head_.resize(at + read_content(head_.data() + at, n - at));
+    }
+    return std::string_view(head_).substr(0, n);
+  }
+
   // Up to n bytes (fewer only at the end of the input).
   std::size_t read(char* dst, std::size_t n) {
-    if (chunks_.empty()) return read_fd(dst, n);
+    std::size_t got = 0;
+    if (head_at_ < head_.size()) {
+      got = std::min(n, head_.size() - head_at_);
+      std::memcpy(dst, head_.data() + head_at_, got);
+      head_at_ += got;
+      if (head_at_ == head_.size()) {
+        head_.clear();
+        head_.shrink_to_fit();
+        head_at_ = 0;
+      }
+    }
+    return got + (got < n ? read_content(dst + got, n - got) : 0);
+  }
+
+ private:
+  std::size_t read_content(char* dst, std::size_t n) {
+    if (zs_) return read_gzip(dst, n);
+    if (chunks_.empty()) {
+      const std::size_t got = read_fd(dst, n);
+      consumed_ += got;
+      return got;
+    }
     std::size_t got = 0;
     while (got < n) {
       if (fd_ < 0 && !open_next_chunk()) break;
@@ -82,6 +152,7 @@ class ByteSource {
       const bool chunk_ended = r < n - got;
       crc_ = static_cast<std::uint32_t>(::crc32(crc_, reinterpret_cast<const Bytef*>(dst + got), static_cast<uInt>(r)));
       seen_ += r;
+      consumed_ += r;
       if (skip_header_) {  // a later chunk's header line: counted, not passed on
         const char* nl = static_cast<const char*>(std::memchr(dst + got, '\n', r));
         if (nl == nullptr) {
@@ -100,6 +171,71 @@ class ByteSource {
     return got;
   }
 
+  void start_gzip(const char magic[2]) {
+    zs_ = std::make_unique<z_stream>();
+    // 16 + MAX_WBITS: gzip wrapper only; zlib checks the CRC-32 and length
+    // trailer of each member itself.
+    if (inflateInit2(zs_.get(), 16 + MAX_WBITS) != Z_OK) {
+      zs_.reset();
+      throw std::bad_alloc();
+    }
+    in_.resize(kGzipInput);
+    in_[0] = magic[0];
+    in_[1] = magic[1];
+    const std::size_t got = read_fd(in_.data() + 2, in_.size() - 2);
+    raw_eof_ = got < in_.size() - 2;
+    consumed_ += got;
+    zs_->next_in = reinterpret_cast<Bytef*>(in_.data());
+    zs_->avail_in = static_cast<uInt>(got + 2);
+  }
+  void refill() {
+    const std::size_t got = read_fd(in_.data(), in_.size());
+    raw_eof_ = got < in_.size();
+    consumed_ += got;
+    zs_->next_in = reinterpret_cast<Bytef*>(in_.data());
+    zs_->avail_in = static_cast<uInt>(got);
+  }
+  // Where zlib is, in the words of the whole-file reader (file_buffer.cpp).
+  std::string gzip_place() const {
+    return "at byte offset " + std::to_string(consumed_ - zs_->avail_in) + ", in gzip member " +
+           std::to_string(member_) + ", after " + std::to_string(inflated_) + " bytes of text";
+  }
+  // Inflates into dst up to n bytes: every member in turn; a stream cut
+  // short or damaged is an InputError naming its byte offset and member.
+  std::size_t read_gzip(char* dst, std::size_t n) {
+    z_stream& zs = *zs_;
+    zs.next_out = reinterpret_cast<Bytef*>(dst);
+    zs.avail_out = static_cast<uInt>(std::min<std::size_t>(n, std::size_t{1} << 30));
+    const uInt room = zs.avail_out;
+    while (zs.avail_out > 0 && !gzip_done_) {
+      if (zs.avail_in == 0 && !raw_eof_) refill();
+      const uInt before = zs.avail_out;
+      const int rc = inflate(&zs, Z_NO_FLUSH);
+      inflated_ += before - zs.avail_out;
+      if (rc == Z_STREAM_END) {
+        if (zs.avail_in == 0 && !raw_eof_) refill();
+        if (zs.avail_in == 0) {
+          gzip_done_ = true;
+          break;
+        }
+        inflateReset(&zs);  // the next member
+        ++member_;
+        continue;
+      }
+      if (rc == Z_OK) continue;
+      if (rc == Z_BUF_ERROR && zs.avail_in == 0 && raw_eof_)
+        throw InputError(label_, 0, 0, "truncated gzip stream: the data end " + gzip_place(),
+                         "the file is incomplete; copy or download it again");
+      if (rc == Z_BUF_ERROR) continue;
+      if (rc == Z_MEM_ERROR) throw std::bad_alloc();
+      throw InputError(label_, 0, 0,
+                       "corrupt gzip data " + gzip_place() + ": " + (zs.msg != nullptr ? zs.msg : "inflate failed"),
+                       "the file is damaged; copy or download it again");
+    }
+    return room - zs.avail_out;
+  }
+
+ public:
   // Where line `line` (1-based) of the text read so far lies: for a
   // recording's chunks, the chunk and its own line (a later chunk's header,
   // left out of the text, counted back in); false for one file.
@@ -153,9 +289,18 @@ class ByteSource {
     return got;
   }
 
+  static constexpr std::size_t kGzipInput = std::size_t{256} << 10;
+
   int fd_ = -1;
   bool own_ = false;
   std::string label_;
+  std::size_t total_ = 0, consumed_ = 0;
+  std::string head_;  // bytes peeked, given again by read()
+  std::size_t head_at_ = 0;
+  std::unique_ptr<z_stream> zs_;  // gzip input: the inflater
+  std::vector<char> in_;          // compressed bytes read, for zs_
+  bool raw_eof_ = false, gzip_done_ = false;
+  std::size_t member_ = 1, inflated_ = 0;
   std::vector<Chunk> chunks_;  // a recording's chunks, read in turn
   std::size_t next_ = 0;       // the chunk being read
   bool skip_header_ = false;
@@ -201,11 +346,20 @@ void check_lsb_count(const SeriesOptions& opt, const std::string& file, const st
 
 constexpr std::size_t kBinaryChunk = std::size_t{256} << 10;
 
+// Frames of samples after a header: raw binary as the options describe it,
+// or the rows of a C-order NumPy array (its header says how many: fewer or
+// more bytes are an error, as read_npy's).
 class BinaryStream final : public SampleStream {
  public:
-  BinaryStream(const std::string& path, const SeriesOptions& opt, std::size_t chunk_bytes)
-      : src_(path, file_, total_bytes_), layout_(opt.binary) {
-    if (opt.rate_hz == 0.0) throw UsageError(Field::rate, "raw binary has no time column: give the sampling rate");
+  BinaryStream(std::unique_ptr<ByteSource> src, RawLayout layout, const SeriesOptions& opt, std::size_t chunk_bytes,
+               const NpyHeader* npy = nullptr)
+      : src_(std::move(src)), layout_(std::move(layout)) {
+    file_ = src_->label();
+    total_bytes_ = src_->total();
+    if (npy != nullptr) npy_ = *npy;
+    if (opt.rate_hz == 0.0)
+      throw UsageError(Field::rate, npy_ ? file_ + ": a NumPy array has no time stamps when streamed: give {rate} HZ"
+                                         : std::string("raw binary has no time column: give the sampling rate"));
     rate_hz_ = opt.rate_hz;
     // Resolve the columns as read_series does, on a table without rows.
     Table all;
@@ -230,27 +384,25 @@ class BinaryStream final : public SampleStream {
     // consumer (a binary frame needs no look-ahead): at most kBinaryChunk.
     frames_per_chunk_ = std::max<std::size_t>(1, std::min(chunk_bytes, kBinaryChunk) / frame_);
     buf_.resize(frames_per_chunk_ * frame_);
-    // The header.
-    std::size_t left = layout_.header_bytes;
-    while (left > 0) {
-      const std::size_t got = src_.read(buf_.data(), std::min(left, buf_.size()));
-      if (got == 0)
-        throw InputError(file_, 0, 0,
-                         "the input has " + std::to_string(layout_.header_bytes - left) + " bytes, fewer than the " +
-                             std::to_string(layout_.header_bytes) + " header bytes to skip",
-                         "check {header_bytes}");
-      left -= got;
-      bytes_read_ += got;
+    if (npy_ && npy_->fortran_order) {
+      start_column_major();
+      return;
     }
+    skip_header();
+    if (npy_) data_left_ = npy_->data_bytes();
   }
 
   bool next(SampleChunk& out) override {
-    const std::size_t got = src_.read(buf_.data(), buf_.size());
+    if (column_major_) return next_rows(out);
+    const std::size_t want = npy_ ? std::min(buf_.size(), data_left_) : buf_.size();
+    const std::size_t got = src_->read(buf_.data(), want);
+    bytes_read_ = src_->consumed();
+    if (npy_) check_npy_end(want, got);
     const std::size_t rows = got / frame_;
     if (got % frame_ != 0) {
       throw InputError(file_, 0, 0,
                        "trailing partial frame: " + std::to_string(got % frame_) + " bytes at byte offset " +
-                           std::to_string(bytes_read_ + rows * frame_) + " after " + std::to_string(rows_read_ + rows) +
+                           std::to_string(offset_ + rows * frame_) + " after " + std::to_string(rows_read_ + rows) +
                            " whole frames",
                        "the frame of " + std::to_string(layout_.channels.size()) + " channels is " +
                            std::to_string(frame_) + " bytes; check {binary} and {header_bytes}");
@@ -259,24 +411,105 @@ class BinaryStream final : public SampleStream {
     out.extra.resize(extras_.size());
     for (std::size_t c = 0; c < columns_.size(); ++c) decode(columns_[c], rows, scale_[c], out.channels[c]);
     for (std::size_t c = 0; c < extras_.size(); ++c) decode(extras_[c], rows, 1.0, out.extra[c]);
-    bytes_read_ += got;
+    offset_ += got;
     rows_read_ += rows;
     return rows > 0;
   }
 
  private:
+  // A Fortran-order array: the next rows of each column read where the
+  // column lies in the file.
+  bool next_rows(SampleChunk& out) {
+    const std::size_t rows = std::min(frames_per_chunk_, npy_->rows - rows_read_);
+    out.channels.resize(columns_.size());
+    out.extra.resize(extras_.size());
+    for (std::size_t c = 0; c < columns_.size(); ++c) decode(columns_[c], rows, scale_[c], out.channels[c]);
+    for (std::size_t c = 0; c < extras_.size(); ++c) decode(extras_[c], rows, 1.0, out.extra[c]);
+    rows_read_ += rows;
+    bytes_read_ = npy_->data_at + rows_read_ * frame_;  // the share of the file
+    return rows > 0;
+  }
+  std::size_t column_offset(std::size_t col) const {
+    const std::size_t b = layout_.channels[col].bytes;
+    return npy_->data_at + col * npy_->rows * b + rows_read_ * b;
+  }
+  void read_column(std::size_t col, std::size_t rows) {
+    const std::size_t n = rows * layout_.channels[col].bytes;
+    if (!src_->read_at(column_offset(col), buf_.data(), n))
+      throw InputError(file_, 0, 0, std::string("read error: ") + std::strerror(errno));
+  }
+
+  void skip_header() {
+    std::size_t left = layout_.header_bytes;
+    while (left > 0) {
+      const std::size_t got = src_->read(buf_.data(), std::min(left, buf_.size()));
+      if (got == 0)
+        throw InputError(file_, 0, 0,
+                         "the input has " + std::to_string(layout_.header_bytes - left) + " bytes, fewer than the " +
+                             std::to_string(layout_.header_bytes) + " header bytes to skip",
+                         "check {header_bytes}");
+      left -= got;
+      offset_ += got;
+    }
+    bytes_read_ = src_->consumed();
+  }
+
+  // A Fortran-order array read column by column from a file (the size
+  // checked first, as read_npy checks it).
+  void start_column_major() {
+    const NpyHeader& h = *npy_;
+    if (!src_->seekable())
+      throw InputError(file_, 0, 0,
+                       "a 2-D NumPy array in Fortran order (column after column) is streamed from a file, not from "
+                       "gzip or a pipe",
+                       "give the .npy file itself, or save it in C order: numpy.save(f, numpy.ascontiguousarray(a))");
+    const std::size_t size = total_bytes_, need = h.data_at + h.data_bytes();
+    const auto fail = [&](std::size_t offset, const std::string& what, const char* hint) {
+      throw InputError(file_, 0, 0, "NumPy file, byte offset " + std::to_string(offset) + ": " + what, hint);
+    };
+    if (size < need) fail(size, npy_short_data(h, size - h.data_at), kNpyShortHint);
+    if (size > need) fail(need, npy_extra_data(h, size - need), kNpyExtraHint);
+    column_major_ = true;
+  }
+
+  // A NumPy array's data: as many bytes as its header declares, no fewer
+  // (the piece read short) and none after them.
+  void check_npy_end(std::size_t want, std::size_t got) {
+    const NpyHeader& h = *npy_;
+    const auto fail = [&](std::size_t offset, const std::string& what, const char* hint) {
+      throw InputError(file_, 0, 0, "NumPy file, byte offset " + std::to_string(offset) + ": " + what, hint);
+    };
+    if (got < want) {
+      const std::size_t have = h.data_bytes() - data_left_ + got;
+      fail(h.data_at + have, npy_short_data(h, have), kNpyShortHint);
+    }
+    data_left_ -= got;
+    if (data_left_ > 0 || got > 0) return;
+    std::size_t extra = 0;
+    for (std::size_t n = 0; (n = src_->read(buf_.data(), buf_.size())) > 0;) extra += n;
+    if (extra > 0) fail(h.data_at + h.data_bytes(), npy_extra_data(h, extra), kNpyExtraHint);
+  }
+
+  // Column `col` of the piece: its samples from buf_ + first, `stride`
+  // bytes apart; `at` is the input's byte offset of the first (messages).
   void decode(std::size_t col, std::size_t rows, double lsb, std::vector<double>& v) {
+    if (column_major_) return decode(col, rows, lsb, v, 0, layout_.channels[col].bytes, column_offset(col));
+    decode(col, rows, lsb, v, offsets_[col], frame_, offset_ + offsets_[col]);
+  }
+  void decode(std::size_t col, std::size_t rows, double lsb, std::vector<double>& v, std::size_t first,
+              std::size_t stride, std::size_t at) {
+    if (column_major_) read_column(col, rows);
     v.resize(rows);
     const SampleType t = layout_.channels[col];
-    const char* p = buf_.data() + offsets_[col];
+    const char* p = buf_.data() + first;
     if (t == SampleType{SampleKind::floating, 8, false} && std::endian::native == std::endian::little) {
-      if (frame_ == 8) {
-        if (rows > 0) std::memcpy(v.data(), p, rows * 8);  // one channel: the frames are the values
+      if (stride == 8) {
+        if (rows > 0) std::memcpy(v.data(), p, rows * 8);  // the samples are the values
       } else {
-        for (std::size_t r = 0; r < rows; ++r, p += frame_) std::memcpy(&v[r], p, 8);
+        for (std::size_t r = 0; r < rows; ++r, p += stride) std::memcpy(&v[r], p, 8);
       }
     } else {
-      for (std::size_t r = 0; r < rows; ++r, p += frame_) v[r] = decode_sample(t, p);
+      for (std::size_t r = 0; r < rows; ++r, p += stride) v[r] = decode_sample(t, p);
     }
     bool ok = true;
     const double top = kMaxMagnitude * lsb;
@@ -284,7 +517,7 @@ class BinaryStream final : public SampleStream {
     if (!ok) {
       std::size_t r = 0;
       while (std::abs(v[r]) <= top) ++r;
-      const std::size_t offset = bytes_read_ + r * frame_ + offsets_[col];
+      const std::size_t offset = at + r * stride;
       const bool finite = std::isfinite(v[r]);
       throw InputError(file_, 0, 0,
                        (finite ? "value " + stamp(v[r]) + " exceeds the magnitude " + stamp(kMaxMagnitude)
@@ -298,8 +531,12 @@ class BinaryStream final : public SampleStream {
       for (double& x : v) x /= lsb;
   }
 
-  ByteSource src_;
+  std::unique_ptr<ByteSource> src_;
   RawLayout layout_;
+  std::optional<NpyHeader> npy_;
+  std::size_t offset_ = 0;     // of the next byte in the (inflated) input
+  std::size_t data_left_ = 0;  // bytes of a NumPy array's data still to come
+  bool column_major_ = false;  // a Fortran-order array, read column by column
   std::size_t frame_ = 0, frames_per_chunk_ = 0;
   std::vector<std::size_t> offsets_, columns_, extras_;
   std::vector<double> scale_;
@@ -318,16 +555,11 @@ bool is_comment_or_blank(std::string_view line) {
 
 class TextStream final : public SampleStream {
  public:
-  TextStream(const std::string& path, const SeriesOptions& opt, std::size_t chunk_bytes)
-      : src_(path, file_, total_bytes_), opt_(opt), chunk_bytes_(std::max<std::size_t>(chunk_bytes, 4096)) {
-    start(opt);
-  }
-  // A recording's chunks as one text.
-  TextStream(std::vector<ByteSource::Chunk> chunks, const std::string& dir, const SeriesOptions& opt,
-             std::size_t chunk_bytes)
-      : src_(std::move(chunks), dir, file_, total_bytes_),
-        opt_(opt),
-        chunk_bytes_(std::max<std::size_t>(chunk_bytes, 4096)) {
+  // A file, the standard input or a recording's chunks as one text.
+  TextStream(std::unique_ptr<ByteSource> src, const SeriesOptions& opt, std::size_t chunk_bytes)
+      : src_(std::move(src)), opt_(opt), chunk_bytes_(std::max<std::size_t>(chunk_bytes, 4096)) {
+    file_ = src_->label();
+    total_bytes_ = src_->total();
     try {
       start(opt);
     } catch (const InputError& e) {
@@ -338,14 +570,15 @@ class TextStream final : public SampleStream {
  private:
   // The first piece: the layout, the time column, the columns, the rate.
   void start(const SeriesOptions& opt) {
-    read_piece();
-    const std::string_view head(text_.data(), std::min<std::size_t>(text_.size(), 64));
-    if (head.size() >= 2 && static_cast<unsigned char>(head[0]) == 0x1f && static_cast<unsigned char>(head[1]) == 0x8b)
-      refuse_format(file_, "gzip-compressed text", "decompress into a pipe: zcat FILE | cubecal ... - {stream}");
+    // The start checked as the whole-file reader checks it (binary data, a
+    // gzip bomb of zeros) before a line end is looked for.
+    const std::string_view head = src_->peek(detail::kTextProbeBytes);
     if (is_known_binary_format(head))
       refuse_format(file_, "a NumPy or ROS bag file", "leave out {stream} (it is read into memory)");
     if (head.starts_with("File:"))  // its header gives the rate, type and scaling: read whole
       refuse_format(file_, "a Stable32 .DAT file", "leave out {stream} (it is read into memory)");
+    if (src_->gzip()) detail::check_text_start(head, file_, true);
+    read_piece();
     const Table layout = parse_layout(text_, file_, opt.table);
     // The time column, as read_series chooses it.
     std::string time_spec;
@@ -396,6 +629,13 @@ class TextStream final : public SampleStream {
     for (std::size_t k = 0; k < extra_count_; ++k) extra_names_.push_back(pending_.extra_names[k]);
     if (has_time_) time_name_ = pending_.extra_names[extra_count_];
     set_rate();
+    // Short fields ("0\n") parse to more doubles than the text has bytes:
+    // later pieces hold no more doubles than chunk_bytes bytes.
+    const std::size_t values = pending_.rows() * (pending_.data.size() + pending_.extra.size());
+    if (values * 8 > chunk_bytes_)
+      chunk_bytes_ = std::max<std::size_t>(
+          4096, static_cast<std::size_t>(static_cast<double>(chunk_bytes_) * static_cast<double>(chunk_bytes_) /
+                                         (8.0 * static_cast<double>(values))));
   }
 
  public:
@@ -413,7 +653,7 @@ class TextStream final : public SampleStream {
   [[noreturn]] void placed(const InputError& e) const {
     std::string file;
     std::size_t line = 0;
-    if (e.file() == file_ && src_.place(e.line(), file, line))
+    if (e.file() == file_ && src_->place(e.line(), file, line))
       throw InputError(file, line, e.column(), e.problem(), e.hint());
     throw;
   }
@@ -460,9 +700,9 @@ class TextStream final : public SampleStream {
     carry_.clear();
     const std::size_t at = text_.size();
     text_.resize(at + chunk_bytes_);
-    const std::size_t got = src_.read(text_.data() + at, chunk_bytes_);
+    const std::size_t got = src_->read(text_.data() + at, chunk_bytes_);
     text_.resize(at + got);
-    bytes_read_ += got;
+    bytes_read_ = src_->consumed();
     eof_ = got < chunk_bytes_;
     if (!eof_) {
       const std::size_t nl = text_.rfind('\n');
@@ -599,7 +839,7 @@ class TextStream final : public SampleStream {
     }
   }
 
-  ByteSource src_;
+  std::unique_ptr<ByteSource> src_;
   SeriesOptions opt_;
   TableOptions topt_;
   std::size_t chunk_bytes_;
@@ -661,7 +901,21 @@ std::unique_ptr<SampleStream> open_recording_stream(const std::string& dir, cons
     else
       throw UsageError(dir + ": the recording has no device time column and no rate: give {rate} HZ");
   }
-  return std::make_unique<TextStream>(std::move(chunks), dir, o, chunk_bytes);
+  return std::make_unique<TextStream>(std::make_unique<ByteSource>(std::move(chunks), dir), o, chunk_bytes);
+}
+
+// A NumPy .npy: its header read, then its rows as binary frames.
+std::unique_ptr<SampleStream> open_npy_stream(std::unique_ptr<ByteSource> src, const SeriesOptions& opt,
+                                              std::size_t chunk_bytes) {
+  // The header is at most a few hundred bytes; a preamble that declares more
+  // than kMaxNpyHeader is read no further.
+  constexpr std::size_t kMaxNpyHeader = std::size_t{1} << 20;
+  const std::size_t data_at = std::min(npy_data_offset(src->peek(12), src->label()), kMaxNpyHeader);
+  const NpyHeader h = read_npy_header(src->peek(data_at), src->label());
+  RawLayout layout;
+  layout.channels.assign(h.cols, h.type);
+  layout.header_bytes = h.data_at;
+  return std::make_unique<BinaryStream>(std::move(src), std::move(layout), opt, chunk_bytes, &h);
 }
 
 }  // namespace
@@ -670,8 +924,47 @@ std::unique_ptr<SampleStream> SampleStream::open(const std::string& path, const 
                                                  std::size_t chunk_bytes) {
   check_common(opt);
   if (looks_like_recording(path)) return open_recording_stream(path, opt, chunk_bytes);
-  if (!opt.binary.channels.empty()) return std::make_unique<BinaryStream>(path, opt, chunk_bytes);
-  return std::make_unique<TextStream>(path, opt, chunk_bytes);
+  auto src = std::make_unique<ByteSource>(path);  // gzip inflated on the way
+  if (!opt.binary.channels.empty()) return std::make_unique<BinaryStream>(std::move(src), opt.binary, opt, chunk_bytes);
+  if (is_npy(src->peek(6))) return open_npy_stream(std::move(src), opt, chunk_bytes);
+  return std::make_unique<TextStream>(std::move(src), opt, chunk_bytes);
+}
+
+InputEstimate estimate_input(const std::string& path) {
+  InputEstimate e;
+  struct stat st {};
+  if (path == kStdinPath || ::stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode) || st.st_size == 0) return e;
+  const auto size = static_cast<std::size_t>(st.st_size);
+  e.content_bytes = size;
+  try {
+    ByteSource src(path);
+    e.gzip = src.gzip();
+    // The first MiB of the content; of a gzip file, up to 16 MiB inflated
+    // (or 4 MiB compressed) for the ratio.
+    constexpr std::size_t kHead = std::size_t{1} << 20;
+    e.head.resize(kHead);
+    e.head.resize(src.read(e.head.data(), kHead));
+    if (e.gzip) {
+      std::size_t inflated = e.head.size();
+      std::vector<char> scratch(kHead);
+      std::size_t got = e.head.size() == kHead ? kHead : 0;
+      while (got == kHead && inflated < (std::size_t{16} << 20) && src.compressed_used() < (std::size_t{4} << 20)) {
+        got = src.read(scratch.data(), kHead);
+        inflated += got;
+      }
+      const bool whole = got < kHead;
+      const double ratio =
+          static_cast<double>(inflated) / static_cast<double>(std::max<std::size_t>(1, src.compressed_used()));
+      e.content_bytes = whole ? inflated : static_cast<std::size_t>(ratio * static_cast<double>(size));
+    }
+    if (is_npy(e.head)) {
+      const NpyHeader h = read_npy_header(e.head, path);
+      e.npy_rows = h.rows;
+      e.npy_values = h.rows * h.cols;
+    }
+  } catch (const std::exception&) {  // what is wrong is for the reader to say
+  }
+  return e;
 }
 
 }  // namespace cubecal::io

@@ -379,7 +379,8 @@ Series read_series(const std::string& path_arg, const SeriesOptions& options) {
       return detail::read_bag_series(read_ros2_bag_directory(path_arg), false, opt);
     if (is_sqlite_file(path_arg)) return detail::read_bag_series(read_db3(path_arg), false, opt);
   }
-  const FileBuffer buf = FileBuffer::open(path_arg, opt.binary.channels.empty() ? Content::series : Content::raw);
+  const FileBuffer buf =
+      FileBuffer::open(path_arg, opt.binary.channels.empty() ? Content::series : Content::raw, opt.max_inflated_bytes);
   const std::string& path = buf.path();  // how errors name it ("<stdin>" for "-")
   if (opt.binary.channels.empty() && looks_like_ros_bag(buf.view()))
     return detail::read_bag_series(message_log(parse_ros1_bag(buf.view(), path)), buf.was_gzip(), opt);

@@ -5,8 +5,10 @@
 /// LSB, magnitude and timing checks as read_series. A recording directory
 /// (recording.hpp) of one closed segment without breaks is its chunks read
 /// in turn as one text, each checked against the manifest's size and CRC-32.
-/// Compressed text, NumPy, ROS bags and other recordings are read whole by
-/// read_series and refused here.
+/// Gzip-compressed input is inflated piece by piece (every member in turn);
+/// a NumPy .npy is its header, then rows of raw samples (a 2-D array in
+/// Fortran order read column by column from its file). ROS bags
+/// and other recordings are read whole by read_series and refused here.
 #pragma once
 #include <cstddef>
 #include <memory>
@@ -84,5 +86,24 @@ class SampleStream {
   std::size_t total_bytes_ = 0, bytes_read_ = 0, rows_read_ = 0;
   ///@}
 };
+
+/// What reading a file whole would hold, told from its first bytes without
+/// reading it all (for choosing between reading it whole and streaming it).
+struct InputEstimate {
+  /// The bytes of the content: a plain file's size, a gzip file's inflated
+  /// size (estimated from the inflation of its first MiBs when it is larger);
+  /// 0 for the standard input, a pipe or a file that cannot be opened.
+  std::size_t content_bytes = 0;
+  /// The values (rows x columns) a NumPy .npy's header declares (0: not a .npy).
+  std::size_t npy_values = 0;
+  /// The rows a NumPy .npy's header declares (0: not a .npy).
+  std::size_t npy_rows = 0;
+  bool gzip = false;  ///< the file is gzip-compressed
+  std::string head;   ///< the first MiB (at most) of the content
+};
+
+/// The estimate for `path`; throws nothing (what is wrong with a file is for
+/// the reader to say).
+InputEstimate estimate_input(const std::string& path);
 
 }  // namespace cubecal::io

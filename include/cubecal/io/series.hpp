@@ -82,6 +82,10 @@ struct SeriesOptions {
   /// recognised by its content). Empty: delimited text or NumPy .npy, told
   /// apart by the file's first bytes.
   RawLayout binary;
+  /// A gzip file is inflated into memory up to this many bytes (0: no
+  /// limit); more is an InputError naming {memory} and {stream}, raised
+  /// before the memory is taken.
+  std::size_t max_inflated_bytes = 0;
 };
 
 /// A record as read: its channels, sampling rate, time column and gaps.

@@ -29,8 +29,9 @@ bool is_known_binary_format(std::string_view head) noexcept;
 class FileBuffer {
  public:
   // Throws InputError (file not found, unreadable, truncated/corrupt gzip,
-  // content that `content` does not allow).
-  static FileBuffer open(const std::string& path, Content content = Content::text);
+  // a gzip file that inflates to more than `max_inflated` bytes when that is
+  // not 0, content that `content` does not allow).
+  static FileBuffer open(const std::string& path, Content content = Content::text, std::size_t max_inflated = 0);
 
   FileBuffer(FileBuffer&&) noexcept;
   FileBuffer& operator=(FileBuffer&&) noexcept;
