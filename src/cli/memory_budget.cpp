@@ -107,6 +107,8 @@ std::size_t estimated_samples(const std::string& file, const io::SeriesOptions& 
   in.read(head.data(), static_cast<std::streamsize>(head.size()));
   const auto lines = static_cast<std::size_t>(std::count(head.begin(), head.begin() + in.gcount(), '\n'));
   if (lines == 0 || in.gcount() <= 0) return 0;
+  // A container (bag, MCAP, .db3, HDF5): its lines say nothing of its samples.
+  if (std::find(head.begin(), head.begin() + in.gcount(), '\0') != head.begin() + in.gcount()) return 0;
   const double per_line = static_cast<double>(in.gcount()) / static_cast<double>(lines);
   return static_cast<std::size_t>(1.25 * static_cast<double>(bytes) / per_line) + 1;
 }

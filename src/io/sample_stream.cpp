@@ -26,6 +26,7 @@
 #include "cubecal/io/recording_manifest.hpp"
 #include "cubecal/stats/sampling.hpp"
 #include "detail/shortest_text.hpp"
+#include "detail/container_streams.hpp"
 
 namespace cubecal::io {
 
@@ -174,7 +175,6 @@ void check_common(const SeriesOptions& opt) {
     throw UsageError(Field::gaps,
                      "missing samples are skipped in a record read into memory: leave out {stream}, or "
                      "{gaps} skip (a gap is then an error naming its place)");
-  if (!opt.topics.empty()) throw UsageError(Field::topics, "ROS bags are read into memory: leave out {stream}");
   for (const double lsb : opt.lsb)
     if (!(lsb > 0.0) || !std::isfinite(lsb))
       throw UsageError(Field::counts_per_unit,
@@ -343,7 +343,8 @@ class TextStream final : public SampleStream {
     if (head.size() >= 2 && static_cast<unsigned char>(head[0]) == 0x1f && static_cast<unsigned char>(head[1]) == 0x8b)
       refuse_format(file_, "gzip-compressed text", "decompress into a pipe: zcat FILE | cubecal ... - {stream}");
     if (is_known_binary_format(head))
-      refuse_format(file_, "a NumPy or ROS bag file", "leave out {stream} (it is read into memory)");
+      refuse_format(file_, "a NumPy, HDF5, ULog or ROS bag file from standard input or gzip-compressed",
+                    "give the uncompressed file by its path (it is then streamed), or leave out {stream}");
     const Table layout = parse_layout(text_, file_, opt.table);
     // The time column, as read_series chooses it.
     std::string time_spec;
@@ -658,6 +659,8 @@ std::unique_ptr<SampleStream> SampleStream::open(const std::string& path, const 
                                                  std::size_t chunk_bytes) {
   check_common(opt);
   if (looks_like_recording(path)) return open_recording_stream(path, opt, chunk_bytes);
+  if (auto s = detail::open_message_stream(path, opt)) return s;  // ROS 1, MCAP, .db3, bag directories
+  if (auto s = detail::open_hdf5_stream(path, opt)) return s;
   if (!opt.binary.channels.empty()) return std::make_unique<BinaryStream>(path, opt, chunk_bytes);
   return std::make_unique<TextStream>(path, opt, chunk_bytes);
 }
