@@ -26,6 +26,7 @@ namespace cubecal::io::detail {
 namespace {
 
 constexpr std::size_t kHeadStamps = std::size_t{1} << 16;  // for the rate
+constexpr std::size_t kPieceRows = std::size_t{1} << 16;
 
 // Messages of the topic read, decoded, not yet passed on.
 struct Piece {
@@ -58,11 +59,17 @@ class MessageStream final : public SampleStream {
   }
 
   bool next(SampleChunk& out) override {
-    while (pending_.empty())
+    // (A piece of no rows: batches of other topics only.)
+    while (pending_.empty() || pending_.front().time.empty()) {
+      if (!pending_.empty()) {
+        pending_.pop_front();
+        continue;
+      }
       if (!pull()) {
         finish();
         return false;
       }
+    }
     Piece p = std::move(pending_.front());
     pending_.pop_front();
     timing_.check(p.time, p.first, place_in(p));
@@ -75,27 +82,32 @@ class MessageStream final : public SampleStream {
   }
 
  private:
-  // The next batch of the log decoded into a piece (possibly of no row);
-  // false at its end.
+  // The next batches of the log decoded into a piece of up to
+  // kPieceRows rows (possibly none: a piece is what a consumer takes at
+  // once, and many small ones cost it more than their rows); false at the
+  // end of the log.
   bool pull() {
-    MessageLog batch;
-    if (!src_->next(batch)) return false;
-    bytes_read_ = src_->bytes_read;
-    shell_.parts = batch.parts;
-    topics_ = batch.topics;
-    if (topic_.empty()) choose(batch);
     Piece p;
     p.first = rows_;
-    if (!topic_.empty()) {
-      p.columns = bag_columns(batch.topics[index_]);
+    bool any = false;
+    MessageLog batch;
+    while (p.time.size() < kPieceRows && src_->next(batch)) {
+      any = true;
+      bytes_read_ = src_->bytes_read;
+      shell_.parts = batch.parts;
+      topics_ = batch.topics;
+      if (topic_.empty()) choose(batch);
+      if (topic_.empty()) continue;
+      if (p.columns.empty()) p.columns = bag_columns(batch.topics[index_]);
       for (const LogMessage& m : batch.messages) {
         if (batch.topics[m.topic].name != topic_) continue;
         p.messages.push_back(m);
-        p.time.push_back(decode_bag_message(batch, m, rows_ + p.messages.size(), p.columns, record_time_));
+        p.time.push_back(decode_bag_message(batch, m, p.first + p.messages.size(), p.columns, record_time_));
       }
-      rows_ += p.time.size();
-      check_values(p);
     }
+    if (!any) return false;
+    rows_ += p.time.size();
+    if (!p.columns.empty()) check_values(p);
     pending_.push_back(std::move(p));
     return true;
   }
