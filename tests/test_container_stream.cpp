@@ -243,6 +243,21 @@ TEST_F(ContainerStream, SeveralTopicsAreReadWhole) {
   EXPECT_NE(r.err.find("leave out --stream, or stream one topic at a time"), std::string::npos) << r.err;
 }
 
+// A log whose chunks inflate beyond --memory is streamed by itself: the
+// budget counts its messages decompressed (8 MB of the 0.7 MB zstd MCAP),
+// not the file's size.
+TEST_F(ContainerStream, CompressedChunksCountAsTheyInflate) {
+  for (const std::string& f : {kMcap, kRos1, kDir}) {
+    const auto mem = run_cubecal("dev " + f + " --rate 250");
+    const auto auto_streamed = run_cubecal("dev " + f + " --rate 250 --memory 5M");
+    ASSERT_EQ(auto_streamed.code, 0) << auto_streamed.err;
+    EXPECT_NE(auto_streamed.err.find("more than the memory budget (5 MB, --memory): streaming it in one pass"),
+              std::string::npos)
+        << f << ": " << auto_streamed.err;
+    EXPECT_EQ(without_stream_note(auto_streamed.out), without_stream_note(mem.out)) << f;
+  }
+}
+
 // A log larger than --memory is streamed by itself, within an address-space
 // limit below what reading it whole takes.
 TEST_F(ContainerStream, LargerThanTheBudgetStreamsWithinBoundedMemory) {

@@ -14,6 +14,7 @@
 #include <cmath>
 
 #include "cubecal/error.hpp"
+#include "cubecal/io/message_log.hpp"
 #include "cubecal/io/recording.hpp"
 #include "cubecal/io/recording_manifest.hpp"
 #include "progress.hpp"
@@ -114,6 +115,9 @@ std::size_t estimated_samples(const std::string& file, const io::SeriesOptions& 
 }
 
 std::size_t in_memory_bytes(const std::string& file, const io::SeriesOptions& opt) {
+  // A robot log: the file and its messages decompressed (a bag directory's size is its files').
+  if (opt.binary.channels.empty())
+    if (const std::size_t log = io::message_log_bytes(file); log > 0) return log;
   const std::size_t bytes = file_size_or_zero(file);
   if (bytes == 0) return 0;
   if (!opt.binary.channels.empty()) {

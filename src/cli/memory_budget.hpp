@@ -38,7 +38,8 @@ std::size_t estimated_samples(const std::string& file, const io::SeriesOptions& 
 std::size_t memory_budget(const MemoryOptions& opt);
 
 // The bytes reading `file` whole would take (the mapped text or binary plus
-// the parsed doubles); 0 when unknown (a pipe, the standard input).
+// the parsed doubles; a robot log's messages decompressed); 0 when unknown
+// (a pipe, the standard input).
 std::size_t in_memory_bytes(const std::string& file, const io::SeriesOptions& opt);
 
 // A recording directory (cubecal record) that needs more than the budget is

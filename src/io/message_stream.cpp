@@ -19,6 +19,7 @@
 #include "detail/container_streams.hpp"
 #include "detail/file_buffer.hpp"
 #include "detail/message_source.hpp"
+#include "detail/record_file.hpp"
 #include "detail/stream_timing.hpp"
 
 namespace cubecal::io::detail {
@@ -233,6 +234,37 @@ std::string file_head(const std::string& path, std::size_t n) {
   return head;
 }
 
+namespace {
+
+// The chunks' uncompressed sizes and the other records' sizes of a ROS 1
+// bag or MCAP file, from the record headers (one read each).
+std::size_t record_bytes(const std::string& path, bool mcap) {
+  const RecordFile f(path);
+  std::size_t total = 0;
+  std::size_t pos = mcap ? kMcapMagic.size() : kRos1BagMagic.size();
+  std::string header;
+  while (pos < f.size()) {
+    if (mcap) {
+      const std::uint64_t op = f.le(pos, 1, 0), len = f.le(pos + 1, 8, ~std::uint64_t{0});
+      if (len > f.size() - pos - std::min<std::size_t>(9, f.size() - pos)) break;
+      total += static_cast<std::size_t>(op == 0x06 ? f.le(pos + 9 + 16, 8, len) : len);
+      pos += 9 + static_cast<std::size_t>(len);
+      continue;
+    }
+    const std::uint64_t hlen = f.le(pos, 4, ~std::uint64_t{0});
+    const std::uint64_t dlen = f.le(pos + 4 + std::min<std::uint64_t>(hlen, f.size()), 4, ~std::uint64_t{0});
+    if (hlen > f.size() || dlen > f.size() || pos + 8 + hlen + dlen > f.size()) break;
+    f.read(pos + 4, static_cast<std::size_t>(hlen), header);
+    const std::size_t size = header.find(std::string("\x09\x00\x00\x00size=", 9));
+    total += static_cast<std::size_t>(
+        size != std::string::npos && size + 13 <= header.size() ? f.le(pos + 4 + size + 9, 4, dlen) : dlen);
+    pos += static_cast<std::size_t>(8 + hlen + dlen);
+  }
+  return f.size() + total;
+}
+
+}  // namespace
+
 std::unique_ptr<SampleStream> open_message_stream(const std::string& path, const SeriesOptions& opt) {
   if (!opt.binary.channels.empty() || path == kStdinPath) return nullptr;
   const auto stream = [&](std::unique_ptr<MessageSource> src) {
@@ -253,3 +285,25 @@ std::unique_ptr<SampleStream> open_message_stream(const std::string& path, const
 }
 
 }  // namespace cubecal::io::detail
+
+namespace cubecal::io {
+
+std::size_t message_log_bytes(const std::string& path) noexcept {
+  try {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec) && !looks_like_recording(path)) {
+      std::size_t total = 0;
+      for (const auto& e : std::filesystem::directory_iterator(path, ec))
+        if (e.is_regular_file(ec)) total += static_cast<std::size_t>(e.file_size(ec));
+      return total;
+    }
+    if (is_sqlite_file(path)) return static_cast<std::size_t>(std::filesystem::file_size(path, ec));
+    const std::string head = detail::file_head(path, 64);
+    if (looks_like_ros_bag(head)) return detail::record_bytes(path, false);
+    if (looks_like_mcap(head)) return detail::record_bytes(path, true);
+  } catch (const std::exception&) {
+  }
+  return 0;
+}
+
+}  // namespace cubecal::io

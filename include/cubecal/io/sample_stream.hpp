@@ -5,8 +5,10 @@
 /// LSB, magnitude and timing checks as read_series. A recording directory
 /// (recording.hpp) of one closed segment without breaks is its chunks read
 /// in turn as one text, each checked against the manifest's size and CRC-32.
-/// Compressed text, NumPy, ROS bags and other recordings are read whole by
-/// read_series and refused here.
+/// A ROS 1 bag, MCAP file, rosbag2 .db3 or bag directory is read a chunk
+/// (or a MiB of rows) at a time, one topic; an HDF5 dataset by hyperslabs
+/// of rows. Compressed text, NumPy, PX4 ULog and other recordings are read
+/// whole by read_series and refused here.
 #pragma once
 #include <cstddef>
 #include <memory>
