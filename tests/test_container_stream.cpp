@@ -190,6 +190,28 @@ class ContainerStream : public cubecal::test::TempDirTest {
   }
 };
 
+// A 2-D dataset (col1..col3, no time): hyperslabs of rows and columns.
+TEST_F(ContainerStream, TwoDimensionalDatasetStreamsByRows) {
+  const std::size_t n = 70000;  // more than one hyperslab
+  std::vector<float> v(n * 3);
+  for (std::size_t i = 0; i < v.size(); ++i) v[i] = static_cast<float>(gyro(i / 3, static_cast<int>(i % 3)));
+  const std::string p = path("two.h5");
+  const hid_t f = H5Fcreate(p.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  const hsize_t dims[2] = {n, 3};
+  const hid_t space = H5Screate_simple(2, dims, nullptr);
+  const hid_t ds = H5Dcreate2(f, "data", H5T_IEEE_F32LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  ASSERT_GE(H5Dwrite(ds, H5T_NATIVE_FLOAT, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()), 0);
+  H5Dclose(ds);
+  H5Sclose(space);
+  H5Fclose(f);
+  io::SeriesOptions o;
+  o.rate_hz = 100;
+  o.table.columns = {"3", "1"};
+  o.lsb = {2.0, 0.5};
+  expect_same_samples(p, o);
+  expect_dev_streams(p, "--rate 100 --columns 2");
+}
+
 TEST_F(ContainerStream, RealBagsStreamAsTheyAreReadWhole) {
   io::SeriesOptions o;
   o.rate_hz = 250;  // the Phidgets stamps jitter by more than 1 %
@@ -256,6 +278,22 @@ TEST_F(ContainerStream, CompressedChunksCountAsTheyInflate) {
         << f << ": " << auto_streamed.err;
     EXPECT_EQ(without_stream_note(auto_streamed.out), without_stream_note(mem.out)) << f;
   }
+}
+
+// A PX4 ULog file is read whole: past --memory with a warning (never an
+// automatic stream that fails), refused with --stream.
+TEST_F(ContainerStream, ULogIsReadWholeWithAWarning) {
+  const std::string ulog = std::string(CUBECAL_SHARED_DATA) + "/px4/sample.ulg";
+  const auto whole = run_cubecal("dev " + ulog + " --rate 250");
+  const auto past = run_cubecal("dev " + ulog + " --rate 250 --memory 1M");
+  ASSERT_EQ(past.code, whole.code) << past.err;
+  EXPECT_EQ(past.out, whole.out);
+  EXPECT_NE(past.err.find("a PX4 ULog file is read whole, not streamed"), std::string::npos) << past.err;
+  EXPECT_EQ(past.err.find("is not read as a stream"), std::string::npos) << past.err;
+  const auto streamed = run_cubecal("dev " + ulog + " --rate 250 --stream");
+  EXPECT_EQ(streamed.code, 2);
+  EXPECT_NE(streamed.err.find("a PX4 ULog file is read whole"), std::string::npos) << streamed.err;
+  EXPECT_NE(streamed.err.find("leave out --stream"), std::string::npos) << streamed.err;
 }
 
 // A log larger than --memory is streamed by itself, within an address-space

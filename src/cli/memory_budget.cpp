@@ -16,6 +16,7 @@
 #include "cubecal/error.hpp"
 #include "cubecal/io/message_log.hpp"
 #include "cubecal/io/recording.hpp"
+#include "cubecal/io/ulog.hpp"
 #include "cubecal/io/recording_manifest.hpp"
 #include "progress.hpp"
 
@@ -133,7 +134,15 @@ std::size_t in_memory_bytes(const std::string& file, const io::SeriesOptions& op
 }
 
 std::string recording_beyond_budget(const std::string& file, std::size_t need, std::size_t budget) {
-  if (need <= budget || !io::looks_like_recording(file)) return {};
+  if (need <= budget) return {};
+  std::ifstream in(file, std::ios::binary);
+  char head[16] = {};
+  if (in.read(head, sizeof head) && io::looks_like_ulog(std::string_view(head, sizeof head)))
+    return fmt::format(
+        "cubecal: warning: reading {} whole would take about {:.0f} MB, more than the memory budget "
+        "({:.0f} MB, --memory), and a PX4 ULog file is read whole, not streamed\n",
+        file, static_cast<double>(need) / 1e6, static_cast<double>(budget) / 1e6);
+  if (!io::looks_like_recording(file)) return {};
   return fmt::format(
       "cubecal: warning: reading {} whole would take about {:.0f} MB, more than the memory budget "
       "({:.0f} MB, --memory), and a recording directory is read whole unless --stream is given "

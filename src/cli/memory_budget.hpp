@@ -44,7 +44,8 @@ std::size_t in_memory_bytes(const std::string& file, const io::SeriesOptions& op
 
 // A recording directory (cubecal record) that needs more than the budget is
 // read whole, not switched to the streamed path (which takes only one
-// closed segment): the warning line to print then, else "".
+// closed segment), and so is a PX4 ULog file (not streamed): the warning
+// line to print then, else "".
 std::string recording_beyond_budget(const std::string& file, std::size_t need, std::size_t budget);
 
 }  // namespace cubecal::cli

@@ -386,8 +386,12 @@ class McapSource final : public detail::MessageSource {
       file_.read(pos_, static_cast<std::size_t>(want), buf_);
       std::size_t at = 0;
       reader_.record(buf_, at, pos_, [&](std::size_t) { return crc_; });
-      crc_ = static_cast<std::uint32_t>(
-          ::crc32(crc_, reinterpret_cast<const Bytef*>(buf_.data()), static_cast<uInt>(std::min(at, buf_.size()))));
+      for (std::string_view rest(buf_.data(), std::min(at, buf_.size())); !rest.empty();) {
+        const std::size_t n = std::min<std::size_t>(rest.size(), 1u << 30);
+        crc_ = static_cast<std::uint32_t>(
+            ::crc32(crc_, reinterpret_cast<const Bytef*>(rest.data()), static_cast<uInt>(n)));
+        rest.remove_prefix(n);
+      }
       pos_ += at;
       bytes_read = pos_;
       MessageLog& log = reader_.log();

@@ -15,6 +15,7 @@
 #include "cubecal/io/recording.hpp"
 #include "cubecal/io/ros1_bag.hpp"
 #include "cubecal/io/ros2_bag.hpp"
+#include "cubecal/io/ulog.hpp"
 #include "detail/bag_series.hpp"
 #include "detail/container_streams.hpp"
 #include "detail/file_buffer.hpp"
@@ -281,6 +282,10 @@ std::unique_ptr<SampleStream> open_message_stream(const std::string& path, const
   const std::string head = file_head(path, 64);
   if (looks_like_ros_bag(head)) return stream(open_ros1_source(path));
   if (looks_like_mcap(head)) return stream(open_mcap_source(path));
+  if (looks_like_ulog(head))
+    throw UsageError(Field::stream, path +
+                                        ": a PX4 ULog file is read whole (its topics are paired and its temperature "
+                                        "channel chosen over the whole log): leave out {stream}");
   return nullptr;
 }
 
