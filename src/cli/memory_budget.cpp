@@ -13,7 +13,9 @@
 #include <cmath>
 
 #include "cubecal/error.hpp"
+#include "cubecal/io/message_log.hpp"
 #include "cubecal/io/recording.hpp"
+#include "cubecal/io/ulog.hpp"
 #include "cubecal/io/recording_manifest.hpp"
 #include "cubecal/io/sample_stream.hpp"
 #include "progress.hpp"
@@ -107,11 +109,16 @@ std::size_t estimated_samples(const std::string& file, const io::SeriesOptions& 
   if (e.npy_values > 0) return e.npy_rows;
   const auto lines = static_cast<std::size_t>(std::count(e.head.begin(), e.head.end(), '\n'));
   if (lines == 0) return 0;
+  // A container (bag, MCAP, .db3, HDF5): its lines say nothing of its samples.
+  if (std::find(e.head.begin(), e.head.end(), '\0') != e.head.end()) return 0;
   const double per_line = static_cast<double>(e.head.size()) / static_cast<double>(lines);
   return static_cast<std::size_t>(1.25 * static_cast<double>(e.content_bytes) / per_line) + 1;
 }
 
 std::size_t in_memory_bytes(const std::string& file, const io::SeriesOptions& opt) {
+  // A robot log: the file and its messages decompressed (a bag directory's size is its files').
+  if (opt.binary.channels.empty())
+    if (const std::size_t log = io::message_log_bytes(file); log > 0) return log;
   const std::size_t bytes = file_size_or_zero(file);
   if (bytes == 0) return 0;
   if (!opt.binary.channels.empty()) {
@@ -137,7 +144,15 @@ std::size_t in_memory_bytes(const std::string& file, const io::SeriesOptions& op
 }
 
 std::string recording_beyond_budget(const std::string& file, std::size_t need, std::size_t budget) {
-  if (need <= budget || !io::looks_like_recording(file)) return {};
+  if (need <= budget) return {};
+  std::ifstream in(file, std::ios::binary);
+  char head[16] = {};
+  if (in.read(head, sizeof head) && io::looks_like_ulog(std::string_view(head, sizeof head)))
+    return fmt::format(
+        "cubecal: warning: reading {} whole would take about {:.0f} MB, more than the memory budget "
+        "({:.0f} MB, --memory), and a PX4 ULog file is read whole, not streamed\n",
+        file, static_cast<double>(need) / 1e6, static_cast<double>(budget) / 1e6);
+  if (!io::looks_like_recording(file)) return {};
   return fmt::format(
       "cubecal: warning: reading {} whole would take about {:.0f} MB, more than the memory budget "
       "({:.0f} MB, --memory), and a recording directory is read whole unless --stream is given "

@@ -38,13 +38,14 @@ std::size_t estimated_samples(const std::string& file, const io::SeriesOptions& 
 std::size_t memory_budget(const MemoryOptions& opt);
 
 // The bytes reading `file` whole would take (the mapped text or binary plus
-// the parsed doubles; a gzip file by its inflated size); 0 when unknown (a
-// pipe, the standard input).
+// the parsed doubles; a gzip file by its inflated size, a robot log by its
+// messages decompressed); 0 when unknown (a pipe, the standard input).
 std::size_t in_memory_bytes(const std::string& file, const io::SeriesOptions& opt);
 
 // A recording directory (cubecal record) that needs more than the budget is
 // read whole, not switched to the streamed path (which takes only one
-// closed segment): the warning line to print then, else "".
+// closed segment), and so is a PX4 ULog file (not streamed): the warning
+// line to print then, else "".
 std::string recording_beyond_budget(const std::string& file, std::size_t need, std::size_t budget);
 
 }  // namespace cubecal::cli

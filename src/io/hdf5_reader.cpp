@@ -22,6 +22,7 @@ bool looks_like_hdf5(std::string_view head) noexcept {
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
 #include <limits>
 #include <mutex>
 #include <optional>
@@ -214,7 +215,7 @@ std::vector<double> read_doubles(hid_t ds, hid_t mem, std::size_t values, std::s
 
 // An infinite value is refused at its row and column; so is a NaN, unless
 // `missing_as_nan` (--gaps skip: a missing sample, kept as NaN).
-void check_finite(Table& t, const std::string& path, bool missing_as_nan) {
+void check_finite(Table& t, const std::string& path, bool missing_as_nan, std::size_t first_row = 0) {
   for (std::size_t c = 0; c < t.data.size(); ++c) {
     auto& col = t.data[c];
     for (std::size_t r = 0; r < col.size(); ++r) {
@@ -225,8 +226,9 @@ void check_finite(Table& t, const std::string& path, bool missing_as_nan) {
         continue;
       }
       fail(t.file,
-           std::string(nan ? "NaN" : "infinite value") + " in dataset " + path + " at row " + std::to_string(r + 1) +
-               ", column " + std::to_string(c + 1) + (t.has_header ? " (" + t.header[c] + ")" : ""),
+           std::string(nan ? "NaN" : "infinite value") + " in dataset " + path + " at row " +
+               std::to_string(first_row + r + 1) + ", column " + std::to_string(c + 1) +
+               (t.has_header ? " (" + t.header[c] + ")" : ""),
            nan ? detail::kNanSampleHint : "an invalid sample, never a missing one: cut the record there");
     }
   }
@@ -384,7 +386,201 @@ Table read_locked(std::string_view bytes, const std::string& file, const std::st
   return read_dataset(obj.get(), describe(obj.get(), path), file, bytes.size(), missing_as_nan);
 }
 
+// The columns of a dataset (a numeric 1-D or 2-D one, a compound) or of a
+// group's 1-D datasets, read by hyperslabs of rows.
+struct SlabColumns {
+  Handle file;
+  std::vector<Handle> datasets;  // one, or a group's members
+  std::vector<std::string> paths;
+  Handle mem;             // the memory type (a compound of doubles), or invalid for doubles
+  std::size_t width = 1;  // values per row of each dataset
+  std::size_t rows = 0;
+  std::vector<std::string> names;  // empty: col1..colN
+  std::string path;                // of the dataset or group, for messages
+};
+
+void check_claimed(hid_t ds, std::size_t values, std::size_t file_bytes, const std::string& file,
+                   const std::string& path) {
+  const hsize_t stored = H5Dget_storage_size(ds);
+  if (values > 0 && stored == 0) fail(file, "dataset " + path + " holds no written data");
+  const double limit = 1000.0 * static_cast<double>(std::max<std::size_t>(file_bytes, std::size_t{1} << 20));
+  if (8.0 * static_cast<double>(values) > limit)
+    fail(file, "dataset " + path + " claims " + std::to_string(values) + " values in a file of " +
+                   std::to_string(file_bytes) + " bytes");
+}
+
+// A dataset's columns, as read_dataset takes them.
+void dataset_columns(SlabColumns& c, Handle ds, const Dataset& d, const std::string& file, std::size_t file_bytes) {
+  if (!d.candidate)
+    fail(file, "dataset " + d.described() + " is not a numeric 1-D or 2-D dataset or a 1-D compound of numbers");
+  const Handle type(H5Dget_type(ds.get()), H5Tclose);
+  if (!type.valid()) fail_library(file, "cannot read the type of dataset " + d.path);
+  c.rows = static_cast<std::size_t>(d.dims[0]);
+  c.path = d.path;
+  if (H5Tget_class(type.get()) == H5T_COMPOUND) {
+    const int n = H5Tget_nmembers(type.get());
+    for (int i = 0; i < n; ++i) {
+      const Handle m(H5Tget_member_type(type.get(), static_cast<unsigned>(i)), H5Tclose);
+      if (!m.valid() || !numeric_class(m.get())) continue;
+      char* name = H5Tget_member_name(type.get(), static_cast<unsigned>(i));
+      if (name != nullptr) c.names.emplace_back(name);
+      H5free_memory(name);
+    }
+    c.width = c.names.size();
+    c.mem = Handle(H5Tcreate(H5T_COMPOUND, 8 * c.width), H5Tclose);
+    for (std::size_t i = 0; i < c.width; ++i)
+      if (H5Tinsert(c.mem.get(), c.names[i].c_str(), 8 * i, H5T_NATIVE_DOUBLE) < 0)
+        fail_library(file, "cannot read member " + c.names[i] + " of dataset " + d.path);
+  } else {
+    c.width = d.dims.size() == 2 ? static_cast<std::size_t>(d.dims[1]) : 1;
+    if (c.width == 0) fail(file, "dataset " + d.described() + " has no columns");
+    if (d.dims.size() == 1) c.names = {base_name(d.path)};
+  }
+  if (c.rows != 0 && c.width > SIZE_MAX / 8 / c.rows) fail(file, "dataset " + d.described() + " is too large");
+  check_claimed(ds.get(), c.rows * c.width, file_bytes, file, d.path);
+  c.paths.push_back(d.path);
+  c.datasets.push_back(std::move(ds));
+}
+
+// A group's members, as read_group takes them.
+void group_columns(SlabColumns& c, hid_t group, const std::string& path, const std::string& file,
+                   std::size_t file_bytes) {
+  std::vector<std::string> members;
+  H5Literate(
+      group, H5_INDEX_NAME, H5_ITER_INC, nullptr,
+      [](hid_t, const char* name, const H5L_info_t*, void* data) -> herr_t {
+        static_cast<std::vector<std::string>*>(data)->emplace_back(name);
+        return 0;
+      },
+      &members);
+  c.path = path;
+  std::optional<hsize_t> length;
+  for (const auto& m : members) {
+    Handle ds(H5Dopen2(group, m.c_str(), H5P_DEFAULT), H5Dclose);
+    const std::string member_path = (path.ends_with('/') ? path : path + "/") + m;
+    const std::string hint = "give a dataset with {dataset} PATH, or a group of numeric 1-D datasets of one length";
+    if (!ds.valid()) {
+      H5Eclear2(H5E_DEFAULT);
+      fail(file, path + " is a group whose member " + m + " is not a dataset", hint);
+    }
+    const Dataset d = describe(ds.get(), member_path);
+    const Handle type(H5Dget_type(ds.get()), H5Tclose);
+    if (d.dims.size() != 1 || !type.valid() || !numeric_class(type.get()))
+      fail(file, path + " is a group whose member " + d.described() + " is not a numeric 1-D dataset", hint);
+    if (length && *length != d.dims[0])
+      fail(file,
+           "group " + path + ": " + d.described() + " differs in length from the members before it (" +
+               std::to_string(*length) + ")",
+           "give one of its datasets with {dataset} PATH");
+    length = d.dims[0];
+    check_claimed(ds.get(), static_cast<std::size_t>(d.dims[0]), file_bytes, file, member_path);
+    c.datasets.push_back(std::move(ds));
+    c.paths.push_back(member_path);
+    c.names.push_back(m);
+  }
+  if (c.names.empty()) fail(file, "group " + path + " holds no datasets", "give a dataset with {dataset} PATH");
+  c.rows = static_cast<std::size_t>(*length);
+}
+
+// Rows [first, first + count) of dataset `ds` (`width` values a row) as doubles.
+// A 1-D dataset's rows are its values (of a compound: `width` doubles each).
+std::vector<double> read_slab(hid_t ds, hid_t mem, std::size_t width, bool two_d, std::size_t first, std::size_t count,
+                              const std::string& file, const std::string& path) {
+  std::vector<double> v(count * width);
+  if (count == 0) return v;
+  const Handle space(H5Dget_space(ds), H5Sclose);
+  const hsize_t start[2] = {first, 0};
+  const hsize_t size[2] = {count, width};
+  const int rank = two_d ? 2 : 1;
+  const Handle in_memory(H5Screate_simple(rank, size, nullptr), H5Sclose);
+  if (!space.valid() || !in_memory.valid() ||
+      H5Sselect_hyperslab(space.get(), H5S_SELECT_SET, start, nullptr, size, nullptr) < 0 ||
+      H5Dread(ds, mem, in_memory.get(), space.get(), H5P_DEFAULT, v.data()) < 0)
+    fail_library(file, "cannot read rows " + std::to_string(first + 1) + " to " + std::to_string(first + count) +
+                           " of dataset " + path);
+  return v;
+}
+
 }  // namespace
+
+struct Hdf5Rows::Impl {
+  std::string file;
+  std::size_t file_bytes = 0;
+  SlabColumns c;
+  bool group = false, two_d = false;
+};
+
+Hdf5Rows::Hdf5Rows(const std::string& path, const std::string& dataset) : impl_(std::make_unique<Impl>()) {
+  const std::lock_guard<std::mutex> lock(library_mutex());
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  Impl& m = *impl_;
+  m.file = path;
+  std::error_code ec;
+  m.file_bytes = static_cast<std::size_t>(std::filesystem::file_size(path, ec));
+  m.c.file = Handle(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  if (!m.c.file.valid()) fail_library(path, "cannot open the file");
+  const hid_t f = m.c.file.get();
+  if (dataset.empty()) {
+    const std::vector<Dataset> all = datasets_of(f);
+    std::vector<Dataset> candidates;
+    for (const auto& d : all)
+      if (d.candidate) candidates.push_back(d);
+    if (candidates.empty()) fail(path, "no numeric 1-D or 2-D dataset; datasets are: " + listed(all), kWrite);
+    if (candidates.size() != 1)
+      fail(path, std::to_string(candidates.size()) + " numeric datasets: " + listed(candidates),
+           "choose one with {dataset} PATH");
+    Handle ds(H5Dopen2(f, candidates[0].path.c_str(), H5P_DEFAULT), H5Dclose);
+    if (!ds.valid()) fail_library(path, "cannot open dataset " + candidates[0].path);
+    m.two_d = candidates[0].dims.size() == 2;
+    dataset_columns(m.c, std::move(ds), candidates[0], path, m.file_bytes);
+    return;
+  }
+  Handle obj(H5Oopen(f, dataset.c_str(), H5P_DEFAULT), H5Oclose);
+  if (!obj.valid()) {
+    H5Eclear2(H5E_DEFAULT);
+    fail(path, "dataset " + dataset + " not found; datasets are: " + listed(datasets_of(f)),
+         "choose one of them with {dataset} PATH");
+  }
+  if (H5Iget_type(obj.get()) == H5I_GROUP) {
+    m.group = true;
+    group_columns(m.c, obj.get(), dataset, path, m.file_bytes);
+    return;
+  }
+  if (H5Iget_type(obj.get()) != H5I_DATASET)
+    fail(path, dataset + " is neither a dataset nor a group", "choose a dataset with {dataset} PATH");
+  const Dataset d = describe(obj.get(), dataset.starts_with('/') ? dataset : "/" + dataset);
+  Handle ds(H5Dopen2(f, dataset.c_str(), H5P_DEFAULT), H5Dclose);
+  if (!ds.valid()) fail_library(path, "cannot open dataset " + d.path);
+  m.two_d = d.dims.size() == 2;
+  dataset_columns(m.c, std::move(ds), d, path, m.file_bytes);
+}
+
+Hdf5Rows::~Hdf5Rows() {
+  const std::lock_guard<std::mutex> lock(library_mutex());
+  impl_.reset();
+}
+
+std::size_t Hdf5Rows::rows() const noexcept { return impl_->c.rows; }
+
+Table Hdf5Rows::slab(std::size_t first, std::size_t count) const {
+  const std::lock_guard<std::mutex> lock(library_mutex());
+  const Impl& m = *impl_;
+  const SlabColumns& c = m.c;
+  Table t = new_table(m.file, m.file_bytes);
+  if (m.group) {
+    for (std::size_t k = 0; k < c.datasets.size(); ++k)
+      t.data.push_back(read_slab(c.datasets[k].get(), H5T_NATIVE_DOUBLE, 1, false, first, count, m.file, c.paths[k]));
+  } else {
+    const hid_t mem = c.mem.valid() ? c.mem.get() : H5T_NATIVE_DOUBLE;
+    const std::vector<double> v = read_slab(c.datasets[0].get(), mem, c.width, m.two_d, first, count, m.file, c.path);
+    t.data.assign(c.width, std::vector<double>(count));
+    for (std::size_t r = 0; r < count; ++r)
+      for (std::size_t k = 0; k < c.width; ++k) t.data[k][r] = v[r * c.width + k];
+  }
+  name_columns(t, c.names);
+  check_finite(t, c.path, false, first);
+  return t;
+}
 
 Table read_hdf5(std::string_view bytes, const std::string& file, const std::string& open_path,
                 const std::string& dataset, bool missing_as_nan) {
@@ -401,6 +597,14 @@ namespace cubecal::io {
 Table read_hdf5(std::string_view, const std::string& file, const std::string&, const std::string&, bool) {
   throw InputError(file, 0, 0, "HDF5 files are not read by the fuzz build");
 }
+
+struct Hdf5Rows::Impl {};
+Hdf5Rows::Hdf5Rows(const std::string& path, const std::string&) {
+  throw InputError(path, 0, 0, "HDF5 files are not read by the fuzz build");
+}
+Hdf5Rows::~Hdf5Rows() = default;
+std::size_t Hdf5Rows::rows() const noexcept { return 0; }
+Table Hdf5Rows::slab(std::size_t, std::size_t) const { return {}; }
 
 }  // namespace cubecal::io
 

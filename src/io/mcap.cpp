@@ -17,6 +17,8 @@
 #include "cubecal/error.hpp"
 #include "detail/file_buffer.hpp"
 #include "detail/mcap_chunk.hpp"
+#include "detail/message_source.hpp"
+#include "detail/record_file.hpp"
 #include "detail/ros1_record.hpp"
 
 namespace cubecal::io {
@@ -142,46 +144,61 @@ class McapReader {
   explicit McapReader(const std::string& file) { log_.file = file; }
 
   MessageLog read(std::string_view bytes) {
-    const BagPlace top{&log_.file, 0, {}, kRepair};
-    if (!looks_like_mcap(bytes))
-      throw InputError(log_.file, 0, 0, "not an MCAP file: it does not start with the MCAP magic", kRepair);
+    check_magic(bytes);
     std::size_t pos = kMcapMagic.size();
-    bool data_section = true;
-    bool first = true;
-    while (pos < bytes.size()) {
-      const Record r = read_mcap_record(bytes, pos, top);
-      if (first && r.op != kHeader) bag_error(top, r.offset, "the first record is not a header (op code 1)");
-      first = false;
-      switch (r.op) {
-        case kHeader: break;
-        case kSchema: schema(r, top); break;
-        case kChannel: channel(r, top); break;
-        case kMessage:
-          if (!data_section) bag_error(top, r.offset, "message record after the data end record");
-          message(r, top, MessagePlace::byte, r.offset);
-          break;
-        case kChunk:
-          if (!data_section) bag_error(top, r.offset, "chunk record after the data end record");
-          chunk(r, top);
-          break;
-        case kStatistics: statistics(r, top); break;
-        case kDataEnd: {
-          Fields f(r.content, top, r.content_offset, "data end");
-          const std::uint32_t crc = f.u32("data_section_crc");
-          if (crc != 0 && crc != crc32_of(bytes.substr(0, r.offset)))
-            bag_error(top, r.offset, "the data section's CRC does not match its bytes");
-          data_section = false;
-          break;
-        }
-        case kFooter:
-          if (bytes.size() - pos != kMcapMagic.size() || bytes.substr(pos) != kMcapMagic)
-            bag_error(top, pos, "the footer is not followed by the closing magic and the end of the file");
-          pos = bytes.size();
-          break;
-        default: break;  // message index, chunk index, attachments, metadata...: not needed
+    while (pos < bytes.size()) record(bytes, pos, 0, [&](std::size_t end) { return crc32_of(bytes.substr(0, end)); });
+    return finish();
+  }
+
+  void check_magic(std::string_view head) const {
+    if (!looks_like_mcap(head))
+      throw InputError(log_.file, 0, 0, "not an MCAP file: it does not start with the MCAP magic", kRepair);
+  }
+
+  // The record at `pos` of `bytes`, whose first byte is byte `base` of the
+  // file (a streamed read passes one record at a time, a footer with the
+  // bytes after it); advances pos. crc_before(offset): the CRC-32 of the
+  // file's bytes before `offset`.
+  template <class Crc>
+  void record(std::string_view bytes, std::size_t& pos, std::size_t base, Crc&& crc_before) {
+    const BagPlace top{&log_.file, base, {}, kRepair};
+    const Record r = read_mcap_record(bytes, pos, top);
+    if (first_ && r.op != kHeader) bag_error(top, r.offset, "the first record is not a header (op code 1)");
+    first_ = false;
+    base_ = base;
+    switch (r.op) {
+      case kHeader: break;
+      case kSchema: schema(r, top); break;
+      case kChannel: channel(r, top); break;
+      case kMessage:
+        if (!data_section_) bag_error(top, r.offset, "message record after the data end record");
+        message(r, top, MessagePlace::byte, base + r.offset);
+        break;
+      case kChunk:
+        if (!data_section_) bag_error(top, r.offset, "chunk record after the data end record");
+        chunk(r, top);
+        break;
+      case kStatistics: statistics(r, top); break;
+      case kDataEnd: {
+        Fields f(r.content, top, r.content_offset, "data end");
+        const std::uint32_t crc = f.u32("data_section_crc");
+        if (crc != 0 && crc != crc_before(base + r.offset))
+          bag_error(top, r.offset, "the data section's CRC does not match its bytes");
+        data_section_ = false;
+        break;
       }
+      case kFooter:
+        if (bytes.size() - pos != kMcapMagic.size() || bytes.substr(pos) != kMcapMagic)
+          bag_error(top, pos, "the footer is not followed by the closing magic and the end of the file");
+        pos = bytes.size();
+        break;
+      default: break;  // message index, chunk index, attachments, metadata...: not needed
     }
-    if (first) bag_error(top, pos, "no header record");
+  }
+
+  // After the last record.
+  MessageLog finish() {
+    if (first_) bag_error({&log_.file, 0, {}, kRepair}, kMcapMagic.size(), "no header record");
     for (const auto& [id, c] : channels_) {
       const auto counted = counted_.find(id);
       if (counted == counted_.end()) continue;
@@ -190,6 +207,8 @@ class McapReader {
     }
     return std::move(log_);
   }
+
+  MessageLog& log() noexcept { return log_; }
 
  private:
   void schema(const Record& r, const BagPlace& at) {
@@ -291,11 +310,11 @@ class McapReader {
     if (crc != 0 && crc != crc32_of(plain))
       bag_error(top, r.offset, "the chunk's CRC does not match its " + std::to_string(plain.size()) + " bytes");
     const bool compressed = !compression.empty();
-    const BagPlace inner{&log_.file, compressed ? 0 : records_at,
-                         compressed
-                             ? " of the " + std::string(compression) + " chunk at byte " + std::to_string(r.offset)
-                             : std::string(),
-                         kRepair};
+    const BagPlace inner{
+        &log_.file, compressed ? 0 : base_ + records_at,
+        compressed ? " of the " + std::string(compression) + " chunk at byte " + std::to_string(base_ + r.offset)
+                   : std::string(),
+        kRepair};
     std::size_t pos = 0;
     while (pos < plain.size()) {
       const Record m = read_mcap_record(plain, pos, inner);
@@ -304,7 +323,7 @@ class McapReader {
         case kChannel: channel(m, inner); break;
         case kMessage:
           message(m, inner, compressed ? MessagePlace::chunk : MessagePlace::byte,
-                  compressed ? r.offset : records_at + m.offset);
+                  base_ + (compressed ? r.offset : records_at + m.offset));
           break;
         default: bag_error(inner, m.offset, "record of op code " + std::to_string(m.op) + " inside a chunk");
       }
@@ -338,9 +357,72 @@ class McapReader {
   std::map<std::uint16_t, Schema> schemas_;
   std::map<std::uint16_t, Channel> channels_;
   std::map<std::uint16_t, std::uint64_t> counted_;
+  std::size_t base_ = 0;  // file offset of the bytes being read
+  bool first_ = true;     // no record read yet
+  bool data_section_ = true;
+};
+
+// A file read one top-level record (a chunk) at a time; the data section's
+// CRC, when the file has one, computed as the records go by.
+class McapSource final : public detail::MessageSource {
+ public:
+  explicit McapSource(const std::string& path) : file_(path), reader_(path) {
+    total_bytes = file_.size();
+    file_.read(0, kMcapMagic.size(), buf_);
+    reader_.check_magic(buf_);
+    crc_ = static_cast<std::uint32_t>(
+        ::crc32(::crc32(0L, Z_NULL, 0), reinterpret_cast<const Bytef*>(buf_.data()), static_cast<uInt>(buf_.size())));
+    pos_ = buf_.size();
+  }
+
+  bool next(MessageLog& batch) override {
+    while (pos_ < file_.size()) {
+      const std::size_t left = file_.size() - pos_;
+      const std::uint64_t len = file_.le(pos_ + 1, 8, 0);
+      std::uint64_t want = std::min<std::uint64_t>(9 + len, left);
+      // A footer is read with what follows it (the closing magic, and the
+      // end of the file).
+      if (file_.le(pos_, 1, 0) == kFooter) want = std::min<std::uint64_t>(left, want + 64);
+      file_.read(pos_, static_cast<std::size_t>(want), buf_);
+      std::size_t at = 0;
+      reader_.record(buf_, at, pos_, [&](std::size_t) { return crc_; });
+      for (std::string_view rest(buf_.data(), std::min(at, buf_.size())); !rest.empty();) {
+        const std::size_t n = std::min<std::size_t>(rest.size(), 1u << 30);
+        crc_ = static_cast<std::uint32_t>(
+            ::crc32(crc_, reinterpret_cast<const Bytef*>(rest.data()), static_cast<uInt>(n)));
+        rest.remove_prefix(n);
+      }
+      pos_ += at;
+      bytes_read = pos_;
+      MessageLog& log = reader_.log();
+      if (log.messages.empty()) continue;
+      batch.file = log.file;
+      batch.topics = log.topics;
+      batch.messages.clear();
+      batch.payload.clear();
+      batch.messages.swap(log.messages);
+      batch.payload.swap(log.payload);
+      return true;
+    }
+    if (!done_) (void)reader_.finish();
+    done_ = true;
+    return false;
+  }
+
+ private:
+  detail::RecordFile file_;
+  McapReader reader_;
+  std::size_t pos_ = 0;
+  std::uint32_t crc_ = 0;  // of the bytes before pos_
+  std::string buf_;
+  bool done_ = false;
 };
 
 }  // namespace
+
+std::unique_ptr<detail::MessageSource> detail::open_mcap_source(const std::string& path) {
+  return std::make_unique<McapSource>(path);
+}
 
 bool looks_like_mcap(std::string_view head) noexcept { return head.starts_with(kMcapMagic); }
 

@@ -9,6 +9,8 @@
 
 #include "cubecal/error.hpp"
 #include "detail/file_buffer.hpp"
+#include "detail/message_source.hpp"
+#include "detail/record_file.hpp"
 #include "detail/ros1_chunk.hpp"
 #include "detail/ros1_record.hpp"
 
@@ -48,25 +50,37 @@ class BagReader {
                        "migrate it with `rosbag fix` on a ROS 1 install");
     }
     std::size_t pos = kRos1BagMagic.size();
-    bool header_seen = false;
-    while (pos < bytes.size()) {
-      const BagRecord r = detail::read_record(bytes, pos, top);
-      const unsigned char op = op_of(r, top);
-      switch (op) {
-        case kBagHeader: header_seen = true; break;
-        case kChunk: chunk(r, top); break;
-        case kConnection: connection(r, top); break;
-        case kIndexData: index(r, top); break;
-        case kMessageData: message(r, top, r.offset); break;  // outside chunks: allowed by readers
-        case kChunkInfo: break;
-        default: bag_error(top, r.offset, "record of unknown op code " + std::to_string(op));
-      }
-    }
-    if (!header_seen) bag_error(top, kRos1BagMagic.size(), "no bag header record");
-    // Index records of connections no record declares say nothing usable.
-    std::erase_if(bag_.connections, [](const Ros1Connection& c) { return c.type.empty(); });
+    while (pos < bytes.size()) record(bytes, pos);
+    finish();
     return std::move(bag_);
   }
+
+  // The record at `pos` of `bytes`, whose first byte is byte `base` of the
+  // file (a streamed read passes one record at a time); advances pos.
+  void record(std::string_view bytes, std::size_t& pos, std::size_t base = 0) {
+    base_ = base;
+    const BagPlace top{&bag_.file, base, {}};
+    const BagRecord r = detail::read_record(bytes, pos, top);
+    const unsigned char op = op_of(r, top);
+    switch (op) {
+      case kBagHeader: header_seen_ = true; break;
+      case kChunk: chunk(r, top); break;
+      case kConnection: connection(r, top); break;
+      case kIndexData: index(r, top); break;
+      case kMessageData: message(r, top, base + r.offset); break;  // outside chunks: allowed by readers
+      case kChunkInfo: break;
+      default: bag_error(top, r.offset, "record of unknown op code " + std::to_string(op));
+    }
+  }
+
+  // After the last record.
+  void finish() {
+    if (!header_seen_) bag_error({&bag_.file, 0, {}}, kRos1BagMagic.size(), "no bag header record");
+    // Index records of connections no record declares say nothing usable.
+    std::erase_if(bag_.connections, [](const Ros1Connection& c) { return c.type.empty(); });
+  }
+
+  Ros1Bag& bag() noexcept { return bag_; }
 
  private:
   void chunk(const BagRecord& r, const BagPlace& top) {
@@ -74,10 +88,10 @@ class BagReader {
     const std::uint32_t size = le32(detail::required_field(r, "size", 4, top, "chunk").data());
     const std::string plain = detail::decompress_chunk(compression, r.data, size, top, r.offset);
     const bool compressed = compression != "none";
-    const BagPlace inner{&bag_.file, compressed ? 0 : r.data_offset,
-                         compressed
-                             ? " of the " + std::string(compression) + " chunk at byte " + std::to_string(r.offset)
-                             : std::string()};
+    const BagPlace inner{
+        &bag_.file, compressed ? 0 : base_ + r.data_offset,
+        compressed ? " of the " + std::string(compression) + " chunk at byte " + std::to_string(base_ + r.offset)
+                   : std::string()};
     std::size_t pos = 0;
     while (pos < plain.size()) {
       const BagRecord m = detail::read_record(plain, pos, inner);
@@ -85,7 +99,7 @@ class BagReader {
       if (op == kConnection) {
         connection(m, inner);
       } else if (op == kMessageData) {
-        message(m, inner, compressed ? r.offset : r.data_offset + m.offset);
+        message(m, inner, base_ + (compressed ? r.offset : r.data_offset + m.offset));
         bag_.messages.back().compressed = compressed;
       } else {
         bag_error(inner, m.offset, "record of op code " + std::to_string(op) + " inside a chunk");
@@ -152,6 +166,57 @@ class BagReader {
   }
 
   Ros1Bag bag_;
+  std::size_t base_ = 0;  // file offset of the bytes being read
+  bool header_seen_ = false;
+};
+
+// A bag read one top-level record (a chunk) at a time.
+class Ros1Source final : public detail::MessageSource {
+ public:
+  explicit Ros1Source(const std::string& path) : file_(path), reader_(path) {
+    total_bytes = file_.size();
+    std::string head;
+    file_.read(0, kRos1BagMagic.size(), head);
+    if (head != kRos1BagMagic) {
+      file_.read(0, 32, head);
+      (void)BagReader(path).read(head);  // the whole-file reader's error
+    }
+    pos_ = kRos1BagMagic.size();
+  }
+
+  bool next(MessageLog& batch) override {
+    while (pos_ < file_.size()) {
+      // The record's length from its two length fields, cut at the end of
+      // the file (where read_record then says what is missing).
+      const std::uint64_t header = file_.le(pos_, 4, 0);
+      const std::uint64_t data = file_.le(pos_ + 4 + header, 4, 0);
+      file_.read(pos_, static_cast<std::size_t>(std::min<std::uint64_t>(8 + header + data, file_.size() - pos_)), buf_);
+      std::size_t at = 0;
+      reader_.record(buf_, at, pos_);
+      pos_ += at;
+      bytes_read = pos_;
+      Ros1Bag& bag = reader_.bag();
+      if (bag.messages.empty()) continue;
+      Ros1Bag part;
+      part.file = bag.file;
+      for (const auto& c : bag.connections)
+        if (!c.type.empty()) part.connections.push_back(c);
+      part.messages.swap(bag.messages);
+      part.payload.swap(bag.payload);
+      batch = message_log(std::move(part));
+      return true;
+    }
+    if (!done_) reader_.finish();
+    done_ = true;
+    return false;
+  }
+
+ private:
+  detail::RecordFile file_;
+  BagReader reader_;
+  std::size_t pos_ = 0;
+  std::string buf_;
+  bool done_ = false;
 };
 
 }  // namespace
@@ -165,6 +230,10 @@ const Ros1Connection* Ros1Bag::connection(std::uint32_t id) const noexcept {
 }
 
 Ros1Bag parse_ros1_bag(std::string_view bytes, const std::string& file) { return BagReader(file).read(bytes); }
+
+std::unique_ptr<detail::MessageSource> detail::open_ros1_source(const std::string& path) {
+  return std::make_unique<Ros1Source>(path);
+}
 
 Ros1Bag read_ros1_bag(const std::string& path) {
   const FileBuffer buf = FileBuffer::open(path, Content::series);

@@ -13,6 +13,7 @@
 #include "detail/file_buffer.hpp"
 #include "cubecal/io/mcap.hpp"
 #include "cubecal/io/ros2_bag.hpp"
+#include "detail/message_source.hpp"
 
 namespace cubecal::io {
 
@@ -83,9 +84,8 @@ MessageLog read_storage_file(const std::string& path) {
                    "a bag directory holds .db3 or .mcap files");
 }
 
-}  // namespace
-
-MessageLog read_ros2_bag_directory(const std::string& dir) {
+// The storage files of bag directory `dir`, in order.
+std::vector<std::string> storage_files(const std::string& dir) {
   const fs::path root(dir);
   std::vector<std::string> names;
   const fs::path yaml = root / "metadata.yaml";
@@ -110,6 +110,67 @@ MessageLog read_ros2_bag_directory(const std::string& dir) {
       throw InputError(dir, 0, 0, "a directory without metadata.yaml and without .db3 or .mcap files",
                        "give a file, or a ROS 2 bag directory");
   }
+  return names;
+}
+
+// The directory's files in turn, their topics merged by name.
+class DirectorySource final : public detail::MessageSource {
+ public:
+  explicit DirectorySource(const std::string& dir) : dir_(dir), names_(storage_files(dir)) {
+    merged_.file = dir;
+    merged_.parts = names_;
+    std::error_code ec;
+    for (const auto& n : names_) total_bytes += static_cast<std::size_t>(fs::file_size(fs::path(dir) / n, ec));
+  }
+
+  bool next(MessageLog& batch) override {
+    for (;;) {
+      if (!part_) {
+        if (next_part_ == names_.size()) return false;
+        const std::string path = (fs::path(dir_) / names_[next_part_++]).string();
+        part_ = is_sqlite_file(path) ? detail::open_db3_source(path) : detail::open_mcap_source(path);
+        done_bytes_ = bytes_read;
+      }
+      MessageLog got;
+      if (!part_->next(got)) {
+        part_.reset();
+        continue;
+      }
+      bytes_read = done_bytes_ + part_->bytes_read;
+      std::vector<std::uint32_t> to(got.topics.size());
+      for (std::size_t i = 0; i < got.topics.size(); ++i)
+        to[i] = merged_.topic(got.topics[i].name, got.topics[i].type, got.topics[i].encoding);
+      for (LogMessage& m : got.messages) {
+        m.topic = to[m.topic];
+        m.part = static_cast<std::uint32_t>(next_part_ - 1);
+        ++merged_.topics[m.topic].messages;
+      }
+      batch.file = dir_;
+      batch.parts = names_;
+      batch.topics = merged_.topics;
+      batch.messages = std::move(got.messages);
+      batch.payload = std::move(got.payload);
+      return true;
+    }
+  }
+
+ private:
+  std::string dir_;
+  std::vector<std::string> names_;
+  MessageLog merged_;
+  std::unique_ptr<detail::MessageSource> part_;
+  std::size_t next_part_ = 0, done_bytes_ = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<detail::MessageSource> detail::open_bag_directory_source(const std::string& dir) {
+  return std::make_unique<DirectorySource>(dir);
+}
+
+MessageLog read_ros2_bag_directory(const std::string& dir) {
+  const fs::path root(dir);
+  const std::vector<std::string> names = storage_files(dir);
   MessageLog log;
   log.file = dir;
   for (const auto& n : names) log.append(read_storage_file((root / n).string()), n);

@@ -13,6 +13,7 @@
 
 #include "cubecal/error.hpp"
 #include "cubecal/io/ros2_bag.hpp"
+#include "detail/message_source.hpp"
 
 namespace cubecal::io {
 
@@ -64,18 +65,25 @@ class Db {
                      kHint);
   }
 
+  using Statement = std::unique_ptr<sqlite3_stmt, int (*)(sqlite3_stmt*)>;
+  Statement prepare(const char* sql, const char* what) {
+    sqlite3_stmt* raw = nullptr;
+    if (sqlite3_prepare_v2(db_, sql, -1, &raw, nullptr) != SQLITE_OK) fail(what);
+    return Statement(raw, sqlite3_finalize);
+  }
+  // The next row of `stmt`: false at its end.
+  bool step(sqlite3_stmt* stmt, const char* what) const {
+    const int rc = sqlite3_step(stmt);
+    if (rc == SQLITE_DONE) return false;
+    if (rc != SQLITE_ROW) fail(what);
+    return true;
+  }
+
   // Runs `sql`, calling row(statement) for each row.
   template <class Row>
   void query(const char* sql, const char* what, Row&& row) {
-    sqlite3_stmt* raw = nullptr;
-    if (sqlite3_prepare_v2(db_, sql, -1, &raw, nullptr) != SQLITE_OK) fail(what);
-    const std::unique_ptr<sqlite3_stmt, int (*)(sqlite3_stmt*)> stmt(raw, sqlite3_finalize);
-    for (;;) {
-      const int rc = sqlite3_step(raw);
-      if (rc == SQLITE_DONE) return;
-      if (rc != SQLITE_ROW) fail(what);
-      row(raw);
-    }
+    const Statement stmt = prepare(sql, what);
+    while (step(stmt.get(), what)) row(stmt.get());
   }
 
  private:
@@ -103,52 +111,112 @@ bool is_sqlite_file(const std::string& path) {
   return looks_like_sqlite(std::string_view(head, sizeof head));
 }
 
-MessageLog read_db3(const std::string& path) {
-  if (!is_sqlite_file(path))
-    throw InputError(path, 0, 0, "not an SQLite database (it does not start with \"SQLite format 3\")", kHint);
-  Db db(path);
-  MessageLog log;
-  log.file = path;
+namespace {
+
+constexpr const char* kMessages = "SELECT id, topic_id, timestamp, data FROM messages ORDER BY timestamp, id";
+
+// The topics table into log.topics; topic id -> log topic.
+std::map<std::int64_t, std::uint32_t> read_topics(Db& db, MessageLog& log) {
   std::map<std::int64_t, std::uint32_t> topic_of;
   db.query("SELECT id, name, type, serialization_format FROM topics ORDER BY id", "cannot read the topics table",
            [&](sqlite3_stmt* s) {
              const std::int64_t id = sqlite3_column_int64(s, 0);
              const std::string name = text(s, 1);
              if (topic_of.contains(id))
-               throw InputError(path, 0, 0, "topics table holds id " + std::to_string(id) + " twice", kHint);
+               throw InputError(log.file, 0, 0, "topics table holds id " + std::to_string(id) + " twice", kHint);
              topic_of[id] = log.topic(name, text(s, 2), text(s, 3));
            });
-  db.query("SELECT id, topic_id, timestamp, data FROM messages ORDER BY timestamp, id",
-           "cannot read the messages table", [&](sqlite3_stmt* s) {
-             const std::int64_t row = sqlite3_column_int64(s, 0);
-             const std::int64_t topic = sqlite3_column_int64(s, 1);
-             const auto t = topic_of.find(topic);
-             if (t == topic_of.end())
-               throw InputError(path, 0, 0,
-                                "row " + std::to_string(row) + " of the messages table is of topic_id " +
-                                    std::to_string(topic) + ", which the topics table does not hold",
-                                kHint);
-             const std::int64_t ns = sqlite3_column_int64(s, 2);
-             LogMessage m;
-             m.topic = t->second;
-             m.place = MessagePlace::row;
-             m.offset = static_cast<std::uint64_t>(row);
-             // Floor division: a time before 1970 keeps 0 <= nsec < 1e9.
-             std::int64_t nsec = ns % 1000000000;
-             m.sec = ns / 1000000000;
-             if (nsec < 0) {
-               nsec += 1000000000;
-               --m.sec;
-             }
-             m.nsec = static_cast<std::uint32_t>(nsec);
-             const void* blob = sqlite3_column_blob(s, 3);
-             const int n = sqlite3_column_bytes(s, 3);
-             m.begin = log.payload.size();
-             m.size = static_cast<std::size_t>(n);
-             if (n > 0) log.payload.append(static_cast<const char*>(blob), static_cast<std::size_t>(n));
-             log.messages.push_back(m);
-             ++log.topics[m.topic].messages;
-           });
+  return topic_of;
+}
+
+// The message of row `s` of kMessages appended to `log`.
+void add_message(sqlite3_stmt* s, const std::map<std::int64_t, std::uint32_t>& topic_of, MessageLog& log) {
+  const std::int64_t row = sqlite3_column_int64(s, 0);
+  const std::int64_t topic = sqlite3_column_int64(s, 1);
+  const auto t = topic_of.find(topic);
+  if (t == topic_of.end())
+    throw InputError(log.file, 0, 0,
+                     "row " + std::to_string(row) + " of the messages table is of topic_id " + std::to_string(topic) +
+                         ", which the topics table does not hold",
+                     kHint);
+  const std::int64_t ns = sqlite3_column_int64(s, 2);
+  LogMessage m;
+  m.topic = t->second;
+  m.place = MessagePlace::row;
+  m.offset = static_cast<std::uint64_t>(row);
+  // Floor division: a time before 1970 keeps 0 <= nsec < 1e9.
+  std::int64_t nsec = ns % 1000000000;
+  m.sec = ns / 1000000000;
+  if (nsec < 0) {
+    nsec += 1000000000;
+    --m.sec;
+  }
+  m.nsec = static_cast<std::uint32_t>(nsec);
+  const void* blob = sqlite3_column_blob(s, 3);
+  const int n = sqlite3_column_bytes(s, 3);
+  m.begin = log.payload.size();
+  m.size = static_cast<std::size_t>(n);
+  if (n > 0) log.payload.append(static_cast<const char*>(blob), static_cast<std::size_t>(n));
+  log.messages.push_back(m);
+  ++log.topics[m.topic].messages;
+}
+
+void check_sqlite(const std::string& path) {
+  if (!is_sqlite_file(path))
+    throw InputError(path, 0, 0, "not an SQLite database (it does not start with \"SQLite format 3\")", kHint);
+}
+
+// The messages in the order of read_db3, through a cursor: a batch of up
+// to a MiB of messages at a time.
+class Db3Source final : public detail::MessageSource {
+ public:
+  explicit Db3Source(const std::string& path) : db_((check_sqlite(path), path)), stmt_(nullptr, sqlite3_finalize) {
+    log_.file = path;
+    topic_of_ = read_topics(db_, log_);
+    stmt_ = db_.prepare(kMessages, "cannot read the messages table");
+    std::error_code ec;
+    total_bytes = static_cast<std::size_t>(std::filesystem::file_size(path, ec));
+  }
+
+  bool next(MessageLog& batch) override {
+    log_.messages.clear();
+    log_.payload.clear();
+    while (!done_ && log_.payload.size() < (std::size_t{1} << 20)) {
+      // (A statement stepped past its end starts again: never.)
+      done_ = !db_.step(stmt_.get(), "cannot read the messages table");
+      if (done_) break;
+      add_message(stmt_.get(), topic_of_, log_);
+      bytes_read += log_.messages.back().size;
+    }
+    if (log_.messages.empty()) return false;
+    batch.file = log_.file;
+    batch.topics = log_.topics;
+    batch.messages.swap(log_.messages);
+    batch.payload.swap(log_.payload);
+    return true;
+  }
+
+ private:
+  Db db_;
+  Db::Statement stmt_;
+  MessageLog log_;
+  std::map<std::int64_t, std::uint32_t> topic_of_;
+  bool done_ = false;
+};
+
+}  // namespace
+
+std::unique_ptr<detail::MessageSource> detail::open_db3_source(const std::string& path) {
+  return std::make_unique<Db3Source>(path);
+}
+
+MessageLog read_db3(const std::string& path) {
+  check_sqlite(path);
+  Db db(path);
+  MessageLog log;
+  log.file = path;
+  const auto topic_of = read_topics(db, log);
+  db.query(kMessages, "cannot read the messages table", [&](sqlite3_stmt* s) { add_message(s, topic_of, log); });
   return log;
 }
 

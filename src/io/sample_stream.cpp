@@ -29,6 +29,7 @@
 #include "cubecal/io/recording_manifest.hpp"
 #include "cubecal/stats/sampling.hpp"
 #include "detail/shortest_text.hpp"
+#include "detail/container_streams.hpp"
 
 namespace cubecal::io {
 
@@ -319,7 +320,6 @@ void check_common(const SeriesOptions& opt) {
     throw UsageError(Field::gaps,
                      "missing samples are skipped in a record read into memory: leave out {stream}, or "
                      "{gaps} skip (a gap is then an error naming its place)");
-  if (!opt.topics.empty()) throw UsageError(Field::topics, "ROS bags are read into memory: leave out {stream}");
   for (const double lsb : opt.lsb)
     if (!(lsb > 0.0) || !std::isfinite(lsb))
       throw UsageError(Field::counts_per_unit,
@@ -574,7 +574,8 @@ class TextStream final : public SampleStream {
     // gzip bomb of zeros) before a line end is looked for.
     const std::string_view head = src_->peek(detail::kTextProbeBytes);
     if (is_known_binary_format(head))
-      refuse_format(file_, "a NumPy or ROS bag file", "leave out {stream} (it is read into memory)");
+      refuse_format(file_, "an HDF5, ULog or ROS bag file from standard input or gzip-compressed",
+                    "give the uncompressed file by its path (it is then streamed), or leave out {stream}");
     if (head.starts_with("File:"))  // its header gives the rate, type and scaling: read whole
       refuse_format(file_, "a Stable32 .DAT file", "leave out {stream} (it is read into memory)");
     if (src_->gzip()) detail::check_text_start(head, file_, true);
@@ -924,6 +925,8 @@ std::unique_ptr<SampleStream> SampleStream::open(const std::string& path, const 
                                                  std::size_t chunk_bytes) {
   check_common(opt);
   if (looks_like_recording(path)) return open_recording_stream(path, opt, chunk_bytes);
+  if (auto s = detail::open_message_stream(path, opt)) return s;  // ROS 1, MCAP, .db3, bag directories
+  if (auto s = detail::open_hdf5_stream(path, opt)) return s;
   auto src = std::make_unique<ByteSource>(path);  // gzip inflated on the way
   if (!opt.binary.channels.empty()) return std::make_unique<BinaryStream>(std::move(src), opt.binary, opt, chunk_bytes);
   if (is_npy(src->peek(6))) return open_npy_stream(std::move(src), opt, chunk_bytes);

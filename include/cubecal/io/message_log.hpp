@@ -70,6 +70,12 @@ struct MessageLog {
   void append(MessageLog&& other, const std::string& part_name);
 };
 
+/// About the bytes reading the robot log at `path` whole takes: the file
+/// and its messages decompressed (a ROS 1 bag's or MCAP file's chunk sizes,
+/// read from the record headers without the chunks), or a .db3's or bag
+/// directory's files; 0 when `path` is no robot log. Throws nothing.
+std::size_t message_log_bytes(const std::string& path) noexcept;
+
 /// A ROS 1 bag's connections as topics (merged by topic name), its messages
 /// as log messages ("ros1" serialization).
 MessageLog message_log(Ros1Bag&& bag);

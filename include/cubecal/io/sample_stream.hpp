@@ -7,8 +7,11 @@
 /// in turn as one text, each checked against the manifest's size and CRC-32.
 /// Gzip-compressed input is inflated piece by piece (every member in turn);
 /// a NumPy .npy is its header, then rows of raw samples (a 2-D array in
-/// Fortran order read column by column from its file). ROS bags
-/// and other recordings are read whole by read_series and refused here.
+/// Fortran order read column by column from its file). A ROS 1 bag, MCAP
+/// file, rosbag2 .db3 or bag directory is read a chunk (or a MiB of rows) at
+/// a time, one topic; an HDF5 dataset by hyperslabs of rows. A PX4 ULog, a
+/// Stable32 .DAT and other recordings are read whole by read_series and
+/// refused here.
 #pragma once
 #include <cstddef>
 #include <memory>

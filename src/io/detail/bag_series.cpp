@@ -103,21 +103,45 @@ struct Decoded {
 
 InputError message_error(const MessageLog& bag, const Decoded& d, std::size_t i, const std::string& what,
                          std::string hint) {
-  const LogMessage& m = *d.messages[i];
-  return InputError(bag.file, 0, 0,
-                    "message " + std::to_string(i + 1) + " of " + d.topic->name + " (" + bag.where(m) + "): " + what,
-                    std::move(hint));
+  return bag_message_error(bag, *d.messages[i], i + 1, d.topic->name, what, std::move(hint));
 }
 
 Decoded decode(const MessageLog& bag, std::uint32_t index, bool record_time) {
   const Topic& topic = bag.topics[index];
-  const Kind kind = kind_of(topic);
-  const bool cdr = topic.encoding == "cdr";
   Decoded d;
   d.topic = &topic;
+  d.columns = bag_columns(topic);
+  for (auto& c : d.columns) c.values.reserve(topic.messages);
+  d.time.reserve(topic.messages);
+  for (const auto& m : bag.messages) {
+    if (m.topic != index) continue;
+    d.messages.push_back(&m);
+    d.time.push_back(decode_bag_message(bag, m, d.messages.size(), d.columns, record_time));
+  }
+  return d;
+}
+
+}  // namespace
+
+InputError bag_message_error(const MessageLog& bag, const LogMessage& m, std::size_t number, const std::string& topic,
+                             const std::string& what, std::string hint) {
+  return InputError(bag.file, 0, 0,
+                    "message " + std::to_string(number) + " of " + topic + " (" + bag.where(m) + "): " + what,
+                    std::move(hint));
+}
+
+std::vector<const LogTopic*> choose_bag_topics(const MessageLog& bag, const SeriesOptions& opt, bool& by_default) {
+  return choose_topics(bag, bag.topics, opt, by_default);
+}
+
+bool is_imu_topic(const LogTopic& topic) { return kind_of(topic) == Kind::imu; }
+
+std::vector<TopicColumn> bag_columns(const LogTopic& topic) {
+  std::vector<TopicColumn> columns;
   const auto add = [&](const char* name, const char* unit, const char* field) {
-    d.columns.push_back({name, unit, field, {}});
+    columns.push_back({name, unit, field, {}});
   };
+  const Kind kind = kind_of(topic);
   if (kind == Kind::imu) {
     add("gx", "rad/s", "angular_velocity.x");
     add("gy", "rad/s", "angular_velocity.y");
@@ -132,59 +156,58 @@ Decoded decode(const MessageLog& bag, std::uint32_t index, bool record_time) {
   } else {
     add("temp", "degC", "temperature");
   }
-  for (auto& c : d.columns) c.values.reserve(topic.messages);
-  d.time.reserve(topic.messages);
-  for (const auto& m : bag.messages) {
-    if (m.topic != index) continue;
-    d.messages.push_back(&m);
-    const std::string_view bytes = bag.data(m);
-    Stamp stamp;
-    try {
-      if (kind == Kind::imu) {
-        const ImuMessage imu = cdr ? decode_cdr_imu(bytes) : decode_imu(bytes);
-        stamp = imu.stamp;
-        for (int k = 0; k < 3; ++k) d.columns[static_cast<std::size_t>(k)].values.push_back(imu.angular_velocity[k]);
-        for (int k = 0; k < 3; ++k)
-          d.columns[static_cast<std::size_t>(3 + k)].values.push_back(imu.linear_acceleration[k]);
-      } else if (kind == Kind::mag) {
-        const MagneticFieldMessage mag = cdr ? decode_cdr_magnetic_field(bytes) : decode_magnetic_field(bytes);
-        stamp = mag.stamp;
-        for (int k = 0; k < 3; ++k) d.columns[static_cast<std::size_t>(k)].values.push_back(mag.magnetic_field[k]);
-      } else {
-        const TemperatureMessage t = cdr ? decode_cdr_temperature(bytes) : decode_temperature(bytes);
-        stamp = t.stamp;
-        d.columns[0].values.push_back(t.temperature);
-      }
-    } catch (const MessageLayoutError& e) {
-      throw message_error(bag, d, d.messages.size() - 1,
-                          std::string(e.what()) + " (byte " + std::to_string(e.position()) + " of its " +
-                              std::to_string(bytes.size()) + ")",
-                          "the bag is corrupt, or the topic's message definition is not the standard " + topic.type);
-    }
-    if (record_time) stamp = {m.sec, m.nsec};
-    d.time.push_back(static_cast<double>(stamp.sec) + 1e-9 * static_cast<double>(stamp.nsec));
-  }
-  return d;
+  return columns;
 }
 
-}  // namespace
+double decode_bag_message(const MessageLog& bag, const LogMessage& m, std::size_t number,
+                          std::vector<TopicColumn>& columns, bool record_time) {
+  const Topic& topic = bag.topics[m.topic];
+  const Kind kind = kind_of(topic);
+  const bool cdr = topic.encoding == "cdr";
+  const std::string_view bytes = bag.data(m);
+  Stamp stamp;
+  try {
+    if (kind == Kind::imu) {
+      const ImuMessage imu = cdr ? decode_cdr_imu(bytes) : decode_imu(bytes);
+      stamp = imu.stamp;
+      for (int k = 0; k < 3; ++k) columns[static_cast<std::size_t>(k)].values.push_back(imu.angular_velocity[k]);
+      for (int k = 0; k < 3; ++k) columns[static_cast<std::size_t>(3 + k)].values.push_back(imu.linear_acceleration[k]);
+    } else if (kind == Kind::mag) {
+      const MagneticFieldMessage mag = cdr ? decode_cdr_magnetic_field(bytes) : decode_magnetic_field(bytes);
+      stamp = mag.stamp;
+      for (int k = 0; k < 3; ++k) columns[static_cast<std::size_t>(k)].values.push_back(mag.magnetic_field[k]);
+    } else {
+      const TemperatureMessage t = cdr ? decode_cdr_temperature(bytes) : decode_temperature(bytes);
+      stamp = t.stamp;
+      columns[0].values.push_back(t.temperature);
+    }
+  } catch (const MessageLayoutError& e) {
+    throw bag_message_error(bag, m, number, topic.name,
+                            std::string(e.what()) + " (byte " + std::to_string(e.position()) + " of its " +
+                                std::to_string(bytes.size()) + ")",
+                            "the bag is corrupt, or the topic's message definition is not the standard " + topic.type);
+  }
+  if (record_time) stamp = {m.sec, m.nsec};
+  return static_cast<double>(stamp.sec) + 1e-9 * static_cast<double>(stamp.nsec);
+}
 
-Series read_bag_series(const MessageLog& bag, bool gzip, const SeriesOptions& opt) {
+bool bag_time_is_record(const std::string& file, const SeriesOptions& opt) {
   if (std::any_of(opt.lsb.begin(), opt.lsb.end(), [](double v) { return v != 1.0; }))
     throw UsageError(Field::counts_per_unit,
-                     bag.file + " is a ROS bag: its values are in SI units already, without an LSB");
-  if (opt.table.skip_rows != 0) throw UsageError(bag.file + " is a ROS bag: it has no rows to skip");
-  bool record_time = false;
-  std::string time_name = "header.stamp";
-  if (opt.time_col == "record") {
-    record_time = true;
-    time_name = "record time";
-  } else if (!opt.time_col.empty() && opt.time_col != "stamp") {
-    throw UsageError(Field::time_col, bag.file +
+                     file + " is a ROS bag: its values are in SI units already, without an LSB");
+  if (opt.table.skip_rows != 0) throw UsageError(file + " is a ROS bag: it has no rows to skip");
+  if (opt.time_col == "record") return true;
+  if (!opt.time_col.empty() && opt.time_col != "stamp")
+    throw UsageError(Field::time_col, file +
                                           " is a ROS bag: its time is 'stamp' (header.stamp, the default) or "
                                           "'record' (when the bag recorded each message), not '" +
                                           opt.time_col + "'");
-  }
+  return false;
+}
+
+Series read_bag_series(const MessageLog& bag, bool gzip, const SeriesOptions& opt) {
+  const bool record_time = bag_time_is_record(bag.file, opt);
+  const std::string time_name = record_time ? "record time" : "header.stamp";
 
   const std::vector<Topic>& topics = bag.topics;
   Series s;

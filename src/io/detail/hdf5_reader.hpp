@@ -6,6 +6,7 @@
 // datasets are read by the library. No time axis unless a named column is
 // one (t, time...): the rate is given otherwise.
 #pragma once
+#include <memory>
 #include <string>
 #include <string_view>
 
@@ -28,5 +29,26 @@ bool looks_like_hdf5(std::string_view head) noexcept;
 // NaN).
 Table read_hdf5(std::string_view bytes, const std::string& file, const std::string& open_path,
                 const std::string& dataset, bool missing_as_nan = false);
+
+// The dataset (or group) read_hdf5 reads, taken a hyperslab of rows at a
+// time (hdf5_stream.cpp): the same choice, columns, names and checks.
+class Hdf5Rows {
+ public:
+  // Opens the file at `path`; throws InputError as read_hdf5.
+  Hdf5Rows(const std::string& path, const std::string& dataset);
+  ~Hdf5Rows();
+  Hdf5Rows(const Hdf5Rows&) = delete;
+  Hdf5Rows& operator=(const Hdf5Rows&) = delete;
+  // Rows of the dataset.
+  std::size_t rows() const noexcept;
+  // Rows [first, first + count) as read_hdf5's table holds them (every
+  // column, named); an infinite or NaN value is an InputError naming its row
+  // of the dataset.
+  Table slab(std::size_t first, std::size_t count) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 }  // namespace cubecal::io
