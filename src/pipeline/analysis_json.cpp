@@ -724,6 +724,7 @@ AnalysisResult read_result(const json& doc, const std::string& label) {
     if (r.composite->robust) r.composite->robust_efficiency = c.num("robust_efficiency");
   }
   if (root.has("composite_skipped")) r.composite_skipped = root.at("composite_skipped").str();
+  if (root.has("drift_skipped")) r.drift_skipped = root.at("drift_skipped").str();
   if (root.has("twin_check")) r.twin_check = read_twin_check(root.at("twin_check"));
   return r;
 }
@@ -806,6 +807,7 @@ json to_json(const AnalysisResult& r) {
                       {"robust", r.composite->robust}};
   if (r.composite && r.composite->robust) j["composite"]["robust_efficiency"] = r.composite->robust_efficiency;
   if (!r.composite_skipped.empty()) j["composite_skipped"] = r.composite_skipped;
+  if (!r.drift_skipped.empty()) j["drift_skipped"] = r.drift_skipped;
   if (r.twin_check) {
     json checked = json::array();
     for (const TwinCheckChannel& c : r.twin_check->channels)
