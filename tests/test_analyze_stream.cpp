@@ -368,6 +368,24 @@ TEST_F(DriftWindowTest, DefaultWindowBeyondTheRecordIsSaid) {
   EXPECT_NE(j.value("drift_skipped", std::string()).find("300 s"), std::string::npos) << r.out;
 }
 
+// A sample period beyond the default window (a rate of 1e-9 Hz): no drift,
+// and said, rather than a refusal of a window nobody gave.
+TEST(DriftWindow, DefaultWindowBelowOneSampleIsSaid) {
+  io::Series s;
+  s.rate_hz = 1e-3;
+  s.tau0 = 1e3;
+  s.names = {"g"};
+  s.channels = {std::vector<double>(100)};
+  for (std::size_t i = 0; i < 100; ++i) s.channels[0][i] = 0.001 * static_cast<double>(i % 7);
+  s.segments = {IndexRange{0, 100}};
+  pipeline::AnalyzeRequest req;
+  req.units = {*parse_unit("deg/s")};
+  const pipeline::AnalysisResult r = pipeline::run_analyze(s, req);
+  EXPECT_TRUE(r.channels[0].drift.t.empty());
+  EXPECT_NE(r.drift_skipped.find("300 s) is shorter than one sample (the sample period is 1000 s)"), std::string::npos)
+      << r.drift_skipped;
+}
+
 TEST(DriftWindow, GapsLimitTheWindowToTheLongestSegment) {
   io::Series s;
   s.rate_hz = 10.0;

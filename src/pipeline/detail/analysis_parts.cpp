@@ -39,6 +39,7 @@ std::size_t drift_window(const AnalyzeRequest& req, const Unit& unit, double dt)
   const double window_s =
       req.drift_window_s > 0.0 ? req.drift_window_s : (unit.kind == SensorKind::rate ? 300.0 : 1000.0);
   const double samples = window_s / dt;
+  if (!(samples >= 0.5) && !(req.drift_window_s > 0.0)) return 0;  // the default, below one sample: no drift
   if (!(samples >= 0.5))
     throw UsageError("the drift window " + seconds(window_s) + " is shorter than one sample (the sample period is " +
                      seconds(dt) + "): give at least " + seconds(dt));
@@ -55,6 +56,11 @@ void check_drift_window(const AnalyzeRequest& req, AnalysisResult& r, std::size_
                         : "the record (" + span(samples) + ", " + std::to_string(samples) + " samples)";
   for (const ChannelAnalysis& ch : r.channels) {
     const std::size_t window = drift_window(req, ch.unit, dt);
+    if (window == 0) {
+      r.drift_skipped = "the default drift window (" + seconds(ch.unit.kind == SensorKind::rate ? 300.0 : 1000.0) +
+                        ") is shorter than one sample (the sample period is " + seconds(dt) + "): give a longer one";
+      return;
+    }
     if (window <= longest) continue;
     if (req.drift_window_s > 0.0)
       throw UsageError("the drift window " + seconds(req.drift_window_s) + " is longer than " + record +

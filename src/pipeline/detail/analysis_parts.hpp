@@ -16,8 +16,8 @@ void check_channel_lists(const AnalyzeRequest& req, std::size_t channels);
 Unit unit_of(const AnalyzeRequest& req, std::size_t c);
 double model_lsb(const AnalyzeRequest& req, std::size_t c);
 // A window given (drift_window_s) shorter than one sample is a UsageError
-// with the sample period; a window beyond any record comes back as kMaxDriftWindow
-// samples (check_drift_window then refuses it).
+// with the sample period (the default window is then 0: no drift); a window beyond any record comes back as
+// kMaxDriftWindow samples (check_drift_window then refuses it).
 std::size_t drift_window(const AnalyzeRequest& req, const Unit& unit, double dt);
 inline constexpr std::size_t kMaxDriftWindow = std::size_t{1} << 60;
 
