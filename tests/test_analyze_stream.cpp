@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <nlohmann/json.hpp>
 #include <random>
 #include <string>
 #include <vector>
@@ -308,6 +309,104 @@ TEST_F(AnalyzeStreamTest, CommandLine) {
   // analysis.json says the stream and its strides, and reads back.
   const auto rep = test::run_cubecal("report " + path("out"));
   EXPECT_EQ(rep.code, 0) << rep.err;
+}
+
+// issue 33, item 11: a drift window outside the record gave no drift points
+// without a word (and window_s 9.2e16 in the JSON, llround's overflow):
+// refused in memory and streamed, with the record's length or the sample
+// period; the default window beyond a short record is said in the table and
+// the JSON.
+class DriftWindowTest : public TempDirTest {
+ protected:
+  std::string short_record() {  // 100 Hz, 20 s, a gap-free gyro record
+    std::string t = "t,gx\n";
+    for (std::size_t i = 0; i < 2000; ++i)
+      t += std::to_string(static_cast<double>(i) / 100.0) + "," +
+           std::to_string(0.01 * std::sin(0.1 * static_cast<double>(i))) + "\n";
+    return write("short.csv", t);
+  }
+};
+
+TEST_F(DriftWindowTest, OutsideTheRecordIsRefusedWithItsLength) {
+  const std::string file = short_record();
+  for (const std::string mode : {"", " --stream"}) {
+    SCOPED_TRACE(mode);
+    const std::string cmd = "analyze " + file + " --columns gx --unit deg/s --format json" + mode + " --drift-window ";
+    test::CliRun r = test::run_cubecal(cmd + "1e30");
+    EXPECT_TRUE(test::one_error_line(r)) << r.code << ' ' << r.err;
+    EXPECT_NE(r.err.find("error: the drift window 1e+30 s is longer than the record (20 s, 2000 samples)"),
+              std::string::npos)
+        << r.err;
+    r = test::run_cubecal(cmd + "20.5");
+    EXPECT_TRUE(test::one_error_line(r)) << r.code << ' ' << r.err;
+    EXPECT_NE(r.err.find("give at most 20 s"), std::string::npos) << r.err;
+    r = test::run_cubecal(cmd + "0.004");
+    EXPECT_TRUE(test::one_error_line(r)) << r.code << ' ' << r.err;
+    EXPECT_NE(r.err.find("error: the drift window 0.004 s is shorter than one sample (the sample period is 0.01 s)"),
+              std::string::npos)
+        << r.err;
+    r = test::run_cubecal(cmd + "20");  // the whole record: one point
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["channels"][0]["drift"]["points"], 1);
+    EXPECT_DOUBLE_EQ(j["channels"][0]["drift"]["window_s"].get<double>(), 20.0);
+    EXPECT_FALSE(j.contains("drift_skipped"));
+  }
+}
+
+TEST_F(DriftWindowTest, DefaultWindowBeyondTheRecordIsSaid) {
+  const std::string file = short_record();
+  test::CliRun r = test::run_cubecal("analyze " + file + " --columns gx --unit deg/s");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("no bias drift: the default drift window (300 s for rate sensors) is longer than the record "
+                       "(20 s, 2000 samples): give a shorter one (--drift-window)"),
+            std::string::npos)
+      << r.out;
+  r = test::run_cubecal("analyze " + file + " --columns gx --unit deg/s --format json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_NE(j.value("drift_skipped", std::string()).find("300 s"), std::string::npos) << r.out;
+}
+
+// A sample period beyond the default window (a rate of 1e-9 Hz): no drift,
+// and said, rather than a refusal of a window nobody gave.
+TEST(DriftWindow, DefaultWindowBelowOneSampleIsSaid) {
+  io::Series s;
+  s.rate_hz = 1e-3;
+  s.tau0 = 1e3;
+  s.names = {"g"};
+  s.channels = {std::vector<double>(100)};
+  for (std::size_t i = 0; i < 100; ++i) s.channels[0][i] = 0.001 * static_cast<double>(i % 7);
+  s.segments = {IndexRange{0, 100}};
+  pipeline::AnalyzeRequest req;
+  req.units = {*parse_unit("deg/s")};
+  const pipeline::AnalysisResult r = pipeline::run_analyze(s, req);
+  EXPECT_TRUE(r.channels[0].drift.t.empty());
+  EXPECT_NE(r.drift_skipped.find("300 s) is shorter than one sample (the sample period is 1000 s)"), std::string::npos)
+      << r.drift_skipped;
+}
+
+TEST(DriftWindow, GapsLimitTheWindowToTheLongestSegment) {
+  io::Series s;
+  s.rate_hz = 10.0;
+  s.tau0 = 0.1;
+  s.names = {"g"};
+  s.channels = {std::vector<double>(1000, 1.0)};
+  for (std::size_t i = 0; i < 1000; ++i) s.channels[0][i] += 0.001 * static_cast<double>(i % 7);
+  s.segments = {IndexRange{0, 400}, IndexRange{400, 1000}};  // 40 s and 60 s
+  pipeline::AnalyzeRequest req;
+  req.units = {*parse_unit("deg/s")};
+  req.drift_window_s = 61.0;
+  try {
+    (void)pipeline::run_analyze(s, req);
+    ADD_FAILURE() << "a window longer than every segment was accepted";
+  } catch (const UsageError& e) {
+    EXPECT_NE(std::string(e.what()).find("longer than the longest gap-free part of the record (60 s of 100 s)"),
+              std::string::npos)
+        << e.what();
+  }
+  req.drift_window_s = 60.0;
+  EXPECT_EQ(pipeline::run_analyze(s, req).channels[0].drift.t.size(), 1u);
 }
 
 }  // namespace

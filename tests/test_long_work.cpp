@@ -11,12 +11,15 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <thread>
+#include <utility>
 #include <vector>
 
 #include "cli_runner.hpp"
 #include "cubecal/io/csv_writer.hpp"
 #include "cubecal/io/series.hpp"
 #include "cubecal/pipeline/dev_pipeline.hpp"
+#include "cubecal/pipeline/model_fit.hpp"
 #include "cubecal/pipeline/simulate_size.hpp"
 #include "cubecal/sim/presets.hpp"
 
@@ -146,6 +149,63 @@ TEST(LongWorkPipeline, RunDevReportsProgress) {
   for (std::size_t i = 1; i < seen.size(); ++i) EXPECT_GE(seen[i], seen[i - 1]);
   EXPECT_GT(seen.front(), 0.0);
   EXPECT_DOUBLE_EQ(seen.back(), 1.0);
+}
+
+// issue 33, item 13: model --bootstrap reports its progress as dev does:
+// nothing for short work, and with the long-work threshold at 0 s the stage
+// with the estimate and lines per tenth into the log, stdout unchanged.
+TEST_F(LongWork, ModelBootstrapReportsProgressForLongWorkOnly) {
+  const std::string file = white_noise(4000);
+  const std::string args = "model " + file + " --columns g --model WN+RW --bootstrap 40 --format json";
+  const test::CliRun quiet = run_cubecal(args);
+  ASSERT_EQ(quiet.code, 0) << quiet.err;
+  EXPECT_EQ(quiet.err.find('%'), std::string::npos) << quiet.err;
+
+  ScopedEnv env("CUBECAL_LONG_WORK_SECONDS", "0");
+  const test::CliRun loud = run_cubecal(args);
+  ASSERT_EQ(loud.code, 0) << loud.err;
+  EXPECT_EQ(loud.out, quiet.out);  // stdout is never garbled
+  const auto stage = loud.err.find("cubecal: bootstrap: 40 replicates on 1 channel(s), estimated ");
+  ASSERT_NE(stage, std::string::npos) << loud.err;
+  EXPECT_GE(count(loud.err, " %"), 2u) << loud.err;
+  EXPECT_NE(loud.err.find("bootstrap: 40 replicates on 1 channel(s), estimated", stage + 1), std::string::npos);
+  EXPECT_NE(loud.err.find("100 %"), std::string::npos) << loud.err;
+  EXPECT_EQ(loud.err.find('\r'), std::string::npos);  // a log gets lines, not a terminal's line
+}
+
+// The bootstrap's callback: (0, total) first, counts that increase, (total,
+// total) last, all from the calling thread.
+TEST(LongWorkPipeline, RunModelReportsBootstrapProgress) {
+  io::Series s;
+  s.rate_hz = 10.0;
+  s.names = {"a", "b"};
+  s.channels.assign(2, std::vector<double>(4096));
+  std::mt19937_64 rng(4);
+  std::normal_distribution<double> g;
+  for (auto& c : s.channels)
+    for (double& v : c) v = g(rng);
+  s.segments = {IndexRange{0, 4096}};
+  pipeline::ModelRequest req;
+  req.model = "WN";
+  req.bootstrap = 30;
+  req.threads = 2;
+  std::vector<std::pair<std::size_t, std::size_t>> seen;
+  bool other_thread = false;
+  const auto caller = std::this_thread::get_id();
+  req.bootstrap_progress = [&](std::size_t done, std::size_t total) {
+    seen.emplace_back(done, total);
+    other_thread = other_thread || std::this_thread::get_id() != caller;
+  };
+  const pipeline::ModelResult r = pipeline::run_model(s, req);
+  ASSERT_GE(seen.size(), 3u);
+  EXPECT_EQ(seen.front(), std::make_pair(std::size_t{0}, std::size_t{60}));
+  EXPECT_EQ(seen.back(), std::make_pair(std::size_t{60}, std::size_t{60}));
+  for (std::size_t i = 1; i < seen.size(); ++i) {
+    EXPECT_GT(seen[i].first, seen[i - 1].first);
+    EXPECT_EQ(seen[i].second, 60u);
+  }
+  EXPECT_FALSE(other_thread);
+  EXPECT_EQ(r.channels[0].replicates, 30u);
 }
 
 TEST_F(LongWork, SimulateRefusesARecordOfGigabytes) {

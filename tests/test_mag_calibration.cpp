@@ -701,6 +701,66 @@ TEST(MagCalibration, MagnetoOutlierRule) {
   EXPECT_THROW(reject_outliers(h, -1.0), cubecal::CalibrationError);
 }
 
+// The synthetic ellipsoid with per-axis Gaussian noise s.
+std::vector<Vec3> noisy_ellipsoid(double s, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> g(0.0, s);
+  auto h = synthetic_ellipsoid();
+  for (auto& p : h)
+    for (double& v : p) v += g(rng);
+  return h;
+}
+
+// issue 33, item 9: an outlier the rule rejects leaves F and A^-1 where the
+// clean points put them. The tolerance is the fit's own noise: for F (the
+// mean |h| of n points, each |h| with the per-axis noise s) s / sqrt(n); for
+// b and A^-1 one reported sigma of each entry. Before the fix F took the
+// rejected point in its mean: 0.3 here, 10 times the tolerance.
+TEST(MagCalibration, RejectedPointsDoNotMoveTheDefaultFieldNorm) {
+  const double s = 0.5;
+  const auto clean = noisy_ellipsoid(s, 33);
+  Options o;
+  o.reject_sigma = 3.0;
+  const Result c = calibrate(clean, o);
+  ASSERT_EQ(c.points_rejected, 0u);
+  const double tol_f = s / std::sqrt(static_cast<double>(c.points_used));
+  auto expect_clean = [&](const Result& r, const char* what) {
+    SCOPED_TRACE(what);
+    EXPECT_EQ(r.points_used, clean.size());
+    EXPECT_TRUE(r.field_norm_default);
+    EXPECT_NEAR(r.field_norm, c.field_norm, tol_f);
+    for (std::size_t i = 0; i < 3; ++i) {
+      EXPECT_NEAR(r.bias[i], c.bias[i], c.bias_sigma[i]);
+      for (std::size_t k = 0; k < 3; ++k) EXPECT_NEAR(r.soft_iron[i][k], c.soft_iron[i][k], c.soft_iron_sigma[i][k]);
+    }
+  };
+  // A spike Magneto's rule catches: |h| = 150 against norms of 20-85.
+  auto one = clean;
+  one.insert(one.begin() + 150, Vec3{150.0, 0.0, 0.0});
+  const Result r1 = calibrate(one, o);
+  EXPECT_EQ(r1.rejected, (std::vector<std::size_t>{150}));
+  EXPECT_TRUE(r1.rejected_gross.empty());
+  expect_clean(r1, "one spike");
+  EXPECT_NE(r1.notes.front().find("1 point rejected: "), std::string::npos) << r1.notes.front();
+  // Corrupt values: rejected as gross outliers by the robust first pass, the
+  // fit unharmed (before: "coplanar points" or a spread against F = 1e47).
+  for (const Vec3& bad : {Vec3{1e50, 0.0, 0.0}, Vec3{1e200, 1e200, 0.0}, Vec3{0.0, -1.7e308, 1.7e308}}) {
+    auto h = clean;
+    h.insert(h.begin() + 150, bad);
+    const OutlierRejection rej = reject_outliers(h, 3.0);
+    EXPECT_EQ(rej.gross, (std::vector<std::size_t>{150}));
+    EXPECT_TRUE(std::isfinite(rej.mean_norm) && std::isfinite(rej.std_norm));
+    const Result r = calibrate(h, o);
+    EXPECT_EQ(r.rejected, (std::vector<std::size_t>{150}));
+    EXPECT_EQ(r.rejected_gross, (std::vector<std::size_t>{150}));
+    EXPECT_NE(r.notes.front().find("1 point rejected as a gross outlier"), std::string::npos) << r.notes.front();
+    expect_clean(r, "a corrupt value");
+  }
+  // Without the outlier rule every point counts: the spike moves F.
+  o.reject_sigma = 0.0;
+  EXPECT_GT(std::abs(calibrate(one, o).field_norm - c.field_norm), 10.0 * tol_f);
+}
+
 TEST(MagCalibration, DefaultFieldNormIsTheMeanRawNorm) {
   const auto h = synthetic_ellipsoid();
   Options o;
@@ -869,6 +929,25 @@ TEST_F(MagCli, LsbRejectionAndPerPointFieldNorm) {
   EXPECT_EQ(j["field_norm_source"], "column");
   for (std::size_t i = 0; i < 3; ++i) EXPECT_NEAR(j["bias"][i].get<double>(), kB[i], 1e-6);
   EXPECT_FALSE(j["p_value"].is_null());
+}
+
+TEST_F(MagCli, GrossOutlierIsRejectedAndReported) {
+  // issue 33, item 9: a line of 1e50 among the points.
+  auto h = synthetic_ellipsoid();
+  h[20] = {1e50, 2.0, 3.0};
+  const std::string f = write_points("gross.csv", h);
+  CliRun r = cubecal("calibrate mag " + f + " --columns mx,my,mz --reject 3 --format json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["rejected"], 1);
+  EXPECT_EQ(j["rejected_gross_lines"], nlohmann::json::array({22}));
+  EXPECT_EQ(j["points"], 299);
+  for (std::size_t i = 0; i < 3; ++i) EXPECT_NEAR(j["bias"][i].get<double>(), kB[i], 1e-9);
+  r = cubecal("calibrate mag " + f + " --columns mx,my,mz --reject 3");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("299 points used of 300 (1 rejected as gross outlier)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("largest |h| 1e+50"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("the mean raw |h| of the points kept"), std::string::npos) << r.out;
 }
 
 TEST_F(MagCli, BadInputIsOneLineAndExitTwo) {

@@ -7,6 +7,7 @@
 #include <boost/math/distributions/chi_squared.hpp>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -35,7 +36,19 @@ constexpr int kSymI[6] = {0, 1, 2, 0, 0, 1};
 constexpr int kSymJ[6] = {0, 1, 2, 1, 2, 2};
 const char* const kSoftNames[6] = {"W11", "W22", "W33", "W12", "W13", "W23"};
 
+// |v| without overflow or underflow: a value of 1e200 is a finite |h| too.
+double norm3(const Vec3& v) {
+  const double ss = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+  if (std::isfinite(ss) && ss >= std::numeric_limits<double>::min()) return std::sqrt(ss);
+  const double m = std::max({std::abs(v[0]), std::abs(v[1]), std::abs(v[2])});
+  if (!(m > 0.0) || !std::isfinite(m)) return m;
+  const double x = v[0] / m, y = v[1] / m, z = v[2] / m;
+  return m * std::sqrt(x * x + y * y + z * z);
+}
+
 double field_at(std::span<const double> F, std::size_t k) { return F.size() == 1 ? F[0] : F[k]; }
+
+std::string points_text(std::size_t n) { return std::to_string(n) + (n == 1 ? " point" : " points"); }
 
 [[noreturn]] void no_coverage(const std::string& why) {
   throw CalibrationError(CalibrationReason::poor_coverage,
@@ -83,7 +96,6 @@ NormError norm_stats(std::size_t n, Residual res) {
   e.rms = std::sqrt(ss / static_cast<double>(n));
   return e;
 }
-double norm3(const Vec3& v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
 }  // namespace
 
 NormError norm_error(std::span<const Vec3> h, const Vec3& bias, const Mat3& correction, std::span<const double> F) {
@@ -93,6 +105,35 @@ NormError norm_error(std::span<const Vec3> h, const Vec3& bias, const Mat3& corr
 NormError raw_norm_error(std::span<const Vec3> h, std::span<const double> F) {
   return norm_stats(h.size(), [&](std::size_t k) { return norm3(h[k]) - field_at(F, k); });
 }
+
+namespace {
+
+// The median of v (v is reordered).
+double median_of(std::vector<double>& v) {
+  const std::size_t mid = v.size() / 2;
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid), v.end());
+  const double hi = v[mid];
+  if (v.size() % 2 == 1) return hi;
+  const double lo = *std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid));
+  return lo + 0.5 * (hi - lo);
+}
+
+// The robust first pass: the median |h| and the robust sigma, 1.4826 MAD
+// floored at kGrossSigmaFloor x median (exact or quantized norms leave MAD 0);
+// the points further than kGrossSigmas robust sigmas from the median go to
+// r.gross, the others to `kept`.
+void gross_pass(const std::vector<double>& norms, OutlierRejection& r, std::vector<std::size_t>& kept) {
+  std::vector<double> v = norms;
+  r.median_norm = median_of(v);
+  for (double& x : v) x = std::abs(x - r.median_norm);
+  r.robust_sigma = std::max(1.4826 * median_of(v), kGrossSigmaFloor * r.median_norm);
+  for (std::size_t k = 0; k < norms.size(); ++k) {
+    const bool gross = std::abs(norms[k] - r.median_norm) > kGrossSigmas * r.robust_sigma;
+    (gross ? r.gross : kept).push_back(k);
+  }
+}
+
+}  // namespace
 
 OutlierRejection reject_outliers(std::span<const Vec3> h, double sigma_level) {
   if (!(sigma_level > 0.0) || !std::isfinite(sigma_level))
@@ -104,15 +145,24 @@ OutlierRejection reject_outliers(std::span<const Vec3> h, double sigma_level) {
     for (std::size_t k = 0; k < n; ++k) r.kept.push_back(k);
     return r;
   }
+  std::vector<double> norms(n);
+  for (std::size_t k = 0; k < n; ++k) norms[k] = norm3(h[k]);
+  std::vector<std::size_t> pass;
+  gross_pass(norms, r, pass);
+  // Magneto's rule on the points the first pass kept.
   double s = 0.0;
-  for (const Vec3& p : h) s += norm3(p);
-  r.mean_norm = s / static_cast<double>(n);
+  for (std::size_t k : pass) s += norms[k];
+  r.mean_norm = s / static_cast<double>(pass.size());
   double ss = 0.0;
-  for (const Vec3& p : h) ss += (norm3(p) - r.mean_norm) * (norm3(p) - r.mean_norm);
-  r.std_norm = std::sqrt(ss / static_cast<double>(n));  // Magneto prints the population value
-  for (std::size_t k = 0; k < n; ++k) {
-    const bool out = r.std_norm > 0.0 && std::abs(norm3(h[k]) - r.mean_norm) / r.std_norm > sigma_level;
+  for (std::size_t k : pass) ss += (norms[k] - r.mean_norm) * (norms[k] - r.mean_norm);
+  r.std_norm = std::sqrt(ss / static_cast<double>(pass.size()));  // Magneto prints the population value
+  for (std::size_t k : pass) {
+    const bool out = r.std_norm > 0.0 && std::abs(norms[k] - r.mean_norm) / r.std_norm > sigma_level;
     (out ? r.rejected : r.kept).push_back(k);
+  }
+  if (!r.gross.empty()) {
+    r.rejected.insert(r.rejected.end(), r.gross.begin(), r.gross.end());
+    std::sort(r.rejected.begin(), r.rejected.end());
   }
   return r;
 }
@@ -243,9 +293,20 @@ void select_points(std::span<const Vec3> h_in, const Options& opt, bool per_poin
       h.push_back(h_in[k]);
       if (per_point) Hk.push_back(opt.field_norms[k]);
     }
-    if (!rej.rejected.empty())
-      r.notes.push_back(std::to_string(rej.rejected.size()) + " points rejected: ||h| - " + fmt_g(rej.mean_norm) +
-                        "| > " + fmt_g(opt.reject_sigma) + " x " + fmt_g(rej.std_norm) + " (Magneto's rule)");
+    r.rejected_gross = rej.gross;
+    if (!rej.gross.empty()) {
+      double largest = 0.0;
+      for (std::size_t k : rej.gross) largest = std::max(largest, norm3(h_in[k]));
+      r.notes.push_back(points_text(rej.gross.size()) +
+                        (rej.gross.size() == 1 ? " rejected as a gross outlier" : " rejected as gross outliers") +
+                        ": ||h| - " + fmt_g(rej.median_norm) + "| > " + fmt_g(kGrossSigmas) + " x " +
+                        fmt_g(rej.robust_sigma) + " (median |h| and robust sigma 1.4826 MAD), largest |h| " +
+                        fmt_g(largest) + "; Magneto's rule then applies to the others");
+    }
+    const std::size_t magneto = rej.rejected.size() - rej.gross.size();
+    if (magneto > 0)
+      r.notes.push_back(points_text(magneto) + " rejected: ||h| - " + fmt_g(rej.mean_norm) + "| > " +
+                        fmt_g(opt.reject_sigma) + " x " + fmt_g(rej.std_norm) + " (Magneto's rule)");
   } else {
     h.assign(h_in.begin(), h_in.end());
     if (per_point) Hk = opt.field_norms;
@@ -259,10 +320,10 @@ void select_points(std::span<const Vec3> h_in, const Options& opt, bool per_poin
 }
 
 // F: the mean of the per-point norms, the norm given, or Magneto's default
-// (the mean raw |h|); Hk then holds the one norm.
-void set_field_norm(std::span<const Vec3> h_in, const Options& opt, bool per_point, Result& r,
+// (the mean raw |h|, over the points kept by the outlier rule); Hk then
+// holds the one norm.
+void set_field_norm(const std::vector<Vec3>& h, const Options& opt, bool per_point, bool rejecting, Result& r,
                     std::vector<double>& Hk) {
-  const std::size_t n_in = h_in.size();
   if (per_point) {
     double s = 0.0;
     for (double f : Hk) s += f;
@@ -271,14 +332,13 @@ void set_field_norm(std::span<const Vec3> h_in, const Options& opt, bool per_poi
   } else if (opt.field_norm > 0.0) {
     r.field_norm = opt.field_norm;
   } else {
-    // Magneto: the mean over every input point, rejected ones included.
     double s = 0.0;
-    for (const Vec3& p : h_in) s += norm3(p);
-    r.field_norm = s / static_cast<double>(n_in);
+    for (const Vec3& p : h) s += norm3(p);
+    r.field_norm = s / static_cast<double>(h.size());
     r.field_norm_default = true;
-    r.notes.push_back("field norm F = " + fmt_g(r.field_norm) +
-                      ", the mean raw |h| of all points (Magneto's default); give the local field norm for an "
-                      "absolute scale" +
+    r.notes.push_back("field norm F = " + fmt_g(r.field_norm) + ", the mean raw |h| of " +
+                      (rejecting ? "the points kept" : "all points") +
+                      " (Magneto's default); give the local field norm for an absolute scale" +
                       (opt.method == Method::twostep ? std::string(" (bias-only TWOSTEP takes |h - b| = F: the bias "
                                                                    "depends on it)")
                                                      : std::string()));
@@ -414,7 +474,7 @@ Result calibrate(std::span<const Vec3> h_in, const Options& opt) {
   std::vector<Vec3> h;
   std::vector<double> Hk;
   select_points(h_in, opt, per_point, r, h, Hk);
-  set_field_norm(h_in, opt, per_point, r, Hk);
+  set_field_norm(h, opt, per_point, opt.reject_sigma > 0.0, r, Hk);
 
   r.coverage = sphere_coverage(h);
   if (opt.check_coverage) check_coverage(r.coverage, opt.method, r.field_norm);

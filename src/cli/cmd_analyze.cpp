@@ -247,6 +247,7 @@ void print_summary(std::ostream& out, const pipeline::AnalysisResult& r) {
                  r.window_bound, r.channels[0].noise.adev[static_cast<std::size_t>(strided - st.begin())].m, st.back());
   }
   if (!r.composite_skipped.empty()) fmt::print(out, "twin not fitted: {}\n", r.composite_skipped);
+  if (!r.drift_skipped.empty()) fmt::print(out, "no bias drift: {} (--drift-window)\n", r.drift_skipped);
   for (const auto& c : r.channels) {
     const auto& ro = c.noise.readoffs;
     const auto& f = c.noise.fit;
@@ -528,7 +529,8 @@ CLI::App* add_analyze_command(CLI::App& app, Command& run) {
       ->capture_default_str();
   cmd->add_option("--drift-window", opt->drift_window,
                   "Moving-average window of the bias drift in seconds (default 300 s for rate sensors, "
-                  "1000 s otherwise, as the paper)")
+                  "1000 s otherwise, as the paper); from one sample period to the record's length (the longest "
+                  "part without a gap)")
       ->check(positive_number());
   cmd->add_option("--cov-samples", opt->cov_samples, "Covariance from the first N samples (default all)")
       ->check(whole_number(2, 1e15));

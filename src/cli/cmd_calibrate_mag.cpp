@@ -61,7 +61,12 @@ void print_table(std::ostream& out, const pipeline::MagResult& m) {
   const mag::Result& r = m.calibration;
   const std::string u = m.unit == "input units" ? std::string() : m.unit;
   fmt::print(out, "{}: {} points used of {}", m.file, r.points_used, m.points.size());
-  if (r.points_rejected > 0) fmt::print(out, " ({} rejected at {:g} sigma)", r.points_rejected, r.reject_sigma);
+  const std::size_t gross = r.rejected_gross.size();
+  if (r.points_rejected > gross)
+    fmt::print(out, " ({} rejected at {:g} sigma{})", r.points_rejected, r.reject_sigma,
+               gross > 0 ? fmt::format(", {} of them gross outliers", gross) : std::string());
+  else if (gross > 0)
+    fmt::print(out, " ({} rejected as gross {})", gross, gross == 1 ? "outlier" : "outliers");
   fmt::print(out, "\nmethod     {}\n", method_text(r.method));
   fmt::print(out, "field norm {:.6g} {} ({})\n", r.field_norm, u,
              m.field_source == pipeline::FieldNormSource::given ? "given"
@@ -191,7 +196,8 @@ CLI::App* add_calibrate_mag_command(CLI::App& calibrate, Command& run) {
                              "chi-squared test; default: estimated from the residuals");
   cmd->add_option("--reject", opt->reject,
                   "Reject points whose |h| is more than SIGMA standard deviations from the mean |h| "
-                  "(Magneto's rule, one pass); 0: none")
+                  "(Magneto's rule, one pass), after the gross outliers (|h| beyond 10 robust sigmas of the "
+                  "median |h|); the default field norm is then the mean |h| of the points kept; 0: none")
       ->capture_default_str();
   cmd->add_flag("--allow-partial", opt->partial,
                 "Fit even when the points do not cover enough of the sphere for the method");

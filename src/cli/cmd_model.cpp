@@ -3,8 +3,11 @@
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <iostream>
+#include <optional>
 
 #include "calibration_hints.hpp"
 #include "commands.hpp"
@@ -15,6 +18,7 @@
 #include "cubecal/pipeline/model_fit_json.hpp"
 #include "cubecal/pipeline/json_text.hpp"
 #include "output.hpp"
+#include "progress.hpp"
 
 namespace cubecal::cli {
 
@@ -99,6 +103,38 @@ void write_table(std::ostream& out, const pipeline::ModelResult& r) {
   }
 }
 
+// The bootstrap's progress on stderr, as dev's: once the first replicates
+// give an estimate of the whole, a line rewritten on a terminal when it is
+// more than 2 s, lines per tenth into a log when it is long work
+// (long_work_seconds()); nothing otherwise.
+class BootstrapProgress {
+ public:
+  explicit BootstrapProgress(std::size_t channels) : channels_(channels) {}
+  void operator()(std::size_t done, std::size_t total) {
+    const auto now = std::chrono::steady_clock::now();
+    if (done == 0) {
+      start_ = now;
+      return;
+    }
+    const double elapsed = std::chrono::duration<double>(now - start_).count();
+    if (!progress_) {
+      const double estimate = elapsed * static_cast<double>(total) / static_cast<double>(done);
+      const bool long_work = estimate > long_work_seconds();
+      if (!(estimate > 2.0) && !long_work) return;
+      progress_.emplace(estimate > 2.0, long_work);
+      progress_->stage(fmt::format("bootstrap: {} replicates on {} channel(s), estimated {}", total / channels_,
+                                   channels_, format_duration(estimate)));
+    }
+    progress_->fraction(static_cast<double>(done) / static_cast<double>(total));
+    if (done == total) progress_->done();
+  }
+
+ private:
+  std::size_t channels_;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+  std::optional<Progress> progress_;
+};
+
 int run_model_command(const ModelOptions& o) {
   pipeline::ModelRequest req;
   req.model = o.model;
@@ -128,6 +164,8 @@ int run_model_command(const ModelOptions& o) {
                   "(--unit names it)";
     }
   }
+  BootstrapProgress progress(std::max<std::size_t>(series.channels.size(), 1));
+  req.bootstrap_progress = [&](std::size_t done, std::size_t total) { progress(done, total); };
   const pipeline::ModelResult res = with_calibration_hints(o.input.file, {CalibrationCommand::model},
                                                            [&] { return pipeline::run_model(series, req); });
   note_default_columns(series);

@@ -724,8 +724,33 @@ AnalysisResult read_result(const json& doc, const std::string& label) {
     if (r.composite->robust) r.composite->robust_efficiency = c.num("robust_efficiency");
   }
   if (root.has("composite_skipped")) r.composite_skipped = root.at("composite_skipped").str();
+  if (root.has("drift_skipped")) r.drift_skipped = root.at("drift_skipped").str();
   if (root.has("twin_check")) r.twin_check = read_twin_check(root.at("twin_check"));
   return r;
+}
+
+// The twin check of a result (AnalyzeRequest::twin_check).
+json twin_check_json(const AnalysisResult& r) {
+  json checked = json::array();
+  for (const TwinCheckChannel& c : r.twin_check->channels)
+    checked.push_back({{"name", c.name},
+                       {"tau", c.tau},
+                       {"measured", c.measured},
+                       {"twins", c.twins},
+                       {"twins_lo", c.twins_lo},
+                       {"twins_hi", c.twins_hi},
+                       {"max_error_10s", c.max_error_10s},
+                       {"max_error_100s", c.max_error_100s},
+                       {"max_error", c.max_error},
+                       {"max_error_tau_s", c.max_error_tau_s}});
+  return {{"twins", r.twin_check->twins},
+          {"seed", r.twin_check->seed},
+          {"samples", r.twin_check->samples},
+          {"note",
+           "each channel's twin simulated at the record's length, seeds seed .. seed + twins - 1; "
+           "twins: sqrt of the mean of their Allan variances, twins_lo/hi the smallest and largest "
+           "twin's deviation; max_error: the largest |twins / measured - 1|"},
+          {"channels", checked}};
 }
 
 }  // namespace
@@ -806,28 +831,8 @@ json to_json(const AnalysisResult& r) {
                       {"robust", r.composite->robust}};
   if (r.composite && r.composite->robust) j["composite"]["robust_efficiency"] = r.composite->robust_efficiency;
   if (!r.composite_skipped.empty()) j["composite_skipped"] = r.composite_skipped;
-  if (r.twin_check) {
-    json checked = json::array();
-    for (const TwinCheckChannel& c : r.twin_check->channels)
-      checked.push_back({{"name", c.name},
-                         {"tau", c.tau},
-                         {"measured", c.measured},
-                         {"twins", c.twins},
-                         {"twins_lo", c.twins_lo},
-                         {"twins_hi", c.twins_hi},
-                         {"max_error_10s", c.max_error_10s},
-                         {"max_error_100s", c.max_error_100s},
-                         {"max_error", c.max_error},
-                         {"max_error_tau_s", c.max_error_tau_s}});
-    j["twin_check"] = {{"twins", r.twin_check->twins},
-                       {"seed", r.twin_check->seed},
-                       {"samples", r.twin_check->samples},
-                       {"note",
-                        "each channel's twin simulated at the record's length, seeds seed .. seed + twins - 1; "
-                        "twins: sqrt of the mean of their Allan variances, twins_lo/hi the smallest and largest "
-                        "twin's deviation; max_error: the largest |twins / measured - 1|"},
-                       {"channels", checked}};
-  }
+  if (!r.drift_skipped.empty()) j["drift_skipped"] = r.drift_skipped;
+  if (r.twin_check) j["twin_check"] = twin_check_json(r);
   return j;
 }
 

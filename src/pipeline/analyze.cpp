@@ -355,6 +355,9 @@ AnalysisResult run_analyze(const io::Series& s, const AnalyzeRequest& req) {
   check_composite(s, req);
   auto lsb_of = [&](std::size_t c) { return detail::model_lsb(req, c); };
   AnalysisResult r = analysis_of_record(s, req);
+  std::size_t longest = s.segments.empty() ? s.samples() : 0;
+  for (const auto& seg : s.segments) longest = std::max(longest, seg.size());
+  detail::check_drift_window(req, r, longest, s.samples(), s.tau0);
 
   // Allan deviations of all channels in one parallel run.
   const DevResult dev = run_dev(s, oadev_request(req));

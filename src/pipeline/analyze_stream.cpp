@@ -169,6 +169,7 @@ class StreamedAnalysis {
       throw InputError(in_.file(), 0, 0, "series too short: " + std::to_string(n) + " samples, at least 3 needed",
                        "a longer record is needed");
     r.tau_list = tau_list_outcome(req.grid, Stat::oadev, DataType::freq, n, dt, "the record");
+    detail::check_drift_window(req, r, n, n, dt);
     head_ = req.max_samples > 0 && req.max_samples < n;
     const bool head = head_;
     if (head) {

@@ -47,6 +47,9 @@ nlohmann::json to_json(const MagResult& m) {
   nlohmann::json lines = nlohmann::json::array();
   for (std::size_t k : r.rejected) lines.push_back(m.first_data_line + k);
   j["rejected_lines"] = lines;
+  nlohmann::json gross = nlohmann::json::array();
+  for (std::size_t k : r.rejected_gross) gross.push_back(m.first_data_line + k);
+  j["rejected_gross_lines"] = gross;
   j["first_data_line"] = m.first_data_line;
   j["iterations"] = r.iterations;
   j["converged"] = r.converged;
@@ -88,6 +91,9 @@ MagResult mag_result_from_json(const nlohmann::json& j) {
   r.points_rejected = j.at("rejected").get<std::size_t>();
   r.reject_sigma = j.at("reject_sigma").get<double>();
   for (const auto& line : j.at("rejected_lines")) r.rejected.push_back(line.get<std::size_t>() - m.first_data_line);
+  if (j.contains("rejected_gross_lines"))
+    for (const auto& line : j.at("rejected_gross_lines"))
+      r.rejected_gross.push_back(line.get<std::size_t>() - m.first_data_line);
   r.iterations = j.at("iterations").get<std::size_t>();
   r.converged = j.at("converged").get<bool>();
   r.eta = j.at("eta").get<double>();

@@ -4,6 +4,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cctype>
 #include <cmath>
 #include <exception>
@@ -321,7 +322,18 @@ std::vector<std::vector<std::vector<double>>> bootstrap_draws(const ModelResult&
   const std::size_t reps = req.bootstrap;
   std::vector<std::vector<std::vector<double>>> draws(nch);  // [channel][replicate] -> quantities in term order
   for (std::size_t c = 0; c < nch; ++c) draws[c].resize(reps);
+  const std::size_t total = nch * reps;
+  std::atomic<std::size_t> done{0};
+  std::size_t reported = 0;  // touched by the calling thread (OpenMP thread 0) only
+  const auto report = [&] {
+    if (!req.bootstrap_progress || omp_get_thread_num() != 0) return;
+    const std::size_t now = done.load();
+    if (now <= reported) return;
+    reported = now;
+    req.bootstrap_progress(now, total);
+  };
   if (reps > 0) {
+    if (req.bootstrap_progress) req.bootstrap_progress(0, total);
     cubecal::detail::for_channels(nch * reps, cubecal::detail::Team{threads}, [&](std::size_t k) {
       const std::size_t c = k / reps, b = k % reps;
       const ModelChannel& ch = r.channels[c];
@@ -342,7 +354,10 @@ std::vector<std::vector<std::vector<double>>> bootstrap_draws(const ModelResult&
       } catch (const std::exception&) {
         // A replicate without a fit is left out and counted.
       }
+      done.fetch_add(1);
+      report();
     });
+    report();  // the last replicates may have ended on other threads
   }
   return draws;
 }

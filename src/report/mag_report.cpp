@@ -37,8 +37,9 @@ double norm3(const Vec3& v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] 
 // The points as the figures show them: which were rejected, every k-th of the others.
 struct PointSets {
   std::vector<bool> rejected;
-  std::vector<std::size_t> shown;  // used points drawn (indices into h)
-  std::vector<std::size_t> rejected_list;
+  std::vector<std::size_t> shown;          // used points drawn (indices into h)
+  std::vector<std::size_t> rejected_list;  // rejected points drawn (gross outliers are not)
+  std::size_t rejected_count = 0;          // every rejected point
   std::size_t stride = 1;
 };
 
@@ -46,11 +47,12 @@ PointSets point_sets(std::size_t n, const mag::Result& r, std::size_t max_points
   PointSets s;
   s.rejected.assign(n, false);
   for (std::size_t k : r.rejected)
-    if (k < n) {
-      s.rejected[k] = true;
-      s.rejected_list.push_back(k);
-    }
-  const std::size_t used = n - s.rejected_list.size();
+    if (k < n) s.rejected[k] = true;
+  // Gross outliers (|h| = 1e50) are not drawn: they would set the axes.
+  for (std::size_t k : r.rejected)
+    if (k < n && !std::binary_search(r.rejected_gross.begin(), r.rejected_gross.end(), k)) s.rejected_list.push_back(k);
+  for (bool b : s.rejected) s.rejected_count += b ? 1 : 0;
+  const std::size_t used = n - s.rejected_count;
   const std::size_t cap = std::max<std::size_t>(1, max_points);
   s.stride = used > cap ? (used + cap - 1) / cap : 1;
   std::size_t seen = 0;
@@ -63,9 +65,16 @@ double field_at(const MagReportContext& ctx, const mag::Result& r, std::size_t k
   return k < ctx.field_norms.size() ? ctx.field_norms[k] : r.field_norm;
 }
 
+std::string gross_note(const PointSets& ps) {
+  const std::size_t g = ps.rejected_count - ps.rejected_list.size();
+  if (g == 0) return {};
+  return " " + std::to_string(g) + (g == 1 ? " gross outlier" : " gross outliers") +
+         " (|h| beyond 10 robust sigmas of the median |h|) not drawn.";
+}
+
 std::string shown_note(const PointSets& ps, std::size_t n) {
   if (ps.stride <= 1) return {};
-  return " Every " + std::to_string(ps.stride) + "th of the " + std::to_string(n - ps.rejected_list.size()) +
+  return " Every " + std::to_string(ps.stride) + "th of the " + std::to_string(n - ps.rejected_count) +
          " points used is drawn.";
 }
 
@@ -156,7 +165,7 @@ std::vector<ReportFigure> mag_projection_figures(std::span<const Vec3> h, const 
                        " plane: as measured (grey), centred on the hard-iron offset b (black dot) and stretched by "
                        "the soft iron, and calibrated, A<sup>−1</sup>(h − b) (blue), which should fill the sphere of "
                        "radius F about the origin: its outline is the dashed circle." +
-                       std::string(ps.rejected_list.empty() ? "" : " Rejected points in orange.") +
+                       std::string(ps.rejected_list.empty() ? "" : " Rejected points in orange.") + gross_note(ps) +
                        shown_note(ps, h.size());
     else
       f.caption_html = "The same on the " + an + "–" + bn + " plane.";

@@ -91,18 +91,35 @@ Coverage sphere_coverage(std::span<const Vec3> h);
 ///   sphere is accepted and shows in bias_sigma and in a note.
 void check_coverage(const Coverage& c, Method m, double field_norm);
 
-/// Magneto's outlier rule, one pass: with m and sd the mean and (population)
-/// standard deviation of |h_k| over all points, reject k when
-/// ||h_k| - m| / sd > sigma_level. Reproduces Magneto 1.4's choice on
-/// jremington's ICM-20948 run (docs/formulas/magnetometer.md §3.3).
+/// The outlier rule (`--reject D`), two passes.
+/// 1. Gross outliers, robustly: with med the median of |h_k| and the robust
+///    sigma rs = max(1.4826 MAD, kGrossSigmaFloor med), MAD the median of
+///    ||h_k| - med|, reject k when ||h_k| - med| > kGrossSigmas rs. A corrupt
+///    value (1e50) cannot move the median or the MAD, so it cannot hide itself
+///    or the other outliers.
+/// 2. Magneto's rule, one pass, on the points pass 1 kept: with m and sd the
+///    mean and (population) standard deviation of their |h_k|, reject k when
+///    ||h_k| - m| / sd > sigma_level. Without gross outliers this is Magneto's
+///    rule alone and reproduces Magneto 1.4's choice on jremington's ICM-20948
+///    run (docs/formulas/magnetometer.md §3.3).
 struct OutlierRejection {
-  /// Mean of |h_k| over all points (input units).
+  /// Median of |h_k| over all points (input units).
+  double median_norm = 0.0;
+  /// The robust sigma of pass 1: max(1.4826 MAD, kGrossSigmaFloor x median_norm) (input units).
+  double robust_sigma = 0.0;
+  /// Mean of |h_k| over the points pass 1 kept (input units).
   double mean_norm = 0.0;
-  /// Population standard deviation of |h_k| over all points (input units).
+  /// Population standard deviation of |h_k| over the points pass 1 kept (input units).
   double std_norm = 0.0;
   std::vector<std::size_t> kept;      ///< indices into the input, ascending
-  std::vector<std::size_t> rejected;  ///< indices into the input, ascending
+  std::vector<std::size_t> rejected;  ///< indices into the input, ascending (both passes)
+  std::vector<std::size_t> gross;     ///< the indices pass 1 rejected, ascending (a subset of rejected)
 };
+/// Pass 1 of the outlier rule rejects |h_k| further than this many robust sigmas from the median |h|.
+inline constexpr double kGrossSigmas = 10.0;
+/// The robust sigma of pass 1 is at least this fraction of the median |h|
+/// (when more than half of the norms are equal, MAD is 0).
+inline constexpr double kGrossSigmaFloor = 0.01;
 /// Throws CalibrationError (bad_option) when sigma_level is not positive.
 OutlierRejection reject_outliers(std::span<const Vec3> h, double sigma_level);
 
@@ -116,9 +133,10 @@ NormError raw_norm_error(std::span<const Vec3> h, std::span<const double> field_
 struct Options {
   /// The method run.
   Method method = Method::ellipsoid;
-  /// Field norm F: |h_cal| after calibration. 0: the mean |h| of all input
-  /// points, outliers included (Magneto's default). Must be positive when
-  /// given.
+  /// Field norm F: |h_cal| after calibration. 0: the mean |h| of the points
+  /// the outlier rule kept (of all points when reject_sigma is 0; Magneto
+  /// takes the mean over all points, outliers included). Must be positive
+  /// when given.
   double field_norm = 0.0;
   /// TWOSTEP only: the reference field norm |H_k| of each point (e.g. IGRF
   /// along an orbit), one per input point; overrides field_norm.
@@ -151,7 +169,7 @@ struct Result {
   /// bias-only, the W entries.
   std::vector<std::string> covariance_names;
   double field_norm = 0.0;          ///< F (the mean of |H_k| when given per point)
-  bool field_norm_default = false;  ///< F was the mean raw |h|
+  bool field_norm_default = false;  ///< F was the mean raw |h| of the points used
   /// True when a field norm was given per point (Options::field_norms).
   bool field_norm_per_point = false;
   Vec3 semi_axes{};         ///< of the raw-data ellipsoid, descending (F for bias-only)
@@ -177,6 +195,8 @@ struct Result {
   /// Points the outlier rule rejected.
   std::size_t points_rejected = 0;
   std::vector<std::size_t> rejected;  ///< input indices
+  /// Input indices of the points rejected as gross outliers (pass 1 of reject_outliers; a subset of rejected).
+  std::vector<std::size_t> rejected_gross;
   /// The outlier rule's level (sigma; 0: off).
   double reject_sigma = 0.0;
   /// How well the points used cover the sphere.

@@ -41,7 +41,11 @@ struct AnalyzeRequest {
   std::optional<std::size_t> temp_index;  ///< index into Series::extra of the temperature
   /// Order of the temperature polynomial (1 to 5).
   std::size_t temp_order = 1;
-  double drift_window_s = 0.0;  ///< 0: 300 s for rate sensors, 1000 s otherwise (the paper)
+  /// 0: 300 s for rate sensors, 1000 s otherwise (the paper). A window
+  /// given must span at least one sample and fit in the record's longest
+  /// gap-free part (UsageError otherwise, naming the record length or the
+  /// sample period).
+  double drift_window_s = 0.0;
   std::size_t cov_samples = 0;  ///< 0: whole record
   std::size_t max_samples = 0;  ///< samples used for the model fit (0: all; paper: 42000)
   std::vector<double> lsb;      ///< quantizer of the model, counts per unit: one for all or
@@ -223,6 +227,10 @@ struct AnalysisResult {
   /// Why no composite model was fitted although the default asked for it
   /// (AnalyzeRequest::composite_required false); empty otherwise.
   std::string composite_skipped;
+  /// Why the channels have no drift series: the default drift window
+  /// (AnalyzeRequest::drift_window_s 0) is longer than the record's longest
+  /// gap-free part; empty otherwise. (A window given that long is refused.)
+  std::string drift_skipped;
   /// AnalyzeRequest::twin_check.
   std::optional<TwinCheck> twin_check;
 };

@@ -9,6 +9,7 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -48,6 +49,11 @@ struct ModelRequest {
   /// The GMWM fit's options.
   GmwmOptions gmwm;
   unsigned threads = 0;  ///< 0: all cores
+  /// Called during the bootstrap with the replicates fitted so far and their
+  /// total (channels x bootstrap): first (0, total) as it starts, then with
+  /// counts that increase, last (total, total). Always from the calling
+  /// thread (optional; must not throw).
+  std::function<void(std::size_t done, std::size_t total)> bootstrap_progress;
 };
 
 /// One quantity of a fitted term: in the data unit and seconds (value) and

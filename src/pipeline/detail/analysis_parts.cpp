@@ -29,10 +29,47 @@ double model_lsb(const AnalyzeRequest& req, std::size_t c) {
   return req.lsb.empty() ? 0.0 : req.lsb[req.lsb.size() == 1 ? 0 : c];
 }
 
+namespace {
+
+std::string seconds(double s) { return fmt::format("{:.6g} s", s); }
+
+}  // namespace
+
 std::size_t drift_window(const AnalyzeRequest& req, const Unit& unit, double dt) {
   const double window_s =
       req.drift_window_s > 0.0 ? req.drift_window_s : (unit.kind == SensorKind::rate ? 300.0 : 1000.0);
-  return static_cast<std::size_t>(std::llround(window_s / dt));
+  const double samples = window_s / dt;
+  if (!(samples >= 0.5) && !(req.drift_window_s > 0.0)) return 0;  // the default, below one sample: no drift
+  if (!(samples >= 0.5))
+    throw UsageError("the drift window " + seconds(window_s) + " is shorter than one sample (the sample period is " +
+                     seconds(dt) + "): give at least " + seconds(dt));
+  // Beyond any record, and beyond what llround and size_t hold.
+  if (!(samples < static_cast<double>(kMaxDriftWindow))) return kMaxDriftWindow;
+  return static_cast<std::size_t>(std::llround(samples));
+}
+
+void check_drift_window(const AnalyzeRequest& req, AnalysisResult& r, std::size_t longest, std::size_t samples,
+                        double dt) {
+  const auto span = [dt](std::size_t n) { return seconds(static_cast<double>(n) * dt); };
+  const std::string record =
+      longest < samples ? "the longest gap-free part of the record (" + span(longest) + " of " + span(samples) + ")"
+                        : "the record (" + span(samples) + ", " + std::to_string(samples) + " samples)";
+  for (const ChannelAnalysis& ch : r.channels) {
+    const std::size_t window = drift_window(req, ch.unit, dt);
+    if (window == 0) {
+      r.drift_skipped = "the default drift window (" + seconds(ch.unit.kind == SensorKind::rate ? 300.0 : 1000.0) +
+                        ") is shorter than one sample (the sample period is " + seconds(dt) + "): give a longer one";
+      return;
+    }
+    if (window <= longest) continue;
+    if (req.drift_window_s > 0.0)
+      throw UsageError("the drift window " + seconds(req.drift_window_s) + " is longer than " + record +
+                       ": no moving average fits in it; give at most " + span(longest));
+    r.drift_skipped = ("the default drift window (" + span(window) + " for " +
+                       (ch.unit.kind == SensorKind::rate ? "rate sensors" : "this unit") + ") is longer than " +
+                       record + ": give a shorter one");
+    return;
+  }
 }
 
 NoiseAnalysis noise_of(std::vector<StabilityPoint> points) {

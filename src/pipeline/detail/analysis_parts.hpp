@@ -15,7 +15,19 @@ void check_channel_lists(const AnalyzeRequest& req, std::size_t channels);
 // else 300 s for rate sensors and 1000 s otherwise, as the paper).
 Unit unit_of(const AnalyzeRequest& req, std::size_t c);
 double model_lsb(const AnalyzeRequest& req, std::size_t c);
+// A window given (drift_window_s) shorter than one sample is a UsageError
+// with the sample period (the default window is then 0: no drift); a window beyond any record comes back as
+// kMaxDriftWindow samples (check_drift_window then refuses it).
 std::size_t drift_window(const AnalyzeRequest& req, const Unit& unit, double dt);
+inline constexpr std::size_t kMaxDriftWindow = std::size_t{1} << 60;
+
+// Whether each channel's drift window fits in the longest gap-free stretch
+// (`longest` samples of the record's `samples`, dt apart): a window given
+// that does not is a UsageError naming the record length; a
+// default one that does not leaves r.drift_skipped saying why there is no
+// drift series.
+void check_drift_window(const AnalyzeRequest& req, AnalysisResult& r, std::size_t longest, std::size_t samples,
+                        double dt);
 
 // The OADEV of every Allan curve analyze reports (intervals at req.ci, the
 // widest neighbouring type below 30 averages).
