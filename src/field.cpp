@@ -27,6 +27,7 @@ std::string_view field_name(Field f) noexcept {
     case Field::dataset: return "dataset";
     case Field::delimiter: return "delimiter";
     case Field::detrend: return "detrend";
+    case Field::drift_window: return "drift_window";
     case Field::duration: return "duration";
     case Field::earth_axis: return "earth_axis";
     case Field::edf: return "edf";

@@ -334,7 +334,7 @@ TEST_F(DriftWindowTest, OutsideTheRecordIsRefusedWithItsLength) {
     const std::string cmd = "analyze " + file + " --columns gx --unit deg/s --format json" + mode + " --drift-window ";
     test::CliRun r = test::run_cubecal(cmd + "1e30");
     EXPECT_TRUE(test::one_error_line(r)) << r.code << ' ' << r.err;
-    EXPECT_NE(r.err.find("error: the drift window 1e+30 s is longer than the record (20 s, 2000 samples)"),
+    EXPECT_NE(r.err.find("error: --drift-window 1e+30 s is longer than the record (20 s, 2000 samples)"),
               std::string::npos)
         << r.err;
     r = test::run_cubecal(cmd + "20.5");
@@ -342,7 +342,7 @@ TEST_F(DriftWindowTest, OutsideTheRecordIsRefusedWithItsLength) {
     EXPECT_NE(r.err.find("give at most 20 s"), std::string::npos) << r.err;
     r = test::run_cubecal(cmd + "0.004");
     EXPECT_TRUE(test::one_error_line(r)) << r.code << ' ' << r.err;
-    EXPECT_NE(r.err.find("error: the drift window 0.004 s is shorter than one sample (the sample period is 0.01 s)"),
+    EXPECT_NE(r.err.find("error: --drift-window 0.004 s is shorter than one sample (the sample period is 0.01 s)"),
               std::string::npos)
         << r.err;
     r = test::run_cubecal(cmd + "20");  // the whole record: one point

@@ -74,7 +74,7 @@ TEST_F(Messages, JsonOfEveryCommandEscapesNonUtf8Names) {
       "model " + a + " --model WN+RW --format json",
       "davar " + a + " --columns 2 --format json",
       "turnon " + a + " " + b + " " + c + " --unit deg/s --format json",
-      "calibrate temperature " + a + " --columns 'g\xe9x',gy --temp-col temp --format json",
+      "calibrate temperature " + a + " --columns 'g\xe9x',gy --temp-col temp --unit deg/s --format json",
   };
   for (const auto& cmd : commands) {
     const Result r = run(cmd);

@@ -35,6 +35,7 @@ enum class Field {
   dataset,
   delimiter,
   detrend,
+  drift_window,
   duration,
   earth_axis,
   edf,

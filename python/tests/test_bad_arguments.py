@@ -245,6 +245,16 @@ class BadArguments(unittest.TestCase):
                     a.write(v)
                 self.assertEqual(cm.exception.option, "directory")
 
+    def test_a_drift_window_outside_the_record_names_its_keyword(self):
+        # 600 samples at 100 Hz: 6 s of record, 0.01 s per sample.
+        for window, says in ((1e30, "is longer than the record"), (0.004, "is shorter than one sample")):
+            with self.subTest(window=window):
+                with self.assertRaises(cubecal.UsageError) as cm:
+                    cubecal.analyze(Y, rate=100.0, unit="deg/s", composite=False, drift_window=window)
+                self.assertEqual(cm.exception.option, "drift_window")
+                self.assertIn(says, str(cm.exception))
+                self.assertNotIn("--", str(cm.exception))
+
     def test_valid_calls_still_work(self):
         # The checks take what they should: NumPy scalars, ints for floats, float taus.
         taus, devs, _, _ = cubecal.oadev(Y, rate=np.float32(100.0), taus=[0.01, 0.02])

@@ -25,6 +25,7 @@ FieldFlag field_flag(Field f) noexcept {
     case Field::dataset: return {"--dataset", Prefix::yes};
     case Field::delimiter: return {"--delimiter", Prefix::no};
     case Field::detrend: return {"--detrend", Prefix::no};
+    case Field::drift_window: return {"--drift-window", Prefix::no};
     case Field::duration: return {"--duration", Prefix::yes};
     case Field::earth_axis: return {"--earth-axis", Prefix::no};
     case Field::edf: return {"--edf", Prefix::no};

@@ -41,8 +41,9 @@ std::size_t drift_window(const AnalyzeRequest& req, const Unit& unit, double dt)
   const double samples = window_s / dt;
   if (!(samples >= 0.5) && !(req.drift_window_s > 0.0)) return 0;  // the default, below one sample: no drift
   if (!(samples >= 0.5))
-    throw UsageError("the drift window " + seconds(window_s) + " is shorter than one sample (the sample period is " +
-                     seconds(dt) + "): give at least " + seconds(dt));
+    throw UsageError(Field::drift_window, "{drift_window} " + seconds(window_s) +
+                                              " is shorter than one sample (the sample period is " + seconds(dt) +
+                                              "): give at least " + seconds(dt));
   // Beyond any record, and beyond what llround and size_t hold.
   if (!(samples < static_cast<double>(kMaxDriftWindow))) return kMaxDriftWindow;
   return static_cast<std::size_t>(std::llround(samples));
@@ -63,8 +64,9 @@ void check_drift_window(const AnalyzeRequest& req, AnalysisResult& r, std::size_
     }
     if (window <= longest) continue;
     if (req.drift_window_s > 0.0)
-      throw UsageError("the drift window " + seconds(req.drift_window_s) + " is longer than " + record +
-                       ": no moving average fits in it; give at most " + span(longest));
+      throw UsageError(Field::drift_window, "{drift_window} " + seconds(req.drift_window_s) + " is longer than " +
+                                                record + ": no moving average fits in it; give at most " +
+                                                span(longest));
     r.drift_skipped = ("the default drift window (" + span(window) + " for " +
                        (ch.unit.kind == SensorKind::rate ? "rate sensors" : "this unit") + ") is longer than " +
                        record + ": give a shorter one");
