@@ -50,6 +50,13 @@ program's output (only inside marked blocks): a line whose text still matches
 keeps its layout and gets the new numbers at the digits it quoted; any other
 line is replaced by the program's line; "..." lines are kept.
 
+Besides the marked blocks, every command written anywhere in the docs (a
+line of a fenced block, or a `cubecal ...` span in the text, tables included)
+is checked against the program's own --help: its command (and calibrate's
+subcommand) must exist and each --flag it gives must be one that command
+takes. Illustrative commands on files the reader brings (imu.csv, log.csv)
+cannot run here, but a renamed or removed option is caught.
+
 Usage: scripts/check-doc-commands.py [--cubecal BIN] [--data DIR] [--jobs N]
        [--slow] [--update] [--list] [--only SUBSTRING] [REPO_ROOT]
 """
@@ -425,6 +432,80 @@ def update_file(path: str, edits: list[tuple[Command, list[str]]]) -> None:
         f.write("\n".join(lines))
 
 
+# A command in the docs: `cubecal WORD [SUBWORD] ...` up to a pipe, a
+# redirection to another program, a comment or the end of its span.
+COMMAND_RE = re.compile(r"(?:^|\| *|&& *|\$\(|^\$ )(?:\./build/bin/|build/bin/)?cubecal((?: +[^|;&#`)\n]*)?)")
+FLAG_RE = re.compile(r"(?<![\w-])--[a-z][a-z0-9-]*")
+
+
+def written_commands(path: str, text: str) -> list[tuple[int, str]]:
+    """Every `cubecal ...` the file writes: fenced-block lines (with their
+    continuation lines) and backtick spans, as (line, command text)."""
+    found: list[tuple[int, str]] = []
+    lines = text.split("\n")
+    fenced = False
+    i = 0
+    while i < len(lines):
+        line = lines[i]
+        if line.lstrip().startswith("```"):
+            fenced = not fenced
+            i += 1
+            continue
+        if fenced:
+            joined, first = line, i
+            while joined.rstrip().endswith("\\") and i + 1 < len(lines):
+                i += 1
+                joined = joined.rstrip()[:-1] + " " + lines[i].strip()
+            for m in COMMAND_RE.finditer(joined.strip().removeprefix("$ ")):
+                found.append((first + 1, " ".join(("cubecal" + m.group(1)).split())))
+        else:
+            for span in re.findall(r"`([^`]+)`", line):
+                for m in COMMAND_RE.finditer(span.strip()):
+                    found.append((i + 1, " ".join(("cubecal" + m.group(1)).split())))
+        i += 1
+    return found
+
+
+def check_written_flags(cubecal: str, root: str, files: list[str]) -> tuple[int, list[str]]:
+    """Checks each written command's name and --flags against its --help."""
+    helps: dict[tuple[str, ...], str | None] = {}
+
+    def help_of(words: tuple[str, ...]) -> str | None:
+        if words not in helps:
+            r = subprocess.run([cubecal, *words, "--help"], capture_output=True, text=True)
+            helps[words] = r.stdout if r.returncode == 0 else None
+        return helps[words]
+
+    top = help_of(())
+    names = set(re.findall(r"^  ([a-z][a-z-]*) ", top or "", re.M))
+    problems, checked = [], 0
+    for path in files:
+        with open(path, encoding="utf-8") as f:
+            commands = written_commands(path, f.read())
+        for line, cmd in commands:
+            words = cmd.split()[1:]
+            if not words or words[0].startswith("-") or words[0].isupper() or words[0] not in names and \
+                    not re.fullmatch(r"[a-z][a-z-]*", words[0]):
+                continue  # `cubecal --help`, `cubecal COMMAND`, prose such as "cubecal's"
+            where = f"{rel(path, root)}:{line}"
+            if words[0] not in names:
+                problems.append(f"{where}: `{cmd}`: cubecal has no command '{words[0]}'")
+                continue
+            key = (words[0],)
+            if words[0] == "calibrate" and len(words) > 1 and not words[1].startswith("-") \
+                    and not words[1].isupper():
+                key = (words[0], words[1])
+            text = help_of(key)
+            if text is None:
+                problems.append(f"{where}: `{cmd}`: `cubecal {' '.join(key)} --help` fails: no such command")
+                continue
+            checked += 1
+            for flag in FLAG_RE.findall(cmd):
+                if not any(re.search(r"(?<![\w-])" + re.escape(flag) + r"(?![\w-])", t) for t in (text, top or "")):
+                    problems.append(f"{where}: `{cmd}`: cubecal {' '.join(key)} takes no {flag}")
+    return checked, problems
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("root", nargs="?", default=os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
@@ -477,8 +558,11 @@ def main() -> int:
     if not os.path.isdir(data):
         print(f"check-doc-commands: {data}: no reference data directory (give --data)", file=sys.stderr)
         return 2
+    flags_checked, flag_problems = (0, []) if a.only else check_written_flags(cubecal, root, files)
+    for p in flag_problems:
+        print(p)
     runner = Runner(cubecal, data, root)
-    failed = 0
+    failed = len(flag_problems)
     edits: dict[str, list[tuple[Command, list[str]]]] = {}
     t0 = time.monotonic()
     by_block: dict[int, tuple[Block, list[Command]]] = {}
@@ -498,7 +582,8 @@ def main() -> int:
                 print(f"{where}: ok ({seconds:.1f} s) `{c.text}`")
     for s in skipped:
         print(s)
-    print(f"\n{len(jobs)} command(s) run, {numbers} quoted number(s), {failed} failed, {len(skipped)} skipped "
+    print(f"\n{flags_checked} written command(s) checked against their --help, {len(flag_problems)} wrong")
+    print(f"{len(jobs)} command(s) run, {numbers} quoted number(s), {failed} failed, {len(skipped)} skipped "
           f"({time.monotonic() - t0:.1f} s)")
     if a.update and edits:
         for path, e in edits.items():

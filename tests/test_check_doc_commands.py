@@ -15,6 +15,8 @@ SCRIPT = os.path.join(HERE, "..", "scripts", "check-doc-commands.py")
 
 # Prints what `cubecal` would, per subcommand; `fail` exits 2 with a message.
 FAKE = """#!/bin/sh
+if [ "$1" = "--help" ]; then printf 'Subcommands:\\n  n    terms\\n  table  a table\\n  write  w\\n  read  r\\n  fail  f\\n'; exit 0; fi
+if [ "$2" = "--help" ]; then printf 'Options:\\n  --digits INT   digits\\n'; exit 0; fi
 case "$1" in
   n) printf 'N         2.4507 ± 0.013 deg/sqrt(h) (read at 1 s)\\nB  27.89 ± 8.2 deg/h\\nrun1.csv 1e+03\\n' ;;
   table) printf 'af  dev\\n 1  2.92232e-01\\n 2  1.58207e-01\\n 4  1.07797e-01\\n' ;;
@@ -55,6 +57,23 @@ class CheckDocCommands(unittest.TestCase):
                             os.path.join(self.root, "data"), *args, self.root],
                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         return p.returncode, p.stdout + p.stderr
+
+    def test_written_commands_are_checked_against_their_help(self):
+        self.doc("""\
+            Run `cubecal n --digits 3`, or in a block:
+
+            ```sh
+            cubecal table --digits 2 \\
+                --colour
+            cubecal frob x.csv
+            ```
+            """)
+        code, out = self.check()
+        self.assertEqual(code, 1, out)
+        self.assertIn("docs/x.md:4: `cubecal table --digits 2 --colour`: cubecal table takes no --colour", out)
+        self.assertIn("docs/x.md:6: `cubecal frob x.csv`: cubecal has no command 'frob'", out)
+        self.assertNotIn("--digits", out.replace("--digits 2 --colour", ""))
+        self.assertIn("2 written command(s) checked against their --help, 2 wrong", out)
 
     def test_numbers_match_at_their_quoted_digits(self):
         self.doc("""\
