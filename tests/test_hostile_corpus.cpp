@@ -39,9 +39,11 @@
 
 #include "cubecal/printable_text.hpp"
 #include "ros2_bag_writer.hpp"
+#include "gzip_text.hpp"
 
 namespace {
 
+using cubecal::test::gzip;
 namespace fs = std::filesystem;
 namespace ros2 = cubecal::test::ros2;
 
@@ -106,20 +108,6 @@ Outcome run_limited(const std::vector<std::string>& args, const fs::path& dir, c
   r.out = slurp(out_path);
   r.err = slurp(err_path);
   return r;
-}
-
-std::string gzip(const std::string& text, int level = 9) {
-  z_stream zs{};
-  deflateInit2(&zs, level, Z_DEFLATED, 16 + MAX_WBITS, 8, Z_DEFAULT_STRATEGY);
-  std::string out(deflateBound(&zs, text.size()), '\0');
-  zs.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(text.data()));
-  zs.avail_in = static_cast<uInt>(text.size());
-  zs.next_out = reinterpret_cast<Bytef*>(out.data());
-  zs.avail_out = static_cast<uInt>(out.size());
-  deflate(&zs, Z_FINISH);
-  out.resize(zs.total_out);
-  deflateEnd(&zs);
-  return out;
 }
 
 // A 100 Hz gyro log with a temperature column: white noise plus a slow walk.

@@ -23,9 +23,11 @@
 #include "cubecal/error.hpp"
 #include "cubecal/io/delimited_reader.hpp"
 #include "cubecal/printable_text.hpp"
+#include "gzip_text.hpp"
 
 namespace {
 
+using cubecal::test::gzip;
 using cubecal::test::TempDirTest;
 
 // Address-space limit of the child: the binary needs a few tens of MB here.
@@ -68,20 +70,6 @@ bool printable_one_line(const std::string& s) {
   if (s.empty() || s.back() != '\n') return false;
   const std::string line = s.substr(0, s.size() - 1);
   return cubecal::printable_text(line) == line;
-}
-
-std::string gzip(const std::string& text) {
-  z_stream zs{};
-  if (deflateInit2(&zs, 9, Z_DEFLATED, 16 + MAX_WBITS, 8, Z_DEFAULT_STRATEGY) != Z_OK) return {};
-  std::string out(deflateBound(&zs, text.size()), '\0');
-  zs.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(text.data()));
-  zs.avail_in = static_cast<uInt>(text.size());
-  zs.next_out = reinterpret_cast<Bytef*>(out.data());
-  zs.avail_out = static_cast<uInt>(out.size());
-  deflate(&zs, Z_FINISH);
-  out.resize(zs.total_out);
-  deflateEnd(&zs);
-  return out;
 }
 
 // A 100 Hz gyro log: t,gx,gy,gz.

@@ -19,36 +19,14 @@
 #include "cli_runner.hpp"
 #include "cubecal/error.hpp"
 #include "cubecal/io/output_path.hpp"
+#include "fifo.hpp"
 
 namespace {
 
+using cubecal::test::drain_fifo;
 namespace fs = std::filesystem;
 using cubecal::test::CliRun;
 using cubecal::test::one_error_line;
-
-// What a writer puts into the FIFO `p`, read without ever blocking: ends at
-// the writer's close, or after 20 s when no writer comes (a test that fails
-// rather than hangs).
-std::string drain_fifo(const std::string& p) {
-  const int fd = ::open(p.c_str(), O_RDONLY | O_NONBLOCK);
-  if (fd < 0) return "(cannot open the FIFO)";
-  std::string got;
-  bool writer = false;
-  char buf[4096];
-  for (int i = 0; i < 2000; ++i) {
-    const ssize_t n = ::read(fd, buf, sizeof buf);
-    if (n > 0) {
-      got.append(buf, static_cast<std::size_t>(n));
-      writer = true;
-      continue;
-    }
-    if (n < 0) writer = true;  // EAGAIN: a writer, no data yet
-    if (n == 0 && writer) break;
-    ::usleep(10000);
-  }
-  ::close(fd);
-  return got;
-}
 
 class OutputChecks : public cubecal::test::TempDirTest {
  protected:

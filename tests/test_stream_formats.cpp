@@ -17,10 +17,12 @@
 #include <vector>
 
 #include "cli_runner.hpp"
+#include "gzip_text.hpp"
 
 namespace {
 
 using cubecal::test::CliRun;
+using cubecal::test::gzip;
 using cubecal::test::one_error_line;
 using cubecal::test::run_cubecal;
 using cubecal::test::run_cubecal_piped;
@@ -79,20 +81,6 @@ std::string npy(const std::vector<double>& values, std::size_t rows, std::size_t
       put(&u, 1);
     }
   }
-  return out;
-}
-
-std::string gzip(const std::string& text, int level = 6) {
-  z_stream zs{};
-  if (deflateInit2(&zs, level, Z_DEFLATED, 16 + MAX_WBITS, 8, Z_DEFAULT_STRATEGY) != Z_OK) return {};
-  std::string out(deflateBound(&zs, text.size()), '\0');
-  zs.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(text.data()));
-  zs.avail_in = static_cast<uInt>(text.size());
-  zs.next_out = reinterpret_cast<Bytef*>(out.data());
-  zs.avail_out = static_cast<uInt>(out.size());
-  deflate(&zs, Z_FINISH);
-  out.resize(zs.total_out);
-  deflateEnd(&zs);
   return out;
 }
 

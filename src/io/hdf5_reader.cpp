@@ -295,10 +295,8 @@ Table read_dataset(hid_t ds, const Dataset& d, const std::string& file, std::siz
   return t;
 }
 
-// A group of numeric 1-D datasets of one length: a named column each (in
-// the order of their names).
-Table read_group(hid_t group, const std::string& path, const std::string& file, std::size_t file_bytes,
-                 bool missing_as_nan) {
+// The names of a group's members, in the order of their names.
+std::vector<std::string> group_members(hid_t group) {
   std::vector<std::string> members;
   H5Literate(
       group, H5_INDEX_NAME, H5_ITER_INC, nullptr,
@@ -307,6 +305,14 @@ Table read_group(hid_t group, const std::string& path, const std::string& file, 
         return 0;
       },
       &members);
+  return members;
+}
+
+// A group of numeric 1-D datasets of one length: a named column each (in
+// the order of their names).
+Table read_group(hid_t group, const std::string& path, const std::string& file, std::size_t file_bytes,
+                 bool missing_as_nan) {
+  const std::vector<std::string> members = group_members(group);
   Table t = new_table(file, file_bytes);
   std::vector<std::string> names;
   std::optional<hsize_t> length;
@@ -445,14 +451,7 @@ void dataset_columns(SlabColumns& c, Handle ds, const Dataset& d, const std::str
 // A group's members, as read_group takes them.
 void group_columns(SlabColumns& c, hid_t group, const std::string& path, const std::string& file,
                    std::size_t file_bytes) {
-  std::vector<std::string> members;
-  H5Literate(
-      group, H5_INDEX_NAME, H5_ITER_INC, nullptr,
-      [](hid_t, const char* name, const H5L_info_t*, void* data) -> herr_t {
-        static_cast<std::vector<std::string>*>(data)->emplace_back(name);
-        return 0;
-      },
-      &members);
+  const std::vector<std::string> members = group_members(group);
   c.path = path;
   std::optional<hsize_t> length;
   for (const auto& m : members) {

@@ -46,22 +46,7 @@ namespace {
 const auto& stamp = detail::shortest_text;
 using detail::lower_case;
 
-std::string to_text(double v, std::chars_format fmt, int precision) {
-  char buf[64];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v, fmt, precision);
-  return std::string(buf, r.ptr);
-}
-
-// Durations with four significant digits, without switching to exponents
-// for long gaps.
-std::string duration(double v) {
-  const double mag = std::floor(std::log10(std::max(std::fabs(v), 1e-9)));
-  return to_text(v, std::chars_format::fixed, static_cast<int>(std::clamp(3.0 - mag, 0.0, 9.0)));
-}
-
-// The period is 1/median(dt): rounding noise in the last digits is not
-// worth showing.
-std::string period_text(double v) { return to_text(v, std::chars_format::general, 6); }
+using detail::period_text;
 
 // Whether a column spec (name or 1-based index, as TableOptions resolves
 // it) designates header column i.
@@ -283,8 +268,8 @@ void check_timing(Series& s, const detail::PlaceError& at, const SeriesOptions& 
         continue;
       }
       fail_at(i,
-              "interval " + duration(dt) + " s is not a whole number of periods of " + period_text(period) +
-                  " s: no missing sample explains it",
+              "interval " + detail::duration_text(dt) + " s is not a whole number of periods of " +
+                  period_text(period) + " s: no missing sample explains it",
               "use {gaps} split to cut the record at irregular intervals" + ignore_stamps);
     }
     if (opt.gaps == GapPolicy::split) {
@@ -297,13 +282,14 @@ void check_timing(Series& s, const detail::PlaceError& at, const SeriesOptions& 
     // closer to one period is timing noise.
     if (dt >= kGapPeriods * period) {
       fail_at(i,
-              "gap of " + duration(dt) + " s (" + std::to_string(std::llround(dt / period)) + " periods of " +
-                  period_text(period) + " s) after t = " + stamp(time[i - 1]) + " s",
+              "gap of " + detail::duration_text(dt) + " s (" + std::to_string(std::llround(dt / period)) +
+                  " periods of " + period_text(period) + " s) after t = " + stamp(time[i - 1]) + " s",
               "use {gaps} split to analyze the contiguous pieces");
     } else {
       fail_at(i,
-              "jitter: interval " + duration(dt) + " s differs from the period " + period_text(period) + " s by " +
-                  to_text(100.0 * std::fabs(dt - period) / period, std::chars_format::general, 3) + " %",
+              "jitter: interval " + detail::duration_text(dt) + " s differs from the period " + period_text(period) +
+                  " s by " +
+                  detail::number_text(100.0 * std::fabs(dt - period) / period, std::chars_format::general, 3) + " %",
               "use {gaps} split to cut the record at irregular intervals" + ignore_stamps);
     }
   }

@@ -1,5 +1,6 @@
 // Small text helpers the readers share for their messages.
 #pragma once
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <string>
@@ -26,6 +27,24 @@ inline std::string shortest_text(double v) {
   }
   return exact;
 }
+
+// `v` with to_chars in `fmt` at `precision`.
+inline std::string number_text(double v, std::chars_format fmt, int precision) {
+  char buf[64];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v, fmt, precision);
+  return std::string(buf, r.ptr);
+}
+
+// A duration (a gap, an interval) with four significant digits, without
+// switching to exponents for long gaps.
+inline std::string duration_text(double v) {
+  const double mag = std::floor(std::log10(std::max(std::fabs(v), 1e-9)));
+  return number_text(v, std::chars_format::fixed, static_cast<int>(std::clamp(3.0 - mag, 0.0, 9.0)));
+}
+
+// A sampling period or rate from 1/median(dt), with six significant digits:
+// rounding noise in the last digits is not worth showing.
+inline std::string period_text(double v) { return number_text(v, std::chars_format::general, 6); }
 
 // ASCII lower case (column names compared without regard to case).
 inline std::string lower_case(std::string s) {

@@ -14,20 +14,6 @@ namespace {
 
 const auto& stamp = shortest_text;
 
-std::string to_text(double v, std::chars_format fmt, int precision) {
-  char buf[64];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v, fmt, precision);
-  return std::string(buf, r.ptr);
-}
-
-// As series.cpp words them: durations with four significant digits, the
-// period with six.
-std::string duration(double v) {
-  const double mag = std::floor(std::log10(std::max(std::fabs(v), 1e-9)));
-  return to_text(v, std::chars_format::fixed, static_cast<int>(std::clamp(3.0 - mag, 0.0, 9.0)));
-}
-std::string period_text(double v) { return to_text(v, std::chars_format::general, 6); }
-
 void check_increasing(const std::vector<double>& t, std::size_t first, bool have_last, double last,
                       const PlaceError& at) {
   for (std::size_t i = 0; i < t.size(); ++i) {
@@ -81,12 +67,12 @@ void StreamTiming::check(const std::vector<double>& t, std::size_t first, const 
     if (std::fabs(dt - period) <= opt_.tolerance * period) continue;
     if (dt >= kGapPeriods * period)
       throw at(first + i,
-               "gap of " + duration(dt) + " s (" + std::to_string(std::llround(dt / period)) + " periods of " +
+               "gap of " + duration_text(dt) + " s (" + std::to_string(std::llround(dt / period)) + " periods of " +
                    period_text(period) + " s) after t = " + stamp(prev) + " s",
                "a streamed record is not split: cut it at the gap, or read it into memory with {gaps} split");
     throw at(first + i,
-             "jitter: interval " + duration(dt) + " s differs from the period " + period_text(period) + " s by " +
-                 to_text(100.0 * std::fabs(dt - period) / period, std::chars_format::general, 3) + " %",
+             "jitter: interval " + duration_text(dt) + " s differs from the period " + period_text(period) + " s by " +
+                 number_text(100.0 * std::fabs(dt - period) / period, std::chars_format::general, 3) + " %",
              "cut the record at irregular intervals, or read it into memory with {gaps} split" + ignore);
   }
   last_ = t.back();
