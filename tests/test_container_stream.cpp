@@ -159,13 +159,15 @@ class ContainerStream : public cubecal::test::TempDirTest {
     w.exec("COMMIT");
     return p;
   }
-  // A compound {t, gx, gy, temp} of n rows at 100 Hz, chunked and compressed.
-  std::string hdf5(std::size_t n) {
+  // A compound {t, gx, gy, temp} of n rows at 100 Hz, chunked and compressed;
+  // with back_at, the stamp of that row two periods back.
+  std::string hdf5(std::size_t n, std::size_t back_at = 0) {
     struct Row {
       double t, gx, gy, temp;
     };
     std::vector<Row> rows(n);
     for (std::size_t r = 0; r < n; ++r) rows[r] = {0.01 * static_cast<double>(r), gyro(r, 0), gyro(r, 1), 20.0};
+    if (back_at > 0) rows[back_at].t -= 0.02;
     const std::string p = path("imu.h5");
     const hid_t f = H5Fcreate(p.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
     const hid_t type = H5Tcreate(H5T_COMPOUND, sizeof(Row));
@@ -259,6 +261,18 @@ TEST_F(ContainerStream, AnalyzeStreamsAnMcapAsItsSamples) {
 }
 
 // What a stream cannot take is refused with what to do.
+// A rate given beside stamps: they may repeat (coarse clocks) but not go
+// back, streamed as read whole (the stream checked nothing with --rate).
+TEST_F(ContainerStream, RateGivenStillRefusesStampsThatGoBack) {
+  const std::string f = hdf5(3000, 1500);
+  for (const std::string mode : {"", " --stream"}) {
+    SCOPED_TRACE(mode);
+    const auto r = cubecal::test::run_cubecal("dev " + f + " --columns gx --rate 100" + mode);
+    EXPECT_TRUE(cubecal::test::one_error_line(r)) << r.code << " " << r.err;
+    EXPECT_NE(r.err.find("is before the previous one"), std::string::npos) << r.err;
+  }
+}
+
 TEST_F(ContainerStream, SeveralTopicsAreReadWhole) {
   const auto r = run_cubecal("dev " + kRos1 + " --rate 250 --topic /imu/data_raw,/imu/mag --stream");
   EXPECT_EQ(r.code, 2);

@@ -56,7 +56,18 @@ void StreamTiming::start(const std::vector<double>& head, const PlaceError& at) 
 }
 
 void StreamTiming::check(const std::vector<double>& t, std::size_t first, const PlaceError& at) {
-  if (!timing_ || t.empty()) return;
+  if (t.empty()) return;
+  if (!timing_) {  // the rate given: stamps may repeat (coarse clocks) but not go back, as read_series
+    for (std::size_t i = 0; i < t.size(); ++i) {
+      const double prev = i > 0 ? t[i - 1] : last_;
+      if ((i > 0 || have_last_) && t[i] < prev)
+        throw at(first + i, "time stamp " + stamp(t[i]) + " s is before the previous one " + stamp(prev) + " s",
+                 "sort the file or fix the logger clock");
+    }
+    last_ = t.back();
+    have_last_ = true;
+    return;
+  }
   check_increasing(t, first, have_last_, last_, at);
   const double period = 1.0 / rate_hz_;
   const std::string ignore = opt_.time_col.empty() ? ", or give {rate} HZ to ignore the time stamps" : "";
