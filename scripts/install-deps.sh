@@ -10,6 +10,7 @@ PACKAGES=(
   libboost-math-dev zlib1g-dev libbz2-dev liblz4-dev libzstd-dev libsqlite3-dev libhdf5-dev libfast-float-dev libeigen3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-numpy gzip bc
+  python3-pytest          # AllanTools' own test suite run against cubecal (scripts/allantools-suite.py)
   python3-scipy           # AllanTools (the peer `make bench` and the Python tests run) imports scipy.stats
   libfftw3-dev            # power spectral densities (cubecal psd): Welch on FFTW
   libserialport-dev       # cubecal record from serial devices
