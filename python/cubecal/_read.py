@@ -48,21 +48,55 @@ def read_args(columns=None, time=None, rate=None, skip_rows=0, lsb=None, gaps="e
 @_args.public
 def read(path, columns=None, time=None, rate=None, skip_rows=0, lsb=None, gaps="error", topics=None, dataset=None,
          binary=None, header_bytes=0, extra=None, frame=False, threads=0):
-    """Reads and checks a record as the CLI does: delimited text (.csv, .gz),
-    NumPy .npy, HDF5, ROS 1 bags, MCAP and rosbag2, PX4 ULog, or raw frames
-    (binary="float64le,int16le,..." with rate=). Returns a Record (a dict of
-    arrays with the reader's findings as attributes), or a pandas DataFrame
-    with frame=True. Errors in the data raise cubecal.InputError with .file,
-    .line and .column.
+    """Reads and checks a record as the CLI does.
 
-    columns: names or 1-based indices (default: every column but time,
-    temperature and extra); time: the time column (default: found by name);
-    lsb: counts per unit, one for all or one per column; gaps: "error",
-    "split" or "skip" (an empty field or NaN is a missing sample, NaN in the
-    arrays, and a gap of whole periods in the time stamps is filled with
-    them, as the CLI's --gaps skip; cubecal.dev of such a Record leaves them
-    out of the OADEV terms, as `cubecal dev --gaps skip`); extra: further
-    columns read as they are (e.g. a temperature).
+    Delimited text (.csv, .gz), NumPy .npy, HDF5, ROS 1 bags, MCAP and
+    rosbag2, PX4 ULog, or raw frames.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The record.
+    columns : str or list, optional
+        Names or 1-based indices (default: every column but time,
+        temperature and extra).
+    time : str or int, optional
+        The time column (default: found by name).
+    rate : float, optional
+        Sampling rate, Hz (default: from the time column).
+    skip_rows : int
+        Lines of preamble.
+    lsb : float or list of float, optional
+        Counts per unit, one for all or one per column.
+    gaps : str
+        "error", "split" or "skip" (an empty field or NaN is a missing
+        sample, NaN in the arrays, and a gap of whole periods in the time
+        stamps is filled with them, as the CLI's --gaps skip).
+    topics : str or list of str, optional
+        ROS topics.
+    dataset : str, optional
+        The HDF5 dataset.
+    binary : str, optional
+        Raw frames: "float64le,int16le,..." (with rate=).
+    header_bytes : int
+        Bytes before the first raw frame.
+    extra : str or list of str, optional
+        Further columns read as they are (e.g. a temperature).
+    frame : bool
+        Return a pandas DataFrame.
+    threads : int
+        Worker threads (0: every core).
+
+    Returns
+    -------
+    Record or pandas.DataFrame
+        A dict of 1-D float64 arrays (in their units; time in s) with the
+        reader's findings as attributes.
+
+    Raises
+    ------
+    cubecal.InputError
+        Bad data, with .file, .line and .column.
     """
     args = read_args(columns, time, rate, skip_rows, lsb, gaps, topics, dataset, binary, header_bytes, extra,
                      threads)

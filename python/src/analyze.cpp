@@ -137,9 +137,9 @@ AnalysisHandle analyze_arrays(const std::vector<Doubles>& channels, const std::v
   return AnalysisHandle{result};
 }
 
-// analysis.json's content as Python objects.
+// analysis.json's content as Python objects with NumPy arrays.
 py::object analysis_document(const AnalysisHandle& h, const std::string& command) {
-  return to_python(pipeline::to_json(*h.result, pipeline::OutputContext{command}));
+  return to_python_arrays(pipeline::to_json(*h.result, pipeline::OutputContext{command}));
 }
 
 // The files of `analyze --out DIR`, each written whole through an io::AtomicFile;

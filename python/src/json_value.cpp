@@ -1,14 +1,24 @@
 #include "json_value.hpp"
 
+#include <pybind11/numpy.h>
+
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <limits>
+#include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace cubecal::python {
 
 namespace py = pybind11;
 
-py::object to_python(const nlohmann::json& j) {
-  using Type = nlohmann::json::value_t;
+namespace {
+
+using Type = nlohmann::json::value_t;
+
+py::object scalar(const nlohmann::json& j) {
   switch (j.type()) {
     case Type::null:
     case Type::discarded: return py::none();
@@ -20,20 +30,136 @@ py::object to_python(const nlohmann::json& j) {
       return std::isfinite(v) ? py::object(py::float_(v)) : py::object(py::none());
     }
     case Type::string: return py::str(j.get_ref<const std::string&>());
-    case Type::array: {
-      py::list out(j.size());
-      std::size_t i = 0;
-      for (const nlohmann::json& v : j) out[i++] = to_python(v);
-      return out;
-    }
-    case Type::object: {
-      py::dict out;
-      for (const auto& [key, v] : j.items()) out[py::str(key)] = to_python(v);
-      return out;
-    }
-    case Type::binary: break;
+    default: break;
   }
   throw std::invalid_argument("a JSON value of no Python type");
 }
+
+// What a JSON array holds, for its NumPy form.
+enum class Kind { none, integers, floats, booleans };
+
+bool fits_int64(const nlohmann::json& x) {
+  return x.type() != Type::number_unsigned ||
+         x.get<std::uint64_t>() <= static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max());
+}
+
+// integers: only integers that fit an int64; floats: numbers and nulls, at
+// least one number; booleans: only booleans; else none.
+Kind kind_of(const nlohmann::json& a) {
+  if (!a.is_array() || a.empty()) return Kind::none;
+  bool any_number = false, any_float = false, any_null = false, any_bool = false;
+  for (const nlohmann::json& x : a) {
+    if (x.is_boolean()) {
+      any_bool = true;
+    } else if (x.is_null()) {
+      any_null = true;
+    } else if (x.is_number_float()) {
+      any_number = any_float = true;
+    } else if (x.is_number() && fits_int64(x)) {
+      any_number = true;
+    } else {
+      return Kind::none;
+    }
+  }
+  if (any_bool) return any_number || any_null ? Kind::none : Kind::booleans;
+  if (!any_number) return Kind::none;
+  return any_float || any_null ? Kind::floats : Kind::integers;
+}
+
+double as_double(const nlohmann::json& x) {
+  if (x.is_null()) return std::numeric_limits<double>::quiet_NaN();
+  const double v = x.get<double>();
+  return std::isfinite(v) ? v : std::numeric_limits<double>::quiet_NaN();
+}
+
+// Read-only as pybind11 marks its own (array_proxy: no Python call).
+py::object read_only(py::array a) {
+  py::detail::array_proxy(a.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
+  return a;
+}
+
+// The rows of `a` (an array of arrays) as one (rows, columns) array when
+// they are all arrays of numbers of one length (floats if any row needs
+// them; a row of only nulls is a row of NaN) or all arrays of booleans;
+// else none.
+Kind matrix_kind(const nlohmann::json& a, std::size_t& columns) {
+  if (!a.is_array() || a.empty() || !a.front().is_array()) return Kind::none;
+  columns = a.front().size();
+  if (columns == 0) return Kind::none;
+  Kind k = Kind::none;
+  bool null_row = false;
+  for (const nlohmann::json& row : a) {
+    if (!row.is_array() || row.size() != columns) return Kind::none;
+    if (std::all_of(row.begin(), row.end(), [](const nlohmann::json& x) { return x.is_null(); })) {
+      null_row = true;
+      continue;
+    }
+    const Kind r = kind_of(row);
+    if (r == Kind::none) return Kind::none;
+    if (k == Kind::none || k == r) {
+      k = r;
+    } else if (r != Kind::booleans && k != Kind::booleans) {
+      k = Kind::floats;  // integers and floats
+    } else {
+      return Kind::none;
+    }
+  }
+  if (null_row && k == Kind::booleans) return Kind::none;
+  if (null_row && k == Kind::integers) return Kind::floats;
+  return k;
+}
+
+template <class T, class Get>
+py::object filled(std::vector<py::ssize_t> shape, const nlohmann::json& a, bool matrix, Get get) {
+  py::array_t<T> out(shape);
+  T* p = out.mutable_data();
+  if (matrix) {
+    for (const nlohmann::json& row : a)
+      for (const nlohmann::json& x : row) *p++ = get(x);
+  } else {
+    for (const nlohmann::json& x : a) *p++ = get(x);
+  }
+  return read_only(std::move(out));
+}
+
+py::object numeric_array(const nlohmann::json& a, Kind k, bool matrix, std::size_t columns) {
+  std::vector<py::ssize_t> shape{static_cast<py::ssize_t>(a.size())};
+  if (matrix) shape.push_back(static_cast<py::ssize_t>(columns));
+  switch (k) {
+    case Kind::integers:
+      return filled<std::int64_t>(shape, a, matrix, [](const nlohmann::json& x) { return x.get<std::int64_t>(); });
+    case Kind::floats: return filled<double>(shape, a, matrix, as_double);
+    case Kind::booleans: return filled<bool>(shape, a, matrix, [](const nlohmann::json& x) { return x.get<bool>(); });
+    case Kind::none: break;
+  }
+  throw std::logic_error("numeric_array of no kind");
+}
+
+template <bool Arrays>
+py::object convert(const nlohmann::json& j) {
+  if (j.is_array()) {
+    if constexpr (Arrays) {
+      if (const Kind k = kind_of(j); k != Kind::none) return numeric_array(j, k, false, 0);
+      std::size_t columns = 0;
+      if (const Kind k = matrix_kind(j, columns); k != Kind::none) return numeric_array(j, k, true, columns);
+    }
+    py::list out(j.size());
+    std::size_t i = 0;
+    for (const nlohmann::json& v : j) out[i++] = convert<Arrays>(v);
+    return out;
+  }
+  if (j.is_object()) {
+    py::dict out;
+    for (const auto& [key, v] : j.items()) out[py::str(key)] = convert<Arrays>(v);
+    return out;
+  }
+  return scalar(j);
+}
+
+}  // namespace
+
+py::object to_python(const nlohmann::json& j) { return convert<false>(j); }
+
+py::object to_python_arrays(const nlohmann::json& j) { return convert<true>(j); }
 
 }  // namespace cubecal::python

@@ -1,6 +1,7 @@
 // cubecal._psd and cubecal._davar: `cubecal psd` and `cubecal davar` on a
 // file (read as the CLI reads it) or on arrays, returning the JSON the CLI
-// writes with --format json, which the package wraps as a Result.
+// writes with --format json as Python objects with NumPy arrays
+// (json_value.hpp), which the package wraps as typed results.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -43,8 +44,8 @@ struct PsdArgs {
   unsigned threads = 0;
 };
 
-py::tuple psd(const std::optional<std::string>& path, const ReadArgs& read, const std::vector<Doubles>& channels,
-              const std::vector<std::string>& names, double rate, const PsdArgs& a) {
+nlohmann::json psd(const std::optional<std::string>& path, const ReadArgs& read, const std::vector<Doubles>& channels,
+                   const std::vector<std::string>& names, double rate, const PsdArgs& a) {
   pipeline::PsdRequest req;
   const auto window = parse_window(a.window);
   if (!window)
@@ -65,30 +66,7 @@ py::tuple psd(const std::optional<std::string>& path, const ReadArgs& read, cons
   py::gil_scoped_release free;
   const io::Series s = call_record(path, read, channels, names, rate);
   if (req.units.empty()) req.units = announced_units_or_none(s);  // as the CLI: else none (densities in u^2/Hz)
-  nlohmann::json j = pipeline::to_json(pipeline::run_psd(s, req));
-  // The spectra (every bin: 10^5 numbers and more) go to Python as arrays:
-  // as Python objects one number at a time they would cost more than the transform.
-  std::vector<std::map<std::string, std::vector<double>>> spectra;
-  for (nlohmann::json& ch : j["channels"]) {
-    auto& arrays = spectra.emplace_back();
-    for (const char* key : {"frequency_hz", "density", "density_rate", "edf"}) {
-      const auto it = ch.find(key);
-      if (it == ch.end() || !it->is_array()) continue;
-      std::vector<double>& v = arrays[key];
-      v.reserve(it->size());
-      for (const nlohmann::json& x : *it) v.push_back(x.is_number() ? x.get<double>() : std::nan(""));
-      ch.erase(it);
-    }
-  }
-  py::gil_scoped_acquire held;
-  py::object meta = to_python(j);
-  py::list out;
-  for (auto& arrays : spectra) {
-    py::dict d;
-    for (auto& [key, v] : arrays) d[py::str(key)] = py::array_t<double>(static_cast<py::ssize_t>(v.size()), v.data());
-    out.append(d);
-  }
-  return py::make_tuple(meta, out);
+  return pipeline::to_json(pipeline::run_psd(s, req));
 }
 
 struct DavarArgs {
@@ -145,8 +123,8 @@ void bind_spectral(py::module_& m) {
       .def_readwrite("ci", &DavarArgs::ci)
       .def_readwrite("alpha", &DavarArgs::alpha)
       .def_readwrite("threads", &DavarArgs::threads);
-  m.def("_psd", &psd, py::arg("path"), py::arg("read"), py::arg("channels"), py::arg("names"), py::arg("rate"),
-        py::arg("args"), "`cubecal psd --format json` of a file or of arrays");
+  m.def("_psd", returning_python(&psd), py::arg("path"), py::arg("read"), py::arg("channels"), py::arg("names"),
+        py::arg("rate"), py::arg("args"), "`cubecal psd --format json` of a file or of arrays");
   m.def("_davar", returning_python(&davar), py::arg("path"), py::arg("read"), py::arg("channels"), py::arg("names"),
         py::arg("rate"), py::arg("args"), "`cubecal davar --format json` of a file or of arrays");
 }
