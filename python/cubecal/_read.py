@@ -6,14 +6,40 @@ from ._data import number_list, string_list
 
 
 class Record(dict):
-    """Columns of a record (name -> 1-D float64 array, in file order: the time
-    column first when there is one), with what the reader found out:
-    file, rate_hz (given, or from the time stamps), rate_from_time, time (the
-    time column's name, or ""), channels (the channel names), extra (further
-    columns asked for), units (the units the format states; ROS messages),
-    left_out, topics, segments ((begin, end) rows; several when split at gaps),
-    gaps (as read: "error", "split" or "skip") and missing_samples (NaN per
-    channel, with gaps="skip")."""
+    """Columns of a record read by cubecal.read, with what the reader found out.
+
+    A dict of name -> 1-D float64 array, in file order (the time column
+    first when there is one, in s; the channels in their units).
+
+    Attributes
+    ----------
+    file : str
+        The record's path.
+    rate_hz : float
+        The sampling rate, Hz (given, or from the time stamps).
+    rate_from_time : bool
+        Whether the rate comes from the time stamps.
+    time : str
+        The time column's name ("" : none).
+    channels : list of str
+        The channel names.
+    extra : list of str
+        Further columns asked for (extra=).
+    units : list of str
+        The units the format states (ROS messages; else empty).
+    left_out : list of str
+        Columns or fields left out.
+    topics : list of str
+        The ROS topics read.
+    segments : list of (int, int)
+        (begin, end) sample ranges; several when split at gaps.
+    gaps : str
+        As read: "error", "split" or "skip".
+    missing_samples : list of int
+        NaN per channel (gaps="skip").
+    bytes : int
+        Bytes read.
+    """
 
     def __init__(self, columns, meta):
         super().__init__(columns)
@@ -27,6 +53,19 @@ class Record(dict):
 
 def read_args(columns=None, time=None, rate=None, skip_rows=0, lsb=None, gaps="error", topics=None, dataset=None,
               binary=None, header_bytes=0, extra=None, threads=0):
+    """The reader's arguments of cubecal.read (and of the calls that read a
+    path), checked and named as the CLI's input options.
+
+    Parameters
+    ----------
+    columns, time, rate, skip_rows, lsb, gaps, topics, dataset, binary, header_bytes, extra, threads
+        As cubecal.read's (rate in Hz).
+
+    Returns
+    -------
+    cubecal._cubecal._ReadArgs
+        The arguments for the binding.
+    """
     a = _cubecal._ReadArgs()
     a.columns = string_list(columns, "columns")
     if time is not None and (isinstance(time, bool) or not isinstance(time, (str, int))):
