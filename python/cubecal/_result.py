@@ -175,9 +175,19 @@ class Result:
         return json.dumps(self.to_dict(), indent=indent)
 
     def _summary(self):
-        """The text inside repr's parentheses (subclasses give their numbers)."""
-        keys = list(self._data)
-        return ", ".join(keys[:8]) + (", ..." if len(keys) > 8 else "")
+        """The text inside repr's parentheses: the first few short fields
+        with their values, and how many others there are (subclasses give
+        their own)."""
+        parts = []
+        for key, value in self._data.items():
+            if isinstance(value, float):
+                parts.append(f"{key}={_fmt(value)}")
+            elif value is None or isinstance(value, (bool, int)) or (isinstance(value, str) and len(value) <= 30):
+                parts.append(f"{key}={value!r}")
+            if len(parts) == 5:
+                break
+        others = len(self._data) - len(parts)
+        return ", ".join(parts) + (f", +{others} fields" if others and parts else f"{others} fields" if others else "")
 
     def __repr__(self):
         return f"{type(self).__name__}({self._summary()})"
