@@ -144,6 +144,17 @@ class Result:
     def __dir__(self):
         return sorted(set(self._data) | set(super().__dir__()))
 
+    def __reduce__(self):
+        # Pickling and copying (the slots are read-only to setattr).
+        state = {}
+        for c in type(self).__mro__:
+            for name in c.__dict__.get("__slots__", ()):
+                try:
+                    state[name] = object.__getattribute__(self, name)
+                except AttributeError:
+                    pass
+        return _rebuild, (type(self), state)
+
     def __eq__(self, other):
         return isinstance(other, Result) and type(other) is type(self) and self.to_dict() == other.to_dict()
 
@@ -191,6 +202,14 @@ class Result:
 
     def __repr__(self):
         return f"{type(self).__name__}({self._summary()})"
+
+
+def _rebuild(cls, state):
+    """A result of class cls with the slots `state` (unpickling, copying)."""
+    out = object.__new__(cls)
+    for name, value in state.items():
+        object.__setattr__(out, name, value)
+    return out
 
 
 def _attributes_doc(fields):

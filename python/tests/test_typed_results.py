@@ -223,6 +223,18 @@ class Conversion(unittest.TestCase):
         with self.assertRaises(ValueError):
             d.channels[0].tau[0] = 1.0
 
+    def test_pickle_and_copy(self):
+        import copy
+        import pickle
+        m = cubecal.model(np.random.default_rng(5).normal(size=5000), "WN+RW", rate=10.0, wic_replicates=0)
+        m.channels[0].terms  # wrapped before pickling, or not: the same document
+        for other in (pickle.loads(pickle.dumps(m)), copy.deepcopy(m), copy.copy(m)):
+            self.assertIsInstance(other, cubecal.NoiseModel)
+            self.assertEqual(other.to_dict(), m.to_dict())
+            self.assertEqual(other.channels[0].terms[0].term, "WN")
+        r = cubecal.dev(np.random.default_rng(6).normal(size=1000), rate=1.0)
+        self.assertEqual(pickle.loads(pickle.dumps(r)).to_dict(), r.to_dict())
+
     def test_absent_declared_field_is_none_and_unknown_field_raises(self):
         m = cubecal.model(np.random.default_rng(4).normal(size=5000), "WN", rate=10.0, wic_replicates=0)
         self.assertNotIn("fidelity", m.channels[0])
