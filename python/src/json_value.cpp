@@ -72,12 +72,6 @@ double as_double(const nlohmann::json& x) {
   return std::isfinite(v) ? v : std::numeric_limits<double>::quiet_NaN();
 }
 
-// Read-only as pybind11 marks its own (array_proxy: no Python call).
-py::object read_only(py::array a) {
-  py::detail::array_proxy(a.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
-  return a;
-}
-
 // The rows of `a` (an array of arrays) as one (rows, columns) array when
 // they are all arrays of numbers of one length (floats if any row needs
 // them; a row of only nulls is a row of NaN) or all arrays of booleans;
@@ -109,27 +103,44 @@ Kind matrix_kind(const nlohmann::json& a, std::size_t& columns) {
   return k;
 }
 
+// A new read-only C-contiguous array of `n` dimensions `dims` of NumPy type
+// `type`, filled by fill(pointer to its data), straight through NumPy's C
+// API (py::array_t's constructor costs more than a list of a few numbers,
+// and a document holds hundreds of short arrays).
+template <class T, class Fill>
+py::object new_array(int type, int n, const Py_intptr_t* dims, Fill fill) {
+  const auto& api = py::detail::npy_api::get();
+  PyObject* descr = api.PyArray_DescrFromType_(type);  // the array steals this reference
+  PyObject* a = api.PyArray_NewFromDescr_(api.PyArray_Type_, descr, n, dims, nullptr, nullptr, 0, nullptr);
+  if (!a) throw py::error_already_set();
+  py::object out = py::reinterpret_steal<py::object>(a);
+  fill(reinterpret_cast<T*>(py::detail::array_proxy(a)->data));
+  py::detail::array_proxy(a)->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
+  return out;
+}
+
 template <class T, class Get>
-py::object filled(std::vector<py::ssize_t> shape, const nlohmann::json& a, bool matrix, Get get) {
-  py::array_t<T> out(shape);
-  T* p = out.mutable_data();
-  if (matrix) {
-    for (const nlohmann::json& row : a)
-      for (const nlohmann::json& x : row) *p++ = get(x);
-  } else {
-    for (const nlohmann::json& x : a) *p++ = get(x);
-  }
-  return read_only(std::move(out));
+py::object filled(int type, const nlohmann::json& a, bool matrix, std::size_t columns, Get get) {
+  const Py_intptr_t dims[2] = {static_cast<Py_intptr_t>(a.size()), static_cast<Py_intptr_t>(columns)};
+  return new_array<T>(type, matrix ? 2 : 1, dims, [&](T* p) {
+    if (matrix) {
+      for (const nlohmann::json& row : a)
+        for (const nlohmann::json& x : row) *p++ = get(x);
+    } else {
+      for (const nlohmann::json& x : a) *p++ = get(x);
+    }
+  });
 }
 
 py::object numeric_array(const nlohmann::json& a, Kind k, bool matrix, std::size_t columns) {
-  std::vector<py::ssize_t> shape{static_cast<py::ssize_t>(a.size())};
-  if (matrix) shape.push_back(static_cast<py::ssize_t>(columns));
+  using api = py::detail::npy_api;
   switch (k) {
     case Kind::integers:
-      return filled<std::int64_t>(shape, a, matrix, [](const nlohmann::json& x) { return x.get<std::int64_t>(); });
-    case Kind::floats: return filled<double>(shape, a, matrix, as_double);
-    case Kind::booleans: return filled<bool>(shape, a, matrix, [](const nlohmann::json& x) { return x.get<bool>(); });
+      return filled<std::int64_t>(api::NPY_INT64_, a, matrix, columns,
+                                  [](const nlohmann::json& x) { return x.get<std::int64_t>(); });
+    case Kind::floats: return filled<double>(api::NPY_DOUBLE_, a, matrix, columns, as_double);
+    case Kind::booleans:
+      return filled<bool>(api::NPY_BOOL_, a, matrix, columns, [](const nlohmann::json& x) { return x.get<bool>(); });
     case Kind::none: break;
   }
   throw std::logic_error("numeric_array of no kind");
