@@ -6,7 +6,8 @@ turns the library's document value into Python objects in one pass, every
 array of numbers a read-only NumPy array made in C++ (python/src/json_value.cpp:
 no JSON text on the way); a Result subclass declares the fields of one kind
 of object (name, type, meaning with its unit) and wraps its nested objects
-in their own classes, so that `a.channels[0].noise.reported.white_noise.value`
+in their own classes on their first access (making a result costs one
+object, however large its document), so that `a.channels[0].noise.reported.white_noise.value`
 is a float, `a.channels[0].adev.dev` a float64 array, `a["channels"]` the
 same list as `a.channels`, and `a.to_dict()` the command's JSON content
 (json.loads of its text: arrays as lists, NaN as None).
@@ -17,8 +18,8 @@ A class's fields are declared in its `_spec`, one per line:
     name?: type -- a field the document holds only sometimes (None when absent)
 
 with type one of float, int, str, bool, Any, array (float64), int_array,
-bool_array, matrix (2-D float64), list[str], a Result class's name, or
-list[ClassName]; `| None` where the value may be null. The class's numpydoc
+bool_array, matrix (2-D float64), ndarray (any dtype or shape), list[str],
+a Result class's name, or list[ClassName]; `| None` where the value may be null. The class's numpydoc
 docstring gets an Attributes section from it, and its type stub
 (cubecal/*.pyi) is generated from it by scripts/result-stubs.py (the test
 test_typed_results.Stubs checks that they agree).
