@@ -56,6 +56,8 @@ def class_stub(cls):
             lines.append(f"    # {name}: only as an item, r[{name!r}]")
             continue
         lines.append(f"    {name}: {stub_type(type_text, optional)}")
+    for name, annotation in cls.__dict__.get("__annotations__", {}).items():
+        lines.append(f"    {name}: {annotation}")  # an attribute besides the document's fields
     for name, member in cls.__dict__.items():
         if name.startswith("_") and name != "__init__" or not inspect.isfunction(member):
             continue

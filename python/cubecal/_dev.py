@@ -73,6 +73,7 @@ class DevResult(Result):
     r.lo, r.hi, ...)."""
 
     __slots__ = ("channels",)
+    channels: "list[Curve]"  # one per channel (the document's columns)
     _spec = """
     stat: str -- the statistic (oadev, mdev, hdev, ...)
     type: str -- the data type (freq or phase)

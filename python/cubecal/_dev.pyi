@@ -47,6 +47,7 @@ class DevResult(Result):
     stream: Any | None
     excluded_taus: list[ExcludedTau]
     merged_taus: list[MergedTau]
+    channels: list[Curve]
     def to_dict(self): ...
 
 

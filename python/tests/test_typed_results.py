@@ -348,6 +348,7 @@ class Stubs(unittest.TestCase):
         if issubclass(cls, Result):
             fields = {n.target.id for n in node.body if isinstance(n, ast.AnnAssign)}
             own = {k for k in cls._fields_own if k.isidentifier() and not __import__("keyword").iskeyword(k)}
+            own |= set(cls.__dict__.get("__annotations__", {}))
             self.assertEqual(fields, own, f"{stub_name}: {cls.__name__}'s fields")
 
     def test_result_stubs_are_generated_from_the_specs(self):
