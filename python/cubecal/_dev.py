@@ -1,6 +1,8 @@
 """`cubecal dev` on arrays: one statistic over Stable32's tau grids and
 limits, with noise identification, EDF and confidence intervals per tau."""
 
+from typing import Any  # noqa: F401  (the annotations' names)
+
 import numpy as np
 
 from . import _args, _cubecal
@@ -98,7 +100,7 @@ class DevResult(Result):
             return getattr(channels[0], key)
         return super().__getattr__(key)
 
-    def to_dict(self):
+    def to_dict(self) -> "dict[str, Any]":
         """The content of `cubecal dev --format json` for the same data."""
         d = super().to_dict()
         d["columns"] = [c.to_dict() for c in self.channels]

@@ -48,7 +48,7 @@ class DevResult(Result):
     excluded_taus: list[ExcludedTau]
     merged_taus: list[MergedTau]
     channels: list[Curve]
-    def to_dict(self): ...
+    def to_dict(self) -> dict[str, Any]: ...
 
 
 # END result classes
