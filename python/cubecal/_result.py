@@ -213,10 +213,27 @@ def _rebuild(cls, state):
     return out
 
 
+_DOC_TYPES = {"array": "numpy.ndarray of float64", "int_array": "numpy.ndarray of int64",
+              "bool_array": "numpy.ndarray of bool", "matrix": "2-D numpy.ndarray of float64",
+              "ndarray": "numpy.ndarray"}
+
+
+def _doc_type(type_text):
+    """A field's type in numpydoc's words."""
+    out = []
+    for part in (p.strip() for p in type_text.split("|")):
+        if part.startswith("list[") and part.endswith("]"):
+            out.append("list of " + _DOC_TYPES.get(part[5:-1], part[5:-1]))
+        else:
+            out.append(_DOC_TYPES.get(part, part))
+    return " or ".join(out)
+
+
 def _attributes_doc(fields):
     lines = ["Attributes", "----------"]
     for name, (type_text, optional, meaning) in fields.items():
-        t = type_text + (" or None (absent from some documents)" if optional and "None" not in type_text else "")
+        t = _doc_type(type_text) + (" or None (absent from some documents)" if optional and "None" not in type_text
+                                    else "")
         lines.append(f"{name} : {t}")
         words, row = meaning.split(), "   "
         for w in words:
