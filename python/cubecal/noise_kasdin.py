@@ -11,8 +11,9 @@ T. Walter, "Discrete simulation of power law noise", Proc. 1992 IEEE
 Frequency Control Symposium, pp. 274-283. Innovations of variance qd
 through the causal filter 1 / (1 - z^-1)^(-b/2), the filter as long as the
 record (exact, no spectral truncation). The expected deviations are the
-closed forms AllanTools uses (NIST SP 1065 Table 2; Vernotte 2015; Benkler
-2015), written once here.
+closed forms AllanTools uses: the library's AVAR of each power law
+(spectral/allan_conversion.hpp, NIST SP 1065 Table 2), and here those it
+has not (flicker PM's AVAR; MVAR and PVAR: Vernotte 2015, Benkler 2015).
 """
 import math
 
@@ -140,10 +141,13 @@ class Noise:
         h = 2.0 * qd * (2.0 * math.pi) ** b
         self.time_series = _cubecal._power_law(b, h, 1.0, n, self._next_seed())
 
-    def _noise_type(self):
+    def _noise_type(self, tau0):
+        """b as an int for the closed forms, once b, qd and tau0 are checked."""
         b = _args.number(self.b, "b")
         if b not in _NOISE_TYPES:
             raise usage("b", f"b: the expected deviations are known for b = 0, -1, -2, -3, -4, not {self.b!r}")
+        _args.number(self.qd, "qd", minimum=0.0)
+        _args.number(tau0, "tau0", positive=True)
         return int(b)
 
     def phase_psd_from_qd(self, tau0=1.0):
@@ -206,8 +210,9 @@ class Noise:
 
         prefactor^2 = coeff h_a with coeff 3 f_h / (4 pi^2) (WPM),
         (3 gamma - ln 2 + 3 ln(2 pi f_h tau)) / (4 pi^2) (FPM), 1/2 (WFM),
-        2 ln 2 (FFM), 2 pi^2 / 3 (RWFM), f_h = 1 / (2 tau0) (NIST SP 1065
-        Table 2; Vernotte 2015 Table I).
+        2 ln 2 (FFM), 2 pi^2 / 3 (RWFM), f_h = 1 / (2 tau0): the library's
+        power-law AVAR (NIST SP 1065 Table 2) but for FPM (Vernotte 2015
+        Table I).
 
         Parameters
         ----------
@@ -224,19 +229,18 @@ class Noise:
         Raises
         ------
         cubecal.UsageError
-            (a ValueError) for b other than 0, -1, -2, -3, -4.
+            (a ValueError) for b other than 0, -1, -2, -3, -4, qd negative
+            or tau0 not positive.
         """
-        b = self._noise_type()
+        b = self._noise_type(tau0)
+        h = self.frequency_psd_from_qd(tau0)
         f_h = 0.5 / tau0
-        coeff = {
-            0: lambda: 3.0 * f_h / (4.0 * math.pi ** 2),
-            -1: lambda: (3.0 * _EULER_GAMMA - math.log(2.0) + 3.0 * np.log(2.0 * math.pi * f_h * np.asarray(tau, dtype=float)))
-            / (4.0 * math.pi ** 2),
-            -2: lambda: 0.5,
-            -3: lambda: 2.0 * math.log(2.0),
-            -4: lambda: 2.0 * math.pi ** 2 / 3.0,
-        }[b]()
-        return np.sqrt(coeff * self.frequency_psd_from_qd(tau0))
+        if b == -1:
+            # Flicker PM, not in the library's table (its level depends on tau).
+            coeff = (3.0 * _EULER_GAMMA - math.log(2.0) + 3.0 * np.log(2.0 * math.pi * f_h * np.asarray(tau, dtype=float)))
+            return np.sqrt(coeff / (4.0 * math.pi ** 2) * h)
+        # The library's AVAR of h f^a at tau = 1 s: coeff h (f_h for white PM).
+        return np.sqrt(_cubecal._power_law_avar(b + 2, h, 1.0, f_h))
 
     def mdev_from_qd(self, tau0=1.0, tau=1.0):
         """Prefactor of the modified Allan deviation: MVAR = prefactor^2 tau^c.
@@ -260,9 +264,10 @@ class Noise:
         Raises
         ------
         cubecal.UsageError
-            (a ValueError) for b other than 0, -1, -2, -3, -4.
+            (a ValueError) for b other than 0, -1, -2, -3, -4, qd negative
+            or tau0 not positive.
         """
-        b = self._noise_type()
+        b = self._noise_type(tau0)
         coeff = {
             0: 3.0 / (8.0 * math.pi ** 2),
             -1: (24.0 * math.log(2.0) - 9.0 * math.log(3.0)) / (8.0 * math.pi ** 2),
@@ -294,9 +299,10 @@ class Noise:
         Raises
         ------
         cubecal.UsageError
-            (a ValueError) for b other than 0, -1, -2, -3, -4.
+            (a ValueError) for b other than 0, -1, -2, -3, -4, qd negative
+            or tau0 not positive.
         """
-        b = self._noise_type()
+        b = self._noise_type(tau0)
         coeff = {
             0: 3.0 / (2.0 * math.pi ** 2),
             -1: (3.0 * math.log(16.0) - 1.0) / (2.0 * math.pi ** 2),

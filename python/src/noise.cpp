@@ -17,6 +17,7 @@
 #include "arrays.hpp"
 #include "cubecal/pipeline/welch_psd.hpp"
 #include "cubecal/sim/power_law_generator.hpp"
+#include "cubecal/spectral/allan_conversion.hpp"
 #include "cubecal/spectral/welch_options.hpp"
 #include "cubecal/spectral/window.hpp"
 #include "errors.hpp"
@@ -105,6 +106,18 @@ py::tuple welch(const Doubles& x, double rate, std::size_t segment, double overl
   return py::make_tuple(to_array(std::move(psd.frequency)), to_array(std::move(psd.density)));
 }
 
+// The Allan variance of one-sided h f^alpha (NIST SP 1065 Table 2):
+// alpha 2 (white PM up to f_h), 0, -1, -2.
+double avar_of_power_law(int alpha, double h, double tau, double f_h) {
+  if (alpha != 2 && alpha != 0 && alpha != -1 && alpha != -2)
+    throw ArgumentError("alpha", "alpha: the closed form is known for 2, 0, -1 and -2, not " + std::to_string(alpha));
+  if (!std::isfinite(h)) throw ArgumentError("h", "h: the level must be a finite number");
+  if (!(tau > 0.0) || !std::isfinite(tau)) throw ArgumentError("tau", "tau: a positive averaging time is expected (s)");
+  if (alpha == 2 && (!(f_h > 0.0) || !std::isfinite(f_h)))
+    throw ArgumentError("f_h", "f_h: white PM needs a positive high cutoff (Hz)");
+  return power_law_avar(alpha, h, tau, f_h);
+}
+
 }  // namespace
 
 void bind_noise(py::module_& m) {
@@ -116,6 +129,8 @@ void bind_noise(py::module_& m) {
       .def(py::init<double, double, double, std::size_t, std::uint64_t>(), py::arg("alpha"), py::arg("h"),
            py::arg("dt"), py::arg("filter_length"), py::arg("seed"))
       .def("next", &PowerLawStream::next, py::arg("n"), "The next n samples of the process.");
+  m.def("_power_law_avar", &avar_of_power_law, py::arg("alpha"), py::arg("h"), py::arg("tau"), py::arg("f_h") = 0.0,
+        "AVAR of one-sided h f^alpha at tau (s), continuous time (alpha 2, 0, -1, -2; f_h in Hz for 2).");
   m.def("_welch", &welch, py::arg("x"), py::arg("rate"), py::arg("segment"), py::arg("overlap"), py::arg("window"),
         py::arg("detrend"), "(frequencies (Hz), one-sided densities (unit^2/Hz)) of x by Welch's method.");
 }

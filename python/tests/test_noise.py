@@ -310,6 +310,9 @@ class BadArguments(unittest.TestCase):
         self.check("b", cubecal.Noise(b=float("inf")).generateNoise)
         self.check("b", cubecal.Noise(b=-2.5).adev, 1.0, 1.0)
         self.check("b", cubecal.Noise(b=1).mdev_from_qd)
+        self.check("qd", cubecal.Noise(qd=-1.0, b=-2).adev, 1.0, 10.0)
+        self.check("tau0", cubecal.Noise(b=0).adev_from_qd, tau0=0.0)
+        self.check("tau0", cubecal.Noise(b=-3).pdev_from_qd, tau0=float("nan"))
         self.check("seed", cubecal.Noise, seed=-1)
 
     def test_generators(self):
