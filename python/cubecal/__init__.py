@@ -26,5 +26,7 @@ from ._simulate import presets, simulate
 from ._spectral import DynamicAllan, Spectrum, davar, psd
 from ._model import NoiseModel, model
 from ._result import Result
+from . import noise, noise_kasdin  # AllanTools' allantools.noise and allantools.noise_kasdin
+from .noise_kasdin import Noise
 from ._calibrate import *  # noqa: F401,F403  (calibrate_* and turnon: see cubecal/_calibrate.py)
 
