@@ -27,4 +27,8 @@ from ._spectral import DynamicAllan, Spectrum, davar, psd
 from ._model import NoiseModel, model
 from ._result import Result
 from ._calibrate import *  # noqa: F401,F403  (calibrate_* and turnon: see cubecal/_calibrate.py)
+from .dataset import Dataset  # AllanTools' Dataset and Plot (matplotlib, imported by Plot())
+from .plot import Plot
+from . import realtime  # AllanTools' realtime: deviations updated sample by sample
+from .realtime import oadev_realtime, ohdev_realtime, tdev_realtime
 
