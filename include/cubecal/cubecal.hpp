@@ -29,6 +29,7 @@
 #include "cubecal/stats/lag_sums.hpp"
 #include "cubecal/stats/noise_id.hpp"
 #include "cubecal/stats/phase.hpp"
+#include "cubecal/stats/realtime_deviation.hpp"
 #include "cubecal/stats/robust_wavelet_variance.hpp"
 #include "cubecal/stats/sampling.hpp"
 #include "cubecal/stats/stability.hpp"

@@ -29,4 +29,8 @@ from ._result import Result
 from . import noise, noise_kasdin  # AllanTools' allantools.noise and allantools.noise_kasdin
 from .noise_kasdin import Noise
 from ._calibrate import *  # noqa: F401,F403  (calibrate_* and turnon: see cubecal/_calibrate.py)
+from .dataset import Dataset  # AllanTools' Dataset and Plot (matplotlib, imported by Plot())
+from .plot import Plot
+from . import realtime  # AllanTools' realtime: deviations updated sample by sample
+from .realtime import oadev_realtime, ohdev_realtime, tdev_realtime
 

@@ -17,4 +17,5 @@ PYBIND11_MODULE(_cubecal, m) {
   cubecal::python::bind_spectral(m);
   cubecal::python::bind_model(m);
   cubecal::python::bind_noise(m);
+  cubecal::python::bind_realtime(m);
 }
