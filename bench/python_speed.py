@@ -336,6 +336,14 @@ def row(case, modules, runs, budget):
     return [case.label, case.data, str(case.calls), seconds_span(cc), seconds_span(at), ratio, same, len(cc)]
 
 
+def agrees(cells):
+    """The results agree: no error, equal taus and ns, within 1e-9."""
+    try:
+        return cells[6] == "-" or float(cells[6]) <= 1e-9
+    except ValueError:
+        return False
+
+
 HEADER = ["case", "data", "calls", "cubecal s (min / median / max)", "AllanTools s (min / median / max)",
           "AllanTools / cubecal", "largest rel. diff", "runs"]
 
@@ -385,6 +393,9 @@ def compare_parts(parts, src, allantools, runs, budget, out_dir):
             print_row(rows[-1])
         sections.append((title, rows))
     took = time.perf_counter() - start
+    differ = [r[0] for _, rows in sections for r in rows if not agrees(r)]
+    if differ:
+        print(f"  results differ from AllanTools' (see the rows) in: {'; '.join(differ)}")
     if skipped:
         print(f"  not timed, cubecal has no {', '.join(sorted(skipped))}")
     print(f"  (these parts took {took:.0f} s; load average {load0:.1f} at the start, "
