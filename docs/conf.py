@@ -306,6 +306,22 @@ def _drop_empty_globs(app, text: str) -> str:
     return "\n".join(line for line in text.split("\n") if keep(line))
 
 
+def _public_name(app, env, node, contnode):
+    """A type named by a private module (cubecal._dev.DevResult, as pybind11 and
+    the annotations spell it) resolves to where the reference documents it
+    (cubecal.DevResult)."""
+    if node.get("refdomain") != "py":
+        return None
+    m = re.fullmatch(r"cubecal\.(?:_\w+\.)+(\w+)", node.get("reftarget", ""))
+    if not m:
+        return None
+    domain = env.get_domain("py")
+    public = "cubecal." + m.group(1)
+    if public not in domain.objects:
+        return None
+    return domain.resolve_xref(env, node["refdoc"], app.builder, node["reftype"], public, node, contnode)
+
+
 def _source_read(app, docname, source):
     text = source[0]
     if "<!-- python-modules -->" in text:
@@ -351,5 +367,6 @@ def setup(app):
     app.connect("source-read", _source_read)
     app.connect("autodoc-skip-member", _skip_duplicates)
     app.connect("autodoc-process-docstring", _plain_text_docstring)
+    app.connect("missing-reference", _public_name)
     app.connect("build-finished", _copy_katex)
     return {"parallel_read_safe": False}
