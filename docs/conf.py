@@ -274,11 +274,49 @@ def _other_pages_text(app, text: str) -> str:
 # |x| is the norm of x (RST would look for a substitution named x), and an
 # indented block (a list of cases, an example) may end without a blank line
 # before the text that follows it (RST: "ends without a blank line"; adding
-# the blank line changes nothing RST reads without a warning).
+# the blank line changes nothing RST reads without a warning); and an indented
+# example of code after a paragraph is code (a literal block, as if the
+# paragraph ended with "::"), not a block quote whose indented loop body RST
+# would call an unexpected indentation.
 _NORM = re.compile(r"(?<![\\|`\w])\|([^|`\s](?:[^|`\n]*?[^|`\s])?)\|(?![|`\w])")
+_CODE = re.compile(r"\w\(|\s=\s|^\s*(for|if|while|import|from|with|def|class|return|print)\b|^\s*(>>>|\$ )|\s#\s")
+_NOT_PARAGRAPH = re.compile(r"^\s*(:|\.\.|[-*+] |>>>|\d+[.)] |#\.)")
+
+
+def _indent(line: str) -> int:
+    return len(line) - len(line.lstrip())
+
+
+def _literal_examples(lines: list) -> list:
+    """Each indented block of code after a paragraph made a literal block."""
+    out = list(lines)
+    i = 0
+    while i < len(out):
+        line = out[i]
+        if not line.strip() or i < 2 or out[i - 1].strip():
+            i += 1
+            continue
+        k = i - 1
+        while k >= 0 and not out[k].strip():
+            k -= 1
+        paragraph = out[k] if k >= 0 else ""
+        j = i
+        while j < len(out) and (not out[j].strip() or _indent(out[j]) > _indent(paragraph)):
+            j += 1
+        block = [b for b in out[i:j] if b.strip()]
+        if (k >= 0 and _indent(line) > _indent(paragraph) and not _NOT_PARAGRAPH.match(paragraph)
+                and not paragraph.rstrip().endswith("::") and any(_CODE.search(b) for b in block)):
+            if paragraph.rstrip().endswith(":"):
+                out[k] = paragraph.rstrip() + ":"
+            else:
+                out[k + 1:k + 1] = ["", " " * _indent(paragraph) + "::"]
+                j += 2
+        i = max(j, i + 1)
+    return out
 
 
 def _plain_text_docstring(app, what, name, obj, options, lines):
+    lines[:] = _literal_examples(lines)
     out = []
     fenced = False
     previous = ""

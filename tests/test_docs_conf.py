@@ -124,10 +124,31 @@ class PlainTextDocstrings(unittest.TestCase):
         self.assertTrue(rst_problems(text))
         self.assertEqual(rst_problems(self.read(text)), [])
 
+    def test_an_indented_example_of_code_is_code(self):
+        text = ("Deviations updated sample by sample.\n\n"
+                "    rt = cubecal.realtime.oadev_realtime(afs=[1, 10, 100], tau0=1.0)\n"
+                "    for x in phase_stream:          # phase samples (s), one at a time\n"
+                "        rt.add_phase(x)\n    rt.taus(), rt.devs()\n\nThe calls on NumPy arrays:\n\n"
+                "    import cubecal    # instead of: import allantools\n    r = cubecal.dev(y, rate=|x|)\n\n"
+                "More text.")
+        self.assertTrue(rst_problems(text))
+        out = self.read(text)
+        self.assertEqual(rst_problems(out), [])
+        body = docutils.core.publish_parts(out, writer_name="html")["body"]
+        self.assertEqual(body.count("<pre"), 2)
+        self.assertIn("rate=|x|)", body)  # code is never changed
+        self.assertIn("NumPy arrays:</p>", body)
+
+    def test_an_indented_quote_of_text_stays_a_quote(self):
+        text = "As the paper puts it:\n\n    the bias drifts slowly\n\nEnd."
+        self.assertEqual(self.read(text), text)
+
     def test_valid_rst_reads_the_same(self):
         text = ("Parameters\n----------\nx : float\n    The value, in s.\ny : int\n    A count.\n\n"
                 "Returns\n-------\nfloat\n    The absolute value of x, in s.\n\n"
-                "Example::\n\n    a | b\n    c |d| e\n\n+---+---+\n| a | b |\n+---+---+\n")
+                "Example::\n\n    a | b\n    c |d| e\n\n+---+---+\n| a | b |\n+---+---+\n\n"
+                ":Parameters:\n\n    **rate** : float\n        In Hz, f(x) = 1.\n\n"
+                ".. note::\n\n    x = f(y) here.\n")
         before = docutils.core.publish_parts(text, writer_name="html")["body"]
         after = docutils.core.publish_parts(self.read(text), writer_name="html")["body"]
         self.assertEqual(rst_problems(self.read(text)), [])
