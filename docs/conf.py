@@ -318,18 +318,19 @@ def _literal_examples(lines: list) -> list:
 def _plain_text_docstring(app, what, name, obj, options, lines):
     lines[:] = _literal_examples(lines)
     out = []
-    fenced = False
+    literal = -1  # the indentation of the "::" line whose literal block this is in, or -1
     previous = ""
     for line in lines:
         stripped = line.strip()
-        indent = len(line) - len(line.lstrip())
-        if previous.strip() and stripped and indent < len(previous) - len(previous.lstrip()):
+        indent = _indent(line)
+        if previous.strip() and stripped and indent < _indent(previous):
             out.append("")
-        if previous.rstrip().endswith("::"):
-            fenced = True
-        elif fenced and stripped and indent == 0:
-            fenced = False
-        out.append(line if fenced or stripped.startswith("|") else _NORM.sub(r"\\|\1\\|", line))
+        if stripped and literal >= 0 and indent <= literal:
+            literal = -1
+        in_literal = literal >= 0 and (indent > literal or not stripped)
+        out.append(line if in_literal or stripped.startswith("|") else _NORM.sub(r"\\|\1\\|", line))
+        if line.rstrip().endswith("::") and literal < 0:
+            literal = indent
         previous = line
     lines[:] = out
 

@@ -118,6 +118,14 @@ class PlainTextDocstrings(unittest.TestCase):
         self.assertEqual(rst_problems(out), [])
         self.assertIn("\\|h_cal\\|", out)
 
+    def test_norms_after_an_indented_literal_block(self):
+        text = (":Parameters:\n\n    **x** : float\n        Example::\n\n            y = |x|\n\n"
+                "    **h** : float\n        The raw |h|, in mGauss.\n")
+        out = self.read(text)
+        self.assertEqual(rst_problems(out), [])
+        self.assertIn("y = |x|", out)
+        self.assertIn("The raw \\|h\\|", out)
+
     def test_a_list_of_cases_that_ends_without_a_blank_line(self):
         text = ("The true rates come from one of:\n  reference: the columns,\n    named;\n"
                 "  schedule: a file.\nmargin: seconds dropped at both ends.")
