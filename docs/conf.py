@@ -147,7 +147,23 @@ def _python_api_text() -> str:
         if name != "cubecal" and module.__doc__ is None:
             out.append(f"The module `{name}`.\n")
         out.append("```{eval-rst}\n.. automodule:: " + name + "\n   " + "\n   ".join(options) + "\n```\n")
+        shared = _shared_with_package(name, module)
+        if shared:
+            out.append(f"Also in `{name}`, the same objects as in `cubecal` and documented there: "
+                       + ", ".join(f"`{n}`" for n in shared) + ".\n")
     return "\n".join(out)
+
+
+def _shared_with_package(name, module) -> list:
+    """The public names of a submodule that are the package's own objects
+    (cubecal.allantools.oadev is cubecal.oadev): documented once, under cubecal."""
+    package = importlib.import_module("cubecal")
+    names = getattr(module, "__all__", None)
+    if names is None:
+        names = [n for n in dir(module) if getattr(getattr(module, n), "__module__", None) == name
+                 or getattr(getattr(module, n), "__module__", "").startswith("cubecal._")]
+    return sorted(n for n in names if not n.startswith("_") and hasattr(module, n)
+                  and getattr(package, n, None) is getattr(module, n) and name != "cubecal")
 
 
 _DOCUMENTED: dict[int, str] = {}
@@ -328,7 +344,8 @@ def _plain_text_docstring(app, what, name, obj, options, lines):
         if stripped and literal >= 0 and indent <= literal:
             literal = -1
         in_literal = literal >= 0 and (indent > literal or not stripped)
-        out.append(line if in_literal or stripped.startswith("|") else _NORM.sub(r"\\|\1\\|", line))
+        line_block = stripped.startswith("| ") or stripped == "|"  # RST line blocks and table rows
+        out.append(line if in_literal or line_block else _NORM.sub(r"\\|\1\\|", line))
         if line.rstrip().endswith("::") and literal < 0:
             literal = indent
         previous = line

@@ -120,11 +120,13 @@ class PlainTextDocstrings(unittest.TestCase):
 
     def test_norms_after_an_indented_literal_block(self):
         text = (":Parameters:\n\n    **x** : float\n        Example::\n\n            y = |x|\n\n"
-                "    **h** : float\n        The raw |h|, in mGauss.\n")
+                "    **h** : float\n        The raw |h|, in mGauss.\n    **e** : float\n"
+                "        |h| - F before, in mGauss.\n")
         out = self.read(text)
         self.assertEqual(rst_problems(out), [])
         self.assertIn("y = |x|", out)
         self.assertIn("The raw \\|h\\|", out)
+        self.assertIn("\\|h\\| - F before", out)
 
     def test_a_list_of_cases_that_ends_without_a_blank_line(self):
         text = ("The true rates come from one of:\n  reference: the columns,\n    named;\n"
