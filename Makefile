@@ -35,10 +35,11 @@ test: build
 fuzz: deps
 	@FUZZ_SECONDS=$(FUZZ_SECONDS) JOBS=$(JOBS) bash fuzz/run.sh
 
-# The API reference of the installed headers (Doxygen; a warning fails it).
+# The documentation site (Sphinx: docs/, the Python docstrings, Doxygen's C++
+# reference; a warning fails it). Doxygen's reference alone: --target docs.
 docs: configure
-	@cmake --build $(BUILD) --target docs
-	@echo "API reference: $(abspath $(BUILD))/docs/html/index.html"
+	@cmake --build $(BUILD) --target docs_site
+	@echo "Documentation site: $(abspath $(BUILD))/docs/site/index.html"
 
 bench: build
 	@bash bench/run.sh $(BUILD)

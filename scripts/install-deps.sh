@@ -19,6 +19,7 @@ PACKAGES=(
   python3-dask python3-distributed   # examples/python/fleet.py: one analysis per log on a Dask cluster
   help2man                # the man page of the .deb, generated from --help
   doxygen                 # the API reference (make docs) and its test
+  python3-sphinx python3-myst-parser python3-numpydoc python3-sphinx-rtd-theme libjs-katex   # the documentation site (make docs, ctest docs.site)
   clang libclang-rt-14-dev libomp-dev   # fuzzers (make fuzz): libFuzzer, ASan, UBSan
   gnuplot-nox             # plots (SVG/PNG) of the report
   clang-format universal-ctags   # the format and architecture tests (scripts/check-format.sh, check-architecture.py)
