@@ -104,6 +104,10 @@ class CMakeBuild(build_ext):
 
 
 scratch = scratch_dir()
+# setuptools keeps its build/lib from one run to the next: a file since removed
+# from python/cubecal would still be packed. Each build starts from none (the
+# CMake tree, where the time goes, is kept).
+shutil.rmtree(scratch / "build", ignore_errors=True)
 setup(
     version=project_version(),
     ext_modules=[Extension("cubecal._cubecal", sources=[])],
