@@ -6,8 +6,8 @@
 # (test package_deb, label package: tests/package_check.sh).
 #
 # Included last by CMakeLists.txt; the fuzz configuration installs nothing and
-# packages nothing.
-if(CUBECAL_FUZZ)
+# packages nothing, the Python-only one (the wheel's) packages nothing.
+if(CUBECAL_FUZZ OR CUBECAL_PYTHON_ONLY)
   return()
 endif()
 

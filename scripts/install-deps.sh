@@ -15,6 +15,7 @@ PACKAGES=(
   libfftw3-dev            # power spectral densities (cubecal psd): Welch on FFTW
   libserialport-dev       # cubecal record from serial devices
   pybind11-dev python3-dev   # the Python module (import cubecal)
+  python3-build python3-setuptools python3-wheel python3-pip python3-venv   # the wheel (pyproject.toml: pip install ., python3 -m build) and its test
   python3-matplotlib      # examples/python: the paper's gyro figure
   python3-dask python3-distributed   # examples/python/fleet.py: one analysis per log on a Dask cluster
   help2man                # the man page of the .deb, generated from --help
