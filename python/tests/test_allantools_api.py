@@ -208,8 +208,8 @@ class AgainstAllanTools(unittest.TestCase):
                     np.testing.assert_allclose(got[1], want[1], rtol=1e-9)
 
     def test_a_column_gives_what_allantools_gives(self):
-        # (AllanTools' totdev fails on a column of phase; cubecal takes it as every other call.)
-        for stat in ("adev", "oadev", "mdev", "tdev", "hdev", "ohdev", "pdev"):
+        # (AllanTools' totdev and pdev fail on a column of phase; cubecal takes it as every other call.)
+        for stat in ("adev", "oadev", "mdev", "tdev", "hdev", "ohdev"):
             for data, dtype in ((self.phase, "phase"), (self.freq[:3000], "freq")):
                 with self.subTest(stat=stat, data_type=dtype):
                     column = data.reshape(-1, 1)
