@@ -41,6 +41,7 @@ from ._calibrate import *  # noqa: F401,F403  (calibrate_* and turnon: see cubec
 
 # `from cubecal import *`: cubecal's own names and every name of AllanTools'
 # __all__ (`import cubecal as allantools`; docs/allantools-differences/).
+# Keep this at the end of the file: it lists what the imports above bind.
 _ALLANTOOLS_ALL = [
     "__version__", "adev", "oadev", "mdev", "pdev", "hdev", "ohdev", "calc_hdev_phase", "tdev", "totdev", "mtotdev",
     "calc_mtotdev_phase", "ttotdev", "htotdev", "calc_htotdev_freq", "theo1", "mtie", "mtie_phase_fast", "tierms",

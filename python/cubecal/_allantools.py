@@ -126,10 +126,7 @@ def _statistic(stat, data, rate, data_type, taus, total=False, offset_free=False
     return _kept(m, rate, devs, devs / np.sqrt(ns.clip(1)), ns)
 
 
-@public
-def adev(data, rate=1.0, data_type="phase", taus=None):
-    """Allan deviation (non-overlapping).
-
+_PARAMETERS = """
     Parameters
     ----------
     data : array_like
@@ -143,88 +140,109 @@ def adev(data, rate=1.0, data_type="phase", taus=None):
     taus : None, str or array_like
         Averaging times, s, or "all", "octave" (default), "decade", "log10",
         "log:K" (K per decade).
+"""
 
+
+def _documented(summary, unit="dimensionless", notes=""):
+    """The numpydoc docstring of an AllanTools-shaped deviation."""
+
+    def attach(function):
+        function.__doc__ = f"""{summary}
+{_PARAMETERS}
     Returns
     -------
     taus : ndarray
         Averaging times used, s (m / rate).
     devs : ndarray
-        Deviations (dimensionless).
+        Deviations ({unit}).
     errs : ndarray
         devs / sqrt(ns).
     ns : ndarray
         Number of terms of each deviation (floats).
-    """
+
+    Raises
+    ------
+    cubecal.RateError
+        A rate that cannot be taken (zero: also AllanTools' RuntimeError).
+    cubecal.TauError
+        No tau leaves two terms (also AllanTools' UserWarning).
+    {notes}"""
+        return function
+
+    return attach
+
+
+@public
+@_documented("Allan deviation (non-overlapping).")
+def adev(data, rate=1.0, data_type="phase", taus=None):
     return _statistic("adev", data, rate, data_type, taus)
 
 
 @public
+@_documented("Overlapping Allan deviation.")
 def oadev(data, rate=1.0, data_type="phase", taus=None):
-    """Overlapping Allan deviation: (taus, devs, errs, ns), as `adev`."""
     return _statistic("oadev", data, rate, data_type, taus)
 
 
 @public
+@_documented("Modified Allan deviation.")
 def mdev(data, rate=1.0, data_type="phase", taus=None):
-    """Modified Allan deviation: (taus, devs, errs, ns), as `adev`."""
     return _statistic("mdev", data, rate, data_type, taus)
 
 
 @public
+@_documented("Time deviation, tau MDEV / sqrt(3).", "s")
 def tdev(data, rate=1.0, data_type="phase", taus=None):
-    """Time deviation, tau * MDEV / sqrt(3), in s: (taus, devs, errs, ns), as `adev`."""
     return _statistic("tdev", data, rate, data_type, taus)
 
 
 @public
+@_documented("Hadamard deviation (non-overlapping).")
 def hdev(data, rate=1.0, data_type="phase", taus=None):
-    """Hadamard deviation (non-overlapping): (taus, devs, errs, ns), as `adev`."""
     return _statistic("hdev", data, rate, data_type, taus)
 
 
 @public
+@_documented("Overlapping Hadamard deviation.")
 def ohdev(data, rate=1.0, data_type="phase", taus=None):
-    """Overlapping Hadamard deviation: (taus, devs, errs, ns), as `adev`."""
     return _statistic("ohdev", data, rate, data_type, taus)
 
 
 @public
+@_documented("Total deviation.")
 def totdev(data, rate=1.0, data_type="phase", taus=None):
-    """Total deviation: (taus, devs, errs, ns), as `adev`."""
     return _statistic("totdev", data, rate, data_type, taus)
 
 
 @public
+@_documented("Modified total deviation, m up to a third of the phase points.")
 def mtotdev(data, rate=1.0, data_type="phase", taus=None):
-    """Modified total deviation: (taus, devs, errs, ns), as `adev`, m up to a third of the record."""
     return _statistic("mtotdev", data, rate, data_type, taus, total=True)
 
 
 @public
+@_documented("Time total deviation, tau MTOT / sqrt(3), m up to a third of the phase points.", "s")
 def ttotdev(data, rate=1.0, data_type="phase", taus=None):
-    """Time total deviation, tau * MTOT / sqrt(3), in s: (taus, devs, errs, ns), as `adev`."""
     return _statistic("ttotdev", data, rate, data_type, taus, total=True)
 
 
 @public
+@_documented("Hadamard total deviation (OHDEV at m = 1), m up to a third of the frequency points.")
 def htotdev(data, rate=1.0, data_type="phase", taus=None):
-    """Hadamard total deviation (OHDEV at m = 1): (taus, devs, errs, ns), as
-    `adev`, m up to a third of the frequency points."""
     return _statistic("htotdev", data, rate, data_type, taus, total=True)
 
 
 @public
+@_documented("Time interval error, rms. Frequency data: the mean frequency taken out first, as AllanTools does; "
+             "errs are devs / sqrt(ns) (AllanTools returns zeros there).", "s")
 def tierms(data, rate=1.0, data_type="phase", taus=None):
-    """Time interval error, rms, in s: (taus, devs, errs, ns), as `adev`;
-    errs are dev / sqrt(n) (AllanTools returns zeros there). Frequency data:
-    the mean frequency taken out first, as AllanTools does."""
     return _statistic("tierms", data, rate, data_type, taus, offset_free=True)
 
 
 @public
+@_documented("Maximum time interval error. Frequency data: the mean frequency taken out first, as AllanTools does.",
+             "s")
 def mtie(data, rate=1.0, data_type="phase", taus=None):
-    """Maximum time interval error, in s: (taus, devs, errs, ns), as `adev`.
-    Frequency data: the mean frequency taken out first, as AllanTools does."""
     return _statistic("mtie", data, rate, data_type, taus, offset_free=True)
 
 
@@ -236,12 +254,8 @@ def _phase_of(data, rate, data_type, option="data"):
 
 
 @public
+@_documented("Parabolic deviation (Vernotte et al. 2016), OADEV at m = 1; ns = N - 2m terms of N phase points.")
 def pdev(data, rate=1.0, data_type="phase", taus=None):
-    """Parabolic deviation (Vernotte et al. 2016); OADEV at m = 1.
-
-    Parameters and returns as `adev`: (taus, devs, errs, ns) with
-    errs = devs / sqrt(ns) and ns = N - 2m terms (N phase points).
-    """
     rate = _args.rate(rate)
     phase = _phase_of(data, rate, data_type)
     m = _factors(taus, phase.shape[0], rate)
@@ -284,7 +298,18 @@ def gcodev(data_1, data_2, rate=1.0, data_type="phase", taus=None):
 def theo1(data, rate=1.0, data_type="phase", taus=None):
     """Theo1 deviation (NIST SP 1065 eq. 30) at even averaging factors m.
 
-    Parameters as `adev`; odd factors of the grid are left out.
+    Odd factors of the grid are left out.
+
+    Parameters
+    ----------
+    data : array_like
+        Phase (s) or fractional frequency, as `adev`.
+    rate : float
+        Sampling rate, Hz.
+    data_type : {"phase", "freq"}
+        What `data` holds.
+    taus : None, str or array_like
+        As `adev`.
 
     Returns
     -------
@@ -323,6 +348,32 @@ def gradev(data, rate=1.0, data_type="phase", taus=None, ci=0.9, noisetype="wp")
     for the noise type `noisetype` ("wp", "fp", "wf", "ff", "rf"; None: the
     type identified on the longest stretch without a gap), with the EDF of a
     record without gaps giving as many terms (docs/formulas/stability.md §7a).
+
+    Parameters
+    ----------
+    data : array_like
+        Phase (s) or fractional frequency, NaN where a sample is missing.
+    rate : float
+        Sampling rate, Hz.
+    data_type : {"phase", "freq"}
+        What `data` holds.
+    taus : None, str or array_like
+        As `adev`.
+    ci : float
+        Confidence of the interval, 0 to 1 (default 0.9).
+    noisetype : {"wp", "fp", "wf", "ff", "rf"} or None
+        The noise type of the interval; None: identified.
+
+    Returns
+    -------
+    taus : ndarray
+        Averaging times, s.
+    devs : ndarray
+        Deviations (dimensionless).
+    [err_lo, err_hi] : list of two ndarrays
+        Distances from devs down and up to the interval's ends.
+    ns : ndarray
+        Number of terms (floats).
     """
     rate = _args.rate(rate)
     if noisetype is not None and (not isinstance(noisetype, str) or noisetype not in _NOISE_TYPES):
@@ -361,6 +412,17 @@ def _stride(stride, mj, allowed):
 def calc_adev_phase(phase, rate, mj, stride):
     """ADEV (stride = mj) or OADEV (stride = 1) of phase data at one factor.
 
+    Parameters
+    ----------
+    phase : array_like
+        Phase, s (1-D or a column).
+    rate : float
+        Sampling rate, Hz.
+    mj : int
+        Averaging factor, tau = mj / rate.
+    stride : int
+        1 (overlapping) or mj (non-overlapping).
+
     Returns
     -------
     (dev, deverr, n) : (float, float, int)
@@ -380,6 +442,17 @@ def calc_adev_phase(phase, rate, mj, stride):
 def calc_hdev_phase(phase, rate, mj, stride):
     """HDEV (stride = mj) or OHDEV (stride = 1) of phase data at one factor.
 
+    Parameters
+    ----------
+    phase : array_like
+        Phase, s (1-D or a column).
+    rate : float
+        Sampling rate, Hz.
+    mj : int
+        Averaging factor, tau = mj / rate.
+    stride : int
+        1 (overlapping) or mj (non-overlapping).
+
     Returns
     -------
     (dev, deverr, n) : (float, float, int)
@@ -396,8 +469,23 @@ def calc_hdev_phase(phase, rate, mj, stride):
 
 @public
 def calc_pdev_phase(phase, rate, mj):
-    """PDEV of phase data at one factor: (dev, deverr, n), (0, 0, 0) when
-    the record has fewer than 2 mj + 1 points, as AllanTools."""
+    """PDEV of phase data at one factor.
+
+    Parameters
+    ----------
+    phase : array_like
+        Phase, s (1-D or a column).
+    rate : float
+        Sampling rate, Hz.
+    mj : int
+        Averaging factor, tau = mj / rate.
+
+    Returns
+    -------
+    (dev, deverr, n) : (float, float, int)
+        The deviation (dimensionless), dev / sqrt(n), n = N - 2 mj; (0, 0, 0)
+        when the record has fewer than 2 mj + 1 points, as AllanTools.
+    """
     rate = _args.rate(rate)
     mj = _factor(mj)
     var, ns = _cubecal._pvar(_args.series(phase, "phase"), rate, np.array([mj], dtype=np.int64))
@@ -409,8 +497,24 @@ def calc_pdev_phase(phase, rate, mj):
 
 @public
 def calc_gcodev_phase(phase_1, phase_2, rate, mj, stride):
-    """Groslambert codeviation of two phase records at one factor, stride 1
-    (overlapping): (dev, deverr, n), dev = sqrt(|covariance|)."""
+    """Groslambert codeviation of two phase records at one factor, stride 1 (overlapping).
+
+    Parameters
+    ----------
+    phase_1, phase_2 : array_like
+        Phase, s, of one length.
+    rate : float
+        Sampling rate, Hz.
+    mj : int
+        Averaging factor.
+    stride : int
+        1 (the only stride cubecal computes).
+
+    Returns
+    -------
+    (dev, deverr, n) : (float, float, int)
+        sqrt(|covariance|) (dimensionless), dev / sqrt(n), n = N - 2 mj.
+    """
     rate = _args.rate(rate)
     mj = _factor(mj)
     _stride(stride, mj, (1,))
@@ -424,7 +528,21 @@ def calc_gcodev_phase(phase_1, phase_2, rate, mj, stride):
 
 @public
 def calc_mtotdev_phase(phase, rate, m):
-    """MTOT deviation of phase data at one factor m: (dev, error, n), n = N - 3m + 1.
+    """MTOT deviation of phase data at one factor m.
+
+    Parameters
+    ----------
+    phase : array_like
+        Phase, s, N points.
+    rate : float
+        Sampling rate, Hz.
+    m : int
+        Averaging factor.
+
+    Returns
+    -------
+    (dev, error, n) : (float, float, int)
+        The deviation (dimensionless), dev / sqrt(n), n = N - 3m + 1.
 
     Raises
     ------

@@ -1,5 +1,5 @@
 # Type stub of cubecal/_allantools.py: AllanTools' deviations.
-from typing import Callable, List, Optional, Sequence, Tuple, Union
+from typing import Any, Callable, List, Optional, Tuple, Union
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -37,3 +37,5 @@ def calc_htotdev_freq(freq: ArrayLike, m: int) -> Tuple[float, float, int]: ...
 def three_cornered_hat_phase(phasedata_ab: ArrayLike, phasedata_bc: ArrayLike, phasedata_ca: ArrayLike, rate: float,
                              taus: Taus, function: Callable[..., Deviation]
                              ) -> Tuple[NDArray[np.float64], NDArray[np.float64], List[float], NDArray[np.float64]]: ...
+
+def __getattr__(name: str) -> Any: ...  # the package's private helpers
