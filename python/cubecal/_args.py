@@ -24,11 +24,29 @@ UNSIGNED_MAX = 2 ** 32 - 1
 INT_MAX = 2 ** 31 - 1
 
 
-def usage(option, message):
-    """A cubecal.UsageError naming `option`, in one line that names it first
-    ("option: ..." unless it is named before the message's first colon)."""
+class RateError(_cubecal.UsageError, RuntimeError):
+    """A sampling rate that cannot be taken (zero, negative, not finite, or
+    outside the readers' range of 1e-9 to 1e9 Hz): a cubecal.UsageError
+    whose .option is "rate", and a RuntimeError, the exception AllanTools
+    raises for rate=0, so that code written for either catches it."""
+
+    __module__ = "cubecal"
+
+
+class TauError(_cubecal.UsageError, UserWarning):
+    """No tau of the request leaves a deviation of at least two terms on the
+    record: a cubecal.UsageError whose .option is "taus", and a UserWarning,
+    the exception AllanTools raises then ("nothing remains")."""
+
+    __module__ = "cubecal"
+
+
+def usage(option, message, kind=None):
+    """A cubecal.UsageError (or its subclass `kind`) naming `option`, in one
+    line that names it first ("option: ..." unless it is named before the
+    message's first colon)."""
     message = " ".join(message.split())
-    e = _cubecal.UsageError(message if option in message.split(":", 1)[0] else f"{option}: {message}")
+    e = (kind or _cubecal.UsageError)(message if option in message.split(":", 1)[0] else f"{option}: {message}")
     e.option = option
     return e
 
@@ -118,15 +136,19 @@ def flag(value, option):
 
 
 def rate(value, option="rate"):
-    """A sampling rate in Hz, in the range the readers take (the C++ check)."""
-    x = number(value, option)
-    _cubecal._check_rate(x)
+    """A sampling rate in Hz, in the range the readers take (the C++ check);
+    a RateError (a UsageError and a RuntimeError) otherwise."""
+    try:
+        x = number(value, option)
+        _cubecal._check_rate(x)
+    except _cubecal.UsageError as e:
+        raise usage(option, str(e), RateError) from None
     return x
 
 
 def samples(value, option="data", dimensions=(1,)):
     """`value` as a float64 array of the given number of dimensions, with at
-    least one sample."""
+    least one sample (an array of float64 is not copied)."""
     if value is None or isinstance(value, (str, bytes)):
         raise usage(option, f"{option}: an array of numbers is expected, not {_shown(value)}")
     try:
@@ -138,6 +160,18 @@ def samples(value, option="data", dimensions=(1,)):
         raise usage(option, f"{option}: a {shapes} array is expected, got shape {a.shape}")
     if a.size == 0:
         raise usage(option, f"{option}: the array is empty")
+    return a
+
+
+def series(value, option="data"):
+    """One record of samples as AllanTools takes it: a 1-D sequence or a
+    column of shape (N, 1), as a 1-D float64 array converted once (a list
+    once, an array of float64 not at all)."""
+    a = samples(value, option, dimensions=range(0, 65))
+    if a.ndim == 2 and a.shape[1] == 1:
+        return a[:, 0]  # a view, still contiguous
+    if a.ndim != 1:
+        raise usage(option, f"{option}: a 1-D array or one column, shape (N, 1), is expected, got shape {a.shape}")
     return a
 
 

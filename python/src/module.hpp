@@ -14,5 +14,6 @@ void bind_spectral(pybind11::module_& m);
 void bind_model(pybind11::module_& m);
 void bind_noise(pybind11::module_& m);
 void bind_realtime(pybind11::module_& m);
+void bind_allantools_kernels(pybind11::module_& m);
 
 }  // namespace cubecal::python
