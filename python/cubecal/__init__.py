@@ -28,3 +28,6 @@ from ._model import NoiseModel, model
 from ._result import Result
 from ._calibrate import *  # noqa: F401,F403  (calibrate_* and turnon: see cubecal/_calibrate.py)
 
+from . import ci
+from .ci import (autocorr_noise_id, confidence_interval, confidence_interval_noiseID, edf_greenhall, edf_mtotdev,
+                 edf_simple, edf_totdev)

@@ -16,4 +16,5 @@ PYBIND11_MODULE(_cubecal, m) {
   cubecal::python::bind_calibrate(m);
   cubecal::python::bind_spectral(m);
   cubecal::python::bind_model(m);
+  cubecal::python::bind_ci(m);
 }

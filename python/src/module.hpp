@@ -12,5 +12,6 @@ void bind_read(pybind11::module_& m);
 void bind_calibrate(pybind11::module_& m);
 void bind_spectral(pybind11::module_& m);
 void bind_model(pybind11::module_& m);
+void bind_ci(pybind11::module_& m);
 
 }  // namespace cubecal::python
