@@ -37,11 +37,13 @@ TEST(GreenhallCase, SameEdfAsTheStrideFunctionAndTheCaseOfEachBranch) {
     bool modified;
     std::string method;
   };
+  // Stride 1 (overlapping) with m >= 34 makes J = 3m exceed J_max = 100.
   const Row rows[] = {
-      {0, 2, 4, 1000, 1, true, "1.1"},   {0, 2, 4, 100000, 1, true, "1.2"},    {2, 2, 1, 1000, 1, false, "4.2"},
-      {0, 2, 8, 1000, 8, false, "2.1a"}, {0, 2, 64, 10000, 64, false, "2.1b"}, {0, 2, 1, 100000, 1, false, "2.2"},
-      {1, 2, 4, 1000, 4, false, "3.1"},  {1, 2, 1, 100000, 1, false, "3.2"},   {-2, 3, 2, 100000, 1, false, "2.2"},
-      {2, 2, 10, 31, 10, false, "4.1"},  {0, 2, 50, 160, 1, false, "2.3"},     {0, 2, 40, 163, 1, true, "1.3"},
+      {0, 2, 1, 31, 1, true, "1.1"},      {2, 2, 40, 300, 1, true, "1.2"},   {2, 2, 64, 300, 1, true, "1.3"},
+      {0, 2, 1, 31, 1, false, "2.1a"},    {0, 2, 40, 160, 1, false, "2.1b"}, {0, 2, 40, 300, 1, false, "2.2"},
+      {0, 2, 64, 300, 1, false, "2.3"},   {1, 2, 1, 31, 1, false, "3.1"},    {1, 2, 40, 300, 1, false, "3.2"},
+      {1, 2, 64, 300, 1, false, "3.3"},   {2, 2, 8, 31, 1, false, "4.1"},    {2, 2, 1, 31, 1, false, "4.2"},
+      {-4, 3, 40, 1000, 1, false, "2.2"}, {2, 3, 10, 31, 10, false, "4.1"},
   };
   for (const Row& r : rows) {
     const GreenhallEdf g = edf_greenhall_case(r.alpha, r.d, r.m, r.n, r.stride, r.modified);

@@ -85,6 +85,13 @@ class EdfParity(unittest.TestCase):
                                         self.assertTrue(alpha == 2 and not modified)
                                         self.assertGreater(mine, 0.0)
                                         continue
+                                    except AssertionError:
+                                        # AllanTools' greenhall_table2 refuses its own alpha = -4 row.
+                                        unsupported += 1
+                                        self.assertTrue(alpha == -4 and not modified)
+                                        self.assertEqual(ci.greenhall_table2(-4, 3), (1.302, 0.535))
+                                        self.assertGreater(mine, 0.0)
+                                        continue
                                     self.assertLess(relative(mine, theirs), 1e-11)
                                     compared += 1
         self.assertGreater(compared, 1500)
@@ -108,12 +115,16 @@ class EdfParity(unittest.TestCase):
                 for F in (1, 4, float("inf")) if alpha <= 0 else (1, 4):
                     self.assertLess(abs(ci.greenhall_sx(t, F, alpha) - self.ci.greenhall_sx(t, F, alpha)),
                                     1e-12 * (1 + abs(self.ci.greenhall_sx(t, F, alpha))))
+                    # sz is a difference of terms of the size of sw(|t| + 4): rounding on that scale.
+                    scale = 1.0 + abs(self.ci.greenhall_sw(abs(t) + 4.0, alpha + 2 if F == float("inf") else alpha))
                     for d in (1, 2, 3):
                         theirs = self.ci.greenhall_sz(t, F, alpha, d)
-                        self.assertLess(abs(ci.greenhall_sz(t, F, alpha, d) - theirs), 1e-10 * (1 + abs(theirs)))
+                        self.assertLess(abs(ci.greenhall_sz(t, F, alpha, d) - theirs), 1e-13 * scale * F ** 2
+                                        if F != float("inf") else 1e-13 * scale)
             for d in (1, 2, 3):
                 self.assertEqual(ci.greenhall_table1(alpha, d), tuple(self.ci.greenhall_table1(alpha, d)))
-                self.assertEqual(ci.greenhall_table2(alpha, d), tuple(self.ci.greenhall_table2(alpha, d)))
+                if alpha != -4:  # AllanTools' assertion refuses its own alpha = -4 row
+                    self.assertEqual(ci.greenhall_table2(alpha, d), tuple(self.ci.greenhall_table2(alpha, d)))
                 if alpha + 2 * d > 1:
                     for (J, M, S, F) in ((3, 10, 1, 4), (12, 50, 4, 1), (24, 300, 8, float("inf"))):
                         if F == float("inf") and alpha > 0:
@@ -131,6 +142,11 @@ class EdfParity(unittest.TestCase):
             for m in FACTORS:
                 for n in (100, 1000, 10000):
                     with self.subTest(alpha=alpha, m=m, N=n):
+                        if alpha in (2, 1) and n <= 2 * m:
+                            # AllanTools: a negative EDF or the log of a negative number.
+                            with self.assertRaises(cubecal.UsageError):
+                                ci.edf_simple(n, m, alpha)
+                            continue
                         theirs = quiet(self.ci.edf_simple, n, m, alpha)
                         if alpha == -1 and m == 1:
                             # SP 1065 Table 5: 2 (N-2)^2 / (2.3 N - 4.9); AllanTools drops the square.
@@ -161,14 +177,16 @@ class ConfidenceParity(unittest.TestCase):
                     self.assertLess(relative(lo, lo0), 1e-10, (dev, edf, c))
                     self.assertLess(relative(hi, hi0), 1e-10, (dev, edf, c))
         self.assertEqual(ci.ONE_SIGMA_CI, self.ci.ONE_SIGMA_CI)
-        # Arrays broadcast as in AllanTools (scipy's).
+        # Arrays (AllanTools takes an array of devs with one edf; cubecal
+        # also an edf per dev): each element as its own call.
         devs, edfs = np.array([1.0, 2.0, 3.0]), np.array([5.0, 50.0, 500.0])
-        lo, hi = ci.confidence_interval(devs, edfs)
-        lo0, hi0 = self.ci.confidence_interval(devs, edfs)
+        lo, hi = ci.confidence_interval(devs, 20.0)
+        lo0, hi0 = self.ci.confidence_interval(devs, 20.0)
         np.testing.assert_allclose(lo, lo0, rtol=1e-10)
         np.testing.assert_allclose(hi, hi0, rtol=1e-10)
-        lo, hi = ci.confidence_interval(devs, 20.0)
-        self.assertEqual(lo.shape, (3,))
+        lo, hi = ci.confidence_interval(devs, edfs)
+        for k in range(3):
+            self.assertEqual((lo[k], hi[k]), ci.confidence_interval(devs[k], edfs[k]))
 
     def test_noise_id_pieces(self):
         rng = np.random.default_rng(34)
@@ -232,9 +250,15 @@ GREENHALL_TABLES = {"adev": (2, False, False), "oadev": (2, True, False), "mdev"
                     "tdev": (2, True, True), "hdev": (3, False, False), "ohdev": (3, True, False)}
 
 
+# The tables' "Confidence Factor" (0.683, not erf(1/sqrt(2)) = 0.6827).
+STABLE32_CI = 0.683
+
+
 class Stable32Intervals(unittest.TestCase):
-    """The EDFs with Stable32's noise types give Stable32's intervals to its
-    five printed digits (from its printed sigma: 1e-4 relative)."""
+    """The EDFs with Stable32's noise types give Stable32's intervals within
+    1e-3 relative, the bar of tests/test_stable32.cpp (the bounds from the
+    table's rounded sigma at its confidence factor 0.683; Stable32's own
+    chi-squared quantiles are not exact, the rows differ by 1e-4 to 3e-4)."""
 
     def check(self, path, n_phase, edf_of):
         rows = stable32_table(path)
@@ -242,9 +266,9 @@ class Stable32Intervals(unittest.TestCase):
         for r in rows:
             with self.subTest(table=os.path.basename(path), af=r["af"]):
                 edf = edf_of(r)
-                lo, hi = cubecal.confidence_interval(r["sigma"], edf)
-                self.assertLess(relative(lo, r["lo"]), 1e-4)
-                self.assertLess(relative(hi, r["hi"]), 1e-4)
+                lo, hi = cubecal.confidence_interval(r["sigma"], edf, STABLE32_CI)
+                self.assertLess(relative(lo, r["lo"]), 1e-3)
+                self.assertLess(relative(hi, r["hi"]), 1e-3)
 
     def test_greenhall_deviations(self):
         sets = [("ocxo", "{}_octave.txt", len(ocxo_frequency()) + 1), ("phasedat", "phase_dat_{}_octave.txt", 1001),
@@ -266,14 +290,18 @@ class Stable32Intervals(unittest.TestCase):
         rows = [r for r in stable32_table(path) if r["alpha"] in (0, -1, -2)]
         self.assertGreater(len(rows), 8)
         for r in rows:
-            lo, hi = cubecal.confidence_interval(r["sigma"], cubecal.edf_totdev(n_phase, r["af"], r["alpha"]))
-            self.assertLess(relative(lo, r["lo"]), 1e-4, r)
-            self.assertLess(relative(hi, r["hi"]), 1e-4, r)
-        for r in stable32_table(path):
-            if r["alpha"] == 1:
-                self.assertEqual(cubecal.edf_totdev(n_phase, r["af"], 1), ci.edf_simple(n_phase, r["af"], 1))
-                lo, _ = cubecal.confidence_interval(r["sigma"], ci.edf_simple(n_phase, r["af"], 1) + 2.0)
-                self.assertLess(relative(lo, r["lo"]), 1e-3, r)
+            lo, hi = cubecal.confidence_interval(r["sigma"], cubecal.edf_totdev(n_phase, r["af"], r["alpha"]),
+                                                 STABLE32_CI)
+            self.assertLess(relative(lo, r["lo"]), 1e-3, r)
+            self.assertLess(relative(hi, r["hi"]), 1e-3, r)
+        # Flicker PM: AllanTools' edf_simple; the library's TOTDEV EDF (what
+        # cubecal.dev uses) is Stable32's, two more.
+        flicker = [r for r in stable32_table(path) if r["alpha"] == 1]
+        self.assertGreater(len(flicker), 1)
+        for r in flicker:
+            self.assertEqual(cubecal.edf_totdev(n_phase, r["af"], 1), ci.edf_simple(n_phase, r["af"], 1))
+            self.assertAlmostEqual(cubecal._cubecal._ci_edf_totvar(1, r["af"], n_phase) - ci.edf_simple(n_phase, r["af"], 1),
+                                   2.0, places=9)
 
 
 class Closed(unittest.TestCase):
