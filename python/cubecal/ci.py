@@ -60,12 +60,20 @@ def _whole(value, option, minimum, maximum=_args.INT_MAX):
     return count(value, option, minimum=minimum, maximum=maximum)
 
 
+# What each exponent argument is, for the messages.
+_EXPONENTS = {"alpha": "the frequency-noise exponent (2 white PM, 0 white FM, -2 random-walk FM)",
+              "b": "the phase-noise exponent b = alpha - 2 (0 white PM, -2 white FM)",
+              "b_hi": "the upper phase-noise exponent b = alpha - 2 (0 white PM, -2 white FM)",
+              "mu": "the exponent of B1's bias, tau^mu"}
+
+
 def _alpha(value, option="alpha", lowest=-4, highest=2):
+    """A noise exponent: a whole number (2 or 2.0) from lowest to highest."""
     if isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_)):
         if math.isfinite(float(value)) and float(value).is_integer() and lowest <= int(value) <= highest:
             return int(value)
-    raise usage(option, f"{option}: the noise exponent, a whole number from {highest} (white PM) to {lowest}, "
-                        f"is expected, not {value!r}")
+    raise usage(option, f"{option}: {_EXPONENTS[option]}, a whole number from {highest} to {lowest}, "
+                        f"is expected, not {_args._shown(value)}")
 
 
 def _d(value):
@@ -453,8 +461,9 @@ def autocorr_noise_id(x, af, data_type="phase", dmin=0, dmax=2):
     r = _cubecal._ci_lag1_noise_id(data, m, phase, lo, hi)
     if r is None:
         left = -(-len(data) // m) if phase else len(data) // m
-        raise _no_estimate("af", f"af: {left} points remain at af = {m}; the lag-1 noise identification needs "
-                                 f"{_MIN_LAG1_POINTS} (and {max(lo, hi) + 2} after differencing)")
+        what = "phase points taken every af-th" if phase else "averages of af frequency points"
+        raise _no_estimate("af", f"af: {m} leaves {left} {what}; the lag-1 noise identification needs "
+                                 f"{_MIN_LAG1_POINTS}: use a smaller af")
     alpha_int, alpha, d, rho = r
     return alpha_int, np.float64(alpha), d, np.float64(rho)
 
