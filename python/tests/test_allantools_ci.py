@@ -257,8 +257,9 @@ STABLE32_CI = 0.683
 class Stable32Intervals(unittest.TestCase):
     """The EDFs with Stable32's noise types give Stable32's intervals within
     1e-3 relative, the bar of tests/test_stable32.cpp (the bounds from the
-    table's rounded sigma at its confidence factor 0.683; Stable32's own
-    chi-squared quantiles are not exact, the rows differ by 1e-4 to 3e-4)."""
+    table's rounded sigma at its confidence factor 0.683: with exact
+    chi-squared quantiles the rows differ from the printed bounds by up to
+    3e-4, more than the five printed digits explain)."""
 
     def check(self, path, n_phase, edf_of):
         rows = stable32_table(path)
