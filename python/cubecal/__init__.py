@@ -44,6 +44,9 @@ from .plot import Plot
 from . import realtime  # AllanTools' realtime: deviations updated sample by sample
 from .realtime import oadev_realtime, ohdev_realtime, tdev_realtime
 
+from . import ci
+from .ci import (autocorr_noise_id, confidence_interval, confidence_interval_noiseID, edf_greenhall, edf_mtotdev,
+                 edf_simple, edf_totdev)
 
 # `from cubecal import *`: cubecal's own names and every name of AllanTools'
 # __all__ (`import cubecal as allantools`; docs/allantools-differences/).

@@ -15,5 +15,6 @@ void bind_model(pybind11::module_& m);
 void bind_noise(pybind11::module_& m);
 void bind_realtime(pybind11::module_& m);
 void bind_allantools_kernels(pybind11::module_& m);
+void bind_ci(pybind11::module_& m);
 
 }  // namespace cubecal::python

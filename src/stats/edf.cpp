@@ -23,6 +23,15 @@ constexpr int kJmax = 100;
 constexpr std::size_t kMtotTableFrom = 10;
 constexpr std::size_t kHtotTableFrom = 16;
 
+double binomial(int n, int k) {
+  double r = 1.0;
+  for (int i = 1; i <= k; ++i) r = r * (n - k + i) / i;
+  return r;
+}
+
+}  // namespace
+
+namespace greenhall {
 // Eq. (7): generalized autocovariance kernel of phase noise with exponent alpha.
 double sw(double t, int alpha) {
   const double a = std::abs(t);
@@ -79,10 +88,6 @@ double edf_direct(double J, double M, double S, double F, int alpha, int d) {
   return bs > 0.0 ? z0 * z0 * M / bs : 0.0;
 }
 
-struct Coeffs {
-  double a0, a1;
-};
-
 // Table 1 (modified variances), rows alpha = 2..-4, columns d = 1..3.
 // {0,0} marks combinations where the variance does not converge.
 constexpr Coeffs kTable1[7][3] = {
@@ -109,21 +114,83 @@ constexpr Coeffs kTable2[7][3] = {
 // Table 3 (unmodified, alpha = 1): log factor b0 + b1 ln m.
 constexpr Coeffs kTable3[3] = {{6.0, 4.0}, {15.23, 12.0}, {47.8, 40.0}};
 
-double binomial(int n, int k) {
-  double r = 1.0;
-  for (int i = 1; i <= k; ++i) r = r * (n - k + i) / i;
-  return r;
+double edf_eq13(int alpha, int d, double m, double S, double F, double N) {
+  const double L = m / F + m * d;
+  const double M = 1.0 + std::floor(S * (N - L) / m);
+  const double J = std::min(M, (d + 1) * S);
+  return edf_direct(J, M, S, F, alpha, d);
 }
 
-}  // namespace
+Coeffs table1(int alpha, int d) {
+  if (alpha > 2 || alpha < -4 || d < 1 || d > 3) return {};
+  return kTable1[2 - alpha][d - 1];
+}
+
+Coeffs table2(int alpha, int d) {
+  if (alpha > 2 || alpha < -4 || d < 1 || d > 3) return {};
+  return kTable2[2 - alpha][d - 1];
+}
+
+Coeffs table3(int d) {
+  if (d < 1 || d > 3) return {};
+  return kTable3[d - 1];
+}
+
+}  // namespace greenhall
 
 double edf_greenhall(int alpha, int d, std::size_t m, std::size_t n_phase, bool overlapping, bool modified) {
   return edf_greenhall_stride(alpha, d, m, n_phase, overlapping ? 1 : m, modified);
 }
 
-double edf_greenhall_stride(int alpha, int d, std::size_t m_, std::size_t n_phase, std::size_t stride, bool modified) {
-  if (d < 1 || d > 3 || alpha > 2 || alpha < -4 || alpha + 2 * d <= 1 || m_ == 0) return 0.0;
-  if (stride == 0 || stride > m_ || m_ % stride != 0) return 0.0;
+double edf_greenhall_stride(int alpha, int d, std::size_t m, std::size_t n_phase, std::size_t stride, bool modified) {
+  return edf_greenhall_case(alpha, d, m, n_phase, stride, modified).edf;
+}
+
+namespace {
+
+// Greenhall & Riley's cases 1 (modified) to 3 (unmodified flicker PM) with
+// the J <= J_max sum, the large-r table and the J_max sum at r <= d + 1.
+GreenhallEdf greenhall_filtered(int alpha, int d, double m, double M, double S, double J, bool modified) {
+  using namespace greenhall;
+  const double r = M / S;
+  if (modified) {  // case 1: all alpha
+    if (J <= kJmax) return {edf_direct(J, M, S, 1.0, alpha, d), "1.1"};
+    if (r > d + 1) {
+      const Coeffs c = table1(alpha, d);
+      return {1.0 / ((c.a0 - c.a1 / r) / r), "1.2"};
+    }
+    return {edf_direct(kJmax, kJmax, kJmax / r, 1.0, alpha, d), "1.3"};
+  }
+  if (alpha <= 0) {  // case 2: unmodified, alpha <= 0
+    if (J <= kJmax) {
+      const bool a = m * (d + 1) <= kJmax;
+      return {edf_direct(J, M, S, a ? m : kInf, alpha, d), a ? "2.1a" : "2.1b"};
+    }
+    if (r > d + 1) {
+      const Coeffs c = table2(alpha, d);
+      return {1.0 / ((c.a0 - c.a1 / r) / r), "2.2"};
+    }
+    return {edf_direct(kJmax, kJmax, kJmax / r, kInf, alpha, d), "2.3"};
+  }
+  // case 3: unmodified flicker PM
+  if (J <= kJmax) return {edf_direct(J, M, S, m, alpha, d), "3.1"};
+  const Coeffs b = table3(d);
+  const double lf = b.a0 + b.a1 * std::log(m);
+  if (r > d + 1) {
+    const Coeffs c = table2(alpha, d);
+    return {1.0 / ((c.a0 - c.a1 / r) / (lf * lf * r)), "3.2"};
+  }
+  const double mp = kJmax / r;
+  const double bs = basic_sum(kJmax, kJmax, mp, mp, alpha, d);
+  return {bs > 0.0 ? lf * lf * kJmax / bs : 0.0, "3.3"};
+}
+
+}  // namespace
+
+GreenhallEdf edf_greenhall_case(int alpha, int d, std::size_t m_, std::size_t n_phase, std::size_t stride,
+                                bool modified) {
+  if (d < 1 || d > 3 || alpha > 2 || alpha < -4 || alpha + 2 * d <= 1 || m_ == 0) return {};
+  if (stride == 0 || stride > m_ || m_ % stride != 0) return {};
   const double m = static_cast<double>(m_);
   const double N = static_cast<double>(n_phase);
   const double F = modified ? 1.0 : m;
@@ -131,52 +198,17 @@ double edf_greenhall_stride(int alpha, int d, std::size_t m_, std::size_t n_phas
   // 1: non-overlapping), so that M counts the terms taken every stride.
   const double S = static_cast<double>(m_ / stride);
   const double L = m / F + m * d;  // span of the filter on phase samples
-  if (N < L) return 0.0;
+  if (N < L) return {};
   const double M = 1.0 + std::floor(S * (N - L) / m);
   const double J = std::min(M, (d + 1) * S);
-  const double r = M / S;
-  const int row = 2 - alpha;
-  const int col = d - 1;
-
-  if (modified) {  // case 1: all alpha
-    if (J <= kJmax) return edf_direct(J, M, S, 1.0, alpha, d);
-    if (r > d + 1) {
-      const Coeffs c = kTable1[row][col];
-      return 1.0 / ((c.a0 - c.a1 / r) / r);
-    }
-    const double mp = kJmax / r;
-    return edf_direct(kJmax, kJmax, mp, 1.0, alpha, d);
-  }
-  if (alpha <= 0) {  // case 2: unmodified, alpha <= 0
-    if (J <= kJmax) {
-      const double Fp = (m * (d + 1) <= kJmax) ? m : kInf;
-      return edf_direct(J, M, S, Fp, alpha, d);
-    }
-    if (r > d + 1) {
-      const Coeffs c = kTable2[row][col];
-      return 1.0 / ((c.a0 - c.a1 / r) / r);
-    }
-    const double mp = kJmax / r;
-    return edf_direct(kJmax, kJmax, mp, kInf, alpha, d);
-  }
-  if (alpha == 1) {  // case 3: unmodified flicker PM
-    if (J <= kJmax) return edf_direct(J, M, S, m, alpha, d);
-    const Coeffs b = kTable3[col];
-    const double lf = b.a0 + b.a1 * std::log(m);
-    if (r > d + 1) {
-      const Coeffs c = kTable2[row][col];
-      return 1.0 / ((c.a0 - c.a1 / r) / (lf * lf * r));
-    }
-    const double mp = kJmax / r;
-    const double bs = basic_sum(kJmax, kJmax, mp, mp, alpha, d);
-    return bs > 0.0 ? lf * lf * kJmax / bs : 0.0;
-  }
+  if (modified || alpha <= 1) return greenhall_filtered(alpha, d, m, M, S, J, modified);
   // case 4: unmodified white PM
+  const double r = M / S;
   const double K = std::ceil(r);
-  if (K <= d) return edf_direct(J, M, S, m, alpha, d);
+  if (K <= d) return {greenhall::edf_direct(J, M, S, m, alpha, d), "4.1"};
   const double a0 = binomial(4 * d, 2 * d) / (binomial(2 * d, d) * binomial(2 * d, d));
   const double a1 = d / 2.0;
-  return 1.0 / ((a0 - a1 / r) / M);
+  return {1.0 / ((a0 - a1 / r) / M), "4.2"};
 }
 
 double edf_simple(int alpha, std::size_t m_, std::size_t n_phase) {
@@ -224,13 +256,18 @@ double edf_mtotvar(int alpha, std::size_t m, std::size_t n_phase) {
   // N): MDEV's Greenhall-Riley EDF, as Stable32 takes there (below the
   // spread of MTOT on seeded white and random-walk FM: a lower bound).
   if (m < kMtotTableFrom) return edf_greenhall(alpha, 2, m, n_phase, true, true);
+  return std::max(0.0, edf_mtotvar_table(alpha, static_cast<double>(m), static_cast<double>(n_phase)));
+}
+
+double edf_mtotvar_table(int alpha, double m, double n_phase) {
+  if (alpha > 2 || alpha < -2 || !(m > 0.0)) return 0.0;
   // SP 1065 Table 8: edf = b (N/m) - c.
   struct Bc {
     double b, c;
   };
   constexpr Bc kTable8[5] = {{1.90, 2.1}, {1.20, 1.40}, {1.10, 1.2}, {0.85, 0.50}, {0.75, 0.31}};
   const Bc bc = kTable8[2 - alpha];
-  return std::max(0.0, bc.b * static_cast<double>(n_phase) / static_cast<double>(m) - bc.c);
+  return bc.b * n_phase / m - bc.c;
 }
 
 double edf_htotvar(int alpha, std::size_t m, std::size_t n_phase) {

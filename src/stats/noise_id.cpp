@@ -54,19 +54,6 @@ int clamp_alpha(int alpha, Stat stat) {
   return std::clamp(alpha, lowest, 2);
 }
 
-// Expected B1 for N points and phase-noise exponent mu (Howe, Beard,
-// Greenhall, Riley, PTTI 2000, Table 3).
-double b1_expected(double N, int mu) {
-  switch (mu) {
-    case 2: return N * (N + 1.0) / 6.0;
-    case 1: return N / 2.0;
-    case 0: return N * std::log(N) / (2.0 * (N - 1.0) * std::log(2.0));
-    case -1: return 1.0;
-    case -2: return (N * N - 1.0) / (1.5 * N * (N - 1.0));
-    default: return N * (1.0 - std::pow(N, mu)) / (2.0 * (N - 1.0) * (1.0 - std::pow(2.0, mu)));
-  }
-}
-
 int alpha_from_mu(int mu) {
   // mu = -alpha - 1 for -4 <= alpha <= 0; white and flicker PM share mu = -2.
   return mu == -2 ? 2 : -mu - 1;

@@ -20,6 +20,57 @@ double edf_greenhall(int alpha, int d, std::size_t m, std::size_t n_phase, bool 
 /// Returns 0 for a stride that does not divide m.
 double edf_greenhall_stride(int alpha, int d, std::size_t m, std::size_t n_phase, std::size_t stride, bool modified);
 
+/// Greenhall & Riley's EDF with the case of their algorithm that gave it:
+/// "1.1" .. "1.3" (modified variances), "2.1a", "2.1b", "2.2", "2.3"
+/// (unmodified, alpha <= 0), "3.1" .. "3.3" (unmodified flicker PM), "4.1"
+/// (unmodified white PM, ceil(r) <= d: the direct sum) and "4.2". An empty
+/// case and edf 0: no answer (as edf_greenhall_stride).
+struct GreenhallEdf {
+  double edf = 0.0;         ///< equivalent degrees of freedom
+  const char* method = "";  ///< the case that answered
+};
+
+/// edf_greenhall_stride with the case that answered.
+GreenhallEdf edf_greenhall_case(int alpha, int d, std::size_t m, std::size_t n_phase, std::size_t stride,
+                                bool modified);
+
+/// The pieces of Greenhall & Riley's algorithm (PTTI 2003; Greenhall 2004),
+/// for callers that evaluate its equations themselves (the Python module's
+/// AllanTools-shaped calls). alpha: 2 .. -4, d: 1 .. 3; outside, 0.
+namespace greenhall {
+
+/// Eq. (7): the generalized autocovariance kernel of phase noise alpha at lag t.
+double sw(double t, int alpha);
+/// Eq. (8): sw under the averaging filter of length 1/F (F infinite: a point sample).
+double sx(double t, double F, int alpha);
+/// Eq. (9): sx under the d-th difference.
+double sz(double t, double F, int alpha, int d);
+/// Eq. (10): the basic sum over J lags of M terms at stride factor S.
+double basic_sum(double J, double M, double S, double F, int alpha, int d);
+/// Eq. (13) with J and M given: sz(0)^2 M / basic_sum (0 when the sum is not positive).
+double edf_direct(double J, double M, double S, double F, int alpha, int d);
+/// Eq. (13) on N phase points at factor m, stride factor S and filter factor
+/// F: L = m/F + m d, M = 1 + floor(S (N - L) / m), J = min(M, (d+1) S).
+double edf_eq13(int alpha, int d, double m, double S, double F, double N);
+
+/// A pair of coefficients of Greenhall & Riley's tables.
+struct Coeffs {
+  double a0 = 0.0;  ///< first coefficient
+  double a1 = 0.0;  ///< second coefficient
+};
+/// Table 1 (modified variances, large r): {0, 0} where the variance does not converge.
+Coeffs table1(int alpha, int d);
+/// Table 2 (unmodified variances, large r): {0, 0} where the variance does not converge.
+Coeffs table2(int alpha, int d);
+/// Table 3 (unmodified flicker PM): the log factor b0 + b1 ln m, as {b0, b1}.
+Coeffs table3(int d);
+
+}  // namespace greenhall
+
+/// NIST SP 1065 Table 8 for MTOT on its own, b (N/m) - c at every m (alpha
+/// 2 .. -2; 0 otherwise), not bounded below: edf_mtotvar takes it from m = 10 on.
+double edf_mtotvar_table(int alpha, double m, double n_phase);
+
 /// NIST SP 1065 Table 5 simple approximations (overlapping AVAR).
 double edf_simple(int alpha, std::size_t m, std::size_t n_phase);
 
