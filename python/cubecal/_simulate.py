@@ -11,31 +11,64 @@ from ._read import Record
 
 @_args.public
 def presets():
-    """The names of the built-in sensor models (the paper's gyro and magnetometer, ...)."""
+    """The names of the built-in sensor models.
+
+    Returns
+    -------
+    list of str
+        The presets `simulate` takes by name (the paper's SPORT gyro and
+        magnetometer, the ADIS16405 axes, ...), as `cubecal simulate --list`
+        prints them.
+    """
     return list(_cubecal._preset_names())
 
 
 @_args.public
 def simulate(model, rate=None, duration=3600.0, seed=1, temperature="sine:25,5", bias=None,
              true_input=None, flicker=None):
-    """A simulated record as a cubecal.Record (name -> NumPy array: t, the
-    channels, temp), as `cubecal simulate` writes it.
+    """A simulated record, as `cubecal simulate` writes it.
 
-    model: a preset name or a list of them (cubecal.presets()), an Analysis
-    from cubecal.analyze, the path of an analysis.json, or the path of the
-    JSON of `cubecal model --format json` (its composite models). rate: Hz
-    (default: the analysis's rate, else 10 Hz; a model is rescaled to it,
-    keeping its N and K; a composite model keeps N, Q, K, R, sigma_b, T_c). duration: seconds, or "72h", "30m", "2d". temperature: "const:T",
-    "sine:MEAN,AMPLITUDE[,PERIOD_S]" (default "sine:25,5": 25 +- 5 degC over a
-    day, as the CLI) or one value per sample. bias: the noise
-    model taken from an analysis: None (the default) its twins where every
-    channel has one, else "random-walk"; "twin" or "composite" (each term in
-    its discrete-time form at rate, as `cubecal simulate`), "random-walk"
-    (the paper's) or "gauss-markov"; a model result's is composite.
-    true_input: (t, wx, wy, wz) arrays, the true rate of the gyro triad.
-    flicker: bias instability B added as flicker noise to every axis (a
-    flicker floor of 0.664 B in the Allan deviation): one B for all triads
-    or one per triad, in each triad's unit. Same seed, same record.
+    Parameters
+    ----------
+    model : str, Analysis, os.PathLike or list of them
+        A preset name or a list of them (`cubecal.presets()`), an Analysis
+        from `cubecal.analyze`, the path of an analysis.json, or the path
+        of the JSON of `cubecal model --format json` (its composite models).
+    rate : float, optional
+        Sampling rate, Hz. Default: the analysis's rate, else 10 Hz; a
+        model is rescaled to it, keeping its N and K (a composite model
+        keeps N, Q, K, R, sigma_b and T_c).
+    duration : float or str
+        Length of the record, s, or a duration text ("72h", "30m", "2d").
+    seed : int
+        Seed of the generator: the same seed gives the same record.
+    temperature : str or array_like
+        "const:T" (degC), "sine:MEAN,AMPLITUDE[,PERIOD_S]" (degC, degC, s;
+        the default "sine:25,5" is 25 +- 5 degC over a day, as the CLI), or
+        one value per sample, degC.
+    bias : str, optional
+        The bias model taken from an analysis: None (its twins where every
+        channel has one, else "random-walk"), "twin", "composite" (each term
+        in its discrete-time form at `rate`), "random-walk" (the paper's) or
+        "gauss-markov". A model result's is composite.
+    true_input : tuple of 4 array_like, optional
+        (t, wx, wy, wz): times, s, and the true rate of the gyro triad, in
+        the gyro's unit.
+    flicker : float or list of float, optional
+        Bias instability B added as flicker noise to every axis (a flicker
+        floor of 0.664 B in the Allan deviation), in each triad's unit: one
+        B for all triads or one per triad.
+
+    Returns
+    -------
+    Record
+        Column name -> NumPy array: "t" (s), the channels in their units,
+        and "temp" (degC).
+
+    Raises
+    ------
+    cubecal.UsageError
+        A bad argument (.option names it).
     """
     a = _cubecal._SimulateArgs()
     models = model if isinstance(model, (list, tuple)) else [model]
