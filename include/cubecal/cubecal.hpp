@@ -24,7 +24,6 @@
 #include "cubecal/stats/davar.hpp"
 #include "cubecal/stats/deviation.hpp"
 #include "cubecal/stats/edf.hpp"
-#include "cubecal/stats/extra_kernels.hpp"
 #include "cubecal/stats/gap_deviation.hpp"
 #include "cubecal/stats/kernels.hpp"
 #include "cubecal/stats/lag_sums.hpp"

@@ -1,6 +1,6 @@
 // The kernels behind AllanTools' calls that are not Stable32 statistics
 // (cubecal/_allantools.py: pdev, gcodev, calc_htotdev_freq): the library's
-// stats/extra_kernels.hpp at each averaging factor, the GIL released.
+// stats/kernels.hpp at each averaging factor, the GIL released.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
@@ -11,7 +11,7 @@
 
 #include "arrays.hpp"
 #include "cubecal/io/sample_checks.hpp"
-#include "cubecal/stats/extra_kernels.hpp"
+#include "cubecal/stats/kernels.hpp"
 #include "errors.hpp"
 #include "module.hpp"
 

@@ -1,5 +1,5 @@
 // The kernels AllanTools' API exposes beyond Stable32's statistics
-// (stats/extra_kernels.hpp): PVAR against its definition summed directly
+// (stats/kernels.hpp): PVAR against its definition summed directly
 // and against SigmaTheta's PDEV of the NBS14 1000-point record, the
 // Groslambert covariance by its identities (OAVAR on the diagonal,
 // bilinear, symmetric), and HTOT of frequency data against its definition
@@ -11,7 +11,6 @@
 #include <random>
 #include <vector>
 
-#include "cubecal/stats/extra_kernels.hpp"
 #include "cubecal/stats/kernels.hpp"
 #include "cubecal/stats/stability.hpp"
 
