@@ -3,6 +3,7 @@ and the CLI run beside the module."""
 import json
 import os
 import subprocess
+import sys
 import unittest
 
 import numpy as np
@@ -47,3 +48,18 @@ def relative(a, b):
     a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
     scale = np.maximum(np.abs(a), np.abs(b))
     return np.max(np.where(scale > 0, np.abs(a - b) / np.where(scale > 0, scale, 1), 0.0)) if a.size else 0.0
+
+
+def allantools():
+    """AllanTools itself, imported from its public source (ALLANTOOLS_SRC, or
+    CUBECAL_ALLANTOOLS_SRC that ctest sets from the configure-time
+    environment: a checkout of github.com/aewallin/allantools); the test is
+    skipped, saying why, when there is none."""
+    for src in (os.environ.get("ALLANTOOLS_SRC"), os.environ.get("CUBECAL_ALLANTOOLS_SRC")):
+        if src and os.path.isfile(os.path.join(src, "allantools", "allantools.py")):
+            if src not in sys.path:
+                sys.path.insert(0, src)
+            import allantools as peer
+            return peer
+    raise unittest.SkipTest("AllanTools' source is not here: set ALLANTOOLS_SRC to a checkout of "
+                            "github.com/aewallin/allantools to compare with it")

@@ -13,24 +13,14 @@ it the comparisons are skipped and the argument cases still run."""
 import contextlib
 import io
 import os
-import sys
 import unittest
 
 import numpy as np
 
 import cubecal
-from support import STABLE32, phase_dat
+from support import STABLE32, allantools, phase_dat
 
 
-def _allantools():
-    for src in (os.environ.get("ALLANTOOLS_SRC"), os.environ.get("CUBECAL_ALLANTOOLS_SRC")):
-        if src and os.path.isfile(os.path.join(src, "allantools", "allantools.py")):
-            if src not in sys.path:
-                sys.path.insert(0, src)
-            import allantools
-            return allantools
-    raise unittest.SkipTest("AllanTools' source is not here: set ALLANTOOLS_SRC to a checkout of "
-                            "github.com/aewallin/allantools to compare with it")
 
 
 def ocxo_hz():
@@ -52,7 +42,7 @@ OTHER_BRANCHES = {"noise", "Noise", "Dataset", "Plot", "edf_simple", "edf_greenh
 class AgainstAllanTools(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        cls.at = _allantools()
+        cls.at = allantools()
         cls.phase = phase_dat()
         cls.freq = ocxo()
 

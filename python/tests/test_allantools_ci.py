@@ -15,8 +15,7 @@ import numpy as np
 
 import cubecal
 import cubecal.ci as ci
-from support import STABLE32, phase_dat, stable32_table
-from test_allantools_parity import _allantools
+from support import STABLE32, allantools, phase_dat, stable32_table
 
 
 def relative(a, b):
@@ -40,7 +39,7 @@ def ocxo_frequency():
 
 
 def allantools_ci():
-    at = _allantools()
+    at = allantools()
     import allantools.ci as at_ci
     return at, at_ci
 

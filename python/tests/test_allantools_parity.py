@@ -15,17 +15,9 @@ import unittest
 import numpy as np
 
 import cubecal
-from support import STABLE32, phase_dat, relative
+from support import STABLE32, allantools, phase_dat, relative
 
 
-def _allantools():
-    for src in (os.environ.get("ALLANTOOLS_SRC"), os.environ.get("CUBECAL_ALLANTOOLS_SRC")):
-        if src and os.path.isfile(os.path.join(src, "allantools", "allantools.py")):
-            sys.path.insert(0, src)
-            import allantools
-            return allantools
-    raise unittest.SkipTest("AllanTools' source is not here: set ALLANTOOLS_SRC to a checkout of "
-                            "github.com/aewallin/allantools to run the parity tests")
 
 
 def datasets():
@@ -47,7 +39,7 @@ STATS = ("adev", "oadev", "mdev", "tdev", "hdev", "ohdev", "totdev")
 class Parity(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        cls.at = _allantools()
+        cls.at = allantools()
 
     def test_statistics(self):
         worst = {}

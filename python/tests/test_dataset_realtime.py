@@ -9,28 +9,18 @@ realtime classes. A Plot is saved as a PNG. Bad arguments raise cubecal
 errors (also the built-in AllanTools raises)."""
 import gzip
 import os
-import sys
 import tempfile
 import unittest
 
 import numpy as np
 
 import cubecal
-from support import SHARED, phase_dat, relative
+from support import SHARED, allantools, phase_dat, relative
 
 STATS = ("adev", "oadev", "mdev", "tdev", "hdev", "ohdev", "totdev", "mtotdev", "ttotdev", "htotdev", "mtie",
          "tierms")
 
 
-def _allantools():
-    for src in (os.environ.get("ALLANTOOLS_SRC"), os.environ.get("CUBECAL_ALLANTOOLS_SRC")):
-        if src and os.path.isfile(os.path.join(src, "allantools", "allantools.py")):
-            if src not in sys.path:
-                sys.path.insert(0, src)
-            import allantools
-            return allantools
-    raise unittest.SkipTest("AllanTools' source is not here: set ALLANTOOLS_SRC to a checkout of "
-                            "github.com/aewallin/allantools to compare with it")
 
 
 def adis_gyro(n=200000):
@@ -104,7 +94,7 @@ class DatasetResults(unittest.TestCase):
 class DatasetAgainstAllanTools(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        cls.at = _allantools()
+        cls.at = allantools()
 
     def test_same_results_and_table(self):
         x = phase_dat()

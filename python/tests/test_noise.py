@@ -9,15 +9,15 @@ same exact moments where they hold. With AllanTools' source at hand
 (ALLANTOOLS_SRC), its Noise methods, numpy_psd, scipy_psd and the seeded
 timmer_koenig_from_psd give the same numbers, and its generators the same
 second moments."""
+import importlib
 import itertools
 import math
-import os
-import sys
 import unittest
 
 import numpy as np
 
 import cubecal
+from support import allantools
 from cubecal import noise
 
 # Standard errors a Monte Carlo mean may be off by (two-sided, p ~ 7e-6).
@@ -25,14 +25,10 @@ Z = 4.5
 
 
 def _allantools():
-    for src in (os.environ.get("ALLANTOOLS_SRC"), os.environ.get("CUBECAL_ALLANTOOLS_SRC")):
-        if src and os.path.isfile(os.path.join(src, "allantools", "noise_kasdin.py")):
-            sys.path.insert(0, src)
-            import allantools
-            import allantools.noise
-            return allantools
-    raise unittest.SkipTest("AllanTools' source is not here: set ALLANTOOLS_SRC to a checkout of "
-                            "github.com/aewallin/allantools to run the parity tests")
+    peer = allantools()
+    importlib.import_module("allantools.noise")  # the submodule, for peer.noise
+    return peer
+
 
 
 def taps(b, n):

@@ -193,16 +193,9 @@ NoiseId identify_noise(std::span<const double> x, std::size_t m, Stat stat) {
   // B1 ratio on the averages.
   out.method = NoiseId::Method::b1;
   if (count < 2) return out;
-  double mean = 0.0;
-  for (std::size_t k = 0; k < count; ++k) mean += z(k);
-  mean /= static_cast<double>(count);
-  double svar = 0.0, avar2 = 0.0;
-  for (std::size_t k = 0; k < count; ++k) svar += (z(k) - mean) * (z(k) - mean);
-  svar /= static_cast<double>(count - 1);
-  for (std::size_t k = 0; k + 1 < count; ++k) avar2 += (z(k + 1) - z(k)) * (z(k + 1) - z(k));
-  avar2 /= 2.0 * static_cast<double>(count - 1);
-  if (!(avar2 > 0.0)) return out;
-  out = noise_from_b1(svar / avar2, x.size(), m, count, stat);
+  const double b1 = b1_ratio(x, m);  // 0 when the Allan variance of the averages is 0
+  if (!(b1 > 0.0)) return out;
+  out = noise_from_b1(b1, x.size(), m, count, stat);
   if (out.alpha == alpha_from_mu(-2)) {  // B1 said white or flicker PM
     // R(n) = MVAR/AVAR: 1/m for white PM, 3.37/(1.04 + 3 ln(pi m)) for flicker PM.
     const VarianceTerm mv = mvar(x, m, 1.0);
