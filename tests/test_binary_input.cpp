@@ -188,6 +188,12 @@ TEST_F(BinaryInput, NpyDamageIsLocated) {
   expect_error("dev " + cplx + " --rate 100", {"byte offset 10", "data type '<c16' is not supported"});
   const std::string cube = write_bytes("d.npy", npy("<f8", false, "(10, 10, 4)", data));
   expect_error("dev " + cube + " --rate 100", {"shape (10, 10, 4) is not supported"});
+  // No rows and a column count no memory holds (found by the binary_reader
+  // fuzzer: the reader allocated one entry per declared column).
+  const std::string wide = write_bytes("w.npy", npy("<f8", false, "(0, 55555555552555552)", ""));
+  expect_error("dev " + wide + " --rate 100", {"shape (0, 55555555552555552) holds no samples"});
+  const std::string none = write_bytes("n.npy", npy("<f8", false, "(0, 3)", ""));
+  expect_error("dev " + none + " --rate 100", {"shape (0, 3) holds no samples"});
   std::string rec = whole;
   rec.replace(rec.find("'<f8'"), 5, "[('a',");
   const std::string structured = write_bytes("s.npy", rec);

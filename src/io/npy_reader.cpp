@@ -218,6 +218,9 @@ NpyHeader read_npy_header(std::string_view bytes, const std::string& file) {
   // A 1-D array is the same bytes in either order.
   out.fortran_order = *h.fortran_order && shape.size() == 2;
   if (out.cols == 0) parser.fail(0, "shape " + out.shape + " has no columns");
+  // Before anything is sized by the column count: with no rows, any count
+  // passes the size checks below.
+  if (out.rows == 0) parser.fail(0, "shape " + out.shape + " holds no samples (the array is empty)");
   constexpr std::size_t kMax = std::numeric_limits<std::size_t>::max();
   if (out.rows > kMax / out.cols || out.rows * out.cols > kMax / type->bytes)
     parser.fail(0, "shape " + out.shape + " is too large");
