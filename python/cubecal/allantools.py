@@ -12,6 +12,7 @@ from ._allantools import (adev, calc_adev_phase, calc_gcodev_phase, calc_hdev_ph
 from ._conversions import (frequency2fractional, frequency2phase, input_to_phase, mtie_rolling_window,
                            phase2frequency, phase2radians, remove_small_ns, tau_generator, tau_reduction, trim_data)
 from ._psd import adev2psd_piecewise_approx, psd2allan, psd_piecewise_to_adev
+from . import ci  # noqa: F401  (AllanTools' allantools.allantools.ci: its EDFs and intervals)
 
 __all__ = ["__version__", "adev", "oadev", "mdev", "pdev", "tdev", "hdev", "ohdev", "totdev", "mtotdev", "ttotdev",
            "htotdev", "theo1", "mtie", "mtie_phase_fast", "tierms", "gradev", "gcodev", "calc_adev_phase",

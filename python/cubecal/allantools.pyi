@@ -15,4 +15,6 @@ from ._conversions import (frequency2fractional as frequency2fractional, frequen
 from ._psd import (adev2psd_piecewise_approx as adev2psd_piecewise_approx, psd2allan as psd2allan,
                    psd_piecewise_to_adev as psd_piecewise_to_adev)
 
+from . import ci as ci
+
 __version__: str

@@ -346,6 +346,9 @@ class Arguments(unittest.TestCase):
         self.assertEqual(at.__version__, cubecal.__version__)
         for name in at.__all__:
             self.assertTrue(hasattr(at, name), name)
+        # AllanTools' allantools.allantools imports its ci module: at.ci.edf_greenhall works there.
+        self.assertIs(at.ci, cubecal.ci)
+        self.assertIs(at.ci.edf_greenhall, cubecal.edf_greenhall)
 
 
 if __name__ == "__main__":
