@@ -13,6 +13,7 @@
 
 #include "cubecal/stats/kernels.hpp"
 #include "cubecal/stats/stability.hpp"
+#include "direct_total.hpp"
 
 namespace cubecal {
 namespace {
@@ -42,43 +43,6 @@ double direct_pvar(const std::vector<double>& x, std::size_t m, double tau0) {
     sum += s * s;
   }
   return 72.0 * sum / (static_cast<double>(M) * md * md * md * md * (md * tau0) * (md * tau0));
-}
-
-// HTOT of frequency y at m as NIST SP 1065 sec. 5.2.14 writes it: per
-// subsequence of 3m points, detrend by the means of its halves, extend to
-// 9m by even reflection, mean square of the 6m second differences of
-// m-point means, over 6.
-double direct_htot(const std::vector<double>& v, std::size_t m) {
-  const std::size_t L = 3 * m;
-  double total = 0.0;
-  std::size_t n = 0;
-  for (std::size_t i = 0; i + L <= v.size(); ++i, ++n) {
-    std::vector<double> y(v.begin() + static_cast<std::ptrdiff_t>(i), v.begin() + static_cast<std::ptrdiff_t>(i + L));
-    const std::size_t h1 = L / 2, h2 = (L + 1) / 2;
-    double a = 0.0, b = 0.0;
-    for (std::size_t k = 0; k < h1; ++k) a += y[k];
-    for (std::size_t k = h2; k < L; ++k) b += y[k];
-    a /= static_cast<double>(h1);
-    b /= static_cast<double>(L - h2);
-    const double dist = (L % 2 == 1) ? static_cast<double>(L + 1) / 2.0 : static_cast<double>(L) / 2.0;
-    for (std::size_t k = 0; k < L; ++k) y[k] -= (b - a) / dist * static_cast<double>(k);
-    std::vector<double> ext(y.rbegin(), y.rend());
-    ext.insert(ext.end(), y.begin(), y.end());
-    ext.insert(ext.end(), y.rbegin(), y.rend());
-    double s = 0.0;
-    for (std::size_t j = 0; j < 6 * m; ++j) {
-      double m1 = 0.0, m2 = 0.0, m3 = 0.0;
-      for (std::size_t k = 0; k < m; ++k) {
-        m1 += ext[j + k];
-        m2 += ext[j + m + k];
-        m3 += ext[j + 2 * m + k];
-      }
-      const double d = (m1 - 2.0 * m2 + m3) / static_cast<double>(m);
-      s += d * d;
-    }
-    total += s / (6.0 * static_cast<double>(m));
-  }
-  return total / static_cast<double>(n) / 6.0;
 }
 
 // The NBS14 1000-point frequency record (NIST SP 1065 p. 107): the
@@ -149,7 +113,7 @@ TEST(HtotvarFrequency, MatchesTheDefinitionAtEveryFactor) {
   for (std::size_t m : {1u, 2u, 3u, 10u, 33u, 100u}) {
     const VarianceTerm t = htotvar_frequency(y, m);
     EXPECT_EQ(t.n, y.size() - 3 * m + 1) << m;
-    EXPECT_NEAR(t.var, direct_htot(y, m), 1e-10 * t.var) << m;
+    EXPECT_NEAR(t.var, test::direct_total(y, m) / 6.0, 1e-10 * t.var) << m;
   }
   EXPECT_EQ(htotvar_frequency(y, 101).n, 0u);
   // From m = 2 on it is the HTOTDEV the statistic gives (which takes OHDEV at m = 1).
