@@ -23,6 +23,7 @@ FieldFlag field_flag(Field f) noexcept {
     case Field::composite_bootstrap: return {"--composite-bootstrap", Prefix::no};
     case Field::counts_per_unit: return {"--lsb", Prefix::yes};
     case Field::dataset: return {"--dataset", Prefix::yes};
+    case Field::datasheet: return {"--datasheet", Prefix::yes};
     case Field::delimiter: return {"--delimiter", Prefix::no};
     case Field::detrend: return {"--detrend", Prefix::no};
     case Field::drift_window: return {"--drift-window", Prefix::no};
@@ -86,6 +87,7 @@ FieldFlag field_flag(Field f) noexcept {
     case Field::step: return {"--step", Prefix::yes};
     case Field::stream: return {"--stream", Prefix::no};
     case Field::sync: return {};  // the recorder's sync interval is fixed by the CLI
+    case Field::target: return {"--target", Prefix::yes};
     case Field::taus: return {"--taus", Prefix::yes};
     case Field::temp_index: return {"--temp-col", Prefix::yes};
     case Field::temp_order: return {"--temp-order", Prefix::yes};
