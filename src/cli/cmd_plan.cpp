@@ -52,9 +52,14 @@ void set_source(pipeline::PlanRequest& req, const PlanCliOptions& o) {
         "--datasheet TERMS with --rate");
   if (given.size() > 1)
     throw UsageError(given[0] + " and " + given[1] + ": give one sensor model (--preset, --model or --datasheet)");
-  if (!o.presets.empty())
-    pipeline::set_plan_presets(req, split_list(o.presets), o.rate_hz);
-  else if (!o.model_file.empty())
+  if (!o.presets.empty()) {
+    try {
+      pipeline::set_plan_presets(req, split_list(o.presets), o.rate_hz);
+    } catch (const UsageError& e) {
+      if (e.field() != Field::model) throw;
+      throw UsageError(std::string("--preset: ") + e.what());  // the library names the model source
+    }
+  } else if (!o.model_file.empty())
     pipeline::set_plan_model_file(req, o.model_file, o.rate_hz);
   else
     pipeline::set_plan_datasheet(req, o.datasheet, o.rate_hz);
@@ -108,8 +113,8 @@ std::string reason_text(const pipeline::PlanRow& row) {
 
 void write_table(std::ostream& out, const pipeline::PlanResult& r) {
   fmt::print(out, "plan for {} ({}{}) at {} Hz\n",
-             r.source == pipeline::PlanSource::datasheet ? "the datasheet " + r.source_name : r.source_name, to_string(r.source),
-             r.source_note.empty() ? std::string() : ": " + r.source_note, rate_text(r.rate_hz));
+             r.source == pipeline::PlanSource::datasheet ? "the datasheet " + r.source_name : r.source_name,
+             to_string(r.source), r.source_note.empty() ? std::string() : ": " + r.source_note, rate_text(r.rate_hz));
   fmt::print(out, "precision: the half-width of a term's {:.3g} % interval, relative to the term\n", 100.0 * r.ci);
   if (r.defaults)
     out << "neither --target nor --duration: the length for B:10%,N:1%,K:20%,T:30% and the precision at 72 h\n";
