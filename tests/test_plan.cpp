@@ -329,6 +329,7 @@ TEST(PlanWords, DurationsAndPercentages) {
   EXPECT_EQ(duration_words(12 * 60.0), "12 min");
   EXPECT_EQ(duration_words(3 * 3600.0 + 20 * 60.0), "3 h 20 min");
   EXPECT_EQ(duration_words(5 * 3600.0), "5 h");
+  EXPECT_EQ(duration_words(72 * 3600.0), "72 h");
   EXPECT_EQ(duration_words(4.2 * 86400.0), "4.2 d");
   EXPECT_EQ(duration_words(40 * 86400.0), "40 d");
   EXPECT_EQ(duration_words(2 * 365.25 * 86400.0), "2.0 years");

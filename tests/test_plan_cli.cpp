@@ -39,7 +39,7 @@ TEST_F(PlanCli, DefaultsPlanBothAndSaySo) {
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("neither --target nor --duration"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("record length each target needs"), std::string::npos);
-  EXPECT_NE(r.out.find("precision from a record of 3.0 d"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("precision from a record of 72 h"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("mGauss"), std::string::npos);
 }
 

@@ -112,9 +112,11 @@ std::string reason_text(const pipeline::PlanRow& row) {
 }
 
 void write_table(std::ostream& out, const pipeline::PlanResult& r) {
-  fmt::print(out, "plan for {} ({}{}) at {} Hz\n",
-             r.source == pipeline::PlanSource::datasheet ? "the datasheet " + r.source_name : r.source_name,
-             to_string(r.source), r.source_note.empty() ? std::string() : ": " + r.source_note, rate_text(r.rate_hz));
+  const bool datasheet = r.source == pipeline::PlanSource::datasheet;
+  fmt::print(out, "plan for {} ({}) at {} Hz\n", datasheet ? "the datasheet " + r.source_name : r.source_name,
+             datasheet ? r.source_note
+                       : std::string(to_string(r.source)) + (r.source_note.empty() ? "" : ": " + r.source_note),
+             rate_text(r.rate_hz));
   fmt::print(out, "precision: the half-width of a term's {:.3g} % interval, relative to the term\n", 100.0 * r.ci);
   if (r.defaults)
     out << "neither --target nor --duration: the length for B:10%,N:1%,K:20%,T:30% and the precision at 72 h\n";

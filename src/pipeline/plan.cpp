@@ -273,7 +273,7 @@ void set_plan_datasheet(PlanRequest& r, std::string_view text, std::optional<dou
   Datasheet d = parse_datasheet(text);
   r.rate_hz = rate_or(rate_hz, 0.0);
   r.source_name = d.text;
-  r.source_note = "datasheet terms in " + d.unit.name + " and s";
+  r.source_note = "terms in " + d.unit.name + " and s";
   r.datasheet = std::move(d);
   r.source = PlanSource::datasheet;
 }
@@ -307,7 +307,7 @@ std::string duration_words(double s) {
   if (!std::isfinite(s)) return "-";
   if (s < 120.0) return fmt::format("{:.0f} s", s);
   if (s < 3600.0) return fmt::format("{:.0f} min", s / 60.0);
-  if (s < 86400.0) {
+  if (s < 100.0 * 3600.0) {  // "72 h", as a test bench's length is said
     const long minutes = std::lround(s / 60.0);
     const long h = minutes / 60, m = minutes % 60;
     return m == 0 ? fmt::format("{} h", h) : fmt::format("{} h {} min", h, m);

@@ -105,7 +105,10 @@ ReportFigure channel_figure(const pipeline::PlanResult& r, const pipeline::PlanC
                                std::string(to_string(row.at.term)) + " target"));
   mark_rows(p, ch);
   p.series.push_back(legend_only("target", kInkColor, Mark::line, Dash::dashed));
-  p.series.push_back(legend_only("planned length", kInkColor, Mark::points));
+  PlotSeries marks = legend_only(ch.at_duration.empty() ? "planned length" : "planned length; at the asked length",
+                                 kInkColor, Mark::points);
+  marks.point_size = 1.2;
+  p.series.push_back(std::move(marks));
   f.caption_html = "<b>" + html_escape(ch.name) +
                    "</b>: each term's precision from a static record of the length on the x axis (solid), the "
                    "targets (dashed, in the term's colour) and the length each needs (a mark where the curve meets "
@@ -124,7 +127,8 @@ std::vector<ReportFigure> plan_figures(const pipeline::PlanResult& r) {
 
 CommandReport plan_report(const pipeline::PlanResult& r, const std::string& command) {
   CommandReport rep;
-  rep.title = "Record plan: " + (r.source == pipeline::PlanSource::datasheet ? std::string("datasheet") : r.source_name);
+  rep.title =
+      "Record plan: " + (r.source == pipeline::PlanSource::datasheet ? std::string("datasheet") : r.source_name);
   rep.lead_html =
       "How long a static record must be for the precision asked of each noise term, and the precision a record of "
       "a given length gives, by <code>cubecal plan</code>: from the sensor model's own Allan curve, its EDF at the "

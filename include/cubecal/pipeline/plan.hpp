@@ -188,7 +188,8 @@ PlanResult run_plan(const PlanRequest& request);
 /// The terms of `r`'s rows and curves: the targets' terms, else N, B, K, T. Throws nothing beyond std::bad_alloc.
 std::vector<PlanTerm> planned_terms(const PlanResult& r);
 
-/// A record length as people say it: "50 s", "12 min", "3 h 20 min", "4.2 d", "1.3 years"; "-" for NaN.
+/// A record length as people say it: "50 s", "12 min", "3 h 20 min", "72 h" (hours below 100 h), "4.2 d",
+/// "1.3 years"; "-" for NaN. Throws nothing beyond std::bad_alloc.
 std::string duration_words(double seconds);
 
 /// A precision as a percentage: "10 %", "1.5 %", "0.25 %"; "-" for NaN. Throws nothing beyond std::bad_alloc.
