@@ -71,7 +71,7 @@ class Plan(unittest.TestCase):
         self.assertEqual(k.reason, "not in model")
         self.assertIsNone(k.duration_s)
         self.assertTrue(k.why)
-        self.assertIsNotNone(t.reason)
+        self.assertEqual(t.reason, "finer than model")
         self.assertIsNone(t.duration_s)
         self.assertEqual(p.rows[1].to_dict(),
                          cli_json("plan", "--datasheet", "N=0.15deg/rth,B=6deg/h", "--rate", "100", "--target",
