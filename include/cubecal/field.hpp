@@ -99,6 +99,7 @@ enum class Field {
   sync,
   target,
   taus,
+  target,
   temp_index,
   temp_order,
   time_col,
