@@ -89,7 +89,6 @@ std::string_view field_name(Field f) noexcept {
     case Field::step: return "step";
     case Field::stream: return "stream";
     case Field::sync: return "sync";
-    case Field::target: return "target";
     case Field::taus: return "taus";
     case Field::target: return "target";
     case Field::temp_index: return "temp_index";

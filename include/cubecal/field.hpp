@@ -97,7 +97,6 @@ enum class Field {
   step,
   stream,
   sync,
-  target,
   taus,
   target,
   temp_index,

@@ -18,6 +18,7 @@
 #include "cubecal/pipeline/simulate.hpp"
 #include "cubecal/report/plan_report.hpp"
 #include "cubecal/sim/presets.hpp"
+#include "field_flags.hpp"
 #include "output.hpp"
 #include "report_option.hpp"
 
@@ -65,10 +66,28 @@ void set_source(pipeline::PlanRequest& req, const PlanCliOptions& o) {
     pipeline::set_plan_datasheet(req, o.datasheet, o.rate_hz);
 }
 
+// The targets of --target. The library's messages on Field::target do not
+// name the flag (field_flags.cpp: Prefix::no, as record's own say it): here they do.
+std::vector<PlanTarget> targets_of(const std::string& spec) {
+  try {
+    std::vector<PlanTarget> targets = parse_plan_targets(spec);
+    pipeline::PlanRequest check;
+    check.targets = targets;
+    check.source = pipeline::PlanSource::preset;  // only the targets are checked here
+    check.triads.emplace_back();
+    check.rate_hz = 1.0;
+    check.validate();
+    return targets;
+  } catch (const UsageError& e) {
+    if (e.field() != Field::target || e.named() != UsageError::Named::in_front) throw;
+    throw UsageError("--target: " + flag_words(e.text()));
+  }
+}
+
 pipeline::PlanRequest request_of(const PlanCliOptions& o) {
   pipeline::PlanRequest req;
   // The options a user can get wrong without reading a file, first.
-  if (!o.target.empty()) req.targets = parse_plan_targets(o.target);
+  if (!o.target.empty()) req.targets = targets_of(o.target);
   if (!o.duration.empty()) {
     try {
       req.duration_s = pipeline::parse_duration(o.duration);

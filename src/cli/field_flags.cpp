@@ -87,7 +87,6 @@ FieldFlag field_flag(Field f) noexcept {
     case Field::step: return {"--step", Prefix::yes};
     case Field::stream: return {"--stream", Prefix::no};
     case Field::sync: return {};  // the recorder's sync interval is fixed by the CLI
-    case Field::target: return {"--target", Prefix::yes};
     case Field::taus: return {"--taus", Prefix::yes};
     case Field::target: return {"--target", Prefix::no};
     case Field::temp_index: return {"--temp-col", Prefix::yes};
