@@ -202,34 +202,50 @@ TEST(PlanRun, WhiteNoiseTargetAndDuration) {
 }
 
 TEST(PlanRun, UnreachableTargetsCarryTheirReasons) {
-  // No random walk in the datasheet: K is not in the model at any length; T
-  // at 1 % is finer than the tau grid lets its minimum be placed.
+  // No random walk in the datasheet: K is not in the model at any length,
+  // nor is B (a flicker floor alone never turns the curve up into a
+  // minimum); T at 1 % is finer than the tau grid lets the minimum be placed.
   PlanRequest r;
   set_plan_datasheet(r, "N=0.15deg/rth,B=6deg/h", 100.0);
-  r.targets = {{PlanTerm::K, 0.2}, {PlanTerm::T, 0.01}, {PlanTerm::B, 0.1}};
+  r.targets = {{PlanTerm::K, 0.2}, {PlanTerm::T, 0.01}, {PlanTerm::B, 0.1}, {PlanTerm::N, 0.01}};
   const PlanResult res = run_plan(r);
   const auto& rows = res.channels.at(0).targets;
-  ASSERT_EQ(rows.size(), 3u);
+  ASSERT_EQ(rows.size(), 4u);
   EXPECT_EQ(rows[0].at.reason, PlanReason::not_in_model);
-  EXPECT_TRUE(std::isnan(rows[0].duration_s));
-  EXPECT_FALSE(rows[0].at.why.empty());
   EXPECT_EQ(rows[1].at.reason, PlanReason::finer_than_model) << rows[1].at.why;
-  EXPECT_TRUE(std::isnan(rows[1].duration_s));
-  EXPECT_FALSE(rows[1].at.why.empty());
-  EXPECT_EQ(rows[2].at.reason, PlanReason::none) << rows[2].at.why;
-  EXPECT_EQ(rows[2].display.unit, "deg/h");
-  EXPECT_NEAR(rows[2].display.value, 6.0, 6.0 * 0.05);  // read off a flicker floor of 0.664 B
-  // In the JSON: duration_s null, the reason and why given.
+  EXPECT_EQ(rows[2].at.reason, PlanReason::not_in_model) << rows[2].at.why;
+  for (std::size_t k = 0; k < 3; ++k) {
+    EXPECT_TRUE(std::isnan(rows[k].duration_s)) << k;
+    EXPECT_FALSE(rows[k].at.why.empty()) << k;
+  }
+  EXPECT_EQ(rows[3].at.reason, PlanReason::none) << rows[3].at.why;
+  EXPECT_GT(rows[3].duration_s, 0.0);
+  // In the JSON: duration_s null, the reason and why given; the target as the precision.
   const nlohmann::json j = to_json(res);
   ASSERT_TRUE(j.is_array());
-  ASSERT_EQ(j.size(), 3u);
+  ASSERT_EQ(j.size(), 4u);
   EXPECT_TRUE(j[0].at("duration_s").is_null());
   EXPECT_EQ(j[0].at("reason"), "not in model");
-  EXPECT_TRUE(j[0].at("why").is_string());
-  EXPECT_EQ(j[0].at("precision"), 0.2);  // the target
-  EXPECT_TRUE(j[2].at("reason").is_null());
-  EXPECT_TRUE(j[2].at("why").is_null());
-  EXPECT_GT(j[2].at("duration_s").get<double>(), 0.0);
+  EXPECT_EQ(j[0].at("why"), rows[0].at.why);
+  EXPECT_EQ(j[0].at("precision"), 0.2);
+  EXPECT_EQ(j[1].at("reason"), "finer than model");
+  EXPECT_TRUE(j[3].at("reason").is_null());
+  EXPECT_TRUE(j[3].at("why").is_null());
+  EXPECT_EQ(j[3].at("duration_s").get<double>(), rows[3].duration_s);
+}
+
+TEST(PlanRun, ATargetPastTenYearsIsTooLongWithItsValue) {
+  // A random walk so small it turns the curve up only after years: B is in
+  // the model, read where analyze reads it (6 deg/h from the floor of 0.664 B),
+  // but 10 % needs more than ten years of record.
+  PlanRequest r;
+  set_plan_datasheet(r, "N=0.15deg/rth,B=6deg/h,K=0.02deg/h/rth", 100.0);
+  r.targets = {{PlanTerm::B, 0.1}};
+  const PlanRow row = run_plan(r).channels.at(0).targets.at(0);
+  EXPECT_EQ(row.at.reason, PlanReason::too_long) << row.at.why;
+  EXPECT_TRUE(std::isnan(row.duration_s));
+  EXPECT_EQ(row.display.unit, "deg/h");
+  EXPECT_NEAR(row.display.value, 6.0, 0.06);
 }
 
 TEST(PlanRun, PresetDefaultsAndJsonShape) {

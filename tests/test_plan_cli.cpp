@@ -45,8 +45,8 @@ TEST_F(PlanCli, DefaultsPlanBothAndSaySo) {
 
 TEST_F(PlanCli, JsonIsAListOfRowsWithReasons) {
   // A datasheet without K: K cannot be planned, said in the row.
-  const CliRun r = run_cubecal(
-      "plan --datasheet N=0.15deg/rth,B=6deg/h --rate 100 --target N:1%,K:20% --duration 24h --format json");
+  const CliRun r =
+      run_cubecal("plan --datasheet N=0.15deg/rth --rate 100 --target N:1%,K:20% --duration 24h --format json");
   ASSERT_EQ(r.code, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
   ASSERT_TRUE(j.is_array());
@@ -69,7 +69,7 @@ TEST_F(PlanCli, JsonIsAListOfRowsWithReasons) {
   EXPECT_EQ(j[2].at("kind"), "duration");
   EXPECT_EQ(j[2].at("duration_s"), 86400.0);
   // The table says the same in words.
-  const CliRun t = run_cubecal("plan --datasheet N=0.15deg/rth,B=6deg/h --rate 100 --target N:1%,K:20% --duration 24h");
+  const CliRun t = run_cubecal("plan --datasheet N=0.15deg/rth --rate 100 --target N:1%,K:20% --duration 24h");
   ASSERT_EQ(t.code, 0) << t.err;
   EXPECT_NE(t.out.find(j[1].at("why").get<std::string>()), std::string::npos) << t.out;
   EXPECT_NE(t.out.find("precision from a record of 24 h"), std::string::npos) << t.out;
