@@ -105,8 +105,7 @@ ReportFigure channel_figure(const pipeline::PlanResult& r, const pipeline::PlanC
                                std::string(to_string(row.at.term)) + " target"));
   mark_rows(p, ch);
   p.series.push_back(legend_only("target", kInkColor, Mark::line, Dash::dashed));
-  PlotSeries marks = legend_only(ch.at_duration.empty() ? "planned length" : "planned length; at the asked length",
-                                 kInkColor, Mark::points);
+  PlotSeries marks = legend_only("planned length", kInkColor, Mark::points);
   marks.point_size = 1.2;
   p.series.push_back(std::move(marks));
   f.caption_html = "<b>" + html_escape(ch.name) +
