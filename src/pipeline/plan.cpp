@@ -14,6 +14,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "../detail/for_channels.hpp"
 #include "cubecal/error.hpp"
 #include "cubecal/pipeline/analysis_json.hpp"
 #include "cubecal/pipeline/model_fit_json.hpp"
@@ -296,8 +297,12 @@ PlanResult run_plan(const PlanRequest& request) {
   PlanOptions options;
   options.ci = request.ci;
   options.grid = request.grid;
-  for (const ChannelModel& c : channel_models(request))
-    res.channels.push_back(plan_channel(c, request, res.targets, res.duration_s, options));
+  // The channels on the threads: each plan is a few hundred evaluations of its model's curve.
+  const std::vector<ChannelModel> models = channel_models(request);
+  res.channels.resize(models.size());
+  cubecal::detail::for_channels(models.size(), cubecal::detail::Team{}, [&](std::size_t c) {
+    res.channels[c] = plan_channel(models[c], request, res.targets, res.duration_s, options);
+  });
   return res;
 }
 
