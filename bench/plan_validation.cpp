@@ -38,6 +38,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <exception>
+#include <limits>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -65,7 +66,9 @@ namespace {
 
 using namespace cubecal;
 
-constexpr double kWithin = 0.15;  // the bound on spread / plan - 1 and stated / plan - 1
+constexpr double kWithin = 0.15;
+constexpr double kNaN =
+    std::numeric_limits<double>::quiet_NaN();  // the bound on spread / plan - 1 and stated / plan - 1
 
 struct Options {
   std::size_t records = 120;
@@ -115,8 +118,10 @@ pipeline::DevRequest oadev_request(double ci) {
   return d;
 }
 
-// T's stated uncertainty: the half-width of the flat bottom over tau_min (docs/formulas/planning.md).
-double t_stated(const SlopeReadOffs& ro) { return 0.5 * (ro.tau_min_hi - ro.tau_min_lo) / ro.tau_min; }
+// T's stated uncertainty: the flat bottom tau_min_lo..tau_min_hi analyze
+// states, as a relative half-width in log tau, 0.5 ln(hi / lo): the plan's T
+// precision is the sd of ln(tau_min) (docs/formulas/planning.md §3).
+double t_stated(const SlopeReadOffs& ro) { return 0.5 * std::log(ro.tau_min_hi / ro.tau_min_lo); }
 
 RecordTerms terms_of(const ReportedTerms& rep, const SlopeReadOffs& ro) {
   RecordTerms t;
@@ -205,30 +210,55 @@ namespace {
 struct Spread {
   std::size_t n = 0;
   double mean = 0.0;
-  double rel = 0.0;      // sd / mean
-  double rel_se = 0.0;   // its standard error
-  double mean_se = 0.0;  // of the mean, relative to it
+  double rel = kNaN;      // sd / mean (T: sd of ln tau_min)
+  double rel_se = kNaN;   // its standard error
+  double mean_se = kNaN;  // standard error of the mean (absolute)
 };
+
+struct Moments {
+  double mean = 0.0, sd = 0.0, sd_se = 0.0;
+};
+
+Moments moments_of(const std::vector<double>& v) {
+  Moments m;
+  const double n = static_cast<double>(v.size());
+  for (double x : v) m.mean += x / n;
+  double m2 = 0.0, m4 = 0.0;
+  for (double x : v) {
+    const double d = x - m.mean;
+    m2 += d * d / n;
+    m4 += d * d * d * d / n;
+  }
+  const double var = m2 * n / (n - 1.0);
+  m.sd = std::sqrt(var);
+  const double var_of_var = std::max(0.0, (m4 - (n - 3.0) / (n - 1.0) * var * var) / n);
+  m.sd_se = m.sd > 0.0 ? std::sqrt(var_of_var) / (2.0 * m.sd) : 0.0;
+  return m;
+}
 
 Spread spread_of(const std::vector<double>& v) {
   Spread s;
   s.n = v.size();
   if (s.n < 3) return s;
-  const double n = static_cast<double>(s.n);
-  for (double x : v) s.mean += x / n;
-  double m2 = 0.0, m4 = 0.0;
-  for (double x : v) {
-    const double d = x - s.mean;
-    m2 += d * d / n;
-    m4 += d * d * d * d / n;
-  }
-  const double var = m2 * n / (n - 1.0);
-  const double sd = std::sqrt(var);
-  const double var_of_var = std::max(0.0, (m4 - (n - 3.0) / (n - 1.0) * var * var) / n);
-  const double se_sd = sd > 0.0 ? std::sqrt(var_of_var) / (2.0 * sd) : 0.0;
-  s.mean_se = sd / std::sqrt(n) / s.mean;
-  s.rel = sd / s.mean;
-  s.rel_se = s.rel * std::hypot(se_sd / sd, s.mean_se);
+  const Moments m = moments_of(v);
+  s.mean = m.mean;
+  s.mean_se = m.sd / std::sqrt(static_cast<double>(s.n));
+  s.rel = m.sd / m.mean;
+  s.rel_se = m.sd > 0.0 ? s.rel * std::hypot(m.sd_se / m.sd, s.mean_se / m.mean) : 0.0;
+  return s;
+}
+
+// T: the sd of ln(tau_min) (the plan's T precision) and its standard error; mean: of tau_min.
+Spread log_spread_of(const std::vector<double>& v) {
+  Spread s;
+  s.n = v.size();
+  if (s.n < 3) return s;
+  std::vector<double> logs;
+  for (double x : v) logs.push_back(std::log(x));
+  const Moments m = moments_of(logs);
+  s.mean = moments_of(v).mean;
+  s.rel = m.sd;
+  s.rel_se = m.sd_se;
   return s;
 }
 
@@ -300,11 +330,11 @@ void print_row(const Case& c, const std::string& why, double length_s, const Ter
     values.push_back(r.value[i]);
     stated.push_back(r.stated[i]);
   }
-  const Spread v = spread_of(values);
+  const Spread v = plan.term == PlanTerm::T ? log_spread_of(values) : spread_of(values);
   const Spread st = spread_of(stated);
   const double unresolved = 1.0 - static_cast<double>(values.size()) / static_cast<double>(recs.size());
   const double p = plan.precision;
-  const double st_se = st.mean_se * st.mean;  // absolute standard error of the mean stated uncertainty
+  const double st_se = st.mean_se;  // standard error of the mean stated uncertainty
   std::printf("| %s | %s | %s | %zu | %s | %s | %s | %s | %s ± %s | %s | %s ± %s | %s | %s |\n", c.name.c_str(),
               why.c_str(), length_text(length_s).c_str(), recs.size(), std::string(to_string(plan.term)).c_str(),
               num(plan.value).c_str(), num(v.mean).c_str(), pct(p).c_str(), pct(v.rel).c_str(), pct(v.rel_se).c_str(),
