@@ -33,6 +33,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -40,6 +41,7 @@
 #include <exception>
 #include <limits>
 #include <optional>
+#include <random>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -66,9 +68,8 @@ namespace {
 
 using namespace cubecal;
 
-constexpr double kWithin = 0.15;
-constexpr double kNaN =
-    std::numeric_limits<double>::quiet_NaN();  // the bound on spread / plan - 1 and stated / plan - 1
+constexpr double kWithin = 0.15;  // the bound on spread / plan - 1 and stated / plan - 1
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 struct Options {
   std::size_t records = 120;
@@ -95,8 +96,9 @@ struct Case {
 // One record's reported terms, as analyze states them.
 struct RecordTerms {
   double value[4] = {0, 0, 0, 0};   // N, B, K, T
-  double stated[4] = {0, 0, 0, 0};  // relative: sigma / value (T: half-width / tau_min)
+  double stated[4] = {0, 0, 0, 0};  // relative 1 sigma at the ci: sigma / value (T: T_rel_sigma, in ln tau)
   bool resolved[4] = {false, false, false, false};
+  double t_cell[2] = {0, 0};  // ln tau of T's cell on the record's grid (half-way to the neighbouring taus)
 };
 
 constexpr PlanTerm kTerms[4] = {PlanTerm::N, PlanTerm::B, PlanTerm::K, PlanTerm::T};
@@ -118,12 +120,20 @@ pipeline::DevRequest oadev_request(double ci) {
   return d;
 }
 
-// T's stated uncertainty: the flat bottom tau_min_lo..tau_min_hi analyze
-// states, as a relative half-width in log tau, 0.5 ln(hi / lo): the plan's T
-// precision is the sd of ln(tau_min) (docs/formulas/planning.md §3).
-double t_stated(const SlopeReadOffs& ro) { return 0.5 * std::log(ro.tau_min_hi / ro.tau_min_lo); }
+// The cell of the point at tau T on the curve: half-way in ln tau to its neighbours (docs/formulas/planning.md §3).
+void t_cell(const AllanCurve& c, double T, double cell[2]) {
+  const auto it = std::find(c.tau.begin(), c.tau.end(), T);
+  if (it == c.tau.end()) return;
+  const auto i = static_cast<std::size_t>(it - c.tau.begin());
+  const double l = std::log(T);
+  cell[0] = i > 0 ? 0.5 * (l + std::log(c.tau[i - 1])) : l;
+  cell[1] = i + 1 < c.size() ? 0.5 * (l + std::log(c.tau[i + 1])) : l;
+}
 
-RecordTerms terms_of(const ReportedTerms& rep, const SlopeReadOffs& ro) {
+// The terms of a record as analyze reports them (reported_terms.hpp): N, B,
+// K with their sigmas when not an upper bound; T and T_rel_sigma when the
+// curve has a minimum inside.
+RecordTerms terms_of(const ReportedTerms& rep, const AllanCurve& curve) {
   RecordTerms t;
   const auto put = [&](int i, const ReportedTerm& r) {
     t.resolved[i] = !r.bound() && r.estimate.valid && r.value() > 0.0;
@@ -133,9 +143,10 @@ RecordTerms terms_of(const ReportedTerms& rep, const SlopeReadOffs& ro) {
   put(0, rep.N);
   put(1, rep.B);
   put(2, rep.K);
-  t.resolved[3] = !rep.no_minimum && ro.tau_min > 0.0;
-  t.value[3] = ro.tau_min;
-  t.stated[3] = ro.tau_min > 0.0 ? t_stated(ro) : 0.0;
+  t.resolved[3] = !rep.no_minimum && rep.T > 0.0;
+  t.value[3] = rep.T;
+  t.stated[3] = rep.T_rel_sigma;
+  if (t.resolved[3]) t_cell(curve, rep.T, t.t_cell);
   return t;
 }
 
@@ -143,7 +154,7 @@ RecordTerms terms_of_curve(const std::vector<StabilityPoint>& points) {
   const AllanCurve curve = to_allan_curve(points);
   const SlopeReadOffs ro = read_off_noise_terms(curve);
   const NoiseFit fit = fit_noise_terms(curve);
-  return terms_of(reported_terms(ro, fit, curve), ro);
+  return terms_of(reported_terms(ro, fit, curve), curve);
 }
 
 io::Series series_of(std::vector<std::vector<double>> channels, double rate_hz) {
@@ -194,7 +205,8 @@ void check_against_analyze(const io::Series& s, double ci, const std::vector<Rec
   const pipeline::AnalysisResult r = pipeline::run_analyze(s, req);
   for (std::size_t c = 0; c < r.channels.size(); ++c) {
     const pipeline::NoiseAnalysis& n = r.channels[c].noise;
-    const RecordTerms t = terms_of(reported_terms(n.readoffs, n.fit, to_allan_curve(n.adev)), n.readoffs);
+    const AllanCurve curve = to_allan_curve(n.adev);
+    const RecordTerms t = terms_of(reported_terms(n.readoffs, n.fit, curve), curve);
     if (!same(t, mine[c])) throw std::runtime_error("the harness's terms differ from run_analyze's");
   }
 }
@@ -203,63 +215,106 @@ void check_against_analyze(const io::Series& s, double ci, const std::vector<Rec
 
 namespace {
 
-// Mean and standard deviation, with the Monte Carlo standard error of the
-// relative spread sd / mean: Var(s^2) ~ (m4 - (n - 3) / (n - 1) s^4) / n (any
-// distribution; the estimates of B and T are skewed), SE(s) = SE(s^2) / (2 s),
-// and the mean's own error added in quadrature (delta method, first order).
-struct Spread {
-  std::size_t n = 0;
-  double mean = 0.0;
-  double rel = kNaN;      // sd / mean (T: sd of ln tau_min)
-  double rel_se = kNaN;   // its standard error
-  double mean_se = kNaN;  // standard error of the mean (absolute)
+// A Monte Carlo statistic and its standard error.
+struct Estimate {
+  double v = kNaN;
+  double se = kNaN;
 };
 
+// The sd of `v` and its standard error from the sample's own fourth moment
+// (any distribution: the estimates of B and T are skewed):
+// Var(s^2) ~ (m4 - (n - 3) / (n - 1) s^4) / n, SE(s) = SE(s^2) / (2 s).
 struct Moments {
-  double mean = 0.0, sd = 0.0, sd_se = 0.0;
+  double n = 0.0, mean = 0.0, sd = 0.0, sd_se = 0.0;
 };
-
 Moments moments_of(const std::vector<double>& v) {
   Moments m;
-  const double n = static_cast<double>(v.size());
-  for (double x : v) m.mean += x / n;
+  m.n = static_cast<double>(v.size());
+  for (double x : v) m.mean += x / m.n;
   double m2 = 0.0, m4 = 0.0;
   for (double x : v) {
     const double d = x - m.mean;
-    m2 += d * d / n;
-    m4 += d * d * d * d / n;
+    m2 += d * d / m.n;
+    m4 += d * d * d * d / m.n;
   }
-  const double var = m2 * n / (n - 1.0);
+  const double var = m2 * m.n / (m.n - 1.0);
   m.sd = std::sqrt(var);
-  const double var_of_var = std::max(0.0, (m4 - (n - 3.0) / (n - 1.0) * var * var) / n);
-  m.sd_se = m.sd > 0.0 ? std::sqrt(var_of_var) / (2.0 * m.sd) : 0.0;
+  m.sd_se =
+      m.sd > 0.0 ? std::sqrt(std::max(0.0, (m4 - (m.n - 3.0) / (m.n - 1.0) * var * var) / m.n)) / (2.0 * m.sd) : 0.0;
   return m;
 }
 
-Spread spread_of(const std::vector<double>& v) {
-  Spread s;
-  s.n = v.size();
-  if (s.n < 3) return s;
+// sd / mean, the mean's error added in quadrature (delta method); `log`: the sd of ln v.
+Estimate sd_spread(const std::vector<double>& v, bool log) {
+  if (v.size() < 3) return {};
+  if (log) {
+    std::vector<double> l;
+    for (double x : v) l.push_back(std::log(x));
+    const Moments m = moments_of(l);
+    return {m.sd, m.sd_se};
+  }
   const Moments m = moments_of(v);
-  s.mean = m.mean;
-  s.mean_se = m.sd / std::sqrt(static_cast<double>(s.n));
-  s.rel = m.sd / m.mean;
-  s.rel_se = m.sd > 0.0 ? s.rel * std::hypot(m.sd_se / m.sd, s.mean_se / m.mean) : 0.0;
-  return s;
+  const double r = m.sd / m.mean;
+  return {r, m.sd > 0.0 ? r * std::hypot(m.sd_se / m.sd, 1.0 / std::sqrt(m.n)) : 0.0};
 }
 
-// T: the sd of ln(tau_min) (the plan's T precision) and its standard error; mean: of tau_min.
-Spread log_spread_of(const std::vector<double>& v) {
-  Spread s;
-  s.n = v.size();
-  if (s.n < 3) return s;
-  std::vector<double> logs;
-  for (double x : v) logs.push_back(std::log(x));
-  const Moments m = moments_of(logs);
-  s.mean = moments_of(v).mean;
-  s.rel = m.sd;
-  s.rel_se = m.sd_se;
-  return s;
+// The mean and its standard error sd / sqrt(n).
+Estimate mean_of(const std::vector<double>& v) {
+  if (v.size() < 3) return {};
+  const Moments m = moments_of(v);
+  return {m.mean, m.sd / std::sqrt(m.n)};
+}
+
+// Linear-interpolated quantile of sorted values (as MinimumSpread::b_half_width reads its draws).
+double quantile(const std::vector<double>& sorted, double p) {
+  const double x = p * static_cast<double>(sorted.size() - 1);
+  const auto i = static_cast<std::size_t>(x);
+  const double f = x - static_cast<double>(i);
+  return i + 1 < sorted.size() ? sorted[i] * (1 - f) + sorted[i + 1] * f : sorted.back();
+}
+
+// B as the plan states it: half the central 68.3 % interval over the median.
+double b_half_width(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return 0.5 * (quantile(v, 0.8415) - quantile(v, 0.1585)) / quantile(v, 0.5);
+}
+
+// T as the plan states it: half the central 68.3 % interval of ln T, the law
+// of each record's T uniform over its tau's cell (docs/formulas/planning.md §3).
+double t_half_width(std::vector<std::array<double, 2>> cells) {
+  std::sort(cells.begin(), cells.end());
+  std::vector<std::array<double, 3>> law;  // lo, hi, probability
+  const double w = 1.0 / static_cast<double>(cells.size());
+  for (const auto& c : cells) {
+    if (!law.empty() && law.back()[0] == c[0])
+      law.back()[2] += w;
+    else
+      law.push_back({c[0], c[1], w});
+  }
+  const auto q = [&](double p) {
+    double cum = 0.0;
+    for (const auto& c : law) {
+      if (cum + c[2] >= p) return c[0] + (p - cum) / c[2] * (c[1] - c[0]);
+      cum += c[2];
+    }
+    return law.back()[1];
+  };
+  return 0.5 * (q(0.8415) - q(0.1585));
+}
+
+// A statistic of the records and its bootstrap standard error (400 resamples, fixed seed).
+template <class T, class F>
+Estimate bootstrapped(const std::vector<T>& v, F statistic) {
+  if (v.size() < 3) return {};
+  std::mt19937_64 engine(952);
+  std::uniform_int_distribution<std::size_t> pick(0, v.size() - 1);
+  std::vector<double> reps;
+  std::vector<T> r(v.size());
+  for (int b = 0; b < 400; ++b) {
+    for (auto& x : r) x = v[pick(engine)];
+    reps.push_back(statistic(r));
+  }
+  return {statistic(v), moments_of(reps).sd};
 }
 
 // The records of one run (one model, one length), in record order.
@@ -320,9 +375,37 @@ std::string ratio_cell(double r, double se) {
   return b;
 }
 
+// z of a two-sided normal interval of probability ci (bisection on erf).
+double z_of(double ci) {
+  double lo = 0.0, hi = 10.0;
+  for (int i = 0; i < 100; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (std::erf(mid / std::sqrt(2.0)) < ci ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+// The spread over the records as the plan states the term's precision
+// (docs/formulas/planning.md §0, §3), at 1 sigma: N, K sd / mean; B half
+// the central 68.3 % interval over the median; T half the central 68.3 %
+// interval of ln T, each T uniform over its tau's cell.
+Estimate plan_spread(PlanTerm term, const std::vector<RecordTerms>& recs) {
+  const int i = slot_of(term);
+  std::vector<double> v;
+  std::vector<std::array<double, 2>> cells;
+  for (const auto& r : recs) {
+    if (!r.resolved[i]) continue;
+    v.push_back(r.value[i]);
+    cells.push_back({r.t_cell[0], r.t_cell[1]});
+  }
+  if (term == PlanTerm::B) return bootstrapped(v, b_half_width);
+  if (term == PlanTerm::T) return bootstrapped(cells, t_half_width);
+  return sd_spread(v, false);
+}
+
 // One row of the table: the plan of one term at one length against the records.
 void print_row(const Case& c, const std::string& why, double length_s, const TermPrecision& plan,
-               const std::vector<RecordTerms>& recs) {
+               const std::vector<RecordTerms>& recs, double z) {
   const int i = slot_of(plan.term);
   std::vector<double> values, stated;
   for (const auto& r : recs) {
@@ -330,24 +413,26 @@ void print_row(const Case& c, const std::string& why, double length_s, const Ter
     values.push_back(r.value[i]);
     stated.push_back(r.stated[i]);
   }
-  const Spread v = plan.term == PlanTerm::T ? log_spread_of(values) : spread_of(values);
-  const Spread st = spread_of(stated);
+  Estimate spread = plan_spread(plan.term, recs);
+  spread = {z * spread.v, z * spread.se};
+  const Estimate sd = sd_spread(values, plan.term == PlanTerm::T);
+  const Estimate st = mean_of(stated);
   const double unresolved = 1.0 - static_cast<double>(values.size()) / static_cast<double>(recs.size());
   const double p = plan.precision;
-  const double st_se = st.mean_se;  // standard error of the mean stated uncertainty
-  std::printf("| %s | %s | %s | %zu | %s | %s | %s | %s | %s ± %s | %s | %s ± %s | %s | %s |\n", c.name.c_str(),
+  std::printf("| %s | %s | %s | %zu | %s | %s | %s | %s | %s ± %s | %s | %s | %s ± %s | %s | %s |\n", c.name.c_str(),
               why.c_str(), length_text(length_s).c_str(), recs.size(), std::string(to_string(plan.term)).c_str(),
-              num(plan.value).c_str(), num(v.mean).c_str(), pct(p).c_str(), pct(v.rel).c_str(), pct(v.rel_se).c_str(),
-              ratio_cell(v.rel / p, v.rel_se / p).c_str(), pct(st.mean).c_str(), pct(st_se).c_str(),
-              ratio_cell(st.mean / p, st_se / p).c_str(), pct(unresolved, 0).c_str());
+              num(plan.value).c_str(), num(mean_of(values).v).c_str(), pct(p).c_str(), pct(spread.v).c_str(),
+              pct(spread.se).c_str(), ratio_cell(spread.v / p, spread.se / p).c_str(), pct(z * sd.v).c_str(),
+              pct(st.v).c_str(), pct(st.se).c_str(), ratio_cell(st.v / p, st.se / p).c_str(),
+              pct(unresolved, 0).c_str());
   std::fflush(stdout);
 }
 
 void print_header() {
   std::printf(
       "| model | planned for | length | K | term | plan value | MC mean | plan precision | MC spread | spread / plan "
-      "| stated | stated / plan | unresolved |\n");
-  std::printf("|---|---|---|---:|---|---:|---:|---:|---:|---|---:|---|---:|\n");
+      "| MC sd | stated | stated / plan | unresolved |\n");
+  std::printf("|---|---|---|---:|---|---:|---:|---:|---:|---|---:|---:|---|---:|\n");
 }
 
 }  // namespace
@@ -367,7 +452,7 @@ std::string target_text(const PlanTarget& t) {
 // A row for a plan that is not simulated: why not.
 void print_unrun(const Case& c, const std::string& why, const std::string& length, PlanTerm term,
                  const std::string& reason) {
-  std::printf("| %s | %s | %s | 0 | %s | — | — | — | — | %s | — | — | — |\n", c.name.c_str(), why.c_str(),
+  std::printf("| %s | %s | %s | 0 | %s | — | — | — | — | %s | — | — | — | — |\n", c.name.c_str(), why.c_str(),
               length.c_str(), std::string(to_string(term)).c_str(), reason.c_str());
   std::fflush(stdout);
 }
@@ -392,7 +477,7 @@ void run_targets(const Case& c, const PlanModel& model, const PlanOptions& po, c
     const double length = static_cast<double>(n) / c.rate_hz;
     const PlanTerm term[1] = {tp.target.term};
     const TermPrecision plan = plan_precision(model, length, term, po).front();
-    print_row(c, why, length, plan, run_records(c, n, records_of(c, o), o));
+    print_row(c, why, length, plan, run_records(c, n, records_of(c, o), o), z_of(o.ci));
   }
 }
 
@@ -408,7 +493,7 @@ void run_fixed(const Case& c, const PlanModel& model, const PlanOptions& po, con
         print_unrun(c, "at " + length_text(length), length_text(length), p.term, "not planned: " + p.why);
         continue;
       }
-      print_row(c, "at " + length_text(length), length, p, recs);
+      print_row(c, "at " + length_text(length), length, p, recs, z_of(o.ci));
     }
   }
 }
@@ -493,6 +578,23 @@ std::vector<Case> cases(const Options& o) {
   cs.push_back(preset_case("sport-gyro", 1, "N:1%,B:10%,K:20%,T:30%"));
   cs.push_back(preset_case("sport-mag", 0, "N:1%,B:10%,K:20%,T:30%"));
   cs.push_back(flicker_case("N:1%,B:10%,K:20%,T:30%"));
+  {  // TEMP experiment
+    Case e = preset_case("sport-gyro", 0, "N:1%");
+    e.name = "XP noq";
+    e.triad.lsb = 0.0;
+    e.targets.clear();
+    cs.push_back(e);
+    Case w = e;
+    w.name = "XP white";
+    w.axis.bias = BiasProcess::none;
+    w.targets = targets("N:1%");
+    cs.push_back(w);
+    Case r = preset_case("sport-gyro", 0, "N:1%");
+    r.name = "XP round";
+    r.triad.quantizer = Quantizer::round;
+    r.targets.clear();
+    cs.push_back(r);
+  }
   bool adis = o.only.empty() || std::string("ADIS16405").find(o.only) != std::string::npos;
   if (adis) {
     const pipeline::AnalysisResult r = adis_analysis(o);
