@@ -23,7 +23,7 @@
 //   cubecal_plan_validation [--records K] [--seed S] [--only NAME] [--threads T]
 //                           [--adis FILE] [--ci C]
 //
-// K (default 120) is the number of records of a run; runs of long records
+// K (default 200) is the number of records of a run; runs of long records
 // take fewer (a case's cap, stated in the table's K column). The three axes
 // of a simulated triad carry the same axis model on streams of their own, so
 // one simulation gives three independent records. Record r of a run is axis
@@ -72,7 +72,7 @@ constexpr double kWithin = 0.15;  // the issue's bound on spread / plan - 1 and 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 struct Options {
-  std::size_t records = 120;
+  std::size_t records = 200;
   std::uint64_t seed = 1;
   std::string only;
   int threads = 2;
@@ -513,7 +513,9 @@ void run_case(const Case& c, const Options& o) {
 
 namespace {
 
-std::vector<PlanTarget> targets(const char* spec) { return parse_plan_targets(spec); }
+std::vector<PlanTarget> targets(const char* spec) {
+  return *spec ? parse_plan_targets(spec) : std::vector<PlanTarget>{};
+}
 
 // The paper's sensors at their 10 Hz (sim/presets.hpp): axis `a` of the preset.
 Case preset_case(const std::string& name, std::size_t a, const char* spec) {
@@ -551,6 +553,7 @@ Case adis_case(const pipeline::AnalysisResult& r, std::size_t a, bool twin, cons
   c.axis = c.triad.axes.at(a);
   c.axis.fixed_bias = 0.0;
   c.name = std::string("ADIS16405 ") + r.channels.at(a).name + (twin ? " twin" : " random walk");
+  c.fixed_s = {r.duration_s};  // the record's own length (1,000,000 samples)
   if (twin && r.channels[a].model.composite) c.name += " (" + r.channels[a].model.composite->model + ")";
   c.targets = targets(spec);
   return c;
@@ -578,23 +581,14 @@ std::vector<Case> cases(const Options& o) {
   cs.push_back(preset_case("sport-gyro", 1, "N:1%,B:10%,K:20%,T:30%"));
   cs.push_back(preset_case("sport-mag", 0, "N:1%,B:10%,K:20%,T:30%"));
   cs.push_back(flicker_case("N:1%,B:10%,K:20%,T:30%"));
-  {  // TEMP experiment
-    Case e = preset_case("sport-gyro", 0, "N:1%");
-    e.name = "XP noq";
-    e.triad.lsb = 0.0;
-    e.targets.clear();
-    cs.push_back(e);
-    Case w = e;
-    w.name = "XP white";
-    w.axis.bias = BiasProcess::none;
-    w.targets = targets("N:1%");
-    cs.push_back(w);
-    Case r = preset_case("sport-gyro", 0, "N:1%");
-    r.name = "XP round";
-    r.triad.quantizer = Quantizer::round;
-    r.targets.clear();
-    cs.push_back(r);
-  }
+  // The same gyro axis with a rounding quantizer: the plan takes any
+  // quantizer as white noise of 1 / (12 lsb^2); truncation toward zero (the
+  // preset's, the paper's eq. 3) has a dead zone of +-1 LSB that the
+  // random-walk bias crosses (docs/planning.md).
+  Case rounded = preset_case("sport-gyro", 0, "");
+  rounded.name += ", rounding quantizer";
+  rounded.triad.quantizer = Quantizer::round;
+  cs.push_back(rounded);
   bool adis = o.only.empty() || std::string("ADIS16405").find(o.only) != std::string::npos;
   if (adis) {
     const pipeline::AnalysisResult r = adis_analysis(o);

@@ -21,8 +21,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -49,6 +52,7 @@ struct Terms {
   double value[4] = {};
   double stated[4] = {};
   bool resolved[4] = {};
+  std::array<double, 2> t_cell{};  // ln tau of T's cell: half-way to the neighbouring taus
 };
 
 // analyze's Allan curve (pipeline/detail/analysis_parts.cpp, oadev_request) and the terms it reports.
@@ -73,8 +77,15 @@ std::vector<Terms> analyse(const io::Series& s) {
       t.stated[i] = t.resolved[i] ? r[i]->estimate.sigma / r[i]->value() : 0.0;
     }
     t.resolved[3] = !rep.no_minimum;
-    t.value[3] = ro.tau_min;
-    t.stated[3] = 0.5 * std::log(ro.tau_min_hi / ro.tau_min_lo);
+    t.value[3] = rep.T;
+    t.stated[3] = rep.T_rel_sigma;
+    const auto at = std::find(curve.tau.begin(), curve.tau.end(), rep.T);
+    if (t.resolved[3] && at != curve.tau.end()) {
+      const auto i = static_cast<std::size_t>(at - curve.tau.begin());
+      const double l = std::log(rep.T);
+      t.t_cell = {i > 0 ? 0.5 * (l + std::log(curve.tau[i - 1])) : l,
+                  i + 1 < curve.size() ? 0.5 * (l + std::log(curve.tau[i + 1])) : l};
+    }
     out.push_back(t);
   }
   return out;
@@ -124,27 +135,79 @@ Moments moments(const std::vector<double>& v) {
   return m;
 }
 
-// Term i over the records: the spread (sd / mean; T: sd of ln tau_min) and its
-// standard error, the mean stated uncertainty and its standard error, the
-// share of records that resolve it.
+double quantile(const std::vector<double>& sorted, double p) {
+  const double x = p * static_cast<double>(sorted.size() - 1);
+  const auto i = static_cast<std::size_t>(x);
+  const double f = x - static_cast<double>(i);
+  return i + 1 < sorted.size() ? sorted[i] * (1 - f) + sorted[i + 1] * f : sorted.back();
+}
+
+// B's precision as the plan states it: half the central 68.3 % interval over the median.
+double b_half_width(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return 0.5 * (quantile(v, 0.8415) - quantile(v, 0.1585)) / quantile(v, 0.5);
+}
+
+// T's: half the central 68.3 % interval of ln T, each record's T uniform over its tau's cell.
+double t_half_width(std::vector<std::array<double, 2>> cells) {
+  std::sort(cells.begin(), cells.end());
+  std::vector<std::array<double, 3>> law;  // lo, hi, probability
+  for (const auto& c : cells) {
+    if (law.empty() || law.back()[0] != c[0]) law.push_back({c[0], c[1], 0.0});
+    law.back()[2] += 1.0 / static_cast<double>(cells.size());
+  }
+  const auto q = [&](double p) {
+    double cum = 0.0;
+    for (const auto& c : law) {
+      if (cum + c[2] >= p) return c[0] + (p - cum) / c[2] * (c[1] - c[0]);
+      cum += c[2];
+    }
+    return law.back()[1];
+  };
+  return 0.5 * (q(0.8415) - q(0.1585));
+}
+
+// The standard error of a statistic of the records: 400 bootstrap resamples (fixed seed).
+template <class T, class F>
+double bootstrap_se(const std::vector<T>& v, F statistic) {
+  std::mt19937_64 engine(952);
+  std::uniform_int_distribution<std::size_t> pick(0, v.size() - 1);
+  std::vector<double> reps;
+  std::vector<T> r(v.size());
+  for (int b = 0; b < 400; ++b) {
+    for (auto& x : r) x = v[pick(engine)];
+    reps.push_back(statistic(r));
+  }
+  return moments(reps).sd;
+}
+
+// Term i over the records, each statistic the plan's (docs/formulas/planning.md
+// §0, §3): the spread (N, K: sd / mean; B, T: the central intervals above)
+// with its standard error, the mean stated uncertainty and its standard
+// error, the share of records that resolve the term.
 struct Observed {
   double spread = 0.0, spread_se = 0.0, stated = 0.0, stated_se = 0.0, resolved = 0.0;
 };
 
 Observed observe(const std::vector<Terms>& recs, int i) {
   std::vector<double> v, st;
+  std::vector<std::array<double, 2>> cells;
   for (const Terms& t : recs) {
     if (!t.resolved[i]) continue;
-    v.push_back(kTerms[i] == PlanTerm::T ? std::log(t.value[i]) : t.value[i]);
+    v.push_back(t.value[i]);
     st.push_back(t.stated[i]);
+    cells.push_back(t.t_cell);
   }
   Observed o;
   o.resolved = static_cast<double>(v.size()) / static_cast<double>(recs.size());
-  const Moments m = moments(v);
-  if (kTerms[i] == PlanTerm::T) {
-    o.spread = m.sd;
-    o.spread_se = m.sd_se;
+  if (kTerms[i] == PlanTerm::B) {
+    o.spread = b_half_width(v);
+    o.spread_se = bootstrap_se(v, b_half_width);
+  } else if (kTerms[i] == PlanTerm::T) {
+    o.spread = t_half_width(cells);
+    o.spread_se = bootstrap_se(cells, t_half_width);
   } else {
+    const Moments m = moments(v);
     o.spread = m.sd / m.mean;
     o.spread_se = o.spread * std::hypot(m.sd_se / m.sd, 1.0 / std::sqrt(m.n));
   }
@@ -166,6 +229,8 @@ void check_plan(const AxisModel& axis, double rate_hz, std::size_t n, std::size_
     ASSERT_EQ(plan[i].reason, PlanReason::none) << term << ": " << plan[i].why;
     const double p = plan[i].precision;
     const Observed o = observe(recs, i);
+    std::printf("%s: plan %.4f, spread %.4f +- %.4f (ratio %.3f), stated %.4f +- %.4f (ratio %.3f), resolved %.3f\n",
+                term.c_str(), p, o.spread, o.spread_se, o.spread / p, o.stated, o.stated_se, o.stated / p, o.resolved);
     SCOPED_TRACE(term + ": plan " + std::to_string(p) + ", spread " + std::to_string(o.spread) + " +- " +
                  std::to_string(o.spread_se) + ", stated " + std::to_string(o.stated) + " +- " +
                  std::to_string(o.stated_se) + ", resolved in " + std::to_string(o.resolved));
