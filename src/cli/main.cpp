@@ -126,6 +126,7 @@ int main(int argc, char** argv) {
   cubecal::cli::add_davar_command(app, run);
   cubecal::cli::add_model_command(app, run);
   cubecal::cli::add_record_command(app, run);
+  cubecal::cli::add_plan_command(app, run);
   cubecal::cli::add_report_command(app, run);
   cubecal::cli::add_demo_command(app, run);
 
