@@ -269,7 +269,8 @@ int run_record_command(const RecordCliOptions& o) {
   const std::string out_dir = ro.out_dir;
   acquire::Recorder* recorder_ptr = nullptr;
   std::unique_ptr<TargetWatch> watch;
-  if (!rt.targets.empty()) watch = std::make_unique<TargetWatch>(rt, out_dir, &g_stop);
+  if (!rt.targets.empty())
+    watch = std::make_unique<TargetWatch>(rt, out_dir, &g_stop, [&recorder_ptr] { recorder_ptr->flush(); });
   if (o.live || watch) {
     ro.on_sample = [&live, &recorder_ptr, &watch, want_live = o.live](std::span<const double> v) {
       const auto& m = recorder_ptr->manifest();

@@ -75,8 +75,9 @@ RecordTargets parse_record_targets(const std::string& target, double ci, const s
   return t;
 }
 
-TargetWatch::TargetWatch(RecordTargets t, std::string out_dir, volatile std::sig_atomic_t* stop)
-    : t_(std::move(t)), dir_(std::move(out_dir)), stop_(stop), next_s_(t_.every_s) {}
+TargetWatch::TargetWatch(RecordTargets t, std::string out_dir, volatile std::sig_atomic_t* stop,
+                         std::function<void()> flush)
+    : t_(std::move(t)), dir_(std::move(out_dir)), stop_(stop), flush_(std::move(flush)), next_s_(t_.every_s) {}
 
 void TargetWatch::on_sample(std::span<const double> values, const io::RecordingManifest& m) {
   if (!live_) {
@@ -124,6 +125,7 @@ void TargetWatch::update(const io::RecordingManifest& m, bool final) {
   j["final"] = final;
   j["met_at_samples"] = met_at_ > 0 ? nlohmann::json(met_at_) : nlohmann::json(nullptr);
   j["met_at_record_s"] = met_at_ > 0 ? nlohmann::json(met_at_s_) : nlohmann::json(nullptr);
+  if (flush_ && !final) flush_();  // throws WriteFailure, as the run's own flush
   try {
     pipeline::write_status_file(dir_, j);
   } catch (const std::exception& e) {

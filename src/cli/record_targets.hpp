@@ -5,6 +5,7 @@
 // run's stop flag is raised when every target holds.
 #pragma once
 #include <csignal>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <span>
@@ -30,8 +31,10 @@ RecordTargets parse_record_targets(const std::string& target, double ci, const s
 class TargetWatch {
  public:
   // `stop`: the recorder's stop flag, raised when every target holds (with
-  // stop_when_met).
-  TargetWatch(RecordTargets t, std::string out_dir, volatile std::sig_atomic_t* stop);
+  // stop_when_met); `flush`: hands the recorded samples to the kernel, called
+  // before each status is written, so that a status never counts a sample a
+  // kill -9 would lose.
+  TargetWatch(RecordTargets t, std::string out_dir, volatile std::sig_atomic_t* stop, std::function<void()> flush);
 
   // One sample of the recording whose manifest is `m` (its layout known).
   void on_sample(std::span<const double> values, const io::RecordingManifest& m);
@@ -54,6 +57,7 @@ class TargetWatch {
   RecordTargets t_;
   std::string dir_;
   volatile std::sig_atomic_t* stop_;
+  std::function<void()> flush_;
   std::unique_ptr<pipeline::LiveNoiseStatus> live_;
   double next_s_ = 0.0;
   bool wrote_without_period_ = false;

@@ -61,6 +61,8 @@ LiveTerm resolved_term(PlanTerm which, const TermEstimate& e, std::string_view s
   t.lo = e.value - z * e.sigma;
   t.hi = e.value + z * e.sigma;
   t.precision = e.value > 0 ? z * e.sigma / e.value : kNaN;
+  t.tau_lo = e.tau_lo;
+  t.tau_hi = e.tau_hi;
   t.source = std::string(source);
   return t;
 }
@@ -108,6 +110,8 @@ LiveTerm reported_term(PlanTerm which, const ReportedTerms& rt, const SlopeReadO
       t.lo = std::max(0.0, ro.tau_min - z * (ro.tau_min - ro.tau_min_lo));
       t.hi = ro.tau_min + z * (ro.tau_min_hi - ro.tau_min);
       t.precision = ro.tau_min > 0 ? z * t.sigma / ro.tau_min : kNaN;
+      t.tau_lo = ro.tau_min_lo;
+      t.tau_hi = ro.tau_min_hi;
       return t;
     }
     default: return unresolved_term(which, kNaN, "", "");
@@ -332,6 +336,7 @@ nlohmann::json term_json(const LiveTerm& t, const Unit& unit) {
   j["value"] = number_or_null(t.value);
   j["sigma"] = number_or_null(t.sigma);
   j["interval"] = t.resolved ? nlohmann::json({t.lo, t.hi}) : nlohmann::json(nullptr);
+  j["tau_range_s"] = t.tau_hi > 0 ? nlohmann::json({t.tau_lo, t.tau_hi}) : nlohmann::json(nullptr);
   j["upper_bound"] = t.bound;
   j["source"] = t.source;
   j["display"] = display_json(t, unit);

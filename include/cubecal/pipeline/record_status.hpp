@@ -19,6 +19,7 @@
 /// intervals reach sigma_min, times z(ci), over T.
 #pragma once
 #include <cstddef>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <span>
@@ -63,6 +64,11 @@ struct LiveTerm {
   double lo = 0.0;
   /// Upper end of that interval.
   double hi = 0.0;
+  /// The taus it was read from (s); T: the taus around the minimum whose
+  /// 68.3 % intervals reach sigma_min. 0 when the curve gives nothing.
+  double tau_lo = 0.0;
+  /// Upper end of those taus (s).
+  double tau_hi = 0.0;
   /// "read-off", "fit", "UPPER BOUND" (reported_terms.hpp), "" for T.
   std::string source;
   /// True when value is only an upper bound.
@@ -75,10 +81,10 @@ struct LiveTerm {
   bool met = false;
   /// The record length (s) the plan gives for the target from the terms
   /// measured so far; NaN when it cannot be told (why says why).
-  double needed_s = 0.0;
+  double needed_s = std::numeric_limits<double>::quiet_NaN();
   /// What is still needed (s): 0 when met, else needed_s less the record so
   /// far (at least 0); NaN when not known.
-  double remaining_s = 0.0;
+  double remaining_s = std::numeric_limits<double>::quiet_NaN();
   /// Why the term is not resolved, or why the time still needed is not
   /// known; empty otherwise.
   std::string why;
