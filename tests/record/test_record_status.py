@@ -140,6 +140,36 @@ class RecordStatus(unittest.TestCase):
         s = subprocess.run([BINARY, "status", d], capture_output=True, text=True, timeout=60)
         self.assertIn("recorder ended cleanly", s.stdout)
 
+    def test_status_line_on_a_terminal_shows_the_targets(self):
+        d = os.path.join(self.tmp.name, "tty")
+        sim = subprocess.Popen([BINARY, "simulate", "--preset", "sport-gyro", "--rate", str(RATE), "--duration",
+                                "2.5s", "--seed", "9", "--realtime", "--out", "-"],
+                               stdout=subprocess.PIPE, stderr=subprocess.DEVNULL)
+        master, slave = os.openpty()
+        rec = subprocess.Popen([BINARY, "record", "-", "--out", d, "--target", "B:10%,K:20%", "--status-every",
+                                "0.25s"], stdin=sim.stdout, stderr=slave)
+        sim.stdout.close()
+        os.close(slave)
+        received = bytearray()
+        while True:
+            try:
+                b = os.read(master, 4096)
+            except OSError:  # EIO: the slave side closed
+                break
+            if not b:
+                break
+            received.extend(b)
+        rc = rec.wait(timeout=30)
+        sim.wait(timeout=30)
+        os.close(master)
+        text = bytes(received).decode(errors="replace")
+        self.assertEqual(rc, 0, text)
+        draws = [s for s in text.split("\r") if "samples/s" in s]
+        self.assertGreaterEqual(len(draws), 3, repr(text))
+        # After the first status (0.25 s of samples), each drawing ends with
+        # the targets: how many hold, and the time still needed or why not.
+        self.assertRegex(draws[-1], r"  targets \d+/6 met", repr(draws[-1]))
+
 
 if __name__ == "__main__":
     unittest.main()
