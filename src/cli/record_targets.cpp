@@ -77,7 +77,12 @@ RecordTargets parse_record_targets(const std::string& target, double ci, const s
 
 TargetWatch::TargetWatch(RecordTargets t, std::string out_dir, volatile std::sig_atomic_t* stop,
                          std::function<void()> flush)
-    : t_(std::move(t)), dir_(std::move(out_dir)), stop_(stop), flush_(std::move(flush)), next_s_(t_.every_s) {}
+    : t_(std::move(t)),
+      dir_(std::move(out_dir)),
+      stop_(stop),
+      flush_(std::move(flush)),
+      next_s_(t_.every_s),
+      line_("targets: first status after " + hms(t_.every_s) + " recorded") {}
 
 void TargetWatch::on_sample(std::span<const double> values, const io::RecordingManifest& m) {
   if (!live_) {
