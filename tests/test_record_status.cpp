@@ -248,6 +248,42 @@ TEST_F(RecordStatusCli, TheLiveStatusAgreesWithAnalyzeOfTheSameRecording) {
   }
 }
 
+// `analyze DIR --stream` on a recording whose chunk is open (a running or
+// crashed recorder): the chunk read up to its last complete line, as the
+// in-memory read takes it: the same samples, the same white noise.
+TEST_F(RecordStatusCli, AStreamedAnalysisReadsTheOpenChunkUpToItsLastCompleteLine) {
+  const std::string d = path("rec");
+  const CliRun r = run_cubecal_piped(simulate("--preset sport-gyro --rate 100 --duration 20m --seed 6"),
+                                     "record - --out " + d + " --unit deg/s --chunk-bytes 200000");
+  ASSERT_EQ(r.code, 0) << r.err;
+  nlohmann::json m = json_of(slurp(fs::path(d) / "manifest.json"));
+  nlohmann::json& chunks = m["segments"][0]["chunks"];
+  ASSERT_GE(chunks.size(), 3u);
+  // The last chunk as the manifest of a running recorder has it: open, no
+  // CRC, the counts of an earlier sync; a partial line after its last one.
+  nlohmann::json& last = chunks.back();
+  last["open"] = true;
+  last.erase("crc32");
+  last["bytes"] = 100;
+  last["samples"] = 1;
+  m["segments"][0]["end"] = "open";
+  std::ofstream(fs::path(d) / "manifest.json") << m.dump(2);
+  std::ofstream(fs::path(d) / "seg-001" / last["file"].get<std::string>(), std::ios::app) << "12.3,4";
+  const std::string cols = " --columns gx,gy,gz --unit deg/s --format json";
+  const CliRun streamed = run_cubecal("analyze " + d + " --stream" + cols);
+  ASSERT_EQ(streamed.code, 0) << streamed.err;
+  const CliRun whole = run_cubecal("analyze " + d + cols);
+  ASSERT_EQ(whole.code, 0) << whole.err;
+  const nlohmann::json a = json_of(streamed.out), b = json_of(whole.out);
+  EXPECT_EQ(a["input"]["samples"], 120000) << a["input"].dump();
+  EXPECT_EQ(a["input"]["samples"], b["input"]["samples"]);
+  for (std::size_t c = 0; c < 3; ++c) {
+    const double na = a["channels"][c]["noise"]["reported"]["white_noise"]["value"];
+    const double nb = b["channels"][c]["noise"]["reported"]["white_noise"]["value"];
+    EXPECT_NEAR(na, nb, 1e-12 * nb);
+  }
+}
+
 // (c) --stop-when-met: the run ends at the first status where every target
 // holds, cleanly (chunk closed, segment clean), saying so.
 TEST_F(RecordStatusCli, StopWhenMetEndsTheRunCleanlyAtTheFirstStatusThatMeetsEveryTarget) {

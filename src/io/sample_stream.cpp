@@ -67,11 +67,14 @@ class ByteSource {
   }
   // The chunks of a recording (cubecal record) as one text: the header line
   // of every chunk after the first left out, and each chunk's bytes checked
-  // against the size and CRC-32 of the manifest as they go by.
+  // against the size and CRC-32 of the manifest as they go by. An open chunk
+  // (the one a running recorder writes) is read up to `bytes`, the end of
+  // its last complete line when the stream was opened, and has no CRC yet.
   struct Chunk {
     std::string path;
     std::size_t bytes = 0;
     std::uint32_t crc = 0;
+    bool open = false;
   };
   ByteSource(std::vector<Chunk> chunks, const std::string& dir) : own_(true), label_(dir), chunks_(std::move(chunks)) {
     for (const Chunk& c : chunks_) total_ += c.bytes;
@@ -149,8 +152,10 @@ class ByteSource {
     std::size_t got = 0;
     while (got < n) {
       if (fd_ < 0 && !open_next_chunk()) break;
-      std::size_t r = read_fd(dst + got, n - got);
-      const bool chunk_ended = r < n - got;
+      const Chunk& c = chunks_[next_];
+      const std::size_t want = c.open ? std::min(n - got, c.bytes - seen_) : n - got;
+      std::size_t r = want > 0 ? read_fd(dst + got, want) : 0;
+      const bool chunk_ended = r < want || (c.open && seen_ + r == c.bytes);
       crc_ = static_cast<std::uint32_t>(::crc32(crc_, reinterpret_cast<const Bytef*>(dst + got), static_cast<uInt>(r)));
       seen_ += r;
       consumed_ += r;
@@ -269,7 +274,7 @@ class ByteSource {
     ::close(fd_);
     fd_ = -1;
     ++next_;
-    if (seen_ != c.bytes || crc_ != c.crc)
+    if (c.open ? seen_ != c.bytes : seen_ != c.bytes || crc_ != c.crc)
       throw InputError(c.path, 0, 0,
                        seen_ != c.bytes
                            ? std::to_string(seen_) + " bytes where the manifest has " + std::to_string(c.bytes)
@@ -858,24 +863,56 @@ class TextStream final : public SampleStream {
 
 namespace {
 
+// The bytes of an open chunk up to the end of its last complete line, when
+// that line is a sample (0: missing, or no sample yet: the header only).
+std::size_t complete_lines_bytes(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return 0;  // created after the manifest's last rewrite
+  struct stat st {};
+  std::size_t end = 0, first_nl = std::string::npos;
+  if (::fstat(fd, &st) == 0 && st.st_size > 0) {
+    std::vector<char> block(std::size_t{64} << 10);
+    auto at = static_cast<std::size_t>(st.st_size);
+    while (at > 0 && end == 0) {
+      const std::size_t n = std::min(at, block.size());
+      at -= n;
+      if (::pread(fd, block.data(), n, static_cast<off_t>(at)) != static_cast<ssize_t>(n)) break;
+      for (std::size_t i = n; i-- > 0;)
+        if (block[i] == '\n') {
+          end = at + i + 1;
+          break;
+        }
+    }
+    const ssize_t h = ::pread(fd, block.data(), block.size(), 0);  // the header line
+    for (std::size_t i = 0; h > 0 && i < static_cast<std::size_t>(h); ++i)
+      if (block[i] == '\n') {
+        first_nl = i;
+        break;
+      }
+  }
+  ::close(fd);
+  return first_nl != std::string::npos && end > first_nl + 1 ? end : 0;
+}
+
 // A recording directory (cubecal record) streamed: its chunks read in turn
-// as one text, which the one segment of a cleanly closed recording is (a
-// device time column checked across the chunks as within one file). A
-// recording of several segments, or with a source that went away and came
-// back, or one still open, is read whole (recording.hpp places its pieces).
+// as one text, which the one segment of a recording is (a device time
+// column checked across the chunks as within one file); the open chunk of a
+// running recorder up to its last complete line. A recording of several
+// segments, or with a source that went away and came back, is read whole
+// (recording.hpp places its pieces).
 std::unique_ptr<SampleStream> open_recording_stream(const std::string& dir, const SeriesOptions& opt,
                                                     std::size_t chunk_bytes) {
   const RecordingManifest m = read_manifest(dir);
   const RecordingSegment* seg = nullptr;
   std::size_t with_samples = 0;
   for (const auto& s : m.segments)
-    if (s.samples > 0) {
+    if (s.samples > 0 || s.end == SegmentEnd::open) {  // open: samples of its last sync, maybe none yet
       seg = &s;
       ++with_samples;
     }
   const auto whole = [&](const std::string& why) {
     return UsageError(dir + ": " + why +
-                      ": a recording is streamed only as one closed segment without breaks; leave out "
+                      ": a recording is streamed only as one segment without breaks; leave out "
                       "{stream} (it is read into memory and its pieces placed on one clock)");
   };
   if (seg == nullptr) throw InputError(dir, 0, 0, "the recording holds no sample", "record into it first");
@@ -884,9 +921,17 @@ std::unique_ptr<SampleStream> open_recording_stream(const std::string& dir, cons
     if (e.kind != RecordingEvent::Kind::gap) throw whole("its source or device clock restarted in " + seg->dir);
   std::vector<ByteSource::Chunk> chunks;
   for (const auto& c : seg->chunks) {
-    if (c.open || !c.crc32) throw whole(seg->dir + "/" + c.file + " is still open (a running or crashed recorder)");
-    if (c.samples > 0) chunks.push_back({dir + "/" + seg->dir + "/" + c.file, c.bytes, *c.crc32});
+    const std::string path = dir + "/" + seg->dir + "/" + c.file;
+    if (c.open || !c.crc32) {
+      // The chunk of a running (or crashed) recorder: its complete lines
+      // now, as the whole read takes them (recording.hpp).
+      if (const std::size_t upto = complete_lines_bytes(path); upto > 0) chunks.push_back({path, upto, 0, true});
+      continue;
+    }
+    if (c.samples > 0) chunks.push_back({path, c.bytes, *c.crc32, false});
   }
+  if (chunks.empty())
+    throw InputError(dir, 0, 0, "the recording holds no complete sample yet", "wait for the recorder to write one");
   // The columns and time as read_recording takes them: the data columns
   // (not the host stamps, not the device time), the device time column
   // unless a rate is given instead.

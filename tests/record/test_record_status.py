@@ -2,7 +2,8 @@
 moments of a run with a target, with a reader polling DIR/status.json all
 along (the file is always complete JSON once written, never missing, and
 the samples before the kill are recovered as record guarantees); and
-`analyze DIR` and `cubecal status DIR` on the recording while it runs."""
+`analyze DIR` (in memory and --stream) and `cubecal status DIR` on the
+recording while it runs; the status line on a terminal."""
 import json
 import os
 import random
@@ -122,6 +123,9 @@ class RecordStatus(unittest.TestCase):
             a = subprocess.run([BINARY, "analyze", d, "--format", "json"], capture_output=True, timeout=60)
             self.assertEqual(a.returncode, 0, a.stderr)
             self.assertGreater(json.loads(a.stdout)["channels"][0]["noise"]["reported"]["white_noise"]["value"], 0)
+            st = subprocess.run([BINARY, "analyze", d, "--stream", "--columns", "gx,gy,gz", "--unit", "deg/s",
+                                 "--format", "json"], capture_output=True, timeout=60)
+            self.assertEqual(st.returncode, 0, st.stderr)
             analyses += 1
             s = subprocess.run([BINARY, "status", d], capture_output=True, text=True, timeout=60)
             self.assertEqual(s.returncode, 0, s.stderr)
