@@ -174,6 +174,10 @@ void plan_targets(LiveChannel& ch, const std::vector<PlanTarget>& targets, doubl
     if (std::isfinite(p.duration_s)) {
       t->needed_s = p.duration_s;
       if (!t->met) t->remaining_s = std::max(0.0, p.duration_s - record_s);
+      if (!t->met && t->remaining_s == 0.0)
+        t->why =
+            "due now: the record is as long as the plan from the terms so far asks, the measured precision "
+            "is not yet within the target";
     } else if (!t->met) {
       t->why = "time still needed unknown: " + (p.at.why.empty() ? std::string(to_string(p.at.reason)) : p.at.why) +
                " (a plan from the terms measured so far)";
