@@ -560,6 +560,13 @@ bool is_comment_or_blank(std::string_view line) {
 
 class TextStream final : public SampleStream {
  public:
+  // The columns were chosen for the caller (a recording's data columns, as
+  // its whole read chooses them): said as default columns, with those left out.
+  void take_as_default_columns(std::vector<std::string> left_out) {
+    default_columns_ = true;
+    left_out_ = std::move(left_out);
+  }
+
   // A file, the standard input or a recording's chunks as one text.
   TextStream(std::unique_ptr<ByteSource> src, const SeriesOptions& opt, std::size_t chunk_bytes)
       : src_(std::move(src)), opt_(opt), chunk_bytes_(std::max<std::size_t>(chunk_bytes, 4096)) {
@@ -933,12 +940,23 @@ std::unique_ptr<SampleStream> open_recording_stream(const std::string& dir, cons
   if (chunks.empty())
     throw InputError(dir, 0, 0, "the recording holds no complete sample yet", "wait for the recorder to write one");
   // The columns and time as read_recording takes them: the data columns
-  // (not the host stamps, not the device time), the device time column
-  // unless a rate is given instead.
+  // (not the host stamps, not the device time, not an extra column, not a
+  // temperature unless asked), the device time column unless a rate is
+  // given instead.
   SeriesOptions o = opt;
-  if (o.table.columns.empty())
-    for (const auto& name : m.columns)
-      if (!m.time_column || name != *m.time_column) o.table.columns.push_back(name);
+  std::vector<std::string> left_out;
+  const bool default_columns = o.table.columns.empty();
+  if (default_columns)
+    for (const auto& name : m.columns) {
+      const bool out = (m.time_column && name == *m.time_column) ||
+                       std::find(opt.table.extra_columns.begin(), opt.table.extra_columns.end(), name) !=
+                           opt.table.extra_columns.end() ||
+                       (opt.skip_temperature && looks_like_temperature_column(name));
+      (out ? left_out : o.table.columns).push_back(name);
+    }
+  if (default_columns && o.table.columns.empty())
+    throw InputError(dir, 0, 0, "no data columns besides the time and temperature columns",
+                     "name the columns to analyze");
   if (o.time_col.empty() && o.rate_hz == 0.0) {
     if (m.time_column)
       o.time_col = *m.time_column;
@@ -947,7 +965,9 @@ std::unique_ptr<SampleStream> open_recording_stream(const std::string& dir, cons
     else
       throw UsageError(dir + ": the recording has no device time column and no rate: give {rate} HZ");
   }
-  return std::make_unique<TextStream>(std::make_unique<ByteSource>(std::move(chunks), dir), o, chunk_bytes);
+  auto stream = std::make_unique<TextStream>(std::make_unique<ByteSource>(std::move(chunks), dir), o, chunk_bytes);
+  if (default_columns) stream->take_as_default_columns(std::move(left_out));
+  return stream;
 }
 
 // A NumPy .npy: its header read, then its rows as binary frames.
