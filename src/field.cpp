@@ -89,6 +89,7 @@ std::string_view field_name(Field f) noexcept {
     case Field::stream: return "stream";
     case Field::sync: return "sync";
     case Field::taus: return "taus";
+    case Field::target: return "target";
     case Field::temp_index: return "temp_index";
     case Field::temp_order: return "temp_order";
     case Field::time_col: return "time_col";

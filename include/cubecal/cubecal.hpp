@@ -49,7 +49,10 @@
 #include "cubecal/noise/drift.hpp"
 #include "cubecal/noise/gmwm.hpp"
 #include "cubecal/noise/gmwm_asymptotics.hpp"
+#include "cubecal/noise/minimum_spread.hpp"
+#include "cubecal/noise/mixture_edf.hpp"
 #include "cubecal/noise/noise_terms.hpp"
+#include "cubecal/noise/record_plan.hpp"
 #include "cubecal/noise/reported_terms.hpp"
 #include "cubecal/noise/sensor_noise_model.hpp"
 #include "cubecal/noise/spectral_line.hpp"
@@ -68,6 +71,7 @@
 // power-law noise, and samples of composite models.
 #include "cubecal/sim/composite_noise.hpp"
 #include "cubecal/sim/composite_simulator.hpp"
+#include "cubecal/sim/model_allan_variance.hpp"
 #include "cubecal/sim/power_law_generator.hpp"
 #include "cubecal/sim/power_law_noise.hpp"
 #include "cubecal/sim/presets.hpp"

@@ -97,6 +97,7 @@ enum class Field {
   stream,
   sync,
   taus,
+  target,
   temp_index,
   temp_order,
   time_col,

@@ -175,6 +175,7 @@ class NoiseAnalysis(Result):
     bias_instability: NoiseTerm -- B = sigma_min / 0.664, e.g. deg/h
     time_constant_s: float | None -- T, the tau of the minimum inside the record, s (None: none)
     time_constant_range_s: array | None -- [lo, hi] around T, s
+    time_constant_rel_sigma: float | None -- T's relative uncertainty: half the central interval of ln T over records at the analysis's confidence
     curve_minimum: CurveMinimum -- where the curve is lowest, inside the record or not
     sigma_min: ValueWithUnit -- the lowest deviation, in the channel's unit
     rate_random_walk: NoiseTerm -- K at tau = 3 s, e.g. deg/h/sqrt(h)

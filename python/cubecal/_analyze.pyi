@@ -116,6 +116,7 @@ class NoiseAnalysis(Result):
     bias_instability: NoiseTerm
     time_constant_s: float | None
     time_constant_range_s: NDArray[np.float64] | None
+    time_constant_rel_sigma: float | None
     curve_minimum: CurveMinimum
     sigma_min: ValueWithUnit
     rate_random_walk: NoiseTerm

@@ -87,6 +87,7 @@ FieldFlag field_flag(Field f) noexcept {
     case Field::stream: return {"--stream", Prefix::no};
     case Field::sync: return {};  // the recorder's sync interval is fixed by the CLI
     case Field::taus: return {"--taus", Prefix::yes};
+    case Field::target: return {"--target", Prefix::no};
     case Field::temp_index: return {"--temp-col", Prefix::yes};
     case Field::temp_order: return {"--temp-order", Prefix::yes};
     case Field::time_col: return {"--time-col", Prefix::yes};

@@ -71,25 +71,6 @@ std::vector<Run> regions_of_slope(const AllanCurve& c, const std::vector<double>
   return runs;
 }
 
-// 1-sigma relative uncertainty of each point's deviation for the read-offs:
-// the relative half-width of its confidence interval (1/sqrt(2 edf) without
-// one), made non-decreasing in tau for the reason above. Zero when the
-// curve carries no uncertainty.
-std::vector<double> relative_sigmas(const AllanCurve& c) {
-  std::vector<double> rel(c.size(), 0.0);
-  double running = 0.0;
-  for (std::size_t i = 0; i < c.size(); ++i) {
-    double r = 0.0;
-    if (c.interval[i].hi > c.interval[i].lo && c.interval[i].lo > 0.0)
-      r = (c.interval[i].hi - c.interval[i].lo) / (2.0 * c.dev[i]);
-    else if (c.edf[i] > 0.0)
-      r = 1.0 / std::sqrt(2.0 * c.edf[i]);
-    running = std::max(running, r);
-    rel[i] = running;
-  }
-  return rel;
-}
-
 // One IEEE 952 straight-line term: sigma(tau) = value * (tau / tau_read)^slope.
 struct LineTerm {
   double slope;
@@ -190,7 +171,7 @@ SlopeReadOffs read_off_noise_terms(const AllanCurve& curve) {
   if (n == 0) return out;
 
   const auto slope = local_slopes(curve);
-  const auto rel = relative_sigmas(curve);
+  const auto rel = running_relative_uncertainty(curve);
   out.Q = read_line(curve, slope, rel, {-1.0, std::sqrt(3.0), true});
   out.N = read_white(curve, slope, rel);
   out.K = read_line(curve, slope, rel, {+0.5, 3.0, false});

@@ -76,6 +76,9 @@ json noise_json(const NoiseAnalysis& n, const Unit& u) {
   // T only where the curve has a minimum inside the record.
   j["time_constant_s"] = r.B.valid ? json(r.tau_min) : json(nullptr);
   j["time_constant_range_s"] = r.B.valid ? json({r.tau_min_lo, r.tau_min_hi}) : json(nullptr);
+  // T's relative uncertainty: half the central interval of ln T over records at the analysis's confidence
+  // (noise/minimum_spread.hpp).
+  j["time_constant_rel_sigma"] = r.B.valid && rt.T_rel_sigma > 0.0 ? json(rt.T_rel_sigma) : json(nullptr);
   // Where the curve is lowest, minimum inside the record or not.
   j["curve_minimum"] = {{"tau_s", r.tau_min}, {"tau_range_s", {r.tau_min_lo, r.tau_min_hi}}};
   j["sigma_min"] = {{"value", r.sigma_min}, {"unit", u.name}};

@@ -29,6 +29,8 @@ AllanCurve to_allan_curve(const std::vector<StabilityPoint>& points) {
     c.dev.push_back(p.dev);
     c.interval.push_back(p.interval);
     c.edf.push_back(p.edf);
+    c.m.push_back(p.m);
+    c.terms.push_back(p.n);
   }
   return c;
 }
@@ -38,6 +40,16 @@ double relative_uncertainty(const AllanCurve& c, std::size_t i) noexcept {
     return (c.interval[i].hi - c.interval[i].lo) / (2.0 * c.dev[i]);
   if (i < c.edf.size() && c.edf[i] > 0.0) return 1.0 / std::sqrt(2.0 * c.edf[i]);
   return 0.0;
+}
+
+std::vector<double> running_relative_uncertainty(const AllanCurve& c) {
+  std::vector<double> rel(c.size(), 0.0);
+  double running = 0.0;
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    running = std::max(running, relative_uncertainty(c, i));
+    rel[i] = running;
+  }
+  return rel;
 }
 
 std::vector<std::size_t> well_measured(const AllanCurve& c, std::size_t first, std::size_t last, double factor) {

@@ -130,7 +130,7 @@ struct TargetPlan {
   TermPrecision at;
 };
 
-/// The shortest record length, on a grid of 2 % steps, whose plan_precision
+/// The shortest record length (to 2 %) whose plan_precision
 /// meets each target. Throws as plan_precision.
 std::vector<TargetPlan> plan_duration(const PlanModel& model, std::span<const PlanTarget> targets,
                                       const PlanOptions& options = {});

@@ -5,7 +5,8 @@
 /// all take them from here, so that each prints the same number.
 ///
 ///   N  the slope read-off: the -1/2 line read at tau = 1 s, with the tau
-///      range it was read over (noise_terms.hpp); when the curve has no -1/2
+///      range it was read over (noise_terms.hpp), its sigma that of a mean of
+///      correlated estimates; when the curve has no -1/2
 ///      region, the upper bound min over tau of sigma(tau) sqrt(tau)
 ///      (AVAR >= N^2 / tau).
 ///   K  the weighted five-term fit's K, else the read-off's (the first of the
@@ -14,7 +15,8 @@
 ///      A coefficient whose uncertainty exceeds half its value is not a
 ///      measurement of K.
 ///   B  the read-off sigma_min / 0.664 when the curve's minimum lies inside
-///      the record; else "no minimum within the record" and the upper bound
+///      the record, its sigma the spread of the minimum over records
+///      (minimum_spread.hpp), as T's, the tau of the minimum; else "no minimum within the record" and the upper bound
 ///      sigma_min / 0.664 at the end of the record where the curve is lowest
 ///      (AVAR >= (0.664 B)^2 at every tau).
 #pragma once
@@ -64,6 +66,11 @@ struct ReportedTerms {
   TermSource K_candidate_source = TermSource::fit;
   /// Bias instability B (u), or its upper bound.
   ReportedTerm B;
+  /// T, the tau of the curve's minimum (s), when it has one (else 0).
+  double T = 0.0;
+  /// T's relative uncertainty: the standard deviation of ln T over records
+  /// (minimum_spread.hpp), at the curve's confidence like every sigma here; 0 without a minimum.
+  double T_rel_sigma = 0.0;
   bool no_minimum = false;  ///< the curve has no minimum within the record (still falling at its last
                             ///< tau, or rising from its first): B is an upper bound
   bool constant = false;    ///< every deviation is zero: nothing to report

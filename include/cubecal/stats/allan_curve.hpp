@@ -18,6 +18,11 @@ struct AllanCurve {
   std::vector<double> dev;         ///< sigma(tau), data unit
   std::vector<Interval> interval;  ///< confidence interval of dev
   std::vector<double> edf;         ///< equivalent degrees of freedom (> 0)
+  /// Averaging factor of each point, and the terms each averages (StabilityPoint::n): what the
+  /// EDF of a mixture of noise types needs (noise/mixture_edf.hpp). Empty when not known.
+  std::vector<std::size_t> m;
+  /// Terms averaged at each point (for OADEV, phase points - 2 m). Empty when not known.
+  std::vector<std::size_t> terms;
   /// Points on the curve.
   std::size_t size() const noexcept { return tau.size(); }
 };
@@ -28,6 +33,11 @@ AllanCurve to_allan_curve(const std::vector<StabilityPoint>& points);
 /// Relative 1-sigma uncertainty of point i: half the interval over dev, or
 /// 1/sqrt(2 edf) without an interval, 0 when neither is known.
 double relative_uncertainty(const AllanCurve& c, std::size_t i) noexcept;
+
+/// relative_uncertainty of every point, made non-decreasing in tau (a point
+/// is never taken as more precise than a shorter-tau one: the read-offs'
+/// uncertainties, noise_terms.hpp). Throws nothing beyond std::bad_alloc.
+std::vector<double> running_relative_uncertainty(const AllanCurve& c);
 
 /// Of points first..last, those measured at most `factor` times less
 /// precisely than the best of them. A line tangent to the curve from below is
