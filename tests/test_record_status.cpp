@@ -117,7 +117,7 @@ TEST(LiveNoiseStatus, PrecisionIsTheHalfWidthAtTheConfidenceAndTargetsAreJudgedB
   ASSERT_TRUE(n.resolved) << n.why;
   EXPECT_NEAR(n.value, N, 3 * n.sigma);
   EXPECT_DOUBLE_EQ(n.precision, z * n.sigma / n.value);
-  EXPECT_DOUBLE_EQ(n.hi - n.lo, 2 * z * n.sigma);
+  EXPECT_NEAR(n.hi - n.lo, 2 * z * n.sigma, 1e-12 * n.value);
   ASSERT_TRUE(n.target.has_value());
   EXPECT_EQ(n.met, n.precision <= 0.05);
   EXPECT_TRUE(n.met) << n.precision;  // 400000 samples: N to well under 5 %
@@ -126,10 +126,10 @@ TEST(LiveNoiseStatus, PrecisionIsTheHalfWidthAtTheConfidenceAndTargetsAreJudgedB
   ASSERT_TRUE(k.resolved) << k.why;
   EXPECT_NEAR(k.value, K, 3 * k.sigma);
   EXPECT_FALSE(k.met);  // 1 % of K needs far more than 4000 s
-  if (std::isfinite(k.needed_s))
-    EXPECT_DOUBLE_EQ(k.remaining_s, std::max(0.0, k.needed_s - s.record_s));
-  else
-    EXPECT_FALSE(k.why.empty());
+  ASSERT_TRUE(std::isfinite(k.needed_s)) << k.why;
+  EXPECT_GT(k.needed_s, 10 * s.record_s);
+  EXPECT_DOUBLE_EQ(k.remaining_s, k.needed_s - s.record_s);
+  EXPECT_TRUE(std::isnan(n.needed_s));  // met: no plan is made
   EXPECT_FALSE(s.all_met);
   // Terms that are not targets carry no target, no verdict, no time.
   const LiveTerm& t = term_of(s, 0, PlanTerm::T);
@@ -199,11 +199,14 @@ class RecordStatusCli : public cubecal::test::TempDirTest {
 // (a) The live status against `analyze` of the same recording. The status
 // streams each channel's OADEV through the pyramid with a window bound of
 // 65536: `analyze --stream --window 65536` computes the same curve and so
-// the same numbers (to rounding); the in-memory `analyze` has every factor
-// at stride 1, the status the factors over 32768 samples (327 s) at a
-// stride, so the terms read at short taus (N at 1 s, B and T at the minimum,
-// 6-40 s here) are the same and K, which the fit takes from the whole curve,
-// differs by a small part of its stated sigma.
+// the same numbers (values to 1e-9; sigmas to 1e-6: B's and T's come from
+// the minimum's spread, fixed-seed curves on the fit's shape, which carries
+// the rounding further). The in-memory `analyze` has every factor at stride
+// 1, the status the factors over 32768 samples (327 s) at a stride: the
+// values read at short taus (N, B and T at the minimum, 6-40 s here) are the
+// same, K (the fit of the whole curve) differs by under 1 % of its sigma,
+// and B's and T's sigmas, which take the fit's shape at the bottom, by up to
+// 10 %: what a streamed curve changes in what analyze states.
 TEST_F(RecordStatusCli, TheLiveStatusAgreesWithAnalyzeOfTheSameRecording) {
   const std::string d = path("rec");
   const CliRun r =
@@ -216,8 +219,7 @@ TEST_F(RecordStatusCli, TheLiveStatusAgreesWithAnalyzeOfTheSameRecording) {
   EXPECT_DOUBLE_EQ(st["record_s"].get<double>(), 7200.0);
   EXPECT_DOUBLE_EQ(st["rate_hz"].get<double>(), 100.0);
   EXPECT_EQ(st["window_bound"], 65536);
-  const CliRun streamed =
-      run_cubecal("analyze " + d + " --stream --window 65536 --format json");
+  const CliRun streamed = run_cubecal("analyze " + d + " --stream --window 65536 --format json");
   ASSERT_EQ(streamed.code, 0) << streamed.err;
   const CliRun whole = run_cubecal("analyze " + d + " --format json");
   ASSERT_EQ(whole.code, 0) << whole.err;
@@ -236,12 +238,15 @@ TEST_F(RecordStatusCli, TheLiveStatusAgreesWithAnalyzeOfTheSameRecording) {
         EXPECT_EQ(got["source"], want["source"]) << t;
         EXPECT_EQ(got["display"]["unit"], want["unit"]) << t;
         const double v = got["display"]["value"], s = got["display"]["sigma"];
-        const double tol = run == &whole && t == "K" ? 0.01 * s : 1e-9 * v;
-        EXPECT_NEAR(want["value"].get<double>(), v, tol) << ch["name"] << " " << t;
-        EXPECT_NEAR(want["sigma"].get<double>(), s, run == &whole && t == "K" ? 0.01 * s : 1e-9 * s) << t;
+        const bool batch = run == &whole;
+        EXPECT_NEAR(want["value"].get<double>(), v, batch && t == "K" ? 0.01 * s : 1e-9 * v) << ch["name"] << t;
+        const double sigma_tol = !batch ? 1e-6 : t == "N" ? 1e-9 : t == "K" ? 0.01 : 0.1;
+        EXPECT_NEAR(want["sigma"].get<double>(), s, sigma_tol * s) << ch["name"] << " " << t;
       }
       const nlohmann::json& T = status_term(st, c, "T");
+      const double t_rel = T["sigma"].get<double>() / T["value"].get<double>();
       EXPECT_NEAR(ch["noise"]["time_constant_s"].get<double>(), T["value"].get<double>(), 1e-3);
+      EXPECT_NEAR(ch["noise"]["time_constant_rel_sigma"].get<double>(), t_rel, (run == &whole ? 0.1 : 1e-6) * t_rel);
       for (int e = 0; e < 2; ++e)
         EXPECT_NEAR(ch["noise"]["time_constant_range_s"][e].get<double>(), T["tau_range_s"][e].get<double>(), 0.01);
     }
@@ -285,17 +290,19 @@ TEST_F(RecordStatusCli, AStreamedAnalysisReadsTheOpenChunkUpToItsLastCompleteLin
 }
 
 // (c) --stop-when-met: the run ends at the first status where every target
-// holds, cleanly (chunk closed, segment clean), saying so.
+// holds, cleanly (chunk closed, segment clean), saying so. A sensor paced
+// in real time (1 kHz for 60 s): the status is computed beside the
+// recording, which takes the samples that arrive meanwhile.
 TEST_F(RecordStatusCli, StopWhenMetEndsTheRunCleanlyAtTheFirstStatusThatMeetsEveryTarget) {
   const std::string d = path("rec");
   const CliRun r =
-      run_cubecal_piped(simulate("--preset sport-gyro --rate 100 --duration 2h --seed 4"),
-                        "record - --out " + d + " --quiet --target N:5% --status-every 60s --stop-when-met");
+      run_cubecal_piped(simulate("--preset sport-gyro --rate 1000 --duration 60s --seed 4 --realtime"),
+                        "record - --out " + d + " --quiet --target N:3% --status-every 1s --stop-when-met");
   ASSERT_EQ(r.code, 0) << r.err;
   const nlohmann::json st = json_of(slurp(fs::path(d) / "status.json"));
   ASSERT_TRUE(st["met_at_samples"].is_number()) << st.dump();
   const std::size_t met_at = st["met_at_samples"];
-  EXPECT_EQ(met_at % 6000, 0u);  // at a status: every 60 s of 100 Hz samples
+  EXPECT_EQ(met_at % 1000, 0u);  // at a status: every 1 s of 1 kHz samples
   EXPECT_NE(r.err.find("cubecal: record: targets met at " + std::to_string(met_at) + " samples"), std::string::npos)
       << r.err;
   const nlohmann::json m = json_of(slurp(fs::path(d) / "manifest.json"));
@@ -303,10 +310,9 @@ TEST_F(RecordStatusCli, StopWhenMetEndsTheRunCleanlyAtTheFirstStatusThatMeetsEve
   EXPECT_FALSE(m["segments"][0]["chunks"][0]["open"].get<bool>());
   const std::size_t samples = m["segments"][0]["samples"];
   EXPECT_GE(samples, met_at);
-  EXPECT_LT(samples, met_at + 10000);  // the read that met them, not the source's 720000
+  EXPECT_LT(samples, met_at + 2000);  // those that arrived while the status was computed, not the source's 60000
   EXPECT_EQ(st["final"], true);
   EXPECT_EQ(st["samples"], samples);
-  EXPECT_EQ(st["all_met"], true);
   EXPECT_EQ(run_cubecal("analyze " + d + " --unit deg/s").code, 0);
 }
 

@@ -193,7 +193,7 @@ struct StatusBlock {
     }
     const double fb = free_bytes(out_dir);
     if (fb >= 0) line += "  free " + bytes_text(fb);
-    if (targets != nullptr && !targets->line().empty()) line += "  " + targets->line();
+    if (const std::string t = targets != nullptr ? targets->line() : std::string(); !t.empty()) line += "  " + t;
     if (live && st.elapsed_s - last_live >= 5.0) {
       const double rate = recorder_ptr->manifest().rate_hz.value_or(
           st.device_rate_hz > 0 ? st.device_rate_hz

@@ -3,10 +3,21 @@
 // needed), written to DIR/status.json every --status-every of recorded time
 // and at the end, summarised on the status line; with --stop-when-met, the
 // run's stop flag is raised when every target holds.
+//
+// A status takes a while (the plan reads a model curve at each trial
+// length: about 0.1-0.5 s per channel), so it is computed on a thread of
+// its own from a snapshot of the curves, while the recorder goes on reading
+// the source: the recording loop never waits for it (a serial line's buffer
+// would overflow). A status falls due every --status-every of recorded time
+// and is started at the first sample after that at which the previous one
+// has finished.
 #pragma once
+#include <atomic>
 #include <csignal>
 #include <functional>
+#include <future>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <span>
 #include <string>
@@ -32,37 +43,46 @@ class TargetWatch {
  public:
   // `stop`: the recorder's stop flag, raised when every target holds (with
   // stop_when_met); `flush`: hands the recorded samples to the kernel, called
-  // before each status is written, so that a status never counts a sample a
-  // kill -9 would lose.
+  // before each snapshot, so that a status never counts a sample a kill -9
+  // would lose.
   TargetWatch(RecordTargets t, std::string out_dir, volatile std::sig_atomic_t* stop, std::function<void()> flush);
+  // Waits for a status being computed.
+  ~TargetWatch();
+  TargetWatch(const TargetWatch&) = delete;
+  TargetWatch& operator=(const TargetWatch&) = delete;
 
   // One sample of the recording whose manifest is `m` (its layout known).
   void on_sample(std::span<const double> values, const io::RecordingManifest& m);
-  // The last status, evaluated again on every sample, written as final.
+  // After the run: waits for a status being computed, then writes the last
+  // one, of every sample, as final.
   void finish(const io::RecordingManifest& m);
 
   // The status line's part: "targets 3/6 met, 1:20:00 still needed".
-  const std::string& line() const noexcept { return line_; }
+  std::string line() const;
   // True once the targets were met and the stop flag raised.
   bool stopped_met() const noexcept { return stopped_met_; }
-  // The samples of the status at which every target held (0: never).
-  std::size_t met_at_samples() const noexcept { return met_at_; }
-  double met_at_record_s() const noexcept { return met_at_s_; }
+  // The samples (and recorded time) of the first status at which every target held (0: never).
+  std::size_t met_at_samples() const;
+  double met_at_record_s() const;
   // Notices for stderr (a status that could not be written), taken once.
   std::vector<std::string> take_notices();
 
  private:
-  void update(const io::RecordingManifest& m, bool final);
+  void start_status(const io::RecordingManifest& m);
+  void compute(pipeline::LiveNoiseStatus snapshot, int segment, bool final);
 
   RecordTargets t_;
   std::string dir_;
   volatile std::sig_atomic_t* stop_;
   std::function<void()> flush_;
   std::unique_ptr<pipeline::LiveNoiseStatus> live_;
-  double next_s_ = 0.0;
+  double next_s_ = 0.0;  // recorded time the next status falls due at
   bool wrote_without_period_ = false;
-  std::string line_;
   bool stopped_met_ = false;
+  std::future<void> running_;     // the status being computed
+  std::atomic<bool> met_{false};  // a status found every target met
+  mutable std::mutex m_;          // guards what follows, written by the status's thread
+  std::string line_;
   std::size_t met_at_ = 0;
   double met_at_s_ = 0.0;
   bool write_failed_ = false;

@@ -102,30 +102,32 @@ LiveTerm reported_term(PlanTerm which, const ReportedTerms& rt, const SlopeReadO
       if (rt.no_minimum)
         return unresolved_term(which, kNaN, "",
                                "no minimum yet: T not resolved (the curve still falls at its last tau)");
+      // T's uncertainty is that of ln T (the minimum's spread over
+      // records): the interval is T exp(-+z s), the precision z s.
       LiveTerm t;
       t.term = which;
-      t.resolved = true;
-      t.value = ro.tau_min;
-      t.sigma = 0.5 * (ro.tau_min_hi - ro.tau_min_lo);
-      t.lo = std::max(0.0, ro.tau_min - z * (ro.tau_min - ro.tau_min_lo));
-      t.hi = ro.tau_min + z * (ro.tau_min_hi - ro.tau_min);
-      t.precision = ro.tau_min > 0 ? z * t.sigma / ro.tau_min : kNaN;
+      t.resolved = rt.T > 0 && rt.T_rel_sigma > 0;
+      t.value = rt.T > 0 ? rt.T : ro.tau_min;
+      t.sigma = t.resolved ? t.value * rt.T_rel_sigma : kNaN;
+      t.lo = t.resolved ? t.value * std::exp(-z * rt.T_rel_sigma) : kNaN;
+      t.hi = t.resolved ? t.value * std::exp(z * rt.T_rel_sigma) : kNaN;
+      t.precision = t.resolved ? z * rt.T_rel_sigma : kNaN;
       t.tau_lo = ro.tau_min_lo;
       t.tau_hi = ro.tau_min_hi;
+      if (!t.resolved) t.why = "T has no uncertainty from this curve's minimum yet";
       return t;
     }
     default: return unresolved_term(which, kNaN, "", "");
   }
 }
 
-// Q and R (targets only): the read-off where the curve has their slope,
-// else the fit's when it is significant.
-LiveTerm other_term(PlanTerm which, const TermEstimate& read_off, const TermEstimate& fit, double z) {
+// Q and R (targets only): the read-off where the curve has their slope, as
+// the plan reads them (record_plan.hpp).
+LiveTerm other_term(PlanTerm which, const TermEstimate& read_off, double z) {
   if (read_off.valid && read_off.value > 0) return resolved_term(which, read_off, to_string(TermSource::read_off), z);
-  if (significant(fit)) return resolved_term(which, fit, to_string(TermSource::fit), z);
   return unresolved_term(which, kNaN, "",
-                         which == PlanTerm::Q ? "Q not resolved: the curve has no -1 region and the fit finds none"
-                                              : "R not resolved: the curve has no +1 region and the fit finds none");
+                         which == PlanTerm::Q ? "Q not resolved: the curve has no quantization (-1) region"
+                                              : "R not resolved: the curve has no rate ramp (+1) region");
 }
 
 bool is_target(const std::vector<PlanTarget>& targets, PlanTerm t) {
@@ -140,6 +142,19 @@ void plan_targets(LiveChannel& ch, const std::vector<PlanTarget>& targets, doubl
       if (x.term == t) return &x;
     return nullptr;
   };
+  // The verdicts; the plan only for the targets resolved and not yet met
+  // (it is the costly part: a curve and its reading per trial length).
+  std::vector<PlanTarget> open;
+  for (const PlanTarget& target : targets) {
+    LiveTerm* t = find(target.term);
+    if (t == nullptr) continue;
+    t->target = target.precision;
+    t->met = t->resolved && t->precision <= target.precision;
+    t->needed_s = kNaN;
+    t->remaining_s = t->met ? 0.0 : kNaN;
+    if (t->resolved && !t->met) open.push_back(target);  // an unresolved one: its why says what the curve lacks
+  }
+  if (open.empty()) return;
   PlanTerms pt;
   const LiveTerm* n = find(PlanTerm::N);
   const LiveTerm* b = find(PlanTerm::B);
@@ -152,35 +167,29 @@ void plan_targets(LiveChannel& ch, const std::vector<PlanTarget>& targets, doubl
   try {
     PlanOptions po;
     po.ci = ci;
-    plans = plan_duration(plan_model(pt, dt), targets, po);
+    plans = plan_duration(plan_model(pt, dt), open, po);
   } catch (const Error& e) {
     failure = face_words(e.text());
   } catch (const std::exception& e) {
     failure = e.what();
   }
-  for (std::size_t i = 0; i < targets.size(); ++i) {
-    LiveTerm* t = find(targets[i].term);
-    if (t == nullptr) continue;
-    t->target = targets[i].precision;
-    t->met = t->resolved && t->precision <= targets[i].precision;
-    t->needed_s = kNaN;
-    t->remaining_s = t->met ? 0.0 : kNaN;
-    if (!t->resolved) continue;  // its why says what the curve lacks
+  for (std::size_t i = 0; i < open.size(); ++i) {
+    LiveTerm* t = find(open[i].term);
     if (!failure.empty()) {
-      if (!t->met) t->why = "time still needed unknown: " + failure;
+      t->why = failure;
       continue;
     }
     const TargetPlan& p = plans.at(i);
     if (std::isfinite(p.duration_s)) {
       t->needed_s = p.duration_s;
-      if (!t->met) t->remaining_s = std::max(0.0, p.duration_s - record_s);
-      if (!t->met && t->remaining_s == 0.0)
+      t->remaining_s = std::max(0.0, p.duration_s - record_s);
+      if (t->remaining_s == 0.0)
         t->why =
             "due now: the record is as long as the plan from the terms so far asks, the measured precision "
             "is not yet within the target";
-    } else if (!t->met) {
-      t->why = "time still needed unknown: " + (p.at.why.empty() ? std::string(to_string(p.at.reason)) : p.at.why) +
-               " (a plan from the terms measured so far)";
+    } else {
+      t->why = (p.at.why.empty() ? std::string(to_string(p.at.reason)) : p.at.why) +
+               " (the plan from the terms measured so far)";
     }
   }
 }
@@ -269,9 +278,9 @@ LiveChannel LiveNoiseStatus::channel_status(std::size_t c) const {
   const double z = normal_half_width(opt_.ci);
   for (PlanTerm t : shown) {
     if (t == PlanTerm::Q)
-      ch.terms.push_back(other_term(t, na.readoffs.Q, na.fit.Q, z));
+      ch.terms.push_back(other_term(t, na.readoffs.Q, z));
     else if (t == PlanTerm::R)
-      ch.terms.push_back(other_term(t, na.readoffs.R, na.fit.R, z));
+      ch.terms.push_back(other_term(t, na.readoffs.R, z));
     else
       ch.terms.push_back(reported_term(t, rt, na.readoffs, z));
   }

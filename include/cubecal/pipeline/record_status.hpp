@@ -14,9 +14,10 @@
 /// interval at the status's confidence. The curve's intervals are computed at
 /// 68.3 % (as `analyze` does by default), so each term's uncertainty is its
 /// 1-sigma, and the half-width at confidence ci is z(ci) sigma, z the
-/// two-sided normal quantile (1.0 at 68.3 %). T, the tau of the curve's
-/// minimum: the half-width of the taus around the minimum whose 68.3 %
-/// intervals reach sigma_min, times z(ci), over T.
+/// two-sided normal quantile (1.0006 at 68.3 %), as plan_precision makes
+/// it. T, the tau of the curve's minimum: z(ci) times the relative sigma
+/// `analyze` states for it (reported_terms.hpp: the spread of ln T over
+/// records, minimum_spread.hpp).
 #pragma once
 #include <cstddef>
 #include <limits>
@@ -80,7 +81,8 @@ struct LiveTerm {
   /// The target holds: resolved and precision <= target.
   bool met = false;
   /// The record length (s) the plan gives for the target from the terms
-  /// measured so far; NaN when it cannot be told (why says why).
+  /// measured so far; NaN when met (no plan is made) or when it cannot be
+  /// told (why says why).
   double needed_s = std::numeric_limits<double>::quiet_NaN();
   /// What is still needed (s): 0 when met, else needed_s less the record so
   /// far (at least 0); NaN when not known.
@@ -187,7 +189,7 @@ nlohmann::json to_json(const LiveStatus& s);
 /// std::system_error naming the file when it cannot be written.
 void write_status_file(const std::string& dir, const nlohmann::json& content);
 
-/// The two-sided normal quantile of confidence ci (1.0004 at 0.683); NaN outside (0, 1). Throws nothing.
+/// The two-sided normal quantile of confidence ci (1.0006 at 0.683); NaN outside (0, 1). Throws nothing.
 double normal_half_width(double ci) noexcept;
 
 }  // namespace cubecal::pipeline
