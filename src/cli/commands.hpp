@@ -19,6 +19,7 @@ CLI::App* add_turnon_command(CLI::App& app, Command& run);
 CLI::App* add_compare_command(CLI::App& app, Command& run);
 CLI::App* add_psd_command(CLI::App& app, Command& run);
 CLI::App* add_davar_command(CLI::App& app, Command& run);
+CLI::App* add_status_command(CLI::App& app, Command& run);
 CLI::App* add_model_command(CLI::App& app, Command& run);
 CLI::App* add_record_command(CLI::App& app, Command& run);
 CLI::App* add_plan_command(CLI::App& app, Command& run);

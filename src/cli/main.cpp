@@ -129,6 +129,7 @@ int main(int argc, char** argv) {
   cubecal::cli::add_plan_command(app, run);
   cubecal::cli::add_report_command(app, run);
   cubecal::cli::add_demo_command(app, run);
+  cubecal::cli::add_status_command(app, run);
 
   try {
     app.parse(argc, argv);
