@@ -211,26 +211,55 @@ TermPrecision from_estimate(PlanTerm term, const TermEstimate& e, double z) {
   return p;
 }
 
-// K's precision (planning.md §1.2). A model without a flicker floor puts
-// the fit's flicker coefficient on its bound, and the fit of a measured curve
-// frees it whenever its unconstrained estimate comes out positive: in half
-// the records. K's variance is then the mean of the fit's with the
-// coefficient bound and with it free (the model's curve with a negligible
-// floor added).
-TermPrecision random_walk_precision(const PlanModel& model, std::size_t n, const PlanOptions& options,
-                                    const NoiseFit& fit, const TermEstimate& k, double z) {
-  TermPrecision p = from_estimate(PlanTerm::K, k, z);
-  if (fit.c[2] > 0.0) return p;
-  const ModelCurve floored = model_curve(model, n, options, true);
-  const NoiseFit free_fit = fit_noise_terms(floored.curve);
-  const ReportedTerms free_terms = reported_terms(read_off_noise_terms(floored.curve), free_fit, floored.curve);
-  if (free_terms.K.bound() || free_terms.K.source != TermSource::fit) return p;
-  const double bound = k.sigma / k.value, free = free_terms.K.estimate.sigma / free_terms.K.estimate.value;
-  p.precision = z * std::sqrt(0.5 * (bound * bound + free * free));
-  return p;
+// The relative 1-sigma of the fit's K on the model curve of `c` at the
+// points of `curve`, plus `floor` (u^2) at every point.
+double fitted_k_sigma(const AllanCurve& curve, const std::array<double, 5>& c, double floor) {
+  AllanCurve mc;
+  for (std::size_t i = 0; i < curve.size(); ++i) {
+    const double tau = curve.tau[i];
+    double v = floor, slope = 0.0;
+    for (std::size_t k = 0; k < 5; ++k) {
+      const double part = std::max(0.0, c[k]) * std::pow(tau, static_cast<double>(k) - 2.0);
+      v += part;
+      slope += (static_cast<double>(k) - 2.0) * part;
+    }
+    if (!(v > 0.0) || !std::isfinite(v)) continue;
+    const double mu = slope / v;  // d ln sigma^2 / d ln tau
+    const int alpha = mu <= -1.5 ? 2 : static_cast<int>(std::clamp(std::lround(-mu - 1.0), -2L, 1L));
+    const std::size_t m = curve.m[i];
+    const double edf = edf_for(Stat::oadev, alpha, m, curve.terms[i] + 2 * m);
+    if (!(edf > 0.0)) continue;
+    mc.tau.push_back(tau);
+    mc.dev.push_back(std::sqrt(v));
+    mc.interval.push_back(chi2_interval(std::sqrt(v), edf, kOneSigma));
+    mc.edf.push_back(edf);
+    mc.m.push_back(m);
+    mc.terms.push_back(curve.terms[i]);
+  }
+  const NoiseFit f = fit_noise_terms(mc);
+  return f.K.valid && f.K.value > 0.0 ? f.K.sigma / f.K.value : kNaN;
 }
 
 }  // namespace
+
+double planned_random_walk_sigma(const AllanCurve& curve, const std::array<double, 5>& c) {
+  if (curve.m.size() != curve.size() || curve.terms.size() != curve.size() || curve.size() < 3 || !(c[3] > 0.0))
+    return kNaN;
+  const double bound = fitted_k_sigma(curve, c, 0.0);
+  if (c[2] > 0.0 || !std::isfinite(bound)) return bound;
+  // No flicker floor: the fit of a measured curve frees its flicker coefficient whenever the estimate comes out
+  // positive, in half the records; a floor of a millionth of the lowest variance frees it and changes no value.
+  double lowest = std::numeric_limits<double>::infinity();
+  for (const double tau : curve.tau) {
+    double v = 0.0;
+    for (std::size_t k = 0; k < 5; ++k) v += std::max(0.0, c[k]) * std::pow(tau, static_cast<double>(k) - 2.0);
+    lowest = std::min(lowest, v);
+  }
+  const double free = fitted_k_sigma(curve, c, 1e-6 * lowest);
+  return std::isfinite(free) ? std::sqrt(0.5 * (bound * bound + free * free)) : bound;
+}
+
+namespace {}  // namespace
 
 std::vector<TermPrecision> plan_precision(const PlanModel& model, double duration_s, std::span<const PlanTerm> terms,
                                           const PlanOptions& options) {
@@ -254,7 +283,7 @@ std::vector<TermPrecision> plan_precision(const PlanModel& model, double duratio
       case PlanTerm::K:
         out.push_back(rt.K.bound()
                           ? unresolved(t, "the curve's rate random walk (+1/2) is not significant in this record")
-                          : random_walk_precision(model, n, options, fit, rt.K.estimate, z));
+                          : from_estimate(t, rt.K.estimate, z));
         break;
       case PlanTerm::Q:
         out.push_back(ro.Q.valid ? from_estimate(t, ro.Q, z)

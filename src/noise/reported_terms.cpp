@@ -3,6 +3,7 @@
 #include <Eigen/Core>
 
 #include "cubecal/noise/minimum_spread.hpp"
+#include "cubecal/noise/record_plan.hpp"
 #include "detail/avar_correlation.hpp"
 
 #include <algorithm>
@@ -105,9 +106,18 @@ ReportedTerms reported_terms(const SlopeReadOffs& ro, const NoiseFit& fit, const
 
   r.K_candidate_source = fit.K.valid ? TermSource::fit : TermSource::read_off;
   r.K_candidate = fit.K.valid ? fit.K : ro.K;
-  if (significant(fit.K))
+  if (significant(fit.K)) {
     r.K = estimate(fit.K, TermSource::fit);
-  else if (significant(ro.K))
+    // K's uncertainty over records (the plan's, record_plan.hpp): the sandwich sigma of this fit is that of the
+    // coefficients it freed, which on a measured curve include those its noise pushed above zero.
+    // The model the data support: N and K, and Q, the flicker floor and R where the fit measures them (C_k above
+    // twice its sigma); a coefficient whose true value is zero comes out positive in half the records.
+    std::array<double, 5> supported = fit.c;
+    for (const std::size_t k : {0u, 2u, 4u})
+      if (!(fit.c[k] > 2.0 * fit.c_sigma[k])) supported[k] = 0.0;
+    const double rel = planned_random_walk_sigma(curve, supported);
+    if (std::isfinite(rel) && rel > 0.0) r.K.estimate.sigma = rel * r.K.value();
+  } else if (significant(ro.K))
     r.K = estimate(ro.K, TermSource::read_off);
   else
     r.K = bound(bound_over_curve(curve, [](double tau) { return std::sqrt(3.0 / tau); }));

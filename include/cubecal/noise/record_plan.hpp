@@ -17,6 +17,7 @@
 /// Precision: the relative half-width of a term's interval at the plan's
 /// confidence (0.10: +-10 %); at 0.683 it is the relative 1-sigma.
 #pragma once
+#include <array>
 #include <cstddef>
 #include <functional>
 #include <optional>
@@ -25,6 +26,7 @@
 #include <string_view>
 #include <vector>
 
+#include "cubecal/stats/allan_curve.hpp"
 #include "cubecal/stats/tau_grid.hpp"
 
 namespace cubecal {
@@ -118,6 +120,14 @@ struct TermPrecision {
 /// confidence outside (0, 1).
 std::vector<TermPrecision> plan_precision(const PlanModel& model, double duration_s, std::span<const PlanTerm> terms,
                                           const PlanOptions& options = {});
+
+/// K's relative 1-sigma over records whose Allan variance is sum_k c[k + 2] tau^k (the five-term model,
+/// noise_terms.hpp) and whose curve is analysed at the taus, factors and length of `curve` (its m and terms; an OADEV
+/// curve): the five-term fit of the model's own curve (the EDF of each point Greenhall's for the model's local slope),
+/// its K's sigma with the flicker coefficient bound and with it free, in root mean square (docs/formulas/planning.md
+/// §1.2). What `analyze` states for a K the fit measures, and what the plan plans. NaN when that curve shows no K or
+/// `curve` lacks its factors. Throws nothing beyond std::bad_alloc.
+double planned_random_walk_sigma(const AllanCurve& curve, const std::array<double, 5>& c);
 
 /// One target's plan: the shortest record that meets it.
 struct TargetPlan {

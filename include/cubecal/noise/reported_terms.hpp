@@ -13,7 +13,9 @@
 ///      two that is significant: value > 2 sigma); when neither is, the upper
 ///      bound min over tau of sigma(tau) sqrt(3 / tau) (AVAR >= K^2 tau / 3).
 ///      A coefficient whose uncertainty exceeds half its value is not a
-///      measurement of K.
+///      measurement of K. A K from the fit states its spread over records
+///      (planned_random_walk_sigma, record_plan.hpp), not the sandwich sigma
+///      of the coefficients this fit freed.
 ///   B  the read-off sigma_min / 0.664 when the curve's minimum lies inside
 ///      the record, its sigma the spread of the minimum over records
 ///      (minimum_spread.hpp), as T's, the tau of the minimum; else "no minimum within the record" and the upper bound
