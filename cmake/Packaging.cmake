@@ -35,6 +35,7 @@ elseif(CUBECAL_BUILD_CLI)
     "davar|dynamic Allan deviation: OADEV over a sliding window, a tau x time matrix per channel"
     "psd|power spectral density (Welch), its power-law fit and the noise terms it stands for"
     "model|composite noise model (white, quantization, random walk, drift, Gauss-Markov) fitted by GMWM"
+    "plan|how long to record: the record length each noise term needs for a target precision"
     "report|HTML report of an analyze result"
     "demo|the 72 h static experiment of the CubeSat sensor study, simulated and analyzed")
 

@@ -24,7 +24,7 @@ import sys
 
 BEGIN = "# BEGIN result classes (scripts/result-stubs.py)"
 END = "# END result classes"
-MODULES = ("_result", "_analyze", "_model", "_spectral", "_calibrate", "_dev")
+MODULES = ("_result", "_analyze", "_model", "_spectral", "_calibrate", "_dev", "_plan")
 TYPES = {"array": "NDArray[np.float64]", "int_array": "NDArray[np.int64]", "bool_array": "NDArray[np.bool_]",
          "matrix": "NDArray[np.float64]", "ndarray": "NDArray[Any]"}
 

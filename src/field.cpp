@@ -25,6 +25,7 @@ std::string_view field_name(Field f) noexcept {
     case Field::composite_bootstrap: return "composite_bootstrap";
     case Field::counts_per_unit: return "counts_per_unit";
     case Field::dataset: return "dataset";
+    case Field::datasheet: return "datasheet";
     case Field::delimiter: return "delimiter";
     case Field::detrend: return "detrend";
     case Field::drift_window: return "drift_window";

@@ -33,6 +33,7 @@ enum class Field {
   composite_bootstrap,
   counts_per_unit,
   dataset,
+  datasheet,
   delimiter,
   detrend,
   drift_window,

@@ -11,6 +11,7 @@ The C++ library's calls on NumPy arrays:
     rec = cubecal.read("log.csv", columns="gx,gy,gz")
     s = cubecal.psd(rec, unit="deg/s"); d = cubecal.davar(rec, window="1h", step="60s")
     m = cubecal.model(rec, "WN+RW+2*GM", unit="deg/s", bootstrap=200)   # GMWM
+    p = cubecal.plan("sport-gyro", target="B:10%,K:20%")   # how long to record
 
 Errors in the data or the arguments raise cubecal.Error subclasses (ValueErrors): InputError
 (.file, .line, .column; arrays are checked as the readers check a file),
@@ -35,6 +36,7 @@ from ._analyze import Analysis, analyze
 from ._simulate import presets, simulate
 from ._spectral import DynamicAllan, Spectrum, davar, psd
 from ._model import NoiseModel, model
+from ._plan import Plan, plan
 from ._result import Result
 from . import noise, noise_kasdin  # AllanTools' allantools.noise and allantools.noise_kasdin
 from .noise_kasdin import Noise

@@ -20,4 +20,5 @@ PYBIND11_MODULE(_cubecal, m) {
   cubecal::python::bind_realtime(m);
   cubecal::python::bind_allantools_kernels(m);
   cubecal::python::bind_ci(m);
+  cubecal::python::bind_plan(m);
 }

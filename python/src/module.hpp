@@ -16,5 +16,6 @@ void bind_noise(pybind11::module_& m);
 void bind_realtime(pybind11::module_& m);
 void bind_allantools_kernels(pybind11::module_& m);
 void bind_ci(pybind11::module_& m);
+void bind_plan(pybind11::module_& m);
 
 }  // namespace cubecal::python

@@ -755,4 +755,6 @@ Recorder::~Recorder() = default;
 
 RecorderSummary Recorder::run() { return impl_->run(); }
 
+void Recorder::flush() { impl_->flush_all(); }
+
 }  // namespace cubecal::acquire

@@ -17,6 +17,8 @@
 #include "common_options.hpp"
 #include "cubecal/error.hpp"
 #include "cubecal/io/output_path.hpp"
+#include "cubecal/io/recording.hpp"
+#include "cubecal/io/recording_manifest.hpp"
 #include "cubecal/noise/bias_verdict.hpp"
 #include "cubecal/noise/wic.hpp"
 #include "cubecal/noise/reported_terms.hpp"
@@ -360,6 +362,11 @@ pipeline::AnalysisResult analyze_streamed(const AnalyzeOptions& o, const io::Ser
   header.names = input->names();
   header.default_columns = input->default_columns();
   header.left_out = input->left_out();
+  if (io::looks_like_recording(o.input.file))
+    if (const io::RecordingManifest m = io::read_manifest(o.input.file); m.unit) {
+      header.units.assign(header.names.size(), *m.unit);  // as the whole read gives them
+      header.units_from = "the recording's manifest";
+    }
   ChannelUnits units = units_for(o.unit, header);
   note_default_columns(header);
   if (!units.note.empty()) std::cerr << units.note << '\n';

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "record_targets.hpp"
 #include "cubecal/acquire/frame_spec.hpp"
 #include "cubecal/acquire/recorder.hpp"
 #include "cubecal/acquire/source.hpp"
@@ -44,6 +45,10 @@ struct RecordCliOptions {
   std::size_t chunk_bytes = std::size_t{64} << 20;
   bool live = false;
   bool quiet = false;
+  std::string target;  // --target: the live status (record_targets.hpp)
+  double ci = 0.683;
+  std::string status_every = "120s";
+  bool stop_when_met = false;
 };
 
 volatile std::sig_atomic_t g_stop = 0;
@@ -170,6 +175,7 @@ struct StatusBlock {
   std::string out_dir;
   std::unique_ptr<LiveDeviation>& live;
   acquire::Recorder*& recorder_ptr;
+  const TargetWatch* targets = nullptr;
   std::vector<std::string> live_lines;
   double last_live = 0.0;
   std::size_t drawn_lines = 0;  // status lines drawn below the cursor's line
@@ -187,6 +193,7 @@ struct StatusBlock {
     }
     const double fb = free_bytes(out_dir);
     if (fb >= 0) line += "  free " + bytes_text(fb);
+    if (const std::string t = targets != nullptr ? targets->line() : std::string(); !t.empty()) line += "  " + t;
     if (live && st.elapsed_s - last_live >= 5.0) {
       const double rate = recorder_ptr->manifest().rate_hz.value_or(
           st.device_rate_hz > 0 ? st.device_rate_hz
@@ -206,10 +213,15 @@ struct StatusBlock {
 };
 
 // What the recording did, on stderr; the command's exit status.
-int report_record_end(const acquire::RecorderSummary& sum, const std::string& out_dir) {
-  const char* why = sum.end == acquire::RecordEnd::duration  ? "duration reached"
-                    : sum.end == acquire::RecordEnd::stopped ? "stopped"
-                                                             : "source ended";
+int report_record_end(const acquire::RecorderSummary& sum, const std::string& out_dir, const TargetWatch* targets) {
+  std::string met;
+  if (targets != nullptr && targets->stopped_met())
+    met = fmt::format("targets met at {} samples ({} recorded)", targets->met_at_samples(),
+                      clock_text(targets->met_at_record_s()));
+  const char* why = !met.empty()                              ? met.c_str()
+                    : sum.end == acquire::RecordEnd::duration ? "duration reached"
+                    : sum.end == acquire::RecordEnd::stopped  ? "stopped"
+                                                              : "source ended";
   if (sum.segment_dir.empty() && sum.unrecorded_rejects > 0) {
     std::string first = sum.first_unrecorded_data.substr(0, 80);
     std::fprintf(stderr,
@@ -241,6 +253,7 @@ int report_record_end(const acquire::RecorderSummary& sum, const std::string& ou
 
 int run_record_command(const RecordCliOptions& o) {
   acquire::RecorderOptions ro = recorder_options(o);
+  const RecordTargets rt = parse_record_targets(o.target, o.ci, o.status_every, o.stop_when_met);
 
   const bool tty = ::isatty(STDERR_FILENO) != 0 && !o.quiet;
   install_signal_handlers();
@@ -255,16 +268,20 @@ int run_record_command(const RecordCliOptions& o) {
   const double requested = ro.duration_s;
   const std::string out_dir = ro.out_dir;
   acquire::Recorder* recorder_ptr = nullptr;
-  if (o.live) {
-    ro.on_sample = [&live, &recorder_ptr](std::span<const double> v) {
-      if (!live) {
-        const auto& m = recorder_ptr->manifest();
-        live = std::make_unique<LiveDeviation>(m.columns, m.time_column);
+  std::unique_ptr<TargetWatch> watch;
+  if (!rt.targets.empty())
+    watch = std::make_unique<TargetWatch>(rt, out_dir, &g_stop, [&recorder_ptr] { recorder_ptr->flush(); });
+  if (o.live || watch) {
+    ro.on_sample = [&live, &recorder_ptr, &watch, want_live = o.live](std::span<const double> v) {
+      const auto& m = recorder_ptr->manifest();
+      if (want_live) {
+        if (!live) live = std::make_unique<LiveDeviation>(m.columns, m.time_column);
+        live->push(v);
       }
-      live->push(v);
+      if (watch) watch->on_sample(v, m);
     };
   }
-  StatusBlock status{requested, out_dir, live, recorder_ptr, {}, 0.0, 0};
+  StatusBlock status{requested, out_dir, live, recorder_ptr, watch.get(), {}, 0.0, 0};
   if (tty) ro.on_status = [&status](const acquire::RecorderStatus& st) { status.draw(st); };
 
   acquire::Recorder recorder(*source, std::move(ro));
@@ -281,7 +298,10 @@ int run_record_command(const RecordCliOptions& o) {
     return 2;
   }
   if (tty) std::fputs("\n", stderr);
-  return report_record_end(sum, out_dir);
+  if (watch && !sum.segment_dir.empty()) watch->finish(recorder.manifest());
+  if (watch)
+    for (const auto& n : watch->take_notices()) std::fprintf(stderr, "cubecal: %s\n", printable_text(n).c_str());
+  return report_record_end(sum, out_dir, watch.get());
 }
 
 }  // namespace
@@ -331,6 +351,17 @@ CLI::App* add_record_command(CLI::App& app, Command& run) {
       ->capture_default_str();
   cmd->add_flag("--live", opt->live, "On a terminal: the running OADEV at a few taus, updated every 5 s");
   cmd->add_flag("--quiet", opt->quiet, "No status line, even on a terminal");
+  cmd->add_option("--target", opt->target,
+                  "Precision targets, e.g. B:10%,K:20% (terms Q N B K R T; relative half-width at --ci): every "
+                  "--status-every of recorded time, DIR/status.json gets each channel's terms, their precision, "
+                  "whether each target holds and the time still needed (cubecal status DIR shows it)");
+  cmd->add_option("--ci", opt->ci, "With --target: the confidence of the precisions (0.683: 1 sigma)")
+      ->capture_default_str();
+  cmd->add_option("--status-every", opt->status_every,
+                  "With --target: recorded time between two statuses (120s, 5m, 1h); also at the end")
+      ->capture_default_str();
+  cmd->add_flag("--stop-when-met", opt->stop_when_met,
+                "With --target: end the run cleanly at the first status where every target holds");
   cmd->callback([opt, &run] { run = [opt] { return run_record_command(*opt); }; });
   return cmd;
 }

@@ -19,8 +19,10 @@ CLI::App* add_turnon_command(CLI::App& app, Command& run);
 CLI::App* add_compare_command(CLI::App& app, Command& run);
 CLI::App* add_psd_command(CLI::App& app, Command& run);
 CLI::App* add_davar_command(CLI::App& app, Command& run);
+CLI::App* add_status_command(CLI::App& app, Command& run);
 CLI::App* add_model_command(CLI::App& app, Command& run);
 CLI::App* add_record_command(CLI::App& app, Command& run);
+CLI::App* add_plan_command(CLI::App& app, Command& run);
 // Registered on the `calibrate` subcommand:
 CLI::App* add_calibrate_rate_table_command(CLI::App& calibrate, Command& run);
 CLI::App* add_calibrate_mag_command(CLI::App& calibrate, Command& run);

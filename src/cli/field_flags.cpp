@@ -23,6 +23,7 @@ FieldFlag field_flag(Field f) noexcept {
     case Field::composite_bootstrap: return {"--composite-bootstrap", Prefix::no};
     case Field::counts_per_unit: return {"--lsb", Prefix::yes};
     case Field::dataset: return {"--dataset", Prefix::yes};
+    case Field::datasheet: return {"--datasheet", Prefix::yes};
     case Field::delimiter: return {"--delimiter", Prefix::no};
     case Field::detrend: return {"--detrend", Prefix::no};
     case Field::drift_window: return {"--drift-window", Prefix::no};

@@ -126,8 +126,10 @@ int main(int argc, char** argv) {
   cubecal::cli::add_davar_command(app, run);
   cubecal::cli::add_model_command(app, run);
   cubecal::cli::add_record_command(app, run);
+  cubecal::cli::add_plan_command(app, run);
   cubecal::cli::add_report_command(app, run);
   cubecal::cli::add_demo_command(app, run);
+  cubecal::cli::add_status_command(app, run);
 
   try {
     app.parse(argc, argv);

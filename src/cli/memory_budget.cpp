@@ -156,7 +156,7 @@ std::string recording_beyond_budget(const std::string& file, std::size_t need, s
   return fmt::format(
       "cubecal: warning: reading {} whole would take about {:.0f} MB, more than the memory budget "
       "({:.0f} MB, --memory), and a recording directory is read whole unless --stream is given "
-      "(which streams one closed segment)\n",
+      "(which streams one segment)\n",
       file, static_cast<double>(need) / 1e6, static_cast<double>(budget) / 1e6);
 }
 

@@ -67,11 +67,14 @@ class ByteSource {
   }
   // The chunks of a recording (cubecal record) as one text: the header line
   // of every chunk after the first left out, and each chunk's bytes checked
-  // against the size and CRC-32 of the manifest as they go by.
+  // against the size and CRC-32 of the manifest as they go by. An open chunk
+  // (the one a running recorder writes) is read up to `bytes`, the end of
+  // its last complete line when the stream was opened, and has no CRC yet.
   struct Chunk {
     std::string path;
     std::size_t bytes = 0;
     std::uint32_t crc = 0;
+    bool open = false;
   };
   ByteSource(std::vector<Chunk> chunks, const std::string& dir) : own_(true), label_(dir), chunks_(std::move(chunks)) {
     for (const Chunk& c : chunks_) total_ += c.bytes;
@@ -149,8 +152,10 @@ class ByteSource {
     std::size_t got = 0;
     while (got < n) {
       if (fd_ < 0 && !open_next_chunk()) break;
-      std::size_t r = read_fd(dst + got, n - got);
-      const bool chunk_ended = r < n - got;
+      const Chunk& c = chunks_[next_];
+      const std::size_t want = c.open ? std::min(n - got, c.bytes - seen_) : n - got;
+      std::size_t r = want > 0 ? read_fd(dst + got, want) : 0;
+      const bool chunk_ended = r < want || (c.open && seen_ + r == c.bytes);
       crc_ = static_cast<std::uint32_t>(::crc32(crc_, reinterpret_cast<const Bytef*>(dst + got), static_cast<uInt>(r)));
       seen_ += r;
       consumed_ += r;
@@ -269,7 +274,7 @@ class ByteSource {
     ::close(fd_);
     fd_ = -1;
     ++next_;
-    if (seen_ != c.bytes || crc_ != c.crc)
+    if (c.open ? seen_ != c.bytes : seen_ != c.bytes || crc_ != c.crc)
       throw InputError(c.path, 0, 0,
                        seen_ != c.bytes
                            ? std::to_string(seen_) + " bytes where the manifest has " + std::to_string(c.bytes)
@@ -555,6 +560,13 @@ bool is_comment_or_blank(std::string_view line) {
 
 class TextStream final : public SampleStream {
  public:
+  // The columns were chosen for the caller (a recording's data columns, as
+  // its whole read chooses them): said as default columns, with those left out.
+  void take_as_default_columns(std::vector<std::string> left_out) {
+    default_columns_ = true;
+    left_out_ = std::move(left_out);
+  }
+
   // A file, the standard input or a recording's chunks as one text.
   TextStream(std::unique_ptr<ByteSource> src, const SeriesOptions& opt, std::size_t chunk_bytes)
       : src_(std::move(src)), opt_(opt), chunk_bytes_(std::max<std::size_t>(chunk_bytes, 4096)) {
@@ -858,24 +870,56 @@ class TextStream final : public SampleStream {
 
 namespace {
 
+// The bytes of an open chunk up to the end of its last complete line, when
+// that line is a sample (0: missing, or no sample yet: the header only).
+std::size_t complete_lines_bytes(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return 0;  // created after the manifest's last rewrite
+  struct stat st {};
+  std::size_t end = 0, first_nl = std::string::npos;
+  if (::fstat(fd, &st) == 0 && st.st_size > 0) {
+    std::vector<char> block(std::size_t{64} << 10);
+    auto at = static_cast<std::size_t>(st.st_size);
+    while (at > 0 && end == 0) {
+      const std::size_t n = std::min(at, block.size());
+      at -= n;
+      if (::pread(fd, block.data(), n, static_cast<off_t>(at)) != static_cast<ssize_t>(n)) break;
+      for (std::size_t i = n; i-- > 0;)
+        if (block[i] == '\n') {
+          end = at + i + 1;
+          break;
+        }
+    }
+    const ssize_t h = ::pread(fd, block.data(), block.size(), 0);  // the header line
+    for (std::size_t i = 0; h > 0 && i < static_cast<std::size_t>(h); ++i)
+      if (block[i] == '\n') {
+        first_nl = i;
+        break;
+      }
+  }
+  ::close(fd);
+  return first_nl != std::string::npos && end > first_nl + 1 ? end : 0;
+}
+
 // A recording directory (cubecal record) streamed: its chunks read in turn
-// as one text, which the one segment of a cleanly closed recording is (a
-// device time column checked across the chunks as within one file). A
-// recording of several segments, or with a source that went away and came
-// back, or one still open, is read whole (recording.hpp places its pieces).
+// as one text, which the one segment of a recording is (a device time
+// column checked across the chunks as within one file); the open chunk of a
+// running recorder up to its last complete line. A recording of several
+// segments, or with a source that went away and came back, is read whole
+// (recording.hpp places its pieces).
 std::unique_ptr<SampleStream> open_recording_stream(const std::string& dir, const SeriesOptions& opt,
                                                     std::size_t chunk_bytes) {
   const RecordingManifest m = read_manifest(dir);
   const RecordingSegment* seg = nullptr;
   std::size_t with_samples = 0;
   for (const auto& s : m.segments)
-    if (s.samples > 0) {
+    if (s.samples > 0 || s.end == SegmentEnd::open) {  // open: samples of its last sync, maybe none yet
       seg = &s;
       ++with_samples;
     }
   const auto whole = [&](const std::string& why) {
     return UsageError(dir + ": " + why +
-                      ": a recording is streamed only as one closed segment without breaks; leave out "
+                      ": a recording is streamed only as one segment without breaks; leave out "
                       "{stream} (it is read into memory and its pieces placed on one clock)");
   };
   if (seg == nullptr) throw InputError(dir, 0, 0, "the recording holds no sample", "record into it first");
@@ -884,16 +928,35 @@ std::unique_ptr<SampleStream> open_recording_stream(const std::string& dir, cons
     if (e.kind != RecordingEvent::Kind::gap) throw whole("its source or device clock restarted in " + seg->dir);
   std::vector<ByteSource::Chunk> chunks;
   for (const auto& c : seg->chunks) {
-    if (c.open || !c.crc32) throw whole(seg->dir + "/" + c.file + " is still open (a running or crashed recorder)");
-    if (c.samples > 0) chunks.push_back({dir + "/" + seg->dir + "/" + c.file, c.bytes, *c.crc32});
+    const std::string path = dir + "/" + seg->dir + "/" + c.file;
+    if (c.open || !c.crc32) {
+      // The chunk of a running (or crashed) recorder: its complete lines
+      // now, as the whole read takes them (recording.hpp).
+      if (const std::size_t upto = complete_lines_bytes(path); upto > 0) chunks.push_back({path, upto, 0, true});
+      continue;
+    }
+    if (c.samples > 0) chunks.push_back({path, c.bytes, *c.crc32, false});
   }
+  if (chunks.empty())
+    throw InputError(dir, 0, 0, "the recording holds no complete sample yet", "wait for the recorder to write one");
   // The columns and time as read_recording takes them: the data columns
-  // (not the host stamps, not the device time), the device time column
-  // unless a rate is given instead.
+  // (not the host stamps, not the device time, not an extra column, not a
+  // temperature unless asked), the device time column unless a rate is
+  // given instead.
   SeriesOptions o = opt;
-  if (o.table.columns.empty())
-    for (const auto& name : m.columns)
-      if (!m.time_column || name != *m.time_column) o.table.columns.push_back(name);
+  std::vector<std::string> left_out;
+  const bool default_columns = o.table.columns.empty();
+  if (default_columns)
+    for (const auto& name : m.columns) {
+      const bool out = (m.time_column && name == *m.time_column) ||
+                       std::find(opt.table.extra_columns.begin(), opt.table.extra_columns.end(), name) !=
+                           opt.table.extra_columns.end() ||
+                       (opt.skip_temperature && looks_like_temperature_column(name));
+      (out ? left_out : o.table.columns).push_back(name);
+    }
+  if (default_columns && o.table.columns.empty())
+    throw InputError(dir, 0, 0, "no data columns besides the time and temperature columns",
+                     "name the columns to analyze");
   if (o.time_col.empty() && o.rate_hz == 0.0) {
     if (m.time_column)
       o.time_col = *m.time_column;
@@ -902,7 +965,9 @@ std::unique_ptr<SampleStream> open_recording_stream(const std::string& dir, cons
     else
       throw UsageError(dir + ": the recording has no device time column and no rate: give {rate} HZ");
   }
-  return std::make_unique<TextStream>(std::make_unique<ByteSource>(std::move(chunks), dir), o, chunk_bytes);
+  auto stream = std::make_unique<TextStream>(std::make_unique<ByteSource>(std::move(chunks), dir), o, chunk_bytes);
+  if (default_columns) stream->take_as_default_columns(std::move(left_out));
+  return stream;
 }
 
 // A NumPy .npy: its header read, then its rows as binary frames.

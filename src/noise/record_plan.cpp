@@ -159,16 +159,15 @@ struct ModelCurve {
 
 constexpr double kOneSigma = 0.682689492137086;
 
-ModelCurve model_curve(const PlanModel& model, std::size_t n, const PlanOptions& opt) {
+ModelCurve model_curve(const PlanModel& model, std::size_t n, const PlanOptions& opt, bool with_floor) {
   ModelCurve mc;
   const std::size_t n_phase = n + 1;
   const auto ms = averaging_factors(opt.grid, max_averaging_factor(Stat::oadev, n_phase), model.dt);
-  // A flicker floor a millionth of the curve's lowest variance: the five-term fit of a measured curve keeps
-  // the flicker coefficient free (in three quarters of the sport-gyro preset's simulated records, which
-  // have none), and K's uncertainty is that of a fit that must tell K from a floor (planning.md §1).
+  // with_floor: a flicker floor a millionth of the curve's lowest variance, which changes no value read but
+  // keeps the flicker coefficient free in the five-term fit (planning.md §1.2).
   double lowest = std::numeric_limits<double>::infinity();
   for (const std::size_t m : ms) lowest = std::min(lowest, model.avar(m));
-  const double floor = std::isfinite(lowest) ? 1e-6 * lowest : 0.0;
+  const double floor = with_floor && std::isfinite(lowest) ? 1e-6 * lowest : 0.0;
   for (const std::size_t m : ms) {
     const double a = model.avar(m) + floor;
     if (!(a > 0.0) || !std::isfinite(a)) continue;
@@ -212,6 +211,25 @@ TermPrecision from_estimate(PlanTerm term, const TermEstimate& e, double z) {
   return p;
 }
 
+// K's precision (planning.md §1.2). A model without a flicker floor puts
+// the fit's flicker coefficient on its bound, and the fit of a measured curve
+// frees it whenever its unconstrained estimate comes out positive: in half
+// the records. K's variance is then the mean of the fit's with the
+// coefficient bound and with it free (the model's curve with a negligible
+// floor added).
+TermPrecision random_walk_precision(const PlanModel& model, std::size_t n, const PlanOptions& options,
+                                    const NoiseFit& fit, const TermEstimate& k, double z) {
+  TermPrecision p = from_estimate(PlanTerm::K, k, z);
+  if (fit.c[2] > 0.0) return p;
+  const ModelCurve floored = model_curve(model, n, options, true);
+  const NoiseFit free_fit = fit_noise_terms(floored.curve);
+  const ReportedTerms free_terms = reported_terms(read_off_noise_terms(floored.curve), free_fit, floored.curve);
+  if (free_terms.K.bound() || free_terms.K.source != TermSource::fit) return p;
+  const double bound = k.sigma / k.value, free = free_terms.K.estimate.sigma / free_terms.K.estimate.value;
+  p.precision = z * std::sqrt(0.5 * (bound * bound + free * free));
+  return p;
+}
+
 }  // namespace
 
 std::vector<TermPrecision> plan_precision(const PlanModel& model, double duration_s, std::span<const PlanTerm> terms,
@@ -221,7 +239,7 @@ std::vector<TermPrecision> plan_precision(const PlanModel& model, double duratio
     throw std::invalid_argument("plan_precision: the record must span three sample periods");
   const double z = ci_factor(options.ci);
   const auto n = static_cast<std::size_t>(std::floor(duration_s / model.dt + 1e-9));
-  const ModelCurve mc = model_curve(model, n, options);
+  const ModelCurve mc = model_curve(model, n, options, false);
   const SlopeReadOffs ro = read_off_noise_terms(mc.curve);
   const NoiseFit fit = fit_noise_terms(mc.curve);
   const ReportedTerms rt = reported_terms(ro, fit, mc.curve);
@@ -236,7 +254,7 @@ std::vector<TermPrecision> plan_precision(const PlanModel& model, double duratio
       case PlanTerm::K:
         out.push_back(rt.K.bound()
                           ? unresolved(t, "the curve's rate random walk (+1/2) is not significant in this record")
-                          : from_estimate(t, rt.K.estimate, z));
+                          : random_walk_precision(model, n, options, fit, rt.K.estimate, z));
         break;
       case PlanTerm::Q:
         out.push_back(ro.Q.valid ? from_estimate(t, ro.Q, z)

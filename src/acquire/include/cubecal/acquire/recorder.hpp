@@ -98,6 +98,12 @@ class Recorder {
 
   const io::RecordingManifest& manifest() const noexcept { return manifest_; }
 
+  /// Hands the buffered chunk and rejects to the kernel now (what the run
+  /// does every flush interval): every sample recorded so far then survives
+  /// a kill -9. For a callback of the run (on_sample) that is about to tell
+  /// another process how many samples there are. Throws WriteFailure.
+  void flush();
+
  private:
   class Impl;
   io::RecordingManifest manifest_;  // before impl_, which fills it
