@@ -10,26 +10,34 @@
 // a number differs. Per term it prints a Markdown row:
 //
 //   plan       the plan's precision (relative half-width at the ci; 1 sigma at 0.683)
-//   spread     over the records that resolve the term: sd / mean of the
-//              value (T: of tau_min), with its Monte Carlo standard error
+//   spread     over the records that resolve the term, in the plan's own
+//              statistic (docs/formulas/planning.md §0, §3), times z_ci: N, K
+//              sd / mean; B half the central 68.3 % interval over the median;
+//              T half the central 68.3 % interval of ln T, each record's T
+//              uniform over its tau's cell; with its Monte Carlo standard
+//              error (sd: from the fourth moment; intervals: 400 bootstrap
+//              resamples)
+//   MC sd      sd / mean (T: sd of ln T), for comparison
 //   stated     the mean over those records of the uncertainty analyze
-//              states, relative: sigma / value (T: the half-width of
-//              tau_min_lo..tau_min_hi over tau_min), with its standard error
+//              states, relative: sigma / value (T: T_rel_sigma), with its
+//              standard error
 //   ratios     spread / plan and stated / plan, "yes" when within 15 %
 //   unresolved the share of records in which analyze does not report the
 //              term (B, T: no minimum within the record; K: not significant,
 //              an upper bound; N: no -1/2 region)
 //
 //   cubecal_plan_validation [--records K] [--seed S] [--only NAME] [--threads T]
-//                           [--adis FILE] [--ci C]
+//                           [--adis FILE] [--ci C] [--plan-only] [--paper]
 //
-// K (default 200) is the number of records of a run; runs of long records
-// take fewer (a case's cap, stated in the table's K column). The three axes
-// of a simulated triad carry the same axis model on streams of their own, so
-// one simulation gives three independent records. Record r of a run is axis
-// r % 3 of the triad seeded S + r / 3. --only runs the cases whose name
-// contains NAME. --adis is the ADIS16405 record the ADIS models are fitted
-// to (default ../shared/data/imu/adis16405/run1.csv.gz from the source tree).
+// K (default 200) is the number of records of a run (a case may cap it; the
+// table's K column states it). The three axes of a simulated triad carry the
+// same axis model on streams of their own, so one simulation gives three
+// independent records. Record r of a run is axis r % 3 of the triad seeded
+// S + r / 3. --only runs the cases whose name contains NAME. --adis is the
+// ADIS16405 record the ADIS models are fitted to (default
+// ../shared/data/imu/adis16405/run1.csv.gz beside the source tree).
+// --plan-only prints the plans without simulating; --paper the plan of the
+// paper's 72 h for every axis of both presets and the length B:10 % needs.
 #include <omp.h>
 
 #include <algorithm>
