@@ -30,7 +30,7 @@
 //                           [--adis FILE] [--ci C] [--plan-only] [--paper]
 //
 // K (default 200) is the number of records of a run (a case may cap it; the
-// table's K column states it). The three axes of a simulated triad carry the
+// table's records column states it). The three axes of a simulated triad carry the
 // same axis model on streams of their own, so one simulation gives three
 // independent records. Record r of a run is axis r % 3 of the triad seeded
 // S + r / 3. --only runs the cases whose name contains NAME. --adis is the
@@ -439,7 +439,8 @@ void print_row(const Case& c, const std::string& why, double length_s, const Ter
 
 void print_header() {
   std::printf(
-      "| model | planned for | length | K | term | plan value | MC mean | plan precision | MC spread | spread / plan "
+      "| model | planned for | length | records | term | plan value | MC mean | plan precision | MC spread | spread / "
+      "plan "
       "| MC sd | stated | stated / plan | unresolved |\n");
   std::printf("|---|---|---|---:|---|---:|---:|---:|---:|---|---:|---:|---|---:|\n");
 }
