@@ -10,26 +10,34 @@
 // a number differs. Per term it prints a Markdown row:
 //
 //   plan       the plan's precision (relative half-width at the ci; 1 sigma at 0.683)
-//   spread     over the records that resolve the term: sd / mean of the
-//              value (T: of tau_min), with its Monte Carlo standard error
+//   spread     over the records that resolve the term, in the plan's own
+//              statistic (docs/formulas/planning.md §0, §3), times z_ci: N, K
+//              sd / mean; B half the central 68.3 % interval over the median;
+//              T half the central 68.3 % interval of ln T, each record's T
+//              uniform over its tau's cell; with its Monte Carlo standard
+//              error (sd: from the fourth moment; intervals: 400 bootstrap
+//              resamples)
+//   MC sd      sd / mean (T: sd of ln T), for comparison
 //   stated     the mean over those records of the uncertainty analyze
-//              states, relative: sigma / value (T: the half-width of
-//              tau_min_lo..tau_min_hi over tau_min), with its standard error
+//              states, relative: sigma / value (T: T_rel_sigma), with its
+//              standard error
 //   ratios     spread / plan and stated / plan, "yes" when within 15 %
 //   unresolved the share of records in which analyze does not report the
 //              term (B, T: no minimum within the record; K: not significant,
 //              an upper bound; N: no -1/2 region)
 //
 //   cubecal_plan_validation [--records K] [--seed S] [--only NAME] [--threads T]
-//                           [--adis FILE] [--ci C]
+//                           [--adis FILE] [--ci C] [--plan-only] [--paper]
 //
-// K (default 200) is the number of records of a run; runs of long records
-// take fewer (a case's cap, stated in the table's K column). The three axes
-// of a simulated triad carry the same axis model on streams of their own, so
-// one simulation gives three independent records. Record r of a run is axis
-// r % 3 of the triad seeded S + r / 3. --only runs the cases whose name
-// contains NAME. --adis is the ADIS16405 record the ADIS models are fitted
-// to (default ../shared/data/imu/adis16405/run1.csv.gz from the source tree).
+// K (default 200) is the number of records of a run (a case may cap it; the
+// table's records column states it). The three axes of a simulated triad carry the
+// same axis model on streams of their own, so one simulation gives three
+// independent records. Record r of a run is axis r % 3 of the triad seeded
+// S + r / 3. --only runs the cases whose name contains NAME. --adis is the
+// ADIS16405 record the ADIS models are fitted to (default
+// ../shared/data/imu/adis16405/run1.csv.gz beside the source tree).
+// --plan-only prints the plans without simulating; --paper the plan of the
+// paper's 72 h for every axis of both presets and the length B:10 % needs.
 #include <omp.h>
 
 #include <algorithm>
@@ -79,6 +87,7 @@ struct Options {
   double ci = 0.683;
   std::string adis = std::string(CUBECAL_SHARED_DATA) + "/imu/adis16405/run1.csv.gz";
   bool plan_only = false;  // print the plans only, simulate nothing
+  bool paper = false;      // print the paper's 72 h plan for every preset axis
 };
 
 // One sensor model and what is planned for it.
@@ -430,7 +439,8 @@ void print_row(const Case& c, const std::string& why, double length_s, const Ter
 
 void print_header() {
   std::printf(
-      "| model | planned for | length | K | term | plan value | MC mean | plan precision | MC spread | spread / plan "
+      "| model | planned for | length | records | term | plan value | MC mean | plan precision | MC spread | spread / "
+      "plan "
       "| MC sd | stated | stated / plan | unresolved |\n");
   std::printf("|---|---|---|---:|---|---:|---:|---:|---:|---|---:|---:|---|---:|\n");
 }
@@ -559,12 +569,13 @@ Case adis_case(const pipeline::AnalysisResult& r, std::size_t a, bool twin, cons
   return c;
 }
 
-// White noise, flicker floor and rate random walk at 100 Hz (IEEE 952's three middle terms; unit u):
-// N 0.01 u sqrt(s), B 0.002 u, K 1e-4 u / sqrt(s).
+// White noise, flicker floor and rate random walk at 10 Hz (IEEE 952's three middle terms; unit u):
+// N 0.01 u sqrt(s), B 0.002 u, K 1e-4 u / sqrt(s). (At 100 Hz the flicker
+// generator makes this case take ten minutes of the table's twenty.)
 Case flicker_case(const char* spec) {
   Case c;
-  c.name = "WN+flicker+RW 100 Hz";
-  c.rate_hz = 100.0;
+  c.name = "WN+flicker+RW 10 Hz";
+  c.rate_hz = 10.0;
   c.triad.name = "wn-flicker-rw";
   c.triad.unit = "u";
   c.axis.white_sigma = 0.01 * std::sqrt(c.rate_hz);
@@ -612,6 +623,38 @@ void print_plan_only(const Case& c, const Options& o) {
                   p.tau_lo, p.tau_hi, p.why.c_str());
 }
 
+// A planned term in the unit people quote it in (units.hpp; T in s), with its precision.
+std::string quoted(const TermPrecision& p, const Unit& unit) {
+  if (p.reason != PlanReason::none) return std::string(to_string(p.reason));
+  if (p.term == PlanTerm::T) return num(p.value, "%.3g") + " s ± " + pct(p.precision);
+  TermEstimate e;
+  e.valid = true;
+  e.value = p.value;
+  const Term t = p.term == PlanTerm::N ? Term::N : p.term == PlanTerm::B ? Term::B : Term::K;
+  const Quantity q = display(e, t, unit);
+  return num(q.value, "%.3g") + " " + q.unit + " ± " + pct(p.precision);
+}
+
+// --paper: the plan of the paper's 72 h for every axis of both presets, and the length B:10 % needs.
+void print_paper(const Options& o) {
+  PlanOptions po;
+  po.ci = o.ci;
+  const PlanTarget b10[1] = {{PlanTerm::B, 0.10}};
+  std::printf("| sensor | axis | N | B | K | T | B:10 %% needs |\n|---|---|---:|---:|---:|---:|---:|\n");
+  for (const std::string name : {"sport-gyro", "sport-mag"}) {
+    const TriadModel m = preset(name);
+    for (std::size_t a = 0; a < 3; ++a) {
+      const PlanModel model = plan_model(m, a, 1.0 / kPresetRateHz);
+      std::printf("| %s | %s |", name.c_str(), m.axis_names[a].c_str());
+      for (const TermPrecision& p : plan_precision(model, 72.0 * 3600.0, kTerms, po))
+        std::printf(" %s |", quoted(p, *parse_unit(m.unit)).c_str());
+      const TargetPlan t = plan_duration(model, b10, po).front();
+      std::printf(" %s |\n", std::isfinite(t.duration_s) ? length_text(t.duration_s).c_str()
+                                                         : std::string(to_string(t.at.reason)).c_str());
+    }
+  }
+}
+
 Options parse_options(int argc, char** argv) {
   Options o;
   for (int i = 1; i < argc; ++i) {
@@ -634,10 +677,12 @@ Options parse_options(int argc, char** argv) {
       o.adis = value();
     else if (a == "--plan-only")
       o.plan_only = true;
+    else if (a == "--paper")
+      o.paper = true;
     else
       throw std::invalid_argument(
           "unknown option " + a +
-          " (--records K, --seed S, --only NAME, --threads T, --ci C, --adis FILE, --plan-only)");
+          " (--records K, --seed S, --only NAME, --threads T, --ci C, --adis FILE, --plan-only, --paper)");
   }
   if (o.records < 3) throw std::invalid_argument("--records: at least 3");
   return o;
@@ -648,6 +693,10 @@ Options parse_options(int argc, char** argv) {
 int main(int argc, char** argv) {
   try {
     const Options o = parse_options(argc, argv);
+    if (o.paper) {
+      print_paper(o);
+      return 0;
+    }
     const std::vector<Case> cs = cases(o);
     if (!o.plan_only) print_header();
     for (const Case& c : cs) {
