@@ -8,7 +8,10 @@
 // the median; for T half the central 68.3 % interval of ln T, each record's
 // T uniform over its tau's cell. The stated uncertainty is the mean of what
 // analyze states (sigma / value; T: T_rel_sigma). Each lies within 15 % of
-// plan_precision at 1 sigma.
+// plan_precision at 1 sigma. (K's stated uncertainty was 1.38 times the
+// plan while analyze stated the sandwich sigma of the coefficients its fit
+// freed; it states the planned sigma now, docs/formulas/planning.md §1.2:
+// 1.07.)
 //
 // The Monte Carlo's own error. The sd over R records has a standard error
 // SE(sd) = sqrt(Var(s^2)) / (2 sd), Var(s^2) ~ (m4 - (R - 3) / (R - 1) s^4) / R
