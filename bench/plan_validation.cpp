@@ -67,6 +67,7 @@
 #include "cubecal/sim/simulator.hpp"
 #include "cubecal/stats/allan_curve.hpp"
 #include "cubecal/io/series.hpp"
+#include "../tests/plan_statistics.hpp"
 
 #ifndef CUBECAL_SHARED_DATA
 #define CUBECAL_SHARED_DATA "../shared/data"
@@ -230,28 +231,10 @@ struct Estimate {
   double se = kNaN;
 };
 
-// The sd of `v` and its standard error from the sample's own fourth moment
-// (any distribution: the estimates of B and T are skewed):
-// Var(s^2) ~ (m4 - (n - 3) / (n - 1) s^4) / n, SE(s) = SE(s^2) / (2 s).
-struct Moments {
-  double n = 0.0, mean = 0.0, sd = 0.0, sd_se = 0.0;
-};
-Moments moments_of(const std::vector<double>& v) {
-  Moments m;
-  m.n = static_cast<double>(v.size());
-  for (double x : v) m.mean += x / m.n;
-  double m2 = 0.0, m4 = 0.0;
-  for (double x : v) {
-    const double d = x - m.mean;
-    m2 += d * d / m.n;
-    m4 += d * d * d * d / m.n;
-  }
-  const double var = m2 * m.n / (m.n - 1.0);
-  m.sd = std::sqrt(var);
-  m.sd_se =
-      m.sd > 0.0 ? std::sqrt(std::max(0.0, (m4 - (m.n - 3.0) / (m.n - 1.0) * var * var) / m.n)) / (2.0 * m.sd) : 0.0;
-  return m;
-}
+using plan_statistics::b_half_width;
+using plan_statistics::Moments;
+using plan_statistics::moments;
+using plan_statistics::t_half_width;
 
 // sd / mean, the mean's error added in quadrature (delta method); `log`: the sd of ln v.
 Estimate sd_spread(const std::vector<double>& v, bool log) {
@@ -259,10 +242,10 @@ Estimate sd_spread(const std::vector<double>& v, bool log) {
   if (log) {
     std::vector<double> l;
     for (double x : v) l.push_back(std::log(x));
-    const Moments m = moments_of(l);
+    const Moments m = moments(l);
     return {m.sd, m.sd_se};
   }
-  const Moments m = moments_of(v);
+  const Moments m = moments(v);
   const double r = m.sd / m.mean;
   return {r, m.sd > 0.0 ? r * std::hypot(m.sd_se / m.sd, 1.0 / std::sqrt(m.n)) : 0.0};
 }
@@ -270,60 +253,15 @@ Estimate sd_spread(const std::vector<double>& v, bool log) {
 // The mean and its standard error sd / sqrt(n).
 Estimate mean_of(const std::vector<double>& v) {
   if (v.size() < 3) return {};
-  const Moments m = moments_of(v);
+  const Moments m = moments(v);
   return {m.mean, m.sd / std::sqrt(m.n)};
 }
 
-// Linear-interpolated quantile of sorted values (as MinimumSpread::b_half_width reads its draws).
-double quantile(const std::vector<double>& sorted, double p) {
-  const double x = p * static_cast<double>(sorted.size() - 1);
-  const auto i = static_cast<std::size_t>(x);
-  const double f = x - static_cast<double>(i);
-  return i + 1 < sorted.size() ? sorted[i] * (1 - f) + sorted[i + 1] * f : sorted.back();
-}
-
-// B as the plan states it: half the central 68.3 % interval over the median.
-double b_half_width(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return 0.5 * (quantile(v, 0.8415) - quantile(v, 0.1585)) / quantile(v, 0.5);
-}
-
-// T as the plan states it: half the central 68.3 % interval of ln T, the law
-// of each record's T uniform over its tau's cell (docs/formulas/planning.md §3).
-double t_half_width(std::vector<std::array<double, 2>> cells) {
-  std::sort(cells.begin(), cells.end());
-  std::vector<std::array<double, 3>> law;  // lo, hi, probability
-  const double w = 1.0 / static_cast<double>(cells.size());
-  for (const auto& c : cells) {
-    if (!law.empty() && law.back()[0] == c[0])
-      law.back()[2] += w;
-    else
-      law.push_back({c[0], c[1], w});
-  }
-  const auto q = [&](double p) {
-    double cum = 0.0;
-    for (const auto& c : law) {
-      if (cum + c[2] >= p) return c[0] + (p - cum) / c[2] * (c[1] - c[0]);
-      cum += c[2];
-    }
-    return law.back()[1];
-  };
-  return 0.5 * (q(0.8415) - q(0.1585));
-}
-
-// A statistic of the records and its bootstrap standard error (400 resamples, fixed seed).
+// A statistic of the records and its bootstrap standard error.
 template <class T, class F>
 Estimate bootstrapped(const std::vector<T>& v, F statistic) {
   if (v.size() < 3) return {};
-  std::mt19937_64 engine(952);
-  std::uniform_int_distribution<std::size_t> pick(0, v.size() - 1);
-  std::vector<double> reps;
-  std::vector<T> r(v.size());
-  for (int b = 0; b < 400; ++b) {
-    for (auto& x : r) x = v[pick(engine)];
-    reps.push_back(statistic(r));
-  }
-  return {statistic(v), moments_of(reps).sd};
+  return {statistic(v), plan_statistics::bootstrap_se(v, statistic)};
 }
 
 // The records of one run (one model, one length), in record order.
