@@ -173,7 +173,8 @@ MinimumSpread minimum_spread(const AllanCurve& c, const NoiseFit& fit) {
   for (double& h : hist) h /= m;
   s.t_probability = std::move(hist);
   // Cell edges half-way between neighbouring taus in ln tau; the end cells as wide as their neighbour's half.
-  const auto ln = [&](std::size_t i) { return std::log(tau[i] / c.tau[imin]); };
+  const double tau_min = c.tau[imin];  // (a structured binding is not captured by every compiler's lambdas)
+  const auto ln = [&](std::size_t i) { return std::log(tau[i] / tau_min); };
   s.t_edges.resize(k + 1);
   for (std::size_t i = 1; i < k; ++i) s.t_edges[i] = 0.5 * (ln(i - 1) + ln(i));
   s.t_edges[0] = k > 1 ? ln(0) - (ln(1) - ln(0)) / 2 : ln(0) - 0.1;

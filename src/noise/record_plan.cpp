@@ -144,13 +144,17 @@ namespace {
 // quantization noise of a rate sensor is white PM of its angle); beyond
 // random walk (rate ramp) the EDF of random walk, the steepest Greenhall's
 // algorithm answers for the Allan variance.
+int alpha_of_slope(double mu) {
+  if (!std::isfinite(mu)) return 0;
+  if (mu <= -1.5) return 2;
+  return static_cast<int>(std::clamp(std::lround(-mu - 1.0), -2L, 1L));
+}
+
 int model_alpha(const PlanModel& model, std::size_t m) {
   const std::size_t lo = std::max<std::size_t>(1, m * 4 / 5), hi = std::max(m * 5 / 4, m + 1);
   const double mu =
       std::log(model.avar(hi) / model.avar(lo)) / std::log(static_cast<double>(hi) / static_cast<double>(lo));
-  if (!std::isfinite(mu)) return 0;
-  if (mu <= -1.5) return 2;
-  return static_cast<int>(std::clamp(std::lround(-mu - 1.0), -2L, 1L));
+  return alpha_of_slope(mu);
 }
 
 struct ModelCurve {
@@ -159,17 +163,12 @@ struct ModelCurve {
 
 constexpr double kOneSigma = 0.682689492137086;
 
-ModelCurve model_curve(const PlanModel& model, std::size_t n, const PlanOptions& opt, bool with_floor) {
+ModelCurve model_curve(const PlanModel& model, std::size_t n, const PlanOptions& opt) {
   ModelCurve mc;
   const std::size_t n_phase = n + 1;
   const auto ms = averaging_factors(opt.grid, max_averaging_factor(Stat::oadev, n_phase), model.dt);
-  // with_floor: a flicker floor a millionth of the curve's lowest variance, which changes no value read but
-  // keeps the flicker coefficient free in the five-term fit (planning.md §1.2).
-  double lowest = std::numeric_limits<double>::infinity();
-  for (const std::size_t m : ms) lowest = std::min(lowest, model.avar(m));
-  const double floor = with_floor && std::isfinite(lowest) ? 1e-6 * lowest : 0.0;
   for (const std::size_t m : ms) {
-    const double a = model.avar(m) + floor;
+    const double a = model.avar(m);
     if (!(a > 0.0) || !std::isfinite(a)) continue;
     const double dev = std::sqrt(a);
     const double edf = edf_for(Stat::oadev, model_alpha(model, m), m, n_phase);
@@ -225,7 +224,7 @@ double fitted_k_sigma(const AllanCurve& curve, const std::array<double, 5>& c, d
     }
     if (!(v > 0.0) || !std::isfinite(v)) continue;
     const double mu = slope / v;  // d ln sigma^2 / d ln tau
-    const int alpha = mu <= -1.5 ? 2 : static_cast<int>(std::clamp(std::lround(-mu - 1.0), -2L, 1L));
+    const int alpha = alpha_of_slope(mu);
     const std::size_t m = curve.m[i];
     const double edf = edf_for(Stat::oadev, alpha, m, curve.terms[i] + 2 * m);
     if (!(edf > 0.0)) continue;
@@ -259,8 +258,6 @@ double planned_random_walk_sigma(const AllanCurve& curve, const std::array<doubl
   return std::isfinite(free) ? std::sqrt(0.5 * (bound * bound + free * free)) : bound;
 }
 
-namespace {}  // namespace
-
 std::vector<TermPrecision> plan_precision(const PlanModel& model, double duration_s, std::span<const PlanTerm> terms,
                                           const PlanOptions& options) {
   if (!model.avar || !(model.dt > 0.0)) throw std::invalid_argument("plan_precision: a model needs dt and avar");
@@ -268,7 +265,7 @@ std::vector<TermPrecision> plan_precision(const PlanModel& model, double duratio
     throw std::invalid_argument("plan_precision: the record must span three sample periods");
   const double z = ci_factor(options.ci);
   const auto n = static_cast<std::size_t>(std::floor(duration_s / model.dt + 1e-9));
-  const ModelCurve mc = model_curve(model, n, options, false);
+  const ModelCurve mc = model_curve(model, n, options);
   const SlopeReadOffs ro = read_off_noise_terms(mc.curve);
   const NoiseFit fit = fit_noise_terms(mc.curve);
   const ReportedTerms rt = reported_terms(ro, fit, mc.curve);
